@@ -1,0 +1,537 @@
+"""Positions, velocities and accelerations of every link: Newton–Raphson on the loop closures of each
+block, continuation along the input that never leaves the drawn branch, and located motion limits.
+
+`Engine(mechanism)` compiles a model once: exact drawn pose, topology, joint laws, index maps. It then
+solves any batch of input values at once (arrays with a batch axis, no loop over positions):
+
+1. The branch atlas: from the drawn pose the engine walks the input up and down with adaptive steps
+   (second-order predictor from the analytic derivatives, Newton corrector). A step is accepted only when
+   Newton converges, the corrector stays close to the predictor and no block's Jacobian determinant
+   changes sign; otherwise the step is halved. A step that cannot be made smaller than `H_MIN` marks a
+   motion limit (dead point, lock-up, end of assembly), located to `H_MIN` in the input. The atlas is
+   built once per engine and extended on demand.
+2. Every requested position is predicted from its nearest atlas node (Taylor to second order) and
+   corrected by a batched Newton, block by block; the few that fail a check are walked to individually.
+
+Velocities and accelerations come from the same factorised block Jacobians (the analogues are the rates
+for dφ/dt = 1, d²φ/dt² = 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._linalg import lu_factor
+from .assembly import assemble, reference_points
+from .constraints import Pose, Rates, make_law
+from .errors import MotionError
+from .model import Mechanism
+from .topology import analyse_topology
+
+__all__ = ["Engine", "Solution", "Limit"]
+
+TOL = 1e-12          # closure residual (lengths relative to the mechanism's size)
+MAX_NEWTON = 14
+H_START = math.radians(6.0)   # first continuation step (relative to the input's scale)
+H_MAX = math.radians(15.0)
+H_MIN = 1e-10
+MAX_CORRECTION = 0.05  # largest accepted corrector distance (rad, or lengths / size)
+
+
+@dataclass
+class Step:
+    """A tree joint in a block: `var` indexes the block's unknowns, `input` the inputs."""
+
+    law: object
+    parent: str
+    child: str
+    relative: bool
+    var: int | None
+    input: int | None
+    sign: float = 1.0
+
+
+@dataclass
+class BlockPlan:
+    links: tuple
+    steps: list
+    cuts: list
+    m: int
+    row_scale: np.ndarray  # multiplies residual rows so that lengths are relative to the size
+    var_scale: np.ndarray  # likewise for the unknowns (angles 1, displacements 1/size)
+    group: object = None
+
+
+@dataclass
+class Limit:
+    """Where the motion ends along the input: φ (SI), the block at fault, and what happens there."""
+
+    phi: float
+    direction: int
+    links: tuple
+    joints: tuple
+    kind: str
+
+
+@dataclass
+class BlockState:
+    q: np.ndarray
+    lu: object
+    caches: list
+    cut_caches: list
+    sens: Rates
+    ok: np.ndarray
+    qd: np.ndarray | None = None
+    qdd: np.ndarray | None = None
+
+
+@dataclass
+class Solution:
+    """Solved positions of a batch, and (after `Engine.rates`) velocities and accelerations.
+
+    phi (B, n_in) in SI; per link (engine.links order): th (B, L) rotation from the drawn pose,
+    r (B, L, 2) frame origin; w, e (B, L) angular velocity and acceleration; v, a (B, L, 2) frame-origin
+    velocity and acceleration. `valid` (B,) marks the positions solved on the drawn branch.
+    """
+
+    phi: np.ndarray
+    pose: Pose
+    blocks: list
+    valid: np.ndarray
+    limits: list = field(default_factory=list)
+    w: np.ndarray | None = None
+    v: np.ndarray | None = None
+    e: np.ndarray | None = None
+    a: np.ndarray | None = None
+
+
+class Engine:
+    """A compiled mechanism, ready to solve batches of positions."""
+
+    def __init__(self, mech: Mechanism, grouped: bool = True):
+        self.mech = assemble(mech)
+        self.topology = analyse_topology(self.mech, grouped)
+        mech = self.mech
+        self.links = mech.all_links
+        self.link_index = {name: k for k, name in enumerate(self.links)}
+        self.laws = {name: make_law(j) for name, j in mech.joints.items()}
+        self.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
+                                  for b in mech.joints.values()])
+        self.inputs = mech.inputs
+        self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
+        self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
+        self.joint_value_drawn = {name: self._drawn_joint_value(name) for name in mech.joints}
+        self.blocks = [self._plan(block) for block in self.topology.blocks]
+        self._atlas = None
+
+    # -- compile --------------------------------------------------------------------------------
+    def _drawn_link_angle(self, link: str) -> float:
+        """Direction of the link's reference line in the drawn pose (rad)."""
+        if link == self.mech.ground:
+            return 0.0
+        ref = reference_points(self.mech, link)
+        if ref is not None:
+            p, q = (self._drawn_point(link, n) for n in ref)
+            return math.atan2(q[1] - p[1], q[0] - p[0])
+        guide = next((j for j in self.mech.joints_of(link) if j.kind == "P"), None)
+        return math.radians(guide.guide_deg) if guide is not None else 0.0
+
+    def _drawn_point(self, link: str, name: str):
+        if name in self.mech.joints:
+            return self.mech.joints[name].at
+        return self.mech.points[name].at
+
+    def _drawn_phi(self, inp) -> float:
+        if inp.drawn_at is not None:
+            return inp.to_si(inp.drawn_at)
+        j = self.mech.joints[inp.joint]
+        if j.kind == "P":
+            return -inp.zero * inp.scale / inp.sense
+        value = self.reference_angle[j.links[1]] - self.reference_angle[j.links[0]]
+        phi = (value - inp.zero * inp.scale) / inp.sense
+        lo = inp.to_si(inp.default_sweep()[0])
+        return lo + (phi - lo) % (2 * math.pi)
+
+    def _drawn_joint_value(self, name: str) -> float:
+        inp = next((k for k, i in enumerate(self.inputs) if i.joint == name), None)
+        if inp is not None:
+            return float(self.inputs[inp].joint_value(self.phi_drawn[inp]))
+        j = self.mech.joints[name]
+        if j.kind == "P":
+            return 0.0
+        return self.reference_angle[j.links[1]] - self.reference_angle[j.links[0]]
+
+    def _plan(self, block) -> BlockPlan:
+        steps, var = [], 0
+        for t in block.tree:
+            law = self.laws[t.joint]
+            joint = self.mech.joints[t.joint]
+            relative = t.input is not None and joint.kind == "R"
+            sign = 1.0
+            if relative and t.parent != joint.links[0]:
+                sign = -1.0
+            steps.append(Step(law, t.parent, t.child, relative, None if t.input is not None else var,
+                              t.input, sign))
+            if t.input is None:
+                var += 1
+        cuts = [self.laws[name] for name in block.cuts]
+        rows = []
+        for name in block.cuts:
+            rows += [1 / self.size, 1 / self.size] if self.mech.joints[name].kind == "R" else [1.0, 1 / self.size]
+        var_scale = np.array([1.0 if self.mech.joints[s.law.name].kind == "R" else 1 / self.size
+                              for s in steps if s.var is not None])
+        return BlockPlan(block.links, steps, cuts, var, np.array(rows), var_scale, block.group)
+
+    # -- one block --------------------------------------------------------------------------------
+    def _input_vars(self, phi: np.ndarray) -> np.ndarray:
+        """Tree variable of every input joint, (B, n_in): joint value minus its drawn value."""
+        senses = np.array([inp.sense for inp in self.inputs])
+        return senses * (phi - self.phi_drawn)
+
+    def _block_pose(self, bp: BlockPlan, pose: Pose, q, q_in):
+        caches = []
+        for st in bp.steps:
+            value = q[:, st.var] if st.var is not None else st.sign * q_in[:, st.input]
+            caches.append(st.law.place(pose, st.parent, st.child, value, st.relative))
+        cut_caches, res = [], []
+        for law in bp.cuts:
+            r, c = law.closure(pose)
+            res.append(r)
+            cut_caches.append(c)
+        res = np.concatenate(res, axis=1) if res else np.zeros((pose.batch, 0))
+        return caches, cut_caches, res
+
+    def _block_jacobian(self, bp: BlockPlan, caches, cut_caches, batch):
+        """Closure Jacobian (B, m, m) and the sensitivity of the block's link rates to each unknown."""
+        sens = Rates(batch, bp.m)
+        eye = np.broadcast_to(np.eye(bp.m), (batch, bp.m, bp.m))
+        zero = np.zeros((batch, bp.m))
+        for st, cache in zip(bp.steps, caches):
+            qd = eye[:, st.var] if st.var is not None else zero
+            st.law.place_rates(cache, sens, st.parent, st.child, qd, st.relative)
+        cols = [law.closure_rates(c, sens) for law, c in zip(bp.cuts, cut_caches)]
+        jac = np.concatenate(cols, axis=2).transpose(0, 2, 1) if cols else np.zeros((batch, 0, 0))
+        return jac, sens
+
+    def _newton(self, bp: BlockPlan, pose: Pose, q, q_in) -> BlockState:
+        batch = pose.batch
+        for it in range(MAX_NEWTON + 1):
+            caches, cut_caches, res = self._block_pose(bp, pose, q, q_in)
+            if bp.m == 0:
+                return BlockState(q, None, caches, cut_caches, None, np.ones(batch, bool))
+            with np.errstate(invalid="ignore"):
+                err = np.max(np.abs(res) * bp.row_scale, axis=1)
+            jac, sens = self._block_jacobian(bp, caches, cut_caches, batch)
+            lu = lu_factor(jac)
+            ok = err < TOL
+            if ok.all() or it == MAX_NEWTON:
+                break
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                step = lu.solve(-res)
+            step[ok] = 0.0
+            step[~np.isfinite(step)] = 0.0
+            q = q + step
+        ok &= np.isfinite(err)
+        return BlockState(q, lu, caches, cut_caches, sens, ok)
+
+    # -- a batch --------------------------------------------------------------------------------
+    def _solve_batch(self, phi: np.ndarray, guesses: list) -> Solution:
+        batch = len(phi)
+        pose = Pose(batch)
+        pose.set_ground(self.mech.ground)
+        q_in = self._input_vars(phi)
+        states, valid = [], np.ones(batch, bool)
+        for bp, guess in zip(self.blocks, guesses):
+            state = self._newton(bp, pose, guess, q_in)
+            states.append(state)
+            valid &= state.ok
+        return Solution(phi, pose, states, valid)
+
+    def signs(self, sol: Solution) -> np.ndarray:
+        """Sign of each block's Jacobian determinant (B, n_blocks): constant along a branch."""
+        out = np.ones((len(sol.phi), len(self.blocks)))
+        for k, state in enumerate(sol.blocks):
+            if state.lu is not None:
+                out[:, k] = np.sign(state.lu.det)
+        return out
+
+    def rates(self, sol: Solution, phi_rate, phi_accel) -> Solution:
+        """Fill the velocities and accelerations of every link for input rates (B, n_in) and input
+        accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues."""
+        batch = len(sol.phi)
+        senses = np.array([inp.sense for inp in self.inputs])
+        qd_in = senses * np.broadcast_to(phi_rate, (batch, len(self.inputs)))
+        qdd_in = senses * np.broadcast_to(phi_accel, (batch, len(self.inputs)))
+        vel, acc = Rates(batch, 1), Rates(batch, 1)
+        for bp, state in zip(self.blocks, sol.blocks):
+            state.qd = self._block_rates(bp, state, vel, qd_in)
+            state.qdd = self._block_rates(bp, state, acc, qdd_in, vel, state.qd, qd_in)
+        names = self.links
+        sol.w = np.stack([vel.get(n)[0][:, 0] for n in names], axis=1)
+        sol.v = np.stack([vel.get(n)[1][:, 0] for n in names], axis=1)
+        sol.e = np.stack([acc.get(n)[0][:, 0] for n in names], axis=1)
+        sol.a = np.stack([acc.get(n)[1][:, 0] for n in names], axis=1)
+        return sol
+
+    def _block_rates(self, bp, state, known: Rates, q_in_rate, vel=None, qd_vel=None, q_in_vel=None):
+        """Rates of a block's links into `known`: a pass with the unknown rates at zero, then the
+        Jacobian solve and the correction by the sensitivities. With `vel` (the velocities, and the tree
+        variables' velocities qd_vel, q_in_vel) it computes accelerations. Returns the unknowns' rates."""
+        batch = len(q_in_rate)
+        zero = np.zeros((batch, 1))
+        for st, cache in zip(bp.steps, state.caches):
+            if st.var is not None:
+                qd = zero
+                qv = None if qd_vel is None else qd_vel[:, st.var:st.var + 1]
+            else:
+                qd = st.sign * q_in_rate[:, st.input:st.input + 1]
+                qv = None if q_in_vel is None else st.sign * q_in_vel[:, st.input:st.input + 1]
+            st.law.place_rates(cache, known, st.parent, st.child, qd, st.relative, vel, qv)
+        if bp.m == 0:
+            return np.zeros((batch, 0))
+        rhs = np.concatenate([law.closure_rates(c, known, vel)[:, 0] for law, c in
+                              zip(bp.cuts, state.cut_caches)], axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            qd_u = state.lu.solve(-rhs)
+        for link in bp.links:
+            w, v = known.get(link)
+            known.set(link, w + np.einsum("bm,bm->b", state.sens.w[link], qd_u)[:, None],
+                      v + np.einsum("bmi,bm->bi", state.sens.v[link], qd_u)[:, None])
+        return qd_u
+
+    # -- continuation ---------------------------------------------------------------------------
+    def atlas(self):
+        if self._atlas is None:
+            self._atlas = _Atlas(self)
+        return self._atlas
+
+    def solve(self, phi) -> Solution:
+        """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
+        Positions past a motion limit are left out (`valid` False, `limits` says where)."""
+        phi = np.asarray(phi, dtype=float)
+        if phi.ndim == 0:
+            phi = phi[None]
+        if phi.ndim == 1:
+            phi = phi[:, None] if len(self.inputs) == 1 else phi[None, :]
+        if phi.shape[1] != len(self.inputs):
+            raise ValueError(f"expected {len(self.inputs)} input value(s) per position")
+        if not np.all(np.isfinite(phi)):
+            raise ValueError("input values must be finite")
+        return _solve_along(self, phi)
+
+
+class _Atlas:
+    """Nodes of the drawn branch along a single input, sorted by φ, with q, q', q'' per block."""
+
+    def __init__(self, engine: Engine):
+        self.engine = engine
+        self.nodes = [_origin(engine, np.ones(1))]
+        self.limits = {+1: None, -1: None}
+
+    def cover(self, lo: float, hi: float):
+        """Extend the atlas to cover [lo, hi], or up to a motion limit."""
+        for direction, target in ((+1, hi), (-1, lo)):
+            start = self.nodes[-1] if direction > 0 else self.nodes[0]
+            if self.limits[direction] is not None or direction * (target - start.phi[0]) <= 0:
+                continue
+            new, limit = _walk(self.engine, start, np.array([target]))
+            self.limits[direction] = limit
+            self.nodes = self.nodes + new if direction > 0 else new[::-1] + self.nodes
+
+    def arrays(self):
+        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks)."""
+        phi = np.array([n.phi[0] for n in self.nodes])
+        per_block = []
+        for k in range(len(self.engine.blocks)):
+            per_block.append((np.stack([n.q[k] for n in self.nodes]),
+                              np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
+                              np.stack([n.qdd[k] for n in self.nodes])))
+        return phi, per_block, np.stack([n.signs for n in self.nodes])
+
+
+@dataclass
+class _Node:
+    """A solved position on the branch with the derivatives of its unknowns along `direction`."""
+
+    phi: np.ndarray
+    direction: np.ndarray
+    q: list
+    qd: list
+    qdd: list
+    signs: np.ndarray
+
+
+def _node_at(e: Engine, phi: np.ndarray, direction: np.ndarray, guesses) -> _Node | None:
+    sol = e._solve_batch(phi[None, :], guesses)
+    if not sol.valid[0]:
+        return None
+    e.rates(sol, direction[None, :], np.zeros((1, len(e.inputs))))
+    return _Node(phi.copy(), direction, [s.q[0] for s in sol.blocks], [s.qd[0] for s in sol.blocks],
+                 [s.qdd[0] for s in sol.blocks], e.signs(sol)[0])
+
+
+def _origin(e: Engine, direction) -> _Node:
+    node = _node_at(e, e.phi_drawn, direction, [np.zeros((1, bp.m)) for bp in e.blocks])
+    if node is None:
+        raise MotionError(f"{e.mech.source}: the drawn pose does not close: it cannot be assembled")
+    return node
+
+
+def _predict(node: _Node, s: float):
+    """Taylor guess of every block's unknowns a distance s along the node's direction."""
+    return [(q + qd * s + 0.5 * qdd * s * s)[None, :] for q, qd, qdd in zip(node.q, node.qd, node.qdd)]
+
+
+def _accept(e: Engine, node: _Node, new: _Node | None, guesses) -> tuple[bool, float]:
+    """A step is kept when it converged on the same branch, close to its prediction."""
+    if new is None or not np.array_equal(new.signs, node.signs):
+        return False, math.inf
+    dist = max([np.max(np.abs(q - g[0]) * bp.var_scale, initial=0.0)
+                for q, g, bp in zip(new.q, guesses, e.blocks)] + [0.0])
+    return dist <= MAX_CORRECTION, dist
+
+
+def _input_scale(e: Engine) -> np.ndarray:
+    """Natural step unit of each input: 1 rad for an angle, the mechanism's size for a slider."""
+    return np.array([1.0 if e.mech.joints[i.joint].kind == "R" else e.size for i in e.inputs])
+
+
+def _walk(e: Engine, start: _Node, target: np.ndarray):
+    """Continuation on the straight segment from `start` to `target` in input space.
+    Returns the new nodes (the last at `target` unless a limit stops it) and a `Limit` or None."""
+    span = target - start.phi
+    scale = float(np.max(np.abs(span) / _input_scale(e)))
+    if scale == 0:
+        return [], None
+    direction = span / scale  # one unit of s moves the inputs by one natural unit at most
+    node = start
+    if not np.array_equal(node.direction, direction):
+        node = _node_at(e, start.phi, direction, [q[None, :] for q in start.q])
+    nodes, s, h = [], 0.0, H_START
+    while s < scale:
+        h_try = min(h, scale - s)
+        guesses = _predict(node, h_try)
+        phi = start.phi + direction * (s + h_try) if s + h_try < scale else target.astype(float)
+        new = _node_at(e, phi, direction, guesses)
+        ok, dist = _accept(e, node, new, guesses)
+        if ok:
+            nodes.append(new)
+            node, s = new, s + h_try
+            if dist < 0.1 * MAX_CORRECTION:
+                h = min(h_try * 1.6, H_MAX)
+            continue
+        h = h_try / 2
+        if h < H_MIN:
+            return nodes, _limit(e, node, direction, h_try)
+    return nodes, None
+
+
+def _limit(e: Engine, node: _Node, direction: np.ndarray, h: float) -> Limit:
+    """The motion limit just past `node`, in the block whose Jacobian is nearest to singular."""
+    sol = e._solve_batch(node.phi[None, :], [q[None, :] for q in node.q])
+    ratios = [float(st.lu.pivot_ratio[0]) if st.lu is not None else math.inf for st in sol.blocks]
+    k = int(np.argmin(ratios))
+    bp = e.blocks[k]
+    joints = tuple(st.law.name for st in bp.steps) + tuple(law.name for law in bp.cuts)
+    sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
+    return Limit(node.phi + direction * h / 2, sign, bp.links, joints, _limit_kind(e, bp, sol))
+
+
+def _limit_kind(e: Engine, bp: BlockPlan, sol: Solution) -> str:
+    """'stretched' or 'folded' at the revolute joint where two links of the block line up."""
+    best = None
+    revolute = [j for j in e.mech.joints.values() if j.kind == "R"]
+    for j in revolute:
+        a, b = j.links
+        if a not in bp.links and b not in bp.links:
+            continue
+        for ja in (o for o in revolute if a in o.links and o.name != j.name):
+            for jb in (o for o in revolute if b in o.links and o.name != j.name):
+                pa = _world(sol.pose, a, ja.at) - _world(sol.pose, a, j.at)
+                pb = _world(sol.pose, b, jb.at) - _world(sol.pose, b, j.at)
+                norm = np.linalg.norm(pa) * np.linalg.norm(pb)
+                if norm == 0:
+                    continue
+                cross = abs(pa[0] * pb[1] - pa[1] * pb[0]) / norm
+                if best is None or cross < best[0]:
+                    shape = "folded" if np.dot(pa, pb) > 0 else "stretched"
+                    best = (cross, f"{shape} at {j.name} ({ja.name}, {j.name}, {jb.name} in line)")
+    return best[1] if best is not None and best[0] < 1e-3 else "singular position (dead point)"
+
+
+def _world(pose: Pose, link: str, at) -> np.ndarray:
+    return pose.r[link][0] + pose.rot(link, np.array(at, float))[0]
+
+
+def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
+    """Batch solve on the drawn branch: predict from the atlas, correct, check, walk the rest."""
+    if len(e.inputs) != 1:
+        return _solve_sequence(e, phi)
+    atlas = e.atlas()
+    x = phi[:, 0]
+    atlas.cover(float(x.min()), float(x.max()))
+    nodes_phi, per_block, node_signs = atlas.arrays()
+    inside = np.ones(len(x), bool)
+    if atlas.limits[+1] is not None:
+        inside &= x <= nodes_phi[-1]
+    if atlas.limits[-1] is not None:
+        inside &= x >= nodes_phi[0]
+    idx = _nearest(nodes_phi, x)
+    dphi = (x - nodes_phi[idx])[:, None]
+    guesses = [q[idx] + qd[idx] * dphi + 0.5 * qdd[idx] * dphi * dphi for q, qd, qdd in per_block]
+    sol = e._solve_batch(phi, guesses)
+    good = sol.valid & inside & np.all(e.signs(sol) == node_signs[idx], axis=1)
+    for state, g, bp in zip(sol.blocks, guesses, e.blocks):
+        if bp.m:
+            good &= np.max(np.abs(state.q - g) * bp.var_scale, axis=1) <= MAX_CORRECTION
+    retry = np.flatnonzero(~good & inside)
+    if len(retry):
+        good[retry] = _repair(e, sol, retry, idx, atlas)
+    sol.valid = good
+    sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1]) if lim is not None]
+    return sol
+
+
+def _nearest(grid: np.ndarray, x: np.ndarray) -> np.ndarray:
+    if len(grid) == 1:
+        return np.zeros(len(x), int)
+    idx = np.clip(np.searchsorted(grid, x), 1, len(grid) - 1)
+    left = idx - 1
+    return np.where(np.abs(x - grid[left]) <= np.abs(x - grid[idx]), left, idx)
+
+
+def _repair(e: Engine, sol: Solution, rows, idx, atlas) -> np.ndarray:
+    """Walk individually to the positions the batch corrector could not trust; returns their validity."""
+    ok = np.zeros(len(rows), bool)
+    for k, row in enumerate(rows):
+        nodes, limit = _walk(e, atlas.nodes[int(idx[row])], sol.phi[row])
+        if limit is None and nodes:
+            for state, q in zip(sol.blocks, nodes[-1].q):
+                state.q[row] = q
+            ok[k] = True
+    fixed = e._solve_batch(sol.phi, [s.q for s in sol.blocks])
+    sol.pose, sol.blocks = fixed.pose, fixed.blocks
+    return ok & fixed.valid[rows]
+
+
+def _solve_sequence(e: Engine, phi: np.ndarray) -> Solution:
+    """Several inputs: walk from the drawn pose through the requested positions in their order."""
+    node = _origin(e, np.ones(len(e.inputs)))
+    q = [np.zeros((len(phi), bp.m)) for bp in e.blocks]
+    reached, limits = np.zeros(len(phi), bool), []
+    for row, target in enumerate(phi):
+        nodes, limit = _walk(e, node, target)
+        if limit is not None:
+            limits.append(limit)
+            break
+        node = nodes[-1] if nodes else node
+        for k, qk in enumerate(node.q):
+            q[k][row] = qk
+        reached[row] = True
+    sol = e._solve_batch(phi, q)
+    sol.valid &= reached
+    sol.limits = limits
+    return sol
