@@ -156,6 +156,8 @@ class _Sketch:
         return self.world(x, j.carrier, j.name), self.direction(x, j.carrier, _unit(j.guide_deg))
 
     def link_angle(self, x, link):
+        if link == self.mech.ground:
+            return 0.0
         ref = reference_points(self.mech, link)
         if ref is not None:
             d = self.world(x, link, ref[1]) - self.world(x, link, ref[0])

@@ -88,7 +88,7 @@ class Input:
     prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
     "deg"/"rad" inputs when `zero_deg` is set). Inside, φ is in rad or m. `omega`, `epsilon`: the
     default speed dφ/dt and acceleration d²φ/dt². `drawn_at`: φ in the drawn pose (measured if None).
-    `sweep`: default range of φ (in `unit`).
+    `sweep`: default range of φ (in `unit`); `steps`: its default number of intervals.
     """
 
     joint: str
@@ -100,6 +100,7 @@ class Input:
     epsilon: float = 0.0
     drawn_at: float | None = None
     sweep: tuple[float, float] | None = None
+    steps: int | None = None
 
     @property
     def scale(self) -> float:

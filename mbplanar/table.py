@@ -246,6 +246,13 @@ def _read_points(mech: Mechanism, rows, unit):
             row.fail(str(exc).split(": ", 1)[-1])
 
 
+def _steps(row: _Row) -> int | None:
+    steps = row.number("steps")
+    if steps is not None and (steps != int(steps) or steps < 1):
+        row.fail(f"steps must be a whole number ≥ 1, got {steps:g}")
+    return None if steps is None else int(steps)
+
+
 def _read_inputs(mech: Mechanism, data, source, unit):
     rows = data.get("inputs")
     if rows is None:
@@ -287,6 +294,6 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
                     zero=row.number("zero", 0.0), sense=float(sense),
                     omega=row.number("omega", 1.0), epsilon=row.number("epsilon", 0.0),
-                    drawn_at=row.number("drawn_at"), sweep=sweep)
+                    drawn_at=row.number("drawn_at"), sweep=sweep, steps=_steps(row))
         row.check_unknown_keys({"comment"})
         mech.inputs.append(inp)

@@ -1,0 +1,20 @@
+"""mbplanar: planar linkages analysed from a table of kinematic pairs.
+
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([0, 90]))     # batch of input values, SI
+    >>> motion.xy[:, motion.point("B")]                             # (B, 2) positions
+
+The public API is this module; everything else is private by convention.
+"""
+
+from .assembly import assemble
+from .errors import MbplanarError, ModelError, MotionError
+from .kinematics import Motion, analyse
+from .model import Input, Joint, Link, Mechanism, Point
+from .solver import Engine, Limit
+from .table import parse_model, read_model
+
+__all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
+           "Engine", "Limit", "analyse", "Motion", "MbplanarError", "ModelError", "MotionError"]
+__version__ = "0.1.0"

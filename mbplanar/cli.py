@@ -1,0 +1,300 @@
+"""Command-line interface: `mbplanar COMMAND MODEL ...`.
+
+Exit status: 0 success, 1 a mechanism that cannot move as asked (lock, dead point, cannot assemble),
+2 bad input (model file, arguments). Messages go to stderr; no traceback unless --debug.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+
+import numpy as np
+
+from .errors import MbplanarError, MotionError
+
+__all__ = ["main"]
+
+
+def _load(path):
+    from .solver import Engine
+    from .table import read_model
+    return Engine(read_model(path))
+
+
+def _finite(x):
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def _input_si(engine, value):
+    inp = engine.inputs[0]
+    return inp.to_si(value)
+
+
+# -- info -------------------------------------------------------------------------------------------
+def info_document(engine) -> dict:
+    mech, topo = engine.mech, engine.topology
+    doc = {
+        "model": mech.name, "title": mech.title,
+        "links": [mech.ground] + mech.moving_links,
+        "joints": {j.name: {"type": j.kind, "links": list(j.links), "at": list(j.at),
+                            **({"guide_deg": j.guide_deg} if j.kind == "P" else {})}
+                   for j in mech.joints.values()},
+        "points": {p.name: {"link": p.link, "at": list(p.at)} for p in mech.points.values()},
+        "inputs": [{"joint": i.joint, "name": i.name, "unit": i.unit} for i in mech.inputs],
+        "dof": topo.dof,
+        "loops": len(topo.loops),
+        "loop_joints": [list(loop) for loop in topo.loops],
+    }
+    s = topo.structure
+    if s is not None:
+        doc["groups"] = [{"class": g.group_class, "order": g.order, "kind": g.kind, "links": list(g.links),
+                          "joints": list(g.joints), "external": list(g.external)} for g in s.groups]
+        doc["mechanism_class"] = s.mechanism_class
+        doc["formula"] = s.formula
+    return doc
+
+
+def cmd_info(args):
+    engine = _load(args.model)
+    doc = info_document(engine)
+    if args.json:
+        print(json.dumps(doc, indent=2))
+        return 0
+    print(f"{doc['model']}: {doc['title']}")
+    print(f"links: {', '.join(doc['links'])} (ground {engine.mech.ground})")
+    print(f"DOF = {doc['dof']}, independent loops = {doc['loops']}")
+    for name, j in doc["joints"].items():
+        extra = f"  guide {j['guide_deg']:.4f}°" if j["type"] == "P" else ""
+        print(f"  joint {name:6s} {j['type']}  {j['links'][0]}–{j['links'][1]}  "
+              f"at ({j['at'][0]:.6f}, {j['at'][1]:.6f}){extra}")
+    for name, p in doc["points"].items():
+        print(f"  point {name:6s} on {p['link']}  at ({p['at'][0]:.6f}, {p['at'][1]:.6f})")
+    if "groups" in doc:
+        for g in doc["groups"]:
+            kind = f" {g['kind']}" if g["kind"] else ""
+            print(f"  group class {g['class']} order {g['order']}{kind}: links {', '.join(g['links'])}; "
+                  f"pairs {', '.join(g['joints'])}")
+        print(f"mechanism class {doc['mechanism_class']}: {doc['formula']}")
+    return 0
+
+
+# -- solve ------------------------------------------------------------------------------------------
+def solve_document(engine, motion, row=0) -> dict:
+    inp = engine.inputs[0]
+    doc = {"model": engine.mech.name,
+           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit,
+                     "value": inp.from_si(float(motion.phi[row, 0])), "value_si": float(motion.phi[row, 0]),
+                     "omega": float(motion.omega[row, 0]), "epsilon": float(motion.epsilon[row, 0])},
+           "points": {}, "links": {}, "joints": {}, "instant_centres": {}}
+    for k, name in enumerate(motion.point_names):
+        (x, y), (vx, vy), (ax, ay) = motion.xy[row, k], motion.v[row, k], motion.a[row, k]
+        doc["points"][name] = {"x": x, "y": y, "vx": vx, "vy": vy, "ax": ax, "ay": ay}
+    for k, name in enumerate(motion.link_names):
+        doc["links"][name] = {"angle": motion.angle[row, k], "omega": motion.w[row, k],
+                              "epsilon": motion.e[row, k]}
+        ic = motion.ic[row, k]
+        doc["instant_centres"][name] = None if not np.all(np.isfinite(ic)) else [ic[0], ic[1]]
+    for k, name in enumerate(motion.joint_names):
+        doc["joints"][name] = {"type": engine.mech.joints[name].kind, "value": motion.value[row, k],
+                               "rate": motion.rate[row, k], "accel": motion.accel[row, k]}
+    if motion.vq is not None:
+        doc["analogues"] = {
+            "points": {n: {"vx": motion.vq[row, k, 0], "vy": motion.vq[row, k, 1],
+                           "ax": motion.aq[row, k, 0], "ay": motion.aq[row, k, 1]}
+                       for k, n in enumerate(motion.point_names)},
+            "links": {n: {"omega": motion.wq[row, k], "epsilon": motion.eq[row, k]}
+                      for k, n in enumerate(motion.link_names)},
+        }
+    return _plain(doc)
+
+
+def _plain(obj):
+    """numpy scalars → float, non-finite → None, for JSON."""
+    if isinstance(obj, dict):
+        return {k: _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, (float, np.floating)):
+        return _finite(obj)
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def _motion(engine, values_si, omega=None, epsilon=None):
+    from .kinematics import analyse
+    return analyse(engine, values_si, omega, epsilon)
+
+
+def cmd_solve(args):
+    engine = _load(args.model)
+    if len(engine.inputs) != 1:
+        values = [float(v) for v in args.at.split(",")]
+    else:
+        values = [float(args.at)]
+    if len(values) != len(engine.inputs) or not all(math.isfinite(v) for v in values):
+        raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
+    phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
+    motion = _motion(engine, phi, 1.0 if args.omega is None else args.omega,
+                     0.0 if args.epsilon is None else args.epsilon)
+    if not motion.success:
+        raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+    doc = solve_document(engine, motion)
+    if args.json:
+        print(json.dumps(doc, indent=2))
+        return 0
+    _print_solution(engine, doc)
+    return 0
+
+
+def _print_solution(engine, doc):
+    inp = doc["input"]
+    print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
+          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g})")
+    print(f"{'point':8s}{'x [m]':>12s}{'y [m]':>12s}{'vx [m/s]':>12s}{'vy [m/s]':>12s}"
+          f"{'ax [m/s²]':>12s}{'ay [m/s²]':>12s}")
+    for name, p in doc["points"].items():
+        print(f"{name:8s}" + "".join(f"{p[k]:12.6g}" for k in ("x", "y", "vx", "vy", "ax", "ay")))
+    print(f"{'link':8s}{'angle [°]':>12s}{'ω [rad/s]':>12s}{'ε [rad/s²]':>12s}{'IC x':>12s}{'IC y':>12s}")
+    for name, link in doc["links"].items():
+        ic = doc["instant_centres"][name] or [float("nan")] * 2
+        print(f"{name:8s}{math.degrees(link['angle']):12.6g}{link['omega']:12.6g}{link['epsilon']:12.6g}"
+              f"{ic[0]:12.6g}{ic[1]:12.6g}")
+    print(f"{'joint':8s}{'type':>5s}{'value':>14s}{'rate':>14s}{'accel':>14s}")
+    for name, j in doc["joints"].items():
+        scale = 180 / math.pi if j["type"] == "R" else 1.0
+        unit = "°" if j["type"] == "R" else "m"
+        print(f"{name:8s}{j['type']:>5s}{j['value'] * scale:13.6g}{unit}{j['rate']:14.6g}{j['accel']:14.6g}")
+
+
+# -- sweep ------------------------------------------------------------------------------------------
+def sweep_values(engine, steps=None, step=None, start=None, stop=None):
+    """Input values (model units) of a sweep: `steps` intervals or a `step`, both ends included."""
+    inp = engine.inputs[0]
+    lo, hi = inp.default_sweep()
+    lo = lo if start is None else start
+    hi = hi if stop is None else stop
+    if step is not None:
+        if not step > 0:
+            raise _ArgError("--step must be positive")
+        count = int(math.floor(abs(hi - lo) / step + 1e-9))
+        return lo + math.copysign(step, hi - lo) * np.arange(count + 1)
+    steps = getattr(inp, "steps", None) if steps is None else steps
+    steps = 72 if steps is None else steps
+    if steps < 1:
+        raise _ArgError("--steps must be at least 1")
+    return np.linspace(lo, hi, steps + 1)
+
+
+def sweep_table(engine, motion, angle_unit):
+    """Header (quantity[unit]) and rows of a sweep."""
+    inp = engine.inputs[0]
+    to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
+    au = "deg" if angle_unit == "deg" else "rad"
+    header = [f"{inp.name}[{inp.unit}]"]
+    cols = [inp.from_si(motion.phi[:, 0])]
+    for k, name in enumerate(motion.link_names[1:], start=1):
+        header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
+        cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
+    for k, name in enumerate(motion.point_names):
+        header += [f"{name}.{q}" for q in ("x[m]", "y[m]", "vx[m/s]", "vy[m/s]", "ax[m/s^2]", "ay[m/s^2]")]
+        cols += [motion.xy[:, k, 0], motion.xy[:, k, 1], motion.v[:, k, 0], motion.v[:, k, 1],
+                 motion.a[:, k, 0], motion.a[:, k, 1]]
+    for k, name in enumerate(motion.joint_names):
+        if engine.mech.joints[name].kind == "R":
+            header += [f"{name}.value[{au}]", f"{name}.rate[rad/s]", f"{name}.accel[rad/s^2]"]
+            cols += [to_angle(motion.value[:, k]), motion.rate[:, k], motion.accel[:, k]]
+        else:
+            header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
+            cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
+    return header, np.column_stack(cols) if cols else np.zeros((0, 0))
+
+
+def cmd_sweep(args):
+    engine = _load(args.model)
+    if len(engine.inputs) != 1:
+        raise _ArgError("sweep drives one input; this model has several (use the Python API)")
+    values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
+    inp = engine.inputs[0]
+    motion = _motion(engine, inp.to_si(values), 1.0 if args.omega is None else args.omega,
+                     0.0 if args.epsilon is None else args.epsilon)
+    angle_unit = args.angles or ("rad" if inp.unit == "rad" else "deg")
+    header, rows = sweep_table(engine, motion, angle_unit)
+    out = open(args.output, "w", newline="") if args.output else sys.stdout
+    try:
+        writer = csv.writer(out)
+        writer.writerow(header)
+        for row in rows:
+            writer.writerow([f"{x:.12g}" for x in row])
+    finally:
+        if args.output:
+            out.close()
+    if not motion.success:
+        print(f"mbplanar: {engine.mech.source}: {motion.message}; wrote the {len(motion.phi)} of "
+              f"{motion.requested} positions before it", file=sys.stderr)
+        return 1
+    return 0
+
+
+# -- main -------------------------------------------------------------------------------------------
+class _ArgError(MbplanarError):
+    exit_code = 2
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
+    p.add_argument("--debug", action="store_true", help="show tracebacks")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("info", help="links, joints, DOF, loops, Assur groups")
+    s.add_argument("model")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_info)
+
+    s = sub.add_parser("solve", help="one position: positions, velocities, accelerations")
+    s.add_argument("model")
+    s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
+    s.add_argument("--omega", type=float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
+    s.add_argument("--epsilon", type=float, help="input acceleration (default 0)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_solve)
+
+    s = sub.add_parser("sweep", help="the whole cycle as a CSV table")
+    s.add_argument("model")
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--steps", type=int, help="number of equal intervals (both ends included)")
+    g.add_argument("--step", type=float, help="spacing in the model's unit")
+    s.add_argument("--from", dest="start", type=float, help="first value (default: the model's sweep)")
+    s.add_argument("--to", dest="stop", type=float, help="last value")
+    s.add_argument("--omega", type=float)
+    s.add_argument("--epsilon", type=float)
+    s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
+    s.add_argument("-o", "--output", help="CSV file (default: standard output)")
+    s.set_defaults(func=cmd_sweep)
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except MbplanarError as exc:
+        if args.debug:
+            raise
+        print(f"mbplanar: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except (OSError, ValueError) as exc:
+        if args.debug:
+            raise
+        print(f"mbplanar: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
