@@ -76,7 +76,7 @@ import networkx as nx
 
 from mbplanar.errors import ModelError
 
-__all__ = ["AssurGroup", "Structure", "decompose"]
+__all__ = ["AssurGroup", "Structure", "decompose", "roman"]
 
 KINDS = ("R", "P")
 _KNOWN = 0  # body id of the known part: ground and the links of class I mechanisms
@@ -181,9 +181,15 @@ class _Chain:
     joints: tuple[_Joint, ...]
     inputs: tuple[str, ...]
     position: dict[str, int]  # ground -1, moving links 0, 1, ... (for a stable order)
+    incident: dict[str, tuple[int, ...]]  # link -> rows of the joints on it
 
     def joint(self, name: str) -> _Joint:
         return next(j for j in self.joints if j.name == name)
+
+    def joints_touching(self, links: Iterable[str]) -> list[_Joint]:
+        """Joints with an end on one of `links`, in table order."""
+        touching = {row for link in links for row in self.incident[link]}
+        return [self.joints[row] for row in sorted(touching)]
 
     def sorted_links(self, names: Iterable[str]) -> tuple[str, ...]:
         return tuple(sorted(set(names), key=self.position.__getitem__))
@@ -201,7 +207,12 @@ def _read_chain(ground, links, joints, inputs) -> _Chain:
     for name in inputs:
         if name not in names:
             raise ModelError(f"input {name!r} is not a joint of the table")
-    return _Chain(ground, links, table, inputs, position)
+    incident: dict[str, list[int]] = {link: [] for link in position}
+    for row, joint in enumerate(table):
+        incident[joint.a].append(row)
+        incident[joint.b].append(row)
+    return _Chain(ground, links, table, inputs, position,
+                  {link: tuple(rows) for link, rows in incident.items()})
 
 
 def _refuse_duplicates(what: str, names: Iterable[str]) -> None:
@@ -532,11 +543,12 @@ def _describe_group(bodies: _Bodies, members: frozenset[int], known: frozenset[i
     chain = bodies.chain
     links = bodies.links_of(members)
     inside, before = set(links), set(bodies.links_of(known))
-    internal = tuple(j.name for j in chain.joints if j.a in inside and j.b in inside)
-    external_joints = [j for j in chain.joints
-                       if (j.a in inside and j.b in before) or (j.b in inside and j.a in before)]
+    touching = chain.joints_touching(links)
+    internal = tuple(j.name for j in touching if j.a in inside and j.b in inside)
+    external_joints = [j for j in touching if j.a in before or j.b in before]
     external = tuple(j.name for j in external_joints)
-    bars = [bar for bar in bodies.bars if bar.a in inside and bar.b in inside]
+    inputs = set(chain.inputs)
+    bars = [j for j in touching if j.a in inside and j.b in inside and j.name not in inputs]
     group_class = _group_class(members, bars, bodies.body_of)
     return AssurGroup(
         links=links,
@@ -546,7 +558,7 @@ def _describe_group(bodies: _Bodies, members: frozenset[int], known: frozenset[i
         group_class=group_class,
         order=len(external),
         kind=_dyad_kind(bodies, members, bars, external_joints) if group_class == 2 else None,
-        inputs=tuple(name for name in internal if name in set(chain.inputs)),
+        inputs=tuple(name for name in internal if name in inputs),
         attached_to=chain.sorted_links(j.a if j.b in inside else j.b for j in external_joints),
     )
 
