@@ -334,3 +334,61 @@ def test_stacked_dyads_decompose_into_the_same_dyads(chain, rnd):
         known |= set(group.links)
     assert known == {"0", *link_names}
     assert s.formula.startswith("I(0,1) → II(") and s.formula.count("II(") == len(dyads)
+
+
+# ---------------------------------------------------------------------------------------
+# Property: stacked groups of classes II, III and IV (exercises the incremental search)
+# ---------------------------------------------------------------------------------------
+
+# template: (class, number of links, internal pairs, links carrying the external pairs)
+TEMPLATES = {
+    "II": (2, 2, [(0, 1)], [0, 1]),
+    "III": (3, 4, [(0, 2), (2, 1), (2, 3)], [0, 1, 3]),
+    "IV": (4, 6, [(0, 1), (0, 2), (1, 3), (2, 3), (3, 4), (3, 5)], [0, 4, 5]),
+}
+
+
+def stack_groups(shapes, choose):
+    """Crank 1, then groups of the given shapes; choose(earlier links) picks an attachment."""
+    link_names, joints, groups = ["1"], [("O", "R", "0", "1")], []
+    for i, shape in enumerate(shapes):
+        group_class, size, internal, outer = TEMPLATES[shape]
+        earlier = ["0", *link_names]
+        names = [f"g{i}_{k}" for k in range(size)]
+        joints += [(f"I{i}_{k}", "R", names[a], names[b]) for k, (a, b) in enumerate(internal)]
+        joints += [(f"X{i}_{k}", "R", choose(earlier), names[a]) for k, a in enumerate(outer)]
+        link_names += names
+        groups.append((frozenset(names), group_class))
+    return link_names, joints, groups
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.sampled_from(sorted(TEMPLATES)), min_size=1, max_size=10), st.randoms(use_true_random=False))
+def test_stacked_groups_of_mixed_classes(shapes, rnd):
+    link_names, joints, groups = stack_groups(shapes, rnd.choice)
+    rnd.shuffle(joints)
+    s = decompose("0", link_names, joints, ["O"])
+    assert {(frozenset(g.links), g.group_class) for g in s.groups} == set(groups)
+    assert all(g.order == 3 for g in s.groups if g.group_class > 2)
+    known = {"0", "1"}
+    for group in s.groups:
+        assert set(group.attached_to) <= known
+        known |= set(group.links)
+
+
+def test_long_chains_decompose():
+    # each group hangs on the previous one (and the first on the crank and ground)
+    for shape, count in (("II", 32), ("IV", 32), ("III", 16)):
+        link_names, joints, groups = stack_groups([shape] * count, lambda earlier: earlier[-1])
+        s = decompose("0", link_names, joints, ["O"])
+        assert [(frozenset(g.links), g.group_class) for g in s.groups] == groups
+
+
+def test_smaller_group_found_first_does_not_hide_a_pending_one():
+    # After the class IV group, a dyad and a triad both hang on it: the dyad is found first,
+    # the triad must still be found at the next stage (it became solvable with the IV group).
+    link_names, joints, groups = stack_groups(["IV", "II", "III"], lambda earlier: earlier[-1])
+    joints = [j if not j[0].startswith("X2_") else (j[0], j[1], "g0_5", j[3]) for j in joints]
+    s = decompose("0", link_names, joints, ["O"])
+    assert s.formula.split(" → ")[1:] == [
+        "IV(g0_0,g0_1,g0_2,g0_3,g0_4,g0_5)", "II(g1_0,g1_1)", "III(g2_0,g2_1,g2_2,g2_3)"]
