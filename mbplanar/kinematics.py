@@ -161,6 +161,13 @@ def _per_position(value, default, batch, n_in):
 
 
 def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
+    """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
+    hold no solution, are dropped before anything is returned)."""
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        return _analyse(engine, phi, omega, epsilon)
+
+
+def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     """Solve `phi` (SI; (B,) or (B, n_in)) and return the kinematics of the positions reached.
 
     omega, epsilon: input speed and acceleration, scalars or per position (default: the model's).

@@ -481,7 +481,9 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
         inside &= x >= nodes_phi[0]
     idx = _nearest(nodes_phi, x)
     dphi = (x - nodes_phi[idx])[:, None]
-    guesses = [q[idx] + qd[idx] * dphi + 0.5 * qdd[idx] * dphi * dphi for q, qd, qdd in per_block]
+    with np.errstate(invalid="ignore", over="ignore"):
+        guesses = [np.where(inside[:, None], q[idx] + qd[idx] * dphi + 0.5 * qdd[idx] * dphi * dphi, q[idx])
+                   for q, qd, qdd in per_block]
     sol = e._solve_batch(phi, guesses)
     good = sol.valid & inside & np.all(e.signs(sol) == node_signs[idx], axis=1)
     for state, g, bp in zip(sol.blocks, guesses, e.blocks):

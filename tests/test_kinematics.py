@@ -1,0 +1,192 @@
+"""Kinematics against numbers nobody here wrote: the seeds' tables (REFERENCE.md), closed forms."""
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mbplanar
+
+DATA = Path(__file__).resolve().parent / "data"
+
+
+def rel(a, b):
+    return abs(a - b) / max(abs(b), 1e-12)
+
+
+# -- seed 002: the printed table, 50 rows x 8 columns -----------------------------------------------
+def _seed002_rows():
+    with open(DATA / "seed002_table.csv") as fh:
+        rows = list(csv.reader(fh))
+    return rows[0], rows[1:]
+
+
+def test_seed002_table_reproduced_to_its_last_digit(engine_of):
+    engine = engine_of("crank_slider_rocker")
+    header, rows = _seed002_rows()
+    assert len(rows) == 50 and len(header) == 8
+    t = np.array([float(r[0]) for r in rows])
+    m = mbplanar.analyse(engine, t)
+    assert m.success
+    ours = {
+        "phi2": m.angle[:, m.link("2")], "phi3": m.angle[:, m.link("3")], "phi4": m.angle[:, m.link("4")],
+        "omega2": m.w[:, m.link("2")], "omega3": m.w[:, m.link("3")], "omega4": m.w[:, m.link("4")],
+        "vC": m.v[:, m.point("C"), 0],
+    }
+    checked = 0
+    for col, name in enumerate(header[1:], start=1):
+        for k, row in enumerate(rows):
+            text = row[col]
+            decimals = len(text.split(".")[1]) if "." in text else 0
+            value = ours[name][k]
+            if name.startswith("phi"):  # the seed's angles are continuous, not wrapped
+                value = float(text) + math.remainder(value - float(text), 2 * math.pi)
+            assert abs(value - float(text)) <= 0.5 * 10 ** -decimals + 1e-9, (name, row[0], value, text)
+            checked += 1
+    assert checked == 50 * 7
+
+
+def test_seed002_pi_over_2(engine_of):
+    m = mbplanar.analyse(engine_of("crank_slider_rocker"), [math.pi / 2])
+    # REFERENCE.md (with D from the initial angles): phi3 = 1.6018744, omega3 = -0.410775, vC = -0.5
+    assert m.angle[0, m.link("2")] == pytest.approx(-0.0205759, abs=2e-7)
+    assert m.angle[0, m.link("3")] == pytest.approx(1.6018744, abs=2e-7)
+    assert m.angle[0, m.link("4")] % (2 * math.pi) == pytest.approx(3.586760, abs=2e-6)
+    assert m.w[0, m.link("2")] == pytest.approx(0.0, abs=1e-12)
+    assert m.w[0, m.link("3")] == pytest.approx(-0.410775, abs=2e-6)
+    assert m.w[0, m.link("4")] == pytest.approx(0.0212135, abs=2e-7)
+    assert m.v[0, m.point("C"), 0] == pytest.approx(-0.5, abs=1e-12)
+
+
+def test_seed002_locking_data_locks_at_1_799912(engine_of):
+    engine = engine_of("crank_slider_rocker_locking")
+    t = np.linspace(0, 49 * math.pi / 50, 50)
+    m = mbplanar.analyse(engine, t)
+    assert not m.success
+    assert len(m.phi) == np.sum(t < 1.799912)
+    (limit,) = m.limits
+    assert limit.phi[0] == pytest.approx(1.799912, abs=1e-6)
+    assert set(limit.links) == {"3", "4"} and "stretched at B" in limit.kind
+
+
+# -- seeds 000 and 003 at their reference positions (REFERENCE.md, exact values, 0.1 %) -------------
+SHAPER_F = 140.76923076923077
+
+
+def test_shaper_reference_position(engine_of):
+    e = engine_of("shaper")
+    m = mbplanar.analyse(e, [math.radians(SHAPER_F)])
+    p = lambda n: m.xy[0, m.point(n)]  # noqa: E731
+    for got, want in [(p("A")[0], 0.0638289), (p("A")[1], 0.110555), (p("D")[0], 0.0947639),
+                      (p("D")[1], 0.338612), (p("S3")[0], 0.047382), (p("S3")[1], -0.0106939),
+                      (math.degrees(m.angle[0, m.link("3")]), 82.2752),
+                      (m.vq[0, m.point("D"), 0], 0.173793), (m.vq[0, m.point("S3"), 0], 0.0868963),
+                      (m.vq[0, m.point("S3"), 1], -0.0117871), (m.wq[0, m.link("3")], -0.248768),
+                      (m.eq[0, m.link("3")], 0.0512018), (m.aq[0, m.point("D"), 0], -0.0416347),
+                      (m.aq[0, m.point("S3"), 0], -0.0208174), (m.aq[0, m.point("S3"), 1], -0.019191)]:
+        assert rel(got, want) < 1e-3, (got, want)
+
+
+def test_shaper_real_values_at_seed_speed(engine_of):
+    """REFERENCE: with omega1 = 7.64558, epsilon1 = -0.577148: a_S3 = (-1.26703, -1.115), eps3 = 3.13657."""
+    e = engine_of("shaper")
+    m = mbplanar.analyse(e, [math.radians(SHAPER_F)], omega=7.64558, epsilon=-0.577148)
+    assert rel(m.a[0, m.point("S3"), 0], -1.26703) < 1e-3
+    assert rel(m.a[0, m.point("S3"), 1], -1.115) < 1e-3
+    assert rel(m.a[0, m.point("D"), 0], -2.53406) < 1e-3
+    assert rel(m.e[0, m.link("3")], 3.13657) < 1e-3
+
+
+def test_six_bar_press_reference_position(engine_of):
+    e = engine_of("six_bar_press")
+    m = mbplanar.analyse(e, [math.radians(99.1)])
+    expect_xy = {"A": (-0.1735, 0.300511), "B": (1.16470, 0.845709), "D": (1.07940, 1.69142),
+                 "H": (2.58395, 0.9), "S2": (0.495601, 0.57311)}
+    expect_vq = {"A": (0.300511, 0.1735), "B": (0.356546, 0.035961), "D": (0.713091, 0.071922),
+                 "H": (0.675259, 0), "S2": (0.328528, 0.104731), "S4": (0.694175, 0.035961)}
+    expect_aq = {"A": (0.1735, -0.300511), "B": (0.0926432, -0.142503), "D": (0.185286, -0.285005),
+                 "H": (0.330815, 0), "S2": (0.133072, -0.221507), "S4": (0.258051, -0.142503)}
+    for table, arr in ((expect_xy, m.xy), (expect_vq, m.vq), (expect_aq, m.aq)):
+        for name, want in table.items():
+            got = arr[0, m.point(name)]
+            for g, w in zip(got, want):
+                assert abs(g - w) <= 1e-3 * abs(w) + 1e-9, (name, got, want)
+    assert m.xy[0, m.point("S4"), 0] == pytest.approx(1.83168, rel=1e-4)
+    for link, angle, wq, eq in (("2", 22.1665, -0.102779, 0.122379), ("3", 95.7594, -0.421594, -0.091618),
+                                ("4", 152.255, -0.047803, 0.188227)):
+        k = m.link(link)
+        assert rel(math.degrees(m.angle[0, k]), angle) < 1e-4
+        assert rel(m.wq[0, k], wq) < 1e-3 and rel(m.eq[0, k], eq) < 1e-3
+
+
+def test_six_bar_press_stroke(engine_of):
+    e = engine_of("six_bar_press")
+    m = mbplanar.analyse(e, np.radians(np.linspace(0, 360, 7201)))
+    x = m.xy[:, m.point("H"), 0]
+    assert np.ptp(x) == pytest.approx(1.579893, abs=2e-6)
+
+
+# -- closed forms over a whole cycle -------------------------------------------------------------
+def _circle_intersection(a, c, ra, rc, sign):
+    d = c - a
+    dist = np.linalg.norm(d, axis=-1)
+    along = (ra ** 2 - rc ** 2 + dist ** 2) / (2 * dist)
+    h = np.sqrt(ra ** 2 - along ** 2)
+    u = d / dist[..., None]
+    return a + along[..., None] * u + sign * h[..., None] * np.stack([-u[..., 1], u[..., 0]], -1)
+
+
+def test_fourbar_closed_form_whole_cycle(engine_of):
+    e = engine_of("fourbar")
+    phi = np.linspace(0, 2 * np.pi, 721)
+    m = mbplanar.analyse(e, phi)
+    a = 0.1 * np.stack([np.cos(phi), np.sin(phi)], -1)
+    c = np.array([0.3, 0.0])
+    b = _circle_intersection(a, c, 0.3, 0.25, +1.0)
+    assert np.abs(m.xy[:, m.point("B")] - b).max() < 1e-9
+    # rocker angular velocity from the velocity of B: v_B = ω3 × (B − C)
+    rel_b, vb = b - c, m.vq[:, m.point("B")]
+    w3 = (rel_b[:, 0] * vb[:, 1] - rel_b[:, 1] * vb[:, 0]) / np.sum(rel_b ** 2, -1)
+    assert np.abs(m.wq[:, m.link("3")] - w3).max() < 1e-9
+
+
+def test_slider_crank_closed_form_whole_cycle(engine_of):
+    e = engine_of("slider_crank")
+    phi = np.linspace(0, 2 * np.pi, 721)
+    m = mbplanar.analyse(e, phi)
+    r, l = 0.1, 0.3
+    s, c = np.sin(phi), np.cos(phi)
+    root = np.sqrt(l * l - r * r * s * s)
+    x = r * c + root
+    v = -r * s - r * r * s * c / root
+    acc = -r * c - r * r * (c * c - s * s) / root - r ** 4 * s * s * c * c / root ** 3
+    k = m.point("B")
+    assert np.abs(m.xy[:, k, 0] - x).max() < 1e-9
+    assert np.abs(m.vq[:, k, 0] - v).max() < 1e-9
+    assert np.abs(m.aq[:, k, 0] - acc).max() < 1e-9
+    assert np.abs(m.xy[:, k, 1]).max() < 1e-12
+
+
+def test_instant_centre_of_coupler_is_where_crank_and_rocker_lines_meet(engine_of):
+    e = engine_of("fourbar")
+    m = mbplanar.analyse(e, np.radians([30.0, 100.0, 200.0]))
+    o, c = np.zeros(2), np.array([0.3, 0.0])
+    for k in range(3):
+        a, b = m.xy[k, m.point("A")], m.xy[k, m.point("B")]
+        # intersection of lines O-A and C-B
+        mat = np.array([a - o, -(b - c)]).T
+        t = np.linalg.solve(mat, c - o)
+        assert np.allclose(m.ic[k, m.link("2")], o + t[0] * (a - o), atol=1e-9)
+    assert np.allclose(m.ic[:, m.link("1")], 0.0, atol=1e-12)
+
+
+def test_real_values_scale_with_omega_and_epsilon(engine_of):
+    e = engine_of("six_bar_press")
+    phi = np.radians([10.0, 99.1, 250.0])
+    base = mbplanar.analyse(e, phi)
+    m = mbplanar.analyse(e, phi, omega=3.0, epsilon=-2.0)
+    assert np.allclose(m.v, base.vq * 3.0, atol=1e-12)
+    assert np.allclose(m.a, base.aq * 9.0 + base.vq * -2.0, atol=1e-12)
+    assert np.allclose(m.e, base.eq * 9.0 + base.wq * -2.0, atol=1e-12)

@@ -1,0 +1,166 @@
+"""Laws that must hold for any mechanism (hypothesis): loop closure after a solve, velocity = derivative
+of position, acceleration = derivative of velocity, no jump along a sweep, group-by-group = global."""
+
+import math
+
+import numpy as np
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+import mbplanar
+from mbplanar.kinematics import material_points
+
+SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def _angle(v):
+    return math.degrees(math.atan2(v[1], v[0]))
+
+
+def _sin_between(u, v):
+    return abs(u[0] * v[1] - u[1] * v[0]) / (np.linalg.norm(u) * np.linalg.norm(v))
+
+
+points = st.tuples(st.floats(-1, 1), st.floats(-1, 1)).map(np.array)
+
+
+@st.composite
+def mechanisms(draw):
+    """A random mechanism in an exact drawn pose: four-bar, slider-crank, inverted slider-crank, or a
+    six-bar whose second dyad slides on a guide carried by the moving rocker."""
+    kind = draw(st.sampled_from(["fourbar", "slider_crank", "inverted", "sixbar"]))
+    o = np.zeros(2)
+    a = draw(points)
+    b = draw(points)
+    c = draw(points)
+    assume(min(np.linalg.norm(a), np.linalg.norm(b - a), np.linalg.norm(c - b), np.linalg.norm(c)) > 0.2)
+    m = mbplanar.Mechanism(kind)
+    for name in ("1", "2", "3"):
+        m.add_link(name)
+    m.add_joint("O", "R", "0", "1", at=o)
+    m.add_joint("A", "R", "1", "2", at=a)
+    if kind == "inverted":
+        # block 2 on the crank pin slides along rocker 3 (pivot C): guide through C and A
+        assume(np.linalg.norm(a - c) > 0.2)
+        m.add_joint("Ap", "P", "3", "2", at=a, guide=_angle(a - c))
+        m.add_joint("C", "R", "0", "3", at=c)
+        assume(_sin_between(a - o, a - c) > 0.2)
+        return m, kind
+    if kind == "slider_crank":
+        guide = draw(st.floats(-80, 80))
+        assume(_sin_between(b - a, np.array([math.cos(math.radians(guide)), math.sin(math.radians(guide))])) > 0.2)
+        m.add_joint("B", "R", "2", "3", at=b)
+        m.add_joint("Bp", "P", "0", "3", at=b, guide=guide)
+        return m, kind
+    assume(_sin_between(b - a, c - b) > 0.2)
+    m.add_joint("B", "R", "2", "3", at=b)
+    m.add_joint("C", "R", "3", "0", at=c)
+    if kind == "sixbar":
+        e = draw(points)  # a point of the coupler 2
+        f = draw(points)  # the slider 5 on a guide carried by the rocker 3
+        guide = draw(st.floats(-180, 180))
+        assume(np.linalg.norm(f - e) > 0.2)
+        assume(_sin_between(f - e, np.array([math.cos(math.radians(guide)), math.sin(math.radians(guide))])) > 0.2)
+        m.add_link("4")
+        m.add_link("5")
+        m.add_joint("E", "R", "2", "4", at=e)
+        m.add_joint("F", "R", "4", "5", at=f)
+        m.add_joint("Fp", "P", "3", "5", at=f, guide=guide)
+    return m, kind
+
+
+def _engine(m):
+    m.add_input("O", unit="rad")
+    return mbplanar.Engine(m)
+
+
+def _closure_residual(engine, motion):
+    """Largest violation of any joint (m or rad) in the solved poses."""
+    th, r = motion.frames["th"], motion.frames["r"]
+    zeros = np.zeros_like(th)
+    worst = 0.0
+    for j in engine.mech.joints.values():
+        ia, ib = engine.link_index[j.links[0]], engine.link_index[j.links[1]]
+        at = np.array([j.at])
+        xa = material_points(th, r, zeros, np.zeros_like(r), zeros, np.zeros_like(r), np.array([ia]), at)[0][:, 0]
+        xb = material_points(th, r, zeros, np.zeros_like(r), zeros, np.zeros_like(r), np.array([ib]), at)[0][:, 0]
+        if j.kind == "R":
+            worst = max(worst, float(np.abs(xa - xb).max()))
+        else:
+            g = math.radians(j.guide_deg)
+            n0 = np.array([-math.sin(g), math.cos(g)])
+            c, s = np.cos(th[:, ia]), np.sin(th[:, ia])
+            n = np.stack([c * n0[0] - s * n0[1], s * n0[0] + c * n0[1]], -1)
+            worst = max(worst, float(np.abs(np.sum(n * (xb - xa), -1)).max()),
+                        float(np.abs(th[:, ib] - th[:, ia]).max()))
+    return worst
+
+
+@SETTINGS
+@given(mechanisms(), st.lists(st.floats(-1.5, 1.5), min_size=1, max_size=6))
+def test_loop_closure_after_solve(mech_kind, offsets):
+    mech, _ = mech_kind
+    engine = _engine(mech)
+    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.array(offsets))
+    assert len(m.phi) >= 0
+    if len(m.phi):
+        assert _closure_residual(engine, m) < 1e-10
+
+
+@SETTINGS
+@given(mechanisms(), st.floats(-1.0, 1.0))
+def test_velocity_and_acceleration_are_derivatives(mech_kind, offset):
+    mech, _ = mech_kind
+    engine = _engine(mech)
+    h = 1e-5
+    phi = engine.phi_drawn[0] + offset
+    m = mbplanar.analyse(engine, [phi - h, phi, phi + h])
+    assume(len(m.phi) == 3)
+    scale = 1 + np.abs(m.vq[1]) + np.abs(m.aq[1])
+    assume(scale.max() < 1e3)  # far from a dead point, where central differences are meaningful
+    fd_v = (m.xy[2] - m.xy[0]) / (2 * h)
+    fd_a = (m.vq[2] - m.vq[0]) / (2 * h)
+    assert np.all(np.abs(fd_v - m.vq[1]) <= 1e-5 * scale)
+    assert np.all(np.abs(fd_a - m.aq[1]) <= 1e-4 * scale * scale)
+    fd_w = (m.angle[2] - m.angle[0]) / (2 * h)
+    fd_e = (m.wq[2] - m.wq[0]) / (2 * h)
+    link_scale = 1 + np.abs(m.wq[1]) + np.abs(m.eq[1])
+    assert np.all(np.abs(fd_w - m.wq[1]) <= 1e-5 * link_scale)
+    assert np.all(np.abs(fd_e - m.eq[1]) <= 1e-4 * link_scale * link_scale)
+    fd_j = (m.value[2] - m.value[0]) / (2 * h)
+    assert np.all(np.abs(fd_j - m.rate_q[1]) <= 1e-5 * (1 + np.abs(m.rate_q[1]) + np.abs(m.accel_q[1])))
+
+
+@SETTINGS
+@given(mechanisms())
+def test_no_jump_along_a_sweep(mech_kind):
+    mech, _ = mech_kind
+    engine = _engine(mech)
+    step = math.radians(1.0)
+    phi = engine.phi_drawn[0] + np.arange(-180, 181) * step
+    m = mbplanar.analyse(engine, phi)
+    # reached positions are one contiguous stretch around the drawn pose
+    got = np.round((m.phi[:, 0] - phi[0]) / step).astype(int)
+    assert np.all(np.diff(got) == 1)
+    # each move is bounded by the speeds at its ends (mean-value theorem, with room for curvature)
+    moved = np.linalg.norm(np.diff(m.xy, axis=0), axis=-1)
+    speed = np.maximum(np.linalg.norm(m.vq[1:], axis=-1), np.linalg.norm(m.vq[:-1], axis=-1))
+    accel = np.maximum(np.linalg.norm(m.aq[1:], axis=-1), np.linalg.norm(m.aq[:-1], axis=-1))
+    assert np.all(moved <= speed * step + accel * step * step + 1e-9)
+
+
+@SETTINGS
+@given(mechanisms(), st.lists(st.floats(-1.0, 1.0), min_size=1, max_size=5))
+def test_group_by_group_equals_global_newton(mech_kind, offsets):
+    mech, _ = mech_kind
+    mech.add_input("O", unit="rad")
+    grouped = mbplanar.Engine(mech)
+    whole = mbplanar.Engine(mech, grouped=False)
+    assert len(whole.blocks) < len(grouped.blocks) or len(grouped.blocks) == 2
+    phi = grouped.phi_drawn[0] + np.array(offsets)
+    a = mbplanar.analyse(grouped, phi)
+    b = mbplanar.analyse(whole, phi)
+    assert len(a.phi) == len(b.phi)
+    if len(a.phi):
+        assert np.abs(a.xy - b.xy).max() < 1e-12 * (1 + grouped.size)
+        assert np.abs(a.vq - b.vq).max() < 1e-9 * (1 + np.abs(a.vq).max())
