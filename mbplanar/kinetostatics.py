@@ -10,9 +10,10 @@ The system is square (3·moving links + P pairs = 2·pairs + P pairs + DOF).
 
 Sign conventions. The unknown of a pair with links (a, b) is the force and moment on b from a, applied at
 the joint (for a prismatic pair at the slider's point; the pair's moment is about that point). Reactions
-are reported as F_ij = force ON link i FROM link j with i = the row's second link (the slider of a P
-pair) and j = the first, except that a pair with the ground reports the force on the moving link: this
-is seed 000's F10, F23, F30, F45, F50 (and F21 = −F12, F43 = −F34). Moments are counter-clockwise positive.
+are reported as F_ij = force ON link i FROM link j, the way seed 000 writes them: a pair with the ground
+acts on the moving link (F10, F30, F50); a prismatic pair on its slider from its carrier (F23, F45); a
+revolute pair between moving links on its row's first link from its second (F12, F34). The other side
+is always the opposite (F21 = −F12). Moments are counter-clockwise positive.
 The balancing moment at an input acts on the input joint's second link (on its first, the opposite).
 
 Check: the virtual power of all loads (inertia included) plus the balancing power vanishes for any
@@ -280,7 +281,7 @@ def _report(engine, lay, x) -> dict:
         fx, fy = x[:, c], x[:, c + 1]
         m = x[:, c + 2] if j.kind == "P" else np.zeros(len(x))
         a, b = j.links
-        if b == mech.ground:
+        if b == mech.ground or (j.kind == "R" and a != mech.ground):
             out[j.name] = Reaction(j.name, a, b, -fx, -fy, -m)
         else:
             out[j.name] = Reaction(j.name, b, a, fx, fy, m)
