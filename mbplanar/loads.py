@@ -224,11 +224,11 @@ def _point(mech, link: str, at, where) -> tuple[float, float] | None:
     raise ModelError(f"{where}: 'at' = '{name}' is neither a point nor a joint of the model")
 
 
-def centre_of(mech, link: str) -> tuple[float, float]:
-    """Drawn coordinates of a link's centre of mass (ModelError if a heavy link has none)."""
+def centre_of(mech, link: str, why: str = "a link with mass needs a 'centre' point") -> tuple[float, float]:
+    """Drawn coordinates of a link's centre of mass (ModelError `why` if the link has none)."""
     lk = mech.links[link]
     if lk.centre is None:
-        raise ModelError(f"{mech.source}: links '{link}': a link with mass needs a 'centre' point")
+        raise ModelError(f"{mech.source}: links '{link}': {why}")
     name = lk.centre
     return tuple(mech.points[name].at if name in mech.points else mech.joints[name].at)
 
@@ -281,7 +281,7 @@ def _evaluate(engine, motion, load: Load) -> LoadValue:
     batch = len(motion.phi)
     at = load.at
     if at is None:
-        at = mech.joints[load.joint].at if load.joint else centre_of(mech, load.link)
+        at = _default_point(mech, load)
     point = world_points(motion, k, np.asarray(at, float))
     moment = np.zeros(batch)
     if load.kind == "force":
@@ -295,6 +295,16 @@ def _evaluate(engine, motion, load: Load) -> LoadValue:
     else:
         force = _guide_force(engine, motion, load)
     return LoadValue(load.name, k, force, point, moment)
+
+
+def _default_point(mech, load: Load):
+    """Where a load without `at` acts: the joint's slider point (guide forces), else the link's centre,
+    else its first joint (for a pure moment the point does not matter)."""
+    if load.joint:
+        return mech.joints[load.joint].at
+    if mech.links[load.link].centre is not None or load.kind != "moment":
+        return centre_of(mech, load.link, f"{load.name} has no 'at' and the link has no 'centre'")
+    return mech.joints_of(load.link)[0].at
 
 
 def _guide_force(engine, motion, load: Load) -> np.ndarray:
