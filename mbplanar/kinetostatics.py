@@ -23,7 +23,6 @@ velocity field the joints allow. `virtual_power_residual` computes it with the v
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -322,7 +321,3 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     return Kinetostatics(motion=motion, reactions=_report(engine, lay, x), balancing=balancing,
                          virtual_power_residual=residual, loads=loads, singular=singular)
 
-
-def direction_deg(fx, fy) -> float:
-    """Direction of a force in degrees [0, 360)."""
-    return math.degrees(math.atan2(fy, fx)) % 360.0

@@ -16,8 +16,8 @@ Laws (one TOML row each in `loads = [...]`, `type` selects the law):
   s = 0), acting only `when = "forward"` (joint rate ≥ 0), `"backward"` (rate ≤ 0) or `"always"`;
 - `friction`: a constant force `force = F` along the guide opposing the slider's velocity.
 
-`at` is a point name (a joint or point of interest of the link) or drawn coordinates `[x, y]` of a material
-point of the link; it defaults to the link's centre (or, for guide forces, the joint's slider point).
+`at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` of a material
+point of the link in the exact drawn pose (for a sketched model prefer a named point); it defaults to the link's centre (or, for guide forces, the joint's slider point).
 `[gravity]` (`g` in m/s², `direction` in degrees, default −90) adds m·g at the centre of every link with a
 mass. Gravity is not a `LoadValue` row of the table: `evaluate_loads` appends one per heavy link.
 """
