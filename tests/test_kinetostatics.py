@@ -260,3 +260,16 @@ def test_no_loads_no_forces():
         np.all(ld.force == 0) for ld in evaluate_loads(engine, motion))
     for r in result.reactions.values():
         assert np.all(r.fx == 0) and np.all(r.fy == 0)
+
+
+@pytest.mark.parametrize("path,m_dr", [(SHAPER, 102.058), ("models/six_bar_press.toml", 2263.03)])
+def test_cycle_mean_of_balancing_moment_is_the_driving_moment(path, m_dr):
+    """At constant ω the inertia and weights do no net work per cycle: the mean balancing moment is
+    the driving moment M_dr = −A_c/2π of REFERENCE.md (a clockwise crank: M1 = −M_dr)."""
+    engine = mbplanar.Engine(mbplanar.read_model(path))
+    phi = np.linspace(0.0, 2 * np.pi, 1441)
+    motion = mbplanar.analyse(engine, phi)
+    result = kinetostatics(engine, motion)
+    assert result.success and np.all(result.virtual_power_residual < 1e-9)
+    mean = np.trapezoid(result.balancing["O"], phi) / (2 * np.pi)
+    assert mean == pytest.approx(-m_dr, rel=2e-5)
