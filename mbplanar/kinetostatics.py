@@ -18,7 +18,9 @@ The balancing moment at an input acts on the input joint's second link (on its f
 
 Check: the virtual power of all loads (inertia included) plus the balancing power vanishes for any
 velocity field the joints allow. `virtual_power_residual` computes it with the velocity analogues
-(real velocities with several inputs), independently of the matrix, relative to the sum of |terms|.
+(real velocities with several inputs), independently of the matrix, relative to Σ(|F|·v_max + |M|·ω_max)
+over the loads (v_max, ω_max: the largest point speed and angular speed at that position) plus the
+balancing power.
 """
 
 from __future__ import annotations
@@ -268,7 +270,14 @@ def _virtual_power(engine, motion, loads, drive):
     if not terms:
         return np.zeros(len(motion.phi))
     terms = np.stack(terms, axis=1)
-    total = np.abs(terms).sum(axis=1)
+    # relative to what the loads could do at this position's largest point speed and angular speed, so
+    # that a position where most links stand still (an extreme position) is not judged on round-off
+    point_v = motion.vq if motion.vq is not None else motion.v
+    vscale = np.linalg.norm(point_v, axis=-1).max(axis=1, initial=0.0)
+    wscale = np.abs(w).max(axis=1)
+    total = np.abs(terms[:, len(loads):]).sum(axis=1)
+    for ld in loads:
+        total = total + np.linalg.norm(ld.force, axis=-1) * vscale + np.abs(ld.moment) * wscale
     return np.abs(terms.sum(axis=1)) / np.where(total > 0, total, 1.0)
 
 
