@@ -225,19 +225,112 @@ def cmd_sweep(args):
                      0.0 if args.epsilon is None else args.epsilon)
     angle_unit = args.angles or ("rad" if inp.unit == "rad" else "deg")
     header, rows = sweep_table(engine, motion, angle_unit)
+    forces_failed = None
+    if args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech)):
+        f_header, f_rows, forces_failed = forces_table(engine, motion, args.input_inertia)
+        header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
     out = open(args.output, "w", newline="") if args.output else sys.stdout
     try:
         writer = csv.writer(out)
         writer.writerow(header)
         for row in rows:
-            writer.writerow([f"{x:.12g}" for x in row])
+            writer.writerow(["" if not math.isfinite(x) else f"{x:.12g}" for x in row])
     finally:
         if args.output:
             out.close()
+    if forces_failed:
+        print(f"mbplanar: {engine.mech.source}: {forces_failed} (their force cells are empty)", file=sys.stderr)
+        return 1
     if not motion.success:
         print(f"mbplanar: {engine.mech.source}: {motion.message}; wrote the {len(motion.phi)} of "
               f"{motion.requested} positions before it", file=sys.stderr)
         return 1
+    return 0
+
+
+# -- forces -----------------------------------------------------------------------------------------
+def has_force_data(mech) -> bool:
+    """True when the model has loads, gravity or mass data (the sweep then adds force columns)."""
+    return bool(mech.extras.get("loads") or mech.extras.get("gravity")
+                or any(lk.mass or lk.inertia for lk in mech.links.values()))
+
+
+def forces_table(engine, motion, input_inertia=0.0):
+    """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
+    from .kinetostatics import kinetostatics
+    result = kinetostatics(engine, motion, input_inertia or 0.0)
+    header, cols = [], []
+    for name, r in result.reactions.items():
+        header += [f"{name}.fx[N]", f"{name}.fy[N]"]
+        cols += [r.fx, r.fy]
+        if engine.mech.joints[name].kind == "P":
+            header.append(f"{name}.moment[N*m]")
+            cols.append(r.moment)
+    for name, q in result.balancing.items():
+        unit = "N*m" if engine.mech.joints[name].kind == "R" else "N"
+        header.append(f"{name}.balancing[{unit}]")
+        cols.append(q)
+    header.append("virtual_power_residual")
+    cols.append(result.virtual_power_residual)
+    return header, np.column_stack(cols), (None if result.success else result.message)
+
+
+def forces_document(engine, motion, result, row=0) -> dict:
+    inp = engine.inputs[0]
+    reactions = {}
+    for name, r in result.reactions.items():
+        fx, fy = float(r.fx[row]), float(r.fy[row])
+        reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
+                           "fx": fx, "fy": fy, "moment": float(r.moment[row]),
+                           "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
+    doc = {"model": engine.mech.name,
+           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit,
+                     "value": inp.from_si(float(motion.phi[row, 0])),
+                     "omega": float(motion.omega[row, 0]), "epsilon": float(motion.epsilon[row, 0])},
+           "reactions": reactions,
+           "balancing": {name: float(q[row]) for name, q in result.balancing.items()},
+           "virtual_power_residual": float(result.virtual_power_residual[row]),
+           "loads": [{"name": ld.name, "link": motion.link_names[ld.link], "fx": ld.force[row, 0],
+                      "fy": ld.force[row, 1], "x": ld.point[row, 0], "y": ld.point[row, 1],
+                      "moment": ld.moment[row]} for ld in result.loads]}
+    return _plain(doc)
+
+
+def cmd_forces(args):
+    from .kinetostatics import kinetostatics
+    engine = _load(args.model)
+    if len(engine.inputs) != 1:
+        raise _ArgError("forces drives one input; this model has several (use the Python API)")
+    value = float(args.at)
+    if not math.isfinite(value):
+        raise _ArgError("--at must be a finite number")
+    if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
+        raise _ArgError("--input-inertia must be a finite number >= 0")
+    motion = _motion(engine, np.array([_input_si(engine, value)]), args.omega, args.epsilon)
+    if not motion.success:
+        raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+    result = kinetostatics(engine, motion, args.input_inertia or 0.0)
+    if not result.success:
+        raise MotionError(f"{engine.mech.source}: {result.message}")
+    doc = forces_document(engine, motion, result)
+    if args.json:
+        print(json.dumps(doc, indent=2))
+        return 0
+    inp = doc["input"]
+    print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
+          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {args.input_inertia or 0:g})")
+    print(f"{'joint':7s}{'type':>5s}{'on':>5s}{'from':>5s}{'Fx [N]':>13s}{'Fy [N]':>13s}{'|F| [N]':>13s}"
+          f"{'dir [°]':>10s}{'M [N·m]':>13s}")
+    tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
+    for name, r in doc["reactions"].items():
+        r = {k: (0.0 if isinstance(v, float) and abs(v) < tiny else v) for k, v in r.items()}
+        moment = f"{r['moment']:13.6g}" if r["type"] == "P" else ""
+        print(f"{name:7s}{r['type']:>5s}{r['on']:>5s}{r['from']:>5s}{r['fx']:13.6g}{r['fy']:13.6g}"
+              f"{r['magnitude']:13.6g}{r['direction_deg']:10.3f}{moment}")
+    for name, q in doc["balancing"].items():
+        unit = "N·m" if engine.mech.joints[name].kind == "R" else "N"
+        print(f"balancing {'moment' if unit == 'N·m' else 'force'} at {name}: {q:.6g} {unit}")
+    print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
     return 0
 
 
@@ -275,7 +368,19 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--epsilon", type=float)
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
+    s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
+                   help="reaction and balancing columns: auto = when the model has loads or masses")
+    s.add_argument("--input-inertia", type=float, help="J_I on the input link for the force columns")
     s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("forces", help="one position: every joint reaction and the balancing moment")
+    s.add_argument("model")
+    s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
+    s.add_argument("--omega", type=float, help="input speed dφ/dt (default: the model's omega)")
+    s.add_argument("--epsilon", type=float, help="input acceleration (default: the model's, else 0)")
+    s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_forces)
     return p
 
 

@@ -1,0 +1,332 @@
+"""Kinetostatics: every joint reaction and the balancing moment (or force) at every input, from one
+linear system assembled from the joint table, solved for a batch of positions.
+
+Equations: per moving link ΣFx = 0, ΣFy = 0, ΣM = 0 (moments about a fixed point of the model, the mean of
+the drawn joints, divided by the model size so that every row is in newtons), with d'Alembert inertia
+loads −m·a_S at the centre S and −I_S·ε, gravity and the model's loads; per prismatic pair one more: no
+force along its guide. Unknowns: both components of every pair's reaction, the moment in every
+prismatic pair and the balancing moment (force, for a prismatic input) the drive applies at each input.
+The system is square (3·moving links + P pairs = 2·pairs + P pairs + DOF).
+
+Sign conventions. The unknown of a pair with links (a, b) is the force and moment on b from a, applied at
+the joint (for a prismatic pair at the slider's point; the pair's moment is about that point). Reactions
+are reported as F_ij = force ON link i FROM link j, the way seed 000 writes them: a pair with the ground
+acts on the moving link (F10, F30, F50); a prismatic pair on its slider from its carrier (F23, F45); a
+revolute pair between moving links on its row's first link from its second (F12, F34). The other side
+is always the opposite (F21 = −F12). Moments are counter-clockwise positive.
+The balancing moment at an input acts on the input joint's second link (on its first, the opposite).
+
+Check: the virtual power of all loads (inertia included) plus the balancing power vanishes for any
+velocity field the joints allow. `virtual_power_residual` computes it with the velocity analogues
+(real velocities with several inputs), independently of the matrix, relative to Σ(|F|·v_max + |M|·ω_max)
+over the loads (v_max, ω_max: the largest point speed and angular speed at that position) plus the
+balancing power.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._linalg import lu_factor
+from .constraints import perp
+from .kinematics import material_points
+from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, world_points
+
+__all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
+
+
+@dataclass
+class Reaction:
+    """Force (fx, fy) (B,) and moment (B,) on link `on` from link `source` in joint `joint`."""
+
+    joint: str
+    on: str
+    source: str
+    fx: np.ndarray
+    fy: np.ndarray
+    moment: np.ndarray
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        return np.hypot(self.fx, self.fy)
+
+    @property
+    def direction_deg(self) -> np.ndarray:
+        """Direction of the force, degrees counter-clockwise from +x in [0, 360)."""
+        return np.degrees(np.arctan2(self.fy, self.fx)) % 360.0
+
+
+@dataclass
+class Kinetostatics:
+    """Reactions and balancing loads over a batch (the positions of `motion`).
+
+    reactions: joint name → Reaction (as reported: on the moving link for pairs with the ground);
+    balancing: input joint name → (B,) moment (N·m) or force (N) the drive applies to the input link;
+    virtual_power_residual (B,): relative residual of the virtual-power balance; loads: what acted.
+    """
+
+    motion: object
+    reactions: dict
+    balancing: dict
+    virtual_power_residual: np.ndarray
+    loads: list = field(default_factory=list)
+    singular: np.ndarray | None = None
+
+    @property
+    def success(self) -> bool:
+        return self.singular is None or not bool(np.any(self.singular))
+
+    @property
+    def message(self) -> str:
+        if self.success:
+            return "solved"
+        bad = np.flatnonzero(self.singular)
+        inp = self.motion.engine.inputs[0]
+        where = ", ".join(f"{inp.from_si(self.motion.phi[k, 0]):.6g}" for k in bad[:5])
+        return (f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where}"
+                f"{', ...' if len(bad) > 5 else ''}): a dead point, the drive cannot balance the loads")
+
+    def reaction(self, joint: str) -> Reaction:
+        return self.reactions[joint]
+
+
+# -- kinematics of the link frames ------------------------------------------------------------------
+def _real_frames(engine, motion):
+    """Real (w, v, e, a) of every link frame: (B, L), (B, L, 2), (B, L), (B, L, 2)."""
+    f = motion.frames
+    if "v" in f and motion.wq is not None:
+        om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
+        return (motion.w, f["v"] * om[..., None], motion.e,
+                f["a"] * om[..., None] ** 2 + f["v"] * ep[..., None])
+    sol = engine.solve(motion.phi)
+    engine.rates(sol, motion.omega, motion.epsilon)
+    return sol.w, sol.v, sol.e, sol.a
+
+
+def _virtual_frames(engine, motion):
+    """Virtual velocities (w, v) of every link frame: the analogues with one input, else real."""
+    if "v" in motion.frames and motion.wq is not None:
+        return motion.wq, motion.frames["v"]
+    w, v, _, _ = _real_frames(engine, motion)
+    return w, v
+
+
+def _input_link(engine, inp) -> tuple[str, str]:
+    """(input link, the other link) of an input joint: its second link unless that is the ground."""
+    j = engine.mech.joints[inp.joint]
+    a, b = j.links
+    return (a, b) if b == engine.mech.ground else (b, a)
+
+
+def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
+    """d'Alembert loads: −m·a_S at the centre and −I_S·ε on every link with mass or inertia, and
+    −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I."""
+    mech = engine.mech
+    th, r = motion.frames["th"], motion.frames["r"]
+    w, v, e, a = _real_frames(engine, motion)
+    out = []
+    batch = len(motion.phi)
+    for name, lk in mech.links.items():
+        if name == mech.ground or not (lk.mass or lk.inertia):
+            continue
+        k = engine.link_index[name]
+        at = np.array([centre_of(mech, name)]) if (lk.mass or lk.centre) else np.zeros((1, 2))
+        xy, _, acc = material_points(th, r, w, v, e, a, np.array([k]), at)
+        out.append(LoadValue(f"inertia of {name}", k, -lk.mass * acc[:, 0], xy[:, 0], -lk.inertia * e[:, k]))
+    inertias = np.broadcast_to(np.asarray(input_inertia, float), (len(engine.inputs),))
+    for inp, J in zip(engine.inputs, inertias):
+        if not J:
+            continue
+        link, _ = _input_link(engine, inp)
+        k = engine.link_index[link]
+        jt = mech.joints[inp.joint]
+        kj = motion.joint(inp.joint)
+        if jt.kind == "R":
+            point = world_points(motion, k, np.asarray(jt.at))
+            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point, -J * e[:, k]))
+        else:
+            sign = 1.0 if link == jt.slider else -1.0
+            u = guide_direction(engine, motion, inp.joint)
+            point = world_points(motion, engine.link_index[jt.slider], np.asarray(jt.at))
+            force = -J * sign * motion.accel[:, kj, None] * u
+            out.append(LoadValue(f"input inertia on {link}", k, force, point, np.zeros(batch)))
+    return out
+
+
+# -- the assembled system ---------------------------------------------------------------------------
+@dataclass
+class _Layout:
+    """Row and column numbering of the system."""
+
+    rows: dict            # moving link index → first of its 3 rows
+    p_rows: dict          # P joint name → its row
+    cols: dict            # joint name → first column (fx, fy[, moment])
+    in_cols: list         # input k → column
+    scale: np.ndarray     # (n,) unknown = x · scale
+    size: int
+
+
+def _layout(engine) -> _Layout:
+    mech = engine.mech
+    L = engine.size
+    rows, p_rows, cols, scale = {}, {}, {}, []
+    n = 0
+    for name in mech.moving_links:
+        rows[engine.link_index[name]] = n
+        n += 3
+    for j in mech.joints.values():
+        if j.kind == "P":
+            p_rows[j.name] = n
+            n += 1
+    c = 0
+    for j in mech.joints.values():
+        cols[j.name] = c
+        scale += [1.0, 1.0] + ([L] if j.kind == "P" else [])
+        c += 3 if j.kind == "P" else 2
+    in_cols = []
+    for inp in engine.inputs:
+        in_cols.append(c)
+        scale.append(L if mech.joints[inp.joint].kind == "R" else 1.0)
+        c += 1
+    return _Layout(rows, p_rows, cols, in_cols, np.array(scale), n)
+
+
+def _joint_points(engine, motion) -> dict:
+    """Where each pair's force acts (B, 2): the joint (R) or the slider's point (P)."""
+    out = {}
+    for j in engine.mech.joints.values():
+        link = j.slider if j.kind == "P" else j.links[1]
+        out[j.name] = world_points(motion, engine.link_index[link], np.asarray(j.at))
+    return out
+
+
+def _add_wrench(A, lay, link, col, fvec, point, moment, centre, L, sign):
+    """Add column `col` as a force `fvec` (B, 2) at `point` plus `moment` (B,) on link index `link`."""
+    row = lay.rows.get(link)
+    if row is None:
+        return
+    d = point - centre
+    A[:, row, col] += sign * fvec[:, 0]
+    A[:, row + 1, col] += sign * fvec[:, 1]
+    A[:, row + 2, col] += sign * ((d[:, 0] * fvec[:, 1] - d[:, 1] * fvec[:, 0]) / L + moment)
+
+
+def _assemble(engine, motion, lay, centre, points):
+    mech, L = engine.mech, engine.size
+    batch = len(motion.phi)
+    A = np.zeros((batch, lay.size, lay.size))
+    ex, ey = np.tile([1.0, 0.0], (batch, 1)), np.tile([0.0, 1.0], (batch, 1))
+    zero, one = np.zeros(batch), np.ones(batch)
+    for j in mech.joints.values():
+        ia, ib = (engine.link_index[n] for n in j.links)
+        c, p = lay.cols[j.name], points[j.name]
+        for link, sign in ((ib, 1.0), (ia, -1.0)):
+            _add_wrench(A, lay, link, c, ex, p, zero, centre, L, sign)
+            _add_wrench(A, lay, link, c + 1, ey, p, zero, centre, L, sign)
+            if j.kind == "P":
+                _add_wrench(A, lay, link, c + 2, 0 * ex, p, one, centre, L, sign)
+        if j.kind == "P":
+            u = guide_direction(engine, motion, j.name)
+            A[:, lay.p_rows[j.name], c] = u[:, 0]
+            A[:, lay.p_rows[j.name], c + 1] = u[:, 1]
+    for inp, col in zip(engine.inputs, lay.in_cols):
+        j = mech.joints[inp.joint]
+        ia, ib = (engine.link_index[n] for n in j.links)
+        for link, sign in ((ib, 1.0), (ia, -1.0)):
+            if j.kind == "R":
+                _add_wrench(A, lay, link, col, 0 * ex, points[j.name], one, centre, L, sign)
+            else:
+                u = guide_direction(engine, motion, j.name)
+                _add_wrench(A, lay, link, col, u, points[j.name], zero, centre, L, sign)
+    return A
+
+
+def _right_side(lay, loads, centre, L, batch):
+    b = np.zeros((batch, lay.size))
+    for ld in loads:
+        row = lay.rows.get(ld.link)
+        if row is None:
+            continue
+        d = ld.point - centre
+        b[:, row] -= ld.force[:, 0]
+        b[:, row + 1] -= ld.force[:, 1]
+        b[:, row + 2] -= (d[:, 0] * ld.force[:, 1] - d[:, 1] * ld.force[:, 0] + ld.moment) / L
+    return b
+
+
+def _virtual_power(engine, motion, loads, drive):
+    """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
+    w, v = _virtual_frames(engine, motion)
+    r = motion.frames["r"]
+    terms = []
+    for ld in loads:
+        vel = v[:, ld.link] + w[:, ld.link, None] * perp(ld.point - r[:, ld.link])
+        terms.append(np.einsum("bi,bi->b", ld.force, vel) + ld.moment * w[:, ld.link])
+    rates = motion.rate_q if motion.rate_q is not None else motion.rate
+    for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
+        terms.append(q * rates[:, motion.joint(inp.joint)])
+    if not terms:
+        return np.zeros(len(motion.phi))
+    terms = np.stack(terms, axis=1)
+    # relative to what the loads could do at this position's largest point speed and angular speed, so
+    # that a position where most links stand still (an extreme position) is not judged on round-off
+    point_v = motion.vq if motion.vq is not None else motion.v
+    vscale = np.linalg.norm(point_v, axis=-1).max(axis=1, initial=0.0)
+    wscale = np.abs(w).max(axis=1)
+    total = np.abs(terms[:, len(loads):]).sum(axis=1)
+    for ld in loads:
+        total = total + np.linalg.norm(ld.force, axis=-1) * vscale + np.abs(ld.moment) * wscale
+    return np.abs(terms.sum(axis=1)) / np.where(total > 0, total, 1.0)
+
+
+def _report(engine, lay, x) -> dict:
+    mech = engine.mech
+    out = {}
+    for j in mech.joints.values():
+        c = lay.cols[j.name]
+        fx, fy = x[:, c], x[:, c + 1]
+        m = x[:, c + 2] if j.kind == "P" else np.zeros(len(x))
+        a, b = j.links
+        if b == mech.ground or (j.kind == "R" and a != mech.ground):
+            out[j.name] = Reaction(j.name, a, b, -fx, -fy, -m)
+        else:
+            out[j.name] = Reaction(j.name, b, a, fx, fy, m)
+    return out
+
+
+def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | None = None,
+                  inertia: bool = True) -> Kinetostatics:
+    """Reactions in every pair and the balancing load at every input over the positions of `motion`.
+
+    input_inertia: J_I (kg·m², or kg for a prismatic input) on each input link, scalar or per input.
+    loads: evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
+    inertia: include the d'Alembert loads of the links (and J_I).
+    """
+    batch = len(motion.phi)
+    loads = list(evaluate_loads(engine, motion) if loads is None else loads)
+    if inertia:
+        loads += inertia_loads(engine, motion, input_inertia)
+    mech, L = engine.mech, engine.size
+    centre = np.mean([j.at for j in mech.joints.values()], axis=0)
+    lay = _layout(engine)
+    points = _joint_points(engine, motion)
+    A = _assemble(engine, motion, lay, centre, points)
+    b = _right_side(lay, loads, centre, L, batch)
+    if batch:
+        lu = lu_factor(A)
+        singular = ~(lu.pivot_ratio > 1e-12)
+        with np.errstate(all="ignore"):
+            x = lu.solve(b) * lay.scale
+        singular |= ~np.all(np.isfinite(x), axis=1)
+        x[singular] = np.nan
+    else:
+        x, singular = np.zeros((0, lay.size)), np.zeros(0, bool)
+    drive = [x[:, c] for c in lay.in_cols]  # on each input joint's second link
+    residual = _virtual_power(engine, motion, loads, drive)
+    balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
+                 for inp, q in zip(engine.inputs, drive)}
+    return Kinetostatics(motion=motion, reactions=_report(engine, lay, x), balancing=balancing,
+                         virtual_power_residual=residual, loads=loads, singular=singular)
+
