@@ -97,49 +97,115 @@ def _point_table(engine: Engine):
     return names, np.array(links, int), np.array(at, float).reshape(-1, 2)
 
 
+@dataclass
+class _JointTable:
+    """Index maps of the joints, built once per engine: revolute columns `r_col` with their links
+    (`r_a`, `r_b`), prismatic columns `p_col` with carrier `p_c`, slider `p_s`, point `p_at` (Pp, 2)
+    and guide direction `p_u0` (Pp, 2); `drawn` (J,) joint values in the drawn pose."""
+
+    r_col: np.ndarray
+    r_a: np.ndarray
+    r_b: np.ndarray
+    p_col: np.ndarray
+    p_c: np.ndarray
+    p_s: np.ndarray
+    p_at: np.ndarray
+    p_u0: np.ndarray
+    drawn: np.ndarray
+
+
+def _joint_table(engine: Engine) -> _JointTable:
+    joints = list(engine.mech.joints.values())
+    rev = [(k, j) for k, j in enumerate(joints) if j.kind == "R"]
+    pri = [(k, j) for k, j in enumerate(joints) if j.kind == "P"]
+    idx = engine.link_index
+    ints = lambda xs: np.array(xs, int)  # noqa: E731
+    return _JointTable(
+        r_col=ints([k for k, _ in rev]), r_a=ints([idx[j.links[0]] for _, j in rev]),
+        r_b=ints([idx[j.links[1]] for _, j in rev]),
+        p_col=ints([k for k, _ in pri]), p_c=ints([idx[j.links[0]] for _, j in pri]),
+        p_s=ints([idx[j.links[1]] for _, j in pri]),
+        p_at=np.array([j.at for _, j in pri], float).reshape(-1, 2),
+        p_u0=np.array([engine.laws[j.name].u0 for _, j in pri], float).reshape(-1, 2),
+        drawn=np.array([engine.joint_value_drawn[j.name] for j in joints]))
+
+
+def _tables(engine: Engine):
+    """Point and joint tables of an engine, computed on first use and kept on the engine."""
+    cached = engine.__dict__.get("_output_tables")
+    if cached is None:
+        cached = engine.__dict__["_output_tables"] = (_point_table(engine), _joint_table(engine))
+    return cached
+
+
+def _rotated(c, s, at):
+    """R(θ)·at for cos, sin (B, P) and drawn vectors at (P, 2) → (B, P, 2)."""
+    out = np.empty(c.shape + (2,))
+    out[..., 0] = c * at[:, 0] - s * at[:, 1]
+    out[..., 1] = s * at[:, 0] + c * at[:, 1]
+    return out
+
+
+def _moving_points(c, s, r, w, v, e, a, links, at, position=True):
+    """Position (if asked), velocity and acceleration of points drawn at `at` (P, 2) on links `links`
+    (P,), from the links' cos, sin (B, L) and frame states."""
+    rho = _rotated(c[:, links], s[:, links], at)
+    prho = perp(rho)
+    wl, el = w[:, links, None], e[:, links, None]
+    vel = v[:, links] + wl * prho
+    acc = a[:, links] + el * prho - (wl * wl) * rho
+    return (r[:, links] + rho if position else None), vel, acc
+
+
 def material_points(th, r, w, v, e, a, links, at):
     """Position, velocity and acceleration of points drawn at `at` (P, 2) on links `links` (P,)."""
-    c, s = np.cos(th[:, links]), np.sin(th[:, links])
-    rho = np.stack((c * at[:, 0] - s * at[:, 1], s * at[:, 0] + c * at[:, 1]), axis=-1)
-    xy = r[:, links] + rho
-    wl, el = w[:, links, None], e[:, links, None]
-    vel = v[:, links] + wl * perp(rho)
-    acc = a[:, links] + el * perp(rho) - wl * wl * rho
-    return xy, vel, acc
+    return _moving_points(np.cos(th), np.sin(th), r, w, v, e, a, links, at)
 
 
-def _joint_values(engine: Engine, th, r, w, v, e, a):
-    """value, rate, accel (B, J) of every joint from the link states."""
-    mech = engine.mech
-    out = [[], [], []]
-    for j in mech.joints.values():
-        ia, ib = engine.link_index[j.links[0]], engine.link_index[j.links[1]]
-        if j.kind == "R":
-            out[0].append(th[:, ib] - th[:, ia] + engine.joint_value_drawn[j.name])
-            out[1].append(w[:, ib] - w[:, ia])
-            out[2].append(e[:, ib] - e[:, ia])
-            continue
-        law = engine.laws[j.name]
-        at = np.array([j.at])
-        xs, vs, as_ = material_points(th, r, w, v, e, a, np.array([ib]), at)
-        xc, vc, ac = material_points(th, r, w, v, e, a, np.array([ia]), at)
-        d, dd, ddd = (xs - xc)[:, 0], (vs - vc)[:, 0], (as_ - ac)[:, 0]
-        c, s = np.cos(th[:, ia]), np.sin(th[:, ia])
-        u = np.stack((c * law.u0[0] - s * law.u0[1], s * law.u0[0] + c * law.u0[1]), axis=-1)
+def _dot(p, q):
+    return p[..., 0] * q[..., 0] + p[..., 1] * q[..., 1]
+
+
+def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
+    """value (if asked), rate, accel (B, J) of every joint from the link states: relative angle of a
+    revolute joint, displacement of the slider point along the guide for a prismatic joint."""
+    batch, n = th.shape[0], len(table.drawn)
+    out_v, out_r, out_a = (np.empty((batch, n)) for _ in range(3))
+    t = table
+    if len(t.r_col):
+        if value:
+            out_v[:, t.r_col] = th[:, t.r_b] - th[:, t.r_a] + t.drawn[t.r_col]
+        out_r[:, t.r_col] = w[:, t.r_b] - w[:, t.r_a]
+        out_a[:, t.r_col] = e[:, t.r_b] - e[:, t.r_a]
+    if len(t.p_col):
+        xs, vs, as_ = _moving_points(c, s, r, w, v, e, a, t.p_s, t.p_at)
+        xc, vc, ac = _moving_points(c, s, r, w, v, e, a, t.p_c, t.p_at)
+        d, dd, ddd = xs - xc, vs - vc, as_ - ac
+        u = _rotated(c[:, t.p_c], s[:, t.p_c], t.p_u0)
         pu = perp(u)
-        wc, ec = w[:, ia], e[:, ia]
-        dot = lambda p, q: np.einsum("bi,bi->b", p, q)  # noqa: E731
-        out[0].append(engine.joint_value_drawn[j.name] + dot(u, d))
-        out[1].append(wc * dot(pu, d) + dot(u, dd))
-        out[2].append(ec * dot(pu, d) - wc * wc * dot(u, d) + 2 * wc * dot(pu, dd) + dot(u, ddd))
-    return tuple(np.stack(x, axis=1) for x in out)
+        wc, ec = w[:, t.p_c], e[:, t.p_c]
+        pu_d, u_d = _dot(pu, d), _dot(u, d)
+        if value:
+            out_v[:, t.p_col] = t.drawn[t.p_col] + u_d
+        out_r[:, t.p_col] = wc * pu_d + _dot(u, dd)
+        out_a[:, t.p_col] = ec * pu_d - wc * wc * u_d + 2 * wc * _dot(pu, dd) + _dot(u, ddd)
+    return out_v, out_r, out_a
 
 
 def _link_states(engine: Engine, sol):
-    names = engine.links
-    th = np.stack([sol.pose.th[n] for n in names], axis=1)
-    r = np.stack([sol.pose.r[n] for n in names], axis=1)
-    return th, r
+    """th, cos θ, sin θ (B, L) and r (B, L, 2) of every link, in engine.links order."""
+    names, pose = engine.links, sol.pose
+    th = np.stack([pose.th[n] for n in names], axis=1)
+    c = np.stack([pose.c[n] for n in names], axis=1)
+    s = np.stack([pose.s[n] for n in names], axis=1)
+    r = np.stack([pose.r[n] for n in names], axis=1)
+    return th, c, s, r
+
+
+def _real(xq, xqq, om, ep):
+    """Real rate and acceleration from the analogues: x' = x_q ω, x'' = x_qq ω² + x_q ε.
+    om, ep broadcast against xq (batch axis first)."""
+    return xq * om, xqq * (om * om) + xq * ep
 
 
 def _instant_centres(r, v, w):
@@ -171,30 +237,35 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     """Solve `phi` (SI; (B,) or (B, n_in)) and return the kinematics of the positions reached.
 
     omega, epsilon: input speed and acceleration, scalars or per position (default: the model's).
+    With one input everything is computed once as analogues (d/dφ, d²/dφ²) and the real rates follow
+    by v = v_q·ω, a = a_q·ω² + v_q·ε.
     """
     n_in = len(engine.inputs)
     phi = np.asarray(phi, float)
     phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
     sol = engine.solve(phi)
-    keep = np.flatnonzero(sol.valid)
     batch = len(phi)
+    keep = slice(None) if sol.valid.all() else np.flatnonzero(sol.valid)
     omega = _per_position(omega, [i.omega for i in engine.inputs], batch, n_in)
     epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, n_in)
-    th, r = _link_states(engine, sol)
-    names, links, at = _point_table(engine)
+    th, c, s, r = _link_states(engine, sol)
+    (names, links, at), joints = _tables(engine)
     analog = n_in == 1
     if analog:
         engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
         wq, vq_f, eq, aq_f = sol.w, sol.v, sol.e, sol.a
         om, ep = omega[:, :1], epsilon[:, :1]
-        w, e = wq * om, eq * om ** 2 + wq * ep
-        v = vq_f * om[..., None]
-        a = aq_f * om[..., None] ** 2 + vq_f * ep[..., None]
+        w, e = _real(wq, eq, om, ep)
+        v, a = _real(vq_f, aq_f, om[..., None], ep[..., None])
+        xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)
+        pv, pa = _real(pvq, paq, om[..., None], ep[..., None])
+        value, rq, accq = _joint_values(joints, th, c, s, r, wq, vq_f, eq, aq_f)
+        rate, accel = _real(rq, accq, om, ep)
     else:
         engine.rates(sol, omega, epsilon)
         w, v, e, a = sol.w, sol.v, sol.e, sol.a
-    xy, pv, pa = material_points(th, r, w, v, e, a, links, at)
-    value, rate, accel = _joint_values(engine, th, r, w, v, e, a)
+        xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
+        value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
     alpha = np.array([engine.reference_angle[n] for n in engine.links])
     m = Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
                link_names=list(engine.links), angle=(th + alpha)[keep], w=w[keep], e=e[keep],
@@ -203,8 +274,6 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
                accel=accel[keep], ic=_instant_centres(r, v, w)[keep], requested=batch,
                limits=sol.limits, frames={"th": th[keep], "r": r[keep]})
     if analog:
-        _, pvq, paq = material_points(th, r, wq, vq_f, eq, aq_f, links, at)
-        _, rq, accq = _joint_values(engine, th, r, wq, vq_f, eq, aq_f)
         m.wq, m.eq, m.vq, m.aq = wq[keep], eq[keep], pvq[keep], paq[keep]
         m.rate_q, m.accel_q = rq[keep], accq[keep]
         m.frames.update(w=wq[keep], v=vq_f[keep], e=eq[keep], a=aq_f[keep])
