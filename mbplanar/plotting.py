@@ -303,12 +303,12 @@ def _figure(plt, figsize):
     return plt.figure(figsize=figsize, layout="constrained")
 
 
-def diagram_figure(engine, at=None, *, vectors=(), centres=False, cycle=None, figsize=(7.5, 6.5)):
+def diagram_figure(engine, at=None, *, vectors=(), centres=False, cycle=None, count=72, figsize=(7.5, 6.5)):
     """Kinematic diagram at one position; `vectors` ⊂ {'v', 'a'} adds velocity/acceleration vectors,
-    `centres` the instantaneous centres."""
+    `centres` the instantaneous centres. `count` positions of the cycle size the guides and the frame."""
     plt = require_matplotlib()
     motion = position_motion(engine, at)
-    cycle = cycle_motion(engine, 72) if cycle is None else cycle
+    cycle = cycle_motion(engine, count) if cycle is None else cycle
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
     ax = fig.add_subplot()

@@ -125,6 +125,11 @@ def _unique(points: list, tol: float) -> np.ndarray:
     return np.array(out, float).reshape(-1, 2)
 
 
+def _turn(o, a, b) -> float:
+    """z of (a − o) × (b − o): > 0 for a left turn."""
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
 def _hull(points: np.ndarray) -> np.ndarray:
     """Convex hull (counter-clockwise, monotone chain) of (n, 2) points."""
     pts = sorted(map(tuple, points))
@@ -132,7 +137,7 @@ def _hull(points: np.ndarray) -> np.ndarray:
     def half(seq):
         h = []
         for p in seq:
-            while len(h) >= 2 and np.cross(np.subtract(h[-1], h[-2]), np.subtract(p, h[-2])) <= 0:
+            while len(h) >= 2 and _turn(h[-2], h[-1], p) <= 0:
                 h.pop()
             h.append(p)
         return h[:-1]
