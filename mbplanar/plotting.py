@@ -342,7 +342,7 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
         draw_mechanism(ax, whole, b, labels=False, ghost=True, alpha=0.6)
     draw_trajectories(ax, whole, points)
     draw_mechanism(ax, scene, 0)
-    _frame_axes(ax, whole, "Trajectories over the cycle — " + _title(engine, motion).replace("\n", ", "))
+    _frame_axes(ax, whole, "Trajectories over the cycle: " + _title(engine, motion))
     ax.legend(loc="upper left", fontsize=8, frameon=False, ncols=2)
     return fig
 
