@@ -334,6 +334,58 @@ def cmd_forces(args):
     return 0
 
 
+# -- pictures ---------------------------------------------------------------------------------------
+def _suffix(path, allowed):
+    suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
+    if suffix not in allowed:
+        raise _ArgError(f"{path}: the output must end in {' or '.join('.' + a for a in allowed)}")
+    return suffix
+
+
+def cmd_plot(args):
+    from . import plotting
+    _suffix(args.output, ("png", "svg", "pdf"))
+    if args.what not in plotting.FIGURES:
+        raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
+    plotting.require_matplotlib()
+    engine = _load(args.model)
+    if args.at is not None and not math.isfinite(args.at):
+        raise _ArgError("--at must be a finite number")
+    plotting.save_figure(plotting.make_figure(engine, args.what, args.at), args.output, dpi=args.dpi)
+    return 0
+
+
+def cmd_animate(args):
+    from . import plotting
+    kind = _suffix(args.output, ("gif", "html"))
+    if args.frames < 2:
+        raise _ArgError("--frames must be at least 2")
+    if kind == "gif":
+        plotting.require_matplotlib()
+    engine = _load(args.model)
+    if kind == "gif":
+        motion = plotting.write_gif(engine, args.output, args.frames, dpi=args.dpi)
+    else:
+        from .animation import write_html_animation
+        write_html_animation(engine, args.output, args.frames)
+        motion = plotting.cycle_motion(engine, args.frames)
+    if motion.limits:
+        from .kinematics import describe_limit
+        print(f"mbplanar: {engine.mech.source}: the animation stops at the motion limit: "
+              + "; ".join(describe_limit(engine, lim) for lim in motion.limits), file=sys.stderr)
+    return 0
+
+
+def cmd_report(args):
+    from . import plotting
+    from .report import write_report
+    _suffix(args.output, ("html",))
+    plotting.require_matplotlib()
+    engine = _load(args.model)
+    write_report(engine, args.output, frames=args.frames)
+    return 0
+
+
 # -- main -------------------------------------------------------------------------------------------
 class _ArgError(MbplanarError):
     exit_code = 2
@@ -381,6 +433,27 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_forces)
+
+    s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, ...")
+    s.add_argument("model")
+    s.add_argument("what", help="diagram, vectors, trajectories, kinematics, analogues, transmission, ...")
+    s.add_argument("--at", type=float, help="generalized coordinate in the model's unit (default: drawn pose)")
+    s.add_argument("--dpi", type=int, default=120)
+    s.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
+    s.set_defaults(func=cmd_plot)
+
+    s = sub.add_parser("animate", help="animation of a cycle: GIF or a browser page (SVG)")
+    s.add_argument("model")
+    s.add_argument("--frames", type=int, default=36)
+    s.add_argument("--dpi", type=int, default=80)
+    s.add_argument("-o", "--output", required=True, help="FILE.gif or FILE.html")
+    s.set_defaults(func=cmd_animate)
+
+    s = sub.add_parser("report", help="one self-contained HTML report of the model")
+    s.add_argument("model")
+    s.add_argument("--frames", type=int, default=36, help="frames of the animation in the report")
+    s.add_argument("-o", "--output", required=True, help="FILE.html")
+    s.set_defaults(func=cmd_report)
     return p
 
 

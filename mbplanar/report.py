@@ -1,0 +1,215 @@
+"""A model's whole analysis in ONE self-contained HTML file: figures inline (base64 PNG), tables of the
+structure, positions and analogues, the animation (inline SVG + JS). No external URL: it reads offline.
+
+The report is a list of sections, `SECTIONS` (key → `Section(title, function)`, in order). A section
+function takes `(engine, ctx)` (ctx: a `ReportContext` with the cycle motion and helpers for figures and
+tables) and returns an HTML fragment, or None to leave the section out. Other modules fill the
+placeholder sections with `register_section`:
+
+    register_section("reactions", "Joint reactions and balancing moment", my_function)   # kinetostatics
+    register_section("flywheel", "Machine dynamics and flywheel", my_function)            # dynamics
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["Section", "SECTIONS", "register_section", "ReportContext", "report_html", "write_report",
+           "REPORT_POSITIONS"]
+
+REPORT_POSITIONS = 12  # positions in the tables (equally spaced over the cycle)
+
+
+@dataclass(frozen=True)
+class Section:
+    title: str
+    function: Callable
+
+
+@dataclass
+class ReportContext:
+    """What sections share: the engine, the cycle motion (`cycle`), the table positions (`table`)."""
+
+    engine: object
+    cycle: object
+    table: object
+    dpi: int = 90
+    frames: int = 36
+    notes: list = field(default_factory=list)
+
+    def figure(self, fig, alt: str) -> str:
+        """An inline <img> (base64 PNG) of a matplotlib figure (closed afterwards)."""
+        from .plotting import figure_bytes
+        data = base64.b64encode(figure_bytes(fig, "png", self.dpi)).decode("ascii")
+        return f'<figure><img alt="{html.escape(alt)}" src="data:image/png;base64,{data}"></figure>'
+
+
+def html_table(header, rows, caption=None) -> str:
+    """An HTML table; floats printed with 6 significant digits, non-finite as '—'."""
+    def cell(x):
+        if isinstance(x, (float, np.floating)):
+            return f"{x:.6g}" if math.isfinite(x) else "—"
+        return html.escape(str(x))
+    cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
+    head = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{cell(x)}</td>" for x in row) + "</tr>" for row in rows)
+    return f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+# -- the sections -----------------------------------------------------------------------------------
+def _model_section(engine, ctx):
+    mech = engine.mech
+    inp = engine.inputs[0]
+    rows = []
+    for j in mech.joints.values():
+        guide = f"{j.guide_deg:.4f}°" if j.kind == "P" else ""
+        rows.append((j.name, j.kind, " – ".join(j.links), j.at[0], j.at[1], guide))
+    text = (f"<p>Model file <code>{html.escape(str(mech.source))}</code>. Generalized coordinate "
+            f"<b>{html.escape(inp.name)}</b> [{html.escape(inp.unit)}] drives joint {html.escape(inp.joint)}; "
+            f"input speed ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s². "
+            f"Ground link {html.escape(mech.ground)}; moving links {html.escape(', '.join(mech.moving_links))}.</p>")
+    links = [(lk.name, lk.mass, lk.inertia, lk.centre or "") for lk in mech.links.values() if lk.name != mech.ground]
+    return (text + html_table(("pair", "type", "links", "x [m]", "y [m]", "guide"), rows, "Table of kinematic pairs")
+            + html_table(("link", "mass [kg]", "J_S [kg·m²]", "centre"), links, "Links"))
+
+
+def _diagram_section(engine, ctx):
+    from .plotting import diagram_figure, vectors_figure
+    return (ctx.figure(diagram_figure(engine, cycle=ctx.cycle), "kinematic diagram in the drawn pose")
+            + ctx.figure(vectors_figure(engine, cycle=ctx.cycle),
+                         "velocities, accelerations and instantaneous centres in the drawn pose"))
+
+
+def _structure_section(engine, ctx):
+    topo = engine.topology
+    s = topo.structure
+    text = (f"<p>Degrees of freedom W = {topo.dof} (Chebyshev–Grübler), independent loops: {len(topo.loops)}"
+            + (f"; loops: {html.escape('; '.join(' – '.join(loop) for loop in topo.loops))}" if topo.loops else "")
+            + ".</p>")
+    if s is None:
+        return text + "<p>No Assur decomposition for this model.</p>"
+    rows = [(k + 1, g.group_class, g.order, g.kind or "", ", ".join(g.links), ", ".join(g.internal),
+             ", ".join(g.external)) for k, g in enumerate(s.groups)]
+    return (text + f"<p>Structural formula: <b>{html.escape(s.formula)}</b>; mechanism class "
+            f"{s.mechanism_class}.</p>" + html_table(("#", "class", "order", "kind", "links", "internal pairs",
+                                                      "external pairs"), rows, "Assur groups in solving order"))
+
+
+def _positions_section(engine, ctx):
+    from .plotting import moving_points
+    from .scene import build_scene
+    m = ctx.table
+    inp = engine.inputs[0]
+    phi = inp.from_si(m.phi[:, 0])
+    links = m.link_names[1:]
+    head = [f"{inp.name} [{inp.unit}]"] + [f"φ{n} [°]" for n in links] + [f"ω{n}q" for n in links] + \
+        [f"ε{n}q" for n in links]
+    rows = np.column_stack([phi, np.degrees(m.angle[:, 1:]), m.wq[:, 1:], m.eq[:, 1:]])
+    pts = moving_points(engine, build_scene(engine, m, m))
+    idx = [m.point(n) for n in pts]
+    ph = [f"{inp.name} [{inp.unit}]"] + [f"{n}.{q}" for n in pts for q in ("x", "y", "vqx", "vqy", "aqx", "aqy")]
+    cols = [phi]
+    for k in idx:
+        cols += [m.xy[:, k, 0], m.xy[:, k, 1], m.vq[:, k, 0], m.vq[:, k, 1], m.aq[:, k, 0], m.aq[:, k, 1]]
+    note = "" if not m.limits else f"<p class=\"warn\">{html.escape(_limits(engine, m))}</p>"
+    return (note + "<p>Angles of the links' reference lines, analogues of angular velocities ω_q = dφ_k/dφ "
+            "[rad/rad] and accelerations ε_q = d²φ_k/dφ² [rad/rad²]; points: coordinates [m], analogues of "
+            "velocity [m/rad] and acceleration [m/rad²].</p>"
+            + html_table(head, rows.tolist(), "Links") + html_table(ph, np.column_stack(cols).tolist(), "Points"))
+
+
+def _limits(engine, motion):
+    from .kinematics import describe_limit
+    return "; ".join(describe_limit(engine, lim) for lim in motion.limits)
+
+
+def _plots_section(engine, ctx):
+    from .plotting import kinematics_figure, analogues_figure, trajectories_figure, transmission_figure
+    out = ctx.figure(trajectories_figure(engine), "trajectories")
+    out += ctx.figure(kinematics_figure(engine, count=121), "real velocities and accelerations")
+    out += ctx.figure(analogues_figure(engine, count=121), "analogues")
+    from .plotting import transmission_angles
+    if transmission_angles(engine, ctx.table):
+        out += ctx.figure(transmission_figure(engine, count=121), "transmission angles")
+    return out
+
+
+def _animation_section(engine, ctx):
+    from .animation import svg_animation
+    return svg_animation(engine, ctx.frames, element_id="report-animation", width=560)
+
+
+def _placeholder(what, module):
+    def section(engine, ctx):
+        return (f"<p class=\"todo\">{html.escape(what)}: not computed yet — this section is filled by the "
+                f"{html.escape(module)} module (mbplanar.report.register_section).</p>")
+    return section
+
+
+SECTIONS: dict[str, Section] = {
+    "model": Section("Model", _model_section),
+    "diagram": Section("Kinematic diagram", _diagram_section),
+    "structure": Section("Structure", _structure_section),
+    "positions": Section("Positions and analogues", _positions_section),
+    "plots": Section("Kinematic plots", _plots_section),
+    "animation": Section("Animation", _animation_section),
+    # HOOK: kinetostatics replaces this section (register_section("reactions", ...))
+    "reactions": Section("Joint reactions and balancing moment", _placeholder("Reactions", "kinetostatics")),
+    # HOOK: machine dynamics replaces this section (register_section("flywheel", ...))
+    "flywheel": Section("Machine dynamics and flywheel", _placeholder("Flywheel", "dynamics")),
+}
+
+
+def register_section(key: str, title: str, function: Callable, after: str | None = None) -> None:
+    """Add a section, or replace one in place (same key); `after`: insert a new one after that key."""
+    global SECTIONS
+    if key in SECTIONS or after is None or after not in SECTIONS:
+        SECTIONS[key] = Section(title, function)
+        return
+    items = list(SECTIONS.items())
+    pos = [k for k, _ in items].index(after) + 1
+    items.insert(pos, (key, Section(title, function)))
+    SECTIONS = dict(items)
+
+
+_STYLE = """
+body{font-family:system-ui,sans-serif;max-width:1100px;margin:1.5em auto;padding:0 1em;color:#1a1a1a}
+h1{font-size:1.6em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.6em}
+table{border-collapse:collapse;margin:.6em 0 1.2em;font-size:.82em;display:block;overflow-x:auto}
+th,td{border:1px solid #ccc;padding:2px 6px;text-align:right;white-space:nowrap} th{background:#eef3f8}
+caption{text-align:left;font-weight:bold;padding:.3em 0}
+figure{margin:.5em 0} img{max-width:100%} .todo{color:#777;font-style:italic} .warn{color:#b03a2e}
+nav a{margin-right:1em}
+"""
+
+
+def report_html(engine, *, positions: int = REPORT_POSITIONS, frames: int = 36, dpi: int = 90) -> str:
+    """The whole report as one HTML string."""
+    from .plotting import cycle_motion, require_matplotlib
+    require_matplotlib()
+    ctx = ReportContext(engine, cycle_motion(engine, 72), cycle_motion(engine, positions), dpi, frames)
+    mech = engine.mech
+    title = html.escape(mech.title or mech.name)
+    parts, nav = [], []
+    for key, sec in list(SECTIONS.items()):
+        body = sec.function(engine, ctx)
+        if body is None:
+            continue
+        nav.append(f'<a href="#{key}">{html.escape(sec.title)}</a>')
+        parts.append(f'<section id="{key}"><h2>{html.escape(sec.title)}</h2>\n{body}\n</section>')
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>{title} — mbplanar report</title><style>{_STYLE}</style></head><body>"
+            f"<h1>{title}</h1><p>mbplanar report for model <b>{html.escape(mech.name)}</b>.</p>"
+            f"<nav>{''.join(nav)}</nav>\n" + "\n".join(parts) + "\n</body></html>\n")
+
+
+def write_report(engine, path, **kw) -> None:
+    text = report_html(engine, **kw)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)

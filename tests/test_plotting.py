@@ -1,0 +1,271 @@
+"""Pictures: every model draws every picture; the drawing sits where the solver says; animations have
+the requested frames; the report is one valid, offline HTML file; a headless-browser screenshot."""
+
+from __future__ import annotations
+
+import glob
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mbplanar
+from mbplanar import analyse
+
+pytest.importorskip("matplotlib")
+from PIL import Image  # noqa: E402  (Pillow comes with the [plot] extra)
+
+from mbplanar import plotting  # noqa: E402
+from mbplanar.animation import html_animation  # noqa: E402
+from mbplanar.cli import main  # noqa: E402
+from mbplanar.report import SECTIONS, register_section, report_html  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+MODELS = sorted(glob.glob(str(ROOT / "models" / "*.toml")))
+
+
+def engine(name):
+    return mbplanar.Engine(mbplanar.read_model(ROOT / "models" / f"{name}.toml"))
+
+
+def artists(fig, gid):
+    return [a for ax in fig.axes for a in ax.get_children() if a.get_gid() == gid]
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    import matplotlib.pyplot as plt
+    plt.close("all")
+
+
+# -- every model, every picture ---------------------------------------------------------------------
+@pytest.mark.parametrize("model", MODELS, ids=lambda p: Path(p).stem)
+def test_every_model_renders_every_picture(model, tmp_path):
+    eng = mbplanar.Engine(mbplanar.read_model(model))
+    for what in plotting.FIGURES:
+        out = tmp_path / f"{what}.png"
+        plotting.save_figure(plotting.make_figure(eng, what, count=13), out, dpi=30)
+        with Image.open(out) as im:
+            assert im.size[0] > 50 and im.size[1] > 50, what
+    gif = tmp_path / "a.gif"
+    plotting.write_gif(eng, gif, 3, dpi=30)
+    with Image.open(gif) as im:
+        assert im.n_frames == 3
+    page = html_animation(eng, 4)
+    assert "<svg" in page and "http" not in page
+
+
+# -- content: the drawing is where the solver says ---------------------------------------------------
+@pytest.mark.parametrize("name,at", [("fourbar", 123.0), ("shaper", 200.0), ("six_bar_press", 10.0)])
+def test_joint_markers_sit_at_the_solved_positions(name, at):
+    eng = engine(name)
+    motion = analyse(eng, np.array([eng.inputs[0].to_si(at)]))
+    fig = plotting.diagram_figure(eng, at)
+    for j in eng.mech.joints.values():
+        solved = motion.xy[0, motion.point(j.name)]
+        if j.kind == "R":
+            (marker,) = artists(fig, f"joint:{j.name}")
+            np.testing.assert_allclose(marker.get_xydata()[0], solved, atol=1e-12)
+        else:
+            (block,) = artists(fig, f"slider:{j.name}")
+            np.testing.assert_allclose(block.get_xy()[:4].mean(axis=0), solved, atol=1e-12)
+
+
+def test_fourbar_diagram_keeps_the_link_lengths():
+    """The drawn pins of the four-bar are the given lengths apart at any position (closed form)."""
+    eng = engine("fourbar")
+    for at in (0.0, 77.0, 250.0):
+        fig = plotting.diagram_figure(eng, at)
+        p = {n: artists(fig, f"joint:{n}")[0].get_xydata()[0] for n in "OABC"}
+        assert math.dist(p["O"], p["A"]) == pytest.approx(0.10, abs=1e-12)
+        assert math.dist(p["A"], p["B"]) == pytest.approx(0.30, abs=1e-12)
+        assert math.dist(p["B"], p["C"]) == pytest.approx(0.25, abs=1e-12)
+        angle = math.degrees(math.atan2(p["A"][1] - p["O"][1], p["A"][0] - p["O"][0]))
+        assert (angle - at) % 360 == pytest.approx(0, abs=1e-9) or (angle - at) % 360 == pytest.approx(360)
+        bar = artists(fig, "link:1")[0].get_xydata()
+        assert {tuple(np.round(x, 12)) for x in bar} == {tuple(np.round(p["O"], 12)), tuple(np.round(p["A"], 12))}
+
+
+def test_crank_pin_trajectory_is_a_circle():
+    fig = plotting.trajectories_figure(engine("fourbar"), count=40)
+    (line,) = artists(fig, "trajectory:A")
+    xy = line.get_xydata()
+    assert len(xy) == 41  # the closed curve: 40 positions and the first again
+    np.testing.assert_allclose(np.linalg.norm(xy, axis=1), 0.10, atol=1e-12)
+
+
+def test_velocity_arrows_are_the_solved_velocities_to_one_scale():
+    eng = engine("six_bar_press")
+    motion = plotting.position_motion(eng, 40.0)
+    fig = plotting.diagram_figure(eng, 40.0, vectors=("v",))
+    (q,) = artists(fig, "vectors:v")
+    scene = mbplanar.scene.build_scene(eng, motion)
+    names = plotting.moving_points(eng, scene)
+    v = motion.v[0, [motion.point(n) for n in names]]
+    arrows = np.column_stack([q.U, q.V])
+    k = arrows / np.where(np.abs(v) > 1e-9, v, np.nan)
+    assert np.nanstd(k) < 1e-9 * np.nanmean(k)  # one scale for every point
+    np.testing.assert_allclose(np.column_stack([q.X, q.Y]), motion.xy[0, [motion.point(n) for n in names]], atol=1e-12)
+
+
+def test_kinematic_plot_shows_the_crank_turning_with_the_coordinate():
+    eng = engine("fourbar")
+    fig = plotting.kinematics_figure(eng, count=37)
+    ax = fig.axes[0]
+    line = next(line for line in ax.get_lines() if line.get_label() == "1")
+    x, y = line.get_xydata().T
+    np.testing.assert_allclose(np.diff(y), np.diff(x), atol=1e-9)  # φ1 = φ for the crank
+
+
+def test_transmission_angle_of_the_fourbar_by_the_cosine_rule():
+    eng = engine("fourbar")
+    phi = np.radians([0.0, 90.0, 180.0])
+    motion = analyse(eng, phi)
+    (mu,) = plotting.transmission_angles(eng, motion).values()
+    O, C = np.array([0.0, 0.0]), np.array([0.3, 0.0])
+    A = 0.1 * np.column_stack([np.cos(phi), np.sin(phi)])
+    diag = np.linalg.norm(C - A, axis=1)  # A–C diagonal
+    expected = np.degrees(np.arccos((0.3 ** 2 + 0.25 ** 2 - diag ** 2) / (2 * 0.3 * 0.25)))
+    np.testing.assert_allclose(mu, expected, atol=1e-9)
+
+
+# -- animations ---------------------------------------------------------------------------------------
+def test_gif_has_the_requested_frames_over_a_full_turn(tmp_path):
+    eng = engine("six_bar_press")
+    motion = plotting.write_gif(eng, tmp_path / "press.gif", 7, dpi=30)
+    with Image.open(tmp_path / "press.gif") as im:
+        assert im.n_frames == 7
+    step = np.diff(motion.phi[:, 0])
+    np.testing.assert_allclose(step, 2 * math.pi / 7, rtol=1e-12)  # one cycle, no repeated end frame
+
+
+def test_locking_model_animates_up_to_its_limit(tmp_path):
+    eng = engine("crank_slider_rocker_locking")
+    motion = plotting.write_gif(eng, tmp_path / "lock.gif", 5, dpi=30)
+    with Image.open(tmp_path / "lock.gif") as im:
+        assert im.n_frames == 5
+    assert motion.limits and motion.phi[-1, 0] <= motion.limits[0].phi[0] + 1e-12
+
+
+def test_html_animation_holds_every_frame_and_no_url():
+    page = html_animation(engine("shaper"), 9)
+    start = page.index('<script type="application/json">') + len('<script type="application/json">')
+    data = json.loads(page[start:page.index("</script>", start)])
+    assert data["frames"] == 9 and len(data["phi"]) == 9
+    assert all(len(track) == 9 for track in data["xy"])
+    assert "http" not in page and "<svg" in page
+
+
+# -- report --------------------------------------------------------------------------------------------
+class _Checker(HTMLParser):
+    VOID = {"meta", "img", "input", "br", "hr", "link", "source", "col", "wbr", "area", "base", "embed"}
+    SVG_VOID = {"polyline", "polygon", "circle", "line", "path", "rect"}
+
+    def __init__(self):
+        super().__init__()
+        self.stack, self.errors, self.ids, self.urls = [], [], set(), []
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if "id" in attrs:
+            self.ids.add(attrs["id"])
+        for key in ("src", "href"):
+            if key in attrs:
+                self.urls.append(attrs[key])
+        if tag not in self.VOID:
+            self.stack.append(tag)
+
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+        if tag not in self.VOID:
+            self.stack.pop()
+
+    def handle_endtag(self, tag):
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"</{tag}> closes <{self.stack[-1] if self.stack else None}>")
+        else:
+            self.stack.pop()
+
+
+@pytest.fixture(scope="module")
+def shaper_report():
+    return report_html(engine("shaper"), positions=6, frames=6, dpi=40)
+
+
+def test_report_is_valid_html_with_every_section_and_no_url(shaper_report):
+    checker = _Checker()
+    checker.feed(shaper_report)
+    checker.close()
+    assert not checker.errors and not checker.stack
+    assert set(SECTIONS) <= checker.ids
+    assert not [u for u in checker.urls if "http" in u]
+    assert all(u.startswith(("data:image/png;base64,", "#")) for u in checker.urls)
+    assert shaper_report.count("<img") >= 5
+
+
+def test_report_tables_come_from_the_engine(shaper_report):
+    eng = engine("shaper")
+    s = eng.topology.structure
+    assert f"W = {eng.topology.dof}" in shaper_report and s.formula in shaper_report
+    for g in s.groups:
+        assert ", ".join(g.links) in shaper_report
+    assert "Reactions: not computed yet" in shaper_report and "Flywheel: not computed yet" in shaper_report
+
+
+def test_report_hook_replaces_a_placeholder(monkeypatch):
+    import mbplanar.report as report
+    monkeypatch.setattr(report, "SECTIONS", dict(report.SECTIONS))
+    register_section("reactions", "Reactions", lambda e, ctx: "<p>R12 = 42 N</p>")
+    register_section("extra", "Extra", lambda e, ctx: None, after="plots")
+    keys = list(report.SECTIONS)
+    assert keys.index("extra") == keys.index("plots") + 1
+    assert keys.index("reactions") == keys.index("animation") + 1 and keys[-1] == "flywheel"  # replaced in place
+    assert report.SECTIONS["reactions"].function(None, None) == "<p>R12 = 42 N</p>"
+
+
+# -- command line ----------------------------------------------------------------------------------------
+def test_cli_writes_pictures_and_refuses_bad_requests(tmp_path, capsys):
+    shaper = str(ROOT / "models" / "shaper.toml")
+    assert main(["plot", shaper, "diagram", "--at", "100", "--dpi", "30", "-o", str(tmp_path / "d.svg")]) == 0
+    assert (tmp_path / "d.svg").read_text().lstrip().startswith("<?xml")
+    assert main(["animate", shaper, "--frames", "4", "-o", str(tmp_path / "a.html")]) == 0
+    assert main(["plot", shaper, "diagram", "-o", str(tmp_path / "d.txt")]) == 2
+    assert main(["plot", shaper, "nonsense", "-o", str(tmp_path / "d.png")]) == 2
+    assert "diagram" in capsys.readouterr().err
+    assert main(["animate", shaper, "--frames", "1", "-o", str(tmp_path / "a.gif")]) == 2
+
+
+def test_cli_says_how_to_install_matplotlib(monkeypatch, tmp_path, capsys):
+    for mod in [m for m in sys.modules if m == "matplotlib" or m.startswith("matplotlib.")]:
+        monkeypatch.delitem(sys.modules, mod)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    code = main(["plot", str(ROOT / "models" / "fourbar.toml"), "diagram", "-o", str(tmp_path / "x.png")])
+    assert code == 2 and "pip install mbplanar[plot]" in capsys.readouterr().err
+
+
+# -- headless browser --------------------------------------------------------------------------------------
+BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(BROWSER is None, reason="no chromium on PATH")
+def test_report_renders_in_a_headless_browser(shaper_report, tmp_path):
+    page = tmp_path / "shaper.html"
+    page.write_text(shaper_report, encoding="utf-8")
+    shot = tmp_path / "shot.png"
+    env = dict(os.environ, HOME=str(tmp_path))
+    subprocess.run([BROWSER, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                    "--window-size=1100,1400", f"--screenshot={shot}", page.as_uri()],
+                   check=True, capture_output=True, timeout=120, env=env)
+    with Image.open(shot) as im:
+        pixels = np.asarray(im.convert("L"), float)
+    assert pixels.shape[0] >= 1000
+    assert pixels.std() > 10  # not a blank page: text, tables, the diagram
+    assert (pixels < 100).mean() > 0.002  # dark ink is present
