@@ -241,7 +241,26 @@ def cmd_sweep(args):
     return 0
 
 
+# -- check ------------------------------------------------------------------------------------------
+def cmd_check(args):
+    from .check import check, format_report
+    engine = _load(args.model)
+    report = check(engine)
+    if args.json:
+        print(json.dumps(_plain(report.as_dict()), indent=2, ensure_ascii=False))
+    else:
+        print(format_report(report))
+    return 0
+
+
 # -- main -------------------------------------------------------------------------------------------
+def _located(exc, args) -> str:
+    """One-line message that names the model file (some engine messages do not)."""
+    msg = " ".join(str(exc).split())
+    model = getattr(args, "model", None)
+    return msg if model is None or str(model) in msg else f"{model}: {msg}"
+
+
 class _ArgError(MbplanarError):
     exit_code = 2
 
@@ -276,6 +295,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
     s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
+    s.add_argument("model")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_check)
     return p
 
 
@@ -287,7 +311,7 @@ def main(argv=None) -> int:
     except MbplanarError as exc:
         if args.debug:
             raise
-        print(f"mbplanar: {exc}", file=sys.stderr)
+        print(f"mbplanar: {_located(exc, args)}", file=sys.stderr)
         return exc.exit_code
     except (OSError, ValueError) as exc:
         if args.debug:
