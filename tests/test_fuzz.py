@@ -127,7 +127,7 @@ def _run(make):
         assert str(exc)
 
 
-FUZZ = settings(max_examples=1500, deadline=None, derandomize=True,
+FUZZ = settings(max_examples=1000, deadline=None, derandomize=True,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 
 
@@ -137,7 +137,7 @@ def test_document_mutants_fail_cleanly(doc):
     _run(lambda: mbplanar.parse_model(doc, source="mutant.toml"))
 
 
-@settings(max_examples=500, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=300, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(text_mutants())
 def test_text_mutants_fail_cleanly(text):
     _run(lambda: mbplanar.table.read_model_text(text, source="mutant.toml"))
