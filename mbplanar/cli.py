@@ -386,7 +386,26 @@ def cmd_report(args):
     return 0
 
 
+# -- check ------------------------------------------------------------------------------------------
+def cmd_check(args):
+    from .check import check, format_report
+    engine = _load(args.model)
+    report = check(engine)
+    if args.json:
+        print(json.dumps(_plain(report.as_dict()), indent=2, ensure_ascii=False))
+    else:
+        print(format_report(report))
+    return 0
+
+
 # -- main -------------------------------------------------------------------------------------------
+def _located(exc, args) -> str:
+    """One-line message that names the model file (some engine messages do not)."""
+    msg = " ".join(str(exc).split())
+    model = getattr(args, "model", None)
+    return msg if model is None or str(model) in msg else f"{model}: {msg}"
+
+
 class _ArgError(MbplanarError):
     exit_code = 2
 
@@ -454,6 +473,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--frames", type=int, default=36, help="frames of the animation in the report")
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
+
+    s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
+    s.add_argument("model")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_check)
     return p
 
 
@@ -465,7 +489,7 @@ def main(argv=None) -> int:
     except MbplanarError as exc:
         if args.debug:
             raise
-        print(f"mbplanar: {exc}", file=sys.stderr)
+        print(f"mbplanar: {_located(exc, args)}", file=sys.stderr)
         return exc.exit_code
     except (OSError, ValueError) as exc:
         if args.debug:

@@ -15,7 +15,7 @@ from pathlib import Path
 from .errors import ModelError
 from .model import Input, Mechanism
 
-__all__ = ["read_model", "parse_model"]
+__all__ = ["read_model", "read_model_text", "parse_model"]
 
 _LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 
@@ -27,11 +27,18 @@ def read_model(path) -> Mechanism:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ModelError(f"{path}: cannot read the model file ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"{path}: the model file is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    return read_model_text(text, source=str(path))
+
+
+def read_model_text(text: str, source: str = "<table>") -> Mechanism:
+    """Parse the TOML `text` of a model; a syntax error names the line and column."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"{path}: TOML syntax error: {exc}") from None
-    return parse_model(data, source=str(path))
+        raise ModelError(f"{source}: TOML syntax error: {exc}") from None
+    return parse_model(data, source=source)
 
 
 class _Row:
@@ -151,10 +158,15 @@ def _read_links(mech: Mechanism, rows, unit):
         lengths = []
         if row.has("length"):
             lengths.append(("", "", row.number("length", positive=True) * unit))
-        for k, item in enumerate(row.data.get("lengths", [])):
+        raw_lengths = row.data.get("lengths", [])
+        if not isinstance(raw_lengths, list):
+            row.fail(f"'lengths' must be a list of [P, Q, length], got {raw_lengths!r}")
+        for k, item in enumerate(raw_lengths):
             if not (isinstance(item, list) and len(item) == 3):
                 row.fail(f"lengths[{k}] must be [P, Q, length], got {item!r}")
             p, q, value = item
+            if not all(isinstance(v, (str, int)) and not isinstance(v, bool) for v in (p, q)):
+                row.fail(f"lengths[{k}] must be [P, Q, length] with P, Q point names, got {item!r}")
             length = row._check_number(f"lengths[{k}]", value, positive=True) * unit
             lengths.append((str(p), str(q), length))
         row.used.add("lengths")
@@ -280,8 +292,9 @@ def _read_inputs(mech: Mechanism, data, source, unit):
                      f"one of {', '.join(allowed)}, got '{in_unit}'")
         sense = row.data.get("sense", 1)
         row.used.add("sense")
-        sense = {"ccw": 1.0, "cw": -1.0}.get(sense, sense)
-        if sense not in (1, -1, 1.0, -1.0):
+        if isinstance(sense, str):
+            sense = {"ccw": 1.0, "cw": -1.0}.get(sense, sense)
+        if isinstance(sense, bool) or sense not in (1, -1, 1.0, -1.0):
             row.fail(f"sense must be 1, -1, 'ccw' or 'cw', got {sense!r}")
         sweep = row.data.get("sweep")
         row.used.add("sweep")

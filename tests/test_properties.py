@@ -60,7 +60,8 @@ def mechanisms(draw):
         e = draw(points)  # a point of the coupler 2
         f = draw(points)  # the slider 5 on a guide carried by the rocker 3
         guide = draw(st.floats(-180, 180))
-        assume(np.linalg.norm(f - e) > 0.2)
+        named = [o, a, b, c, e, f]
+        assume(min(np.linalg.norm(p - q) for i, p in enumerate(named) for q in named[i + 1:]) > 0.2)
         assume(_sin_between(f - e, np.array([math.cos(math.radians(guide)), math.sin(math.radians(guide))])) > 0.2)
         m.add_link("4")
         m.add_link("5")

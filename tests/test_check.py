@@ -1,0 +1,120 @@
+"""`mbplanar check`: full-turn verdicts, dead points, extreme positions and transmission angles, compared
+with closed forms (four-bar, slider-crank) and REFERENCE.md (shaper stroke H and swing β; the lock of
+seed 002 at t = 1.799912)."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+import mbplanar
+from mbplanar.check import check, transmission_angles
+from mbplanar.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+OA, AB, BC, OC = 0.10, 0.30, 0.25, 0.30  # models/fourbar.toml
+
+
+def _engine(name):
+    return mbplanar.Engine(mbplanar.read_model(ROOT / "models" / name))
+
+
+def _rocker_extremes():
+    """B and the crank angle (deg) where crank and coupler line up (|OB| = AB ± OA), upper branch."""
+    out = []
+    for ob, folded in ((AB + OA, False), (AB - OA, True)):
+        x = (ob ** 2 - BC ** 2 + OC ** 2) / (2 * OC)
+        b = np.array([x, math.sqrt(ob ** 2 - x * x)])
+        crank = math.degrees(math.atan2(b[1], b[0])) + (180.0 if folded else 0.0)
+        out.append((b, crank % 360.0))
+    return out
+
+
+def test_fourbar_crank_rocker():
+    report = check(_engine("fourbar.toml"))
+    assert report.grashof["grashof"] and report.grashof["kind"] == "crank-rocker"
+    assert report.grashof["input_turns"] and report.full_turn and not report.limits
+    rocker = next(e for e in report.extremes if e.name == "3")
+    at = sorted(x % 360.0 for x in (rocker.at_min, rocker.at_max))
+    expected = sorted(c for _, c in _rocker_extremes())
+    assert np.allclose(at, expected, atol=1e-6)
+    (b1, _), (b2, _) = _rocker_extremes()
+    c = np.array([OC, 0.0])
+    swing = abs(math.remainder(math.atan2(*(b1 - c)[::-1]) - math.atan2(*(b2 - c)[::-1]), 2 * math.pi))
+    assert abs((rocker.maximum - rocker.minimum) - swing) < 1e-9
+    assert next(e for e in report.extremes if e.name == "1").turns
+    mu = report.transmission[0]
+    assert mu.points == ("A", "B", "C")
+    # cos μ = (AB² + BC² − AC²) / (2 AB BC): smallest at crank angle 0 (AC = OC − OA), 90° reached
+    mu_min = math.degrees(math.acos((AB ** 2 + BC ** 2 - (OC - OA) ** 2) / (2 * AB * BC)))
+    assert abs(math.degrees(mu.minimum) - mu_min) < 1e-6 and math.degrees(mu.maximum) > 89.9
+
+
+def test_transmission_angle_matches_cosine_law():
+    engine = _engine("fourbar.toml")
+    phi = np.radians(np.arange(0.0, 360.0, 7.0))
+    motion = mbplanar.analyse(engine, phi)
+    _, mu = transmission_angles(engine, motion)
+    ac2 = OA ** 2 + OC ** 2 - 2 * OA * OC * np.cos(phi)
+    cos_mu = (AB ** 2 + BC ** 2 - ac2) / (2 * AB * BC)
+    assert np.allclose(mu[:, 0], np.arccos(np.abs(cos_mu)), atol=1e-10)
+
+
+def test_fourbar_driven_at_the_rocker_has_two_dead_points():
+    (b1, _), (b2, _) = _rocker_extremes()
+    theta = math.radians(60.0)
+    a = (OA * math.cos(theta), OA * math.sin(theta))
+    m = mbplanar.Mechanism("rocker-driven")
+    for name in "123":
+        m.add_link(name)
+    # exact pose: crank at 60°, B from the two circles (upper branch)
+    d = np.array([OC, 0.0]) - np.array(a)
+    dist = np.linalg.norm(d)
+    x = (AB ** 2 - BC ** 2 + dist ** 2) / (2 * dist)
+    u = d / dist
+    b = np.array(a) + x * u + math.sqrt(AB ** 2 - x * x) * np.array([-u[1], u[0]])
+    m.add_joint("O", "R", "0", "1", at=(0, 0))
+    m.add_joint("A", "R", "1", "2", at=a)
+    m.add_joint("B", "R", "2", "3", at=tuple(b))
+    m.add_joint("C", "R", "3", "0", at=(OC, 0))
+    m.add_input("C", unit="deg")
+    report = check(mbplanar.Engine(m))
+    assert report.grashof["kind"].startswith("crank-rocker") is False and not report.grashof["input_turns"]
+    assert not report.full_turn and len(report.limits) == 2
+    assert all(" A " in lim["kind"] or "at A" in lim["kind"] for lim in report.limits)
+    c = np.array([OC, 0.0])
+    swing = abs(math.remainder(math.atan2(*(b1 - c)[::-1]) - math.atan2(*(b2 - c)[::-1]), 2 * math.pi))
+    assert abs(math.radians(report.range[1] - report.range[0]) - swing) < 1e-7
+    crank = next(e for e in report.extremes if e.name == "1")
+    assert not crank.turns  # driven at the rocker, the crank cannot turn fully either
+
+
+def test_shaper_stroke_and_lever_swing():
+    report = check(_engine("shaper.toml"))
+    assert report.full_turn and report.grashof is None
+    k_v = 1.6
+    beta = math.pi * (k_v - 1) / (k_v + 1)
+    lever = next(e for e in report.extremes if e.name == "3")
+    assert abs((lever.maximum - lever.minimum) - beta) < 1e-9
+    ram = next(e for e in report.extremes if e.name == "F")
+    assert abs((ram.maximum - ram.minimum) - 0.5) < 1e-9  # H = 0.5 m
+
+
+def test_locking_model_limits():
+    report = check(_engine("crank_slider_rocker_locking.toml"))
+    assert not report.full_turn
+    up = next(lim for lim in report.limits if lim["direction"] == 1)
+    assert abs(up["phi"] - 1.799912) < 5e-7 and "stretched at B" in up["kind"]
+    assert report.range[1] == up["phi"]
+    mu = next(a for a in report.transmission if a.points == ("C", "B", "D"))
+    assert math.degrees(mu.minimum) < 0.1  # the dyad is stretched at the lock
+
+
+def test_cli_check(capsys):
+    assert main(["check", str(ROOT / "models/crank_slider_rocker_locking.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "does NOT turn fully" in out and "1.79991" in out
+    assert main(["check", "--json", str(ROOT / "models/fourbar.toml")]) == 0
+    import json
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["full_turn"] and doc["grashof"]["kind"] == "crank-rocker"
