@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 import mbplanar
 from mbplanar.kinematics import material_points
 
-SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
 def _angle(v):
