@@ -199,12 +199,5 @@ class Mechanism:
     def joints_of(self, link: str) -> list[Joint]:
         return [j for j in self.joints.values() if link in j.links]
 
-    def link_of_point(self, name: str) -> str | None:
-        p = self.points.get(name)
-        return p.link if p else None
-
     def input_for(self, joint: str) -> Input | None:
         return next((i for i in self.inputs if i.joint == joint), None)
-
-    def with_inputs(self, inputs: list[Input]) -> "Mechanism":
-        return replace(self, inputs=list(inputs))
