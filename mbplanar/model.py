@@ -9,7 +9,7 @@ angles are radians except where a name ends in `_deg`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from .errors import ModelError
 
