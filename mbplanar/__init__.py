@@ -9,6 +9,7 @@ The public API is this module; everything else is private by convention.
 """
 
 from .assembly import assemble
+from .dynamics import Dynamics, machine_dynamics
 from .errors import MbplanarError, ModelError, MotionError
 from .kinematics import Motion, analyse
 from .model import Input, Joint, Link, Mechanism, Point
@@ -16,5 +17,6 @@ from .solver import Engine, Limit
 from .table import parse_model, read_model
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
-           "Engine", "Limit", "analyse", "Motion", "MbplanarError", "ModelError", "MotionError"]
+           "Engine", "Limit", "analyse", "Motion", "MbplanarError", "ModelError", "MotionError",
+           "machine_dynamics", "Dynamics"]
 __version__ = "0.1.0"

@@ -306,19 +306,27 @@ def cmd_forces(args):
         raise _ArgError("--at must be a finite number")
     if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
         raise _ArgError("--input-inertia must be a finite number >= 0")
-    motion = _motion(engine, np.array([_input_si(engine, value)]), args.omega, args.epsilon)
+    phi = np.array([_input_si(engine, value)])
+    omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
+    if omega is None and epsilon is None and engine.mech.extras.get("dynamics") is not None:
+        omega, epsilon, dyn_inertia = true_motion(engine, phi)
+        inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
+    motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
         raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+    args.input_inertia = inertia
     result = kinetostatics(engine, motion, args.input_inertia or 0.0)
     if not result.success:
         raise MotionError(f"{engine.mech.source}: {result.message}")
     doc = forces_document(engine, motion, result)
+    doc["input"]["motion"] = how
+    doc["input"]["input_inertia"] = float(args.input_inertia or 0.0)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
     inp = doc["input"]
     print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
-          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {args.input_inertia or 0:g})")
+          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {args.input_inertia or 0:g}; {how})")
     print(f"{'joint':7s}{'type':>5s}{'on':>5s}{'from':>5s}{'Fx [N]':>13s}{'Fy [N]':>13s}{'|F| [N]':>13s}"
           f"{'dir [°]':>10s}{'M [N·m]':>13s}")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
@@ -332,6 +340,135 @@ def cmd_forces(args):
         print(f"balancing {'moment' if unit == 'N·m' else 'force'} at {name}: {q:.6g} {unit}")
     print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
     return 0
+
+
+def true_motion(engine, phi):
+    """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
+    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
+    from .dynamics import machine_dynamics
+    dyn = machine_dynamics(engine, simulate_motion=False)
+    state = dyn.state_at(engine, phi)
+    return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
+
+
+# -- dynamics ---------------------------------------------------------------------------------------
+def dynamics_document(engine, dyn, at=None) -> dict:
+    """The JSON document of `mbplanar dynamics` (values at input values `at`, SI, when given)."""
+    inp = engine.inputs[0]
+    red, sim = dyn.reduced, dyn.simulation
+    doc = {"model": engine.mech.name,
+           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit},
+           "steps": len(dyn.phi) - 1,
+           "delta_target": dyn.spec.delta,
+           "omega_mean": dyn.omega_mean,
+           "driving_moment": dyn.driving_moment,
+           "resistance_work": dyn.resistance_work,
+           "work_by_kind": dyn.work_by_kind(),
+           "inertia_first_group": dyn.inertia_first_group,
+           "input_link_inertia": dyn.input_link_inertia,
+           "dT_I_max": dyn.dT_I_max, "dT_I_max_at": inp.from_si(dyn.phi_dT_max),
+           "dT_I_min": dyn.dT_I_min, "dT_I_min_at": inp.from_si(dyn.phi_dT_min),
+           "omega_min": dyn.omega_min, "omega_max": dyn.omega_max,
+           "epsilon_min": dyn.epsilon_min, "epsilon_max": dyn.epsilon_max,
+           "delta_simulated": dyn.delta_simulated,
+           "simulation": None if sim is None else {
+               "omega_min": sim.omega_min, "omega_max": sim.omega_max, "omega_time_mean": sim.omega_time_mean,
+               "period": sim.period, "success": sim.success, "message": sim.message},
+           "flywheel": dyn.flywheel}
+    if at is not None:
+        state = dyn.state_at(engine, at)
+        doc["at"] = [{"value": inp.from_si(float(p)), "J_II": state["J_II"][k], "dJ_II": state["dJ_II"][k],
+                      "M_red": state["M_red"][k],
+                      "M_red_by_load": {name: m[k] for name, m in state["moments"].items()},
+                      "A_c": state["A_c"][k], "dT_I": state["dT_I"][k],
+                      "omega": state["omega"][k], "epsilon": state["epsilon"][k]}
+                     for k, p in enumerate(state["phi"])]
+    return _plain(doc)
+
+
+def dynamics_table(dyn):
+    """Header and columns (N, k) of the cycle table: φ, J_II, dJ_II, M_red per load and in total, A_c,
+    A_total, T_II, ΔT_I, ω, ε (energy–mass method) and the simulated ω, ε."""
+    red = dyn.reduced
+    header = ["phi[rad]", "J_II[kg*m2]", "dJ_II[kg*m2]"] + [f"M_red.{n}[N*m]" for n in red.moments] + \
+        ["M_red[N*m]", "A_c[J]", "A_total[J]", "T_II[J]", "dT_I[J]", "omega[rad/s]", "epsilon[rad/s2]"]
+    cols = [dyn.phi, dyn.J_II, dyn.dJ_II, *red.moments.values(), dyn.M_red, dyn.A_c, dyn.A_total,
+            dyn.T_II, dyn.dT_I, dyn.omega, dyn.epsilon]
+    if dyn.simulation is not None:
+        header += ["omega_sim[rad/s]", "epsilon_sim[rad/s2]"]
+        cols += [dyn.simulation.omega, dyn.simulation.epsilon]
+    return header, np.column_stack(cols)
+
+
+def cmd_dynamics(args):
+    from .dynamics import machine_dynamics, read_dynamics
+    engine = _load(args.model)
+    if args.steps < 36:
+        raise _ArgError("--steps must be at least 36")
+    if args.delta is not None and not (math.isfinite(args.delta) and 0 < args.delta < 1):
+        raise _ArgError("--delta must be a number between 0 and 1")
+    spec = read_dynamics(engine.mech, args.delta)
+    if spec is None:
+        raise _ArgError(f"{engine.mech.source}: the model has no [dynamics] section; give --delta")
+    dyn = machine_dynamics(engine, spec, steps=args.steps)
+    at = None
+    if args.at is not None:
+        try:
+            values = [float(v) for v in str(args.at).split(",")]
+        except ValueError:
+            values = [math.nan]
+        if not all(math.isfinite(v) for v in values):
+            raise _ArgError("--at needs finite value(s) separated by commas")
+        at = np.array([_input_si(engine, v) for v in values])
+    doc = dynamics_document(engine, dyn, at)
+    if args.output:
+        header, table = dynamics_table(dyn)
+        with open(args.output, "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            w.writerows([[f"{x:.10g}" for x in row] for row in table])
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0
+    _print_dynamics(doc)
+    return 0
+
+
+def _print_dynamics(doc):
+    inp = doc["input"]
+    sim, fw = doc["simulation"], doc["flywheel"]
+    print(f"{doc['model']}: machine dynamics over one cycle of {inp['name']} ({doc['steps']} steps)")
+    rows = [("coefficient of speed fluctuation δ", doc["delta_target"], ""),
+            ("mean speed ω_m", doc["omega_mean"], "rad/s"),
+            ("work of the loads per cycle A_c", doc["resistance_work"], "J"),
+            ("driving moment M_dr", doc["driving_moment"], "N·m"),
+            ("ΔT_I max", doc["dT_I_max"], f"J at {inp['name']} = {doc['dT_I_max_at']:.6g} {inp['unit']}"),
+            ("ΔT_I min", doc["dT_I_min"], f"J at {inp['name']} = {doc['dT_I_min_at']:.6g} {inp['unit']}"),
+            ("first-group inertia J_I", doc["inertia_first_group"], "kg·m²"),
+            ("ω min … max", f"{doc['omega_min']:.6g} … {doc['omega_max']:.6g}", "rad/s"),
+            ("ε min … max", f"{doc['epsilon_min']:.6g} … {doc['epsilon_max']:.6g}", "rad/s²")]
+    rows[3:3] = [(f"  of which {kind}", work, "J") for kind, work in doc["work_by_kind"].items()]
+    if sim is not None:
+        rows += [("simulated δ (solve_ivp)", doc["delta_simulated"], sim["message"]),
+                 ("simulated ω min … max", f"{sim['omega_min']:.6g} … {sim['omega_max']:.6g}", "rad/s")]
+    if fw.get("needed"):
+        rows.append((f"flywheel on the {fw['shaft']} shaft J", fw["inertia"],
+                     f"kg·m² (speed ratio {fw['speed_ratio']:.6g})"))
+        rim, disc = fw["rim"], fw["disc"]
+        rows.append(("  rim D2, D1, b, mass", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, "
+                     f"{rim['width']:.5g} m, {rim['mass']:.5g}", "kg"))
+        rows.append(("  disc D, b, mass", f"{disc['diameter']:.5g}, {disc['width']:.5g} m, {disc['mass']:.5g}", "kg"))
+    else:
+        rows.append(("flywheel", "not needed", "(the machine's own inertia is enough)"))
+    for label, value, unit in rows:
+        value = f"{value:.6g}" if isinstance(value, float) else str(value)
+        print(f"  {label:38s} {value:>24s} {unit}")
+    for at in doc.get("at", []):
+        print(f"at {inp['name']} = {at['value']:g} {inp['unit']}: J_II = {at['J_II']:.6g} kg·m², "
+              f"dJ_II = {at['dJ_II']:.6g} kg·m², M_red = {at['M_red']:.6g} N·m, ΔT_I = {at['dT_I']:.6g} J, "
+              f"ω = {at['omega']:.6g} rad/s, ε = {at['epsilon']:.6g} rad/s²")
+        for name, m in at["M_red_by_load"].items():
+            print(f"    M_red of {name}: {m:.6g} N·m")
 
 
 # -- pictures ---------------------------------------------------------------------------------------
@@ -452,6 +589,15 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_forces)
+
+    s = sub.add_parser("dynamics", help="reduced inertia and moments, flywheel, true ω(φ) and ε(φ)")
+    s.add_argument("model")
+    s.add_argument("--at", help="also the values at these input values (model's unit, comma-separated)")
+    s.add_argument("--steps", type=int, default=3600, help="intervals over the cycle (default 3600)")
+    s.add_argument("--delta", type=float, help="coefficient of speed fluctuation (default: the model's)")
+    s.add_argument("-o", "--output", help="CSV file of the cycle table")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_dynamics)
 
     s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, ...")
     s.add_argument("model")

@@ -25,7 +25,7 @@ mass. Gravity is not a `LoadValue` row of the table: `evaluate_loads` appends on
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -65,10 +65,12 @@ class Load:
     table: tuple[float, ...] = ()
     when: str = "always"
     zero_at: float | None = None
+    label: str | None = None
 
     @property
     def name(self) -> str:
-        return f"loads[{self.index}]"
+        """The row's `name`, else its place in the table, loads[i]."""
+        return self.label or f"loads[{self.index}]"
 
 
 @dataclass
@@ -105,7 +107,14 @@ def read_loads(mech) -> list[Load]:
     rows = mech.extras.get("loads", [])
     if not isinstance(rows, list):
         raise ModelError(f"{mech.source}: 'loads' must be a list of rows")
-    return [_read_load(mech, i, raw) for i, raw in enumerate(rows)]
+    loads = [_read_load(mech, i, raw) for i, raw in enumerate(rows)]
+    seen = {}
+    for ld in loads:
+        if ld.name in seen or ld.name.startswith("gravity on "):
+            why = f"is also loads[{seen[ld.name]}]'s" if ld.name in seen else "is kept for gravity"
+            raise ModelError(f"{mech.source}: loads[{ld.index}]: the name '{ld.name}' {why}")
+        seen[ld.name] = ld.index
+    return loads
 
 
 _KEYS = {
@@ -121,6 +130,13 @@ def _read_load(mech, i: int, raw) -> Load:
     where = f"{mech.source}: loads[{i}]"
     if not isinstance(raw, dict):
         raise ModelError(f"{where}: expected a table {{type = ..., ...}}")
+    label = raw.get("name")
+    if label is not None and (not isinstance(label, str) or not label.strip()):
+        raise ModelError(f"{where}: 'name' must be a non-empty text, got {label!r}")
+    return replace(_read_load_row(mech, i, raw, where), label=label)
+
+
+def _read_load_row(mech, i: int, raw, where) -> Load:
     kind = raw.get("type")
     if kind not in LOAD_TYPES:
         raise ModelError(f"{where}: 'type' must be one of {', '.join(LOAD_TYPES)}, got {kind!r}")

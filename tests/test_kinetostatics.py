@@ -3,6 +3,7 @@ from the reported reactions (action = −reaction), virtual power on random mech
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -230,10 +231,14 @@ def test_cli_forces_json(capsys):
     assert doc["virtual_power_residual"] < 1e-9
 
 
-def test_cli_forces_default_omega_and_table(capsys):
-    assert main(["forces", SHAPER, "--at", "140.769"]) == 0
+def test_cli_forces_default_omega_and_table(capsys, tmp_path):
+    """Without a [dynamics] section, forces runs at the model's constant omega."""
+    text = Path(SHAPER).read_text(encoding="utf-8")
+    model = tmp_path / "shaper_no_dynamics.toml"
+    model.write_text(text[:text.index("[dynamics]")], encoding="utf-8")
+    assert main(["forces", str(model), "--at", "140.769"]) == 0
     out = capsys.readouterr().out
-    assert "ω = 7.64454" in out and "balancing moment at O" in out
+    assert "ω = 7.64454" in out and "ε = 0," in out and "balancing moment at O" in out
 
 
 def test_cli_forces_bad_input(capsys):
