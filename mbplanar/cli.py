@@ -131,6 +131,18 @@ def _motion(engine, values_si, omega=None, epsilon=None):
     return analyse(engine, values_si, omega, epsilon)
 
 
+def _speeds(engine, phi, args):
+    """ω, ε of the input for solve and sweep: --omega/--epsilon (default 1 and 0: the analogues), or the
+    true motion from the machine dynamics with --true-motion (then also the first group's J_I)."""
+    if not getattr(args, "true_motion", False):
+        return (1.0 if args.omega is None else args.omega), (0.0 if args.epsilon is None else args.epsilon), None
+    if args.omega is not None or args.epsilon is not None:
+        raise _ArgError("--true-motion computes ω and ε; leave out --omega and --epsilon")
+    if len(engine.inputs) != 1 or engine.mech.extras.get("dynamics") is None:
+        raise _ArgError(f"{engine.mech.source}: --true-motion needs a model with one input and a [dynamics] section")
+    return true_motion(engine, phi)
+
+
 def cmd_solve(args):
     engine = _load(args.model)
     if len(engine.inputs) != 1:
@@ -140,8 +152,8 @@ def cmd_solve(args):
     if len(values) != len(engine.inputs) or not all(math.isfinite(v) for v in values):
         raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
     phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
-    motion = _motion(engine, phi, 1.0 if args.omega is None else args.omega,
-                     0.0 if args.epsilon is None else args.epsilon)
+    omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
+    motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
         raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
     doc = solve_document(engine, motion)
@@ -221,8 +233,10 @@ def cmd_sweep(args):
         raise _ArgError("sweep drives one input; this model has several (use the Python API)")
     values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
     inp = engine.inputs[0]
-    motion = _motion(engine, inp.to_si(values), 1.0 if args.omega is None else args.omega,
-                     0.0 if args.epsilon is None else args.epsilon)
+    omega, epsilon, inertia = _speeds(engine, inp.to_si(values), args)
+    if args.input_inertia is None:
+        args.input_inertia = inertia
+    motion = _motion(engine, inp.to_si(values), omega, epsilon)
     angle_unit = args.angles or ("rad" if inp.unit == "rad" else "deg")
     header, rows = sweep_table(engine, motion, angle_unit)
     forces_failed = None
@@ -562,6 +576,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
     s.add_argument("--omega", type=float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
     s.add_argument("--epsilon", type=float, help="input acceleration (default 0)")
+    s.add_argument("--true-motion", action="store_true",
+                   help="ω and ε of the input from the machine dynamics (models with [dynamics])")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_solve)
 
@@ -574,6 +590,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--to", dest="stop", type=float, help="last value")
     s.add_argument("--omega", type=float)
     s.add_argument("--epsilon", type=float)
+    s.add_argument("--true-motion", action="store_true",
+                   help="ω(φ), ε(φ) from the machine dynamics, and J_I on the input link in the force columns")
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",

@@ -301,3 +301,22 @@ def test_simulate_reports_a_stall(shaper):
     weak.inertia_first_group = 0.05 * d.inertia_first_group
     with pytest.raises(mbplanar.MotionError, match="stalls"):
         simulate(weak)
+
+
+def test_sweep_at_the_true_motion_balances_with_the_driving_moment(tmp_path):
+    """With ε from the equation of motion and J_I on the crank, the balancing moment is −M_dr at every
+    position (power balance), whatever the loads and the links' inertia do there."""
+    out = tmp_path / "true.csv"
+    assert main(["sweep", str(MODELS / "shaper.toml"), "--steps", "24", "--true-motion", "-o", str(out)]) == 0
+    lines = out.read_text().splitlines()
+    header = lines[0].split(",")
+    rows = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    balancing = rows[:, header.index("O.balancing[N*m]")]
+    assert np.allclose(balancing, -102.058, atol=2e-3)
+    assert np.ptp(rows[:, header.index("1.omega[rad/s]")]) > 0.3      # the crank's speed does vary
+
+
+def test_true_motion_needs_dynamics(capsys):
+    assert main(["solve", str(MODELS / "fourbar.toml"), "--at", "10", "--true-motion"]) == 2
+    assert "[dynamics]" in capsys.readouterr().err
+    assert main(["solve", str(MODELS / "shaper.toml"), "--at", "10", "--true-motion", "--omega", "3"]) == 2
