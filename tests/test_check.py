@@ -118,3 +118,19 @@ def test_cli_check(capsys):
     import json
     doc = json.loads(capsys.readouterr().out)
     assert doc["full_turn"] and doc["grashof"]["kind"] == "crank-rocker"
+
+
+def test_sweep_has_transmission_and_pressure_angle_columns(tmp_path):
+    out = tmp_path / "fourbar.csv"
+    assert main(["sweep", str(ROOT / "models" / "fourbar.toml"), "--step", "15", "-o", str(out)]) == 0
+    lines = out.read_text().splitlines()
+    header = lines[0].split(",")
+    rows = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    phi = np.radians(rows[:, 0])
+    ac2 = OA ** 2 + OC ** 2 - 2 * OA * OC * np.cos(phi)
+    mu = np.degrees(np.arccos(np.abs((AB ** 2 + BC ** 2 - ac2) / (2 * AB * BC))))
+    assert np.allclose(rows[:, header.index("transmission.A-B-C[deg]")], mu, atol=1e-8)
+    out = tmp_path / "slider.csv"
+    assert main(["sweep", str(ROOT / "models" / "slider_crank.toml"), "--steps", "8", "-o", str(out)]) == 0
+    header = out.read_text().splitlines()[0].split(",")
+    assert any(h.startswith("pressure.") and h.endswith("[deg]") for h in header)
