@@ -17,7 +17,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
+from mbplanar.dynamics import read_dynamics
 from mbplanar.errors import MbplanarError
+from mbplanar.kinetostatics import kinetostatics
 
 MODELS = sorted(Path(__file__).resolve().parent.parent.joinpath("models").glob("*.toml"))
 TEXTS = {p.name: p.read_text(encoding="utf-8") for p in MODELS}
@@ -113,6 +115,12 @@ def _exercise(mech):
         assert np.all(np.isfinite(getattr(motion, name))), name
     if not motion.success:
         assert motion.message
+        return
+    result = kinetostatics(engine, motion)   # loads and masses of the mutant
+    ok = ~result.singular
+    for r in result.reactions.values():
+        assert np.all(np.isfinite(r.fx[ok])) and np.all(np.isfinite(r.fy[ok]))
+    read_dynamics(mech)                      # the [dynamics] section is checked
 
 
 def _run(make):
@@ -127,7 +135,7 @@ def _run(make):
         assert str(exc)
 
 
-FUZZ = settings(max_examples=1000, deadline=None, derandomize=True,
+FUZZ = settings(max_examples=1500, deadline=None, derandomize=True,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 
 
@@ -137,7 +145,7 @@ def test_document_mutants_fail_cleanly(doc):
     _run(lambda: mbplanar.parse_model(doc, source="mutant.toml"))
 
 
-@settings(max_examples=300, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=500, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(text_mutants())
 def test_text_mutants_fail_cleanly(text):
     _run(lambda: mbplanar.table.read_model_text(text, source="mutant.toml"))
