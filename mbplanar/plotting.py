@@ -452,6 +452,49 @@ def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 4.5)):
     return fig
 
 
+def dynamics_figure(engine, at=None, *, dynamics=None, count=3600, figsize=(10, 10)):
+    """Machine dynamics over the cycle: J_II and dJ_II/dφ, the reduced moments, work and ΔT_I, and the
+    true ω(φ), ε(φ) of the crank (energy–mass method and the simulated steady state). `dynamics`: a
+    computed `Dynamics` (default: `machine_dynamics(engine)` on `count` steps, at least 36); `at`
+    marks one position. ModelError for a model without a [dynamics] section."""
+    from .dynamics import machine_dynamics
+    plt = require_matplotlib()
+    d = machine_dynamics(engine, steps=max(int(count), 36)) if dynamics is None else dynamics
+    inp = engine.inputs[0]
+    x, xlabel = _coordinate(engine, d.phi)
+    fig = _figure(plt, figsize)
+    axes = fig.subplots(3, 2, sharex=True).flat
+    _plot_lines(axes[0], x, [d.J_II, d.dJ_II], ["J_II", "dJ_II/dφ"], "[kg·m²]", None,
+                "Reduced inertia of the second group")
+    moments = list(d.reduced.moments.items())
+    _plot_lines(axes[1], x, [m for _, m in moments] + [d.M_red], [n for n, _ in moments] + ["M_red (total)"],
+                "M [N·m]", None, f"Reduced moments (dashed: −M_dr = {-d.driving_moment:.6g} N·m)")
+    axes[1].axhline(-d.driving_moment, color=INK, lw=0.8, ls="--")
+    _plot_lines(axes[2], x, [d.A_c, d.driving_moment * d.phi, d.A_total], ["A_c (loads)", "A_dr (drive)", "A_Σ"],
+                "A [J]", None, "Work from φ = 0")
+    _plot_lines(axes[3], x, [d.T_II, d.dT_I], ["T_II = J_II·ω_m²/2", "ΔT_I = A_Σ − T_II"], "T [J]", None,
+                f"Kinetic energy; J_I = {d.inertia_first_group:.6g} kg·m² (δ = {d.spec.delta:g})")
+    for value in (d.dT_I_max, d.dT_I_min):
+        axes[3].axhline(value, color=INK, lw=0.6, ls=":")
+    sim = d.simulation
+    omegas, names = [d.omega], ["energy–mass method"]
+    eps, enames = [d.epsilon], ["energy–mass method"]
+    if sim is not None:
+        omegas.append(sim.omega)
+        names.append(f"simulated (δ = {sim.delta:.4g})")
+        eps.append(sim.epsilon)
+        enames.append("simulated")
+    _plot_lines(axes[4], x, omegas, names, "ω [rad/s]", xlabel, f"Crank speed; ω_m = {d.omega_mean:.6g} rad/s")
+    axes[4].axhline(d.omega_mean, color=INK, lw=0.6, ls="--")
+    _plot_lines(axes[5], x, eps, enames, "ε [rad/s²]", xlabel, "Crank acceleration")
+    if at is not None:
+        mark = _coordinate(engine, np.array([inp.to_si(float(at))]))[0][0]
+        for ax in axes:
+            ax.axvline(mark, color="#d62728", lw=0.8, alpha=0.6)
+    fig.suptitle(f"{engine.mech.title or engine.mech.name}: machine dynamics", fontsize=10)
+    return fig
+
+
 # -- registry ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Figure:
@@ -466,6 +509,7 @@ FIGURES: dict[str, Figure] = {
     "kinematics": Figure(kinematics_figure, "positions, real velocities and accelerations against the coordinate"),
     "analogues": Figure(analogues_figure, "positions and analogues of velocities and accelerations"),
     "transmission": Figure(transmission_figure, "transmission angles of the R–R–R dyads"),
+    "dynamics": Figure(dynamics_figure, "J_II, reduced moments, work, ΔT_I, true ω(φ) and ε(φ) (models with [dynamics])"),
 }
 
 

@@ -145,6 +145,44 @@ def _animation_section(engine, ctx):
     return svg_animation(engine, ctx.frames, element_id="report-animation", width=560)
 
 
+def _flywheel_section(engine, ctx):
+    from .dynamics import machine_dynamics
+    from .plotting import dynamics_figure
+    if engine.mech.extras.get("dynamics") is None:
+        return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
+    d = machine_dynamics(engine)
+    inp = engine.inputs[0]
+    sim, fw = d.simulation, d.flywheel
+    rows = [("coefficient of speed fluctuation δ", d.spec.delta, ""),
+            ("mean speed ω_m", d.omega_mean, "rad/s"),
+            ("work of the loads per cycle A_c(2π)", d.resistance_work, "J"),
+            ("constant driving moment M_dr = −A_c(2π)/2π", d.driving_moment, "N·m"),
+            ("ΔT_I max", d.dT_I_max, f"J at {inp.name} = {inp.from_si(d.phi_dT_max):.6g} {inp.unit}"),
+            ("ΔT_I min", d.dT_I_min, f"J at {inp.name} = {inp.from_si(d.phi_dT_min):.6g} {inp.unit}"),
+            ("first-group inertia J_I", d.inertia_first_group, "kg·m²"),
+            ("ω min, max (energy–mass method)", f"{d.omega_min:.6g}, {d.omega_max:.6g}", "rad/s"),
+            ("ε min, max", f"{d.epsilon_min:.6g}, {d.epsilon_max:.6g}", "rad/s²")]
+    if sim is not None:
+        rows += [("δ of the simulated steady state (solve_ivp)", sim.delta, sim.message),
+                 ("ω min, max (simulated)", f"{sim.omega_min:.6g}, {sim.omega_max:.6g}", "rad/s")]
+    if fw.get("needed"):
+        rows += [(f"flywheel on the {fw['shaft']} shaft", fw["inertia"], f"kg·m², speed ratio {fw['speed_ratio']:.6g}"),
+                 ("rim D₂, D₁, b", ", ".join(f"{fw['rim'][k]:.4g}" for k in ("outer_diameter", "inner_diameter", "width")),
+                  f"m; mass {fw['rim']['mass']:.5g} kg"),
+                 ("disc D, b", f"{fw['disc']['diameter']:.4g}, {fw['disc']['width']:.4g}",
+                  f"m; mass {fw['disc']['mass']:.5g} kg")]
+    else:
+        rows.append(("flywheel", "not needed", "the machine's own inertia is enough"))
+    state = d.state_at(engine, ctx.table.phi[:, 0])
+    head = [f"{inp.name} [{inp.unit}]", "J_II [kg·m²]", "dJ_II/dφ [kg·m²]", "M_red [N·m]", "ΔT_I [J]",
+            "ω [rad/s]", "ε [rad/s²]"]
+    table = np.column_stack([inp.from_si(ctx.table.phi[:, 0]), state["J_II"], state["dJ_II"], state["M_red"],
+                             state["dT_I"], state["omega"], state["epsilon"]])
+    return (html_table(("quantity", "value", "unit / note"), rows, "Energy–mass method and flywheel")
+            + ctx.figure(dynamics_figure(engine, dynamics=d), "machine dynamics")
+            + html_table(head, table.tolist(), "Reduced quantities and the true motion of the crank"))
+
+
 def _placeholder(what, module):
     def section(engine, ctx):
         return (f"<p class=\"todo\">{html.escape(what)}: not computed yet — this section is filled by the "
@@ -161,8 +199,7 @@ SECTIONS: dict[str, Section] = {
     "animation": Section("Animation", _animation_section),
     # HOOK: kinetostatics replaces this section (register_section("reactions", ...))
     "reactions": Section("Joint reactions and balancing moment", _placeholder("Reactions", "kinetostatics")),
-    # HOOK: machine dynamics replaces this section (register_section("flywheel", ...))
-    "flywheel": Section("Machine dynamics and flywheel", _placeholder("Flywheel", "dynamics")),
+    "flywheel": Section("Machine dynamics and flywheel", _flywheel_section),
 }
 
 

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import mbplanar
+from mbplanar.dynamics import machine_dynamics
 from mbplanar import analyse
 
 pytest.importorskip("matplotlib")
@@ -52,6 +53,10 @@ def test_every_model_renders_every_picture(model, tmp_path):
     eng = mbplanar.Engine(mbplanar.read_model(model))
     for what in plotting.FIGURES:
         out = tmp_path / f"{what}.png"
+        if what == "dynamics" and "dynamics" not in eng.mech.extras:
+            with pytest.raises(mbplanar.ModelError, match=r"no \[dynamics\] section"):
+                plotting.make_figure(eng, what, count=13)
+            continue
         plotting.save_figure(plotting.make_figure(eng, what, count=13), out, dpi=30)
         with Image.open(out) as im:
             assert im.size[0] > 50 and im.size[1] > 50, what
@@ -217,7 +222,10 @@ def test_report_tables_come_from_the_engine(shaper_report):
     assert f"W = {eng.topology.dof}" in shaper_report and s.formula in shaper_report
     for g in s.groups:
         assert ", ".join(g.links) in shaper_report
-    assert "Reactions: not computed yet" in shaper_report and "Flywheel: not computed yet" in shaper_report
+    assert "Flywheel: not computed yet" not in shaper_report
+    d = machine_dynamics(eng)
+    assert "Energy–mass method and flywheel" in shaper_report
+    assert f"{d.inertia_first_group:.6g}" in shaper_report and f"{d.driving_moment:.6g}" in shaper_report
 
 
 def test_report_hook_replaces_a_placeholder(monkeypatch):
