@@ -1,9 +1,10 @@
-"""Batched small dense linear algebra: one LU factorisation per batch element, reused for several
+"""Batched small dense linear algebra: one factorisation per batch element, reused for several
 right-hand sides (Newton step, velocities, accelerations, reactions).
 
 Shapes: A is (B, n, n), right-hand sides (B, n) or (B, n, k). numpy's own batched solve pays a LAPACK
 call per matrix; for the 2×2 … 20×20 blocks of a mechanism, elimination written over the batch axis is
-several times faster and lets one factorisation serve every right-hand side.
+several times faster and lets one factorisation serve every right-hand side. 1×1 and 2×2 matrices (every
+dyad) use their explicit inverse (Cramer), which costs a handful of array operations.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LU", "lu_factor"]
+__all__ = ["LU", "Cramer", "factor", "lu_factor", "solve_once"]
 
 
 @dataclass
@@ -49,9 +50,61 @@ class LU:
         return x[:, :, 0] if vector else x
 
 
+@dataclass
+class Cramer:
+    """Explicit inverse of a batch of 1×1 or 2×2 matrices; same interface as `LU`. The pivots are those
+    partial pivoting would choose (the larger entry of the first column, then det / that entry), so
+    `pivot_ratio` means the same for every size."""
+
+    inv: np.ndarray
+    det: np.ndarray
+    pivots: tuple
+
+    @property
+    def pivot_ratio(self) -> np.ndarray:
+        p = np.abs(np.stack(self.pivots))
+        return p.min(axis=0) / np.maximum(p.max(axis=0), 1e-300)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        inv = self.inv
+        if b.ndim == 2:
+            if inv.shape[1] == 1:
+                return inv[:, 0] * b
+            out = np.empty_like(b)
+            b0, b1 = b[:, 0], b[:, 1]
+            out[:, 0] = inv[:, 0, 0] * b0 + inv[:, 0, 1] * b1
+            out[:, 1] = inv[:, 1, 0] * b0 + inv[:, 1, 1] * b1
+            return out
+        return np.einsum("bij,bjk->bik", inv, b)
+
+
+def _cramer(a: np.ndarray) -> Cramer:
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if a.shape[1] == 1:
+            det = a[:, 0, 0].copy()
+            return Cramer((1.0 / det)[:, None, None], det, (det,))
+        a00, a01, a10, a11 = a[:, 0, 0], a[:, 0, 1], a[:, 1, 0], a[:, 1, 1]
+        det = a00 * a11 - a01 * a10
+        inv = np.empty(a.shape)
+        inv[:, 0, 0] = a11 / det
+        inv[:, 0, 1] = -a01 / det
+        inv[:, 1, 0] = -a10 / det
+        inv[:, 1, 1] = a00 / det
+        first = np.maximum(np.abs(a00), np.abs(a10))
+        return Cramer(inv, det, (first, det / first))
+
+
+def factor(a: np.ndarray):
+    """Factor every matrix of `a` (B, n, n): explicit inverse for n ≤ 2, else LU with partial pivoting.
+    Singular matrices give zero pivots (check `pivot_ratio`) and non-finite solutions; nothing is
+    raised, so one bad element never stops a batch."""
+    if 1 <= a.shape[1] <= 2:
+        return _cramer(a)
+    return lu_factor(a)
+
+
 def lu_factor(a: np.ndarray) -> LU:
-    """Factor every matrix of `a` (B, n, n) with partial pivoting. Singular matrices give zero pivots
-    (check `pivot_ratio`); nothing is raised, so one bad element never stops a batch."""
+    """LU factors of every matrix of `a` (B, n, n) with partial pivoting."""
     lu = np.array(a, dtype=float, copy=True)
     batch, n, _ = lu.shape
     perm = np.tile(np.arange(n), (batch, 1))
@@ -69,3 +122,24 @@ def lu_factor(a: np.ndarray) -> LU:
             lu[:, k + 1:, k] /= lu[:, k, k, None]
             lu[:, k + 1:, k + 1:] -= lu[:, k + 1:, k, None] * lu[:, k, None, k + 1:]
     return LU(lu, perm, sign)
+
+
+def solve_once(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """x with A x = b for one right-hand side (B, n), and a singularity measure (B,) in [0, 1]: the
+    pivot ratio for n ≤ 2, else |det A| / Π‖row‖ (Hadamard's ratio; 0 for a singular matrix). For n ≥ 3
+    LAPACK's batched solve is faster than elimination over the batch; a batch with an exactly singular
+    matrix (LAPACK refuses it) takes the LU path."""
+    n = a.shape[1]
+    if n <= 2:
+        f = factor(a)
+        return f.solve(b), f.pivot_ratio
+    try:
+        x = np.linalg.solve(a, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        f = lu_factor(a)
+        with np.errstate(all="ignore"):
+            return f.solve(b), f.pivot_ratio
+    _, logdet = np.linalg.slogdet(a)
+    with np.errstate(divide="ignore"):
+        log_rows = np.log(np.sqrt(np.einsum("bij,bij->bi", a, a))).sum(axis=1)
+    return x, np.exp(np.minimum(logdet - log_rows, 0.0))

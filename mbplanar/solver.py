@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._linalg import lu_factor
+from ._linalg import factor
 from .assembly import assemble, reference_points
 from .constraints import Pose, Rates, make_law
 from .errors import MotionError
@@ -225,7 +225,7 @@ class Engine:
             with np.errstate(invalid="ignore"):
                 err = np.max(np.abs(res) * bp.row_scale, axis=1)
             jac, sens = self._block_jacobian(bp, caches, cut_caches, batch)
-            lu = lu_factor(jac)
+            lu = factor(jac)
             ok = err < TOL
             if ok.all() or it == MAX_NEWTON:
                 break
