@@ -340,16 +340,22 @@ class _Atlas:
             new, limit = _walk(self.engine, start, np.array([target]))
             self.limits[direction] = limit
             self.nodes = self.nodes + new if direction > 0 else new[::-1] + self.nodes
+            self._arrays = None
+
+    _arrays = None
 
     def arrays(self):
-        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks)."""
-        phi = np.array([n.phi[0] for n in self.nodes])
-        per_block = []
-        for k in range(len(self.engine.blocks)):
-            per_block.append((np.stack([n.q[k] for n in self.nodes]),
-                              np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
-                              np.stack([n.qdd[k] for n in self.nodes])))
-        return phi, per_block, np.stack([n.signs for n in self.nodes])
+        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks);
+        stacked once per extension of the atlas."""
+        if self._arrays is None:
+            phi = np.array([n.phi[0] for n in self.nodes])
+            per_block = []
+            for k in range(len(self.engine.blocks)):
+                per_block.append((np.stack([n.q[k] for n in self.nodes]),
+                                  np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
+                                  np.stack([n.qdd[k] for n in self.nodes])))
+            self._arrays = phi, per_block, np.stack([n.signs for n in self.nodes])
+        return self._arrays
 
 
 @dataclass
@@ -480,10 +486,8 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     if atlas.limits[-1] is not None:
         inside &= x >= nodes_phi[0]
     idx = _nearest(nodes_phi, x)
-    dphi = (x - nodes_phi[idx])[:, None]
     with np.errstate(invalid="ignore", over="ignore"):
-        guesses = [np.where(inside[:, None], q[idx] + qd[idx] * dphi + 0.5 * qdd[idx] * dphi * dphi, q[idx])
-                   for q, qd, qdd in per_block]
+        guesses = _interpolate(nodes_phi, per_block, x, idx, inside)
     sol = e._solve_batch(phi, guesses)
     good = sol.valid & inside & np.all(e.signs(sol) == node_signs[idx], axis=1)
     for state, g, bp in zip(sol.blocks, guesses, e.blocks):
@@ -495,6 +499,37 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     sol.valid = good
     sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1]) if lim is not None]
     return sol
+
+
+def _interpolate(grid, per_block, x, idx, inside):
+    """Guess of every block's unknowns at x: the quintic Hermite interpolant of q, q', q'' between the
+    two atlas nodes around x (error ~ h⁶, so Newton needs one step), or the Taylor expansion about the
+    nearest node where x is past the last node."""
+    if len(grid) == 1:
+        lo = np.zeros(len(x), int)
+    else:
+        lo = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
+    hi = np.minimum(lo + 1, len(grid) - 1)
+    between = inside & (x >= grid[lo]) & (x <= grid[hi]) & (hi > lo)
+    h = (grid[hi] - grid[lo])[:, None]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.where(between, (x - grid[lo]) / np.where(hi > lo, grid[hi] - grid[lo], 1.0), 0.0)[:, None]
+    t2, t3 = t * t, t * t * t
+    # quintic Hermite basis: values, first and second derivatives at both ends
+    h00 = 1 - 10 * t3 + 15 * t3 * t - 6 * t3 * t2
+    h01 = 1 - h00
+    h10 = t - 6 * t3 + 8 * t3 * t - 3 * t3 * t2
+    h11 = -4 * t3 + 7 * t3 * t - 3 * t3 * t2
+    h20 = 0.5 * (t2 - 3 * t3 + 3 * t3 * t - t3 * t2)
+    h21 = 0.5 * (t3 - 2 * t3 * t + t3 * t2)
+    dphi = (x - grid[idx])[:, None]
+    out = []
+    for q, qd, qdd in per_block:
+        inner = (h00 * q[lo] + h01 * q[hi] + h * (h10 * qd[lo] + h11 * qd[hi])
+                 + h * h * (h20 * qdd[lo] + h21 * qdd[hi]))
+        taylor = np.where(inside[:, None], q[idx] + qd[idx] * dphi + 0.5 * qdd[idx] * dphi * dphi, q[idx])
+        out.append(np.where(between[:, None], inner, taylor))
+    return out
 
 
 def _nearest(grid: np.ndarray, x: np.ndarray) -> np.ndarray:
