@@ -30,7 +30,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._linalg import solve_once
-from .constraints import perp
 from .kinematics import material_points
 from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, world_points
 
@@ -377,7 +376,8 @@ def _virtual_power(engine, motion, loads, drive):
     r = motion.frames["r"]
     terms = []
     for ld in loads:
-        vel = v[:, ld.link] + w[:, ld.link, None] * perp(ld.point - r[:, ld.link])
+        d = ld.point - r[:, ld.link]
+        vel = v[:, ld.link] + w[:, ld.link, None] * np.stack((-d[:, 1], d[:, 0]), axis=-1)
         terms.append(np.einsum("bi,bi->b", ld.force, vel) + ld.moment * w[:, ld.link])
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
     for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
