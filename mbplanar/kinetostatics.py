@@ -1,5 +1,5 @@
 """Kinetostatics: every joint reaction and the balancing moment (or force) at every input, from one
-linear system assembled from the joint table, solved for a batch of positions.
+linear system assembled from the joint table, solved for a batch of positions group by group (`_Plan`).
 
 Equations: per moving link ΣFx = 0, ΣFy = 0, ΣM = 0 (moments about a fixed point of the model, the mean of
 the drawn joints, divided by the model size so that every row is in newtons), with d'Alembert inertia
