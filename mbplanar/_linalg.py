@@ -1,9 +1,12 @@
-"""Batched small dense linear algebra: one LU factorisation per batch element, reused for several
-right-hand sides (Newton step, velocities, accelerations, reactions).
+"""Batched small dense linear algebra: one factorisation per batch element, reused for several
+right-hand sides (Newton step, velocities, accelerations).
 
-Shapes: A is (B, n, n), right-hand sides (B, n) or (B, n, k). numpy's own batched solve pays a LAPACK
-call per matrix; for the 2×2 … 20×20 blocks of a mechanism, elimination written over the batch axis is
-several times faster and lets one factorisation serve every right-hand side.
+Shapes, batch last (every elementwise operation then runs over a contiguous batch): A is (n, n, B),
+right-hand sides (n, B). numpy's own batched solve pays a LAPACK call per matrix; for the 1×1 … 4×4
+blocks of a mechanism, elimination written over the batch axis is several times faster and lets one
+factorisation serve every right-hand side. 1×1 and 2×2 matrices (every dyad) use their explicit
+inverse (Cramer), a handful of array operations. `solve_once` (batch first) serves the larger reaction
+blocks of the kinetostatics with LAPACK.
 """
 
 from __future__ import annotations
@@ -12,60 +15,133 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LU", "lu_factor"]
+__all__ = ["LU", "Cramer", "factor", "lu_factor", "solve_once"]
 
 
 @dataclass
 class LU:
-    """Packed LU factors of a batch of matrices with row permutation `perm` (B, n)."""
+    """Packed LU factors (n, n, B) of a batch of matrices with row permutation `perm` (n, B)."""
 
     lu: np.ndarray
     perm: np.ndarray
     sign: np.ndarray
 
+    def _pivots(self) -> np.ndarray:
+        n = self.lu.shape[0]
+        return self.lu[np.arange(n), np.arange(n)]
+
     @property
     def det(self) -> np.ndarray:
         """Determinant of every matrix, (B,)."""
-        return self.sign * np.prod(np.diagonal(self.lu, axis1=1, axis2=2), axis=1)
+        return self.sign * np.prod(self._pivots(), axis=0)
 
     @property
     def pivot_ratio(self) -> np.ndarray:
         """min |pivot| / max |pivot| (B,): near 0 where the matrix is (nearly) singular."""
-        d = np.abs(np.diagonal(self.lu, axis1=1, axis2=2))
-        return d.min(axis=1) / np.maximum(d.max(axis=1), 1e-300)
+        d = np.abs(self._pivots())
+        return d.min(axis=0) / np.maximum(d.max(axis=0), 1e-300)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        """x with A x = b; b (B, n) or (B, n, k)."""
-        lu, n = self.lu, self.lu.shape[1]
-        vector = b.ndim == 2
-        x = np.take_along_axis(b, self.perm if vector else self.perm[:, :, None], axis=1)
-        x = x[:, :, None].copy() if vector else x.copy()
+        """x with A x = b; b (n, B)."""
+        lu, n = self.lu, self.lu.shape[0]
+        x = np.take_along_axis(b, self.perm, axis=0)
         for i in range(1, n):  # forward: unit lower triangle
-            x[:, i] -= np.einsum("bj,bjk->bk", lu[:, i, :i], x[:, :i])
+            x[i] -= np.einsum("jb,jb->b", lu[i, :i], x[:i])
         for i in range(n - 1, -1, -1):  # backward: upper triangle
             if i < n - 1:
-                x[:, i] -= np.einsum("bj,bjk->bk", lu[:, i, i + 1:], x[:, i + 1:])
-            x[:, i] /= lu[:, i, i, None]
-        return x[:, :, 0] if vector else x
+                x[i] -= np.einsum("jb,jb->b", lu[i, i + 1:], x[i + 1:])
+            x[i] /= lu[i, i]
+        return x
+
+
+@dataclass
+class Cramer:
+    """Explicit inverse (n, n, B) of a batch of 1×1 or 2×2 matrices; same interface as `LU`. The pivots
+    are those partial pivoting would choose (the larger entry of the first column, then det / that
+    entry), so `pivot_ratio` means the same for every size."""
+
+    inv: np.ndarray
+    det: np.ndarray
+    pivots: tuple
+
+    @property
+    def pivot_ratio(self) -> np.ndarray:
+        p = np.abs(np.stack(self.pivots))
+        return p.min(axis=0) / np.maximum(p.max(axis=0), 1e-300)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        inv = self.inv
+        if inv.shape[0] == 1:
+            return inv[0] * b
+        out = np.empty_like(b)
+        out[0] = inv[0, 0] * b[0] + inv[0, 1] * b[1]
+        out[1] = inv[1, 0] * b[0] + inv[1, 1] * b[1]
+        return out
+
+
+def _cramer(a: np.ndarray) -> Cramer:
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if a.shape[0] == 1:
+            det = a[0, 0].copy()
+            return Cramer((1.0 / det)[None, None], det, (det,))
+        a00, a01, a10, a11 = a[0, 0], a[0, 1], a[1, 0], a[1, 1]
+        det = a00 * a11 - a01 * a10
+        inv = np.empty(a.shape)
+        inv[0, 0] = a11 / det
+        inv[0, 1] = -a01 / det
+        inv[1, 0] = -a10 / det
+        inv[1, 1] = a00 / det
+        first = np.maximum(np.abs(a00), np.abs(a10))
+        return Cramer(inv, det, (first, det / first))
+
+
+def factor(a: np.ndarray):
+    """Factor every matrix of `a` (n, n, B): explicit inverse for n ≤ 2, else LU with partial pivoting.
+    Singular matrices give zero pivots (check `pivot_ratio`) and non-finite solutions; nothing is
+    raised, so one bad element never stops a batch."""
+    if 1 <= a.shape[0] <= 2:
+        return _cramer(a)
+    return lu_factor(a)
 
 
 def lu_factor(a: np.ndarray) -> LU:
-    """Factor every matrix of `a` (B, n, n) with partial pivoting. Singular matrices give zero pivots
-    (check `pivot_ratio`); nothing is raised, so one bad element never stops a batch."""
+    """LU factors of every matrix of `a` (n, n, B) with partial pivoting."""
     lu = np.array(a, dtype=float, copy=True)
-    batch, n, _ = lu.shape
-    perm = np.tile(np.arange(n), (batch, 1))
+    n, _, batch = lu.shape
+    perm = np.tile(np.arange(n)[:, None], (1, batch))
     sign = np.ones(batch)
-    rows = np.arange(batch)
     with np.errstate(divide="ignore", invalid="ignore"):
         for k in range(n - 1):
-            p = k + np.argmax(np.abs(lu[:, k:, k]), axis=1)
-            swap = p != k
-            if swap.any():
-                r, pk = rows[swap], p[swap]
-                lu[r, k], lu[r, pk] = lu[r, pk], lu[r, k].copy()
-                perm[r, k], perm[r, pk] = perm[r, pk], perm[r, k].copy()
-                sign[swap] = -sign[swap]
-            lu[:, k + 1:, k] /= lu[:, k, k, None]
-            lu[:, k + 1:, k + 1:] -= lu[:, k + 1:, k, None] * lu[:, k, None, k + 1:]
+            p = k + np.argmax(np.abs(lu[k:, k]), axis=0)
+            r = np.flatnonzero(p != k)
+            if len(r):
+                pk = p[r]
+                row = lu[k][:, r]
+                lu[k][:, r] = lu[pk, :, r].T
+                lu[pk, :, r] = row.T
+                perm[k, r], perm[pk, r] = perm[pk, r], perm[k, r].copy()
+                sign[r] = -sign[r]
+            lu[k + 1:, k] /= lu[k, k]
+            lu[k + 1:, k + 1:] -= lu[k + 1:, k, None] * lu[k, None, k + 1:]
     return LU(lu, perm, sign)
+
+
+def solve_once(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """x with A x = b, batch first: A (B, n, n), b (B, n); and a singularity measure (B,) in [0, 1]: the
+    pivot ratio for n ≤ 2, else |det A| / Π‖row‖ (Hadamard's ratio; 0 for a singular matrix). For n ≥ 3
+    LAPACK's batched solve is faster than elimination over the batch; a batch with an exactly singular
+    matrix (LAPACK refuses it) takes the LU path."""
+    n = a.shape[1]
+    if n <= 2:
+        f = factor(a.transpose(1, 2, 0))
+        return f.solve(b.T).T, f.pivot_ratio
+    try:
+        x = np.linalg.solve(a, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        f = lu_factor(a.transpose(1, 2, 0))
+        with np.errstate(all="ignore"):
+            return f.solve(b.T).T, f.pivot_ratio
+    _, logdet = np.linalg.slogdet(a)
+    with np.errstate(divide="ignore"):
+        log_rows = np.log(np.sqrt(np.einsum("bij,bij->bi", a, a))).sum(axis=1)
+    return x, np.exp(np.minimum(logdet - log_rows, 0.0))

@@ -22,11 +22,6 @@ from .model import Joint, Link, Mechanism, Point
 __all__ = ["assemble", "reference_points"]
 
 
-def _rot(theta):
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, -s], [s, c]])
-
-
 def _unit(deg):
     return np.array([math.cos(math.radians(deg)), math.sin(math.radians(deg))])
 
@@ -131,7 +126,7 @@ class _Sketch:
 
     def placement(self, x, link):
         if link == self.mech.ground:
-            return np.zeros(2), 0.0
+            return (0.0, 0.0), 0.0
         k = 3 * self.moving.index(link)
         return x[k:k + 2], x[k + 2]
 
@@ -140,12 +135,18 @@ class _Sketch:
         return x[k:k + 2] if k is not None else self.local[link][name]
 
     def world(self, x, link, name):
+        """World coordinates of a link's point (plain floats: this runs thousands of times)."""
         t, th = self.placement(x, link)
         c = self.centroid[link]
-        return c + t + _rot(th) @ (self.local_point(x, link, name) - c)
+        p = self.local_point(x, link, name)
+        dx, dy = p[0] - c[0], p[1] - c[1]
+        cos, sin = math.cos(th), math.sin(th)
+        return np.array((c[0] + t[0] + cos * dx - sin * dy, c[1] + t[1] + sin * dx + cos * dy))
 
     def direction(self, x, link, local_dir):
-        return _rot(self.placement(x, link)[1]) @ local_dir
+        th = self.placement(x, link)[1]
+        cos, sin = math.cos(th), math.sin(th)
+        return np.array((cos * local_dir[0] - sin * local_dir[1], sin * local_dir[0] + cos * local_dir[1]))
 
     def guide(self, x, j: Joint):
         """(point on the line, unit direction) of a prismatic joint's guide, in the world."""
@@ -169,6 +170,7 @@ class _Sketch:
         return math.atan2(d[1], d[0])
 
     def residuals(self, x) -> tuple[np.ndarray, list[str]]:
+        x = np.asarray(x, float).tolist()  # plain floats are faster than numpy scalars here
         res, what = [], []
         for j in self.mech.joints.values():
             a, b = j.links
@@ -183,8 +185,8 @@ class _Sketch:
                 res.append(self.placement(x, j.slider)[1] - self.placement(x, j.carrier)[1])
                 what += [f"joint '{j.name}'"] * 2
         for link, p, q, value in self.lengths:
-            d = self.local_point(x, link, q) - self.local_point(x, link, p)
-            res.append((math.hypot(d[0], d[1]) - value) / self.scale)
+            a, b = self.local_point(x, link, p), self.local_point(x, link, q)
+            res.append((math.hypot(b[0] - a[0], b[1] - a[1]) - value) / self.scale)
             what.append(f"length {p}-{q} of link '{link}'")
         for inp in self.mech.inputs:
             if inp.drawn_at is None:

@@ -15,7 +15,8 @@ Rate passes are linear in the rates of the parents and of the tree variables, wi
 Jacobian uses one column per unknown). The same pass gives accelerations when `vel` (the actual
 velocities) is given: it then adds the centripetal and Coriolis terms.
 
-Shapes: B = batch of positions, C = columns; angles (B,), points (B, 2), rates (B, C), (B, C, 2).
+Shapes (batch last, so that every elementwise operation runs over a contiguous batch): B = batch of
+positions, C = columns; angles (B,), points (2, B), rates (C, B) and (2, C, B).
 """
 
 from __future__ import annotations
@@ -24,38 +25,38 @@ import numpy as np
 
 from .model import Joint
 
-__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate"]
+__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot"]
 
 
 def perp(v: np.ndarray) -> np.ndarray:
-    """v rotated by +90°: (x, y) → (−y, x)."""
+    """v rotated by +90°, components first: (x, y) → (−y, x)."""
     out = np.empty_like(v)
-    out[..., 0] = -v[..., 1]
-    out[..., 1] = v[..., 0]
+    out[0] = -v[1]
+    out[1] = v[0]
     return out
+
+
+def dot(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Scalar product over the leading component axis."""
+    return p[0] * q[0] + p[1] * q[1]
 
 
 def rotate(c: np.ndarray, s: np.ndarray, vec: np.ndarray) -> np.ndarray:
-    """R(θ)·vec for a batch of angles given by cos, sin (B,); vec (2,) → (B, 2)."""
-    out = np.empty(c.shape + (2,))
-    out[..., 0] = c * vec[0] - s * vec[1]
-    out[..., 1] = s * vec[0] + c * vec[1]
+    """R(θ)·vec for a batch of angles given by cos, sin (B,); vec (2,) → (2, B)."""
+    out = np.empty((2,) + c.shape)
+    out[0] = c * vec[0] - s * vec[1]
+    out[1] = s * vec[0] + c * vec[1]
     return out
 
 
-def _col(x):
-    """(B, C) → (B, C, 1), to scale a direction per column."""
-    return x[..., None]
-
-
 class Pose:
-    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (B, 2)."""
+    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (2, B)."""
 
     def __init__(self, batch: int):
         zero = np.zeros(batch)
         self.batch = batch
         self.th, self.c, self.s, self.r = {}, {}, {}, {}
-        self._ground = (zero, np.ones(batch), zero, np.zeros((batch, 2)))
+        self._ground = (zero, np.ones(batch), zero, np.zeros((2, batch)))
 
     def set_ground(self, name: str):
         self.th[name], self.c[name], self.s[name], self.r[name] = self._ground
@@ -70,11 +71,11 @@ class Pose:
 
 
 class Rates:
-    """Angular rate w (B, C) and frame-origin rate v (B, C, 2) per link; absent links are at rest."""
+    """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest."""
 
     def __init__(self, batch: int, columns: int):
         self.w, self.v = {}, {}
-        self._rest = (np.zeros((batch, columns)), np.zeros((batch, columns, 2)))
+        self._rest = (np.zeros((columns, batch)), np.zeros((2, columns, batch)))
 
     def get(self, link):
         if link in self.w:
@@ -115,31 +116,31 @@ class Revolute(JointLaw):
         pose.place(child, th)
         rho_c = pose.rot(child, self.s0)
         pose.r[child] = pose.r[parent] + rho_p - rho_c
-        return rho_p, rho_c
+        return rho_p, rho_c, perp(rho_p)[:, None], perp(rho_c)[:, None]
 
     def place_rates(self, cache, rates, parent, child, qd, relative, vel=None, qd_vel=None):
-        rho_p, rho_c = cache
+        rho_p, rho_c, perp_p, perp_c = cache
         wp, vp = rates.get(parent)
         wc = qd + wp if relative else qd
-        vc = vp + _col(wp) * perp(rho_p)[:, None] - _col(wc) * perp(rho_c)[:, None]
+        vc = vp + wp * perp_p - wc * perp_c
         if vel is not None:
             Wp, Wc = vel.get(parent)[0], vel.w[child]
-            vc = vc - _col(Wp * Wp) * rho_p[:, None] + _col(Wc * Wc) * rho_c[:, None]
+            vc = vc - (Wp * Wp) * rho_p[:, None] + (Wc * Wc) * rho_c[:, None]
         rates.set(child, wc, vc)
 
     def closure(self, pose):
         a, b = self.links
         rho_a, rho_b = pose.rot(a, self.s0), pose.rot(b, self.s0)
-        return pose.r[a] + rho_a - pose.r[b] - rho_b, (rho_a, rho_b)
+        return pose.r[a] + rho_a - pose.r[b] - rho_b, (rho_a, rho_b, perp(rho_a)[:, None], perp(rho_b)[:, None])
 
     def closure_rates(self, cache, rates, vel=None):
-        (a, b), (rho_a, rho_b) = self.links, cache
+        (a, b), (rho_a, rho_b, perp_a, perp_b) = self.links, cache
         wa, va = rates.get(a)
         wb, vb = rates.get(b)
-        out = va + _col(wa) * perp(rho_a)[:, None] - vb - _col(wb) * perp(rho_b)[:, None]
+        out = va + wa * perp_a - vb - wb * perp_b
         if vel is not None:
             Wa, Wb = vel.get(a)[0], vel.get(b)[0]
-            out = out - _col(Wa * Wa) * rho_a[:, None] + _col(Wb * Wb) * rho_b[:, None]
+            out = out - (Wa * Wa) * rho_a[:, None] + (Wb * Wb) * rho_b[:, None]
         return out
 
 
@@ -164,51 +165,48 @@ class Prismatic(JointLaw):
         sign = 1.0 if parent == self.carrier else -1.0
         u = pose.rot(parent, self.u0)
         pose.th[child], pose.c[child], pose.s[child] = pose.th[parent], pose.c[parent], pose.s[parent]
-        pose.r[child] = pose.r[parent] + (sign * q)[:, None] * u
-        return sign, u, q
+        pose.r[child] = pose.r[parent] + (sign * q) * u
+        return sign, u[:, None], q, perp(u)[:, None]
 
     def place_rates(self, cache, rates, parent, child, qd, relative, vel=None, qd_vel=None):
-        sign, u, q = cache
+        sign, u, q, pu = cache
         wp, vp = rates.get(parent)
-        vc = vp + sign * (_col(qd) * u[:, None] + _col(q[:, None] * wp) * perp(u)[:, None])
+        vc = vp + sign * (qd * u + (q * wp) * pu)
         if vel is not None:
             Wp = vel.get(parent)[0]
-            vc = vc + sign * (_col(2 * qd_vel * Wp) * perp(u)[:, None] - _col(q[:, None] * Wp * Wp) * u[:, None])
-        rates.set(child, wp + np.zeros_like(qd), vc)
+            vc = vc + sign * ((2 * qd_vel * Wp) * pu - (q * Wp * Wp) * u)
+        rates.set(child, wp, vc)
 
     def closure(self, pose):
         c, s = self.carrier, self.slider
         n = pose.rot(c, self.n0)
         rho_s, rho_c = pose.rot(s, self.s0), pose.rot(c, self.s0)
         delta = pose.r[s] + rho_s - pose.r[c] - rho_c
-        out = np.empty((pose.batch, 2))
-        out[:, 0] = pose.th[s] - pose.th[c]
-        out[:, 1] = np.einsum("bi,bi->b", n, delta)
-        return out, (n, delta, rho_s, rho_c)
+        out = np.empty((2, pose.batch))
+        out[0] = pose.th[s] - pose.th[c]
+        out[1] = dot(n, delta)
+        perps = perp(rho_s)[:, None], perp(rho_c)[:, None]
+        return out, (n, delta, rho_s, rho_c, perps, dot(perp(n), delta))
 
     def _delta_rate(self, cache, rates):
-        """Rate of (slider point − carrier point), (B, C, 2)."""
-        n, delta, rho_s, rho_c = cache
+        """Rate of (slider point − carrier point), (2, C, B)."""
+        perp_s, perp_c = cache[4]
         ws, vs = rates.get(self.slider)
         wc, vc = rates.get(self.carrier)
-        return vs + _col(ws) * perp(rho_s)[:, None] - vc - _col(wc) * perp(rho_c)[:, None]
+        return vs + ws * perp_s - vc - wc * perp_c
 
     def closure_rates(self, cache, rates, vel=None):
-        n, delta, rho_s, rho_c = cache
+        n, delta, rho_s, rho_c, _, pn_delta = cache
         ws, wc = rates.get(self.slider)[0], rates.get(self.carrier)[0]
         d_rate = self._delta_rate(cache, rates)
         out = np.empty(d_rate.shape)
-        out[..., 0] = ws - wc
-        out[..., 1] = (np.einsum("bci,bi->bc", d_rate, n)
-                       + wc * np.einsum("bi,bi->b", perp(n), delta)[:, None])
+        out[0] = ws - wc
+        out[1] = d_rate[0] * n[0] + d_rate[1] * n[1] + wc * pn_delta
         if vel is not None:  # centripetal and Coriolis terms of (n·Δ)''
-            Ws, Wc = vel.get(self.slider)[0][:, 0], vel.get(self.carrier)[0][:, 0]
+            Ws, Wc = vel.get(self.slider)[0][0], vel.get(self.carrier)[0][0]
             d_vel = self._delta_rate(cache, vel)[:, 0]
-            accel_bias = -(Ws * Ws)[:, None] * rho_s + (Wc * Wc)[:, None] * rho_c
-            bias = (-(Wc * Wc) * np.einsum("bi,bi->b", n, delta)
-                    + 2 * Wc * np.einsum("bi,bi->b", perp(n), d_vel)
-                    + np.einsum("bi,bi->b", n, accel_bias))
-            out[..., 1] += bias[:, None]
+            accel_bias = -(Ws * Ws) * rho_s + (Wc * Wc) * rho_c
+            out[1] += -(Wc * Wc) * dot(n, delta) + 2 * Wc * dot(perp(n), d_vel) + dot(n, accel_bias)
         return out
 
 

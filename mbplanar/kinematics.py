@@ -7,11 +7,11 @@ first, in SI units (m, rad, s). Real values follow the analogues: v = v_q·ω, a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .constraints import perp
+from .constraints import dot, perp
 from .solver import Engine, Limit
 
 __all__ = ["Motion", "analyse"]
@@ -139,79 +139,87 @@ def _tables(engine: Engine):
 
 
 def _rotated(c, s, at):
-    """R(θ)·at for cos, sin (B, P) and drawn vectors at (P, 2) → (B, P, 2)."""
-    out = np.empty(c.shape + (2,))
-    out[..., 0] = c * at[:, 0] - s * at[:, 1]
-    out[..., 1] = s * at[:, 0] + c * at[:, 1]
+    """R(θ)·at for cos, sin (P, B) and drawn vectors at (P, 2) → (2, P, B)."""
+    out = np.empty((2,) + c.shape)
+    out[0] = c * at[:, 0, None] - s * at[:, 1, None]
+    out[1] = s * at[:, 0, None] + c * at[:, 1, None]
     return out
 
 
 def _moving_points(c, s, r, w, v, e, a, links, at, position=True):
-    """Position (if asked), velocity and acceleration of points drawn at `at` (P, 2) on links `links`
-    (P,), from the links' cos, sin (B, L) and frame states."""
-    rho = _rotated(c[:, links], s[:, links], at)
+    """Position (if asked), velocity and acceleration (2, P, B) of points drawn at `at` (P, 2) on links
+    `links` (P,), from the links' cos, sin, w, e (L, B) and frame states r, v, a (2, L, B)."""
+    rho = _rotated(c.take(links, 0), s.take(links, 0), at)
     prho = perp(rho)
-    wl, el = w[:, links, None], e[:, links, None]
-    vel = v[:, links] + wl * prho
-    acc = a[:, links] + el * prho - (wl * wl) * rho
-    return (r[:, links] + rho if position else None), vel, acc
+    wl, el = w.take(links, 0), e.take(links, 0)
+    vel = v.take(links, 1) + wl * prho
+    acc = a.take(links, 1) + el * prho - (wl * wl) * rho
+    return (r.take(links, 1) + rho if position else None), vel, acc
 
 
 def material_points(th, r, w, v, e, a, links, at):
-    """Position, velocity and acceleration of points drawn at `at` (P, 2) on links `links` (P,)."""
-    return _moving_points(np.cos(th), np.sin(th), r, w, v, e, a, links, at)
+    """Position, velocity and acceleration (B, P, 2) of points drawn at `at` (P, 2) on links `links`
+    (P,), from batch-first link states th, w, e (B, L) and r, v, a (B, L, 2)."""
+    out = _moving_points(np.cos(th.T), np.sin(th.T), _last(r), w.T, _last(v), e.T, _last(a), links, at)
+    return tuple(_first(x) for x in out)
 
 
-def _dot(p, q):
-    return p[..., 0] * q[..., 0] + p[..., 1] * q[..., 1]
+def _last(x):
+    """(B, L, 2) → (2, L, B) view."""
+    return x.transpose(2, 1, 0)
+
+
+def _first(x):
+    """(2, L, B) → (B, L, 2) view."""
+    return x.transpose(2, 1, 0)
 
 
 def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
-    """value (if asked), rate, accel (B, J) of every joint from the link states: relative angle of a
-    revolute joint, displacement of the slider point along the guide for a prismatic joint."""
-    batch, n = th.shape[0], len(table.drawn)
-    out_v, out_r, out_a = (np.empty((batch, n)) for _ in range(3))
+    """value (if asked), rate, accel (J, B) of every joint from the link states (batch last): relative
+    angle of a revolute joint, displacement of the slider point along the guide for a prismatic joint."""
+    batch, n = th.shape[1], len(table.drawn)
+    out_v, out_r, out_a = (np.empty((n, batch)) for _ in range(3))
     t = table
     if len(t.r_col):
         if value:
-            out_v[:, t.r_col] = th[:, t.r_b] - th[:, t.r_a] + t.drawn[t.r_col]
-        out_r[:, t.r_col] = w[:, t.r_b] - w[:, t.r_a]
-        out_a[:, t.r_col] = e[:, t.r_b] - e[:, t.r_a]
+            out_v[t.r_col] = th[t.r_b] - th[t.r_a] + t.drawn[t.r_col, None]
+        out_r[t.r_col] = w[t.r_b] - w[t.r_a]
+        out_a[t.r_col] = e[t.r_b] - e[t.r_a]
     if len(t.p_col):
         xs, vs, as_ = _moving_points(c, s, r, w, v, e, a, t.p_s, t.p_at)
         xc, vc, ac = _moving_points(c, s, r, w, v, e, a, t.p_c, t.p_at)
         d, dd, ddd = xs - xc, vs - vc, as_ - ac
-        u = _rotated(c[:, t.p_c], s[:, t.p_c], t.p_u0)
+        u = _rotated(c[t.p_c], s[t.p_c], t.p_u0)
         pu = perp(u)
-        wc, ec = w[:, t.p_c], e[:, t.p_c]
-        pu_d, u_d = _dot(pu, d), _dot(u, d)
+        wc, ec = w[t.p_c], e[t.p_c]
+        pu_d, u_d = dot(pu, d), dot(u, d)
         if value:
-            out_v[:, t.p_col] = t.drawn[t.p_col] + u_d
-        out_r[:, t.p_col] = wc * pu_d + _dot(u, dd)
-        out_a[:, t.p_col] = ec * pu_d - wc * wc * u_d + 2 * wc * _dot(pu, dd) + _dot(u, ddd)
+            out_v[t.p_col] = t.drawn[t.p_col, None] + u_d
+        out_r[t.p_col] = wc * pu_d + dot(u, dd)
+        out_a[t.p_col] = ec * pu_d - wc * wc * u_d + 2 * wc * dot(pu, dd) + dot(u, ddd)
     return out_v, out_r, out_a
 
 
 def _link_states(engine: Engine, sol):
-    """th, cos θ, sin θ (B, L) and r (B, L, 2) of every link, in engine.links order."""
+    """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order."""
     names, pose = engine.links, sol.pose
-    th = np.stack([pose.th[n] for n in names], axis=1)
-    c = np.stack([pose.c[n] for n in names], axis=1)
-    s = np.stack([pose.s[n] for n in names], axis=1)
+    th = np.stack([pose.th[n] for n in names])
+    c = np.stack([pose.c[n] for n in names])
+    s = np.stack([pose.s[n] for n in names])
     r = np.stack([pose.r[n] for n in names], axis=1)
     return th, c, s, r
 
 
 def _real(xq, xqq, om, ep):
     """Real rate and acceleration from the analogues: x' = x_q ω, x'' = x_qq ω² + x_q ε.
-    om, ep broadcast against xq (batch axis first)."""
+    om, ep (B,) broadcast against xq (batch axis last)."""
     return xq * om, xqq * (om * om) + xq * ep
 
 
 def _instant_centres(r, v, w):
-    """Instantaneous centre of every link: r + perp(v)/ω; NaN where ω = 0 (translation)."""
+    """Instantaneous centre (2, L, B) of every link: r + perp(v)/ω; NaN where ω = 0 (translation)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        ic = r + perp(v) / w[..., None]
+        ic = r + perp(v) / w
     ic[~np.isfinite(ic)] = np.nan
     return ic
 
@@ -226,11 +234,51 @@ def _per_position(value, default, batch, n_in):
     return np.broadcast_to(arr, (batch, n_in))
 
 
+CHUNK = 25_000  # positions solved at once: bounds the working memory of very long sweeps
+
+
 def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
     hold no solution, are dropped before anything is returned)."""
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        return _analyse(engine, phi, omega, epsilon)
+        n_in = len(engine.inputs)
+        phi = np.asarray(phi, float)
+        if n_in != 1 or phi.size <= CHUNK:
+            return _analyse(engine, phi, omega, epsilon)
+        return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon)
+
+
+def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
+    """A long sweep of one input in chunks of `CHUNK` positions, copied into arrays allocated once, so
+    that the peak memory is the result plus one chunk's work. Same answers as one batch: every position
+    is predicted from the same atlas and corrected on its own."""
+    batch = len(phi)
+    omega = _per_position(omega, [i.omega for i in engine.inputs], batch, 1)
+    epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, 1)
+    out, frames, fill, limits, first = {}, {}, 0, [], None
+    for start in range(0, batch, CHUNK):
+        part = slice(start, start + CHUNK)
+        m = _analyse(engine, phi[part], omega[part], epsilon[part])
+        if first is None:
+            first = m
+            for name, value in vars(m).items():
+                if isinstance(value, np.ndarray):
+                    out[name] = np.empty((batch,) + value.shape[1:], value.dtype)
+            aliases = {name: next((f for f in out if np.may_share_memory(value, getattr(m, f))), None)
+                       for name, value in m.frames.items()}  # frames["w"] is the array of wq, ...
+            frames = {name: np.empty((batch,) + value.shape[1:]) for name, value in m.frames.items()
+                      if aliases[name] is None}
+        n = len(m.phi)
+        for name, arr in out.items():
+            arr[fill:fill + n] = getattr(m, name)
+        for name, arr in frames.items():
+            arr[fill:fill + n] = m.frames[name]
+        fill += n
+        limits += [lim for lim in m.limits if not any(lim is seen for seen in limits)]
+        del m
+    fields = {name: arr[:fill] for name, arr in out.items()}
+    frames = {name: (fields[aliases[name]] if aliases[name] else frames[name][:fill]) for name in aliases}
+    return replace(first, **fields, requested=batch, limits=limits, frames=frames)
 
 
 def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
@@ -253,28 +301,28 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     analog = n_in == 1
     if analog:
         engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
-        wq, vq_f, eq, aq_f = sol.w, sol.v, sol.e, sol.a
-        om, ep = omega[:, :1], epsilon[:, :1]
+        wq, vq_f, eq, aq_f = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        om, ep = omega[:, 0], epsilon[:, 0]
         w, e = _real(wq, eq, om, ep)
-        v, a = _real(vq_f, aq_f, om[..., None], ep[..., None])
+        v, a = _real(vq_f, aq_f, om, ep)
         xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)
-        pv, pa = _real(pvq, paq, om[..., None], ep[..., None])
+        pv, pa = _real(pvq, paq, om, ep)
         value, rq, accq = _joint_values(joints, th, c, s, r, wq, vq_f, eq, aq_f)
         rate, accel = _real(rq, accq, om, ep)
     else:
         engine.rates(sol, omega, epsilon)
-        w, v, e, a = sol.w, sol.v, sol.e, sol.a
+        w, v, e, a = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
         xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
         value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
     alpha = np.array([engine.reference_angle[n] for n in engine.links])
     m = Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
-               link_names=list(engine.links), angle=(th + alpha)[keep], w=w[keep], e=e[keep],
-               point_names=names, xy=xy[keep], v=pv[keep], a=pa[keep],
-               joint_names=list(engine.mech.joints), value=value[keep], rate=rate[keep],
-               accel=accel[keep], ic=_instant_centres(r, v, w)[keep], requested=batch,
-               limits=sol.limits, frames={"th": th[keep], "r": r[keep]})
+               link_names=list(engine.links), angle=(th.T + alpha)[keep], w=w.T[keep], e=e.T[keep],
+               point_names=names, xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
+               joint_names=list(engine.mech.joints), value=value.T[keep], rate=rate.T[keep],
+               accel=accel.T[keep], ic=_first(_instant_centres(r, v, w))[keep], requested=batch,
+               limits=sol.limits, frames={"th": th.T[keep], "r": _first(r)[keep]})
     if analog:
-        m.wq, m.eq, m.vq, m.aq = wq[keep], eq[keep], pvq[keep], paq[keep]
-        m.rate_q, m.accel_q = rq[keep], accq[keep]
-        m.frames.update(w=wq[keep], v=vq_f[keep], e=eq[keep], a=aq_f[keep])
+        m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
+        m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]
+        m.frames.update(w=wq.T[keep], v=_first(vq_f)[keep], e=eq.T[keep], a=_first(aq_f)[keep])
     return m

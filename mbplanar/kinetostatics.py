@@ -1,5 +1,5 @@
 """Kinetostatics: every joint reaction and the balancing moment (or force) at every input, from one
-linear system assembled from the joint table, solved for a batch of positions.
+linear system assembled from the joint table, solved for a batch of positions group by group (`_Plan`).
 
 Equations: per moving link ΣFx = 0, ΣFy = 0, ΣM = 0 (moments about a fixed point of the model, the mean of
 the drawn joints, divided by the model size so that every row is in newtons), with d'Alembert inertia
@@ -29,8 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._linalg import lu_factor
-from .constraints import perp
+from ._linalg import solve_once
 from .kinematics import material_points
 from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, world_points
 
@@ -193,54 +192,169 @@ def _layout(engine) -> _Layout:
     return _Layout(rows, p_rows, cols, in_cols, np.array(scale), n)
 
 
-def _joint_points(engine, motion) -> dict:
-    """Where each pair's force acts (B, 2): the joint (R) or the slider's point (P)."""
-    out = {}
-    for j in engine.mech.joints.values():
-        link = j.slider if j.kind == "P" else j.links[1]
-        out[j.name] = world_points(motion, engine.link_index[link], np.asarray(j.at))
-    return out
+@dataclass
+class _Plan:
+    """The structure of the system, computed once per engine.
+
+    Every matrix entry is `coef · feature[f]`, the features being per-position scalars (B, F):
+    feature 0 is 1; then, per pair, the lever (point − centre)/L of its force (x, y); per prismatic pair
+    its guide direction (x, y); per prismatic input the lever of the guide force, cross(d, u).
+    `blocks` lists, in back-substitution order, (rows, own columns, later columns, entries) where the
+    entries (row, col, feature, coef) index the local matrix [own | later]. Solving the blocks of the
+    engine from the last group to the input links is exact: a joint's reaction (and an input's balancing
+    load) belongs to the later of its two links' blocks, so the system is block triangular; each Assur
+    group is statically determinate on its own. If a block is not square, the whole system is one block.
+    """
+
+    lay: _Layout
+    centre: np.ndarray
+    joints: list          # names of the joints whose force point is a feature, in feature order
+    points: list          # (link index, drawn point) of each of them
+    guides: list          # prismatic joint names whose guide direction is a feature
+    p_inputs: list        # (guide index, joint index) of prismatic inputs (cross feature)
+    blocks: list
 
 
-def _add_wrench(A, lay, link, col, fvec, point, moment, centre, L, sign):
-    """Add column `col` as a force `fvec` (B, 2) at `point` plus `moment` (B,) on link index `link`."""
-    row = lay.rows.get(link)
-    if row is None:
-        return
-    d = point - centre
-    A[:, row, col] += sign * fvec[:, 0]
-    A[:, row + 1, col] += sign * fvec[:, 1]
-    A[:, row + 2, col] += sign * ((d[:, 0] * fvec[:, 1] - d[:, 1] * fvec[:, 0]) / L + moment)
+def _entries(engine, lay):
+    """Every non-zero of the system as (row, col, feature, coef), and the feature tables."""
+    mech = engine.mech
+    jnames = list(mech.joints)
+    jindex = {n: k for k, n in enumerate(jnames)}
+    guides = [n for n in jnames if mech.joints[n].kind == "P"]
+    gindex = {n: k for k, n in enumerate(guides)}
+    nj = len(jnames)
+    dx = lambda j: 1 + 2 * jindex[j]  # noqa: E731  (feature of the lever's x; y is the next one)
+    ux = lambda j: 1 + 2 * nj + 2 * gindex[j]  # noqa: E731
+    p_inputs, out = [], []
 
+    def wrench(link, col, sign, force=None, moment=0.0, joint=None, cross=None):
+        """Column `col` as a force (unit x, unit y, or the guide of `force`) at the joint plus a moment."""
+        row = lay.rows.get(link)
+        if row is None:
+            return
+        if force == "x":
+            out.extend([(row, col, 0, sign), (row + 2, col, dx(joint) + 1, -sign)])
+        elif force == "y":
+            out.extend([(row + 1, col, 0, sign), (row + 2, col, dx(joint), sign)])
+        elif force == "guide":
+            out.extend([(row, col, ux(joint), sign), (row + 1, col, ux(joint) + 1, sign),
+                        (row + 2, col, cross, sign)])
+        if moment:
+            out.append((row + 2, col, 0, sign * moment))
 
-def _assemble(engine, motion, lay, centre, points):
-    mech, L = engine.mech, engine.size
-    batch = len(motion.phi)
-    A = np.zeros((batch, lay.size, lay.size))
-    ex, ey = np.tile([1.0, 0.0], (batch, 1)), np.tile([0.0, 1.0], (batch, 1))
-    zero, one = np.zeros(batch), np.ones(batch)
     for j in mech.joints.values():
         ia, ib = (engine.link_index[n] for n in j.links)
-        c, p = lay.cols[j.name], points[j.name]
+        c = lay.cols[j.name]
         for link, sign in ((ib, 1.0), (ia, -1.0)):
-            _add_wrench(A, lay, link, c, ex, p, zero, centre, L, sign)
-            _add_wrench(A, lay, link, c + 1, ey, p, zero, centre, L, sign)
+            wrench(link, c, sign, "x", joint=j.name)
+            wrench(link, c + 1, sign, "y", joint=j.name)
             if j.kind == "P":
-                _add_wrench(A, lay, link, c + 2, 0 * ex, p, one, centre, L, sign)
+                wrench(link, c + 2, sign, moment=1.0)
         if j.kind == "P":
-            u = guide_direction(engine, motion, j.name)
-            A[:, lay.p_rows[j.name], c] = u[:, 0]
-            A[:, lay.p_rows[j.name], c + 1] = u[:, 1]
+            out.extend([(lay.p_rows[j.name], c, ux(j.name), 1.0), (lay.p_rows[j.name], c + 1, ux(j.name) + 1, 1.0)])
+    n_features = 1 + 2 * nj + 2 * len(guides)
     for inp, col in zip(engine.inputs, lay.in_cols):
         j = mech.joints[inp.joint]
         ia, ib = (engine.link_index[n] for n in j.links)
+        cross = None
+        if j.kind == "P":
+            cross = n_features + len(p_inputs)
+            p_inputs.append((gindex[j.name], jindex[j.name]))
         for link, sign in ((ib, 1.0), (ia, -1.0)):
             if j.kind == "R":
-                _add_wrench(A, lay, link, col, 0 * ex, points[j.name], one, centre, L, sign)
+                wrench(link, col, sign, moment=1.0)
             else:
-                u = guide_direction(engine, motion, j.name)
-                _add_wrench(A, lay, link, col, u, points[j.name], zero, centre, L, sign)
-    return A
+                wrench(link, col, sign, "guide", joint=j.name, cross=cross)
+    assert len({(r, c) for r, c, _, _ in out}) == len(out), "one entry per (row, column)"
+    return out, jnames, guides, p_inputs
+
+
+def _owners(engine, lay):
+    """Block of every row and column: a link's rows in its block; a joint's columns (and its prismatic
+    row, and the balancing column of an input at it) in the later block of its two links."""
+    block_of = {engine.link_index[n]: k for k, b in enumerate(engine.blocks) for n in b.links}
+    mech = engine.mech
+    row_block, col_block = np.zeros(lay.size, int), np.zeros(lay.size, int)
+    for link, row in lay.rows.items():
+        row_block[row:row + 3] = block_of[link]
+    owner = {}
+    for j in mech.joints.values():
+        owner[j.name] = max(block_of.get(engine.link_index[n], -1) for n in j.links)
+        c = lay.cols[j.name]
+        col_block[c:c + (3 if j.kind == "P" else 2)] = owner[j.name]
+        if j.kind == "P":
+            row_block[lay.p_rows[j.name]] = owner[j.name]
+    for inp, col in zip(engine.inputs, lay.in_cols):
+        col_block[col] = owner[inp.joint]
+    return row_block, col_block
+
+
+def _plan(engine) -> _Plan:
+    """Layout, features and block order of an engine's system (cached on the engine)."""
+    plan = engine.__dict__.get("_kinetostatic_plan")
+    if plan is not None:
+        return plan
+    mech = engine.mech
+    lay = _layout(engine)
+    entries, jnames, guides, p_inputs = _entries(engine, lay)
+    row_block, col_block = _owners(engine, lay)
+    ids = sorted(set(row_block))
+    square = all(np.sum(row_block == k) == np.sum(col_block == k) for k in ids)
+    if not square:
+        row_block[:], col_block[:], ids = 0, 0, [0]
+    blocks = []
+    for k in reversed(ids):
+        rows = np.flatnonzero(row_block == k)
+        own = np.flatnonzero(col_block == k)
+        local_row = {r: i for i, r in enumerate(rows)}
+        mine = [e for e in entries if e[0] in local_row]
+        later = sorted({e[1] for e in mine if col_block[e[1]] > k})
+        local_col = {c: i for i, c in enumerate(list(own) + later)}
+        table = np.array([(local_row[r], local_col[c], f, coef) for r, c, f, coef in mine]).reshape(-1, 4)
+        blocks.append((rows, own, np.array(later, int), table))
+    points = []
+    for name in jnames:
+        j = mech.joints[name]
+        points.append((engine.link_index[j.slider if j.kind == "P" else j.links[1]], np.asarray(j.at, float)))
+    centre = np.mean([j.at for j in mech.joints.values()], axis=0)
+    plan = _Plan(lay, centre, jnames, points, guides, p_inputs, blocks)
+    engine.__dict__["_kinetostatic_plan"] = plan
+    return plan
+
+
+def _features(engine, motion, plan):
+    """The per-position scalars (B, F) the entries of the system are made of."""
+    L = engine.size
+    th, r = motion.frames["th"], motion.frames["r"]
+    links = np.array([k for k, _ in plan.points], int).reshape(-1)
+    at = np.array([p for _, p in plan.points], float).reshape(-1, 2)
+    c, s = np.cos(th[:, links]), np.sin(th[:, links])
+    lever_x = (r[:, links, 0] + c * at[:, 0] - s * at[:, 1] - plan.centre[0]) / L
+    lever_y = (r[:, links, 1] + s * at[:, 0] + c * at[:, 1] - plan.centre[1]) / L
+    cols = [np.ones((len(th), 1)), np.stack((lever_x, lever_y), axis=2).reshape(len(th), -1)]
+    if plan.guides:
+        u = np.stack([guide_direction(engine, motion, name) for name in plan.guides], axis=1)
+        cols.append(u.reshape(len(th), -1))
+        for g, j in plan.p_inputs:
+            cols.append((lever_x[:, j] * u[:, g, 1] - lever_y[:, j] * u[:, g, 0])[:, None])
+    return np.concatenate(cols, axis=1)
+
+
+def _solve_blocks(plan, features, b):
+    """Back-substitution over the blocks; returns the scaled unknowns x (B, n) and the singular rows."""
+    batch = len(b)
+    x = np.zeros((batch, plan.lay.size))
+    singular = np.zeros(batch, bool)
+    for rows, own, later, table in plan.blocks:
+        r, c, f = (table[:, k].astype(int) for k in range(3))
+        m = np.zeros((batch, len(rows), len(own) + len(later)))
+        m[:, r, c] = features[:, f] * table[:, 3]
+        rhs = b[:, rows]
+        if len(later):
+            rhs = rhs - np.einsum("brc,bc->br", m[:, :, len(own):], x[:, later])
+        x[:, own], ratio = solve_once(m[:, :, :len(own)], rhs)
+        singular |= ~(ratio > 1e-12)
+    return x, singular
 
 
 def _right_side(lay, loads, centre, L, batch):
@@ -262,7 +376,8 @@ def _virtual_power(engine, motion, loads, drive):
     r = motion.frames["r"]
     terms = []
     for ld in loads:
-        vel = v[:, ld.link] + w[:, ld.link, None] * perp(ld.point - r[:, ld.link])
+        d = ld.point - r[:, ld.link]
+        vel = v[:, ld.link] + w[:, ld.link, None] * np.stack((-d[:, 1], d[:, 0]), axis=-1)
         terms.append(np.einsum("bi,bi->b", ld.force, vel) + ld.moment * w[:, ld.link])
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
     for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
@@ -309,16 +424,12 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     if inertia:
         loads += inertia_loads(engine, motion, input_inertia)
     mech, L = engine.mech, engine.size
-    centre = np.mean([j.at for j in mech.joints.values()], axis=0)
-    lay = _layout(engine)
-    points = _joint_points(engine, motion)
-    A = _assemble(engine, motion, lay, centre, points)
-    b = _right_side(lay, loads, centre, L, batch)
+    plan = _plan(engine)
+    lay = plan.lay
+    b = _right_side(lay, loads, plan.centre, L, batch)
     if batch:
-        lu = lu_factor(A)
-        singular = ~(lu.pivot_ratio > 1e-12)
-        with np.errstate(all="ignore"):
-            x = lu.solve(b) * lay.scale
+        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
+        x = x * lay.scale
         singular |= ~np.all(np.isfinite(x), axis=1)
         x[singular] = np.nan
     else:

@@ -348,6 +348,14 @@ def _displacement_zero(engine, load: Load) -> float:
     """The joint's value at the input value `zero_at` (the diagram's s = 0), or 0 (drawn pose)."""
     if load.zero_at is None:
         return 0.0
+    cache = engine.__dict__.setdefault("_displacement_zero", {})
+    key = (load.joint, load.zero_at)
+    if key not in cache:
+        cache[key] = _joint_value_at(engine, load)
+    return cache[key]
+
+
+def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
         raise ModelError(f"{engine.mech.source}: {load.name}: 'zero_at' needs a model with one input")
     from .kinematics import analyse

@@ -15,6 +15,9 @@ solves any batch of input values at once (arrays with a batch axis, no loop over
 
 Velocities and accelerations come from the same factorised block Jacobians (the analogues are the rates
 for dφ/dt = 1, d²φ/dt² = 0).
+
+Inside, arrays carry the batch last (unknowns q (m, B), Jacobians (m, m, B), see `constraints`), so that
+every elementwise operation runs over a contiguous batch; `Solution` exposes the usual batch-first views.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._linalg import lu_factor
+from ._linalg import factor
 from .assembly import assemble, reference_points
 from .constraints import Pose, Rates, make_law
 from .errors import MotionError
@@ -34,6 +37,7 @@ from .topology import analyse_topology
 __all__ = ["Engine", "Solution", "Limit"]
 
 TOL = 1e-12          # closure residual (lengths relative to the mechanism's size)
+TOL_FINE = 1e-14     # while some position still needs a step, the others below TOL are polished to this
 MAX_NEWTON = 14
 H_START = math.radians(6.0)   # first continuation step (relative to the input's scale)
 H_MAX = math.radians(15.0)
@@ -78,6 +82,9 @@ class Limit:
 
 @dataclass
 class BlockState:
+    """A solved block: unknowns q (m, B), their factorised Jacobian, the joint caches for the rate passes,
+    the sensitivities of the links' rates to the unknowns, and (after `rates`) qd, qdd (m, B)."""
+
     q: np.ndarray
     lu: object
     caches: list
@@ -92,9 +99,9 @@ class BlockState:
 class Solution:
     """Solved positions of a batch, and (after `Engine.rates`) velocities and accelerations.
 
-    phi (B, n_in) in SI; per link (engine.links order): th (B, L) rotation from the drawn pose,
-    r (B, L, 2) frame origin; w, e (B, L) angular velocity and acceleration; v, a (B, L, 2) frame-origin
-    velocity and acceleration. `valid` (B,) marks the positions solved on the drawn branch.
+    phi (B, n_in) in SI; per link (engine.links order): w, e (B, L) angular velocity and acceleration;
+    v, a (B, L, 2) frame-origin velocity and acceleration (views of batch-last arrays). `pose` holds the
+    placed links (batch last). `valid` (B,) marks the positions solved on the drawn branch.
     """
 
     phi: np.ndarray
@@ -187,33 +194,34 @@ class Engine:
 
     # -- one block --------------------------------------------------------------------------------
     def _input_vars(self, phi: np.ndarray) -> np.ndarray:
-        """Tree variable of every input joint, (B, n_in): joint value minus its drawn value."""
+        """Tree variable of every input joint, (n_in, B): joint value minus its drawn value."""
         senses = np.array([inp.sense for inp in self.inputs])
-        return senses * (phi - self.phi_drawn)
+        return (senses * (phi - self.phi_drawn)).T
 
     def _block_pose(self, bp: BlockPlan, pose: Pose, q, q_in):
         caches = []
         for st in bp.steps:
-            value = q[:, st.var] if st.var is not None else st.sign * q_in[:, st.input]
+            value = q[st.var] if st.var is not None else st.sign * q_in[st.input]
             caches.append(st.law.place(pose, st.parent, st.child, value, st.relative))
         cut_caches, res = [], []
         for law in bp.cuts:
             r, c = law.closure(pose)
             res.append(r)
             cut_caches.append(c)
-        res = np.concatenate(res, axis=1) if res else np.zeros((pose.batch, 0))
+        res = np.concatenate(res) if res else np.zeros((0, pose.batch))
         return caches, cut_caches, res
 
     def _block_jacobian(self, bp: BlockPlan, caches, cut_caches, batch):
-        """Closure Jacobian (B, m, m) and the sensitivity of the block's link rates to each unknown."""
+        """Closure Jacobian (m, m, B) and the sensitivity of the block's link rates to each unknown."""
         sens = Rates(batch, bp.m)
-        eye = np.broadcast_to(np.eye(bp.m), (batch, bp.m, bp.m))
-        zero = np.zeros((batch, bp.m))
+        eye = np.zeros((bp.m, bp.m, batch))
+        eye[np.arange(bp.m), np.arange(bp.m)] = 1.0
+        zero = np.zeros((bp.m, batch))
         for st, cache in zip(bp.steps, caches):
-            qd = eye[:, st.var] if st.var is not None else zero
+            qd = eye[st.var] if st.var is not None else zero
             st.law.place_rates(cache, sens, st.parent, st.child, qd, st.relative)
-        cols = [law.closure_rates(c, sens) for law, c in zip(bp.cuts, cut_caches)]
-        jac = np.concatenate(cols, axis=2).transpose(0, 2, 1) if cols else np.zeros((batch, 0, 0))
+        rows = [law.closure_rates(c, sens) for law, c in zip(bp.cuts, cut_caches)]
+        jac = np.concatenate(rows) if rows else np.zeros((0, 0, batch))
         return jac, sens
 
     def _newton(self, bp: BlockPlan, pose: Pose, q, q_in) -> BlockState:
@@ -223,15 +231,15 @@ class Engine:
             if bp.m == 0:
                 return BlockState(q, None, caches, cut_caches, None, np.ones(batch, bool))
             with np.errstate(invalid="ignore"):
-                err = np.max(np.abs(res) * bp.row_scale, axis=1)
+                err = np.max(np.abs(res) * bp.row_scale[:, None], axis=0)
             jac, sens = self._block_jacobian(bp, caches, cut_caches, batch)
-            lu = lu_factor(jac)
+            lu = factor(jac)
             ok = err < TOL
             if ok.all() or it == MAX_NEWTON:
                 break
             with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
                 step = lu.solve(-res)
-            step[ok] = 0.0
+            step[:, err < TOL_FINE] = 0.0
             step[~np.isfinite(step)] = 0.0
             q = q + step
         ok &= np.isfinite(err)
@@ -262,44 +270,45 @@ class Engine:
         """Fill the velocities and accelerations of every link for input rates (B, n_in) and input
         accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues."""
         batch = len(sol.phi)
-        senses = np.array([inp.sense for inp in self.inputs])
-        qd_in = senses * np.broadcast_to(phi_rate, (batch, len(self.inputs)))
-        qdd_in = senses * np.broadcast_to(phi_accel, (batch, len(self.inputs)))
+        senses = np.array([inp.sense for inp in self.inputs])[:, None]
+        qd_in = senses * np.broadcast_to(phi_rate, (batch, len(self.inputs))).T
+        qdd_in = senses * np.broadcast_to(phi_accel, (batch, len(self.inputs))).T
         vel, acc = Rates(batch, 1), Rates(batch, 1)
         for bp, state in zip(self.blocks, sol.blocks):
             state.qd = self._block_rates(bp, state, vel, qd_in)
             state.qdd = self._block_rates(bp, state, acc, qdd_in, vel, state.qd, qd_in)
         names = self.links
-        sol.w = np.stack([vel.get(n)[0][:, 0] for n in names], axis=1)
-        sol.v = np.stack([vel.get(n)[1][:, 0] for n in names], axis=1)
-        sol.e = np.stack([acc.get(n)[0][:, 0] for n in names], axis=1)
-        sol.a = np.stack([acc.get(n)[1][:, 0] for n in names], axis=1)
+        sol.w = np.stack([vel.get(n)[0][0] for n in names]).T
+        sol.v = np.stack([vel.get(n)[1][:, 0] for n in names], axis=1).T
+        sol.e = np.stack([acc.get(n)[0][0] for n in names]).T
+        sol.a = np.stack([acc.get(n)[1][:, 0] for n in names], axis=1).T
         return sol
 
     def _block_rates(self, bp, state, known: Rates, q_in_rate, vel=None, qd_vel=None, q_in_vel=None):
         """Rates of a block's links into `known`: a pass with the unknown rates at zero, then the
         Jacobian solve and the correction by the sensitivities. With `vel` (the velocities, and the tree
         variables' velocities qd_vel, q_in_vel) it computes accelerations. Returns the unknowns' rates."""
-        batch = len(q_in_rate)
-        zero = np.zeros((batch, 1))
+        batch = q_in_rate.shape[1]
+        zero = np.zeros((1, batch))
         for st, cache in zip(bp.steps, state.caches):
             if st.var is not None:
                 qd = zero
-                qv = None if qd_vel is None else qd_vel[:, st.var:st.var + 1]
+                qv = None if qd_vel is None else qd_vel[st.var:st.var + 1]
             else:
-                qd = st.sign * q_in_rate[:, st.input:st.input + 1]
-                qv = None if q_in_vel is None else st.sign * q_in_vel[:, st.input:st.input + 1]
+                qd = st.sign * q_in_rate[st.input:st.input + 1]
+                qv = None if q_in_vel is None else st.sign * q_in_vel[st.input:st.input + 1]
             st.law.place_rates(cache, known, st.parent, st.child, qd, st.relative, vel, qv)
         if bp.m == 0:
-            return np.zeros((batch, 0))
+            return np.zeros((0, batch))
         rhs = np.concatenate([law.closure_rates(c, known, vel)[:, 0] for law, c in
-                              zip(bp.cuts, state.cut_caches)], axis=1)
+                              zip(bp.cuts, state.cut_caches)])
         with np.errstate(invalid="ignore", divide="ignore"):
             qd_u = state.lu.solve(-rhs)
         for link in bp.links:
             w, v = known.get(link)
-            known.set(link, w + np.einsum("bm,bm->b", state.sens.w[link], qd_u)[:, None],
-                      v + np.einsum("bmi,bm->bi", state.sens.v[link], qd_u)[:, None])
+            sw, sv = state.sens.w[link], state.sens.v[link]
+            known.set(link, w + (sw * qd_u).sum(axis=0, keepdims=True),
+                      v + (sv * qd_u).sum(axis=1, keepdims=True))
         return qd_u
 
     # -- continuation ---------------------------------------------------------------------------
@@ -340,16 +349,22 @@ class _Atlas:
             new, limit = _walk(self.engine, start, np.array([target]))
             self.limits[direction] = limit
             self.nodes = self.nodes + new if direction > 0 else new[::-1] + self.nodes
+            self._arrays = None
+
+    _arrays = None
 
     def arrays(self):
-        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks)."""
-        phi = np.array([n.phi[0] for n in self.nodes])
-        per_block = []
-        for k in range(len(self.engine.blocks)):
-            per_block.append((np.stack([n.q[k] for n in self.nodes]),
-                              np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
-                              np.stack([n.qdd[k] for n in self.nodes])))
-        return phi, per_block, np.stack([n.signs for n in self.nodes])
+        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks);
+        stacked once per extension of the atlas."""
+        if self._arrays is None:
+            phi = np.array([n.phi[0] for n in self.nodes])
+            per_block = []
+            for k in range(len(self.engine.blocks)):
+                per_block.append((np.stack([n.q[k] for n in self.nodes]),
+                                  np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
+                                  np.stack([n.qdd[k] for n in self.nodes])))
+            self._arrays = phi, per_block, np.stack([n.signs for n in self.nodes])
+        return self._arrays
 
 
 @dataclass
@@ -369,12 +384,12 @@ def _node_at(e: Engine, phi: np.ndarray, direction: np.ndarray, guesses) -> _Nod
     if not sol.valid[0]:
         return None
     e.rates(sol, direction[None, :], np.zeros((1, len(e.inputs))))
-    return _Node(phi.copy(), direction, [s.q[0] for s in sol.blocks], [s.qd[0] for s in sol.blocks],
-                 [s.qdd[0] for s in sol.blocks], e.signs(sol)[0])
+    return _Node(phi.copy(), direction, [s.q[:, 0] for s in sol.blocks], [s.qd[:, 0] for s in sol.blocks],
+                 [s.qdd[:, 0] for s in sol.blocks], e.signs(sol)[0])
 
 
 def _origin(e: Engine, direction) -> _Node:
-    node = _node_at(e, e.phi_drawn, direction, [np.zeros((1, bp.m)) for bp in e.blocks])
+    node = _node_at(e, e.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in e.blocks])
     if node is None:
         raise MotionError(f"{e.mech.source}: the drawn pose does not close: it cannot be assembled")
     return node
@@ -382,14 +397,14 @@ def _origin(e: Engine, direction) -> _Node:
 
 def _predict(node: _Node, s: float):
     """Taylor guess of every block's unknowns a distance s along the node's direction."""
-    return [(q + qd * s + 0.5 * qdd * s * s)[None, :] for q, qd, qdd in zip(node.q, node.qd, node.qdd)]
+    return [(q + qd * s + 0.5 * qdd * s * s)[:, None] for q, qd, qdd in zip(node.q, node.qd, node.qdd)]
 
 
 def _accept(e: Engine, node: _Node, new: _Node | None, guesses) -> tuple[bool, float]:
     """A step is kept when it converged on the same branch, close to its prediction."""
     if new is None or not np.array_equal(new.signs, node.signs):
         return False, math.inf
-    dist = max([np.max(np.abs(q - g[0]) * bp.var_scale, initial=0.0)
+    dist = max([np.max(np.abs(q - g[:, 0]) * bp.var_scale, initial=0.0)
                 for q, g, bp in zip(new.q, guesses, e.blocks)] + [0.0])
     return dist <= MAX_CORRECTION, dist
 
@@ -409,7 +424,7 @@ def _walk(e: Engine, start: _Node, target: np.ndarray):
     direction = span / scale  # one unit of s moves the inputs by one natural unit at most
     node = start
     if not np.array_equal(node.direction, direction):
-        node = _node_at(e, start.phi, direction, [q[None, :] for q in start.q])
+        node = _node_at(e, start.phi, direction, [q[:, None] for q in start.q])
     nodes, s, h = [], 0.0, H_START
     while s < scale:
         h_try = min(h, scale - s)
@@ -431,7 +446,7 @@ def _walk(e: Engine, start: _Node, target: np.ndarray):
 
 def _limit(e: Engine, node: _Node, direction: np.ndarray, h: float) -> Limit:
     """The motion limit just past `node`, in the block whose Jacobian is nearest to singular."""
-    sol = e._solve_batch(node.phi[None, :], [q[None, :] for q in node.q])
+    sol = e._solve_batch(node.phi[None, :], [q[:, None] for q in node.q])
     ratios = [float(st.lu.pivot_ratio[0]) if st.lu is not None else math.inf for st in sol.blocks]
     k = int(np.argmin(ratios))
     bp = e.blocks[k]
@@ -463,7 +478,7 @@ def _limit_kind(e: Engine, bp: BlockPlan, sol: Solution) -> str:
 
 
 def _world(pose: Pose, link: str, at) -> np.ndarray:
-    return pose.r[link][0] + pose.rot(link, np.array(at, float))[0]
+    return pose.r[link][:, 0] + pose.rot(link, np.array(at, float))[:, 0]
 
 
 def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
@@ -480,21 +495,54 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     if atlas.limits[-1] is not None:
         inside &= x >= nodes_phi[0]
     idx = _nearest(nodes_phi, x)
-    dphi = (x - nodes_phi[idx])[:, None]
     with np.errstate(invalid="ignore", over="ignore"):
-        guesses = [np.where(inside[:, None], q[idx] + qd[idx] * dphi + 0.5 * qdd[idx] * dphi * dphi, q[idx])
-                   for q, qd, qdd in per_block]
+        guesses = _interpolate(nodes_phi, per_block, x, idx, inside)
     sol = e._solve_batch(phi, guesses)
     good = sol.valid & inside & np.all(e.signs(sol) == node_signs[idx], axis=1)
     for state, g, bp in zip(sol.blocks, guesses, e.blocks):
         if bp.m:
-            good &= np.max(np.abs(state.q - g) * bp.var_scale, axis=1) <= MAX_CORRECTION
+            good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= MAX_CORRECTION
     retry = np.flatnonzero(~good & inside)
     if len(retry):
         good[retry] = _repair(e, sol, retry, idx, atlas)
     sol.valid = good
     sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1]) if lim is not None]
     return sol
+
+
+def _interpolate(grid, per_block, x, idx, inside):
+    """Guess (m, B) of every block's unknowns at x: the quintic Hermite interpolant of q, q', q'' between
+    the two atlas nodes around x (error ~ h⁶, so Newton needs one step), or the Taylor expansion about
+    the nearest node where x is past the last node."""
+    if len(grid) == 1:
+        lo = np.zeros(len(x), int)
+    else:
+        lo = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
+    hi = np.minimum(lo + 1, len(grid) - 1)
+    between = inside & (x >= grid[lo]) & (x <= grid[hi]) & (hi > lo)
+    h = grid[hi] - grid[lo]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.where(between, (x - grid[lo]) / np.where(hi > lo, h, 1.0), 0.0)
+    t2, t3 = t * t, t * t * t
+    t4, t5 = t3 * t, t3 * t2
+    # quintic Hermite basis: values, first and second derivatives at both ends (h, h² folded in)
+    h00 = 1 - 10 * t3 + 15 * t4 - 6 * t5
+    h01 = 1 - h00
+    h10 = h * (t - 6 * t3 + 8 * t4 - 3 * t5)
+    h11 = h * (-4 * t3 + 7 * t4 - 3 * t5)
+    h20 = h * h * 0.5 * (t2 - 3 * t3 + 3 * t4 - t5)
+    h21 = h * h * 0.5 * (t3 - 2 * t4 + t5)
+    dphi = np.where(inside, x - grid[idx], 0.0)
+    out = []
+    for q, qd, qdd in per_block:
+        q, qd, qdd = q.T, qd.T, qdd.T  # (m, K)
+        inner = (h00 * q[:, lo] + h01 * q[:, hi] + h10 * qd[:, lo] + h11 * qd[:, hi]
+                 + h20 * qdd[:, lo] + h21 * qdd[:, hi])
+        if not between.all():
+            taylor = q[:, idx] + qd[:, idx] * dphi + 0.5 * qdd[:, idx] * (dphi * dphi)
+            inner = np.where(between, inner, taylor)
+        out.append(inner)
+    return out
 
 
 def _nearest(grid: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -512,7 +560,7 @@ def _repair(e: Engine, sol: Solution, rows, idx, atlas) -> np.ndarray:
         nodes, limit = _walk(e, atlas.nodes[int(idx[row])], sol.phi[row])
         if limit is None and nodes:
             for state, q in zip(sol.blocks, nodes[-1].q):
-                state.q[row] = q
+                state.q[:, row] = q
             ok[k] = True
     fixed = e._solve_batch(sol.phi, [s.q for s in sol.blocks])
     sol.pose, sol.blocks = fixed.pose, fixed.blocks
@@ -522,7 +570,7 @@ def _repair(e: Engine, sol: Solution, rows, idx, atlas) -> np.ndarray:
 def _solve_sequence(e: Engine, phi: np.ndarray) -> Solution:
     """Several inputs: walk from the drawn pose through the requested positions in their order."""
     node = _origin(e, np.ones(len(e.inputs)))
-    q = [np.zeros((len(phi), bp.m)) for bp in e.blocks]
+    q = [np.zeros((bp.m, len(phi))) for bp in e.blocks]
     reached, limits = np.zeros(len(phi), bool), []
     for row, target in enumerate(phi):
         nodes, limit = _walk(e, node, target)
@@ -531,7 +579,7 @@ def _solve_sequence(e: Engine, phi: np.ndarray) -> Solution:
             break
         node = nodes[-1] if nodes else node
         for k, qk in enumerate(node.q):
-            q[k][row] = qk
+            q[k][:, row] = qk
         reached[row] = True
     sol = e._solve_batch(phi, q)
     sol.valid &= reached
