@@ -42,10 +42,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .constraints import perp
 from .errors import ModelError, MotionError
 from .kinematics import analyse, material_points
-from .loads import centre_of, evaluate_loads, read_loads
+from .loads import centre_of, evaluate_loads, load_power, read_loads
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
            "reduce", "machine_dynamics", "simulate", "flywheel_sizes"]
@@ -200,8 +199,7 @@ def reduce(engine, phi) -> Reduced:
     moments, kind_of = {}, {}
     w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
     for ld in loads:
-        vel = v[:, ld.link] + w[:, ld.link, None] * perp(ld.point - r[:, ld.link])
-        moments[ld.name] = np.einsum("bi,bi->b", ld.force, vel) + ld.moment * w[:, ld.link]
+        moments[ld.name] = load_power(ld, w, v, r)
         kind = kinds.get(ld.name, "gravity")
         kind_of[ld.name] = "gravity" if kind == "weight" else kind
     return Reduced(phi, J_II, dJ_II, J_input, moments, kind_of, motion)

@@ -31,7 +31,7 @@ import numpy as np
 
 from ._linalg import solve_once
 from .kinematics import material_points
-from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, world_points
+from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, load_power, world_points
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -374,11 +374,7 @@ def _virtual_power(engine, motion, loads, drive):
     """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
     w, v = _virtual_frames(engine, motion)
     r = motion.frames["r"]
-    terms = []
-    for ld in loads:
-        d = ld.point - r[:, ld.link]
-        vel = v[:, ld.link] + w[:, ld.link, None] * np.stack((-d[:, 1], d[:, 0]), axis=-1)
-        terms.append(np.einsum("bi,bi->b", ld.force, vel) + ld.moment * w[:, ld.link])
+    terms = [load_power(ld, w, v, r) for ld in loads]
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
     for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
         terms.append(q * rates[:, motion.joint(inp.joint)])

@@ -31,7 +31,8 @@ import numpy as np
 
 from .errors import ModelError, MotionError
 
-__all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "LOAD_TYPES"]
+__all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power",
+           "LOAD_TYPES"]
 
 LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction")
 _WHEN = ("forward", "backward", "always")
@@ -255,6 +256,15 @@ def world_points(motion, link: int, at) -> np.ndarray:
     th, r = motion.frames["th"][:, link], motion.frames["r"][:, link]
     c, s = np.cos(th), np.sin(th)
     return r + np.stack((c * at[0] - s * at[1], s * at[0] + c * at[1]), axis=-1)
+
+
+def load_power(load: LoadValue, w, v, r) -> np.ndarray:
+    """Power (B,) of a load for link frame velocities w (B, L), v (B, L, 2) and origins r (B, L, 2):
+    F·(v + ω × (point − r)) + M·ω. With the analogues it is the load's reduced moment."""
+    k = load.link
+    d = load.point - r[:, k]
+    vel = v[:, k] + w[:, k, None] * np.stack((-d[:, 1], d[:, 0]), axis=-1)
+    return np.einsum("bi,bi->b", load.force, vel) + load.moment * w[:, k]
 
 
 def guide_direction(engine, motion, joint: str) -> np.ndarray:
