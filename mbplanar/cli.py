@@ -344,9 +344,15 @@ def cmd_plot(args):
         raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
     if args.show is not None and args.what != "diagram":
         raise _ArgError(f"--show applies to the diagram, not to '{args.what}'")
+    if args.points is not None and args.what != "trajectories":
+        raise _ArgError(f"--points applies to the trajectories, not to '{args.what}'")
     if args.at is not None and not math.isfinite(args.at):
         raise _ArgError("--at must be a finite number")
     options = plotting.show_options(args.show) if args.what == "diagram" else {}
+    if args.points is not None:
+        options["points"] = [n.strip() for n in args.points.split(",") if n.strip()]
+        if not options["points"]:
+            raise _ArgError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args.model)
     plotting.save_figure(plotting.make_figure(engine, args.what, args.at, **options), args.output, dpi=args.dpi)
@@ -458,6 +464,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--at", type=float, help="generalized coordinate in the model's unit (default: drawn pose)")
     s.add_argument("--show", help="on the diagram: a comma list of velocities, accelerations, reactions, "
                                   "centres (or all)")
+    s.add_argument("--points", help="trajectories of these pairs or points only (comma list, e.g. B,S3)")
     s.add_argument("--dpi", type=int, default=120)
     s.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
     s.set_defaults(func=cmd_plot)

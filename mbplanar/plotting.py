@@ -1,13 +1,14 @@
-"""Pictures of a mechanism with matplotlib: the kinematic diagram, trajectories, plots against the
-generalized coordinate, GIF animation.
+"""Pictures of a mechanism with matplotlib: the kinematic diagram (optionally with velocity and
+acceleration vectors, reaction arrows, instantaneous centres), trajectories, plots against the
+generalized coordinate, GIF animation. The force pictures live in `mbplanar.forceplots`.
 
 matplotlib (the optional extra `mbplanar[plot]`) is imported only when a picture is asked for, with the
 Agg backend; without it `require_matplotlib` raises `PlotUnavailable` (CLI exit 2) saying how to install it.
 
 Figures are registered in `FIGURES` (WHAT → `Figure(function, help)`): every function takes
 `(engine, at=None, **options)` and returns a matplotlib Figure; `at` is the generalized coordinate in the
-model's unit (default: the drawn pose). Other modules add their pictures (reactions, dynamics) with
-`register_figure(name, function, help)`; `mbplanar plot MODEL WHAT` and the report pick them up.
+model's unit (default: the drawn pose). Other modules add their pictures (e.g. dynamics) with
+`register_figure(name, function, help)`; `mbplanar plot MODEL WHAT` picks them up.
 """
 
 from __future__ import annotations
@@ -370,11 +371,16 @@ def vectors_figure(engine, at=None, **kw):
 
 
 def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5, 6.5)):
-    """Trajectories of the moving points over the cycle, drawn with the mechanism at `at` and, faint,
-    at eight other positions."""
+    """Trajectories of the moving points (or of `points`: names of pairs and points) over the cycle,
+    drawn with the mechanism at `at` and, faint, at eight other positions."""
     plt = require_matplotlib()
     cycle = cycle_motion(engine, count)
     whole = build_scene(engine, cycle, cycle)
+    known = whole.joint_names + whole.point_names
+    for name in points or ():
+        if name not in known:
+            raise ModelError(f"{engine.mech.source}: no point or pair '{name}' to trace; the model has: "
+                             f"{', '.join(known)}")
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)

@@ -104,6 +104,16 @@ def test_crank_pin_trajectory_is_a_circle():
     np.testing.assert_allclose(np.linalg.norm(xy, axis=1), 0.10, atol=1e-12)
 
 
+def test_trajectories_of_chosen_points_only(tmp_path):
+    eng = engine("six_bar_press")
+    fig = plotting.trajectories_figure(eng, points=["H", "S3"], count=12)
+    traced = sorted(a.get_gid() for ax in fig.axes for a in ax.get_lines() if str(a.get_gid()).startswith("trajectory:"))
+    assert traced == ["trajectory:H", "trajectory:S3"]
+    press = str(ROOT / "models" / "six_bar_press.toml")
+    assert main(["plot", press, "trajectories", "--points", "H,nowhere", "-o", str(tmp_path / "t.png")]) == 2
+    assert main(["plot", press, "kinematics", "--points", "H", "-o", str(tmp_path / "t.png")]) == 2
+
+
 def test_velocity_arrows_are_the_solved_velocities_to_one_scale():
     eng = engine("six_bar_press")
     motion = plotting.position_motion(eng, 40.0)
