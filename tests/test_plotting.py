@@ -338,6 +338,20 @@ def test_report_hook_replaces_a_placeholder(monkeypatch):
     assert report.SECTIONS["reactions"].function(None, None) == "<p>R12 = 42 N</p>"
 
 
+def test_a_registered_figure_is_a_what_of_the_plot_command(monkeypatch, tmp_path):
+    monkeypatch.setattr(plotting, "FIGURES", dict(plotting.FIGURES))
+    seen = []
+
+    def picture(eng, at=None, **options):
+        seen.append(at)
+        return plotting.require_matplotlib().figure(figsize=(2, 2))
+
+    plotting.register_figure("dynamics", picture, "a test picture")
+    out = tmp_path / "d.png"
+    assert main(["plot", str(ROOT / "models" / "fourbar.toml"), "dynamics", "--at", "30", "-o", str(out)]) == 0
+    assert seen == [30.0] and out.stat().st_size > 0
+
+
 # -- command line ----------------------------------------------------------------------------------------
 def test_cli_writes_pictures_and_refuses_bad_requests(tmp_path, capsys):
     shaper = str(ROOT / "models" / "shaper.toml")
