@@ -85,8 +85,8 @@ def forces_figure(engine, at=None, *, count=181, cycle=None, figsize=(10, 8)):
     inp = engine.inputs[0]
     name = engine.mech.title or engine.mech.name
     speed = input_speed(engine)
-    fig = _figure(plt, figsize if has_force_data(engine.mech) else (7, 3))
     if not has_force_data(engine.mech):
+        fig = _figure(plt, (7, 3))
         ax = fig.add_subplot()
         ax.text(0.5, 0.5, NO_LOADS, ha="center", va="center", transform=ax.transAxes, gid="noloads")
         ax.set_axis_off()
@@ -94,6 +94,7 @@ def forces_figure(engine, at=None, *, count=181, cycle=None, figsize=(10, 8)):
         return fig
     result = kinetostatics(engine, motion)
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
+    fig = _figure(plt, figsize)
     axes = fig.subplots(2, 2)
     names = [reaction_label(r) + f" ({j})" for j, r in result.reactions.items()]
     step = _xstep(engine, x)
@@ -119,7 +120,7 @@ def forces_figure(engine, at=None, *, count=181, cycle=None, figsize=(10, 8)):
                         label=f"cycle mean {np.mean(q):.4g} {unit}")
     what, unit = balancing_label(engine, inp.joint)
     bal.axhline(0, color="k", lw=0.6)
-    _style(bal, f"{what[0].upper()}{what[1:]} [{unit}]", xlabel, what.capitalize())
+    _style(bal, f"{what.capitalize()} [{unit}]", xlabel, what.capitalize())
     prismatic = [(j, r) for j, r in result.reactions.items() if engine.mech.joints[j].kind == "P"]
     if prismatic:
         _plot_lines(axes[1, 1], x, [r.moment for _, r in prismatic],
