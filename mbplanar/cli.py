@@ -15,6 +15,7 @@ import sys
 import numpy as np
 
 from .errors import MbplanarError, MotionError
+from .loads import has_force_data
 
 __all__ = ["main"]
 
@@ -270,12 +271,6 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
-def has_force_data(mech) -> bool:
-    """True when the model has loads, gravity or mass data (the sweep then adds force columns)."""
-    return bool(mech.extras.get("loads") or mech.extras.get("gravity")
-                or any(lk.mass or lk.inertia for lk in mech.links.values()))
-
-
 def forces_table(engine, motion, input_inertia=0.0):
     """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
     from .kinetostatics import kinetostatics
@@ -505,11 +500,20 @@ def cmd_plot(args):
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
         raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
-    plotting.require_matplotlib()
-    engine = _load(args.model)
+    if args.show is not None and args.what != "diagram":
+        raise _ArgError(f"--show applies to the diagram, not to '{args.what}'")
+    if args.points is not None and args.what != "trajectories":
+        raise _ArgError(f"--points applies to the trajectories, not to '{args.what}'")
     if args.at is not None and not math.isfinite(args.at):
         raise _ArgError("--at must be a finite number")
-    plotting.save_figure(plotting.make_figure(engine, args.what, args.at), args.output, dpi=args.dpi)
+    options = plotting.show_options(args.show) if args.what == "diagram" else {}
+    if args.points is not None:
+        options["points"] = [n.strip() for n in args.points.split(",") if n.strip()]
+        if not options["points"]:
+            raise _ArgError("--points needs names of pairs or points separated by commas")
+    plotting.require_matplotlib()
+    engine = _load(args.model)
+    plotting.save_figure(plotting.make_figure(engine, args.what, args.at, **options), args.output, dpi=args.dpi)
     return 0
 
 
@@ -624,10 +628,14 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_dynamics)
 
-    s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, ...")
+    s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, "
+                                    "transmission, forces, ...")
     s.add_argument("model")
-    s.add_argument("what", help="diagram, vectors, trajectories, kinematics, analogues, transmission, ...")
+    s.add_argument("what", help="diagram, vectors, trajectories, kinematics, analogues, transmission, forces, ...")
     s.add_argument("--at", type=float, help="generalized coordinate in the model's unit (default: drawn pose)")
+    s.add_argument("--show", help="on the diagram: a comma list of velocities, accelerations, reactions, "
+                                  "centres (or all)")
+    s.add_argument("--points", help="trajectories of these pairs or points only (comma list, e.g. B,S3)")
     s.add_argument("--dpi", type=int, default=120)
     s.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
     s.set_defaults(func=cmd_plot)

@@ -32,6 +32,7 @@ import numpy as np
 from .errors import ModelError, MotionError
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power",
+           "has_force_data",
            "LOAD_TYPES"]
 
 LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction")
@@ -87,6 +88,12 @@ class LoadValue:
 
 
 # -- reading ----------------------------------------------------------------------------------------
+def has_force_data(mech) -> bool:
+    """True when the model has loads, gravity or mass data (otherwise every reaction is zero)."""
+    return bool(mech.extras.get("loads") or mech.extras.get("gravity")
+                or any(lk.mass or lk.inertia for lk in mech.links.values()))
+
+
 def read_gravity(mech) -> Gravity | None:
     """The `[gravity]` section, or None."""
     raw = mech.extras.get("gravity")

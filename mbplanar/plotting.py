@@ -1,13 +1,14 @@
-"""Pictures of a mechanism with matplotlib: the kinematic diagram, trajectories, plots against the
-generalized coordinate, GIF animation.
+"""Pictures of a mechanism with matplotlib: the kinematic diagram (optionally with velocity and
+acceleration vectors, reaction arrows, instantaneous centres), trajectories, plots against the
+generalized coordinate, GIF animation. The force pictures live in `mbplanar.forceplots`.
 
 matplotlib (the optional extra `mbplanar[plot]`) is imported only when a picture is asked for, with the
 Agg backend; without it `require_matplotlib` raises `PlotUnavailable` (CLI exit 2) saying how to install it.
 
 Figures are registered in `FIGURES` (WHAT → `Figure(function, help)`): every function takes
 `(engine, at=None, **options)` and returns a matplotlib Figure; `at` is the generalized coordinate in the
-model's unit (default: the drawn pose). Other modules add their pictures (reactions, dynamics) with
-`register_figure(name, function, help)`; `mbplanar plot MODEL WHAT` and the report pick them up.
+model's unit (default: the drawn pose). Other modules add their pictures (e.g. dynamics) with
+`register_figure(name, function, help)`; `mbplanar plot MODEL WHAT` picks them up.
 """
 
 from __future__ import annotations
@@ -26,7 +27,8 @@ __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure"
            "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
-           "transmission_angles", "moving_points", "write_gif", "figure_bytes"]
+           "forces_figure", "transmission_angles", "pressure_angles", "moving_points", "write_gif",
+           "figure_bytes", "SHOW", "show_options", "input_speed"]
 
 INK = "#1a1a1a"
 LINK_FILL = "#cfe0f3"
@@ -265,10 +267,21 @@ def draw_vectors(ax, scene, motion, b, which="v", share=0.3):
     color = "#c0392b" if which == "v" else "#2e86c1"
     ax.quiver(p[:, 0], p[:, 1], q[:, 0] * k, q[:, 1] * k, angles="xy", scale_units="xy", scale=1, color=color,
               width=0.004, zorder=9, gid=f"vectors:{which}")
+    include_points(ax, p + q * k, 0.05 * scene.size)
     unit = "m/s" if which == "v" else "m/s²"
     ax.plot([], [], color=color, lw=2, label=f"{'velocity' if which == 'v' else 'acceleration'}: "
                                               f"{scene.size * share:.3g} m ≙ {big:.3g} {unit}")
     return k
+
+
+def include_points(ax, xy, pad):
+    """Widen the axes' limits so that the points (n, 2) (e.g. arrow tips) are inside, `pad` beyond."""
+    xy = np.asarray(xy, float).reshape(-1, 2)
+    xy = xy[np.all(np.isfinite(xy), axis=1)]
+    if len(xy):
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        ax.set_xlim(min(x0, xy[:, 0].min() - pad), max(x1, xy[:, 0].max() + pad))
+        ax.set_ylim(min(y0, xy[:, 1].min() - pad), max(y1, xy[:, 1].max() + pad))
 
 
 def draw_instant_centres(ax, scene, motion, b, reach=1.5):
@@ -293,6 +306,14 @@ def draw_instant_centres(ax, scene, motion, b, reach=1.5):
     return len(shown)
 
 
+def input_speed(engine) -> str:
+    """'ω = 7.645 rad/s, ε = 0 rad/s²' (a prismatic input: 'v = ... m/s, a = ... m/s²'): the model's."""
+    inp = engine.inputs[0]
+    if engine.mech.joints[inp.joint].kind == "R":
+        return f"ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s²"
+    return f"v = {inp.omega:g} m/s, a = {inp.epsilon:g} m/s²"
+
+
 def _title(engine, motion, b=0):
     inp = engine.inputs[0]
     value = inp.from_si(float(motion.phi[b, 0]))
@@ -303,9 +324,14 @@ def _figure(plt, figsize):
     return plt.figure(figsize=figsize, layout="constrained")
 
 
-def diagram_figure(engine, at=None, *, vectors=(), centres=False, cycle=None, count=72, figsize=(7.5, 6.5)):
-    """Kinematic diagram at one position; `vectors` ⊂ {'v', 'a'} adds velocity/acceleration vectors,
-    `centres` the instantaneous centres. `count` positions of the cycle size the guides and the frame."""
+SHOW = {"velocities": "v", "accelerations": "a", "reactions": "reactions", "centres": "centres"}
+
+
+def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=False, cycle=None, count=72,
+                   figsize=(7.5, 6.5)):
+    """Kinematic diagram at one position, at the model's input speed; `vectors` ⊂ {'v', 'a'} adds
+    velocity/acceleration vectors, `centres` the instantaneous centres, `reactions` the reaction arrows
+    (kinetostatics). `count` positions of the cycle size the guides and the frame."""
     plt = require_matplotlib()
     motion = position_motion(engine, at)
     cycle = cycle_motion(engine, count) if cycle is None else cycle
@@ -313,14 +339,30 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, cycle=None, co
     fig = _figure(plt, figsize)
     ax = fig.add_subplot()
     draw_mechanism(ax, scene, 0)
-    _frame_axes(ax, build_scene(engine, cycle, cycle) if cycle is not None else scene, _title(engine, motion))
+    title = _title(engine, motion) + (f", {input_speed(engine)}" if vectors or reactions else "")
+    _frame_axes(ax, build_scene(engine, cycle, cycle) if cycle is not None else scene, title)
     for which in vectors:
         draw_vectors(ax, scene, motion, 0, which)
     if centres:
         draw_instant_centres(ax, scene, motion, 0)
-    if vectors:
-        ax.legend(loc="upper left", fontsize=8, frameon=False)
+    if reactions:
+        from .forceplots import draw_reactions
+        from .kinetostatics import kinetostatics
+        draw_reactions(ax, engine, kinetostatics(engine, motion), 0, scene.size)
+    if vectors or reactions:
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
     return fig
+
+
+def show_options(text: str | None) -> dict:
+    """`diagram_figure` options from a comma list of SHOW names ('velocities,reactions'; 'all')."""
+    names = [n.strip() for n in (text or "").split(",") if n.strip()]
+    names = list(SHOW) if names == ["all"] else names
+    bad = [n for n in names if n not in SHOW]
+    if bad:
+        raise ModelError(f"unknown --show item '{bad[0]}'; choose from: {', '.join(SHOW)} (or all)")
+    return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
+            "centres": "centres" in names, "reactions": "reactions" in names}
 
 
 def vectors_figure(engine, at=None, **kw):
@@ -329,11 +371,16 @@ def vectors_figure(engine, at=None, **kw):
 
 
 def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5, 6.5)):
-    """Trajectories of the moving points over the cycle, drawn with the mechanism at `at` and, faint,
-    at eight other positions."""
+    """Trajectories of the moving points (or of `points`: names of pairs and points) over the cycle,
+    drawn with the mechanism at `at` and, faint, at eight other positions."""
     plt = require_matplotlib()
     cycle = cycle_motion(engine, count)
     whole = build_scene(engine, cycle, cycle)
+    known = whole.joint_names + whole.point_names
+    for name in points or ():
+        if name not in known:
+            raise ModelError(f"{engine.mech.source}: no point or pair '{name}' to trace; the model has: "
+                             f"{', '.join(known)}")
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
@@ -351,7 +398,22 @@ def _link_series(motion):
     return motion.link_names[1:], slice(1, None)
 
 
-def _plot_lines(ax, x, ys, names, ylabel, xlabel, title):
+def _xstep(engine, x) -> float | None:
+    """Tick spacing of a coordinate axis in degrees spanning half a turn or more: 90°."""
+    return 90.0 if engine.inputs[0].unit == "deg" and len(x) and np.ptp(x) >= 180 else None
+
+
+def lean_ticks(ax, xstep=None):
+    """Few ticks (at most about 5 per axis, x every `xstep`): cleaner small panels, and ticks are most of
+    what a multi-panel figure costs to draw."""
+    from matplotlib.ticker import MaxNLocator, MultipleLocator
+    steps = [1, 2, 2.5, 5, 10]
+    ax.xaxis.set_major_locator(MultipleLocator(xstep) if xstep else MaxNLocator(5, steps=steps))
+    ax.yaxis.set_major_locator(MaxNLocator(5, steps=steps))
+
+
+def _plot_lines(ax, x, ys, names, ylabel, xlabel, title, xstep=None):
+    lean_ticks(ax, xstep)
     for k, (y, name) in enumerate(zip(ys, names)):
         ax.plot(x, y, color=COLORS[k % len(COLORS)], lw=1.4, label=name)
     if xlabel:
@@ -401,7 +463,7 @@ def _panels_figure(engine, real, count, figsize):
     fig = _figure(plt, figsize)
     axes = fig.subplots(3, 2, sharex=True)
     for k, (ax, (title, ylabel, names, values)) in enumerate(zip(axes.flat, _series_panels(engine, motion, real))):
-        _plot_lines(ax, x, values, names, ylabel, xlabel if k >= 4 else None, title)
+        _plot_lines(ax, x, values, names, ylabel, xlabel if k >= 4 else None, title, _xstep(engine, x))
     inp = engine.inputs[0]
     what = f"real, at ω = {inp.omega:g} rad/s" if real else "analogues (d/dφ, d²/dφ²)"
     limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
@@ -420,36 +482,59 @@ def analogues_figure(engine, at=None, *, count=181, figsize=(10, 10)):
 
 
 def transmission_angles(engine, motion) -> dict:
-    """Transmission angle (°, 0…180) of every R–R–R dyad: the angle at its middle pair between the two
-    links, i.e. between the lines to the two outer pairs. {'dyad 2-3 at B': (B,) array}."""
+    """Transmission angle μ (°, 0…180, not folded) at every revolute pair P–J–Q inside an Assur group
+    (the pairs `mbplanar check` judges): the angle at J between the lines to P and Q.
+    {'μ at B (A–B–C)': (B,) array}."""
+    from .check import transmission_triples
     out = {}
-    s = engine.topology.structure
-    for g in (s.groups if s is not None else ()):
-        if g.kind != "RRR" or len(g.internal) != 1 or len(g.external) != 2:
-            continue
-        mid = motion.xy[:, motion.point(g.internal[0])]
-        a = motion.xy[:, motion.point(g.external[0])] - mid
-        c = motion.xy[:, motion.point(g.external[1])] - mid
+    for p, j, q in transmission_triples(engine):
+        mid = motion.xy[:, motion.point(j)]
+        a = motion.xy[:, motion.point(p)] - mid
+        c = motion.xy[:, motion.point(q)] - mid
         cos = np.einsum("bi,bi->b", a, c) / (np.linalg.norm(a, axis=-1) * np.linalg.norm(c, axis=-1))
-        out[f"dyad {'-'.join(g.links)} at {g.internal[0]}"] = np.degrees(np.arccos(np.clip(cos, -1, 1)))
+        out[f"μ at {j} ({p}–{j}–{q})"] = np.degrees(np.arccos(np.clip(cos, -1, 1)))
     return out
 
 
-def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 4.5)):
-    """Transmission angles of the R–R–R dyads over the cycle, with the usual 40°…140° band."""
+def pressure_angles(engine, motion) -> dict:
+    """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
+    {'ϑ at Bp (A–B)': (B,) array}."""
+    from .check import pressure_angles as angles
+    pairs, values = angles(engine, motion)
+    return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
+            for k, (a, b, s) in enumerate(pairs)}
+
+
+def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
+    """Transmission angles μ of the revolute pairs inside Assur groups (with the usual 40°…140° band)
+    and pressure angles of the sliders driven by rods, over the cycle."""
     plt = require_matplotlib()
     motion = cycle_motion(engine, count)
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
-    ax = fig.add_subplot()
-    angles = transmission_angles(engine, motion)
-    _plot_lines(ax, x, list(angles.values()), list(angles), "μ [°]", xlabel,
-                f"{engine.mech.title or engine.mech.name}: transmission angles")
-    ax.axhspan(40, 140, color="#2ca02c", alpha=0.07)
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    angles, pressure = transmission_angles(engine, motion), pressure_angles(engine, motion)
+    _plot_lines(top, x, list(angles.values()), list(angles), "μ [°]", None, "Transmission angles (90° ideal)",
+                _xstep(engine, x))
+    top.axhspan(40, 140, color="#2ca02c", alpha=0.07)
+    top.set_ylim(0, 180)
     if not angles:
-        ax.text(0.5, 0.5, "no R–R–R dyad in this mechanism", transform=ax.transAxes, ha="center")
-    ax.set_ylim(0, 180)
+        top.text(0.5, 0.5, "no revolute pair between two rods in an Assur group", transform=top.transAxes,
+                 ha="center")
+    _plot_lines(bottom, x, list(pressure.values()), list(pressure), "ϑ [°]", xlabel,
+                "Pressure angles of the sliders (0° ideal)", _xstep(engine, x))
+    bottom.set_ylim(0, 90)
+    if not pressure:
+        bottom.text(0.5, 0.5, "no slider driven by a rod", transform=bottom.transAxes, ha="center")
+    limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
+    fig.suptitle(f"{engine.mech.title or engine.mech.name}: transmission and pressure angles{limit}", fontsize=10)
     return fig
+
+
+def forces_figure(engine, at=None, **options):
+    """Reactions (magnitudes, hodographs), balancing moment and prismatic-pair moments over the cycle."""
+    from .forceplots import forces_figure as draw
+    return draw(engine, at, **options)
 
 
 def dynamics_figure(engine, at=None, *, dynamics=None, count=3600, figsize=(10, 10)):
@@ -508,7 +593,8 @@ FIGURES: dict[str, Figure] = {
     "trajectories": Figure(trajectories_figure, "trajectories (coupler curves) of the points over the cycle"),
     "kinematics": Figure(kinematics_figure, "positions, real velocities and accelerations against the coordinate"),
     "analogues": Figure(analogues_figure, "positions and analogues of velocities and accelerations"),
-    "transmission": Figure(transmission_figure, "transmission angles of the R–R–R dyads"),
+    "transmission": Figure(transmission_figure, "transmission angles and pressure angles against the coordinate"),
+    "forces": Figure(forces_figure, "reactions, their hodographs and the balancing moment against the coordinate"),
     "dynamics": Figure(dynamics_figure, "J_II, reduced moments, work, ΔT_I, true ω(φ) and ε(φ) (models with [dynamics])"),
 }
 

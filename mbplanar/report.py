@@ -1,13 +1,13 @@
 """A model's whole analysis in ONE self-contained HTML file: figures inline (base64 PNG), tables of the
-structure, positions and analogues, the animation (inline SVG + JS). No external URL: it reads offline.
+structure, positions and analogues, reactions and the balancing moment, the animation (inline SVG +
+JS). No external URL: it reads offline.
 
 The report is a list of sections, `SECTIONS` (key → `Section(title, function)`, in order). A section
 function takes `(engine, ctx)` (ctx: a `ReportContext` with the cycle motion and helpers for figures and
-tables) and returns an HTML fragment, or None to leave the section out. Other modules fill the
-placeholder sections with `register_section`:
+tables) and returns an HTML fragment, or None to leave the section out. Other code adds sections, or
+replaces one in place, with `register_section`:
 
-    register_section("reactions", "Joint reactions and balancing moment", my_function)   # kinetostatics
-    register_section("flywheel", "Machine dynamics and flywheel", my_function)            # dynamics
+    register_section("cam", "Cam", my_function, after="flywheel")
 """
 
 from __future__ import annotations
@@ -130,13 +130,72 @@ def _limits(engine, motion):
 
 
 def _plots_section(engine, ctx):
-    from .plotting import kinematics_figure, analogues_figure, trajectories_figure, transmission_figure
+    from .plotting import (analogues_figure, kinematics_figure, pressure_angles, trajectories_figure,
+                           transmission_angles, transmission_figure)
     out = ctx.figure(trajectories_figure(engine), "trajectories")
     out += ctx.figure(kinematics_figure(engine, count=121), "real velocities and accelerations")
     out += ctx.figure(analogues_figure(engine, count=121), "analogues")
-    from .plotting import transmission_angles
-    if transmission_angles(engine, ctx.table):
-        out += ctx.figure(transmission_figure(engine, count=121), "transmission angles")
+    if transmission_angles(engine, ctx.table) or pressure_angles(engine, ctx.table):
+        out += ctx.figure(transmission_figure(engine, count=121), "transmission and pressure angles")
+    return out
+
+
+def _reactions_section(engine, ctx):
+    """Kinetostatics at the model's speed: the balancing load and every pair's reaction at the table
+    positions, a diagram with the reaction arrows, the plots over the cycle, the virtual-power check."""
+    from .loads import has_force_data
+    if not has_force_data(engine.mech):
+        return ("<p>The model has no loads: no masses, inertias, gravity or load rows, so every reaction "
+                "and the balancing moment are zero.</p>")
+    from .forceplots import balancing_label, forces_figure, reaction_label
+    from .kinetostatics import kinetostatics
+    from .plotting import diagram_figure, input_speed
+    inp = engine.inputs[0]
+    table, cycle = kinetostatics(engine, ctx.table), kinetostatics(engine, ctx.cycle)
+    residual = max(float(np.nanmax(r.virtual_power_residual, initial=0.0)) for r in (table, cycle))
+    phi = inp.from_si(ctx.table.phi[:, 0])
+    coord = f"{inp.name} [{inp.unit}]"
+    out = (f"<p>Kinetostatics at the model's input speed and acceleration ({input_speed(engine)}), "
+           "with the d'Alembert inertia loads, gravity and the model's loads; "
+           "no flywheel (J_I = 0). F<sub>ij</sub> is the force on link i from link j, applied at the pair "
+           "(a prismatic pair: at its slider point, with its moment M about that point); the other link "
+           "gets the opposite. Directions in degrees counter-clockwise from +x; moments counter-clockwise "
+           "positive.</p>"
+           f"<p>Check: the virtual power of all loads plus the balancing power vanishes for every motion the "
+           f"pairs allow; its largest relative residual over the {len(ctx.cycle.phi)} positions of the cycle "
+           f"and the table is <b>{residual:.2e}</b>.</p>")
+    notes = [r.message for r in (table, cycle) if not r.success] + ([_limits(engine, ctx.cycle)]
+                                                                     if ctx.cycle.limits else [])
+    out += "".join(f"<p class=\"warn\">{html.escape(n)}</p>" for n in dict.fromkeys(notes))
+    tiny = 1e-12 * max([1.0] + [float(np.nanmax(r.magnitude, initial=0.0)) for r in table.reactions.values()])
+    tiny_m = tiny * engine.size  # round-off of a moment: what is left of the forces' moments
+
+    def clean(x, eps):
+        return np.where(np.abs(x) < eps, 0.0, x)
+
+    head, cols = [coord], [phi]
+    for joint, q in table.balancing.items():
+        what, unit = balancing_label(engine, joint)
+        head.append(f"{what} at {joint} [{unit}]")
+        cols.append(clean(q, tiny_m if unit == "N·m" else tiny))
+    head.append("virtual-power residual")
+    cols.append(table.virtual_power_residual)
+    out += html_table(head, np.column_stack(cols).tolist(), "Balancing load")
+    grid = []
+    for joint, r in table.reactions.items():
+        prismatic = engine.mech.joints[joint].kind == "P"
+        fx, fy = clean(r.fx, tiny), clean(r.fy, tiny)
+        mag = np.hypot(fx, fy)
+        direction = np.where(mag > 0, np.degrees(np.arctan2(fy, fx)) % 360.0, np.nan)
+        head = [coord, "Fx [N]", "Fy [N]", "|F| [N]", "direction [°]"] + (["M [N·m]"] if prismatic else [])
+        rows = np.column_stack([phi, fx, fy, mag, direction] + ([clean(r.moment, tiny_m)] if prismatic else []))
+        grid.append(html_table(head, rows.tolist(), f"{reaction_label(r)}: pair {joint} "
+                                                    f"({'prismatic' if prismatic else 'revolute'}), on link "
+                                                    f"{r.on} from link {r.source}"))
+    out += '<div class="grid">' + "".join(grid) + "</div>"
+    out += ctx.figure(diagram_figure(engine, reactions=True, cycle=ctx.cycle),
+                      "reaction arrows in the drawn pose")
+    out += ctx.figure(forces_figure(engine, cycle=ctx.cycle), "reactions and balancing moment over the cycle")
     return out
 
 
@@ -183,13 +242,6 @@ def _flywheel_section(engine, ctx):
             + html_table(head, table.tolist(), "Reduced quantities and the true motion of the crank"))
 
 
-def _placeholder(what, module):
-    def section(engine, ctx):
-        return (f"<p class=\"todo\">{html.escape(what)}: not computed yet — this section is filled by the "
-                f"{html.escape(module)} module (mbplanar.report.register_section).</p>")
-    return section
-
-
 SECTIONS: dict[str, Section] = {
     "model": Section("Model", _model_section),
     "diagram": Section("Kinematic diagram", _diagram_section),
@@ -197,8 +249,7 @@ SECTIONS: dict[str, Section] = {
     "positions": Section("Positions and analogues", _positions_section),
     "plots": Section("Kinematic plots", _plots_section),
     "animation": Section("Animation", _animation_section),
-    # HOOK: kinetostatics replaces this section (register_section("reactions", ...))
-    "reactions": Section("Joint reactions and balancing moment", _placeholder("Reactions", "kinetostatics")),
+    "reactions": Section("Joint reactions and balancing moment", _reactions_section),
     "flywheel": Section("Machine dynamics and flywheel", _flywheel_section),
 }
 
@@ -222,7 +273,7 @@ table{border-collapse:collapse;margin:.6em 0 1.2em;font-size:.82em;display:block
 th,td{border:1px solid #ccc;padding:2px 6px;text-align:right;white-space:nowrap} th{background:#eef3f8}
 caption{text-align:left;font-weight:bold;padding:.3em 0}
 figure{margin:.5em 0} img{max-width:100%} .todo{color:#777;font-style:italic} .warn{color:#b03a2e}
-nav a{margin-right:1em}
+nav a{margin-right:1em} .grid{display:flex;flex-wrap:wrap;gap:0 1.5em}
 """
 
 

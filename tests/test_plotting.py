@@ -52,14 +52,16 @@ def _close_figures():
 def test_every_model_renders_every_picture(model, tmp_path):
     eng = mbplanar.Engine(mbplanar.read_model(model))
     for what in plotting.FIGURES:
-        out = tmp_path / f"{what}.png"
         if what == "dynamics" and "dynamics" not in eng.mech.extras:
             with pytest.raises(mbplanar.ModelError, match=r"no \[dynamics\] section"):
                 plotting.make_figure(eng, what, count=13)
             continue
-        plotting.save_figure(plotting.make_figure(eng, what, count=13), out, dpi=30)
-        with Image.open(out) as im:
-            assert im.size[0] > 50 and im.size[1] > 50, what
+        options = plotting.show_options("all") if what == "diagram" else {}  # every arrow and centre
+        fig = plotting.make_figure(eng, what, count=13, **options)
+        fig.set_dpi(30)
+        fig.canvas.draw()  # layout and every artist, as savefig does (writing files is tested by the CLI)
+        pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3]
+        assert min(pixels.shape[:2]) > 50 and (pixels.min(axis=-1) < 100).mean() > 0.001, what  # not blank
     gif = tmp_path / "a.gif"
     plotting.write_gif(eng, gif, 3, dpi=30)
     with Image.open(gif) as im:
@@ -107,6 +109,16 @@ def test_crank_pin_trajectory_is_a_circle():
     np.testing.assert_allclose(np.linalg.norm(xy, axis=1), 0.10, atol=1e-12)
 
 
+def test_trajectories_of_chosen_points_only(tmp_path):
+    eng = engine("six_bar_press")
+    fig = plotting.trajectories_figure(eng, points=["H", "S3"], count=12)
+    traced = sorted(a.get_gid() for ax in fig.axes for a in ax.get_lines() if str(a.get_gid()).startswith("trajectory:"))
+    assert traced == ["trajectory:H", "trajectory:S3"]
+    press = str(ROOT / "models" / "six_bar_press.toml")
+    assert main(["plot", press, "trajectories", "--points", "H,nowhere", "-o", str(tmp_path / "t.png")]) == 2
+    assert main(["plot", press, "kinematics", "--points", "H", "-o", str(tmp_path / "t.png")]) == 2
+
+
 def test_velocity_arrows_are_the_solved_velocities_to_one_scale():
     eng = engine("six_bar_press")
     motion = plotting.position_motion(eng, 40.0)
@@ -119,6 +131,70 @@ def test_velocity_arrows_are_the_solved_velocities_to_one_scale():
     k = arrows / np.where(np.abs(v) > 1e-9, v, np.nan)
     assert np.nanstd(k) < 1e-9 * np.nanmean(k)  # one scale for every point
     np.testing.assert_allclose(np.column_stack([q.X, q.Y]), motion.xy[0, [motion.point(n) for n in names]], atol=1e-12)
+
+
+@pytest.mark.parametrize("name,at", [("shaper", 200.0), ("six_bar_press", 40.0)])
+def test_reaction_arrows_point_along_the_computed_reactions(name, at):
+    """One arrow per pair, from the pair's point along F_ij, one scale for all (model's input speed)."""
+    from mbplanar.kinetostatics import kinetostatics
+    eng = engine(name)
+    motion = analyse(eng, np.array([eng.inputs[0].to_si(at)]), eng.inputs[0].omega, eng.inputs[0].epsilon)
+    result = kinetostatics(eng, motion)
+    fig = plotting.diagram_figure(eng, at, reactions=True, count=13)
+    scales = []
+    for joint, r in result.reactions.items():
+        force = np.array([r.fx[0], r.fy[0]])
+        (q,) = artists(fig, f"reaction:{joint}")
+        np.testing.assert_allclose([q.X[0], q.Y[0]], motion.xy[0, motion.point(joint)], atol=1e-12)
+        arrow = np.array([q.U[0], q.V[0]])
+        assert abs(arrow[0] * force[1] - arrow[1] * force[0]) <= 1e-9 * np.linalg.norm(arrow) * np.linalg.norm(force)
+        assert arrow @ force > 0  # the same way, not the opposite
+        scales.append(np.linalg.norm(arrow) / np.linalg.norm(force))
+    np.testing.assert_allclose(scales, scales[0], rtol=1e-9)
+    biggest = max(np.hypot(r.fx[0], r.fy[0]) for r in result.reactions.values())
+    assert biggest * scales[0] == pytest.approx(0.3 * eng.size)
+    shown = " ".join(t.get_text() for t in fig.axes[0].texts)
+    assert all(f"F{r.on}{r.source}" in shown for r in result.reactions.values())
+    assert not artists(plotting.diagram_figure(eng, at, count=13), f"reaction:{joint}")  # only when asked
+
+
+def test_a_model_without_loads_says_so():
+    from mbplanar.report import SECTIONS
+    eng = engine("fourbar")
+    fig = plotting.diagram_figure(eng, 30.0, reactions=True, count=13)
+    assert not [a for a in fig.axes[0].get_children() if str(a.get_gid()).startswith("reaction:")]
+    assert any("no masses" in t.get_text() for t in fig.axes[0].get_legend().get_texts())
+    assert artists(plotting.forces_figure(eng, count=13), "noloads")
+    assert "no loads" in SECTIONS["reactions"].function(eng, None)
+
+
+def test_forces_plot_draws_the_reactions_against_the_coordinate():
+    from mbplanar.kinetostatics import kinetostatics
+    eng = engine("six_bar_press")
+    fig = plotting.forces_figure(eng, count=24)
+    inp = eng.inputs[0]
+    reached = analyse(eng, inp.to_si(np.arange(24) * 15.0))  # the figure's positions, in degrees
+    result = kinetostatics(eng, reached)
+    magnitudes = {line.get_label(): line.get_xydata() for line in fig.axes[0].get_lines()}
+    for joint, r in result.reactions.items():
+        xy = magnitudes[f"F{r.on}{r.source} ({joint})"]
+        np.testing.assert_allclose(xy[:, 0], np.arange(24) * 15.0, atol=1e-9)
+        np.testing.assert_allclose(xy[:, 1], np.hypot(r.fx, r.fy), rtol=1e-9, atol=1e-9)
+        (hodograph,) = artists(fig, f"hodograph:{joint}")
+        np.testing.assert_allclose(hodograph.get_xydata(), np.column_stack([r.fx, r.fy]), rtol=1e-9, atol=1e-9)
+    (balancing,) = artists(fig, f"balancing:{inp.joint}")
+    np.testing.assert_allclose(balancing.get_xydata()[:, 1], result.balancing[inp.joint], rtol=1e-9, atol=1e-9)
+    mean = [line for line in fig.axes[2].get_lines() if line.get_label().startswith("cycle mean")]
+    assert mean and mean[0].get_ydata()[0] == pytest.approx(np.mean(result.balancing[inp.joint]))
+
+
+def test_pressure_angle_of_the_slider_crank_by_the_sine_rule():
+    eng = engine("slider_crank")
+    j = eng.mech.joints
+    r, rod = math.dist(j["O"].at, j["A"].at), math.dist(j["A"].at, j["B"].at)
+    phi = np.radians([10.0, 75.0, 200.0, 300.0])
+    (theta,) = plotting.pressure_angles(eng, analyse(eng, phi)).values()
+    np.testing.assert_allclose(theta, np.degrees(np.abs(np.arcsin(r * np.sin(phi) / rod))), atol=1e-9)
 
 
 def test_kinematic_plot_shows_the_crank_turning_with_the_coordinate():
@@ -228,6 +304,37 @@ def test_report_tables_come_from_the_engine(shaper_report):
     assert f"{d.inertia_first_group:.6g}" in shaper_report and f"{d.driving_moment:.6g}" in shaper_report
 
 
+def _table(page, caption):
+    """Rows (lists of cell strings) of the table with `caption` in an HTML page."""
+    start = page.index(f"<caption>{caption}")
+    body = page[start:page.index("</table>", start)]
+    rows = body.split("<tbody>")[1].split("</tr>")
+    return [[c.split("</td>")[0] for c in row.split("<td>")[1:]] for row in rows if "<td>" in row]
+
+
+def test_report_reactions_are_the_kinetostatics_at_the_models_speed(shaper_report):
+    from mbplanar.kinetostatics import kinetostatics
+    eng = engine("shaper")
+    section = shaper_report[shaper_report.index('<section id="reactions">'):]
+    section = section[:section.index("</section>")]
+    inp = eng.inputs[0]
+    rows = _table(section, "Balancing load")
+    values = np.array([float(r[0]) for r in rows])
+    assert len(rows) == 6  # the table positions
+    result = kinetostatics(eng, analyse(eng, inp.to_si(values), inp.omega, inp.epsilon))
+    np.testing.assert_allclose([float(r[1]) for r in rows], result.balancing[inp.joint], rtol=1e-5, atol=1e-9)
+    for joint, r in result.reactions.items():
+        rows = _table(section, f"F{r.on}{r.source}: pair {joint} ")
+        got = np.array([[float(c) if c != "—" else np.nan for c in row[1:5]] for row in rows])
+        np.testing.assert_allclose(got[:, :3], np.column_stack([r.fx, r.fy, r.magnitude]), rtol=1e-5, atol=1e-6)
+        big = r.magnitude > 1e-6
+        turn = (got[big, 3] - r.direction_deg[big] + 180) % 360 - 180
+        np.testing.assert_allclose(turn, 0, atol=1e-3)
+    residual = float(section.split("the table is <b>")[1].split("</b>")[0])
+    assert 0 <= residual < 1e-12
+    assert section.count("<img") == 2  # the diagram with reaction arrows, the plots over the cycle
+
+
 def test_report_hook_replaces_a_placeholder(monkeypatch):
     import mbplanar.report as report
     monkeypatch.setattr(report, "SECTIONS", dict(report.SECTIONS))
@@ -239,11 +346,33 @@ def test_report_hook_replaces_a_placeholder(monkeypatch):
     assert report.SECTIONS["reactions"].function(None, None) == "<p>R12 = 42 N</p>"
 
 
+def test_a_registered_figure_is_a_what_of_the_plot_command(monkeypatch, tmp_path):
+    monkeypatch.setattr(plotting, "FIGURES", dict(plotting.FIGURES))
+    seen = []
+
+    def picture(eng, at=None, **options):
+        seen.append(at)
+        return plotting.require_matplotlib().figure(figsize=(2, 2))
+
+    plotting.register_figure("dynamics", picture, "a test picture")
+    out = tmp_path / "d.png"
+    assert main(["plot", str(ROOT / "models" / "fourbar.toml"), "dynamics", "--at", "30", "-o", str(out)]) == 0
+    assert seen == [30.0] and out.stat().st_size > 0
+
+
 # -- command line ----------------------------------------------------------------------------------------
 def test_cli_writes_pictures_and_refuses_bad_requests(tmp_path, capsys):
     shaper = str(ROOT / "models" / "shaper.toml")
     assert main(["plot", shaper, "diagram", "--at", "100", "--dpi", "30", "-o", str(tmp_path / "d.svg")]) == 0
-    assert (tmp_path / "d.svg").read_text().lstrip().startswith("<?xml")
+    svg = (tmp_path / "d.svg").read_text()
+    assert svg.lstrip().startswith("<?xml") and 'id="reaction:' not in svg and 'id="vectors:' not in svg
+    assert main(["plot", shaper, "diagram", "--at", "100", "--show", "velocities,reactions", "--dpi", "30",
+                 "-o", str(tmp_path / "r.svg")]) == 0
+    svg = (tmp_path / "r.svg").read_text()
+    assert 'id="reaction:F"' in svg and 'id="vectors:v"' in svg and 'id="vectors:a"' not in svg
+    assert main(["plot", shaper, "diagram", "--show", "speeds", "-o", str(tmp_path / "x.png")]) == 2
+    assert "velocities, accelerations, reactions, centres" in capsys.readouterr().err
+    assert main(["plot", shaper, "kinematics", "--show", "all", "-o", str(tmp_path / "x.png")]) == 2
     assert main(["animate", shaper, "--frames", "4", "-o", str(tmp_path / "a.html")]) == 0
     assert main(["plot", shaper, "diagram", "-o", str(tmp_path / "d.txt")]) == 2
     assert main(["plot", shaper, "nonsense", "-o", str(tmp_path / "d.png")]) == 2
@@ -255,8 +384,25 @@ def test_cli_says_how_to_install_matplotlib(monkeypatch, tmp_path, capsys):
     for mod in [m for m in sys.modules if m == "matplotlib" or m.startswith("matplotlib.")]:
         monkeypatch.delitem(sys.modules, mod)
     monkeypatch.setitem(sys.modules, "matplotlib", None)
-    code = main(["plot", str(ROOT / "models" / "fourbar.toml"), "diagram", "-o", str(tmp_path / "x.png")])
-    assert code == 2 and "pip install mbplanar[plot]" in capsys.readouterr().err
+    fourbar = str(ROOT / "models" / "fourbar.toml")
+    for command in (["plot", fourbar, "diagram"], ["report", fourbar], ["animate", fourbar, "--frames", "3"]):
+        suffix = {"plot": "png", "report": "html", "animate": "gif"}[command[0]]
+        assert main(command + ["-o", str(tmp_path / f"x.{suffix}")]) == 2
+        assert "pip install mbplanar[plot]" in capsys.readouterr().err
+    assert main(["animate", fourbar, "--frames", "3", "-o", str(tmp_path / "a.html")]) == 0  # no matplotlib needed
+    assert "<svg" in (tmp_path / "a.html").read_text()
+
+
+def test_matplotlib_is_imported_only_for_a_picture():
+    code = ("import sys, mbplanar, mbplanar.cli, mbplanar.plotting, mbplanar.forceplots, mbplanar.report, "
+            "mbplanar.animation\n"
+            "from mbplanar.cli import main\n"
+            "assert main(['info', 'models/fourbar.toml']) == 0\n"
+            "assert not [m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL')], 'imported'\n")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
 
 
 # -- headless browser --------------------------------------------------------------------------------------
