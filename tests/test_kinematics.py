@@ -9,6 +9,7 @@ import pytest
 
 import mbplanar
 from mbplanar.kinematics import material_points
+from mbplanar.table import read_model_text
 
 DATA = Path(__file__).resolve().parent / "data"
 
@@ -276,3 +277,43 @@ def test_class4_group_rates_are_central_differences(class4_turn):
     # the group really moves: every link turns or rocks by more than 5 degrees
     swing = np.ptp(np.unwrap(m.angle[mid], axis=0), axis=0)
     assert np.all(swing[[m.link(k) for k in "234567"]] > math.radians(5))
+
+
+def test_class4_group_assembles_from_a_sketch(engine_of):
+    """The same mechanism given as dimensions (every link rigid by its distances) and a sketch 1 cm off:
+    the assembly finds the model's exact pose, so the motion is the same."""
+    exact = engine_of("class4_group")
+    at = {name: np.array(j.at) for name, j in exact.mech.joints.items()}
+    rigid = {"1": "OA", "2": "AD AG DG", "3": "DE", "4": "GK", "5": "KE EF KF KL EL", "6": "BF", "7": "CL"}
+    rng = np.random.default_rng(4)
+    m = mbplanar.Mechanism("sketch")
+    for link, pairs in rigid.items():
+        m.add_link(link, lengths=tuple((p, q, float(np.linalg.norm(at[p] - at[q]))) for p, q in pairs.split()))
+    for name, j in exact.mech.joints.items():
+        off = np.zeros(2) if name in "OBC" else rng.uniform(-0.01, 0.01, 2)  # the frame is where it is drawn
+        m.add_joint(name, "R", *j.links, at=at[name] + off)
+    m.add_input("O", drawn_at=30.0)
+    sketch = mbplanar.Engine(m)
+    assert max(np.abs(np.array(sketch.mech.joints[n].at) - at[n]).max() for n in at) < 1e-12
+    phi = np.radians([30.0, 100.0, 250.0])
+    a, b = mbplanar.analyse(sketch, phi), mbplanar.analyse(exact, phi)
+    joints = [a.point(n) for n in at]
+    assert np.abs(a.xy[:, joints] - b.xy[:, joints]).max() < 1e-12
+
+
+def test_class4_group_with_a_long_crank_stops_at_located_dead_points():
+    """A 0.3 m crank (twice the model's) cannot turn the group: the walk stops both ways at a singular
+    position of the group's block, located so well that the analogues grow as (distance)^(-1/2) down to
+    1e-6 rad from it, as at a fold of the loop equations."""
+    text = (Path(__file__).resolve().parent.parent / "models" / "class4_group.toml").read_text()
+    crank_pin = "at = [0.12990381056766578, 0.075]"
+    assert crank_pin in text
+    engine = mbplanar.Engine(read_model_text(text.replace(crank_pin, "at = [0.2598076211353316, 0.15]")))
+    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.radians(np.arange(-180.0, 180.0, 1.0)))
+    assert not m.success and len(m.limits) == 2
+    for limit in m.limits:
+        assert limit.links == ("2", "3", "4", "5", "6", "7") and "dead point" in limit.kind
+        near = mbplanar.analyse(engine, limit.phi[0] - limit.direction * np.array([1e-4, 1e-6]))
+        assert near.success
+        grow = np.abs(near.wq).max(axis=1)
+        assert 9.5 < grow[1] / grow[0] < 10.5
