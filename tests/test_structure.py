@@ -471,8 +471,9 @@ def _compare_grouped_with_global(grouped, whole, phi, position_tol=1e-12):
 
 
 @pytest.mark.parametrize("name", sorted(MODEL_STRUCTURES))
-def test_group_by_group_equals_global_newton_on_every_model(name, engine_of):
-    grouped = engine_of(name)
+def test_group_by_group_equals_global_newton_on_every_model(name):
+    # fresh engines: the walk over ±180° would leave limits in the atlas of the shared `engine_of` ones
+    grouped = mbplanar.Engine(mbplanar.read_model(MODELS / f"{name}.toml"))
     whole = mbplanar.Engine(mbplanar.read_model(MODELS / f"{name}.toml"), grouped=False)
     assert sum(bp.m > 0 for bp in whole.blocks) == 1
     assert sum(bp.m > 0 for bp in grouped.blocks) == len(MODEL_STRUCTURES[name][4])
