@@ -187,6 +187,55 @@ def scaling_k(ks, n, repeats, out):
         return slope
 
 
+def class4_chain(k):
+    """A crank and k class IV groups, each a copy of models/class4_group.toml's group (seed 004): copy j + 1
+    is the model moved so that its crank centre O sits on the ground pivot C of copy j, and its pin A is a
+    point of copy j's rocker 7, 0.15 m from C as the model's crank pin is from O. Every group is driven by
+    the previous group's output rocker (which swings 24°), and stays far from its dead points."""
+    model = mbplanar.read_model(ROOT / "models" / "class4_group.toml")
+    at = {name: np.array(j.at) for name, j in model.joints.items()}
+    m = Mechanism(f"class4_chain{k}")
+    m.add_link("1")
+    m.add_joint("O", "R", "0", "1", at=tuple(at["O"]))
+    driver, origin = "1", np.zeros(2)
+    for i in range(1, k + 1):
+        for link in "234567":
+            m.add_link(f"{link}_{i}")
+        for name, joint in model.joints.items():
+            if name == "O":
+                continue
+            a, b = (x if x == model.ground else driver if x == "1" else f"{x}_{i}" for x in joint.links)
+            m.add_joint(f"{name}_{i}", "R", a, b, at=tuple(origin + at[name]))
+        driver, origin = f"7_{i}", origin + at["C"] - at["O"]
+    m.add_input("O", drawn_at=30.0)
+    return m
+
+
+def scaling_groups(builder, label, ks, n, repeats, out):
+    """Time per position (positions + velocities + accelerations, N = n over a turn) of the mechanisms
+    builder(k) for k in ks, and the fitted exponent of time vs k."""
+    times = []
+    for k in ks:
+        t0 = time.perf_counter()
+        engine = mbplanar.Engine(builder(k))
+        t_engine = time.perf_counter() - t0
+        phi = full_turn(engine, n)
+        motion = mbplanar.analyse(engine, phi)
+        t_build = time.perf_counter() - t0
+        assert motion.success, motion.message
+        t = best_time(lambda: mbplanar.analyse(engine, phi), repeats)
+        times.append(t)
+        out.append(dict(name=f"chain of {k} {label}", work="kinematics", n=n, mbplanar_us=1e6 * t / n,
+                        closed_form_us=None, fsolve_us=None, build_s=t_build, engine_s=t_engine))
+        print(f"  k = {k:3d}: {1e6 * t / n:8.2f} µs/position ({1e6 * t / n / k:.2f} per group), "
+              f"engine {t_engine:.2f} s, + atlas and first sweep {t_build - t_engine:.2f} s")
+    if len(ks) > 1:
+        slope = np.polyfit(np.log(ks), np.log(times), 1)[0]
+        tail = np.polyfit(np.log(ks[-3:]), np.log(times[-3:]), 1)[0] if len(ks) >= 3 else slope
+        print(f"  time per position ∝ k^{slope:.2f} over k = {ks[0]}…{ks[-1]} (k^{tail:.2f} over the last three)")
+        return slope
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (smoke run)")
@@ -209,11 +258,14 @@ def main(argv=None):
     scaling_n([10, 100, 1000] if quick else [10, 100, 1000, 10 ** 4, 10 ** 5, 10 ** 6], repeats, cases)
     print("scaling with mechanism size (a crank and k dyads):")
     slope = scaling_k([1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n, repeats, cases)
+    print("scaling with mechanism size (a crank and k class IV groups):")
+    slope4 = scaling_groups(class4_chain, "class IV groups", [1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n,
+                            repeats, cases)
     if args.json:
         doc = dict(machine=dict(cpu=platform.processor() or platform.machine(), cpus=os.cpu_count(),
                                 python=platform.python_version(), numpy=np.__version__),
                    builds=[dict(name=b[0], build_s=b[1], atlas_s=b[2]) for b in builds],
-                   chain_exponent=slope, cases=cases)
+                   chain_exponent=slope, class4_chain_exponent=slope4, cases=cases)
         text = json.dumps(doc, indent=1)
         if args.json == "-":
             print(text)

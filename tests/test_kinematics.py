@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 
 import mbplanar
+from mbplanar.kinematics import material_points
+from mbplanar.table import read_model_text
 
 DATA = Path(__file__).resolve().parent / "data"
 
@@ -190,3 +192,128 @@ def test_real_values_scale_with_omega_and_epsilon(engine_of):
     assert np.allclose(m.v, base.vq * 3.0, atol=1e-12)
     assert np.allclose(m.a, base.aq * 9.0 + base.vq * -2.0, atol=1e-12)
     assert np.allclose(m.e, base.eq * 9.0 + base.wq * -2.0, atol=1e-12)
+
+
+# -- seed 004: the class IV group (models/class4_group.toml) over a full turn -----------------------
+FD_STEP = 1e-5
+
+
+@pytest.fixture(scope="module")
+def class4_turn(engine_of):
+    """360 positions over a full turn, each with its neighbours at ±FD_STEP (rad) for central differences."""
+    engine = engine_of("class4_group")
+    phi = engine.phi_drawn[0] + np.radians(np.arange(360.0))
+    m = mbplanar.analyse(engine, np.concatenate([phi - FD_STEP, phi, phi + FD_STEP]))
+    assert m.success, m.message
+    return engine, m, len(phi)
+
+
+def _e(angle):
+    return np.stack([np.cos(angle), np.sin(angle)], -1)
+
+
+def test_class4_group_closes_every_joint_over_a_full_turn(class4_turn):
+    """Both links of every joint carry the same material point: position, velocity, acceleration."""
+    engine, m, _ = class4_turn
+    f = m.frames
+    for j in engine.mech.joints.values():
+        assert j.kind == "R"
+        sides = [material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"],
+                                 np.array([engine.link_index[link]]), np.array([j.at])) for link in j.links]
+        (xa, va, aa), (xb, vb, ab) = sides
+        assert np.abs(xa - xb).max() < 1e-10, j.name
+        assert np.abs(va - vb).max() < 1e-10 * (1 + np.abs(va).max()), j.name
+        assert np.abs(aa - ab).max() < 1e-10 * (1 + np.abs(aa).max()), j.name
+
+
+def test_class4_group_satisfies_the_seed_loop_equations(class4_turn):
+    """Seed 004's equations (1)-(3) in its notation, with l21, alpha, ..., gamma, beta read off the drawn
+    pose, hold for the solved angles phi2..phi7, and so do their first and second derivatives."""
+    engine, m, _ = class4_turn
+    at = {name: np.array(j.at) for name, j in engine.mech.joints.items()}
+    dist = lambda p, q: float(np.linalg.norm(at[q] - at[p]))  # noqa: E731
+    ang = lambda p, q: math.atan2(*(at[q] - at[p])[::-1])  # noqa: E731
+    phi2, phi5 = ang("G", "D"), ang("K", "E")
+    alpha, gamma, beta = phi2 - ang("A", "D"), ang("E", "F") - phi5 - math.pi, phi5 - ang("K", "L")
+    l21, l2, l3, l4, l5 = dist("A", "D"), dist("G", "D"), dist("D", "E"), dist("G", "K"), dist("K", "E")
+    l51, l52, l6, l7 = dist("E", "F"), dist("K", "L"), dist("B", "F"), dist("C", "L")
+    # each equation: (point terms, [(coefficient, link, angle offset)]) with left minus right side = 0
+    equations = [
+        ((+1, "A", -1, "B"), [(l21, "2", -alpha), (l3, "3", 0.0), (l51, "5", gamma + math.pi), (-l6, "6", 0.0)]),
+        ((+1, "A", -1, "C"), [(l21, "2", -alpha), (-l2, "2", 0.0), (l4, "4", 0.0), (l52, "5", -beta),
+                              (-l7, "7", 0.0)]),
+        ((0, "A", 0, "A"), [(l2, "2", 0.0), (l3, "3", 0.0), (-l4, "4", 0.0), (-l5, "5", 0.0)]),
+    ]
+    for (sp, p, sq, q), terms in equations:
+        ip, iq = m.point(p), m.point(q)
+        x = sp * m.xy[:, ip] + sq * m.xy[:, iq]
+        v = sp * m.vq[:, ip] + sq * m.vq[:, iq]
+        a = sp * m.aq[:, ip] + sq * m.aq[:, iq]
+        for c, link, offset in terms:
+            k = m.link(link)
+            along, across = _e(m.angle[:, k] + offset), _e(m.angle[:, k] + offset + math.pi / 2)
+            w, e = m.wq[:, k, None], m.eq[:, k, None]
+            x = x + c * along
+            v = v + c * w * across
+            a = a + c * (e * across - w * w * along)
+        assert np.abs(x).max() < 1e-10
+        assert np.abs(v).max() < 1e-10
+        assert np.abs(a).max() < 1e-9
+
+
+def test_class4_group_rates_are_central_differences(class4_turn):
+    engine, m, n = class4_turn
+    lo, mid, hi = slice(0, n), slice(n, 2 * n), slice(2 * n, 3 * n)
+    h2 = 2 * FD_STEP
+    # points: velocity = d(position)/dphi, acceleration = d(velocity)/dphi
+    v_scale = np.abs(m.vq[mid]).max()
+    a_scale = np.abs(m.aq[mid]).max()
+    assert np.abs((m.xy[hi] - m.xy[lo]) / h2 - m.vq[mid]).max() < 1e-7 * (1 + v_scale)
+    assert np.abs((m.vq[hi] - m.vq[lo]) / h2 - m.aq[mid]).max() < 1e-7 * (1 + a_scale)
+    # links: omega = d(angle)/dphi, epsilon = d(omega)/dphi
+    turn = np.remainder(m.angle[hi] - m.angle[lo] + np.pi, 2 * np.pi) - np.pi
+    assert np.abs(turn / h2 - m.wq[mid]).max() < 1e-7 * (1 + np.abs(m.wq[mid]).max())
+    assert np.abs((m.wq[hi] - m.wq[lo]) / h2 - m.eq[mid]).max() < 1e-7 * (1 + np.abs(m.eq[mid]).max())
+    # the group really moves: every link turns or rocks by more than 5 degrees
+    swing = np.ptp(np.unwrap(m.angle[mid], axis=0), axis=0)
+    assert np.all(swing[[m.link(k) for k in "234567"]] > math.radians(5))
+
+
+def test_class4_group_assembles_from_a_sketch(engine_of):
+    """The same mechanism given as dimensions (every link rigid by its distances) and a sketch 1 cm off:
+    the assembly finds the model's exact pose, so the motion is the same."""
+    exact = engine_of("class4_group")
+    at = {name: np.array(j.at) for name, j in exact.mech.joints.items()}
+    rigid = {"1": "OA", "2": "AD AG DG", "3": "DE", "4": "GK", "5": "KE EF KF KL EL", "6": "BF", "7": "CL"}
+    rng = np.random.default_rng(4)
+    m = mbplanar.Mechanism("sketch")
+    for link, pairs in rigid.items():
+        m.add_link(link, lengths=tuple((p, q, float(np.linalg.norm(at[p] - at[q]))) for p, q in pairs.split()))
+    for name, j in exact.mech.joints.items():
+        off = np.zeros(2) if name in "OBC" else rng.uniform(-0.01, 0.01, 2)  # the frame is where it is drawn
+        m.add_joint(name, "R", *j.links, at=at[name] + off)
+    m.add_input("O", drawn_at=30.0)
+    sketch = mbplanar.Engine(m)
+    assert max(np.abs(np.array(sketch.mech.joints[n].at) - at[n]).max() for n in at) < 1e-12
+    phi = np.radians([30.0, 100.0, 250.0])
+    a, b = mbplanar.analyse(sketch, phi), mbplanar.analyse(exact, phi)
+    joints = [a.point(n) for n in at]
+    assert np.abs(a.xy[:, joints] - b.xy[:, joints]).max() < 1e-12
+
+
+def test_class4_group_with_a_long_crank_stops_at_located_dead_points():
+    """A 0.3 m crank (twice the model's) cannot turn the group: the walk stops both ways at a singular
+    position of the group's block, located so well that the analogues grow as (distance)^(-1/2) down to
+    1e-6 rad from it, as at a fold of the loop equations."""
+    text = (Path(__file__).resolve().parent.parent / "models" / "class4_group.toml").read_text()
+    crank_pin = "at = [0.12990381056766578, 0.075]"
+    assert crank_pin in text
+    engine = mbplanar.Engine(read_model_text(text.replace(crank_pin, "at = [0.2598076211353316, 0.15]")))
+    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.radians(np.arange(-180.0, 180.0, 1.0)))
+    assert not m.success and len(m.limits) == 2
+    for limit in m.limits:
+        assert limit.links == ("2", "3", "4", "5", "6", "7") and "dead point" in limit.kind
+        near = mbplanar.analyse(engine, limit.phi[0] - limit.direction * np.array([1e-4, 1e-6]))
+        assert near.success
+        grow = np.abs(near.wq).max(axis=1)
+        assert 9.5 < grow[1] / grow[0] < 10.5
