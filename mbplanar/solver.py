@@ -36,7 +36,7 @@ from .topology import analyse_topology
 
 __all__ = ["Engine", "Solution", "Limit"]
 
-TOL = 1e-12          # closure residual (lengths relative to the mechanism's size)
+TOL = 1e-13          # closure residual (lengths relative to the mechanism's size)
 TOL_FINE = 1e-14     # while some position still needs a step, the others below TOL are polished to this
 MAX_NEWTON = 14
 H_START = math.radians(6.0)   # first continuation step (relative to the input's scale)
