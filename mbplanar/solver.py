@@ -481,6 +481,11 @@ def _world(pose: Pose, link: str, at) -> np.ndarray:
     return pose.r[link][:, 0] + pose.rot(link, np.array(at, float))[:, 0]
 
 
+def _at(limit: Limit) -> float:
+    """The (first) input value of a motion limit."""
+    return float(np.atleast_1d(limit.phi)[0])
+
+
 def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     """Batch solve on the drawn branch: predict from the atlas, correct, check, walk the rest."""
     if len(e.inputs) != 1:
@@ -506,7 +511,10 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     if len(retry):
         good[retry] = _repair(e, sol, retry, idx, atlas)
     sol.valid = good
-    sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1]) if lim is not None]
+    # only the limits this batch ran into (the atlas may know limits beyond the range asked for)
+    lo, hi = float(x.min()), float(x.max())
+    sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1])
+                  if lim is not None and (_at(lim) >= lo if lim.direction < 0 else _at(lim) <= hi)]
     return sol
 
 

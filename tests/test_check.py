@@ -134,3 +134,14 @@ def test_sweep_has_transmission_and_pressure_angle_columns(tmp_path):
     assert main(["sweep", str(ROOT / "models" / "slider_crank.toml"), "--steps", "8", "-o", str(out)]) == 0
     header = out.read_text().splitlines()[0].split(",")
     assert any(h.startswith("pressure.") and h.endswith("[deg]") for h in header)
+
+
+def test_limits_are_only_those_the_request_ran_into():
+    """The engine's atlas remembers a lock found by an earlier sweep; a later request that stays clear of
+    it reports no limit."""
+    engine = _engine("crank_slider_rocker_locking.toml")
+    assert len(mbplanar.analyse(engine, np.linspace(0.0, 3.0, 31)).limits) == 1
+    inside = mbplanar.analyse(engine, np.linspace(0.0, 1.0, 11))
+    assert inside.success and inside.limits == []
+    across = mbplanar.analyse(engine, np.linspace(1.7, 1.9, 5))
+    assert not across.success and len(across.limits) == 1
