@@ -423,3 +423,19 @@ def test_report_renders_in_a_headless_browser(shaper_report, tmp_path):
     assert pixels.shape[0] >= 1000
     assert pixels.std() > 10  # not a blank page: text, tables, the diagram
     assert (pixels < 100).mean() > 0.002  # dark ink is present
+
+
+def test_dynamics_figure_draws_the_computed_curves():
+    eng = engine("six_bar_press")
+    d = machine_dynamics(eng, steps=360)
+    fig = plotting.dynamics_figure(eng, 99.1, dynamics=d)
+    axes = fig.axes
+    by_label = {(k, line.get_label()): line for k, ax in enumerate(axes) for line in ax.get_lines()}
+    np.testing.assert_allclose(by_label[(0, "J_II")].get_ydata(), d.J_II)
+    np.testing.assert_allclose(by_label[(1, "pressing")].get_ydata(), d.reduced.moments["pressing"])
+    np.testing.assert_allclose(by_label[(3, "ΔT_I = A_Σ − T_II")].get_ydata(), d.dT_I)
+    np.testing.assert_allclose(by_label[(4, "energy–mass method")].get_ydata(), d.omega)
+    np.testing.assert_allclose(by_label[(5, "simulated")].get_ydata(), d.simulation.epsilon)
+    np.testing.assert_allclose(by_label[(4, "energy–mass method")].get_xdata(), np.degrees(d.phi))
+    marks = [line for line in axes[0].get_lines() if np.allclose(line.get_xdata(), 99.1)]
+    assert marks   # --at marks the position
