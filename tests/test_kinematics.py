@@ -317,3 +317,32 @@ def test_class4_group_with_a_long_crank_stops_at_located_dead_points():
         assert near.success
         grow = np.abs(near.wq).max(axis=1)
         assert 9.5 < grow[1] / grow[0] < 10.5
+
+
+def _circle_meet(P, Q, rp, rq, side):
+    """The point at rp from P and rq from Q, on `side` (±1) of P→Q; P, Q (N, 2)."""
+    d = Q - P
+    dist = np.linalg.norm(d, axis=-1)
+    x = (rp ** 2 - rq ** 2 + dist ** 2) / (2 * dist)
+    h = np.sqrt(rp ** 2 - x ** 2)
+    u = d / dist[:, None]
+    return P + x[:, None] * u + side * h[:, None] * np.stack([-u[:, 1], u[:, 0]], axis=-1)
+
+
+def test_jansen_linkage_follows_its_circle_construction_over_a_full_turn():
+    """Jansen's leg (models/jansen.toml, his holy numbers in cm) against the construction by circle
+    intersections, dyad after dyad, on the drawn assembly."""
+    engine = mbplanar.Engine(mbplanar.read_model(Path(__file__).resolve().parent.parent / "models" / "jansen.toml"))
+    phi = np.linspace(0.0, 2 * np.pi, 361)
+    motion = mbplanar.analyse(engine, phi)
+    assert motion.success
+    cm = 0.01
+    A = 15 * cm * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+    P = np.broadcast_to(np.array([-38.0, -7.8]) * cm, A.shape)
+    B = _circle_meet(A, P, 50 * cm, 41.5 * cm, -1)
+    C = _circle_meet(A, P, 61.9 * cm, 39.3 * cm, +1)
+    D = _circle_meet(B, P, 55.8 * cm, 40.1 * cm, -1)
+    E = _circle_meet(D, C, 39.4 * cm, 36.7 * cm, -1)
+    F = _circle_meet(E, C, 65.7 * cm, 49 * cm, -1)
+    for name, ref in (("B", B), ("C1", C), ("D", D), ("E", E), ("F", F)):
+        assert np.abs(motion.xy[:, motion.point(name)] - ref).max() < 1e-11, name

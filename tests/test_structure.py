@@ -426,6 +426,11 @@ MODEL_STRUCTURES = {
     # triad: base link 4 carries B, C, E; rods 2 (to the crank pin A), 3 (to D), 5 (to F)
     "class3_triad": (1, 2, 3, "I(0,1) → III(2,3,4,5)", [
         (3, 3, None, ["2", "3", "4", "5"], ["B", "C", "E"], ["A", "D", "F"])]),
+    # Jansen's leg: three RRR dyads, the last one driven by the first two (D on bde, C2 on c)
+    "jansen": (1, 3, 2, "I(0,crank) → II(j,bde) → II(k,c) → II(f,ghi)", [
+        (2, 2, "RRR", ["j", "bde"], ["B"], ["A1", "P1"]),
+        (2, 2, "RRR", ["k", "c"], ["C1"], ["A2", "P2"]),
+        (2, 2, "RRR", ["f", "ghi"], ["E"], ["C2", "D"])]),
     # seed 004: contour D–E–K–G of links 2, 3, 5, 4; rods 6, 7 to the ground pivots B, C
     "class4_group": (1, 3, 4, "I(0,1) → IV(2,3,4,5,6,7)", [
         (4, 3, None, ["2", "3", "4", "5", "6", "7"], ["D", "G", "E", "K", "F", "L"], ["A", "B", "C"])]),
