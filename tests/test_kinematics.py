@@ -346,3 +346,48 @@ def test_jansen_linkage_follows_its_circle_construction_over_a_full_turn():
     F = _circle_meet(E, C, 65.7 * cm, 49 * cm, -1)
     for name, ref in (("B", B), ("C1", C), ("D", D), ("E", E), ("F", F)):
         assert np.abs(motion.xy[:, motion.point(name)] - ref).max() < 1e-11, name
+
+
+def test_scotch_yoke_is_harmonic():
+    """Crank r, its pin in a vertical slot of a yoke sliding horizontally: x = r·cos φ (RPP dyad)."""
+    r, phi0 = 0.1, 0.3
+    pin = (r * math.cos(phi0), r * math.sin(phi0))
+    m = mbplanar.Mechanism("scotch_yoke")
+    for name in "123":
+        m.add_link(name)
+    m.add_joint("O", "R", "0", "1", at=(0.0, 0.0))
+    m.add_joint("A", "R", "1", "2", at=pin)
+    m.add_joint("Ap", "P", "3", "2", at=pin, guide=90.0)
+    m.add_joint("Y", "P", "0", "3", at=(pin[0] + 0.2, 0.0), guide=0.0)
+    m.add_input("O", unit="rad")
+    phi = np.linspace(0.0, 2 * np.pi, 73)
+    motion = mbplanar.analyse(mbplanar.Engine(m), phi, omega=2.0, epsilon=0.5)
+    k = motion.joint("Y")
+    assert np.allclose(motion.value[:, k], r * np.cos(phi) - pin[0], atol=1e-14)
+    assert np.allclose(motion.rate[:, k], -2.0 * r * np.sin(phi), atol=1e-14)
+    assert np.allclose(motion.accel[:, k], -4.0 * r * np.cos(phi) - 0.5 * r * np.sin(phi), atol=1e-14)
+
+
+def test_elliptic_trammel_driven_by_a_slider_stops_at_its_dead_point():
+    """Rod AB (L = 1) with A on the x axis (the input slider) and B on the y axis: y_B = √(L² − x_A²),
+    the midpoint on an ellipse (a circle here); the slider cannot pass x_A = L."""
+    L, th0 = 1.0, 0.6
+    A, B = (L * math.cos(th0), 0.0), (0.0, L * math.sin(th0))
+    m = mbplanar.Mechanism("trammel")
+    for name in "123":
+        m.add_link(name)
+    m.add_joint("Ap", "P", "0", "1", at=A, guide=0.0)
+    m.add_joint("A", "R", "1", "2", at=A)
+    m.add_joint("B", "R", "2", "3", at=B)
+    m.add_joint("Bp", "P", "0", "3", at=B, guide=90.0)
+    m.add_point("M", "2", at=(A[0] / 2, B[1] / 2))
+    m.add_input("Ap", unit="m")
+    engine = mbplanar.Engine(m)
+    s = np.linspace(-0.3, 0.3, 25)
+    motion = mbplanar.analyse(engine, s)
+    xa = A[0] + motion.phi[:, 0]
+    yb = np.sqrt(L * L - xa * xa)
+    assert np.abs(motion.xy[:, motion.point("B"), 1] - yb).max() < 1e-12
+    assert np.abs(motion.xy[:, motion.point("M")] - np.stack([xa / 2, yb / 2], axis=1)).max() < 1e-12
+    assert not motion.success and len(motion.limits) == 1
+    assert A[0] + motion.limits[0].phi[0] == pytest.approx(L, abs=1e-8)
