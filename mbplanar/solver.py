@@ -354,17 +354,33 @@ class _Atlas:
     _arrays = None
 
     def arrays(self):
-        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks);
-        stacked once per extension of the atlas."""
+        """φ (K,), per block (q, q', q'') as (m, K) with derivatives along +φ and the quintic Hermite
+        coefficients (6, m, K − 1) of every interval, and signs (K, n_blocks); computed once per
+        extension of the atlas."""
         if self._arrays is None:
             phi = np.array([n.phi[0] for n in self.nodes])
+            h = np.diff(phi)
             per_block = []
             for k in range(len(self.engine.blocks)):
-                per_block.append((np.stack([n.q[k] for n in self.nodes]),
-                                  np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
-                                  np.stack([n.qdd[k] for n in self.nodes])))
+                q = np.stack([n.q[k] for n in self.nodes], axis=1)
+                qd = np.stack([n.qd[k] * n.direction[0] for n in self.nodes], axis=1)
+                qdd = np.stack([n.qdd[k] for n in self.nodes], axis=1)
+                ends = np.stack([q[:, :-1], q[:, 1:], h * qd[:, :-1], h * qd[:, 1:],
+                                 h * h * qdd[:, :-1], h * h * qdd[:, 1:]])  # (6, m, K − 1)
+                per_block.append((q, qd, qdd, np.einsum("ce,emk->cmk", _HERMITE5, ends)))
             self._arrays = phi, per_block, np.stack([n.signs for n in self.nodes])
         return self._arrays
+
+
+# coefficients of t⁰ … t⁵ (rows) of the quintic Hermite interpolant on t ∈ [0, 1] from the end values
+# (q0, q1, h·q0', h·q1', h²·q0'', h²·q1'') (columns)
+_HERMITE5 = np.array([
+    [1, 0, 0, 0, 0, 0],
+    [0, 0, 1, 0, 0, 0],
+    [0, 0, 0, 0, 0.5, 0],
+    [-10, 10, -6, -4, -1.5, 0.5],
+    [15, -15, 8, 7, 1.5, -1],
+    [-6, 6, -3, -3, -0.5, 0.5]], float)
 
 
 @dataclass
@@ -512,34 +528,31 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
 
 def _interpolate(grid, per_block, x, idx, inside):
     """Guess (m, B) of every block's unknowns at x: the quintic Hermite interpolant of q, q', q'' between
-    the two atlas nodes around x (error ~ h⁶, so Newton needs one step), or the Taylor expansion about
-    the nearest node where x is past the last node."""
+    the two atlas nodes around x (error ~ h⁶, so Newton needs one step), evaluated by Horner's rule from
+    the interval's coefficients, or the Taylor expansion about the nearest node where x is past the last
+    node."""
     if len(grid) == 1:
-        lo = np.zeros(len(x), int)
+        between = np.zeros(len(x), bool)
+        lo, t = np.zeros(len(x), int), np.zeros(len(x))
     else:
         lo = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
-    hi = np.minimum(lo + 1, len(grid) - 1)
-    between = inside & (x >= grid[lo]) & (x <= grid[hi]) & (hi > lo)
-    h = grid[hi] - grid[lo]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.where(between, (x - grid[lo]) / np.where(hi > lo, h, 1.0), 0.0)
-    t2, t3 = t * t, t * t * t
-    t4, t5 = t3 * t, t3 * t2
-    # quintic Hermite basis: values, first and second derivatives at both ends (h, h² folded in)
-    h00 = 1 - 10 * t3 + 15 * t4 - 6 * t5
-    h01 = 1 - h00
-    h10 = h * (t - 6 * t3 + 8 * t4 - 3 * t5)
-    h11 = h * (-4 * t3 + 7 * t4 - 3 * t5)
-    h20 = h * h * 0.5 * (t2 - 3 * t3 + 3 * t4 - t5)
-    h21 = h * h * 0.5 * (t3 - 2 * t4 + t5)
-    dphi = np.where(inside, x - grid[idx], 0.0)
+        left = grid[lo]
+        between = inside & (x >= left) & (x <= grid[lo + 1])
+        t = np.where(between, (x - left) / (grid[lo + 1] - left), 0.0)
+    every = between.all()
+    if not every:
+        dphi = np.where(inside, x - grid[idx], 0.0)
     out = []
-    for q, qd, qdd in per_block:
-        q, qd, qdd = q.T, qd.T, qdd.T  # (m, K)
-        inner = (h00 * q[:, lo] + h01 * q[:, hi] + h10 * qd[:, lo] + h11 * qd[:, hi]
-                 + h20 * qdd[:, lo] + h21 * qdd[:, hi])
-        if not between.all():
-            taylor = q[:, idx] + qd[:, idx] * dphi + 0.5 * qdd[:, idx] * (dphi * dphi)
+    for q, qd, qdd, coef in per_block:
+        if len(grid) > 1:
+            c = coef.take(lo, axis=2)  # (6, m, B)
+            inner = c[5]
+            for k in range(4, -1, -1):
+                inner = inner * t + c[k]
+        else:
+            inner = q.take(lo, axis=1)
+        if not every:
+            taylor = q.take(idx, axis=1) + qd.take(idx, axis=1) * dphi + 0.5 * qdd.take(idx, axis=1) * (dphi * dphi)
             inner = np.where(between, inner, taylor)
         out.append(inner)
     return out
