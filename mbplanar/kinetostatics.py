@@ -94,16 +94,16 @@ class Kinetostatics:
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
-def _real_frames(engine, motion):
-    """Real (w, v, e, a) of every link frame: (B, L), (B, L, 2), (B, L), (B, L, 2)."""
+def _real_frames(engine, motion, links=slice(None)):
+    """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
     f = motion.frames
     if "v" in f and motion.wq is not None:
         om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
-        return (motion.w, f["v"] * om[..., None], motion.e,
-                f["a"] * om[..., None] ** 2 + f["v"] * ep[..., None])
+        v, a = f["v"][:, links], f["a"][:, links]
+        return motion.w[:, links], v * om[..., None], motion.e[:, links], a * om[..., None] ** 2 + v * ep[..., None]
     sol = engine.solve(motion.phi)
     engine.rates(sol, motion.omega, motion.epsilon)
-    return sol.w, sol.v, sol.e, sol.a
+    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
 
 
 def _virtual_frames(engine, motion):
@@ -125,17 +125,19 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     """d'Alembert loads: −m·a_S at the centre and −I_S·ε on every link with mass or inertia, and
     −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I."""
     mech = engine.mech
-    th, r = motion.frames["th"], motion.frames["r"]
-    w, v, e, a = _real_frames(engine, motion)
+    heavy = [name for name, lk in mech.links.items() if name != mech.ground and (lk.mass or lk.inertia)]
+    ks = np.array([engine.link_index[name] for name in heavy], int)
     out = []
     batch = len(motion.phi)
-    for name, lk in mech.links.items():
-        if name == mech.ground or not (lk.mass or lk.inertia):
-            continue
-        k = engine.link_index[name]
-        at = np.array([centre_of(mech, name)]) if (lk.mass or lk.centre) else np.zeros((1, 2))
-        xy, _, acc = material_points(th, r, w, v, e, a, np.array([k]), at)
-        out.append(LoadValue(f"inertia of {name}", k, -lk.mass * acc[:, 0], xy[:, 0], -lk.inertia * e[:, k]))
+    if heavy:
+        w, v, e, a = _real_frames(engine, motion, ks)
+        at = np.array([centre_of(mech, name) if (mech.links[name].mass or mech.links[name].centre) else (0.0, 0.0)
+                       for name in heavy], float)
+        th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
+        xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
+        for i, (name, k) in enumerate(zip(heavy, ks)):
+            lk = mech.links[name]
+            out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i], -lk.inertia * e[:, i]))
     inertias = np.broadcast_to(np.asarray(input_inertia, float), (len(engine.inputs),))
     for inp, J in zip(engine.inputs, inertias):
         if not J:
@@ -146,7 +148,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
         kj = motion.joint(inp.joint)
         if jt.kind == "R":
             point = world_points(motion, k, np.asarray(jt.at))
-            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point, -J * e[:, k]))
+            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point, -J * motion.e[:, k]))
         else:
             sign = 1.0 if link == jt.slider else -1.0
             u = guide_direction(engine, motion, inp.joint)
@@ -475,22 +477,22 @@ def _virtual_power(engine, motion, loads, drive):
     """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
     w, v = _virtual_frames(engine, motion)
     r = motion.frames["r"]
-    terms = [load_power(ld, w, v, r) for ld in loads]
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
-    for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
-        terms.append(q * rates[:, motion.joint(inp.joint)])
-    if not terms:
-        return np.zeros(len(motion.phi))
-    terms = np.stack(terms, axis=1)
+    total = np.zeros(len(motion.phi))  # Σ of the terms
+    scale = np.zeros(len(motion.phi))  # what they could be
     # relative to what the loads could do at this position's largest point speed and angular speed, so
     # that a position where most links stand still (an extreme position) is not judged on round-off
     point_v = motion.vq if motion.vq is not None else motion.v
-    vscale = np.linalg.norm(point_v, axis=-1).max(axis=1, initial=0.0)
+    vscale = np.hypot(point_v[..., 0], point_v[..., 1]).max(axis=1, initial=0.0)
     wscale = np.abs(w).max(axis=1)
-    total = np.abs(terms[:, len(loads):]).sum(axis=1)
     for ld in loads:
-        total = total + np.linalg.norm(ld.force, axis=-1) * vscale + np.abs(ld.moment) * wscale
-    return np.abs(terms.sum(axis=1)) / np.where(total > 0, total, 1.0)
+        total += load_power(ld, w, v, r)
+        scale += np.hypot(ld.force[:, 0], ld.force[:, 1]) * vscale + np.abs(ld.moment) * wscale
+    for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
+        term = q * rates[:, motion.joint(inp.joint)]
+        total += term
+        scale += np.abs(term)
+    return np.abs(total) / np.where(scale > 0, scale, 1.0)
 
 
 def _report(engine, lay, x) -> dict:
