@@ -8,10 +8,12 @@ solves any batch of input values at once (arrays with a batch axis, no loop over
    (second-order predictor from the analytic derivatives, Newton corrector). A step is accepted only when
    Newton converges, the corrector stays close to the predictor and no block's Jacobian determinant
    changes sign; otherwise the step is halved. A step that cannot be made smaller than `H_MIN` marks a
-   motion limit (dead point, lock-up, end of assembly), located to `H_MIN` in the input. The atlas is
-   built once per engine and extended on demand.
-2. Every requested position is predicted from its nearest atlas node (Taylor to second order) and
-   corrected by a batched Newton, block by block; the few that fail a check are walked to individually.
+   motion limit (dead point, lock-up, end of assembly), located to `H_MIN` in the input. The walked
+   nodes are then filled in, one batch solve, to at most `H_DENSE` apart. The atlas is built once per
+   engine and extended on demand.
+2. Every requested position is predicted by the quintic Hermite interpolant of the atlas nodes around it
+   (within the closure tolerance, so Newton usually only confirms it) and corrected by a batched Newton,
+   block by block; the few that fail a check are walked to individually.
 
 Velocities and accelerations come from the same factorised block Jacobians (the analogues are the rates
 for dφ/dt = 1, d²φ/dt² = 0).
@@ -42,6 +44,7 @@ MAX_NEWTON = 14
 H_START = math.radians(6.0)   # first continuation step (relative to the input's scale)
 H_MAX = math.radians(15.0)
 H_MIN = 1e-10
+H_DENSE = math.radians(1.0)   # widest atlas interval the predictor interpolates over (see _Atlas._densify)
 MAX_CORRECTION = 0.05  # largest accepted corrector distance (rad, or lengths / size)
 
 
@@ -342,6 +345,7 @@ class _Atlas:
 
     def cover(self, lo: float, hi: float):
         """Extend the atlas to cover [lo, hi], or up to a motion limit."""
+        grown = False
         for direction, target in ((+1, hi), (-1, lo)):
             start = self.nodes[-1] if direction > 0 else self.nodes[0]
             if self.limits[direction] is not None or direction * (target - start.phi[0]) <= 0:
@@ -349,7 +353,37 @@ class _Atlas:
             new, limit = _walk(self.engine, start, np.array([target]))
             self.limits[direction] = limit
             self.nodes = self.nodes + new if direction > 0 else new[::-1] + self.nodes
-            self._arrays = None
+            self._arrays, grown = None, True
+        if grown:
+            self._densify()
+
+    def _densify(self):
+        """Add nodes, solved in one batch, so that no interval is wider than `H_DENSE` input units: the
+        predictor's error (~h⁶) then stays below the closure tolerance and Newton needs no step."""
+        e = self.engine
+        grid = np.array([n.phi[0] for n in self.nodes])
+        width = H_DENSE * _input_scale(e)[0]
+        parts = np.ceil(np.diff(grid) / width).astype(int)
+        x = np.concatenate([grid[i] + (grid[i + 1] - grid[i]) * np.arange(1, k) / k
+                            for i, k in enumerate(parts) if k > 1] or [np.zeros(0)])
+        if not len(x):
+            return
+        inside = np.ones(len(x), bool)
+        left = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
+        with np.errstate(invalid="ignore", over="ignore"):
+            guesses = _interpolate(grid, self.arrays()[1], x, left, inside)
+        sol = e._solve_batch(x[:, None], guesses)
+        e.rates(sol, np.ones((len(x), 1)), np.zeros((len(x), 1)))
+        signs = e.signs(sol)
+        good = sol.valid & np.all(signs == self.arrays()[2][left], axis=1)
+        for state, g, bp in zip(sol.blocks, guesses, e.blocks):
+            if bp.m:
+                good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= MAX_CORRECTION
+        one = np.ones(1)
+        extra = [_Node(x[i:i + 1], one, [s.q[:, i] for s in sol.blocks], [s.qd[:, i] for s in sol.blocks],
+                       [s.qdd[:, i] for s in sol.blocks], signs[i]) for i in np.flatnonzero(good)]
+        self.nodes = sorted(self.nodes + extra, key=lambda n: n.phi[0])
+        self._arrays = None
 
     _arrays = None
 
@@ -528,9 +562,9 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
 
 def _interpolate(grid, per_block, x, idx, inside):
     """Guess (m, B) of every block's unknowns at x: the quintic Hermite interpolant of q, q', q'' between
-    the two atlas nodes around x (error ~ h⁶, so Newton needs one step), evaluated by Horner's rule from
-    the interval's coefficients, or the Taylor expansion about the nearest node where x is past the last
-    node."""
+    the two atlas nodes around x (error ~ h⁶, below the tolerance on the filled-in atlas), evaluated by
+    Horner's rule from the interval's coefficients, or the Taylor expansion about the nearest node where
+    x is past the last node."""
     if len(grid) == 1:
         between = np.zeros(len(x), bool)
         lo, t = np.zeros(len(x), int), np.zeros(len(x))
