@@ -100,7 +100,8 @@ def _real_frames(engine, motion, links=slice(None)):
     if "v" in f and motion.wq is not None:
         om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
         v, a = f["v"][:, links], f["a"][:, links]
-        return motion.w[:, links], v * om[..., None], motion.e[:, links], a * om[..., None] ** 2 + v * ep[..., None]
+        real_a = a * om[..., None] ** 2 + v * ep[..., None]
+        return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
     sol = engine.solve(motion.phi)
     engine.rates(sol, motion.omega, motion.epsilon)
     return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
@@ -131,13 +132,14 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     batch = len(motion.phi)
     if heavy:
         w, v, e, a = _real_frames(engine, motion, ks)
-        at = np.array([centre_of(mech, name) if (mech.links[name].mass or mech.links[name].centre) else (0.0, 0.0)
-                       for name in heavy], float)
+        at = np.array([centre_of(mech, name) if (lk.mass or lk.centre) else (0.0, 0.0)
+                       for name, lk in ((n, mech.links[n]) for n in heavy)], float)
         th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
         xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
         for i, (name, k) in enumerate(zip(heavy, ks)):
             lk = mech.links[name]
-            out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i], -lk.inertia * e[:, i]))
+            out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i],
+                                 -lk.inertia * e[:, i]))
     inertias = np.broadcast_to(np.asarray(input_inertia, float), (len(engine.inputs),))
     for inp, J in zip(engine.inputs, inertias):
         if not J:
@@ -148,7 +150,8 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
         kj = motion.joint(inp.joint)
         if jt.kind == "R":
             point = world_points(motion, k, np.asarray(jt.at))
-            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point, -J * motion.e[:, k]))
+            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point,
+                                 -J * motion.e[:, k]))
         else:
             sign = 1.0 if link == jt.slider else -1.0
             u = guide_direction(engine, motion, inp.joint)
@@ -363,7 +366,8 @@ def _block(rows, own, entries, later) -> _Block:
         _eliminate(table, live, i, j, lambda a, m, b: None if None in (a, m, b) else a - m * b)
         pivots.append((i, j))
     done = {j for _, j in pivots}
-    return _Block(rows, own, entries, later, pivots, sorted(live), [j for j in range(len(own)) if j not in done])
+    rest_cols = [j for j in range(len(own)) if j not in done]
+    return _Block(rows, own, entries, later, pivots, sorted(live), rest_cols)
 
 
 def _eliminate(table, live, i, j, update):

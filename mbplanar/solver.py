@@ -586,7 +586,8 @@ def _interpolate(grid, per_block, x, idx, inside):
         else:
             inner = q.take(lo, axis=1)
         if not every:
-            taylor = q.take(idx, axis=1) + qd.take(idx, axis=1) * dphi + 0.5 * qdd.take(idx, axis=1) * (dphi * dphi)
+            taylor = (q.take(idx, axis=1) + qd.take(idx, axis=1) * dphi
+                      + 0.5 * qdd.take(idx, axis=1) * (dphi * dphi))
             inner = np.where(between, inner, taylor)
         out.append(inner)
     return out
