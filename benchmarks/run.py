@@ -44,6 +44,18 @@ def best_time(fn, repeats):
     return best
 
 
+def best_times(fns, repeats):
+    """Minimum wall times (s) of several functions called in turn, so that a ratio between them is not
+    skewed by another job that ran during one of them only."""
+    best = [math.inf] * len(fns)
+    for _ in range(repeats):
+        for k, fn in enumerate(fns):
+            t = time.perf_counter()
+            fn()
+            best[k] = min(best[k], time.perf_counter() - t)
+    return best
+
+
 def full_turn(engine, n):
     """n input values over one turn from the drawn pose (SI)."""
     return engine.phi_drawn[0] + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
@@ -87,13 +99,16 @@ def sweep_cases(n, repeats, fsolve_n, out):
         closed, fsolve = CLOSED.get(name, (None, None))
         for work, fn in works:
             fn()
-            t = best_time(fn, repeats)
-            row = dict(name=name, work=work, n=n, mbplanar_us=1e6 * t / n, closed_form_us=None, fsolve_us=None)
+            row = dict(name=name, work=work, n=n, mbplanar_us=None, closed_form_us=None, fsolve_us=None)
             if closed is not None and work != "reactions":
                 only = work == "positions"
-                row["closed_form_us"] = 1e6 * best_time(lambda: closed(phi, positions_only=only), repeats) / n
+                t, tc = best_times([fn, lambda: closed(phi, positions_only=only)], 3 * repeats)
+                row["closed_form_us"] = 1e6 * tc / n
                 few = phi[:fsolve_n]
                 row["fsolve_us"] = 1e6 * best_time(lambda: fsolve(few, rates=not only), 2) / fsolve_n
+            else:
+                t = best_time(fn, repeats)
+            row["mbplanar_us"] = 1e6 * t / n
             out.append(row)
             ratio = f"  ({row['mbplanar_us'] / row['closed_form_us']:.1f}× closed form)" if row["closed_form_us"] else ""
             print(f"  {name:14s} {work:11s} {row['mbplanar_us']:8.2f} µs/position{ratio}"

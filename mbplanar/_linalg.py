@@ -5,8 +5,7 @@ Shapes, batch last (every elementwise operation then runs over a contiguous batc
 right-hand sides (n, B). numpy's own batched solve pays a LAPACK call per matrix; for the 1×1 … 4×4
 blocks of a mechanism, elimination written over the batch axis is several times faster and lets one
 factorisation serve every right-hand side. 1×1 and 2×2 matrices (every dyad) use their explicit
-inverse (Cramer), a handful of array operations. `solve_once` (batch first) serves the larger reaction
-blocks of the kinetostatics with LAPACK.
+inverse (Cramer), a handful of array operations.
 """
 
 from __future__ import annotations
@@ -15,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LU", "Cramer", "factor", "lu_factor", "solve_once"]
+__all__ = ["LU", "Cramer", "factor", "lu_factor"]
 
 
 @dataclass
@@ -124,24 +123,3 @@ def lu_factor(a: np.ndarray) -> LU:
             lu[k + 1:, k] /= lu[k, k]
             lu[k + 1:, k + 1:] -= lu[k + 1:, k, None] * lu[k, None, k + 1:]
     return LU(lu, perm, sign)
-
-
-def solve_once(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """x with A x = b, batch first: A (B, n, n), b (B, n); and a singularity measure (B,) in [0, 1]: the
-    pivot ratio for n ≤ 2, else |det A| / Π‖row‖ (Hadamard's ratio; 0 for a singular matrix). For n ≥ 3
-    LAPACK's batched solve is faster than elimination over the batch; a batch with an exactly singular
-    matrix (LAPACK refuses it) takes the LU path."""
-    n = a.shape[1]
-    if n <= 2:
-        f = factor(a.transpose(1, 2, 0))
-        return f.solve(b.T).T, f.pivot_ratio
-    try:
-        x = np.linalg.solve(a, b[..., None])[..., 0]
-    except np.linalg.LinAlgError:
-        f = lu_factor(a.transpose(1, 2, 0))
-        with np.errstate(all="ignore"):
-            return f.solve(b.T).T, f.pivot_ratio
-    _, logdet = np.linalg.slogdet(a)
-    with np.errstate(divide="ignore"):
-        log_rows = np.log(np.sqrt(np.einsum("bij,bij->bi", a, a))).sum(axis=1)
-    return x, np.exp(np.minimum(logdet - log_rows, 0.0))

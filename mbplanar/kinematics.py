@@ -212,7 +212,9 @@ def _link_states(engine: Engine, sol):
 
 def _real(xq, xqq, om, ep):
     """Real rate and acceleration from the analogues: x' = x_q ω, x'' = x_qq ω² + x_q ε.
-    om, ep (B,) broadcast against xq (batch axis last)."""
+    om (B,) broadcasts against xq (batch axis last); ep (B,), or None for a constant input speed."""
+    if ep is None:
+        return xq * om, xqq * (om * om)
     return xq * om, xqq * (om * om) + xq * ep
 
 
@@ -303,6 +305,7 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
         engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
         wq, vq_f, eq, aq_f = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
         om, ep = omega[:, 0], epsilon[:, 0]
+        ep = ep if ep.any() else None  # constant input speed: x'' = x_qq ω²
         w, e = _real(wq, eq, om, ep)
         v, a = _real(vq_f, aq_f, om, ep)
         xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)

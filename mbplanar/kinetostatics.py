@@ -1,5 +1,7 @@
 """Kinetostatics: every joint reaction and the balancing moment (or force) at every input, from one
-linear system assembled from the joint table, solved for a batch of positions group by group (`_Plan`).
+linear system assembled from the joint table, solved for a batch of positions group by group (`_Plan`):
+in each block the force rows are eliminated with their constant ±1 pivots in an order fixed once per
+engine, only what is left (the moment rows) is factorised with pivoting, all over the batch axis.
 
 Equations: per moving link ΣFx = 0, ΣFy = 0, ΣM = 0 (moments about a fixed point of the model, the mean of
 the drawn joints, divided by the model size so that every row is in newtons), with d'Alembert inertia
@@ -29,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._linalg import solve_once
+from ._linalg import factor
 from .kinematics import material_points
 from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, load_power, world_points
 
@@ -92,16 +94,17 @@ class Kinetostatics:
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
-def _real_frames(engine, motion):
-    """Real (w, v, e, a) of every link frame: (B, L), (B, L, 2), (B, L), (B, L, 2)."""
+def _real_frames(engine, motion, links=slice(None)):
+    """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
     f = motion.frames
     if "v" in f and motion.wq is not None:
         om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
-        return (motion.w, f["v"] * om[..., None], motion.e,
-                f["a"] * om[..., None] ** 2 + f["v"] * ep[..., None])
+        v, a = f["v"][:, links], f["a"][:, links]
+        real_a = a * om[..., None] ** 2 + v * ep[..., None]
+        return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
     sol = engine.solve(motion.phi)
     engine.rates(sol, motion.omega, motion.epsilon)
-    return sol.w, sol.v, sol.e, sol.a
+    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
 
 
 def _virtual_frames(engine, motion):
@@ -123,17 +126,20 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     """d'Alembert loads: −m·a_S at the centre and −I_S·ε on every link with mass or inertia, and
     −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I."""
     mech = engine.mech
-    th, r = motion.frames["th"], motion.frames["r"]
-    w, v, e, a = _real_frames(engine, motion)
+    heavy = [name for name, lk in mech.links.items() if name != mech.ground and (lk.mass or lk.inertia)]
+    ks = np.array([engine.link_index[name] for name in heavy], int)
     out = []
     batch = len(motion.phi)
-    for name, lk in mech.links.items():
-        if name == mech.ground or not (lk.mass or lk.inertia):
-            continue
-        k = engine.link_index[name]
-        at = np.array([centre_of(mech, name)]) if (lk.mass or lk.centre) else np.zeros((1, 2))
-        xy, _, acc = material_points(th, r, w, v, e, a, np.array([k]), at)
-        out.append(LoadValue(f"inertia of {name}", k, -lk.mass * acc[:, 0], xy[:, 0], -lk.inertia * e[:, k]))
+    if heavy:
+        w, v, e, a = _real_frames(engine, motion, ks)
+        at = np.array([centre_of(mech, name) if (lk.mass or lk.centre) else (0.0, 0.0)
+                       for name, lk in ((n, mech.links[n]) for n in heavy)], float)
+        th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
+        xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
+        for i, (name, k) in enumerate(zip(heavy, ks)):
+            lk = mech.links[name]
+            out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i],
+                                 -lk.inertia * e[:, i]))
     inertias = np.broadcast_to(np.asarray(input_inertia, float), (len(engine.inputs),))
     for inp, J in zip(engine.inputs, inertias):
         if not J:
@@ -144,7 +150,8 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
         kj = motion.joint(inp.joint)
         if jt.kind == "R":
             point = world_points(motion, k, np.asarray(jt.at))
-            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point, -J * e[:, k]))
+            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point,
+                                 -J * motion.e[:, k]))
         else:
             sign = 1.0 if link == jt.slider else -1.0
             u = guide_direction(engine, motion, inp.joint)
@@ -199,11 +206,10 @@ class _Plan:
     Every matrix entry is `coef · feature[f]`, the features being per-position scalars (B, F):
     feature 0 is 1; then, per pair, the lever (point − centre)/L of its force (x, y); per prismatic pair
     its guide direction (x, y); per prismatic input the lever of the guide force, cross(d, u).
-    `blocks` lists, in back-substitution order, (rows, own columns, later columns, entries) where the
-    entries (row, col, feature, coef) index the local matrix [own | later]. Solving the blocks of the
-    engine from the last group to the input links is exact: a joint's reaction (and an input's balancing
-    load) belongs to the later of its two links' blocks, so the system is block triangular; each Assur
-    group is statically determinate on its own. If a block is not square, the whole system is one block.
+    `blocks` lists the `_Block`s in back-substitution order. Solving the blocks of the engine from the
+    last group to the input links is exact: a joint's reaction (and an input's balancing load) belongs to
+    the later of its two links' blocks, so the system is block triangular; each Assur group is statically
+    determinate on its own. If a block is not square, the whole system is one block.
     """
 
     lay: _Layout
@@ -307,11 +313,11 @@ def _plan(engine) -> _Plan:
         rows = np.flatnonzero(row_block == k)
         own = np.flatnonzero(col_block == k)
         local_row = {r: i for i, r in enumerate(rows)}
+        local_col = {c: i for i, c in enumerate(own)}
         mine = [e for e in entries if e[0] in local_row]
-        later = sorted({e[1] for e in mine if col_block[e[1]] > k})
-        local_col = {c: i for i, c in enumerate(list(own) + later)}
-        table = np.array([(local_row[r], local_col[c], f, coef) for r, c, f, coef in mine]).reshape(-1, 4)
-        blocks.append((rows, own, np.array(later, int), table))
+        inside = [(local_row[r], local_col[c], f, coef) for r, c, f, coef in mine if c in local_col]
+        later = [(local_row[r], c, f, coef) for r, c, f, coef in mine if c not in local_col]
+        blocks.append(_block(rows, own, inside, later))
     points = []
     for name in jnames:
         j = mech.joints[name]
@@ -322,51 +328,152 @@ def _plan(engine) -> _Plan:
     return plan
 
 
+@dataclass
+class _Block:
+    """One block of the system: its global rows and (own) columns, the entries (local row, local
+    column, feature, coef) among them, the entries on columns solved earlier (local row, global column,
+    feature, coef), and the elimination order fixed once per engine: `pivots` (row, column) whose entry
+    is a constant (±1 on a force column of a force row), then the rows and columns left (`rest_rows`,
+    `rest_cols`, typically the moment rows of a group) solved densely with partial pivoting."""
+
+    rows: np.ndarray
+    own: np.ndarray
+    entries: list
+    later: list
+    pivots: list
+    rest_rows: list
+    rest_cols: list
+
+
+def _block(rows, own, entries, later) -> _Block:
+    """Choose the constant pivots of a block (least fill-in first) on its structure: a value is a
+    number when the entry is the same at every position, None when it varies."""
+    table = [{} for _ in rows]
+    for i, j, f, coef in entries:
+        table[i][j] = coef if f == 0 else None
+    pivots, live = [], set(range(len(rows)))
+    while True:
+        counts = {}
+        for i in live:
+            for j in table[i]:
+                counts[j] = counts.get(j, 0) + 1
+        best = min((((len(table[i]) - 1) * (counts[j] - 1), i, j) for i in live for j, v in table[i].items()
+                    if v is not None and abs(v) >= 0.5), default=None)
+        if best is None:
+            break
+        _, i, j = best
+        live.discard(i)
+        _eliminate(table, live, i, j, lambda a, m, b: None if None in (a, m, b) else a - m * b)
+        pivots.append((i, j))
+    done = {j for _, j in pivots}
+    rest_cols = [j for j in range(len(own)) if j not in done]
+    return _Block(rows, own, entries, later, pivots, sorted(live), rest_cols)
+
+
+def _eliminate(table, live, i, j, update):
+    """Eliminate column j from the live rows of `table` (dicts column → value) with pivot row i; `update`
+    (old, multiplier, pivot-row value) → new value. Returns the multipliers {row: m}."""
+    pivot, out = table[i][j], {}
+    for k in live:
+        if j not in table[k]:
+            continue
+        a = table[k].pop(j)
+        m = out[k] = None if a is None or pivot is None else a / pivot
+        for jj, v in table[i].items():
+            if jj != j:
+                table[k][jj] = update(table[k].get(jj, 0.0), m, v)
+    return out
+
+
+def _solve_block(blk: _Block, features, b, x):
+    """Solve one block into x (n, B) (batch last), the earlier columns known; returns its singularity
+    measure (B,): |det| / Π‖row‖ (Hadamard's ratio, 1 for orthogonal rows, 0 when singular)."""
+    table = [{} for _ in blk.rows]
+    for i, j, f, coef in blk.entries:
+        table[i][j] = coef if f == 0 else coef * features[f]
+    norm2 = 1.0  # Π‖row‖²
+    for row in table:
+        norm2 = norm2 * sum(v * v for v in row.values())
+    rhs = [b[r] for r in blk.rows]
+    for i, c, f, coef in blk.later:
+        rhs[i] = rhs[i] - (coef if f == 0 else coef * features[f]) * x[c]
+    live = set(range(len(blk.rows)))
+    det = 1.0
+    for i, j in blk.pivots:
+        live.discard(i)
+        for k, m in _eliminate(table, live, i, j, lambda a, m, v: a - m * v).items():
+            rhs[k] = rhs[k] - m * rhs[i]
+        det = det * table[i][j]
+    own, batch = blk.own, b.shape[1]
+    if blk.rest_rows:
+        n = len(blk.rest_rows)
+        a = np.empty((n, n, batch))
+        for p, i in enumerate(blk.rest_rows):
+            for q, j in enumerate(blk.rest_cols):
+                a[p, q] = table[i].get(j, 0.0)
+        f = factor(a)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            x[own[blk.rest_cols]] = f.solve(np.array([rhs[i] for i in blk.rest_rows]))
+        det = det * f.det
+    for i, j in reversed(blk.pivots):
+        acc = rhs[i]
+        for jj, v in table[i].items():
+            if jj != j:
+                acc = acc - v * x[own[jj]]
+        x[own[j]] = acc / table[i][j]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.broadcast_to(np.abs(det) / np.sqrt(norm2), (batch,))
+
+
 def _features(engine, motion, plan):
-    """The per-position scalars (B, F) the entries of the system are made of."""
+    """The per-position scalars (F, B) (batch last) the entries of the system are made of."""
     L = engine.size
-    th, r = motion.frames["th"], motion.frames["r"]
+    th, r = motion.frames["th"].T, motion.frames["r"].transpose(2, 1, 0)  # (L, B), (2, L, B) views
     links = np.array([k for k, _ in plan.points], int).reshape(-1)
     at = np.array([p for _, p in plan.points], float).reshape(-1, 2)
-    c, s = np.cos(th[:, links]), np.sin(th[:, links])
-    lever_x = (r[:, links, 0] + c * at[:, 0] - s * at[:, 1] - plan.centre[0]) / L
-    lever_y = (r[:, links, 1] + s * at[:, 0] + c * at[:, 1] - plan.centre[1]) / L
-    cols = [np.ones((len(th), 1)), np.stack((lever_x, lever_y), axis=2).reshape(len(th), -1)]
-    if plan.guides:
-        u = np.stack([guide_direction(engine, motion, name) for name in plan.guides], axis=1)
-        cols.append(u.reshape(len(th), -1))
-        for g, j in plan.p_inputs:
-            cols.append((lever_x[:, j] * u[:, g, 1] - lever_y[:, j] * u[:, g, 0])[:, None])
-    return np.concatenate(cols, axis=1)
+    n_joints, n_guides, batch = len(links), len(plan.guides), th.shape[1]
+    out = np.empty((1 + 2 * n_joints + 2 * n_guides + len(plan.p_inputs), batch))
+    out[0] = 1.0
+    tl = th[links]
+    c, s = np.cos(tl), np.sin(tl)
+    lever_x, lever_y = out[1:1 + 2 * n_joints:2], out[2:2 + 2 * n_joints:2]
+    lever_x[:] = (r[0][links] + c * at[:, 0, None] - s * at[:, 1, None] - plan.centre[0]) / L
+    lever_y[:] = (r[1][links] + s * at[:, 0, None] + c * at[:, 1, None] - plan.centre[1]) / L
+    if n_guides:
+        base = 1 + 2 * n_joints
+        carriers = np.array([engine.link_index[engine.mech.joints[n].carrier] for n in plan.guides])
+        u0 = np.array([engine.laws[n].u0 for n in plan.guides])
+        tc = th[carriers]
+        c, s = np.cos(tc), np.sin(tc)
+        ux, uy = out[base:base + 2 * n_guides:2], out[base + 1:base + 2 * n_guides:2]
+        ux[:] = c * u0[:, 0, None] - s * u0[:, 1, None]
+        uy[:] = s * u0[:, 0, None] + c * u0[:, 1, None]
+        for k, (g, j) in enumerate(plan.p_inputs):
+            out[base + 2 * n_guides + k] = lever_x[j] * uy[g] - lever_y[j] * ux[g]
+    return out
 
 
 def _solve_blocks(plan, features, b):
-    """Back-substitution over the blocks; returns the scaled unknowns x (B, n) and the singular rows."""
-    batch = len(b)
-    x = np.zeros((batch, plan.lay.size))
-    singular = np.zeros(batch, bool)
-    for rows, own, later, table in plan.blocks:
-        r, c, f = (table[:, k].astype(int) for k in range(3))
-        m = np.zeros((batch, len(rows), len(own) + len(later)))
-        m[:, r, c] = features[:, f] * table[:, 3]
-        rhs = b[:, rows]
-        if len(later):
-            rhs = rhs - np.einsum("brc,bc->br", m[:, :, len(own):], x[:, later])
-        x[:, own], ratio = solve_once(m[:, :, :len(own)], rhs)
-        singular |= ~(ratio > 1e-12)
+    """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
+    singular positions (B,)."""
+    x = np.zeros(b.shape)
+    singular = np.zeros(b.shape[1], bool)
+    for blk in plan.blocks:
+        singular |= ~(_solve_block(blk, features, b, x) > 1e-12)
     return x, singular
 
 
 def _right_side(lay, loads, centre, L, batch):
-    b = np.zeros((batch, lay.size))
+    """Right-hand side (n, B), batch last: minus the loads' forces and moments per link."""
+    b = np.zeros((lay.size, batch))
     for ld in loads:
         row = lay.rows.get(ld.link)
         if row is None:
             continue
-        d = ld.point - centre
-        b[:, row] -= ld.force[:, 0]
-        b[:, row + 1] -= ld.force[:, 1]
-        b[:, row + 2] -= (d[:, 0] * ld.force[:, 1] - d[:, 1] * ld.force[:, 0] + ld.moment) / L
+        fx, fy = ld.force[:, 0], ld.force[:, 1]
+        b[row] -= fx
+        b[row + 1] -= fy
+        b[row + 2] -= ((ld.point[:, 0] - centre[0]) * fy - (ld.point[:, 1] - centre[1]) * fx + ld.moment) / L
     return b
 
 
@@ -374,31 +481,32 @@ def _virtual_power(engine, motion, loads, drive):
     """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
     w, v = _virtual_frames(engine, motion)
     r = motion.frames["r"]
-    terms = [load_power(ld, w, v, r) for ld in loads]
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
-    for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
-        terms.append(q * rates[:, motion.joint(inp.joint)])
-    if not terms:
-        return np.zeros(len(motion.phi))
-    terms = np.stack(terms, axis=1)
+    total = np.zeros(len(motion.phi))  # Σ of the terms
+    scale = np.zeros(len(motion.phi))  # what they could be
     # relative to what the loads could do at this position's largest point speed and angular speed, so
     # that a position where most links stand still (an extreme position) is not judged on round-off
     point_v = motion.vq if motion.vq is not None else motion.v
-    vscale = np.linalg.norm(point_v, axis=-1).max(axis=1, initial=0.0)
+    vscale = np.hypot(point_v[..., 0], point_v[..., 1]).max(axis=1, initial=0.0)
     wscale = np.abs(w).max(axis=1)
-    total = np.abs(terms[:, len(loads):]).sum(axis=1)
     for ld in loads:
-        total = total + np.linalg.norm(ld.force, axis=-1) * vscale + np.abs(ld.moment) * wscale
-    return np.abs(terms.sum(axis=1)) / np.where(total > 0, total, 1.0)
+        total += load_power(ld, w, v, r)
+        scale += np.hypot(ld.force[:, 0], ld.force[:, 1]) * vscale + np.abs(ld.moment) * wscale
+    for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
+        term = q * rates[:, motion.joint(inp.joint)]
+        total += term
+        scale += np.abs(term)
+    return np.abs(total) / np.where(scale > 0, scale, 1.0)
 
 
 def _report(engine, lay, x) -> dict:
+    """Reactions as reported, from the unknowns x (n, B)."""
     mech = engine.mech
     out = {}
     for j in mech.joints.values():
         c = lay.cols[j.name]
-        fx, fy = x[:, c], x[:, c + 1]
-        m = x[:, c + 2] if j.kind == "P" else np.zeros(len(x))
+        fx, fy = x[c], x[c + 1]
+        m = x[c + 2] if j.kind == "P" else np.zeros(x.shape[1])
         a, b = j.links
         if b == mech.ground or (j.kind == "R" and a != mech.ground):
             out[j.name] = Reaction(j.name, a, b, -fx, -fy, -m)
@@ -425,12 +533,12 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     b = _right_side(lay, loads, plan.centre, L, batch)
     if batch:
         x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
-        x = x * lay.scale
-        singular |= ~np.all(np.isfinite(x), axis=1)
-        x[singular] = np.nan
+        x *= lay.scale[:, None]
+        singular |= ~np.all(np.isfinite(x), axis=0)
+        x[:, singular] = np.nan
     else:
-        x, singular = np.zeros((0, lay.size)), np.zeros(0, bool)
-    drive = [x[:, c] for c in lay.in_cols]  # on each input joint's second link
+        x, singular = np.zeros((lay.size, 0)), np.zeros(0, bool)
+    drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
     residual = _virtual_power(engine, motion, loads, drive)
     balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}

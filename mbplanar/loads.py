@@ -262,16 +262,20 @@ def world_points(motion, link: int, at) -> np.ndarray:
     """Positions (B, 2) of the material point drawn at `at` (2,) on link index `link`."""
     th, r = motion.frames["th"][:, link], motion.frames["r"][:, link]
     c, s = np.cos(th), np.sin(th)
-    return r + np.stack((c * at[0] - s * at[1], s * at[0] + c * at[1]), axis=-1)
+    out = np.empty(r.shape)
+    out[:, 0] = r[:, 0] + (c * at[0] - s * at[1])
+    out[:, 1] = r[:, 1] + (s * at[0] + c * at[1])
+    return out
 
 
 def load_power(load: LoadValue, w, v, r) -> np.ndarray:
     """Power (B,) of a load for link frame velocities w (B, L), v (B, L, 2) and origins r (B, L, 2):
     F·(v + ω × (point − r)) + M·ω. With the analogues it is the load's reduced moment."""
     k = load.link
-    d = load.point - r[:, k]
-    vel = v[:, k] + w[:, k, None] * np.stack((-d[:, 1], d[:, 0]), axis=-1)
-    return np.einsum("bi,bi->b", load.force, vel) + load.moment * w[:, k]
+    wk = w[:, k]
+    dx, dy = load.point[:, 0] - r[:, k, 0], load.point[:, 1] - r[:, k, 1]
+    return (load.force[:, 0] * (v[:, k, 0] - wk * dy) + load.force[:, 1] * (v[:, k, 1] + wk * dx)
+            + load.moment * wk)
 
 
 def guide_direction(engine, motion, joint: str) -> np.ndarray:
@@ -280,7 +284,10 @@ def guide_direction(engine, motion, joint: str) -> np.ndarray:
     u0 = engine.laws[joint].u0
     th = motion.frames["th"][:, engine.link_index[j.carrier]]
     c, s = np.cos(th), np.sin(th)
-    return np.stack((c * u0[0] - s * u0[1], s * u0[0] + c * u0[1]), axis=-1)
+    out = np.empty(th.shape + (2,))
+    out[:, 0] = c * u0[0] - s * u0[1]
+    out[:, 1] = s * u0[0] + c * u0[1]
+    return out
 
 
 def joint_rate_sign(motion, joint: str) -> np.ndarray:

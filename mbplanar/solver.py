@@ -8,10 +8,12 @@ solves any batch of input values at once (arrays with a batch axis, no loop over
    (second-order predictor from the analytic derivatives, Newton corrector). A step is accepted only when
    Newton converges, the corrector stays close to the predictor and no block's Jacobian determinant
    changes sign; otherwise the step is halved. A step that cannot be made smaller than `H_MIN` marks a
-   motion limit (dead point, lock-up, end of assembly), located to `H_MIN` in the input. The atlas is
-   built once per engine and extended on demand.
-2. Every requested position is predicted from its nearest atlas node (Taylor to second order) and
-   corrected by a batched Newton, block by block; the few that fail a check are walked to individually.
+   motion limit (dead point, lock-up, end of assembly), located to `H_MIN` in the input. The walked
+   nodes are then filled in, one batch solve, to at most `H_DENSE` apart. The atlas is built once per
+   engine and extended on demand.
+2. Every requested position is predicted by the quintic Hermite interpolant of the atlas nodes around it
+   (within the closure tolerance, so Newton usually only confirms it) and corrected by a batched Newton,
+   block by block; the few that fail a check are walked to individually.
 
 Velocities and accelerations come from the same factorised block Jacobians (the analogues are the rates
 for dφ/dt = 1, d²φ/dt² = 0).
@@ -42,6 +44,7 @@ MAX_NEWTON = 14
 H_START = math.radians(6.0)   # first continuation step (relative to the input's scale)
 H_MAX = math.radians(15.0)
 H_MIN = 1e-10
+H_DENSE = math.radians(1.0)   # widest atlas interval the predictor interpolates over (see _Atlas._densify)
 MAX_CORRECTION = 0.05  # largest accepted corrector distance (rad, or lengths / size)
 
 
@@ -342,6 +345,7 @@ class _Atlas:
 
     def cover(self, lo: float, hi: float):
         """Extend the atlas to cover [lo, hi], or up to a motion limit."""
+        grown = False
         for direction, target in ((+1, hi), (-1, lo)):
             start = self.nodes[-1] if direction > 0 else self.nodes[0]
             if self.limits[direction] is not None or direction * (target - start.phi[0]) <= 0:
@@ -349,22 +353,68 @@ class _Atlas:
             new, limit = _walk(self.engine, start, np.array([target]))
             self.limits[direction] = limit
             self.nodes = self.nodes + new if direction > 0 else new[::-1] + self.nodes
-            self._arrays = None
+            self._arrays, grown = None, True
+        if grown:
+            self._densify()
+
+    def _densify(self):
+        """Add nodes, solved in one batch, so that no interval is wider than `H_DENSE` input units: the
+        predictor's error (~h⁶) then stays below the closure tolerance and Newton needs no step."""
+        e = self.engine
+        grid = np.array([n.phi[0] for n in self.nodes])
+        width = H_DENSE * _input_scale(e)[0]
+        parts = np.ceil(np.diff(grid) / width).astype(int)
+        x = np.concatenate([grid[i] + (grid[i + 1] - grid[i]) * np.arange(1, k) / k
+                            for i, k in enumerate(parts) if k > 1] or [np.zeros(0)])
+        if not len(x):
+            return
+        inside = np.ones(len(x), bool)
+        left = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
+        with np.errstate(invalid="ignore", over="ignore"):
+            guesses = _interpolate(grid, self.arrays()[1], x, left, inside)
+        sol = e._solve_batch(x[:, None], guesses)
+        e.rates(sol, np.ones((len(x), 1)), np.zeros((len(x), 1)))
+        signs = e.signs(sol)
+        good = sol.valid & np.all(signs == self.arrays()[2][left], axis=1)
+        for state, g, bp in zip(sol.blocks, guesses, e.blocks):
+            if bp.m:
+                good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= MAX_CORRECTION
+        one = np.ones(1)
+        extra = [_Node(x[i:i + 1], one, [s.q[:, i] for s in sol.blocks], [s.qd[:, i] for s in sol.blocks],
+                       [s.qdd[:, i] for s in sol.blocks], signs[i]) for i in np.flatnonzero(good)]
+        self.nodes = sorted(self.nodes + extra, key=lambda n: n.phi[0])
+        self._arrays = None
 
     _arrays = None
 
     def arrays(self):
-        """φ (K,), per block (q, q', q'') as (K, m) with derivatives along +φ, and signs (K, n_blocks);
-        stacked once per extension of the atlas."""
+        """φ (K,), per block (q, q', q'') as (m, K) with derivatives along +φ and the quintic Hermite
+        coefficients (6, m, K − 1) of every interval, and signs (K, n_blocks); computed once per
+        extension of the atlas."""
         if self._arrays is None:
             phi = np.array([n.phi[0] for n in self.nodes])
+            h = np.diff(phi)
             per_block = []
             for k in range(len(self.engine.blocks)):
-                per_block.append((np.stack([n.q[k] for n in self.nodes]),
-                                  np.stack([n.qd[k] * n.direction[0] for n in self.nodes]),
-                                  np.stack([n.qdd[k] for n in self.nodes])))
+                q = np.stack([n.q[k] for n in self.nodes], axis=1)
+                qd = np.stack([n.qd[k] * n.direction[0] for n in self.nodes], axis=1)
+                qdd = np.stack([n.qdd[k] for n in self.nodes], axis=1)
+                ends = np.stack([q[:, :-1], q[:, 1:], h * qd[:, :-1], h * qd[:, 1:],
+                                 h * h * qdd[:, :-1], h * h * qdd[:, 1:]])  # (6, m, K − 1)
+                per_block.append((q, qd, qdd, np.einsum("ce,emk->cmk", _HERMITE5, ends)))
             self._arrays = phi, per_block, np.stack([n.signs for n in self.nodes])
         return self._arrays
+
+
+# coefficients of t⁰ … t⁵ (rows) of the quintic Hermite interpolant on t ∈ [0, 1] from the end values
+# (q0, q1, h·q0', h·q1', h²·q0'', h²·q1'') (columns)
+_HERMITE5 = np.array([
+    [1, 0, 0, 0, 0, 0],
+    [0, 0, 1, 0, 0, 0],
+    [0, 0, 0, 0, 0.5, 0],
+    [-10, 10, -6, -4, -1.5, 0.5],
+    [15, -15, 8, 7, 1.5, -1],
+    [-6, 6, -3, -3, -0.5, 0.5]], float)
 
 
 @dataclass
@@ -520,34 +570,32 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
 
 def _interpolate(grid, per_block, x, idx, inside):
     """Guess (m, B) of every block's unknowns at x: the quintic Hermite interpolant of q, q', q'' between
-    the two atlas nodes around x (error ~ h⁶, so Newton needs one step), or the Taylor expansion about
-    the nearest node where x is past the last node."""
+    the two atlas nodes around x (error ~ h⁶, below the tolerance on the filled-in atlas), evaluated by
+    Horner's rule from the interval's coefficients, or the Taylor expansion about the nearest node where
+    x is past the last node."""
     if len(grid) == 1:
-        lo = np.zeros(len(x), int)
+        between = np.zeros(len(x), bool)
+        lo, t = np.zeros(len(x), int), np.zeros(len(x))
     else:
         lo = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
-    hi = np.minimum(lo + 1, len(grid) - 1)
-    between = inside & (x >= grid[lo]) & (x <= grid[hi]) & (hi > lo)
-    h = grid[hi] - grid[lo]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.where(between, (x - grid[lo]) / np.where(hi > lo, h, 1.0), 0.0)
-    t2, t3 = t * t, t * t * t
-    t4, t5 = t3 * t, t3 * t2
-    # quintic Hermite basis: values, first and second derivatives at both ends (h, h² folded in)
-    h00 = 1 - 10 * t3 + 15 * t4 - 6 * t5
-    h01 = 1 - h00
-    h10 = h * (t - 6 * t3 + 8 * t4 - 3 * t5)
-    h11 = h * (-4 * t3 + 7 * t4 - 3 * t5)
-    h20 = h * h * 0.5 * (t2 - 3 * t3 + 3 * t4 - t5)
-    h21 = h * h * 0.5 * (t3 - 2 * t4 + t5)
-    dphi = np.where(inside, x - grid[idx], 0.0)
+        left = grid[lo]
+        between = inside & (x >= left) & (x <= grid[lo + 1])
+        t = np.where(between, (x - left) / (grid[lo + 1] - left), 0.0)
+    every = between.all()
+    if not every:
+        dphi = np.where(inside, x - grid[idx], 0.0)
     out = []
-    for q, qd, qdd in per_block:
-        q, qd, qdd = q.T, qd.T, qdd.T  # (m, K)
-        inner = (h00 * q[:, lo] + h01 * q[:, hi] + h10 * qd[:, lo] + h11 * qd[:, hi]
-                 + h20 * qdd[:, lo] + h21 * qdd[:, hi])
-        if not between.all():
-            taylor = q[:, idx] + qd[:, idx] * dphi + 0.5 * qdd[:, idx] * (dphi * dphi)
+    for q, qd, qdd, coef in per_block:
+        if len(grid) > 1:
+            c = coef.take(lo, axis=2)  # (6, m, B)
+            inner = c[5]
+            for k in range(4, -1, -1):
+                inner = inner * t + c[k]
+        else:
+            inner = q.take(lo, axis=1)
+        if not every:
+            taylor = (q.take(idx, axis=1) + qd.take(idx, axis=1) * dphi
+                      + 0.5 * qdd.take(idx, axis=1) * (dphi * dphi))
             inner = np.where(between, inner, taylor)
         out.append(inner)
     return out
