@@ -3,6 +3,7 @@
 import json
 import math
 import random
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +17,8 @@ from mbplanar.errors import ModelError
 from mbplanar.structure import AssurGroup, Structure, decompose, roman
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
+sys.path.insert(0, str(MODELS.parent / "benchmarks"))
+from chains import class4_chain  # noqa: E402  (benchmarks/chains.py: the scaling mechanisms)
 
 
 def links(n):
@@ -480,29 +483,6 @@ def test_group_by_group_equals_global_newton_on_every_model(name):
     assert sum(bp.m > 0 for bp in grouped.blocks) == len(MODEL_STRUCTURES[name][4])
     phi = grouped.phi_drawn[0] + np.radians(np.arange(-180.0, 180.0, 2.0))
     _compare_grouped_with_global(grouped, whole, phi)
-
-
-def class4_chain(k):
-    """A crank and k copies of the class IV group of models/class4_group.toml: copy j + 1 is the model
-    moved so that its crank centre O sits on the pivot C of copy j, and its pin A is a point of copy j's
-    rocker 7 (0.15 m from C, as the model's crank pin from O)."""
-    model = mbplanar.read_model(MODELS / "class4_group.toml")
-    at = {name: np.array(j.at) for name, j in model.joints.items()}
-    m = mbplanar.Mechanism(f"class4_chain{k}")
-    m.add_link("1")
-    m.add_joint("O", "R", "0", "1", at=at["O"])
-    driver, origin = "1", np.zeros(2)
-    for i in range(1, k + 1):
-        for link in "234567":
-            m.add_link(f"{link}_{i}")
-        for name, j in model.joints.items():
-            if name != "O":
-                a, b = (f"{x}_{i}" if x not in ("0", "1") else x for x in j.links)
-                a = driver if a == "1" else a
-                m.add_joint(f"{name}_{i}", "R", a, b, at=origin + at[name])
-        driver, origin = f"7_{i}", origin + at["C"] - at["O"]
-    m.add_input("O")
-    return m
 
 
 def test_class4_chain_is_solved_group_by_group_as_the_global_newton_does():
