@@ -96,27 +96,43 @@ def _check_references(mech: Mechanism):
                                      f"point (with 'at') of link '{p.link}'")
 
 
+def _coincident(names: dict, tol: float) -> dict[str, str]:
+    """Points of one link drawn at the same place (within tol) are one material point: name → the first
+    such name (only for the names that have an earlier twin)."""
+    alias, firsts = {}, []
+    for name, xy in names.items():
+        twin = next((f for f in firsts if math.dist(names[f], xy) <= tol), None)
+        if twin is None:
+            firsts.append(name)
+        else:
+            alias[name] = twin
+    return alias
+
+
 class _Sketch:
     """The assembly problem: unknown vector layout and residuals."""
 
     def __init__(self, mech: Mechanism):
         self.mech = mech
         self.moving = mech.moving_links
+        self.scale = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
+                                   for b in mech.joints.values()])
         self.local: dict[str, dict[str, np.ndarray]] = {}
         self.centroid: dict[str, np.ndarray] = {}
+        self.alias: dict[str, dict[str, str]] = {}
         for link in mech.all_links:
             names = _link_point_names(mech, link)
             self.local[link] = {n: np.array(xy, float) for n, xy in names.items()}
+            self.alias[link] = _coincident(names, 1e-12 * self.scale)
             pts = np.array(list(names.values()) or [(0.0, 0.0)], float)
             self.centroid[link] = pts.mean(axis=0)
-        self.lengths = [(link.name, p, q, value) for link in mech.links.values()
+        self.lengths = [(link.name, self.alias[link.name].get(p, p), self.alias[link.name].get(q, q), value)
+                        for link in mech.links.values()
                         for p, q, value in _resolve_lengths(mech, link, self.local[link.name])]
         shape_points = sorted({(link, p) for link, p, q, _ in self.lengths}
                               | {(link, q) for link, p, q, _ in self.lengths})
         self.shape_index = {key: 3 * len(self.moving) + 2 * k for k, key in enumerate(shape_points)}
         self.size = 3 * len(self.moving) + 2 * len(shape_points)
-        self.scale = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
-                                   for b in mech.joints.values()])
 
     def initial(self) -> np.ndarray:
         x = np.zeros(self.size)
@@ -131,6 +147,7 @@ class _Sketch:
         return x[k:k + 2], x[k + 2]
 
     def local_point(self, x, link, name):
+        name = self.alias[link].get(name, name)
         k = self.shape_index.get((link, name))
         return x[k:k + 2] if k is not None else self.local[link][name]
 

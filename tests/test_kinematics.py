@@ -391,3 +391,58 @@ def test_elliptic_trammel_driven_by_a_slider_stops_at_its_dead_point():
     assert np.abs(motion.xy[:, motion.point("M")] - np.stack([xa / 2, yb / 2], axis=1)).max() < 1e-12
     assert not motion.success and len(motion.limits) == 1
     assert A[0] + motion.limits[0].phi[0] == pytest.approx(L, abs=1e-8)
+
+
+# Andrews' squeezing mechanism (Schiehlen's multibody benchmark; Hairer & Wanner, Solving ODEs II, VII.7):
+# its geometry and the consistent initial angles of the test set, to 30 digits.
+ANDREWS = dict(xa=-0.06934, ya=-0.00227, xb=-0.03635, yb=0.03273, d=28e-3, e=2e-2, rr=7e-3, ss=35e-3,
+               zf=2e-2, zt=4e-2, u=4e-2)
+ANDREWS_START = dict(beta=-0.0617138900142764496358948458001, theta=0.0, gamma=0.455279819163070380255912382449,
+                     phi=0.222668390165885884674473185609, delta=0.487364979543842550225598953530,
+                     omega=-0.222668390165885884674473185609, eps=1.23054744454982119249735015568)
+
+
+def _andrews_points(beta, theta, gamma, phi, delta, omega, eps):
+    """E (from the crank and rod 2), G, H of Andrews' mechanism from its seven angles (the test set's
+    loop equations g1…g6 say that E is also at ss from B, at e from G and at zf from H)."""
+    g = ANDREWS
+    F = g["rr"] * np.array([math.cos(beta), math.sin(beta)])
+    E = F - g["d"] * np.array([math.cos(beta + theta), math.sin(beta + theta)])
+    G = np.array([g["xa"], g["ya"]]) + g["zt"] * np.array([math.cos(delta), math.sin(delta)])
+    H = np.array([g["xa"], g["ya"]]) + g["u"] * np.array([math.sin(eps), -math.cos(eps)])
+    return F, E, G, H
+
+
+def test_andrews_squeezer_assembles_from_a_sketch_to_the_published_consistent_position():
+    """Drawn 1 mm off with the benchmark's lengths, Andrews' mechanism assembles to the test set's
+    consistent initial position, and a full turn of the crank brings it back there."""
+    g, start = ANDREWS, ANDREWS_START
+    F, E, G, H = _andrews_points(**start)
+    A, B = (g["xa"], g["ya"]), (g["xb"], g["yb"])
+    off = np.array([1e-3, -1e-3])
+    m = mbplanar.Mechanism("andrews")
+    m.add_link("1", lengths=(("O", "F", g["rr"]),))
+    m.add_link("2", lengths=(("F", "E3", g["d"]),))
+    m.add_link("3", lengths=(("E3", "B", g["ss"]),))
+    m.add_link("4", lengths=(("E4", "G", g["e"]),))
+    m.add_link("5", lengths=(("G", "A5", g["zt"]),))
+    m.add_link("6", lengths=(("E6", "H", g["zf"]),))
+    m.add_link("7", lengths=(("H", "A7", g["u"]),))
+    m.add_joint("O", "R", "0", "1", at=(0.0, 0.0))
+    m.add_joint("F", "R", "1", "2", at=tuple(F))
+    for name, link in (("E3", "3"), ("E4", "4"), ("E6", "6")):
+        m.add_joint(name, "R", "2", link, at=tuple(E + off))
+    m.add_joint("B", "R", "3", "0", at=B)
+    m.add_joint("G", "R", "4", "5", at=tuple(G - off))
+    m.add_joint("A5", "R", "5", "0", at=A)
+    m.add_joint("H", "R", "6", "7", at=tuple(H + off))
+    m.add_joint("A7", "R", "7", "0", at=A)
+    m.add_input("O", unit="rad", drawn_at=start["beta"])
+    engine = mbplanar.Engine(m)
+    assert engine.topology.structure.formula == "I(0,1) → II(2,3) → II(4,5) → II(6,7)"
+    phi = start["beta"] + np.linspace(0.0, 2 * np.pi, 361)
+    motion = mbplanar.analyse(engine, phi)
+    assert motion.success
+    for name, ref in (("E3", E), ("G", G), ("H", H)):
+        for row in (0, -1):
+            assert np.abs(motion.xy[row, motion.point(name)] - ref).max() < 1e-13, (name, row)
