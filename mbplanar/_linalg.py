@@ -103,6 +103,25 @@ def factor(a: np.ndarray):
     return lu_factor(a)
 
 
+def _swap_pivot_rows(lu, perm, sign, k, p):
+    """Bring row p[b] (B,) to row k in every matrix b: whole rows when the batch shares one pivot row
+    (the usual case, a few contiguous copies), else row by row where p != k."""
+    i = p[0]
+    if (p == i).all():
+        if i != k:
+            lu[[k, i]] = lu[[i, k]]
+            perm[[k, i]] = perm[[i, k]]
+            sign *= -1.0
+        return
+    r = np.flatnonzero(p != k)
+    pk = p[r]
+    row = lu[k][:, r]
+    lu[k][:, r] = lu[pk, :, r].T
+    lu[pk, :, r] = row.T
+    perm[k, r], perm[pk, r] = perm[pk, r], perm[k, r].copy()
+    sign[r] = -sign[r]
+
+
 def lu_factor(a: np.ndarray) -> LU:
     """LU factors of every matrix of `a` (n, n, B) with partial pivoting."""
     lu = np.array(a, dtype=float, copy=True)
@@ -111,15 +130,7 @@ def lu_factor(a: np.ndarray) -> LU:
     sign = np.ones(batch)
     with np.errstate(divide="ignore", invalid="ignore"):
         for k in range(n - 1):
-            p = k + np.argmax(np.abs(lu[k:, k]), axis=0)
-            r = np.flatnonzero(p != k)
-            if len(r):
-                pk = p[r]
-                row = lu[k][:, r]
-                lu[k][:, r] = lu[pk, :, r].T
-                lu[pk, :, r] = row.T
-                perm[k, r], perm[pk, r] = perm[pk, r], perm[k, r].copy()
-                sign[r] = -sign[r]
+            _swap_pivot_rows(lu, perm, sign, k, k + np.argmax(np.abs(lu[k:, k]), axis=0))
             lu[k + 1:, k] /= lu[k, k]
             lu[k + 1:, k + 1:] -= lu[k + 1:, k, None] * lu[k, None, k + 1:]
     return LU(lu, perm, sign)

@@ -150,10 +150,17 @@ def _moving_points(c, s, r, w, v, e, a, links, at, position=True):
     """Position (if asked), velocity and acceleration (2, P, B) of points drawn at `at` (P, 2) on links
     `links` (P,), from the links' cos, sin, w, e (L, B) and frame states r, v, a (2, L, B)."""
     rho = _rotated(c.take(links, 0), s.take(links, 0), at)
-    prho = perp(rho)
     wl, el = w.take(links, 0), e.take(links, 0)
-    vel = v.take(links, 1) + wl * prho
-    acc = a.take(links, 1) + el * prho - (wl * wl) * rho
+    w2 = wl * wl
+    # v + ω·perp(ρ) and a + ε·perp(ρ) − ω²ρ written per component (perp(ρ) = (−ρy, ρx)): the same
+    # floating-point operations without the temporaries
+    vel, acc = v.take(links, 1), a.take(links, 1)
+    vel[0] -= wl * rho[1]
+    vel[1] += wl * rho[0]
+    acc[0] -= el * rho[1]
+    acc[1] += el * rho[0]
+    acc[0] -= w2 * rho[0]
+    acc[1] -= w2 * rho[1]
     return (r.take(links, 1) + rho if position else None), vel, acc
 
 
