@@ -210,10 +210,10 @@ def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
 def _link_states(engine: Engine, sol):
     """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order."""
     names, pose = engine.links, sol.pose
-    th = np.stack([pose.th[n] for n in names])
-    c = np.stack([pose.c[n] for n in names])
-    s = np.stack([pose.s[n] for n in names])
-    r = np.stack([pose.r[n] for n in names], axis=1)
+    th, c, s = (np.empty((len(names), len(sol.phi))) for _ in range(3))
+    r = np.empty((2,) + th.shape)
+    for k, n in enumerate(names):  # row by row: cheaper than np.stack for a small batch
+        th[k], c[k], s[k], r[:, k] = pose.th[n], pose.c[n], pose.s[n], pose.r[n]
     return th, c, s, r
 
 

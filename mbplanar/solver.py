@@ -280,12 +280,18 @@ class Engine:
         for bp, state in zip(self.blocks, sol.blocks):
             state.qd = self._block_rates(bp, state, vel, qd_in)
             state.qdd = self._block_rates(bp, state, acc, qdd_in, vel, state.qd, qd_in)
-        names = self.links
-        sol.w = np.stack([vel.get(n)[0][0] for n in names]).T
-        sol.v = np.stack([vel.get(n)[1][:, 0] for n in names], axis=1).T
-        sol.e = np.stack([acc.get(n)[0][0] for n in names]).T
-        sol.a = np.stack([acc.get(n)[1][:, 0] for n in names], axis=1).T
+        sol.w, sol.v = self._gather_rates(vel, batch)
+        sol.e, sol.a = self._gather_rates(acc, batch)
         return sol
+
+    def _gather_rates(self, rates: Rates, batch):
+        """w (B, L) and v (B, L, 2) of every link, views of arrays (L, B) and (2, L, B) filled row by row
+        (cheaper than np.stack for a small batch)."""
+        w, v = np.empty((len(self.links), batch)), np.empty((2, len(self.links), batch))
+        for k, n in enumerate(self.links):
+            wk, vk = rates.get(n)
+            w[k], v[:, k] = wk[0], vk[:, 0]
+        return w.T, v.T
 
     def _block_rates(self, bp, state, known: Rates, q_in_rate, vel=None, qd_vel=None, q_in_vel=None):
         """Rates of a block's links into `known`: a pass with the unknown rates at zero, then the
