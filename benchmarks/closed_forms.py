@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["FOURBAR", "SLIDER_CRANK", "fourbar", "slider_crank", "fourbar_fsolve", "slider_crank_fsolve"]
+__all__ = ["FOURBAR", "SLIDER_CRANK", "circle_meet", "fourbar", "slider_crank", "fourbar_fsolve",
+           "slider_crank_fsolve"]
 
 # models/fourbar.toml: O = (0, 0), C = (0.3, 0), OA = 0.1, AB = 0.3, CB = 0.25, B above the line AC.
 FOURBAR = dict(a=0.10, b=0.30, c=0.25, xc=0.30, branch=+1.0)
@@ -30,6 +31,17 @@ def _unit(th):
 
 def _perp(v):
     return np.stack((-v[..., 1], v[..., 0]), axis=-1)
+
+
+def circle_meet(P, Q, rp, rq, side):
+    """The point at distance rp from P and rq from Q, on `side` (±1: left/right of P→Q); P, Q (N, 2).
+    The dyad's closed form, used to build test mechanisms dyad after dyad."""
+    d = Q - P
+    dist = np.linalg.norm(d, axis=-1)
+    x = (rp * rp - rq * rq + dist * dist) / (2 * dist)
+    h = np.sqrt(np.maximum(rp * rp - x * x, 0.0))
+    u = d / dist[:, None]
+    return P + x[:, None] * u + side * h[:, None] * _perp(u)
 
 
 def fourbar(phi, omega=1.0, epsilon=0.0, positions_only=False, a=0.10, b=0.30, c=0.25, xc=0.30,

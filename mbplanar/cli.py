@@ -31,6 +31,30 @@ def _finite(x):
     return x if math.isfinite(x) else None
 
 
+def _at_values(text) -> list[float]:
+    """The finite numbers of a comma-separated --at."""
+    try:
+        values = [float(v) for v in str(text).split(",")]
+    except ValueError:
+        values = [math.nan]
+    if not all(math.isfinite(v) for v in values):
+        raise _ArgError("--at needs finite value(s) separated by commas")
+    return values
+
+
+def _write_csv(path, header, rows):
+    """A table as CSV to `path` (standard output when None); non-finite cells are left empty."""
+    out = open(path, "w", newline="", encoding="utf-8") if path else sys.stdout
+    try:
+        writer = csv.writer(out)
+        writer.writerow(header)
+        for row in rows:
+            writer.writerow(["" if not math.isfinite(x) else f"{x:.12g}" for x in row])
+    finally:
+        if path:
+            out.close()
+
+
 def _input_si(engine, value):
     inp = engine.inputs[0]
     return inp.to_si(value)
@@ -146,11 +170,8 @@ def _speeds(engine, phi, args):
 
 def cmd_solve(args):
     engine = _load(args.model)
-    if len(engine.inputs) != 1:
-        values = [float(v) for v in args.at.split(",")]
-    else:
-        values = [float(args.at)]
-    if len(values) != len(engine.inputs) or not all(math.isfinite(v) for v in values):
+    values = _at_values(args.at)
+    if len(values) != len(engine.inputs):
         raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
     phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
@@ -242,24 +263,16 @@ def cmd_sweep(args):
     values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
     inp = engine.inputs[0]
     omega, epsilon, inertia = _speeds(engine, inp.to_si(values), args)
-    if args.input_inertia is None:
-        args.input_inertia = inertia
+    if args.input_inertia is not None:
+        inertia = args.input_inertia
     motion = _motion(engine, inp.to_si(values), omega, epsilon)
     angle_unit = args.angles or ("rad" if inp.unit == "rad" else "deg")
     header, rows = sweep_table(engine, motion, angle_unit)
     forces_failed = None
     if args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech)):
-        f_header, f_rows, forces_failed = forces_table(engine, motion, args.input_inertia)
+        f_header, f_rows, forces_failed = forces_table(engine, motion, inertia)
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
-    out = open(args.output, "w", newline="") if args.output else sys.stdout
-    try:
-        writer = csv.writer(out)
-        writer.writerow(header)
-        for row in rows:
-            writer.writerow(["" if not math.isfinite(x) else f"{x:.12g}" for x in row])
-    finally:
-        if args.output:
-            out.close()
+    _write_csv(args.output, header, rows)
     if forces_failed:
         print(f"mbplanar: {engine.mech.source}: {forces_failed} (their force cells are empty)", file=sys.stderr)
         return 1
@@ -330,19 +343,19 @@ def cmd_forces(args):
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
         raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
-    args.input_inertia = inertia
-    result = kinetostatics(engine, motion, args.input_inertia or 0.0)
+    inertia = inertia or 0.0
+    result = kinetostatics(engine, motion, inertia)
     if not result.success:
         raise MotionError(f"{engine.mech.source}: {result.message}")
     doc = forces_document(engine, motion, result)
     doc["input"]["motion"] = how
-    doc["input"]["input_inertia"] = float(args.input_inertia or 0.0)
+    doc["input"]["input_inertia"] = float(inertia)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
     inp = doc["input"]
     print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
-          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {args.input_inertia or 0:g}; {how})")
+          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {inertia:g}; {how})")
     print(f"{'joint':7s}{'type':>5s}{'on':>5s}{'from':>5s}{'Fx [N]':>13s}{'Fy [N]':>13s}{'|F| [N]':>13s}"
           f"{'dir [°]':>10s}{'M [N·m]':>13s}")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
@@ -427,56 +440,22 @@ def cmd_dynamics(args):
     if spec is None:
         raise _ArgError(f"{engine.mech.source}: the model has no [dynamics] section; give --delta")
     dyn = machine_dynamics(engine, spec, steps=args.steps)
-    at = None
-    if args.at is not None:
-        try:
-            values = [float(v) for v in str(args.at).split(",")]
-        except ValueError:
-            values = [math.nan]
-        if not all(math.isfinite(v) for v in values):
-            raise _ArgError("--at needs finite value(s) separated by commas")
-        at = np.array([_input_si(engine, v) for v in values])
+    at = None if args.at is None else np.array([_input_si(engine, v) for v in _at_values(args.at)])
     doc = dynamics_document(engine, dyn, at)
     if args.output:
-        header, table = dynamics_table(dyn)
-        with open(args.output, "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            w.writerows([[f"{x:.10g}" for x in row] for row in table])
+        _write_csv(args.output, *dynamics_table(dyn))
     if args.json:
         print(json.dumps(doc, indent=2, ensure_ascii=False))
         return 0
-    _print_dynamics(doc)
+    _print_dynamics(engine, dyn, doc)
     return 0
 
 
-def _print_dynamics(doc):
+def _print_dynamics(engine, dyn, doc):
+    from .dynamics import summary
     inp = doc["input"]
-    sim, fw = doc["simulation"], doc["flywheel"]
     print(f"{doc['model']}: machine dynamics over one cycle of {inp['name']} ({doc['steps']} steps)")
-    rows = [("coefficient of speed fluctuation δ", doc["delta_target"], ""),
-            ("mean speed ω_m", doc["omega_mean"], "rad/s"),
-            ("work of the loads per cycle A_c", doc["resistance_work"], "J"),
-            ("driving moment M_dr", doc["driving_moment"], "N·m"),
-            ("ΔT_I max", doc["dT_I_max"], f"J at {inp['name']} = {doc['dT_I_max_at']:.6g} {inp['unit']}"),
-            ("ΔT_I min", doc["dT_I_min"], f"J at {inp['name']} = {doc['dT_I_min_at']:.6g} {inp['unit']}"),
-            ("first-group inertia J_I", doc["inertia_first_group"], "kg·m²"),
-            ("ω min … max", f"{doc['omega_min']:.6g} … {doc['omega_max']:.6g}", "rad/s"),
-            ("ε min … max", f"{doc['epsilon_min']:.6g} … {doc['epsilon_max']:.6g}", "rad/s²")]
-    rows[3:3] = [(f"  of which {kind}", work, "J") for kind, work in doc["work_by_kind"].items()]
-    if sim is not None:
-        rows += [("simulated δ (solve_ivp)", doc["delta_simulated"], sim["message"]),
-                 ("simulated ω min … max", f"{sim['omega_min']:.6g} … {sim['omega_max']:.6g}", "rad/s")]
-    if fw.get("needed"):
-        rows.append((f"flywheel on the {fw['shaft']} shaft J", fw["inertia"],
-                     f"kg·m² (speed ratio {fw['speed_ratio']:.6g})"))
-        rim, disc = fw["rim"], fw["disc"]
-        rows.append(("  rim D2, D1, b, mass", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, "
-                     f"{rim['width']:.5g} m, {rim['mass']:.5g}", "kg"))
-        rows.append(("  disc D, b, mass", f"{disc['diameter']:.5g}, {disc['width']:.5g} m, {disc['mass']:.5g}", "kg"))
-    else:
-        rows.append(("flywheel", "not needed", "(the machine's own inertia is enough)"))
-    for label, value, unit in rows:
+    for label, value, unit in summary(dyn, engine.inputs[0]):
         value = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"  {label:38s} {value:>24s} {unit}")
     for at in doc.get("at", []):

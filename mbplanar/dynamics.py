@@ -47,7 +47,7 @@ from .kinematics import analyse, material_points
 from .loads import centre_of, evaluate_loads, load_power, read_loads
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
-           "reduce", "machine_dynamics", "simulate", "flywheel_sizes"]
+           "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
 
 RHO_STEEL = 7800.0
 _RIM = (0.437, 6123.0)    # D₂ = c·J^(1/5), m = k·(D₂² − D₁²)·b at ρ₀ (course-book constants)
@@ -308,7 +308,7 @@ class Dynamics:
 
     @property
     def dT_I(self):
-        return self.A_total - self.T_II
+        return _energy_change(self.A_c, self.driving_moment, self.phi, self.J_II, self.omega_mean)
 
     @property
     def omega(self):
@@ -320,11 +320,11 @@ class Dynamics:
 
     @property
     def omega_min(self) -> float:
-        return self.omega_mean + (self.dT_I_min - self._dT_mid) / (self.inertia_first_group * self.omega_mean)
+        return self.omega_at(self.dT_I_min)
 
     @property
     def omega_max(self) -> float:
-        return self.omega_mean + (self.dT_I_max - self._dT_mid) / (self.inertia_first_group * self.omega_mean)
+        return self.omega_at(self.dT_I_max)
 
     @property
     def epsilon_min(self) -> float:
@@ -361,7 +361,7 @@ class Dynamics:
         k = np.clip(np.searchsorted(self.phi, cyc, side="right") - 1, 0, len(self.phi) - 2)
         M = red.M_red
         A_c = self.A_c[k] + (cyc - self.phi[k]) * (self.M_red[k] + M) / 2
-        dT = A_c + self.driving_moment * cyc - red.J_II * self.omega_mean ** 2 / 2
+        dT = _energy_change(A_c, self.driving_moment, cyc, red.J_II, self.omega_mean)
         omega = self.omega_at(dT)
         return {"phi": phi, "J_II": red.J_II, "dJ_II": red.dJ_II, "M_red": M, "A_c": A_c, "dT_I": dT,
                 "omega": omega, "epsilon": self.epsilon_at(omega, M, red.J_II, red.dJ_II),
@@ -390,7 +390,7 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     red = reduce(engine, phi)
     A_c = _cumulative_trapezoid(red.M_red, phi)
     M_dr = -A_c[-1] / (2 * math.pi) if spec.driving_moment is None else spec.driving_moment
-    dT = A_c + M_dr * phi - red.J_II * spec.omega_mean ** 2 / 2
+    dT = _energy_change(A_c, M_dr, phi, red.J_II, spec.omega_mean)
     i_max, i_min = int(np.argmax(dT[:-1])), int(np.argmin(dT[:-1]))
     phi_max, dT_max = _parabola_peak(phi, dT, i_max)
     phi_min, dT_min = _parabola_peak(phi, dT, i_min)
@@ -403,6 +403,11 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     if simulate_motion:
         dyn.simulation = simulate(dyn)
     return dyn
+
+
+def _energy_change(A_c, M_dr, phi, J_II, omega_mean):
+    """ΔT_I = A_c + M_dr·φ − J_II·ω_m²/2: the work of loads and drive less the second group's energy."""
+    return A_c + M_dr * phi - J_II * omega_mean ** 2 / 2
 
 
 def _cumulative_trapezoid(y, x):
@@ -452,6 +457,34 @@ def flywheel_sizes(dyn: Dynamics) -> dict:
     return out
 
 
+def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
+    """The results as (quantity, value, unit or note) rows, for the command line and the report;
+    `inp` is the model's input (its name and unit label the positions)."""
+    at = lambda phi: f"at {inp.name} = {inp.from_si(phi):.6g} {inp.unit}"  # noqa: E731
+    rows = [("coefficient of speed fluctuation δ", dyn.spec.delta, ""),
+            ("mean speed ω_m", dyn.omega_mean, "rad/s"),
+            ("work of the loads per cycle A_c(2π)", dyn.resistance_work, "J")]
+    rows += [(f"  of which {kind}", work, "J") for kind, work in dyn.work_by_kind().items()]
+    rows += [("driving moment M_dr = −A_c(2π)/2π", dyn.driving_moment, "N·m"),
+             ("ΔT_I max", dyn.dT_I_max, f"J {at(dyn.phi_dT_max)}"),
+             ("ΔT_I min", dyn.dT_I_min, f"J {at(dyn.phi_dT_min)}"),
+             ("first-group inertia J_I", dyn.inertia_first_group, "kg·m²"),
+             ("ω min … max (energy–mass method)", f"{dyn.omega_min:.6g} … {dyn.omega_max:.6g}", "rad/s"),
+             ("ε min … max", f"{dyn.epsilon_min:.6g} … {dyn.epsilon_max:.6g}", "rad/s²")]
+    sim, fw = dyn.simulation, dyn.flywheel
+    if sim is not None:
+        rows += [("simulated δ (solve_ivp)", sim.delta, sim.message),
+                 ("simulated ω min … max", f"{sim.omega_min:.6g} … {sim.omega_max:.6g}", "rad/s")]
+    if not fw.get("needed"):
+        return rows + [("flywheel", "not needed", "the machine's own inertia is enough")]
+    rim, disc = fw["rim"], fw["disc"]
+    return rows + [
+        (f"flywheel on the {fw['shaft']} shaft J", fw["inertia"], f"kg·m² (speed ratio {fw['speed_ratio']:.6g})"),
+        ("  rim D2, D1, b", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, {rim['width']:.5g}",
+         f"m; mass {rim['mass']:.5g} kg"),
+        ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
+
+
 # -- the exact equation of motion -------------------------------------------------------------------
 def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulation:
     """Integrate (J_I + J_II)·φ̈ + ½·J_II′·φ̇² = M_dr(φ̇) + M_red(φ) over the cycle to its periodic
@@ -474,49 +507,45 @@ def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulati
     h, n = float(phi[1] - phi[0]), len(phi) - 1
     table = [a.tolist() for a in (J_II, dJ, M)]
 
+    def accel(om, j, dj, m):
+        """φ̈ from the equation of motion, for ω and the reduced quantities at φ."""
+        return (M_dr - slope * (om - om_m) + m - 0.5 * dj * om * om) / (J_I + j)
+
     def rhs(x, y):
         om = float(y[0])
         s = (x % period) / h
         i = min(int(s), n - 1)
         t = s - i
         j, dj, m = (a[i] + t * (a[i + 1] - a[i]) for a in table)
-        drive = M_dr - slope * (om - om_m)
-        return [(drive + m - 0.5 * dj * om * om) / ((J_I + j) * om), 1.0 / om]
+        return [accel(om, j, dj, m) / om, 1.0 / om]
 
     def stalled(x, y):
         return y[0] - 1e-6 * om_m
     stalled.terminal = True
 
     def cycle(om0):
+        """ω over the grid, the period, and the error of the periodicity condition, from ω(0) = om0."""
         sol = solve_ivp(rhs, (0.0, period), [om0, 0.0], t_eval=phi, rtol=rtol, atol=1e-12 * om_m,
                         method="RK45", events=stalled)
         if sol.status != 0:
             raise MotionError("the machine stalls: the driving moment cannot carry it through the cycle "
                               f"(ω falls to 0 near φ = {math.degrees(sol.t[-1]):.4g}°)")
-        return sol.y[0], sol.y[1][-1]
-
-    def error(om0):
-        om, _ = cycle(om0)
-        if slope > 0:
-            return om[-1] - om0
-        return (om.max() + om.min()) / 2 - om_m
+        om = sol.y[0]
+        error = om[-1] - om0 if slope > 0 else (om.max() + om.min()) / 2 - om_m
+        return om, sol.y[1][-1], error
 
     x0 = float(dyn.omega_at(dyn.dT_I[0]))
     x1 = x0 * (1 + 1e-3)
-    f0, f1 = error(x0), error(x1)
-    success, message = False, "the periodic motion was not found"
+    f0 = cycle(x0)[2]
+    om, T, f1 = cycle(x1)
+    success = False
     for _ in range(max_iter):
-        if abs(f1) < 1e-7 * om_m:
-            success, message = True, "periodic steady state"
-            break
-        if f1 == f0:
+        success = bool(abs(f1) < 1e-7 * om_m)
+        if success or f1 == f0:
             break
         x0, x1, f0 = x1, x1 - f1 * (x1 - x0) / (f1 - f0), f1
-        f1 = error(x1)
-        if abs(f1) < 1e-7 * om_m:
-            success, message = True, "periodic steady state"
-            break
-    om, T = cycle(x1)
-    eps = (M_dr - slope * (om - om_m) + M - 0.5 * dJ * om * om) / (J_I + J_II)
+        om, T, f1 = cycle(x1)
+    message = "periodic steady state" if success else "the periodic motion was not found"
+    eps = accel(om, J_II, dJ, M)
     lo, hi = float(om.min()), float(om.max())
     return Simulation(om, eps, (hi - lo) / ((hi + lo) / 2), lo, hi, period / T, T, success, message)

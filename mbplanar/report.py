@@ -205,33 +205,13 @@ def _animation_section(engine, ctx):
 
 
 def _flywheel_section(engine, ctx):
-    from .dynamics import machine_dynamics
+    from .dynamics import machine_dynamics, summary
     from .plotting import dynamics_figure
     if engine.mech.extras.get("dynamics") is None:
         return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
     d = machine_dynamics(engine)
     inp = engine.inputs[0]
-    sim, fw = d.simulation, d.flywheel
-    rows = [("coefficient of speed fluctuation δ", d.spec.delta, ""),
-            ("mean speed ω_m", d.omega_mean, "rad/s"),
-            ("work of the loads per cycle A_c(2π)", d.resistance_work, "J"),
-            ("constant driving moment M_dr = −A_c(2π)/2π", d.driving_moment, "N·m"),
-            ("ΔT_I max", d.dT_I_max, f"J at {inp.name} = {inp.from_si(d.phi_dT_max):.6g} {inp.unit}"),
-            ("ΔT_I min", d.dT_I_min, f"J at {inp.name} = {inp.from_si(d.phi_dT_min):.6g} {inp.unit}"),
-            ("first-group inertia J_I", d.inertia_first_group, "kg·m²"),
-            ("ω min, max (energy–mass method)", f"{d.omega_min:.6g}, {d.omega_max:.6g}", "rad/s"),
-            ("ε min, max", f"{d.epsilon_min:.6g}, {d.epsilon_max:.6g}", "rad/s²")]
-    if sim is not None:
-        rows += [("δ of the simulated steady state (solve_ivp)", sim.delta, sim.message),
-                 ("ω min, max (simulated)", f"{sim.omega_min:.6g}, {sim.omega_max:.6g}", "rad/s")]
-    if fw.get("needed"):
-        rows += [(f"flywheel on the {fw['shaft']} shaft", fw["inertia"], f"kg·m², speed ratio {fw['speed_ratio']:.6g}"),
-                 ("rim D₂, D₁, b", ", ".join(f"{fw['rim'][k]:.4g}" for k in ("outer_diameter", "inner_diameter", "width")),
-                  f"m; mass {fw['rim']['mass']:.5g} kg"),
-                 ("disc D, b", f"{fw['disc']['diameter']:.4g}, {fw['disc']['width']:.4g}",
-                  f"m; mass {fw['disc']['mass']:.5g} kg")]
-    else:
-        rows.append(("flywheel", "not needed", "the machine's own inertia is enough"))
+    rows = summary(d, inp)
     state = d.state_at(engine, ctx.table.phi[:, 0])
     head = [f"{inp.name} [{inp.unit}]", "J_II [kg·m²]", "dJ_II/dφ [kg·m²]", "M_red [N·m]", "ΔT_I [J]",
             "ω [rad/s]", "ε [rad/s²]"]

@@ -76,7 +76,7 @@ class BlockPlan:
 class Limit:
     """Where the motion ends along the input: φ (SI), the block at fault, and what happens there."""
 
-    phi: float
+    phi: np.ndarray  # (n_in,) input values (SI)
     direction: int
     links: tuple
     joints: tuple
@@ -537,11 +537,6 @@ def _world(pose: Pose, link: str, at) -> np.ndarray:
     return pose.r[link][:, 0] + pose.rot(link, np.array(at, float))[:, 0]
 
 
-def _at(limit: Limit) -> float:
-    """The (first) input value of a motion limit."""
-    return float(np.atleast_1d(limit.phi)[0])
-
-
 def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     """Batch solve on the drawn branch: predict from the atlas, correct, check, walk the rest."""
     if len(e.inputs) != 1:
@@ -570,7 +565,7 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     # only the limits this batch ran into (the atlas may know limits beyond the range asked for)
     lo, hi = float(x.min()), float(x.max())
     sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1])
-                  if lim is not None and (_at(lim) >= lo if lim.direction < 0 else _at(lim) <= hi)]
+                  if lim is not None and (lim.phi[0] >= lo if lim.direction < 0 else lim.phi[0] <= hi)]
     return sol
 
 

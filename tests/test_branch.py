@@ -3,25 +3,19 @@ on the assembly branch they were drawn in, checked against the closed form with 
 
 import math
 import os
+import sys
+from pathlib import Path
 
 import numpy as np
 
 import mbplanar
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+from closed_forms import circle_meet  # noqa: E402
+
 RNG_SEED = 20240508
 N_EACH = int(os.environ.get("MBPLANAR_BRANCH_N", 500))  # per kind: 1000 mechanisms in all (~60 s)
 STEPS_DEG = (1.0, 10.0, 45.0)
-
-
-def _circle_meet(A, C, b, c, sign):
-    """Point B with |AB| = b, |CB| = c on side `sign` of A→C; A, C (N, 2)."""
-    d = C - A
-    dist = np.linalg.norm(d, axis=-1)
-    x = (b * b - c * c + dist * dist) / (2 * dist)
-    h = np.sqrt(np.maximum(b * b - x * x, 0.0))
-    u = d / dist[:, None]
-    n = np.stack([-u[:, 1], u[:, 0]], axis=-1)
-    return A + x[:, None] * u + sign * h[:, None] * n
 
 
 def _random_crank_rocker(rng):
@@ -39,7 +33,7 @@ def _crank_rocker(rng):
     th0, sign = rng.uniform(0, 2 * math.pi), rng.choice([-1.0, 1.0])
     A = np.array([[a * math.cos(th0), a * math.sin(th0)]])
     C = np.array([[d, 0.0]])
-    B = _circle_meet(A, C, b, c, sign)[0]
+    B = circle_meet(A, C, b, c, sign)[0]
     m = mbplanar.Mechanism("crank-rocker")
     for name in "123":
         m.add_link(name)
@@ -51,7 +45,7 @@ def _crank_rocker(rng):
 
     def closed_form(phi):
         A = a * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-        return _circle_meet(A, np.broadcast_to(C, A.shape), b, c, sign)
+        return circle_meet(A, np.broadcast_to(C, A.shape), b, c, sign)
     return m, th0, "B", closed_form
 
 

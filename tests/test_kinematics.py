@@ -2,6 +2,7 @@
 
 import csv
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +13,8 @@ from mbplanar.kinematics import material_points
 from mbplanar.table import read_model_text
 
 DATA = Path(__file__).resolve().parent / "data"
+sys.path.insert(0, str(DATA.parent.parent / "benchmarks"))
+from closed_forms import circle_meet  # noqa: E402  (the dyad's closed form)
 
 
 def rel(a, b):
@@ -319,16 +322,6 @@ def test_class4_group_with_a_long_crank_stops_at_located_dead_points():
         assert 9.5 < grow[1] / grow[0] < 10.5
 
 
-def _circle_meet(P, Q, rp, rq, side):
-    """The point at rp from P and rq from Q, on `side` (±1) of P→Q; P, Q (N, 2)."""
-    d = Q - P
-    dist = np.linalg.norm(d, axis=-1)
-    x = (rp ** 2 - rq ** 2 + dist ** 2) / (2 * dist)
-    h = np.sqrt(rp ** 2 - x ** 2)
-    u = d / dist[:, None]
-    return P + x[:, None] * u + side * h[:, None] * np.stack([-u[:, 1], u[:, 0]], axis=-1)
-
-
 def test_jansen_linkage_follows_its_circle_construction_over_a_full_turn():
     """Jansen's leg (models/jansen.toml, his holy numbers in cm) against the construction by circle
     intersections, dyad after dyad, on the drawn assembly."""
@@ -339,11 +332,11 @@ def test_jansen_linkage_follows_its_circle_construction_over_a_full_turn():
     cm = 0.01
     A = 15 * cm * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
     P = np.broadcast_to(np.array([-38.0, -7.8]) * cm, A.shape)
-    B = _circle_meet(A, P, 50 * cm, 41.5 * cm, -1)
-    C = _circle_meet(A, P, 61.9 * cm, 39.3 * cm, +1)
-    D = _circle_meet(B, P, 55.8 * cm, 40.1 * cm, -1)
-    E = _circle_meet(D, C, 39.4 * cm, 36.7 * cm, -1)
-    F = _circle_meet(E, C, 65.7 * cm, 49 * cm, -1)
+    B = circle_meet(A, P, 50 * cm, 41.5 * cm, -1)
+    C = circle_meet(A, P, 61.9 * cm, 39.3 * cm, +1)
+    D = circle_meet(B, P, 55.8 * cm, 40.1 * cm, -1)
+    E = circle_meet(D, C, 39.4 * cm, 36.7 * cm, -1)
+    F = circle_meet(E, C, 65.7 * cm, 49 * cm, -1)
     for name, ref in (("B", B), ("C1", C), ("D", D), ("E", E), ("F", F)):
         assert np.abs(motion.xy[:, motion.point(name)] - ref).max() < 1e-11, name
 
