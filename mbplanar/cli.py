@@ -551,6 +551,15 @@ class _ArgError(MbplanarError):
     exit_code = 2
 
 
+def _speed_options(s):
+    """--omega, --epsilon or --true-motion of solve and sweep (see `_speeds`)."""
+    s.add_argument("--omega", type=float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
+    s.add_argument("--epsilon", type=float, help="input acceleration (default 0)")
+    s.add_argument("--true-motion", action="store_true",
+                   help="ω(φ), ε(φ) from the machine dynamics (models with [dynamics]); in a sweep also J_I "
+                        "on the input link in the force columns")
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
@@ -564,10 +573,7 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("solve", help="one position: positions, velocities, accelerations")
     s.add_argument("model")
     s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
-    s.add_argument("--omega", type=float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
-    s.add_argument("--epsilon", type=float, help="input acceleration (default 0)")
-    s.add_argument("--true-motion", action="store_true",
-                   help="ω and ε of the input from the machine dynamics (models with [dynamics])")
+    _speed_options(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_solve)
 
@@ -578,10 +584,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--step", type=float, help="spacing in the model's unit")
     s.add_argument("--from", dest="start", type=float, help="first value (default: the model's sweep)")
     s.add_argument("--to", dest="stop", type=float, help="last value")
-    s.add_argument("--omega", type=float)
-    s.add_argument("--epsilon", type=float)
-    s.add_argument("--true-motion", action="store_true",
-                   help="ω(φ), ε(φ) from the machine dynamics, and J_I on the input link in the force columns")
+    _speed_options(s)
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",

@@ -45,6 +45,7 @@ import numpy as np
 from .errors import ModelError, MotionError
 from .kinematics import analyse, material_points
 from .loads import centre_of, evaluate_loads, load_power, read_loads
+from .table import Row
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
            "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
@@ -78,10 +79,6 @@ class DynamicsSpec:
     flywheel: FlywheelSpec = field(default_factory=FlywheelSpec)
 
 
-_KEYS = {"delta", "omega_mean", "driving_moment", "motor_slope", "flywheel"}
-_FLYWHEEL_KEYS = {"shaft_inertia", "motor_rpm", "motor_inertia", "density"}
-
-
 def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
     """The `[dynamics]` section of a model as a `DynamicsSpec` (None when there is none and no
     `delta` is given); `delta` overrides the model's."""
@@ -90,9 +87,7 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
         return None
     raw = {} if raw is None else raw
     where = f"{mech.source}: dynamics"
-    if not isinstance(raw, dict):
-        raise ModelError(f"{where}: expected a table with delta = ...")
-    _no_unknown(raw, _KEYS, where)
+    row = Row(raw, where)
     if len(mech.inputs) != 1:
         raise ModelError(f"{where}: machine dynamics needs a model with one input, this one has "
                          f"{len(mech.inputs)}")
@@ -101,57 +96,28 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
         raise ModelError(f"{where}: machine dynamics needs a crank (a revolute input joint with the "
                          f"ground); input '{inp.joint}' is not one")
     if delta is None:
-        if "delta" not in raw:
-            raise ModelError(f"{where}: missing 'delta' (the coefficient of speed fluctuation)")
-        delta = raw["delta"]
-    delta = _positive(delta, f"{where}: 'delta'")
-    if delta >= 1:
-        raise ModelError(f"{where}: 'delta' = {delta} must be below 1 (it is (ω_max − ω_min)/ω_m)")
-    omega = _positive(raw.get("omega_mean", inp.omega), f"{where}: 'omega_mean' (or the input's omega)")
-    driving = raw.get("driving_moment")
-    driving = None if driving is None else _finite(driving, f"{where}: 'driving_moment'")
-    slope = _finite(raw.get("motor_slope", 0.0), f"{where}: 'motor_slope'")
+        delta = row.number("delta", required=True, positive=True)
+    row.used.add("delta")
+    if not 0 < delta < 1:
+        row.fail(f"'delta' = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)")
+    omega = row.number("omega_mean", inp.omega, positive=True)
+    if not omega > 0:
+        row.fail(f"the mean speed (the input's omega = {omega}) must be positive")
+    driving = row.number("driving_moment")
+    slope = row.number("motor_slope", 0.0)
     if slope < 0:
-        raise ModelError(f"{where}: 'motor_slope' must be >= 0 (a motor gives less moment when faster)")
-    fly = raw.get("flywheel", {})
-    fwhere = f"{where}.flywheel"
-    if not isinstance(fly, dict):
-        raise ModelError(f"{fwhere}: expected a table")
-    _no_unknown(fly, _FLYWHEEL_KEYS, fwhere)
-    rpm = fly.get("motor_rpm")
-    flywheel = FlywheelSpec(
-        shaft_inertia=_non_negative(fly.get("shaft_inertia", 0.0), f"{fwhere}: 'shaft_inertia'"),
-        motor_rpm=None if rpm is None else _positive(rpm, f"{fwhere}: 'motor_rpm'"),
-        motor_inertia=_non_negative(fly.get("motor_inertia", 0.0), f"{fwhere}: 'motor_inertia'"),
-        density=_positive(fly.get("density", RHO_STEEL), f"{fwhere}: 'density'"))
+        row.fail("'motor_slope' must be >= 0 (a motor gives less moment when faster)")
+    fly = Row(raw.get("flywheel", {}), f"{where}.flywheel")
+    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0),
+                            motor_rpm=fly.number("motor_rpm", positive=True),
+                            motor_inertia=fly.number("motor_inertia", 0.0),
+                            density=fly.number("density", RHO_STEEL, positive=True))
+    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
+        fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")
+    row.used.add("flywheel")
+    row.check_unknown_keys()
+    fly.check_unknown_keys()
     return DynamicsSpec(delta, omega, driving, slope, flywheel)
-
-
-def _no_unknown(raw, keys, where):
-    unknown = set(raw) - keys
-    if unknown:
-        raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))} "
-                         f"(known: {', '.join(sorted(keys))})")
-
-
-def _finite(value, where) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ModelError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
-
-
-def _positive(value, where) -> float:
-    value = _finite(value, where)
-    if value <= 0:
-        raise ModelError(f"{where} must be > 0, got {value!r}")
-    return value
-
-
-def _non_negative(value, where) -> float:
-    value = _finite(value, where)
-    if value < 0:
-        raise ModelError(f"{where} must be >= 0, got {value!r}")
-    return value
 
 
 # -- reduction to the crank -------------------------------------------------------------------------

@@ -41,7 +41,7 @@ def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     return parse_model(data, source=source)
 
 
-class _Row:
+class Row:
     """Typed access to one table row, with errors that name the file and row."""
 
     def __init__(self, data, where: str):
@@ -127,7 +127,7 @@ def _rows(data, key, source) -> list:
 
 def parse_model(data: dict, source: str = "<table>") -> Mechanism:
     """Build a `Mechanism` from the parsed TOML document `data`."""
-    top = _Row(data, source)
+    top = Row(data, source)
     unit_name = top.text("length_unit", "m")
     if unit_name not in _LENGTH_UNITS:
         top.fail(f"length_unit must be one of {', '.join(_LENGTH_UNITS)}, got '{unit_name}'")
@@ -152,7 +152,7 @@ _EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "plot", "description"}
 
 def _read_links(mech: Mechanism, rows, unit):
     for i, raw in enumerate(rows):
-        row = _Row(raw, f"{mech.source}: links[{i}]")
+        row = Row(raw, f"{mech.source}: links[{i}]")
         name = row.text("name", required=True)
         row.where = f"{mech.source}: links[{i}] '{name}'"
         lengths = []
@@ -192,7 +192,7 @@ def _read_joints(mech: Mechanism, rows, unit):
     if not rows:
         raise ModelError(f"{mech.source}: no joints (a 'joints' list of pairs is required)")
     for i, raw in enumerate(rows):
-        row = _Row(raw, f"{mech.source}: joints[{i}]")
+        row = Row(raw, f"{mech.source}: joints[{i}]")
         name = row.text("name", required=True)
         row.where = f"{mech.source}: joints[{i}] '{name}'"
         kind = (row.text("type", required=True) or "").upper()
@@ -233,7 +233,7 @@ def _read_joints(mech: Mechanism, rows, unit):
 
 def _read_points(mech: Mechanism, rows, unit):
     for i, raw in enumerate(rows):
-        row = _Row(raw, f"{mech.source}: points[{i}]")
+        row = Row(raw, f"{mech.source}: points[{i}]")
         name = row.text("name", required=True)
         row.where = f"{mech.source}: points[{i}] '{name}'"
         link = row.text("link", required=True)
@@ -258,7 +258,7 @@ def _read_points(mech: Mechanism, rows, unit):
             row.fail(str(exc).split(": ", 1)[-1])
 
 
-def _steps(row: _Row) -> int | None:
+def _steps(row: Row) -> int | None:
     steps = row.number("steps")
     if steps is not None and (steps != int(steps) or steps < 1):
         row.fail(f"steps must be a whole number ≥ 1, got {steps:g}")
@@ -276,7 +276,7 @@ def _read_inputs(mech: Mechanism, data, source, unit):
     if not rows:
         raise ModelError(f"{source}: no input: add an [input] table naming the driving joint")
     for i, raw in enumerate(rows):
-        row = _Row(raw, f"{source}: inputs[{i}]")
+        row = Row(raw, f"{source}: inputs[{i}]")
         joint_name = row.text("joint", required=True)
         row.where = f"{source}: inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
