@@ -1,10 +1,18 @@
-"""Shared fixtures: model paths and engines built once per session."""
+"""Shared fixtures: model paths and engines built once per session; hypothesis profiles."""
 
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 import mbplanar
+
+# "ci" (the default): the same examples on every run, so that a red CI is a real regression and can be
+# replayed; HYPOTHESIS_PROFILE=explore draws new examples on every run, for hunting bugs locally.
+settings.register_profile("ci", derandomize=True, database=None)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 
