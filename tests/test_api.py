@@ -1,10 +1,13 @@
 """The public API of `mbplanar/__init__.py`: every name in __all__ exists, and the README's Python
 example runs through structure, check, kinetostatics and dynamics with the top-level names only."""
 
+from pathlib import Path
+
 import numpy as np
 
 import mbplanar
-from conftest import MODELS
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
 
 
 def test_every_public_name_exists():
