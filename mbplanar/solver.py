@@ -46,6 +46,14 @@ H_MAX = math.radians(15.0)
 H_MIN = 1e-10
 H_DENSE = math.radians(1.0)   # widest atlas interval the predictor interpolates over (see _Atlas._densify)
 MAX_CORRECTION = 0.05  # largest accepted corrector distance (rad, or lengths / size)
+RATE_JUMP = 0.25       # largest accepted change of the unknowns' derivatives against their prediction,
+                       # relative to 1 + |q'|: a larger one means the corrector found another branch
+H_CROSS = 2e-2         # widest step across a change point (relative to the input's scale); the nodes
+                       # that bracket it are half of it away, where the Jacobian is still well enough
+                       # conditioned for rates to ~1e-12
+CROSS_DIST = 1e-6      # largest corrector distance of a step across a change point
+PIVOT_POLISH = 0.05    # below this pivot ratio a converged position gets one more Newton step
+PIVOT_CROSS = 1e-9     # nodes on either side of a change point must be at least this far from singular
 
 
 @dataclass
@@ -84,6 +92,19 @@ class Limit:
 
 
 @dataclass
+class Crossing:
+    """A change point on the branch: a block's Jacobian is singular there, but the branch goes on
+    smoothly through it (another assembly branch crosses it, e.g. the parallelogram four-bar with all
+    links in line). φ (SI) is located by the sign change of the block's determinant; `bracket` holds the
+    atlas nodes on either side, whose interpolant gives the rates at and near the change point."""
+
+    phi: np.ndarray  # (n_in,)
+    links: tuple
+    joints: tuple
+    bracket: tuple = (None, None)
+
+
+@dataclass
 class BlockState:
     """A solved block: unknowns q (m, B), their factorised Jacobian, the joint caches for the rate passes,
     the sensitivities of the links' rates to the unknowns, and (after `rates`) qd, qdd (m, B)."""
@@ -112,6 +133,8 @@ class Solution:
     blocks: list
     valid: np.ndarray
     limits: list = field(default_factory=list)
+    crossings: list = field(default_factory=list)
+    given_rates: tuple | None = None  # (rows, per block q', q'' (m, R) along +φ) near change points
     w: np.ndarray | None = None
     v: np.ndarray | None = None
     e: np.ndarray | None = None
@@ -229,6 +252,7 @@ class Engine:
 
     def _newton(self, bp: BlockPlan, pose: Pose, q, q_in) -> BlockState:
         batch = pose.batch
+        polished = False
         for it in range(MAX_NEWTON + 1):
             caches, cut_caches, res = self._block_pose(bp, pose, q, q_in)
             if bp.m == 0:
@@ -238,11 +262,19 @@ class Engine:
             jac, sens = self._block_jacobian(bp, caches, cut_caches, batch)
             lu = factor(jac)
             ok = err < TOL
-            if ok.all() or it == MAX_NEWTON:
+            fine = err < TOL_FINE
+            if ok.all() and not polished:
+                # near a singular position a residual of TOL still leaves an error of TOL / (smallest
+                # pivot) along the singular direction: one more step there, to the rounding floor
+                polished = True
+                fine = (lu.pivot_ratio >= PIVOT_POLISH) | (lu.pivot_ratio < PIVOT_CROSS * 1e3)
+                if fine.all():
+                    break
+            elif ok.all() or it == MAX_NEWTON:
                 break
             with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
                 step = lu.solve(-res)
-            step[:, err < TOL_FINE] = 0.0
+            step[:, fine] = 0.0
             step[~np.isfinite(step)] = 0.0
             q = q + step
         ok &= np.isfinite(err)
@@ -261,12 +293,25 @@ class Engine:
             valid &= state.ok
         return Solution(phi, pose, states, valid)
 
-    def signs(self, sol: Solution) -> np.ndarray:
-        """Sign of each block's Jacobian determinant (B, n_blocks): constant along a branch."""
+    def dets(self, sol: Solution) -> np.ndarray:
+        """Each block's Jacobian determinant (B, n_blocks); 1 for a block without unknowns."""
         out = np.ones((len(sol.phi), len(self.blocks)))
         for k, state in enumerate(sol.blocks):
             if state.lu is not None:
-                out[:, k] = np.sign(state.lu.det)
+                out[:, k] = state.lu.det
+        return out
+
+    def signs(self, sol: Solution) -> np.ndarray:
+        """Sign of each block's Jacobian determinant (B, n_blocks): constant along a branch, except
+        across a change point."""
+        return np.sign(self.dets(sol))
+
+    def pivots(self, sol: Solution) -> np.ndarray:
+        """Smallest pivot ratio over the blocks (B,): near 0 at a singular position."""
+        out = np.ones(len(sol.phi))
+        for state in sol.blocks:
+            if state.lu is not None:
+                out = np.minimum(out, state.lu.pivot_ratio)
         return out
 
     def rates(self, sol: Solution, phi_rate, phi_accel) -> Solution:
@@ -277,9 +322,15 @@ class Engine:
         qd_in = senses * np.broadcast_to(phi_rate, (batch, len(self.inputs))).T
         qdd_in = senses * np.broadcast_to(phi_accel, (batch, len(self.inputs))).T
         vel, acc = Rates(batch, 1), Rates(batch, 1)
-        for bp, state in zip(self.blocks, sol.blocks):
-            state.qd = self._block_rates(bp, state, vel, qd_in)
-            state.qdd = self._block_rates(bp, state, acc, qdd_in, vel, state.qd, qd_in)
+        given = [(None, None)] * len(self.blocks)
+        if sol.given_rates is not None:  # at a change point the Jacobian cannot give the rates
+            rows, per_block = sol.given_rates
+            om = np.broadcast_to(phi_rate, (batch, len(self.inputs)))[rows, 0]
+            ep = np.broadcast_to(phi_accel, (batch, len(self.inputs)))[rows, 0]
+            given = [((rows, qd * om), (rows, qdd * (om * om) + qd * ep)) for qd, qdd in per_block]
+        for bp, state, (g_vel, g_acc) in zip(self.blocks, sol.blocks, given):
+            state.qd = self._block_rates(bp, state, vel, qd_in, given=g_vel)
+            state.qdd = self._block_rates(bp, state, acc, qdd_in, vel, state.qd, qd_in, given=g_acc)
         sol.w, sol.v = self._gather_rates(vel, batch)
         sol.e, sol.a = self._gather_rates(acc, batch)
         return sol
@@ -293,10 +344,12 @@ class Engine:
             w[k], v[:, k] = wk[0], vk[:, 0]
         return w.T, v.T
 
-    def _block_rates(self, bp, state, known: Rates, q_in_rate, vel=None, qd_vel=None, q_in_vel=None):
+    def _block_rates(self, bp, state, known: Rates, q_in_rate, vel=None, qd_vel=None, q_in_vel=None,
+                     given=None):
         """Rates of a block's links into `known`: a pass with the unknown rates at zero, then the
         Jacobian solve and the correction by the sensitivities. With `vel` (the velocities, and the tree
-        variables' velocities qd_vel, q_in_vel) it computes accelerations. Returns the unknowns' rates."""
+        variables' velocities qd_vel, q_in_vel) it computes accelerations. `given` = (rows, values (m, R))
+        replaces the solve at those rows. Returns the unknowns' rates."""
         batch = q_in_rate.shape[1]
         zero = np.zeros((1, batch))
         for st, cache in zip(bp.steps, state.caches):
@@ -313,6 +366,8 @@ class Engine:
                               zip(bp.cuts, state.cut_caches)])
         with np.errstate(invalid="ignore", divide="ignore"):
             qd_u = state.lu.solve(-rhs)
+        if given is not None and len(given[0]):
+            qd_u[:, given[0]] = given[1]
         for link in bp.links:
             w, v = known.get(link)
             sw, sv = state.sens.w[link], state.sens.v[link]
@@ -348,6 +403,7 @@ class _Atlas:
         self.engine = engine
         self.nodes = [_origin(engine, np.ones(1))]
         self.limits = {+1: None, -1: None}
+        self.crossings = []
 
     def cover(self, lo: float, hi: float):
         """Extend the atlas to cover [lo, hi], or up to a motion limit."""
@@ -356,8 +412,9 @@ class _Atlas:
             start = self.nodes[-1] if direction > 0 else self.nodes[0]
             if self.limits[direction] is not None or direction * (target - start.phi[0]) <= 0:
                 continue
-            new, limit = _walk(self.engine, start, np.array([target]))
+            new, limit, crossings = _walk(self.engine, start, np.array([target]))
             self.limits[direction] = limit
+            self.crossings = sorted(self.crossings + crossings, key=lambda c: c.phi[0])
             self.nodes = self.nodes + new if direction > 0 else new[::-1] + self.nodes
             self._arrays, grown = None, True
         if grown:
@@ -372,6 +429,7 @@ class _Atlas:
         parts = np.ceil(np.diff(grid) / width).astype(int)
         x = np.concatenate([grid[i] + (grid[i + 1] - grid[i]) * np.arange(1, k) / k
                             for i, k in enumerate(parts) if k > 1] or [np.zeros(0)])
+        x = x[~_in_brackets(self.crossings, x)]  # nothing between the two nodes around a change point
         if not len(x):
             return
         inside = np.ones(len(x), bool)
@@ -380,14 +438,15 @@ class _Atlas:
             guesses = _interpolate(grid, self.arrays()[1], x, left, inside)
         sol = e._solve_batch(x[:, None], guesses)
         e.rates(sol, np.ones((len(x), 1)), np.zeros((len(x), 1)))
-        signs = e.signs(sol)
-        good = sol.valid & np.all(signs == self.arrays()[2][left], axis=1)
+        dets, pivots = e.dets(sol), e.pivots(sol)
+        good = sol.valid & (pivots >= PIVOT_CROSS) & np.all(np.sign(dets) == self.arrays()[2][left], axis=1)
         for state, g, bp in zip(sol.blocks, guesses, e.blocks):
             if bp.m:
                 good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= MAX_CORRECTION
         one = np.ones(1)
         extra = [_Node(x[i:i + 1], one, [s.q[:, i] for s in sol.blocks], [s.qd[:, i] for s in sol.blocks],
-                       [s.qdd[:, i] for s in sol.blocks], signs[i]) for i in np.flatnonzero(good)]
+                       [s.qdd[:, i] for s in sol.blocks], dets[i], float(pivots[i]))
+                 for i in np.flatnonzero(good)]
         self.nodes = sorted(self.nodes + extra, key=lambda n: n.phi[0])
         self._arrays = None
 
@@ -403,8 +462,9 @@ class _Atlas:
             per_block = []
             for k in range(len(self.engine.blocks)):
                 q = np.stack([n.q[k] for n in self.nodes], axis=1)
-                qd = np.stack([n.qd[k] * n.direction[0] for n in self.nodes], axis=1)
-                qdd = np.stack([n.qdd[k] for n in self.nodes], axis=1)
+                # a node's derivatives are along its walking direction: dφ/ds = direction
+                qd = np.stack([n.qd[k] / n.direction[0] for n in self.nodes], axis=1)
+                qdd = np.stack([n.qdd[k] / n.direction[0] ** 2 for n in self.nodes], axis=1)
                 ends = np.stack([q[:, :-1], q[:, 1:], h * qd[:, :-1], h * qd[:, 1:],
                                  h * h * qdd[:, :-1], h * h * qdd[:, 1:]])  # (6, m, K − 1)
                 per_block.append((q, qd, qdd, np.einsum("ce,emk->cmk", _HERMITE5, ends)))
@@ -432,7 +492,12 @@ class _Node:
     q: list
     qd: list
     qdd: list
-    signs: np.ndarray
+    dets: np.ndarray
+    pivot: float = 1.0
+
+    @property
+    def signs(self) -> np.ndarray:
+        return np.sign(self.dets)
 
 
 def _node_at(e: Engine, phi: np.ndarray, direction: np.ndarray, guesses) -> _Node | None:
@@ -441,13 +506,19 @@ def _node_at(e: Engine, phi: np.ndarray, direction: np.ndarray, guesses) -> _Nod
         return None
     e.rates(sol, direction[None, :], np.zeros((1, len(e.inputs))))
     return _Node(phi.copy(), direction, [s.q[:, 0] for s in sol.blocks], [s.qd[:, 0] for s in sol.blocks],
-                 [s.qdd[:, 0] for s in sol.blocks], e.signs(sol)[0])
+                 [s.qdd[:, 0] for s in sol.blocks], e.dets(sol)[0], float(e.pivots(sol)[0]))
 
 
 def _origin(e: Engine, direction) -> _Node:
     node = _node_at(e, e.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in e.blocks])
     if node is None:
         raise MotionError(f"{e.mech.source}: the drawn pose does not close: it cannot be assembled")
+    if node.pivot < PIVOT_CROSS:
+        k = int(np.argmin(np.abs(node.dets)))
+        raise MotionError(f"{e.mech.source}: the drawn pose is a singular position of the group of links "
+                          f"{', '.join(e.blocks[k].links)} (links in line: a dead point or a change "
+                          "point), where the assembly branch is ambiguous; draw the mechanism in another "
+                          "position")
     return node
 
 
@@ -456,13 +527,33 @@ def _predict(node: _Node, s: float):
     return [(q + qd * s + 0.5 * qdd * s * s)[:, None] for q, qd, qdd in zip(node.q, node.qd, node.qdd)]
 
 
-def _accept(e: Engine, node: _Node, new: _Node | None, guesses) -> tuple[bool, float]:
-    """A step is kept when it converged on the same branch, close to its prediction."""
-    if new is None or not np.array_equal(new.signs, node.signs):
-        return False, math.inf
+def _accept(e: Engine, node: _Node, new: _Node | None, guesses, h: float) -> tuple[str, float]:
+    """Verdict on a step of length h from `node`: "ok" when it converged on the same branch, close to
+    its prediction in position and in derivatives; "cross" when it went smoothly through a change point
+    (a determinant changed sign, but positions and derivatives follow the prediction closely, which the
+    other branch crossing there does not, and a dead point has no solution beyond it); else "reject"."""
+    if new is None or new.pivot < PIVOT_CROSS:  # no node on a singular position: its rates are unknown
+        return "reject", math.inf
     dist = max([np.max(np.abs(q - g[:, 0]) * bp.var_scale, initial=0.0)
                 for q, g, bp in zip(new.q, guesses, e.blocks)] + [0.0])
-    return dist <= MAX_CORRECTION, dist
+    if dist > MAX_CORRECTION or _rate_jump(e, node, new, h) > RATE_JUMP:
+        return "reject", dist
+    if np.array_equal(new.signs, node.signs):
+        return "ok", dist
+    if h <= H_CROSS and dist <= CROSS_DIST and min(node.pivot, new.pivot) >= PIVOT_CROSS:
+        return "cross", dist
+    return "reject", dist
+
+
+def _rate_jump(e: Engine, node: _Node, new: _Node, h: float) -> float:
+    """Largest change of the unknowns' derivatives from `node` to `new` against the Taylor prediction,
+    relative to 1 + |q'| (scaled unknowns)."""
+    worst = 0.0
+    for qd, qdd, qd_new, bp in zip(node.qd, node.qdd, new.qd, e.blocks):
+        if bp.m:
+            err = np.abs(qd_new - qd - qdd * h) * bp.var_scale / (1.0 + np.abs(qd) * bp.var_scale)
+            worst = max(worst, float(np.max(err)) if np.all(np.isfinite(err)) else math.inf)
+    return worst
 
 
 def _input_scale(e: Engine) -> np.ndarray:
@@ -470,25 +561,44 @@ def _input_scale(e: Engine) -> np.ndarray:
     return np.array([1.0 if e.mech.joints[i.joint].kind == "R" else e.size for i in e.inputs])
 
 
-def _walk(e: Engine, start: _Node, target: np.ndarray):
+def _walk(e: Engine, start: _Node, target: np.ndarray, overshoot: bool = True):
     """Continuation on the straight segment from `start` to `target` in input space.
-    Returns the new nodes (the last at `target` unless a limit stops it) and a `Limit` or None."""
+    Returns the new nodes (the last at `target` unless a limit stops it, or a little past it when the
+    target is a change point and `overshoot`), a `Limit` or None, and the change points passed."""
     span = target - start.phi
     scale = float(np.max(np.abs(span) / _input_scale(e)))
     if scale == 0:
-        return [], None
+        return [], None, []
     direction = span / scale  # one unit of s moves the inputs by one natural unit at most
     node = start
     if not np.array_equal(node.direction, direction):
         node = _node_at(e, start.phi, direction, [q[:, None] for q in start.q])
-    nodes, s, h = [], 0.0, H_START
+    nodes, crossings, s, h = [], [], 0.0, H_START
     while s < scale:
         h_try = min(h, scale - s)
         guesses = _predict(node, h_try)
         phi = start.phi + direction * (s + h_try) if s + h_try < scale else target.astype(float)
         new = _node_at(e, phi, direction, guesses)
-        ok, dist = _accept(e, node, new, guesses)
-        if ok:
+        if new is not None and new.pivot < PIVOT_CROSS and s + h_try >= scale and overshoot:
+            # the target is a change point itself: go a little past it, so that nodes bracket it
+            scale, overshoot = scale + H_CROSS, False
+            target = start.phi + direction * scale
+            continue
+        verdict, dist = _accept(e, node, new, guesses, h_try)
+        if verdict == "cross":
+            bracket = _bracket(e, start, node, new, direction)
+            if bracket is not None:
+                crossing, before, after = bracket
+                crossings.append(crossing)
+                s_before = _along(before, start.phi, direction)
+                nodes = [n for n in nodes if _along(n, start.phi, direction) < s_before]
+                nodes += [before, after] if before is not start else [after]
+                node, s = after, _along(after, start.phi, direction)
+                if s > scale:  # the target lay between the bracketing nodes
+                    scale, target = s, after.phi.copy()
+                continue
+            verdict = "reject"
+        if verdict == "ok":
             nodes.append(new)
             node, s = new, s + h_try
             if dist < 0.1 * MAX_CORRECTION:
@@ -496,8 +606,45 @@ def _walk(e: Engine, start: _Node, target: np.ndarray):
             continue
         h = h_try / 2
         if h < H_MIN:
-            return nodes, _limit(e, node, direction, h_try)
-    return nodes, None
+            return nodes, _limit(e, node, direction, h_try), crossings
+    return nodes, None, crossings
+
+
+def _along(node: _Node, origin: np.ndarray, direction: np.ndarray) -> float:
+    """Distance s of a node along a walk from `origin` in `direction`."""
+    k = int(np.argmax(np.abs(direction)))
+    return float((node.phi[k] - origin[k]) / direction[k])
+
+
+def _bracket(e: Engine, start: _Node, node: _Node, new: _Node, direction: np.ndarray):
+    """Nodes on either side of the change point between `node` and `new`, half of `H_CROSS` away from
+    it (so that both are well conditioned and the interpolant between them gives the rates at the
+    change point; the walk's start node serves as the first when it is nearer), or None when they do
+    not converge on the branch. The change point is located by the secant on the block's determinant,
+    linear in φ near a simple change point. Returns (Crossing, before, after)."""
+    origin = start.phi
+    k = int(np.flatnonzero(node.signs != new.signs)[0])
+    s0, s1 = _along(node, origin, direction), _along(new, origin, direction)
+    s_c = s0 + (s1 - s0) * node.dets[k] / (node.dets[k] - new.dets[k])
+    half = 0.5 * H_CROSS
+    sides = []
+    for s_side in (s_c - half, s_c + half):
+        if s_side <= 0:
+            sides.append(start)
+            continue
+        guesses = _predict(node, s_side - s0)
+        side = _node_at(e, origin + direction * s_side, direction, guesses)
+        verdict, dist = ("reject", math.inf) if side is None else _accept(e, node, side, guesses, s_side - s0)
+        if side is None or side.pivot < PIVOT_CROSS or dist > CROSS_DIST or verdict == "reject":
+            return None
+        sides.append(side)
+    before, after = sides
+    if not (np.array_equal(before.signs, node.signs) and np.array_equal(after.signs, new.signs)):
+        return None
+    bp = e.blocks[k]
+    joints = tuple(st.law.name for st in bp.steps) + tuple(law.name for law in bp.cuts)
+    lo, hi = sorted((before.phi[0], after.phi[0]))
+    return Crossing(origin + direction * s_c, bp.links, joints, (lo, hi)), before, after
 
 
 def _limit(e: Engine, node: _Node, direction: np.ndarray, h: float) -> Limit:
@@ -554,11 +701,16 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     with np.errstate(invalid="ignore", over="ignore"):
         guesses = _interpolate(nodes_phi, per_block, x, idx, inside)
     sol = e._solve_batch(phi, guesses)
-    good = sol.valid & inside & np.all(e.signs(sol) == node_signs[idx], axis=1)
+    at_crossing = _in_brackets(atlas.crossings, x) & inside
+    good = sol.valid & inside & (np.all(e.signs(sol) == node_signs[idx], axis=1) | at_crossing)
     for state, g, bp in zip(sol.blocks, guesses, e.blocks):
         if bp.m:
-            good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= MAX_CORRECTION
-    retry = np.flatnonzero(~good & inside)
+            dist = np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0)
+            good &= (dist <= MAX_CORRECTION) & ((dist <= CROSS_DIST) | ~at_crossing)
+    if at_crossing.any():
+        rows = np.flatnonzero(at_crossing)
+        sol.given_rates = (rows, _hermite_rates(nodes_phi, per_block, x[rows]))
+    retry = np.flatnonzero(~good & inside & ~at_crossing)
     if len(retry):
         good[retry] = _repair(e, sol, retry, idx, atlas)
     sol.valid = good
@@ -566,7 +718,32 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     lo, hi = float(x.min()), float(x.max())
     sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1])
                   if lim is not None and (lim.phi[0] >= lo if lim.direction < 0 else lim.phi[0] <= hi)]
+    sol.crossings = [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
     return sol
+
+
+def _in_brackets(crossings: list, x: np.ndarray) -> np.ndarray:
+    """Which of x (B,) lie between the atlas nodes on either side of a change point."""
+    out = np.zeros(len(x), bool)
+    for c in crossings:
+        out |= (x >= c.bracket[0]) & (x <= c.bracket[1])
+    return out
+
+
+def _hermite_rates(grid, per_block, x):
+    """q' and q'' (m, R) of every block at x from the derivatives of the atlas' quintic Hermite
+    interpolant: the rates at and near a change point, where the Jacobian is singular. The nodes on
+    either side are at most `H_CROSS` apart, so the interpolant's error there is ~1e-15."""
+    lo = np.clip(np.searchsorted(grid, x) - 1, 0, len(grid) - 2)
+    width = grid[lo + 1] - grid[lo]
+    t = (x - grid[lo]) / width
+    out = []
+    for _, _, _, coef in per_block:
+        c = coef.take(lo, axis=2)  # (6, m, R)
+        d1 = sum(k * c[k] * t ** (k - 1) for k in range(1, 6)) / width
+        d2 = sum(k * (k - 1) * c[k] * t ** (k - 2) for k in range(2, 6)) / (width * width)
+        out.append((d1, d2))
+    return out
 
 
 def _interpolate(grid, per_block, x, idx, inside):
@@ -614,7 +791,7 @@ def _repair(e: Engine, sol: Solution, rows, idx, atlas) -> np.ndarray:
     """Walk individually to the positions the batch corrector could not trust; returns their validity."""
     ok = np.zeros(len(rows), bool)
     for k, row in enumerate(rows):
-        nodes, limit = _walk(e, atlas.nodes[int(idx[row])], sol.phi[row])
+        nodes, limit, _ = _walk(e, atlas.nodes[int(idx[row])], sol.phi[row])
         if limit is None and nodes:
             for state, q in zip(sol.blocks, nodes[-1].q):
                 state.q[:, row] = q
@@ -628,9 +805,10 @@ def _solve_sequence(e: Engine, phi: np.ndarray) -> Solution:
     """Several inputs: walk from the drawn pose through the requested positions in their order."""
     node = _origin(e, np.ones(len(e.inputs)))
     q = [np.zeros((bp.m, len(phi))) for bp in e.blocks]
-    reached, limits = np.zeros(len(phi), bool), []
+    reached, limits, passed = np.zeros(len(phi), bool), [], []
     for row, target in enumerate(phi):
-        nodes, limit = _walk(e, node, target)
+        nodes, limit, crossings = _walk(e, node, target)
+        passed += crossings
         if limit is not None:
             limits.append(limit)
             break
@@ -640,5 +818,5 @@ def _solve_sequence(e: Engine, phi: np.ndarray) -> Solution:
         reached[row] = True
     sol = e._solve_batch(phi, q)
     sol.valid &= reached
-    sol.limits = limits
+    sol.limits, sol.crossings = limits, passed
     return sol
