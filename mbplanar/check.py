@@ -17,7 +17,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from .errors import ModelError
-from .kinematics import Motion, analyse, describe_limit
+from .kinematics import Motion, analyse, describe_crossing, describe_limit
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
@@ -60,6 +60,7 @@ class CheckReport:
     full_turn: bool
     range: tuple            # (lo, hi) the input can move through, model unit
     limits: list            # [{"phi", "direction", "links", "joints", "kind", "message"}]
+    change_points: list = field(default_factory=list)  # [{"phi", "links", "joints", "kind", "message"}]
     extremes: list = field(default_factory=list)
     transmission: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
@@ -338,12 +339,18 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     if limits:  # stay a hair inside the located limits
         grid[[0, -1]] += np.array([1e-9, -1e-9]) * (hi - lo)
     motion = analyse(engine, grid)
+    crossings = [c for c in engine.atlas().crossings if lo - 1e-9 <= c.phi[0] <= hi + 1e-9]
+    if full:  # one turn: a change point at both ends of it is one change point
+        crossings = [c for c in crossings if c.phi[0] < hi - 1e-6 or not any(
+            abs(d.phi[0] - (c.phi[0] - (hi - lo))) < 1e-6 for d in crossings)]
     report = CheckReport(
         model=engine.mech.name, input=inp.name, unit=inp.unit, full_turn=full,
         range=(float(inp.from_si(lo)), float(inp.from_si(hi))),
         limits=[{"phi": float(inp.from_si(lim.phi[0])), "direction": lim.direction,
                  "links": list(lim.links), "joints": list(lim.joints), "kind": lim.kind,
                  "message": describe_limit(engine, lim)} for lim in limits],
+        change_points=[{"phi": float(inp.from_si(c.phi[0])), "links": list(c.links), "joints": list(c.joints),
+                        "kind": c.kind, "message": describe_crossing(engine, c)} for c in crossings],
         grashof=grashof(engine))
     if len(motion.phi) < 2:
         return report
@@ -372,6 +379,8 @@ def format_report(report: CheckReport) -> str:
                      f"{report.range[1]:.8g} {u}")
     for lim in report.limits:
         lines.append(f"  dead point / limit: {lim['message']}")
+    for c in report.change_points:
+        lines.append(f"  {c['message']}")
     for e in report.extremes:
         if e.turns:
             lines.append(f"  link {e.name}: turns fully")

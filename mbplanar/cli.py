@@ -273,6 +273,10 @@ def cmd_sweep(args):
         f_header, f_rows, forces_failed = forces_table(engine, motion, inertia)
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
     _write_csv(args.output, header, rows)
+    if motion.crossings:
+        from .kinematics import describe_crossing
+        for c in motion.crossings:
+            print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
     if forces_failed:
         print(f"mbplanar: {engine.mech.source}: {forces_failed} (their force cells are empty)", file=sys.stderr)
         return 1

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .constraints import dot, perp
-from .solver import Engine, Limit
+from .solver import Crossing, Engine, Limit
 
 __all__ = ["Motion", "analyse"]
 
@@ -52,6 +52,7 @@ class Motion:
     requested: int = 0
     limits: list[Limit] = field(default_factory=list)
     frames: dict = field(default_factory=dict)
+    crossings: list[Crossing] = field(default_factory=list)  # change points passed in the range asked
 
     @property
     def success(self) -> bool:
@@ -80,6 +81,13 @@ def describe_limit(engine: Engine, lim: Limit) -> str:
     way = {1: "going up", -1: "going down"}.get(lim.direction, "")
     return (f"motion limit at {where} ({way}): links {', '.join(lim.links)} — {lim.kind}"
             if inp else "motion limit")
+
+
+def describe_crossing(engine: Engine, c: Crossing) -> str:
+    where = ", ".join(f"{i.name} = {i.from_si(p):.10g} {i.unit}" for i, p in zip(engine.inputs, c.phi))
+    return (f"change point at {where}: links {', '.join(c.links)} — {c.kind}; two assembly branches cross "
+            "here: the analysis follows the smooth branch, a real mechanism may switch branch unless "
+            "something guides it through")
 
 
 def _point_table(engine: Engine):
@@ -264,7 +272,7 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
     batch = len(phi)
     omega = _per_position(omega, [i.omega for i in engine.inputs], batch, 1)
     epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, 1)
-    out, frames, fill, limits, first = {}, {}, 0, [], None
+    out, frames, fill, limits, crossings, first = {}, {}, 0, [], [], None
     for start in range(0, batch, CHUNK):
         part = slice(start, start + CHUNK)
         m = _analyse(engine, phi[part], omega[part], epsilon[part])
@@ -284,10 +292,11 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
             arr[fill:fill + n] = m.frames[name]
         fill += n
         limits += [lim for lim in m.limits if not any(lim is seen for seen in limits)]
+        crossings += [c for c in m.crossings if not any(c is seen for seen in crossings)]
         del m
     fields = {name: arr[:fill] for name, arr in out.items()}
     frames = {name: (fields[aliases[name]] if aliases[name] else frames[name][:fill]) for name in aliases}
-    return replace(first, **fields, requested=batch, limits=limits, frames=frames)
+    return replace(first, **fields, requested=batch, limits=limits, frames=frames, crossings=crossings)
 
 
 def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
@@ -330,7 +339,7 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
                point_names=names, xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
                joint_names=list(engine.mech.joints), value=value.T[keep], rate=rate.T[keep],
                accel=accel.T[keep], ic=_first(_instant_centres(r, v, w))[keep], requested=batch,
-               limits=sol.limits, frames={"th": th.T[keep], "r": _first(r)[keep]})
+               limits=sol.limits, frames={"th": th.T[keep], "r": _first(r)[keep]}, crossings=sol.crossings)
     if analog:
         m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
         m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]

@@ -87,7 +87,8 @@ class Kinetostatics:
         inp = self.motion.engine.inputs[0]
         where = ", ".join(f"{inp.from_si(self.motion.phi[k, 0]):.6g}" for k in bad[:5])
         return (f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where}"
-                f"{', ...' if len(bad) > 5 else ''}): a dead point, the drive cannot balance the loads")
+                f"{', ...' if len(bad) > 5 else ''}): links in line at a dead point, where the drive cannot "
+                "balance the loads, or at a change point, where the reactions are statically indeterminate")
 
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]

@@ -36,7 +36,7 @@ from .errors import MotionError
 from .model import Mechanism
 from .topology import analyse_topology
 
-__all__ = ["Engine", "Solution", "Limit"]
+__all__ = ["Engine", "Solution", "Limit", "Crossing"]
 
 TOL = 1e-13          # closure residual (lengths relative to the mechanism's size)
 TOL_FINE = 1e-14     # while some position still needs a step, the others below TOL are polished to this
@@ -102,6 +102,7 @@ class Crossing:
     links: tuple
     joints: tuple
     bracket: tuple = (None, None)
+    kind: str = ""
 
 
 @dataclass
@@ -534,8 +535,7 @@ def _accept(e: Engine, node: _Node, new: _Node | None, guesses, h: float) -> tup
     other branch crossing there does not, and a dead point has no solution beyond it); else "reject"."""
     if new is None or new.pivot < PIVOT_CROSS:  # no node on a singular position: its rates are unknown
         return "reject", math.inf
-    dist = max([np.max(np.abs(q - g[:, 0]) * bp.var_scale, initial=0.0)
-                for q, g, bp in zip(new.q, guesses, e.blocks)] + [0.0])
+    dist = _distance(e, new, guesses)
     if dist > MAX_CORRECTION or _rate_jump(e, node, new, h) > RATE_JUMP:
         return "reject", dist
     if np.array_equal(new.signs, node.signs):
@@ -543,6 +543,12 @@ def _accept(e: Engine, node: _Node, new: _Node | None, guesses, h: float) -> tup
     if h <= H_CROSS and dist <= CROSS_DIST and min(node.pivot, new.pivot) >= PIVOT_CROSS:
         return "cross", dist
     return "reject", dist
+
+
+def _distance(e: Engine, new: _Node, guesses) -> float:
+    """Largest distance of the corrector from the predictor (scaled unknowns)."""
+    return max([np.max(np.abs(q - g[:, 0]) * bp.var_scale, initial=0.0)
+                for q, g, bp in zip(new.q, guesses, e.blocks)] + [0.0])
 
 
 def _rate_jump(e: Engine, node: _Node, new: _Node, h: float) -> float:
@@ -634,8 +640,9 @@ def _bracket(e: Engine, start: _Node, node: _Node, new: _Node, direction: np.nda
             continue
         guesses = _predict(node, s_side - s0)
         side = _node_at(e, origin + direction * s_side, direction, guesses)
-        verdict, dist = ("reject", math.inf) if side is None else _accept(e, node, side, guesses, s_side - s0)
-        if side is None or side.pivot < PIVOT_CROSS or dist > CROSS_DIST or verdict == "reject":
+        # the crossing branch is |Δq'|·half away; the prediction's own error grows as half³
+        if (side is None or side.pivot < PIVOT_CROSS or _distance(e, side, guesses) > 0.01 * half
+                or _rate_jump(e, node, side, s_side - s0) > RATE_JUMP):
             return None
         sides.append(side)
     before, after = sides
@@ -644,7 +651,49 @@ def _bracket(e: Engine, start: _Node, node: _Node, new: _Node, direction: np.nda
     bp = e.blocks[k]
     joints = tuple(st.law.name for st in bp.steps) + tuple(law.name for law in bp.cuts)
     lo, hi = sorted((before.phi[0], after.phi[0]))
-    return Crossing(origin + direction * s_c, bp.links, joints, (lo, hi)), before, after
+    phi_c = _locate_crossing(e, k, before, after)
+    kind = _limit_kind(e, bp, e._solve_batch(phi_c[None, :], _hermite_between(before, after, phi_c)))
+    return Crossing(phi_c, bp.links, joints, (lo, hi), kind), before, after
+
+
+def _hermite_between(a: _Node, b: _Node, phi: np.ndarray) -> list:
+    """Every block's unknowns (m, 1) at φ between two nodes of a walk, by the quintic Hermite
+    interpolant of their q, q', q'' along the segment from a to b."""
+    k = int(np.argmax(np.abs(b.phi - a.phi)))
+    h = float(b.phi[k] - a.phi[k])
+    t = float((phi[k] - a.phi[k]) / h)
+    da, db = a.direction[k], b.direction[k]  # derivatives per unit s; dφ/ds = direction
+    basis = np.array([t ** n for n in range(6)]) @ _HERMITE5
+    return [(basis @ np.stack([qa, qb, h * qda / da, h * qdb / db, h * h * qdda / da ** 2,
+                               h * h * qddb / db ** 2]))[:, None]
+            for qa, qb, qda, qdb, qdda, qddb in zip(a.q, b.q, a.qd, b.qd, a.qdd, b.qdd)]
+
+
+def _det_at(e: Engine, k: int, phi: np.ndarray, guesses) -> float:
+    """Block k's Jacobian determinant at the positions `guesses` (no Newton step)."""
+    pose = Pose(1)
+    pose.set_ground(e.mech.ground)
+    q_in = e._input_vars(phi[None, :])
+    for bp, q in zip(e.blocks[:k + 1], guesses):
+        caches, cut_caches, _ = e._block_pose(bp, pose, q, q_in)
+    jac, _ = e._block_jacobian(e.blocks[k], caches, cut_caches, 1)
+    return float(factor(jac).det[0])
+
+
+def _locate_crossing(e: Engine, k: int, a: _Node, b: _Node, iterations: int = 6) -> np.ndarray:
+    """φ of the change point between nodes a and b: regula falsi on block k's determinant, evaluated
+    on the branch's interpolant (Newton cannot settle positions this close to a singular Jacobian)."""
+    (pa, da), (pb, db) = (a.phi, a.dets[k]), (b.phi, b.dets[k])
+    for _ in range(iterations):
+        p = pa + (pb - pa) * (da / (da - db))
+        d = _det_at(e, k, p, _hermite_between(a, b, p))
+        if d == 0 or not np.isfinite(d):
+            break
+        if np.sign(d) == np.sign(da):
+            pa, da = p, d
+        else:
+            pb, db = p, d
+    return p
 
 
 def _limit(e: Engine, node: _Node, direction: np.ndarray, h: float) -> Limit:

@@ -1,0 +1,139 @@
+"""Change points (Grashof's equality s + l = p + q): two assembly branches cross where all links line
+up. The engine must go straight through on the smooth branch (never stop as at a dead point, never
+jump to the crossing branch), give finite rates there, and report where the change points are."""
+
+import math
+
+import numpy as np
+import pytest
+
+import mbplanar
+from mbplanar.cli import main
+
+
+def fourbar(crank, coupler, rocker, ground, phi_deg, crossed=False):
+    """A four-bar O-A-B-C (ground O(0,0), C(ground, 0)) drawn exactly at crank angle phi_deg, on the
+    open (B above the line AC) or crossed assembly."""
+    a = np.array([crank * math.cos(math.radians(phi_deg)), crank * math.sin(math.radians(phi_deg))])
+    c = np.array([ground, 0.0])
+    b = circle_meet(a, coupler, c, rocker, +1 if not crossed else -1)
+    m = mbplanar.Mechanism("changepoint")
+    for name in ("1", "2", "3"):
+        m.add_link(name)
+    m.add_joint("O", "R", "0", "1", at=(0.0, 0.0))
+    m.add_joint("A", "R", "1", "2", at=tuple(a))
+    m.add_joint("B", "R", "2", "3", at=tuple(b))
+    m.add_joint("C", "R", "3", "0", at=tuple(c))
+    m.add_input("O", unit="rad")
+    return m
+
+
+def circle_meet(p, rp, q, rq, side):
+    """Intersection of circles (p, rp) and (q, rq) to the left (side +1) or right (−1) of p → q."""
+    d = np.linalg.norm(q - p)
+    x = (rp * rp - rq * rq + d * d) / (2 * d)
+    y = math.sqrt(max(rp * rp - x * x, 0.0))
+    u = (q - p) / d
+    return p + x * u + side * y * np.array([-u[1], u[0]])
+
+
+def closed_form_rocker_angles(crank, coupler, rocker, ground, phi):
+    """Both roots of the rocker's angle for crank angles phi (B,): (2, B); the direction of its
+    reference line B → C (its first two revolute joints, as the engine reports it)."""
+    a = np.stack([crank * np.cos(phi), crank * np.sin(phi)], -1)
+    c = np.array([ground, 0.0])
+    out = []
+    for side in (+1, -1):
+        b = np.array([circle_meet(ai, coupler, c, rocker, side) for ai in a])
+        out.append(np.arctan2(c[1] - b[:, 1], c[0] - b[:, 0]))
+    return np.array(out)
+
+
+def wrap(x):
+    return (x + np.pi) % (2 * np.pi) - np.pi
+
+
+@pytest.mark.parametrize("direction", [+1, -1])
+def test_parallelogram_stays_a_parallelogram_through_its_change_points(direction):
+    engine = mbplanar.Engine(fourbar(1.0, 2.0, 1.0, 2.0, 60.0))
+    phi = engine.phi_drawn[0] + direction * np.radians(np.arange(0.0, 721.0, 0.5))
+    m = mbplanar.analyse(engine, phi)
+    assert m.success and len(m.phi) == len(phi)
+    coupler, rocker = m.link("2"), m.link("3")
+    assert np.abs(wrap(m.angle[:, coupler])).max() < 1e-11          # the coupler translates
+    assert np.abs(wrap(m.angle[:, rocker] - np.pi - m.phi[:, 0])).max() < 1e-11  # rocker (line B→C) ∥ crank
+    assert np.abs(m.wq[:, coupler]).max() < 1e-9
+    assert np.abs(m.wq[:, rocker] - 1).max() < 1e-9
+    assert np.abs(m.eq).max() < 1e-7
+    # the change points: the crank in line with the ground, every half turn, located to 1e-9 rad
+    found = np.sort([c.phi[0] for c in m.crossings])
+    expected = np.arange(math.ceil(phi.min() / np.pi), math.floor(phi.max() / np.pi) + 1) * np.pi
+    assert len(found) == len(expected)
+    assert np.abs(found - expected).max() < 1e-9
+    assert all(set(c.links) == {"2", "3"} for c in m.crossings)
+
+
+def test_antiparallelogram_keeps_its_crossed_branch():
+    crank, coupler, rocker, ground = 1.0, 2.0, 1.0, 2.0
+    engine = mbplanar.Engine(fourbar(crank, coupler, rocker, ground, 60.0, crossed=True))
+    phi = engine.phi_drawn[0] + np.radians(np.arange(0.0, 360.5, 0.5))
+    m = mbplanar.analyse(engine, phi)
+    assert m.success
+    roots = closed_form_rocker_angles(crank, coupler, rocker, ground, m.phi[:, 0])
+    theta = m.angle[:, m.link("3")]
+    err = np.abs(wrap(roots - theta[None, :])).min(axis=0)
+    assert err.max() < 1e-9                                     # always one of the two assemblies
+    parallel = np.abs(wrap(theta - np.pi - m.phi[:, 0])) < 1e-6
+    assert parallel.sum() <= 2                                  # and not the parallelogram (but at the change points)
+    h = np.diff(m.phi[:, 0])
+    fd = wrap(np.diff(theta)) / h                               # smooth: rates = derivative of the angle
+    mid = 0.5 * (m.wq[1:, m.link("3")] + m.wq[:-1, m.link("3")])
+    assert np.abs(fd - mid).max() < 1e-4 * (1 + np.abs(mid).max())
+
+
+def test_general_change_point_fourbar_goes_through_smoothly():
+    crank, coupler, rocker, ground = 2.0, 3.0, 3.0, 4.0        # s + l = 6 = p + q
+    engine = mbplanar.Engine(fourbar(crank, coupler, rocker, ground, 90.0))
+    phi = engine.phi_drawn[0] + np.radians(np.arange(0.0, 360.25, 0.25))
+    m = mbplanar.analyse(engine, phi)
+    assert m.success
+    assert len(m.crossings) == 1 and abs(wrap(m.crossings[0].phi[0] - np.pi)) < 1e-9  # all links in line
+    roots = closed_form_rocker_angles(crank, coupler, rocker, ground, m.phi[:, 0])
+    theta = m.angle[:, m.link("3")]
+    assert np.abs(wrap(roots - theta[None, :])).min(axis=0).max() < 1e-9
+    # smooth through the change point: the first analogue is the derivative of the angle, and the
+    # second that of the first (central differences on the 0.25° grid)
+    h = np.radians(0.25)
+    w, e = m.wq[:, m.link("3")], m.eq[:, m.link("3")]
+    assert np.abs(wrap(theta[2:] - theta[:-2]) / (2 * h) - w[1:-1]).max() < 1e-4
+    assert np.abs((w[2:] - w[:-2]) / (2 * h) - e[1:-1]).max() < 1e-3
+    assert np.all(np.isfinite(m.eq)) and np.abs(m.eq).max() < 10
+
+
+def test_drawn_at_a_change_point_is_an_error_naming_the_group():
+    with pytest.raises(mbplanar.MotionError, match="singular position of the group of links 2, 3"):
+        mbplanar.Engine(fourbar(1.0, 2.0, 1.0, 2.0, 0.0)).atlas()
+
+
+def test_check_and_sweep_report_change_points(tmp_path, capsys):
+    path = tmp_path / "parallelogram.toml"
+    path.write_text("""
+name = "parallelogram"
+ground = "0"
+links = [ { name = "1" }, { name = "2" }, { name = "3" } ]
+joints = [
+  { name = "O", type = "R", links = ["0", "1"], at = [0.0, 0.0] },
+  { name = "A", type = "R", links = ["1", "2"], at = [0.5, 0.8660254037844386] },
+  { name = "B", type = "R", links = ["2", "3"], at = [2.5, 0.8660254037844386] },
+  { name = "C", type = "R", links = ["3", "0"], at = [2.0, 0.0] },
+]
+[input]
+joint = "O"
+""")
+    report = mbplanar.check(mbplanar.Engine(mbplanar.read_model(path)))
+    assert report.full_turn and not report.limits
+    assert sorted(round(c["phi"], 6) for c in report.change_points) == [180.0, 360.0]
+    assert main(["sweep", str(path), "--step", "45", "-o", str(tmp_path / "out.csv")]) == 0
+    assert "change point at phi = 180 deg" in capsys.readouterr().err
+    rows = np.genfromtxt(tmp_path / "out.csv", delimiter=",", names=True)
+    assert len(rows) == 9 and np.all(np.isfinite(rows.view((float, len(rows.dtype.names)))))
