@@ -632,7 +632,10 @@ def _bracket(e: Engine, start: _Node, node: _Node, new: _Node, direction: np.nda
     k = int(np.flatnonzero(node.signs != new.signs)[0])
     s0, s1 = _along(node, origin, direction), _along(new, origin, direction)
     s_c = s0 + (s1 - s0) * node.dets[k] / (node.dets[k] - new.dets[k])
-    half = 0.5 * H_CROSS
+    # half of H_CROSS in the unknowns' own units: a branch that turns fast needs closer nodes
+    speed = max([1.0] + [float(np.max(np.abs(qd) * bp.var_scale, initial=0.0)) / abs(direction).max()
+                         for qd, bp in zip(node.qd, e.blocks)])
+    half = 0.5 * H_CROSS / speed
     sides = []
     for s_side in (s_c - half, s_c + half):
         if s_side <= 0:
@@ -641,7 +644,7 @@ def _bracket(e: Engine, start: _Node, node: _Node, new: _Node, direction: np.nda
         guesses = _predict(node, s_side - s0)
         side = _node_at(e, origin + direction * s_side, direction, guesses)
         # the crossing branch is |Δq'|·half away; the prediction's own error grows as half³
-        if (side is None or side.pivot < PIVOT_CROSS or _distance(e, side, guesses) > 0.01 * half
+        if (side is None or side.pivot < PIVOT_CROSS or _distance(e, side, guesses) > 0.01 * half * speed
                 or _rate_jump(e, node, side, s_side - s0) > RATE_JUMP):
             return None
         sides.append(side)

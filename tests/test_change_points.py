@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 import mbplanar
 from mbplanar.cli import main
@@ -137,3 +139,47 @@ joint = "O"
     assert "change point at phi = 180 deg" in capsys.readouterr().err
     rows = np.genfromtxt(tmp_path / "out.csv", delimiter=",", names=True)
     assert len(rows) == 9 and np.all(np.isfinite(rows.view((float, len(rows.dtype.names)))))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.2, 1.0), st.floats(0.05, 1.0), st.floats(0.05, 1.0), st.permutations([0, 1, 2]),
+       st.floats(0.0, 360.0), st.booleans(), st.sampled_from([1.0, 10.0, 45.0]))
+def test_random_change_point_fourbars_stay_on_their_smooth_branch(s, u, v, order, phi0, crossed, step):
+    """Crank = the shortest link s; coupler, rocker and ground a permutation of p, q, l = p + q − s
+    (Grashof's equality): the crank turns fully, passing change points, at any step of the sweep.
+    p and q stay apart from s and from each other: the parallelogram and the kite (two pairs of equal
+    links) are tested above; their near-misses put two change points within 1e-6 of each other."""
+    p = s + u * (2.0 - s)
+    q = p + v * (2.0 - p)
+    lengths = np.array([p, q, p + q - s])[list(order)]
+    coupler, rocker, ground = lengths
+    a = np.array([s * math.cos(math.radians(phi0)), s * math.sin(math.radians(phi0))])
+    d_ac = np.linalg.norm(a - np.array([ground, 0.0]))
+    cos_b = (coupler ** 2 + rocker ** 2 - d_ac ** 2) / (2 * coupler * rocker)
+    assume(abs(cos_b) < 0.95)                     # drawn away from the change and dead points
+    engine = mbplanar.Engine(fourbar(s, coupler, rocker, ground, phi0, crossed))
+    phi = engine.phi_drawn[0] + np.radians(np.arange(0.0, 720.0 + step / 2, step))
+    m = mbplanar.analyse(engine, phi)
+    assert m.success and len(m.crossings) >= 2
+    roots = closed_form_rocker_angles(s, coupler, rocker, ground, m.phi[:, 0])
+    theta = m.angle[:, m.link("3")]
+    err = np.abs(wrap(roots - theta[None, :])).min(axis=0)
+    # at a change point the two roots merge: the closure equations (and the closed form's square root
+    # of ~0) fix the angle only to ~sqrt(machine epsilon) there
+    near = np.min([np.abs(m.phi[:, 0] - c.phi[0]) for c in m.crossings], axis=0) < 1e-3
+    assert err[~near].max(initial=0.0) < 1e-9 and err.max() < 1e-6
+    # the coupler point B moves continuously: each move bounded by the speeds and accelerations at its ends
+    b = m.xy[:, m.point("B")]
+    moved = np.linalg.norm(np.diff(b, axis=0), axis=-1)
+    speed = np.maximum(np.linalg.norm(m.vq[1:, m.point("B")], axis=-1), np.linalg.norm(m.vq[:-1, m.point("B")], axis=-1))
+    accel = np.maximum(np.linalg.norm(m.aq[1:, m.point("B")], axis=-1), np.linalg.norm(m.aq[:-1, m.point("B")], axis=-1))
+    h = math.radians(step)
+    assert np.all(moved <= speed * h + accel * h * h + 1e-9)
+    # the assembly (which closed-form root) changes only across a change point: the smooth branch
+    # goes from one assembly to the other there (so a single change point per turn makes the motion
+    # repeat after two turns), and nowhere else
+    which = np.argmin(np.abs(wrap(roots - theta[None, :])), axis=0)
+    apart = np.flatnonzero(np.abs(wrap(roots[0] - roots[1])) > 1e-6)
+    for i, j in zip(apart[:-1], apart[1:]):
+        if which[i] != which[j]:
+            assert any(m.phi[i, 0] <= c.phi[0] <= m.phi[j, 0] for c in m.crossings)
