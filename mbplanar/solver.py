@@ -843,11 +843,17 @@ def _repair(e: Engine, sol: Solution, rows, idx, atlas) -> np.ndarray:
     """Walk individually to the positions the batch corrector could not trust; returns their validity."""
     ok = np.zeros(len(rows), bool)
     for k, row in enumerate(rows):
-        nodes, limit, _ = _walk(e, atlas.nodes[int(idx[row])], sol.phi[row])
-        if limit is None and nodes:
-            for state, q in zip(sol.blocks, nodes[-1].q):
-                state.q[:, row] = q
-            ok[k] = True
+        near = int(idx[row])
+        other = near + (1 if sol.phi[row, 0] > atlas.nodes[near].phi[0] else -1)
+        for start in (near, other):  # from the nearest node, else from the one on x's other side
+            if not 0 <= start < len(atlas.nodes):
+                continue
+            nodes, limit, _ = _walk(e, atlas.nodes[start], sol.phi[row], overshoot=False)
+            if limit is None and nodes:
+                for state, q in zip(sol.blocks, nodes[-1].q):
+                    state.q[:, row] = q
+                ok[k] = True
+                break
     fixed = e._solve_batch(sol.phi, [s.q for s in sol.blocks])
     sol.pose, sol.blocks = fixed.pose, fixed.blocks
     return ok & fixed.valid[rows]
@@ -859,7 +865,7 @@ def _solve_sequence(e: Engine, phi: np.ndarray) -> Solution:
     q = [np.zeros((bp.m, len(phi))) for bp in e.blocks]
     reached, limits, passed = np.zeros(len(phi), bool), [], []
     for row, target in enumerate(phi):
-        nodes, limit, crossings = _walk(e, node, target)
+        nodes, limit, crossings = _walk(e, node, target, overshoot=False)
         passed += crossings
         if limit is not None:
             limits.append(limit)

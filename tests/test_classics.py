@@ -1217,12 +1217,7 @@ def test_verdicts_limits_and_clean_errors(name, tmp_path, capsys):
         assert "cannot be assembled" in err or "misses" in err, err
 
 
-# == Known wrong answers (kept failing on purpose) ========================================================
-@pytest.mark.xfail(strict=True, reason=(
-    "solver: near a located motion limit, positions strictly inside it (3e-10 … 1e-6 rad, i.e. 3–10^4 "
-    "times the 1e-10 location accuracy) are dropped from the Motion without any limit reported: the "
-    "Hermite guess between atlas nodes lands on the mirror branch (Jacobian sign differs), and the repair "
-    "walk cannot make a step that short before H_MIN; which rows drop depends on the batch"))
+# == Positions a hair inside a located limit (once dropped: the guess landed on the mirror branch) =====
 def test_rows_inside_a_located_limit_are_solved():
     """Driven at the rocker (and a non-Grashof triple rocker), positions 3e-10 … 1e-6 rad inside the lower
     limit `check` located are all on the branch; every one should be solved (or a limit reported)."""
@@ -1238,10 +1233,6 @@ def test_rows_inside_a_located_limit_are_solved():
     assert not failures, failures
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "check: its sweep of the rocker-driven four-bar loses the first grid row (1e-9 of the range inside the "
-    "lower limit; see test_rows_inside_a_located_limit_are_solved), so the crank's extreme at that dead "
-    "point is reported as 38.670° at ψ = 94.761° instead of 35.099° at ψ = 94.695° (3.6° wrong)"))
 def test_check_extremes_of_the_rocker_driven_crank_at_its_dead_points():
     """At the dead points O, A, B are in line: the crank points along OB (stretched, |OB| = l + r) or
     against it (folded, |OB| = l − r). `check` samples a hair inside the limits, where the crank angle
