@@ -125,8 +125,10 @@ def _rows(data, key, source) -> list:
     return rows
 
 
-def parse_model(data: dict, source: str = "<table>") -> Mechanism:
-    """Build a `Mechanism` from the parsed TOML document `data`."""
+def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
+    """Build a `Mechanism` from the parsed TOML document `data`, or from TOML text."""
+    if isinstance(data, str):
+        return read_model_text(data, source)
     top = Row(data, source)
     unit_name = top.text("length_unit", "m")
     if unit_name not in _LENGTH_UNITS:

@@ -26,3 +26,10 @@ def test_top_level_functions_cover_the_whole_analysis():
     assert abs(result.virtual_power_residual).max() < 1e-9
     dyn = mbplanar.machine_dynamics(engine, steps=720, simulate_motion=False)
     assert abs(dyn.inertia_first_group / 147.141 - 1) < 2e-3
+
+
+def test_parse_model_takes_text_or_the_parsed_document():
+    import tomllib
+    text = (MODELS / "fourbar.toml").read_text()
+    a, b = mbplanar.parse_model(text), mbplanar.parse_model(tomllib.loads(text))
+    assert a.joints.keys() == b.joints.keys() and a.joints["B"].at == b.joints["B"].at
