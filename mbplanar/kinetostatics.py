@@ -216,7 +216,6 @@ class _Plan:
     lay: _Layout
     centre: np.ndarray
     joints: list          # names of the joints whose force point is a feature, in feature order
-    points: list          # (link index, drawn point) of each of them
     guides: list          # prismatic joint names whose guide direction is a feature
     p_inputs: list        # (guide index, joint index) of prismatic inputs (cross feature)
     blocks: list
@@ -319,12 +318,8 @@ def _plan(engine) -> _Plan:
         inside = [(local_row[r], local_col[c], f, coef) for r, c, f, coef in mine if c in local_col]
         later = [(local_row[r], c, f, coef) for r, c, f, coef in mine if c not in local_col]
         blocks.append(_block(rows, own, inside, later))
-    points = []
-    for name in jnames:
-        j = mech.joints[name]
-        points.append((engine.link_index[j.slider if j.kind == "P" else j.links[1]], np.asarray(j.at, float)))
     centre = np.mean([j.at for j in mech.joints.values()], axis=0)
-    plan = _Plan(lay, centre, jnames, points, guides, p_inputs, blocks)
+    plan = _Plan(lay, centre, jnames, guides, p_inputs, blocks)
     engine.__dict__["_kinetostatic_plan"] = plan
     return plan
 
@@ -429,17 +424,15 @@ def _solve_block(blk: _Block, features, b, x):
 def _features(engine, motion, plan):
     """The per-position scalars (F, B) (batch last) the entries of the system are made of."""
     L = engine.size
-    th, r = motion.frames["th"].T, motion.frames["r"].transpose(2, 1, 0)  # (L, B), (2, L, B) views
-    links = np.array([k for k, _ in plan.points], int).reshape(-1)
-    at = np.array([p for _, p in plan.points], float).reshape(-1, 2)
-    n_joints, n_guides, batch = len(links), len(plan.guides), th.shape[1]
+    th = motion.frames["th"].T  # (L, B) view
+    # the joints' points are the motion's own (a revolute pair's point is common to both its links)
+    xy = motion.xy[:, [motion.point(name) for name in plan.joints]].transpose(2, 1, 0)  # (2, J, B)
+    n_joints, n_guides, batch = xy.shape[1], len(plan.guides), th.shape[1]
     out = np.empty((1 + 2 * n_joints + 2 * n_guides + len(plan.p_inputs), batch))
     out[0] = 1.0
-    tl = th[links]
-    c, s = np.cos(tl), np.sin(tl)
     lever_x, lever_y = out[1:1 + 2 * n_joints:2], out[2:2 + 2 * n_joints:2]
-    lever_x[:] = (r[0][links] + c * at[:, 0, None] - s * at[:, 1, None] - plan.centre[0]) / L
-    lever_y[:] = (r[1][links] + s * at[:, 0, None] + c * at[:, 1, None] - plan.centre[1]) / L
+    lever_x[:] = (xy[0] - plan.centre[0]) / L
+    lever_y[:] = (xy[1] - plan.centre[1]) / L
     if n_guides:
         base = 1 + 2 * n_joints
         carriers = np.array([engine.link_index[engine.mech.joints[n].carrier] for n in plan.guides])
