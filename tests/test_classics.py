@@ -956,12 +956,18 @@ def test_norton_example_4_1_fourbar_from_a_sketch():
     close(f"{tag}: theta3 (deg)", th3, 20.298, 5e-4)
     close(f"{tag}: theta4 (deg)", th4, 57.325, 5e-4)
     # and to the engine's precision against the circle construction, over a full turn
+    fourbar_turn_matches_circles("8 Norton Ex. 4-1", engine, (0.1, 0.0), 0.040, 0.120, 0.080, "4")
+
+
+def fourbar_turn_matches_circles(tag, engine, pivot, crank, coupler, rocker, rocker_link):
+    """Over a full turn of the crank (pivot at the origin), B and the rocker's direction against the
+    circle construction of the open assembly."""
     phi = np.linspace(0.0, TAU, 361)
     motion = mbplanar.analyse(engine, phi)
-    A = crank_point((0, 0), 0.040, phi)
-    B = dyad(A, fixed((0.1, 0.0), len(phi)), 0.120, 0.080, +1)
-    compare_points("8 Norton Ex. 4-1", motion, {"B": B})
-    compare_link("8 Norton Ex. 4-1", motion, "4", direction(fixed((0.1, 0.0), len(phi)), B))
+    A = crank_point((0, 0), crank, phi)
+    B = dyad(A, fixed(pivot, len(phi)), coupler, rocker, +1)
+    compare_points(tag, motion, {"B": B})
+    compare_link(tag, motion, rocker_link, direction(fixed(pivot, len(phi)), B))
 
 
 def test_chebyshev_straight_line_linkage():
@@ -1013,12 +1019,7 @@ def test_drag_link_turns_everything_fully():
     report = mbplanar.check(engine)
     assert report.full_turn and report.grashof["kind"] == "double crank" and report.grashof["input_turns"]
     assert all(e.turns for e in report.extremes)
-    phi = np.linspace(0.0, TAU, 361)
-    motion = mbplanar.analyse(engine, phi)
-    A = crank_point((0, 0), 0.3, phi)
-    B = dyad(A, fixed((0.1, 0.0), len(phi)), 0.35, 0.3, +1)
-    compare_points("9 drag link", motion, {"B": B})
-    compare_link("9 drag link", motion, "3", direction(fixed((0.1, 0.0), len(phi)), B))
+    fourbar_turn_matches_circles("9 drag link", engine, (0.1, 0.0), 0.3, 0.35, 0.3, "3")
 
 
 def test_triple_rocker_stops_where_coupler_and_rocker_stretch():
