@@ -8,6 +8,8 @@ matplotlib is imported only through `mbplanar.plotting.require_matplotlib`.
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from .kinematics import describe_limit
@@ -132,7 +134,8 @@ def forces_figure(engine, at=None, *, count=181, cycle=None, figsize=(10, 8)):
     notes = [f"virtual-power residual ≤ {residual:.1e}"]
     notes += [] if result.success else [result.message]
     notes += [describe_limit(engine, lim) for lim in motion.limits]
-    fig.suptitle(f"{name}: reactions and {what} at {speed}\n" + "; ".join(notes), fontsize=10)
+    fig.suptitle(f"{name}: reactions and {what} at {speed}\n" + textwrap.fill("; ".join(notes), 120),
+                 fontsize=10)
     return fig
 
 
