@@ -109,12 +109,18 @@ def cmd_info(args):
 
 
 # -- solve ------------------------------------------------------------------------------------------
-def solve_document(engine, motion, row=0) -> dict:
-    inp = engine.inputs[0]
-    doc = {"model": engine.mech.name,
-           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit,
-                     "value": inp.from_si(float(motion.phi[row, 0])), "value_si": float(motion.phi[row, 0]),
-                     "omega": float(motion.omega[row, 0]), "epsilon": float(motion.epsilon[row, 0])},
+def _input_documents(engine, motion, row, values=None) -> list[dict]:
+    """Each input at `row`: its value in the model's unit (as requested, when given, so that 30° is not
+    printed back as 29.999999999999996), in SI, and its speed and acceleration."""
+    values = values or [inp.from_si(float(motion.phi[row, k])) for k, inp in enumerate(engine.inputs)]
+    return [{"name": inp.name, "joint": inp.joint, "unit": inp.unit, "value": float(values[k]),
+             "value_si": float(motion.phi[row, k]), "omega": float(motion.omega[row, k]),
+             "epsilon": float(motion.epsilon[row, k])} for k, inp in enumerate(engine.inputs)]
+
+
+def solve_document(engine, motion, row=0, values=None) -> dict:
+    inputs = _input_documents(engine, motion, row, values)
+    doc = {"model": engine.mech.name, "input": inputs[0], "inputs": inputs,
            "points": {}, "links": {}, "joints": {}, "instant_centres": {}}
     for k, name in enumerate(motion.point_names):
         (x, y), (vx, vy), (ax, ay) = motion.xy[row, k], motion.v[row, k], motion.a[row, k]
@@ -178,7 +184,7 @@ def cmd_solve(args):
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
         raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
-    doc = solve_document(engine, motion)
+    doc = solve_document(engine, motion, values=values)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
@@ -187,9 +193,8 @@ def cmd_solve(args):
 
 
 def _print_solution(engine, doc):
-    inp = doc["input"]
-    print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
-          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g})")
+    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g}, "
+                                           f"ε = {i['epsilon']:g})" for i in doc["inputs"]))
     print(f"{'point':8s}{'x [m]':>12s}{'y [m]':>12s}{'vx [m/s]':>12s}{'vy [m/s]':>12s}"
           f"{'ax [m/s²]':>12s}{'ay [m/s²]':>12s}")
     for name, p in doc["points"].items():
@@ -308,8 +313,7 @@ def forces_table(engine, motion, input_inertia=0.0):
     return header, np.column_stack(cols), (None if result.success else result.message)
 
 
-def forces_document(engine, motion, result, row=0) -> dict:
-    inp = engine.inputs[0]
+def forces_document(engine, motion, result, row=0, values=None) -> dict:
     reactions = {}
     for name, r in result.reactions.items():
         fx, fy = float(r.fx[row]), float(r.fy[row])
@@ -317,9 +321,7 @@ def forces_document(engine, motion, result, row=0) -> dict:
                            "fx": fx, "fy": fy, "moment": float(r.moment[row]),
                            "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
     doc = {"model": engine.mech.name,
-           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit,
-                     "value": inp.from_si(float(motion.phi[row, 0])),
-                     "omega": float(motion.omega[row, 0]), "epsilon": float(motion.epsilon[row, 0])},
+           "input": _input_documents(engine, motion, row, values)[0],
            "reactions": reactions,
            "balancing": {name: float(q[row]) for name, q in result.balancing.items()},
            "virtual_power_residual": float(result.virtual_power_residual[row]),
@@ -351,7 +353,7 @@ def cmd_forces(args):
     result = kinetostatics(engine, motion, inertia)
     if not result.success:
         raise MotionError(f"{engine.mech.source}: {result.message}")
-    doc = forces_document(engine, motion, result)
+    doc = forces_document(engine, motion, result, values=[value])
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
     if args.json:

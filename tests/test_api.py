@@ -33,3 +33,13 @@ def test_parse_model_takes_text_or_the_parsed_document():
     text = (MODELS / "fourbar.toml").read_text()
     a, b = mbplanar.parse_model(text), mbplanar.parse_model(tomllib.loads(text))
     assert a.joints.keys() == b.joints.keys() and a.joints["B"].at == b.joints["B"].at
+
+
+def test_solve_json_reports_the_input_as_typed_and_every_input(capsys):
+    import json
+
+    from mbplanar.cli import main
+    assert main(["solve", str(MODELS / "slider_crank.toml"), "--at", "30", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["input"]["value"] == 30.0 and doc["inputs"] == [doc["input"]]
+    assert abs(doc["input"]["value_si"] - np.radians(30.0)) < 1e-15
