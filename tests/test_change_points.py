@@ -183,3 +183,44 @@ def test_random_change_point_fourbars_stay_on_their_smooth_branch(s, u, v, order
     for i, j in zip(apart[:-1], apart[1:]):
         if which[i] != which[j]:
             assert any(m.phi[i, 0] <= c.phi[0] <= m.phi[j, 0] for c in m.crossings)
+
+
+def test_chain_of_parallelograms_passes_its_singular_configurations():
+    """IFToMM's N-four-bar benchmark geometry (N = 4 parallelograms of unit bars side by side): every
+    group passes a change point when the bars lie horizontal; the bars stay parallel and the couplers
+    horizontal over two turns, and the isosceles slider-crank (r = l, where the slider can stand still
+    while crank and rod turn together) keeps x_B = 2r·cos φ."""
+    n = 4
+    m = mbplanar.Mechanism("n_four_bar")
+    for k in range(n + 1):
+        m.add_link(f"b{k}")
+        m.add_joint(f"O{k}", "R", "0", f"b{k}", at=(float(k), 0.0))
+    for k in range(n):
+        m.add_link(f"c{k}")
+        m.add_joint(f"A{k}", "R", f"b{k}", f"c{k}", at=(k + 0.5, math.sqrt(0.75)))
+        m.add_joint(f"B{k}", "R", f"c{k}", f"b{k + 1}", at=(k + 1.5, math.sqrt(0.75)))
+    m.add_input("O0", unit="rad")
+    engine = mbplanar.Engine(m)
+    assert engine.topology.structure.formula.count("II(") == n
+    motion = mbplanar.analyse(engine, engine.phi_drawn[0] + np.radians(np.arange(0.0, 721.0, 1.0)))
+    assert motion.success
+    bars = [motion.link(f"b{k}") for k in range(n + 1)]
+    assert np.abs(wrap(motion.angle[:, bars] - motion.angle[:, bars[:1]])).max() < 1e-11
+    assert np.abs(wrap(motion.angle[:, [motion.link(f"c{k}") for k in range(n)]])).max() < 1e-11
+    assert np.abs(motion.eq).max() < 1e-7
+
+    r = 0.1
+    s = mbplanar.Mechanism("isosceles_slider_crank")
+    for name in ("1", "2", "3"):
+        s.add_link(name)
+    a, b = (r * math.cos(0.7), r * math.sin(0.7)), (2 * r * math.cos(0.7), 0.0)
+    s.add_joint("O", "R", "0", "1", at=(0.0, 0.0))
+    s.add_joint("A", "R", "1", "2", at=a)
+    s.add_joint("B", "R", "2", "3", at=b)
+    s.add_joint("Bp", "P", "0", "3", at=b, guide=0.0)
+    s.add_input("O", unit="rad")
+    engine = mbplanar.Engine(s)
+    motion = mbplanar.analyse(engine, engine.phi_drawn[0] + np.radians(np.arange(0.0, 361.0, 1.0)))
+    assert motion.success and len(motion.crossings) == 2
+    assert np.abs(motion.xy[:, motion.point("B"), 0] - 2 * r * np.cos(motion.phi[:, 0])).max() < 1e-12
+    assert np.abs(motion.vq[:, motion.point("B"), 0] + 2 * r * np.sin(motion.phi[:, 0])).max() < 1e-9
