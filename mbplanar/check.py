@@ -2,8 +2,11 @@
 swing, and how good are the transmission and pressure angles over the cycle.
 
 `check(engine)` sweeps the whole range the (single) input can move through with the engine's continuation
-(it stops at motion limits and says where), refines every extreme position by Newton on the analogue
-(ω_q = 0 for a link angle, v_q = 0 for a slider) and gives a `CheckReport`. For a four-bar it also gives
+(it stops at motion limits and says where), refines every extreme position inside the range by Newton on
+the analogue (ω_q = 0 for a link angle, v_q = 0 for a slider) and gives a `CheckReport`. The range ends at
+the located limits, and the values there (extreme positions at a dead point, transmission and pressure
+angles) come from the configuration the engine solved at the limit itself (`Limit.q`), so they are exact
+where a sample next to a fold would be off by the square root of its distance. For a four-bar it also gives
 the Grashof verdict, which must agree with the numerical one. `transmission_angles` and `pressure_angles`
 work on any `Motion`, so a sweep can report them too. Angles are radians inside; the report converts
 to degrees at its edge (`as_dict`).
@@ -17,7 +20,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from .errors import ModelError
-from .kinematics import Motion, analyse, describe_crossing, describe_limit
+from .kinematics import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
@@ -244,6 +247,19 @@ def _reach(engine):
     return (lo, hi), [limits[d] for d in (-1, +1) if d in limits], False
 
 
+def _grid(engine, lo, hi, limits, samples):
+    """Sweep positions over [lo, hi]. At a motion limit the end sample is the atlas' last node before it
+    (within a few `H_MIN` of the limit): the nearest position a sweep can solve, rates included; the
+    limit itself is added from its located configuration (`positions_at_limits`)."""
+    grid = np.linspace(lo, hi, samples)
+    nodes = engine.atlas().nodes
+    for lim in limits:
+        end, node = (0, nodes[0]) if lim.direction < 0 else (-1, nodes[-1])
+        if lo <= node.phi[0] <= hi:
+            grid[end] = node.phi[0]
+    return grid
+
+
 def _quantities(engine, motion):
     """Output quantities (B, K) with their first and second analogues, names and kinds."""
     mech = engine.mech
@@ -277,11 +293,31 @@ def _refine(engine, phi_guess, which, newton_steps=2):
     return phi, q[rows, which]
 
 
-def _extremes(engine, motion, full_turn):
+def _ends(engine, motion, at_limits, kinds, q):
+    """Input values (2,) and quantities (2, K) at the two ends of the sweep: the end samples, replaced at
+    a located motion limit by the exact configuration there (`at_limits`, rows in the order of its
+    `limits`), whose link angles are put on the unwrapped branch of the neighbouring sample."""
+    phi, values = motion.phi[[0, -1], 0].copy(), q[[0, -1]].copy()
+    if at_limits is None:
+        return phi, values
+    link = np.array(kinds) == "link"
+    _, _, q_lim, _, _ = _quantities(engine, at_limits)
+    for row, lim in enumerate(at_limits.limits):
+        end = 0 if lim.direction < 0 else 1
+        value = q_lim[row]
+        value[link] += FULL_TURN * np.round((values[end, link] - value[link]) / FULL_TURN)
+        phi[end], values[end] = lim.phi[0], value
+    return phi, values
+
+
+def _extremes(engine, motion, full_turn, at_limits=None):
+    """Extreme positions of every output quantity: refined stationary points inside the sweep, and its
+    ends (exact at located motion limits, see `_ends`)."""
     inp = engine.inputs[0]
     names, kinds, q, dq, _ = _quantities(engine, motion)
     phi = motion.phi[:, 0]
     q = np.where(np.array(kinds) == "link", np.unwrap(q, axis=0), q)
+    end_phi, end_q = _ends(engine, motion, at_limits, kinds, q)
     # candidates: sign changes of the analogue between samples (interior), and the ends of the range
     i, k = np.nonzero(dq[:-1] * dq[1:] < 0)
     guess = phi[i] - dq[i, k] * (phi[i + 1] - phi[i]) / (dq[i + 1, k] - dq[i, k])
@@ -302,8 +338,8 @@ def _extremes(engine, motion, full_turn):
             continue
         if span <= 1e-12 * max(1.0, engine.size):
             continue  # does not move (a block that only translates, say)
-        cand_phi = np.concatenate([guess[k == n], phi[[0, -1]]])
-        cand_val = np.concatenate([values[k == n], q[[0, -1], n]])
+        cand_phi = np.concatenate([guess[k == n], end_phi])
+        cand_val = np.concatenate([values[k == n], end_q[:, n]])
         lo, hi = int(np.argmin(cand_val)), int(np.argmax(cand_val))
         vmin, vmax = float(cand_val[lo]), float(cand_val[hi])
         if kind == "link":  # report angles in (−π, π] around the minimum
@@ -314,10 +350,15 @@ def _extremes(engine, motion, full_turn):
     return out
 
 
-def _angle_ranges(engine, motion, labels_angles, name_of):
+def _angle_ranges(engine, motion, at_limits, angles_of, name_of):
+    """Min/max of the angles `angles_of(engine, motion)` over the sweep and the located limits."""
     inp = engine.inputs[0]
-    labels, angles = labels_angles
-    phi = inp.from_si(motion.phi[:, 0])
+    labels, angles = angles_of(engine, motion)
+    phi = motion.phi[:, 0]
+    if at_limits is not None:
+        phi = np.concatenate([phi, at_limits.phi[:, 0]])
+        angles = np.concatenate([angles, angles_of(engine, at_limits)[1]])
+    phi = inp.from_si(phi)
     out = []
     for k, label in enumerate(labels):
         a = angles[:, k]
@@ -335,10 +376,9 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
                          f"{len(engine.inputs)}")
     inp = engine.inputs[0]
     (lo, hi), limits, full = _reach(engine)
-    grid = np.linspace(lo, hi, samples)
-    if limits:  # stay a hair inside the located limits
-        grid[[0, -1]] += np.array([1e-9, -1e-9]) * (hi - lo)
-    motion = analyse(engine, grid)
+    motion = analyse(engine, _grid(engine, lo, hi, limits, samples))
+    located = [lim for lim in limits if lim.q is not None]
+    at_limits = positions_at_limits(engine, located) if located else None
     crossings = [c for c in engine.atlas().crossings if lo - 1e-9 <= c.phi[0] <= hi + 1e-9]
     if full:  # one turn: a change point at both ends of it is one change point
         crossings = [c for c in crossings if c.phi[0] < hi - 1e-6 or not any(
@@ -354,10 +394,10 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
         grashof=grashof(engine))
     if len(motion.phi) < 2:
         return report
-    report.extremes = _extremes(engine, motion, full)
-    report.transmission = _angle_ranges(engine, motion, transmission_angles(engine, motion),
+    report.extremes = _extremes(engine, motion, full, at_limits)
+    report.transmission = _angle_ranges(engine, motion, at_limits, transmission_angles,
                                         lambda t: f"{t[0]}-{t[1]}-{t[2]}")
-    report.pressure = _angle_ranges(engine, motion, pressure_angles(engine, motion),
+    report.pressure = _angle_ranges(engine, motion, at_limits, pressure_angles,
                                     lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
                                     f"{t[2]} (normal of {t[0]})")
     return report

@@ -14,7 +14,7 @@ import numpy as np
 from .constraints import dot, perp
 from .solver import Crossing, Engine, Limit
 
-__all__ = ["Motion", "analyse"]
+__all__ = ["Motion", "analyse", "positions_at_limits"]
 
 
 @dataclass
@@ -309,7 +309,26 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     n_in = len(engine.inputs)
     phi = np.asarray(phi, float)
     phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
-    sol = engine.solve(phi)
+    return _motion(engine, engine.solve(phi), omega, epsilon)
+
+
+def positions_at_limits(engine: Engine, limits: list) -> Motion:
+    """The configurations at located motion limits (those with `Limit.q`, in that order) as a `Motion`:
+    exact positions, link angles and joint values where a sweep can only come within `H_MIN`. Every
+    rate and analogue is NaN: at a fold (dead point) the driven links' rates are infinite."""
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        m = _motion(engine, engine.solve_limits(limits), None, None)
+    for name in ("w", "e", "v", "a", "rate", "accel", "ic", "wq", "eq", "vq", "aq", "rate_q", "accel_q"):
+        if getattr(m, name) is not None:
+            setattr(m, name, np.full_like(getattr(m, name), np.nan))
+    m.frames = {name: (x if name in ("th", "r") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
+    return m
+
+
+def _motion(engine: Engine, sol, omega, epsilon) -> Motion:
+    """The kinematics of a solved batch (only its valid rows)."""
+    n_in = len(engine.inputs)
+    phi = sol.phi
     batch = len(phi)
     keep = slice(None) if sol.valid.all() else np.flatnonzero(sol.valid)
     omega = _per_position(omega, [i.omega for i in engine.inputs], batch, n_in)

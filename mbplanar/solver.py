@@ -8,9 +8,13 @@ solves any batch of input values at once (arrays with a batch axis, no loop over
    (second-order predictor from the analytic derivatives, Newton corrector). A step is accepted only when
    Newton converges, the corrector stays close to the predictor and no block's Jacobian determinant
    changes sign; otherwise the step is halved. A step that cannot be made smaller than `H_MIN` marks a
-   motion limit (dead point, lock-up, end of assembly), located to `H_MIN` in the input. The walked
-   nodes are then filled in, one batch solve, to at most `H_DENSE` apart. The atlas is built once per
-   engine and extended on demand.
+   motion limit (dead point, lock-up, end of assembly). At a fold (the usual dead point: a block's
+   Jacobian loses rank one and the branch turns back) the limit's φ and configuration are then solved
+   for together, by Newton on the block's closure equations bordered by a singularity condition
+   (`_locate_fold`), to the rounding floor (~1e-15 in φ); otherwise the limit is the middle of the
+   walk's last bracket, good to ~`H_MIN`. The walked nodes are then filled in, one batch solve, to at
+   most `H_DENSE` apart. The atlas is built once per engine and extended on demand; positions between
+   its last node and a limit (at most a few `H_MIN`) are left out with the limit.
 2. Every requested position is predicted by the quintic Hermite interpolant of the atlas nodes around it
    (within the closure tolerance, so Newton usually only confirms it) and corrected by a batched Newton,
    block by block; the few that fail a check are walked to individually.
@@ -82,13 +86,19 @@ class BlockPlan:
 
 @dataclass
 class Limit:
-    """Where the motion ends along the input: φ (SI), the block at fault, and what happens there."""
+    """Where the motion ends along the input: φ (SI), the block at fault, and what happens there.
+
+    At a fold (dead point: the block's Jacobian is singular and the branch turns back) φ is solved for
+    together with the configuration there, `q` (every block's unknowns (m,), as in `Solution.blocks`),
+    to the rounding floor (see `_locate_fold`). Where that does not converge `q` is None and φ is the
+    middle of the bracket the walk left, good to `H_MIN` in the input."""
 
     phi: np.ndarray  # (n_in,) input values (SI)
     direction: int
     links: tuple
     joints: tuple
     kind: str
+    q: list | None = None
 
 
 @dataclass
@@ -396,6 +406,18 @@ class Engine:
             raise ValueError("input values must be finite")
         return _solve_along(self, phi)
 
+    def solve_limits(self, limits: list) -> Solution:
+        """The configurations at the located motion limits among `limits` (those with `Limit.q`), one
+        row each: every block is already converged there, so Newton takes no step (which it could not,
+        the block at fault being singular). The rates of such a row are meaningless (infinite)."""
+        found = [lim for lim in limits if lim.q is not None]
+        phi = np.array([lim.phi for lim in found], float).reshape(len(found), len(self.inputs))
+        guesses = [np.stack([lim.q[k] for lim in found], axis=1) if found else np.zeros((bp.m, 0))
+                   for k, bp in enumerate(self.blocks)]
+        sol = self._solve_batch(phi, guesses)
+        sol.limits = found
+        return sol
+
 
 class _Atlas:
     """Nodes of the drawn branch along a single input, sorted by φ, with q, q', q'' per block."""
@@ -700,14 +722,134 @@ def _locate_crossing(e: Engine, k: int, a: _Node, b: _Node, iterations: int = 6)
 
 
 def _limit(e: Engine, node: _Node, direction: np.ndarray, h: float) -> Limit:
-    """The motion limit just past `node`, in the block whose Jacobian is nearest to singular."""
+    """The motion limit just past `node` (the walk could not step h from it), in the block whose Jacobian
+    is nearest to singular: the fold, located exactly with its configuration, when `_locate_fold`
+    finds it at the end of the node's branch; else the middle of the walk's bracket (q None)."""
     sol = e._solve_batch(node.phi[None, :], [q[:, None] for q in node.q])
     ratios = [float(st.lu.pivot_ratio[0]) if st.lu is not None else math.inf for st in sol.blocks]
     k = int(np.argmin(ratios))
     bp = e.blocks[k]
     joints = tuple(st.law.name for st in bp.steps) + tuple(law.name for law in bp.cuts)
     sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
-    return Limit(node.phi + direction * h / 2, sign, bp.links, joints, _limit_kind(e, bp, sol))
+    fold = _locate_fold(e, k, node, direction) if bp.m else None
+    if fold is None:
+        return Limit(node.phi + direction * h / 2, sign, bp.links, joints, _limit_kind(e, bp, sol))
+    phi, at = fold
+    return Limit(phi, sign, bp.links, joints, _limit_kind(e, bp, at), [st.q[:, 0] for st in at.blocks])
+
+
+FOLD_ITERATIONS = 8
+FOLD_DELTA = 1e-6    # central-difference step of the augmented Jacobian (scaled unknowns, s)
+FOLD_STEP = 1e-14    # converged when a Newton step moves no scaled unknown and s by more than this
+FOLD_SQRT_LAW = 0.1  # largest relative departure from the square-root law between a node and its fold
+
+
+def _locate_fold(e: Engine, k: int, node: _Node, direction: np.ndarray):
+    """The fold of block k a distance s ahead of `node` along `direction` (the walk stopped a few `H_MIN`
+    short of it): Newton from the node on the augmented system F(x) = [block k's scaled closure
+    residuals; g] = 0 in x = (scaled q_k, s), g the bordered singularity function (`_bordered`). At a
+    simple fold this system is regular (J loses rank one and ∂F/∂s is not in its range: the branch
+    turns back), so Newton converges quadratically to the rounding floor, where bisection only gets to
+    `H_MIN` in s and the driven unknowns, which move like √(distance) there, to ~1e-5. At a change
+    point (rank lost by [J, ∂F/∂s] too) it is singular and `_on_the_branch` rejects what it finds.
+    Returns (φ, Solution at φ), or None when it does not converge to the end of the node's branch."""
+    bp = e.blocks[k]
+    x = np.append(node.q[k] * bp.var_scale, 0.0)
+    border = _border(e, k, node)
+    for _ in range(FOLD_ITERATIONS):
+        res, jac = _fold_system(e, k, node, direction, x, border)
+        if res is None:
+            return None
+        with np.errstate(all="ignore"):
+            step = np.linalg.lstsq(jac, -res, rcond=None)[0]
+        if not np.all(np.isfinite(step)):
+            return None
+        x = x + step
+        if np.max(np.abs(step)) <= FOLD_STEP:
+            break
+    else:
+        return None
+    s = float(x[-1])
+    if not _on_the_branch(x[:-1] - node.q[k] * bp.var_scale, s, node.qd[k] * bp.var_scale):
+        return None
+    phi = node.phi + direction * s
+    guesses = [q[:, None] for q in node.q]
+    guesses[k] = (x[:-1] / bp.var_scale)[:, None]
+    sol = e._solve_batch(phi[None, :], guesses)  # the blocks after k, regular there
+    # block k converged already: Newton must leave it at the fold (`Engine.solve_limits` relies on it)
+    if not sol.valid[0] or not np.array_equal(sol.blocks[k].q, guesses[k]):
+        return None
+    return phi, sol
+
+
+def _on_the_branch(dq: np.ndarray, s: float, qd: np.ndarray) -> bool:
+    """Whether a fold found at distance s ≥ 0 ahead of a node, with the unknowns moved by dq, is the end
+    of the node's own branch: near a fold the unknowns move like √(s_fold − s), so from the node to the
+    fold they move by 2·s·q'(node) up to a relative O(√s) (another branch's fold, or one behind the
+    node, fails this). The walk's bracket is not the test: the walk can fail to converge a step short
+    of the fold, which then lies up to a few `H_MIN` past the bracket."""
+    if not (0.0 <= s <= H_CROSS) or np.max(np.abs(dq)) > MAX_CORRECTION:
+        return False
+    return bool(np.max(np.abs(dq - 2 * s * qd)) <= FOLD_SQRT_LAW * np.max(np.abs(dq)))
+
+
+def _border(e: Engine, k: int, node: _Node):
+    """Left and right singular vectors (b, c) of block k's scaled Jacobian at `node` for its smallest
+    singular value: they border the Jacobian into a matrix that stays regular through the fold."""
+    sol = e._solve_batch(node.phi[None, :], [q[:, None] for q in node.q])
+    bp = e.blocks[k]
+    st = sol.blocks[k]
+    jac, _ = e._block_jacobian(bp, st.caches, st.cut_caches, 1)
+    u, _, vt = np.linalg.svd(jac[:, :, 0] * bp.row_scale[:, None] / bp.var_scale[None, :])
+    return u[:, -1], vt[-1]
+
+
+def _bordered(jac: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Singularity function g (B,) of a batch of Jacobians (m, m, B): the last component of the
+    solution of [[J, b], [cᵀ, 0]]·(v, g) = (0, 1). g = 0 exactly where J is singular (v is then its
+    null vector), and near a simple singularity g is a smooth function ≈ ∓σ_min, unlike the
+    determinant (which scales with the other pivots) or the smallest pivot (not smooth)."""
+    m, batch = jac.shape[0], jac.shape[2]
+    big = np.zeros((batch, m + 1, m + 1))
+    big[:, :m, :m] = jac.transpose(2, 0, 1)
+    big[:, :m, m] = b
+    big[:, m, :m] = c
+    rhs = np.zeros((batch, m + 1, 1))
+    rhs[:, m] = 1.0
+    return np.linalg.solve(big, rhs)[:, m, 0]
+
+
+def _fold_system(e: Engine, k: int, node: _Node, direction: np.ndarray, x: np.ndarray, border):
+    """Augmented residual (m + 1,) at x = (scaled q_k, s) and its Jacobian (m + 1, m + 1) by central
+    differences, all evaluated in one batch; (None, None) if a block before k does not converge."""
+    n = len(x)
+    trial = np.repeat(x[:, None], 2 * n + 1, axis=1)
+    idx = np.arange(n)
+    trial[idx, 1 + 2 * idx] += FOLD_DELTA
+    trial[idx, 2 + 2 * idx] -= FOLD_DELTA
+    res = _fold_residual(e, k, node, direction, trial, border)
+    if res is None:
+        return None, None
+    return res[:, 0], (res[:, 1::2] - res[:, 2::2]) / (2 * FOLD_DELTA)
+
+
+def _fold_residual(e: Engine, k: int, node: _Node, direction: np.ndarray, x: np.ndarray, border):
+    """Augmented residual (m + 1, B) at trial points x = (scaled q_k, s) (m + 1, B): block k's scaled
+    closure residuals and `_bordered`'s g. The blocks before k, regular here, are solved at
+    φ = node.φ + s·direction by Newton from the node; None if one does not converge."""
+    bp = e.blocks[k]
+    batch = x.shape[1]
+    phi = node.phi[None, :] + x[-1][:, None] * direction[None, :]
+    pose = Pose(batch)
+    pose.set_ground(e.mech.ground)
+    q_in = e._input_vars(phi)
+    for before, q in zip(e.blocks[:k], node.q[:k]):
+        if not e._newton(before, pose, np.repeat(q[:, None], batch, axis=1), q_in).ok.all():
+            return None
+    caches, cut_caches, res = e._block_pose(bp, pose, x[:-1] / bp.var_scale[:, None], q_in)
+    jac, _ = e._block_jacobian(bp, caches, cut_caches, batch)
+    jac = jac * bp.row_scale[:, None, None] / bp.var_scale[None, :, None]
+    return np.vstack([res * bp.row_scale[:, None], _bordered(jac, *border)[None]])
 
 
 def _limit_kind(e: Engine, bp: BlockPlan, sol: Solution) -> str:
@@ -766,10 +908,13 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     if len(retry):
         good[retry] = _repair(e, sol, retry, idx, atlas)
     sol.valid = good
-    # only the limits this batch ran into (the atlas may know limits beyond the range asked for)
+    # only the limits this batch ran into: a row past the atlas' last node towards a limit is left out
+    # because of it, even a row short of the located limit (the walk's last node can be a few H_MIN
+    # short of a fold); the atlas may know limits beyond the range asked for
+    ends = {-1: nodes_phi[0], +1: nodes_phi[-1]}
+    sol.limits = [atlas.limits[d] for d in (-1, +1)
+                  if atlas.limits[d] is not None and np.any(d * (x - ends[d]) > 0)]
     lo, hi = float(x.min()), float(x.max())
-    sol.limits = [lim for lim in (atlas.limits[-1], atlas.limits[+1])
-                  if lim is not None and (lim.phi[0] >= lo if lim.direction < 0 else lim.phi[0] <= hi)]
     sol.crossings = [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
     return sol
 

@@ -84,9 +84,13 @@ def test_fourbar_driven_at_the_rocker_has_two_dead_points():
     assert all(" A " in lim["kind"] or "at A" in lim["kind"] for lim in report.limits)
     c = np.array([OC, 0.0])
     swing = abs(math.remainder(math.atan2(*(b1 - c)[::-1]) - math.atan2(*(b2 - c)[::-1]), 2 * math.pi))
-    assert abs(math.radians(report.range[1] - report.range[0]) - swing) < 1e-7
+    assert abs(math.radians(report.range[1] - report.range[0]) - swing) < 1e-12
     crank = next(e for e in report.extremes if e.name == "1")
     assert not crank.turns  # driven at the rocker, the crank cannot turn fully either
+    # at the dead points the crank lies along OB (|OB| = AB + OA) or against it (|OB| = AB − OA), exactly:
+    # both come from the configurations solved at the limits
+    got = sorted(math.degrees(x) % 360.0 for x in (crank.minimum, crank.maximum))
+    assert np.allclose(got, sorted(c for _, c in _rocker_extremes()), rtol=0, atol=1e-10)
 
 
 def test_shaper_stroke_and_lever_swing():

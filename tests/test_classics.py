@@ -379,6 +379,25 @@ def test_whitworth_stroke_and_time_ratio():
     close(f"{tag}: time ratio", turn / (TAU - turn), (math.pi + 2 * beta) / (math.pi - 2 * beta), 1e-8)
 
 
+def test_whitworth_driven_by_its_ram_reports_the_dead_point_positions_exactly():
+    """Driven by the ram, the Whitworth stops where O4, C and D line up on the ram line y = −d: the lever
+    (reference C → O4) lies along it, at 0° and 180°, and the crank pin A, on the lever's line, is at
+    height −d: crank angles −β and 180° + β, β = asin(d/r). The driven links move like the square root
+    of the ram's distance from the limit, so these come from the configuration solved at the limits (a
+    sample 1e-9 of the range inside had the lever at 0.005°)."""
+    text, _ = whitworth()
+    report = mbplanar.check(engine_of(redriven(text, "Dp", "m")))
+    tag = "2 Whitworth driven by the ram (check)"
+    lever = next(e for e in report.extremes if e.name == "3")
+    close(f"{tag}: lever extremes at the dead points (deg)", np.degrees([lever.minimum, lever.maximum]),
+          [0.0, 180.0], 1e-9)
+    crank = next(e for e in report.extremes if e.name == "1")
+    beta = math.degrees(math.asin(WH_D / WH_R))
+    close(f"{tag}: crank extremes at the dead points (deg)", np.degrees([crank.minimum, crank.maximum]),
+          [-beta, 180.0 + beta], 1e-9)
+    assert sorted([lever.at_min, lever.at_max]) == list(report.range)
+
+
 def test_whitworth_in_degrees_clockwise_from_a_zero():
     """The same Whitworth with the seed-style input: f in degrees, clockwise, zero = 90°: the crank angle
     is φ = 90° − f, so θ_f = −θ_φ and θ_ff = θ_φφ (per radian of f); real rates scale with ω, ε."""
@@ -470,18 +489,18 @@ def test_oscillating_cylinder_driven_by_its_extension():
     assert not past.success and len(past.limits) == 2
     assert np.all(np.isfinite(past.xy)) and np.all(np.isfinite(past.aq))
     got = sorted(float(lim.phi[0]) for lim in past.limits)
-    close(f"{tag}: motion limits (m)", got, [lo, hi], 1e-9)
+    close(f"{tag}: motion limits (m)", got, [lo, hi], 1e-13)
     assert past.phi[:, 0].min() >= lo - 1e-9 and past.phi[:, 0].max() <= hi + 1e-9
     report = mbplanar.check(engine)
     assert not report.full_turn
-    close(f"{tag}: check range (m)", report.range, (lo, hi), 1e-9)
-    close(f"{tag}: check limits (m)", sorted(lim["phi"] for lim in report.limits), [lo, hi], 1e-9)
-    # the crank's extremes are where crank and cylinder line up (φ = 0, π), but `check` samples its
-    # range a hair (1e-9 of it) inside the limits, and there φ moves like the square root of the input:
-    # √(2·1e-10 m·s/(r d)) ≈ 7e-5 rad at each end
+    close(f"{tag}: check range (m)", report.range, (lo, hi), 1e-13)
+    close(f"{tag}: check limits (m)", sorted(lim["phi"] for lim in report.limits), [lo, hi], 1e-13)
+    # the crank's extremes are where crank and cylinder line up (φ = 0, π): at the limits, where φ moves
+    # like the square root of the input (a sample 1e-9 of the range inside would be off by ~7e-5 rad);
+    # `check` takes them from the configuration solved at the limits
     crank = next(e for e in report.extremes if e.name == "1")
-    close(f"{tag}: crank extremes (check, sampled inside)", [crank.minimum, crank.maximum], [0.0, math.pi],
-          3e-4)
+    close(f"{tag}: crank extremes (check, at the limits)", [crank.minimum, crank.maximum], [0.0, math.pi],
+          1e-12)
 
 
 # == 4. Six-bars: Watt II and Stephenson III ==============================================================
@@ -724,19 +743,19 @@ def test_crank_rocker_driven_by_its_rocker_follows_the_circles_and_stops_at_the_
     O = fixed((0, 0), len(psi))
     compare_link(tag, motion, "1", direction(O, A))
     compare_link(tag, motion, "2", direction(A, B))
-    # past the dead points: two limits, where the cosine rule puts them (to 1e-6°)
+    # past the dead points: two limits, where the cosine rule puts them (to 1e-10°)
     past = mbplanar.analyse(engine, np.linspace(lo - 0.05, hi + 0.05, 301))
     assert not past.success and len(past.limits) == 2
     assert np.all(np.isfinite(past.xy)) and np.all(np.isfinite(past.wq))
     got = sorted(math.degrees(float(lim.phi[0])) for lim in past.limits)
-    close(f"{tag}: motion.limits (deg)", got, [math.degrees(lo), math.degrees(hi)], 1e-6)
+    close(f"{tag}: motion.limits (deg)", got, [math.degrees(lo), math.degrees(hi)], 1e-10)
     for lim in past.limits:
         assert "A" in lim.joints or " A" in lim.kind, lim
     report = mbplanar.check(engine)
     assert not report.full_turn and report.grashof is not None and not report.grashof["input_turns"]
     got = sorted(lim["phi"] for lim in report.limits)
-    close(f"{tag}: check limits (deg)", got, [math.degrees(lo), math.degrees(hi)], 1e-6)
-    close(f"{tag}: check range (deg)", report.range, (math.degrees(lo), math.degrees(hi)), 1e-6)
+    close(f"{tag}: check limits (deg)", got, [math.degrees(lo), math.degrees(hi)], 1e-10)
+    close(f"{tag}: check range (deg)", report.range, (math.degrees(lo), math.degrees(hi)), 1e-10)
 
 
 # == 7. Kinetostatics by hand ============================================================================
@@ -991,7 +1010,7 @@ def test_chebyshev_straight_line_linkage():
     report = mbplanar.check(engine)
     lo, hi = math.degrees(math.atan2(3, 4)), math.degrees(math.acos(-0.2))
     close("8 Chebyshev: dead points driven at O1 (deg)", sorted(lim["phi"] for lim in report.limits), [lo, hi],
-          1e-6)
+          1e-10)
     # next to that dead point (1e-7° inside) P is still where the circles put it, near (0.4, 0.4)
     psi = np.radians([lo + 1e-7])
     near = mbplanar.analyse(engine, psi)
@@ -1030,7 +1049,7 @@ def test_triple_rocker_stops_where_coupler_and_rocker_stretch():
     report = mbplanar.check(engine)
     assert not report.full_turn and report.grashof["kind"].startswith("non-Grashof")
     phi_m = math.degrees(math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d)))
-    close("9 triple rocker: limits (deg)", sorted(lim["phi"] for lim in report.limits), [-phi_m, phi_m], 1e-6)
+    close("9 triple rocker: limits (deg)", sorted(lim["phi"] for lim in report.limits), [-phi_m, phi_m], 1e-10)
     assert all("stretched at B" in lim["kind"] for lim in report.limits)
 
 
@@ -1048,7 +1067,7 @@ def test_slider_crank_with_an_offset_too_large_to_turn():
     report = mbplanar.check(engine)
     assert not report.full_turn
     close("9 large offset slider-crank: limits (deg)", sorted(lim["phi"] for lim in report.limits), [-30.0, 210.0],
-          1e-6)
+          1e-10)
     phi = np.radians(np.linspace(-29.0, 209.0, 239))
     x, x1, x2 = slider_closed_form(phi, r, l, e)
     motion = mbplanar.analyse(engine, phi)
@@ -1182,7 +1201,7 @@ def test_verdicts_limits_and_clean_errors(name, tmp_path, capsys):
     assert not report.full_turn and len(report.limits) == 2
     lo, hi = report.range
     if ends is not None:
-        tol = 1e-6 if unit == "deg" else 1e-9   # degrees, metres
+        tol = 1e-10 if unit == "deg" else 1e-13   # degrees, metres
         close(f"limits of {name} driven at {joint} ({unit})", [lo, hi], ends(), tol)
     scale = math.pi / 180 if unit == "deg" else 1.0
     span = hi - lo
@@ -1236,8 +1255,9 @@ def test_rows_inside_a_located_limit_are_solved():
 
 def test_check_extremes_of_the_rocker_driven_crank_at_its_dead_points():
     """At the dead points O, A, B are in line: the crank points along OB (stretched, |OB| = l + r) or
-    against it (folded, |OB| = l − r). `check` samples a hair inside the limits, where the crank angle
-    moves like a square root of the input, so allow 0.01°."""
+    against it (folded, |OB| = l − r). The crank angle moves like a square root of the input there, so a
+    sample next to the limit would be off by ~0.005°; `check` takes it from the configuration solved at
+    the limit itself."""
     report = mbplanar.check(engine_of(rocker_driven_fourbar()))
     crank = next(e for e in report.extremes if e.name == "1")
     want = []
@@ -1245,4 +1265,4 @@ def test_check_extremes_of_the_rocker_driven_crank_at_its_dead_points():
         B = np.array([CR_D + CR_C * math.cos(psi), CR_C * math.sin(psi)])
         want.append(math.degrees(math.atan2(sign * B[1], sign * B[0])) % 360.0)
     got = sorted(math.degrees(x) % 360.0 for x in (crank.minimum, crank.maximum))
-    close("6 rocker-driven four-bar: crank extremes from check (deg)", got, sorted(want), 0.01)
+    close("6 rocker-driven four-bar: crank extremes from check (deg)", got, sorted(want), 1e-9)
