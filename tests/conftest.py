@@ -1,5 +1,7 @@
-"""Shared fixtures: model paths and engines built once per session; hypothesis profiles."""
+"""Shared fixtures: model paths and engines built once per session; hypothesis profiles; the elliptic
+trammel (a slider-driven mechanism with a dead point) used by several test files."""
 
+import math
 import os
 from pathlib import Path
 
@@ -27,3 +29,19 @@ def engine_of():
         return cache[name]
 
     return get
+
+
+def trammel():
+    """Rod AB (L = 1) with A on the x axis (the input slider) and B on the y axis, drawn at 0.6 rad."""
+    length, th0 = 1.0, 0.6
+    a, b = (length * math.cos(th0), 0.0), (0.0, length * math.sin(th0))
+    m = mbplanar.Mechanism("trammel")
+    for name in "123":
+        m.add_link(name)
+    m.add_joint("Ap", "P", "0", "1", at=a, guide=0.0)
+    m.add_joint("A", "R", "1", "2", at=a)
+    m.add_joint("B", "R", "2", "3", at=b)
+    m.add_joint("Bp", "P", "0", "3", at=b, guide=90.0)
+    m.add_point("M", "2", at=(a[0] / 2, b[1] / 2))
+    m.add_input("Ap", unit="m")
+    return mbplanar.Engine(m), length, th0

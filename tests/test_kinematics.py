@@ -12,6 +12,8 @@ import mbplanar
 from mbplanar.kinematics import material_points
 from mbplanar.table import read_model_text
 
+from conftest import trammel
+
 DATA = Path(__file__).resolve().parent / "data"
 sys.path.insert(0, str(DATA.parent.parent / "benchmarks"))
 from closed_forms import circle_meet  # noqa: E402  (the dyad's closed form)
@@ -366,18 +368,8 @@ def test_scotch_yoke_is_harmonic():
 def test_elliptic_trammel_driven_by_a_slider_stops_at_its_dead_point():
     """Rod AB (L = 1) with A on the x axis (the input slider) and B on the y axis: y_B = √(L² − x_A²),
     the midpoint on an ellipse (a circle here); the slider cannot pass x_A = L."""
-    L, th0 = 1.0, 0.6
-    A, B = (L * math.cos(th0), 0.0), (0.0, L * math.sin(th0))
-    m = mbplanar.Mechanism("trammel")
-    for name in "123":
-        m.add_link(name)
-    m.add_joint("Ap", "P", "0", "1", at=A, guide=0.0)
-    m.add_joint("A", "R", "1", "2", at=A)
-    m.add_joint("B", "R", "2", "3", at=B)
-    m.add_joint("Bp", "P", "0", "3", at=B, guide=90.0)
-    m.add_point("M", "2", at=(A[0] / 2, B[1] / 2))
-    m.add_input("Ap", unit="m")
-    engine = mbplanar.Engine(m)
+    engine, L, th0 = trammel()
+    A = (L * math.cos(th0), 0.0)
     s = np.linspace(-0.3, 0.3, 25)
     motion = mbplanar.analyse(engine, s)
     xa = A[0] + motion.phi[:, 0]

@@ -15,6 +15,8 @@ import mbplanar.solver as solver
 from mbplanar.check import check
 from mbplanar.kinematics import positions_at_limits
 
+from conftest import trammel
+
 ROOT = Path(__file__).resolve().parent.parent
 
 # crank-rocker O-A-B-C (models/fourbar.toml): crank OA = r, coupler AB = l, rocker CB = c, ground OC = d
@@ -123,22 +125,6 @@ def test_slider_driven_slider_crank_stops_at_l_plus_minus_r():
     assert abs(rod.minimum + math.asin(r / l)) < 1e-12
     assert rod.at_min == pytest.approx(math.sqrt(l * l - r * r) - x0, abs=1e-12)
     assert abs(rod.maximum) < 1e-15 and rod.at_max in report.range
-
-
-def trammel():
-    """Rod AB (L = 1) with A on the x axis (the input slider) and B on the y axis, drawn at 0.6 rad."""
-    length, th0 = 1.0, 0.6
-    a, b = (length * math.cos(th0), 0.0), (0.0, length * math.sin(th0))
-    m = mbplanar.Mechanism("trammel")
-    for name in "123":
-        m.add_link(name)
-    m.add_joint("Ap", "P", "0", "1", at=a, guide=0.0)
-    m.add_joint("A", "R", "1", "2", at=a)
-    m.add_joint("B", "R", "2", "3", at=b)
-    m.add_joint("Bp", "P", "0", "3", at=b, guide=90.0)
-    m.add_point("M", "2", at=(a[0] / 2, b[1] / 2))
-    m.add_input("Ap", unit="m")
-    return mbplanar.Engine(m), length, th0
 
 
 def test_elliptic_trammel_driven_by_a_slider_reaches_the_axis_exactly():
