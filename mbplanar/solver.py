@@ -6,8 +6,13 @@ solves any batch of input values at once (arrays with a batch axis, no loop over
 
 1. The branch atlas: from the drawn pose the engine walks the input up and down with adaptive steps
    (second-order predictor from the analytic derivatives, Newton corrector). A step is accepted only when
-   Newton converges, the corrector stays close to the predictor and no block's Jacobian determinant
-   changes sign; otherwise the step is halved. A step that cannot be made smaller than `H_MIN` marks a
+   Newton converges, the corrector stays close to the predictor in positions and in derivatives, and no
+   block's Jacobian determinant changes sign; otherwise the step is halved. A sign change with positions
+   and derivatives that follow the predictor closely over a short step is a change point (another
+   assembly branch crosses this one, e.g. the parallelogram four-bar with its links in line): the walk
+   goes through it on the smooth branch, placing two nodes either side (`_bracket`) between which the
+   interpolant gives the rates, where the singular Jacobian cannot. A step that cannot be made smaller
+   than `H_MIN` marks a
    motion limit (dead point, lock-up, end of assembly). At a fold (the usual dead point: a block's
    Jacobian loses rank one and the branch turns back) the limit's φ and configuration are then solved
    for together, by Newton on the block's closure equations bordered by a singularity condition
