@@ -101,6 +101,17 @@ def _structure_section(engine, ctx):
                                                       "external pairs"), rows, "Assur groups in solving order"))
 
 
+def _motion_section(engine, ctx):
+    """`check`'s verdict: whether the input turns fully, dead points and change points, extreme
+    positions, transmission and pressure angles."""
+    from .check import check, format_report
+    if len(engine.inputs) != 1:
+        return "<p>The motion range is checked for a mechanism with one input.</p>"
+    return ("<p>The whole range the input can move through (<code>mbplanar check</code>): dead points are "
+            "located exactly, extreme positions refined by Newton on the analogue, transmission and "
+            "pressure angles over the range.</p><pre>" + html.escape(format_report(check(engine))) + "</pre>")
+
+
 def _positions_section(engine, ctx):
     from .plotting import moving_points
     from .scene import build_scene
@@ -226,6 +237,7 @@ SECTIONS: dict[str, Section] = {
     "model": Section("Model", _model_section),
     "diagram": Section("Kinematic diagram", _diagram_section),
     "structure": Section("Structure", _structure_section),
+    "motion": Section("Motion range, dead points and angles", _motion_section),
     "positions": Section("Positions and analogues", _positions_section),
     "plots": Section("Kinematic plots", _plots_section),
     "animation": Section("Animation", _animation_section),

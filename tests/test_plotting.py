@@ -312,6 +312,16 @@ def _table(page, caption):
     return [[c.split("</td>")[0] for c in row.split("<td>")[1:]] for row in rows if "<td>" in row]
 
 
+def test_report_motion_section_is_the_check_report(shaper_report):
+    import html as html_module
+
+    from mbplanar.check import check, format_report
+    # line by line up to the first " at ": where a tied extreme is reached may differ in the last digit
+    for line in html_module.escape(format_report(check(engine("shaper")))).splitlines():
+        assert line.split(" at ")[0] in shaper_report
+    assert "the input turns fully" in shaper_report
+
+
 def test_report_reactions_are_the_kinetostatics_at_the_models_speed(shaper_report):
     from mbplanar.kinetostatics import kinetostatics
     eng = engine("shaper")
