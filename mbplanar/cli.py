@@ -195,20 +195,37 @@ def cmd_solve(args):
 def _print_solution(engine, doc):
     print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g}, "
                                            f"ε = {i['epsilon']:g})" for i in doc["inputs"]))
-    print(f"{'point':8s}{'x [m]':>12s}{'y [m]':>12s}{'vx [m/s]':>12s}{'vy [m/s]':>12s}"
-          f"{'ax [m/s²]':>12s}{'ay [m/s²]':>12s}")
-    for name, p in doc["points"].items():
-        print(f"{name:8s}" + "".join(f"{p[k]:12.6g}" for k in ("x", "y", "vx", "vy", "ax", "ay")))
-    print(f"{'link':8s}{'angle [°]':>12s}{'ω [rad/s]':>12s}{'ε [rad/s²]':>12s}{'IC x':>12s}{'IC y':>12s}")
+    def num(v):
+        return f"{v:.6g}"
+
+    size = max([1e-300] + [abs(p[k]) for p in doc["points"].values() for k in ("x", "y")])
+    _print_columns(["point", "x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]"],
+                   [[name] + [num(_clean(p[k], 1e-12 * size)) for k in ("x", "y", "vx", "vy", "ax", "ay")]
+                    for name, p in doc["points"].items()])
+    rows = []
     for name, link in doc["links"].items():
-        ic = doc["instant_centres"][name] or [float("nan")] * 2
-        print(f"{name:8s}{math.degrees(link['angle']):12.6g}{link['omega']:12.6g}{link['epsilon']:12.6g}"
-              f"{ic[0]:12.6g}{ic[1]:12.6g}")
-    print(f"{'joint':8s}{'type':>5s}{'value':>14s}{'rate':>14s}{'accel':>14s}")
+        ic = doc["instant_centres"][name]
+        rows.append([name, num(math.degrees(link["angle"])), num(link["omega"]), num(link["epsilon"])]
+                    + ([num(ic[0]), num(ic[1])] if ic else ["—", "—"]))
+    _print_columns(["link", "angle [°]", "ω [rad/s]", "ε [rad/s²]", "IC x", "IC y"], rows)
+    rows = []
     for name, j in doc["joints"].items():
-        scale = 180 / math.pi if j["type"] == "R" else 1.0
-        unit = "°" if j["type"] == "R" else "m"
-        print(f"{name:8s}{j['type']:>5s}{j['value'] * scale:13.6g}{unit}{j['rate']:14.6g}{j['accel']:14.6g}")
+        revolute = j["type"] == "R"
+        value = num(math.degrees(j["value"])) + " °" if revolute else num(j["value"]) + " m"
+        rows.append([name, j["type"], value, num(j["rate"]), num(j["accel"])])
+    _print_columns(["joint", "type", "value", "rate", "accel"], rows)
+
+
+def _clean(v, tiny):
+    """Round-off below `tiny` printed as 0."""
+    return 0.0 if abs(v) < tiny else v
+
+
+def _print_columns(head, rows):
+    """A text table: the first column left-aligned, the others right-aligned, two spaces apart."""
+    widths = [max(len(str(r[k])) for r in [head] + rows) for k in range(len(head))]
+    for r in [head] + rows:
+        print("  ".join(str(c).ljust(w) if k == 0 else str(c).rjust(w) for k, (c, w) in enumerate(zip(r, widths))))
 
 
 # -- sweep ------------------------------------------------------------------------------------------
@@ -362,16 +379,17 @@ def cmd_forces(args):
     inp = doc["input"]
     print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
           f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {inertia:g}; {how})")
-    print(f"{'joint':7s}{'type':>5s}{'on':>5s}{'from':>5s}{'Fx [N]':>13s}{'Fy [N]':>13s}{'|F| [N]':>13s}"
-          f"{'dir [°]':>10s}{'M [N·m]':>13s}")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
+    rows = []
     for name, r in doc["reactions"].items():
-        r = {k: (0.0 if isinstance(v, float) and abs(v) < tiny else v) for k, v in r.items()}
-        moment = f"{r['moment']:13.6g}" if r["type"] == "P" else ""
-        print(f"{name:7s}{r['type']:>5s}{r['on']:>5s}{r['from']:>5s}{r['fx']:13.6g}{r['fy']:13.6g}"
-              f"{r['magnitude']:13.6g}{r['direction_deg']:10.3f}{moment}")
+        fx, fy, moment = (_clean(r[k], tiny) for k in ("fx", "fy", "moment"))
+        rows.append([name, r["type"], r["on"], r["from"], f"{fx:.6g}", f"{fy:.6g}",
+                     f"{_clean(r['magnitude'], tiny):.6g}", f"{r['direction_deg']:.3f}",
+                     f"{moment:.6g}" if r["type"] == "P" else ""])
+    _print_columns(["joint", "type", "on", "from", "Fx [N]", "Fy [N]", "|F| [N]", "dir [°]", "M [N·m]"], rows)
     for name, q in doc["balancing"].items():
         unit = "N·m" if engine.mech.joints[name].kind == "R" else "N"
+        q = _clean(q, tiny * (engine.size if unit == "N·m" else 1.0))
         print(f"balancing {'moment' if unit == 'N·m' else 'force'} at {name}: {q:.6g} {unit}")
     print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
     return 0
