@@ -41,6 +41,9 @@ def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     return parse_model(data, source=source)
 
 
+_MISSING = object()
+
+
 class Row:
     """Typed access to one table row, with errors that name the file and row."""
 
@@ -56,24 +59,26 @@ class Row:
     def has(self, key) -> bool:
         return key in self.data
 
-    def text(self, key, default=None, required=False) -> str | None:
+    def _value(self, key, required, hint=""):
+        """The raw value of `key` (marked as used), `_MISSING` when absent and not required."""
         self.used.add(key)
         if key not in self.data:
             if required:
-                self.fail(f"missing '{key}'")
+                self.fail(f"missing '{key}'{hint}")
+            return _MISSING
+        return self.data[key]
+
+    def text(self, key, default=None, required=False) -> str | None:
+        value = self._value(key, required)
+        if value is _MISSING:
             return default
-        value = self.data[key]
         if isinstance(value, bool) or not isinstance(value, (str, int)):
             self.fail(f"'{key}' must be a name (text), got {value!r}")
         return str(value)
 
     def number(self, key, default=None, required=False, positive=False, nonzero=False) -> float | None:
-        self.used.add(key)
-        if key not in self.data:
-            if required:
-                self.fail(f"missing '{key}'")
-            return default
-        return self._check_number(key, self.data[key], positive, nonzero)
+        value = self._value(key, required)
+        return default if value is _MISSING else self._check_number(key, value, positive, nonzero)
 
     def _check_number(self, key, value, positive=False, nonzero=False) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -88,23 +93,17 @@ class Row:
         return value
 
     def pair(self, key, required=False) -> tuple[float, float] | None:
-        self.used.add(key)
-        if key not in self.data:
-            if required:
-                self.fail(f"missing '{key}' (drawn coordinates [x, y])")
+        value = self._value(key, required, " (drawn coordinates [x, y])")
+        if value is _MISSING:
             return None
-        value = self.data[key]
         if not isinstance(value, list) or len(value) != 2:
             self.fail(f"'{key}' must be [x, y], got {value!r}")
         return (self._check_number(key, value[0]), self._check_number(key, value[1]))
 
     def names(self, key, count=2, required=False) -> tuple[str, ...] | None:
-        self.used.add(key)
-        if key not in self.data:
-            if required:
-                self.fail(f"missing '{key}'")
+        value = self._value(key, required)
+        if value is _MISSING:
             return None
-        value = self.data[key]
         if not isinstance(value, list) or len(value) != count or not all(
                 isinstance(v, (str, int)) and not isinstance(v, bool) for v in value):
             self.fail(f"'{key}' must be a list of {count} names, got {value!r}")
