@@ -379,10 +379,8 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     motion = analyse(engine, _grid(engine, lo, hi, limits, samples))
     located = [lim for lim in limits if lim.q is not None]
     at_limits = positions_at_limits(engine, located) if located else None
-    crossings = [c for c in engine.atlas().crossings if lo - 1e-9 <= c.phi[0] <= hi + 1e-9]
-    if full:  # one turn: a change point at both ends of it is one change point
-        crossings = [c for c in crossings if c.phi[0] < hi - 1e-6 or not any(
-            abs(d.phi[0] - (c.phi[0] - (hi - lo))) < 1e-6 for d in crossings)]
+    # (a full turn starts and ends at the drawn pose, which cannot be a change point: none is counted twice)
+    crossings = [c for c in engine.atlas().crossings if lo <= c.phi[0] <= hi]
     report = CheckReport(
         model=engine.mech.name, input=inp.name, unit=inp.unit, full_turn=full,
         range=(float(inp.from_si(lo)), float(inp.from_si(hi))),

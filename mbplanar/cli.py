@@ -195,25 +195,26 @@ def cmd_solve(args):
 def _print_solution(engine, doc):
     print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g}, "
                                            f"ε = {i['epsilon']:g})" for i in doc["inputs"]))
-    def num(v):
-        return f"{v:.6g}"
-
     size = max([1e-300] + [abs(p[k]) for p in doc["points"].values() for k in ("x", "y")])
     _print_columns(["point", "x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]"],
-                   [[name] + [num(_clean(p[k], 1e-12 * size)) for k in ("x", "y", "vx", "vy", "ax", "ay")]
+                   [[name] + [_num(_clean(p[k], 1e-12 * size)) for k in ("x", "y", "vx", "vy", "ax", "ay")]
                     for name, p in doc["points"].items()])
     rows = []
     for name, link in doc["links"].items():
         ic = doc["instant_centres"][name]
-        rows.append([name, num(math.degrees(link["angle"])), num(link["omega"]), num(link["epsilon"])]
-                    + ([num(ic[0]), num(ic[1])] if ic else ["—", "—"]))
+        rows.append([name, _num(math.degrees(link["angle"])), _num(link["omega"]), _num(link["epsilon"])]
+                    + ([_num(ic[0]), _num(ic[1])] if ic else ["—", "—"]))
     _print_columns(["link", "angle [°]", "ω [rad/s]", "ε [rad/s²]", "IC x", "IC y"], rows)
     rows = []
     for name, j in doc["joints"].items():
         revolute = j["type"] == "R"
-        value = num(math.degrees(j["value"])) + " °" if revolute else num(j["value"]) + " m"
-        rows.append([name, j["type"], value, num(j["rate"]), num(j["accel"])])
+        value = _num(math.degrees(j["value"])) + " °" if revolute else _num(j["value"]) + " m"
+        rows.append([name, j["type"], value, _num(j["rate"]), _num(j["accel"])])
     _print_columns(["joint", "type", "value", "rate", "accel"], rows)
+
+
+def _num(v) -> str:
+    return f"{v:.6g}"
 
 
 def _clean(v, tiny):
@@ -383,9 +384,8 @@ def cmd_forces(args):
     rows = []
     for name, r in doc["reactions"].items():
         fx, fy, moment = (_clean(r[k], tiny) for k in ("fx", "fy", "moment"))
-        rows.append([name, r["type"], r["on"], r["from"], f"{fx:.6g}", f"{fy:.6g}",
-                     f"{_clean(r['magnitude'], tiny):.6g}", f"{r['direction_deg']:.3f}",
-                     f"{moment:.6g}" if r["type"] == "P" else ""])
+        rows.append([name, r["type"], r["on"], r["from"], _num(fx), _num(fy), _num(_clean(r["magnitude"], tiny)),
+                     f"{r['direction_deg']:.3f}", _num(moment) if r["type"] == "P" else ""])
     _print_columns(["joint", "type", "on", "from", "Fx [N]", "Fy [N]", "|F| [N]", "dir [°]", "M [N·m]"], rows)
     for name, q in doc["balancing"].items():
         unit = "N·m" if engine.mech.joints[name].kind == "R" else "N"

@@ -88,6 +88,11 @@ class BlockPlan:
     var_scale: np.ndarray  # likewise for the unknowns (angles 1, displacements 1/size)
     group: object = None
 
+    @property
+    def joints(self) -> tuple:
+        """Names of the block's joints: tree joints, then cuts."""
+        return tuple(st.law.name for st in self.steps) + tuple(law.name for law in self.cuts)
+
 
 @dataclass
 class Limit:
@@ -487,12 +492,12 @@ class _Atlas:
         if self._arrays is None:
             phi = np.array([n.phi[0] for n in self.nodes])
             h = np.diff(phi)
+            derivatives = [n.per_input() for n in self.nodes]
             per_block = []
             for k in range(len(self.engine.blocks)):
                 q = np.stack([n.q[k] for n in self.nodes], axis=1)
-                # a node's derivatives are along its walking direction: dφ/ds = direction
-                qd = np.stack([n.qd[k] / n.direction[0] for n in self.nodes], axis=1)
-                qdd = np.stack([n.qdd[k] / n.direction[0] ** 2 for n in self.nodes], axis=1)
+                qd = np.stack([d[0][k] for d in derivatives], axis=1)
+                qdd = np.stack([d[1][k] for d in derivatives], axis=1)
                 ends = np.stack([q[:, :-1], q[:, 1:], h * qd[:, :-1], h * qd[:, 1:],
                                  h * h * qdd[:, :-1], h * h * qdd[:, 1:]])  # (6, m, K − 1)
                 per_block.append((q, qd, qdd, np.einsum("ce,emk->cmk", _HERMITE5, ends)))
@@ -526,6 +531,12 @@ class _Node:
     @property
     def signs(self) -> np.ndarray:
         return np.sign(self.dets)
+
+    def per_input(self, k: int = 0) -> tuple[list, list]:
+        """q' and q'' of every block with respect to input k (the walk's are per unit s, dφ/ds =
+        direction)."""
+        d = self.direction[k]
+        return [qd / d for qd in self.qd], [qdd / (d * d) for qdd in self.qdd]
 
 
 def _node_at(e: Engine, phi: np.ndarray, direction: np.ndarray, guesses) -> _Node | None:
@@ -567,7 +578,7 @@ def _accept(e: Engine, node: _Node, new: _Node | None, guesses, h: float) -> tup
         return "reject", dist
     if np.array_equal(new.signs, node.signs):
         return "ok", dist
-    if h <= H_CROSS and dist <= CROSS_DIST and min(node.pivot, new.pivot) >= PIVOT_CROSS:
+    if h <= H_CROSS and dist <= CROSS_DIST:  # (no node is placed on a singular position)
         return "cross", dist
     return "reject", dist
 
@@ -679,11 +690,10 @@ def _bracket(e: Engine, start: _Node, node: _Node, new: _Node, direction: np.nda
     if not (np.array_equal(before.signs, node.signs) and np.array_equal(after.signs, new.signs)):
         return None
     bp = e.blocks[k]
-    joints = tuple(st.law.name for st in bp.steps) + tuple(law.name for law in bp.cuts)
     lo, hi = sorted((before.phi[0], after.phi[0]))
     phi_c = _locate_crossing(e, k, before, after)
     kind = _limit_kind(e, bp, e._solve_batch(phi_c[None, :], _hermite_between(before, after, phi_c)))
-    return Crossing(phi_c, bp.links, joints, (lo, hi), kind), before, after
+    return Crossing(phi_c, bp.links, bp.joints, (lo, hi), kind), before, after
 
 
 def _hermite_between(a: _Node, b: _Node, phi: np.ndarray) -> list:
@@ -692,11 +702,10 @@ def _hermite_between(a: _Node, b: _Node, phi: np.ndarray) -> list:
     k = int(np.argmax(np.abs(b.phi - a.phi)))
     h = float(b.phi[k] - a.phi[k])
     t = float((phi[k] - a.phi[k]) / h)
-    da, db = a.direction[k], b.direction[k]  # derivatives per unit s; dφ/ds = direction
     basis = np.array([t ** n for n in range(6)]) @ _HERMITE5
-    return [(basis @ np.stack([qa, qb, h * qda / da, h * qdb / db, h * h * qdda / da ** 2,
-                               h * h * qddb / db ** 2]))[:, None]
-            for qa, qb, qda, qdb, qdda, qddb in zip(a.q, b.q, a.qd, b.qd, a.qdd, b.qdd)]
+    (qda, qdda), (qdb, qddb) = a.per_input(k), b.per_input(k)
+    return [(basis @ np.stack([q0, q1, h * d0, h * d1, h * h * dd0, h * h * dd1]))[:, None]
+            for q0, q1, d0, d1, dd0, dd1 in zip(a.q, b.q, qda, qdb, qdda, qddb)]
 
 
 def _det_at(e: Engine, k: int, phi: np.ndarray, guesses) -> float:
@@ -734,7 +743,7 @@ def _limit(e: Engine, node: _Node, direction: np.ndarray, h: float) -> Limit:
     ratios = [float(st.lu.pivot_ratio[0]) if st.lu is not None else math.inf for st in sol.blocks]
     k = int(np.argmin(ratios))
     bp = e.blocks[k]
-    joints = tuple(st.law.name for st in bp.steps) + tuple(law.name for law in bp.cuts)
+    joints = bp.joints
     sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
     fold = _locate_fold(e, k, node, direction) if bp.m else None
     if fold is None:

@@ -3,6 +3,8 @@ up. The engine must go straight through on the smooth branch (never stop as at a
 jump to the crossing branch), give finite rates there, and report where the change points are."""
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,13 +14,16 @@ from hypothesis import strategies as st
 import mbplanar
 from mbplanar.cli import main
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+from closed_forms import circle_meet  # noqa: E402  (the dyad's closed form)
+
 
 def fourbar(crank, coupler, rocker, ground, phi_deg, crossed=False):
     """A four-bar O-A-B-C (ground O(0,0), C(ground, 0)) drawn exactly at crank angle phi_deg, on the
     open (B above the line AC) or crossed assembly."""
     a = np.array([crank * math.cos(math.radians(phi_deg)), crank * math.sin(math.radians(phi_deg))])
     c = np.array([ground, 0.0])
-    b = circle_meet(a, coupler, c, rocker, +1 if not crossed else -1)
+    b = circle_meet(a[None], c[None], coupler, rocker, +1 if not crossed else -1)[0]
     m = mbplanar.Mechanism("changepoint")
     for name in ("1", "2", "3"):
         m.add_link(name)
@@ -30,15 +35,6 @@ def fourbar(crank, coupler, rocker, ground, phi_deg, crossed=False):
     return m
 
 
-def circle_meet(p, rp, q, rq, side):
-    """Intersection of circles (p, rp) and (q, rq) to the left (side +1) or right (−1) of p → q."""
-    d = np.linalg.norm(q - p)
-    x = (rp * rp - rq * rq + d * d) / (2 * d)
-    y = math.sqrt(max(rp * rp - x * x, 0.0))
-    u = (q - p) / d
-    return p + x * u + side * y * np.array([-u[1], u[0]])
-
-
 def closed_form_rocker_angles(crank, coupler, rocker, ground, phi):
     """Both roots of the rocker's angle for crank angles phi (B,): (2, B); the direction of its
     reference line B → C (its first two revolute joints, as the engine reports it)."""
@@ -46,7 +42,7 @@ def closed_form_rocker_angles(crank, coupler, rocker, ground, phi):
     c = np.array([ground, 0.0])
     out = []
     for side in (+1, -1):
-        b = np.array([circle_meet(ai, coupler, c, rocker, side) for ai in a])
+        b = circle_meet(a, np.broadcast_to(c, a.shape), coupler, rocker, side)
         out.append(np.arctan2(c[1] - b[:, 1], c[0] - b[:, 0]))
     return np.array(out)
 
