@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .constraints import dot, perp
-from .solver import Crossing, Engine, Limit
+from .solver import Crossing, Engine, Limit, met_along
 
 __all__ = ["Motion", "analyse", "positions_at_limits"]
 
@@ -309,7 +309,41 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     n_in = len(engine.inputs)
     phi = np.asarray(phi, float)
     phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
+    if engine.backend == "numba" and n_in == 1 and len(phi) and np.all(np.isfinite(phi)):
+        m = _compiled_motion(engine, phi, omega, epsilon)
+        if m is not None:
+            return m
     return _motion(engine, engine.solve(phi), omega, epsilon)
+
+
+def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
+    """`_motion(engine, engine.solve(phi), ...)` by the compiled per-position loops of one input, or
+    None where they hand the batch back to numpy."""
+    from . import _numba_kinematics as compiled
+
+    batch = len(phi)
+    omega = _per_position(omega, [i.omega for i in engine.inputs], batch, 1)
+    epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, 1)
+    tables = _tables(engine)
+    x = phi[:, 0]
+    got = compiled.sweep(engine, x, omega[:, 0], epsilon[:, 0], *tables)
+    if got is None:
+        return None
+    out, valid = got
+    keep = slice(None) if valid.all() else np.flatnonzero(valid)
+    rows = out[keep]
+    n = len(rows)
+    f = {name: (rows[:, at:at + count * comp].reshape(n, count, comp) if comp == 2 else rows[:, at:at + count])
+         for name, at, count, comp in compiled.field_sizes(len(engine.links), len(tables[0][0]),
+                                                              len(engine.mech.joints))}
+    limits, crossings = met_along(engine.atlas(), x)
+    return Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
+                  link_names=list(engine.links), angle=f["angle"], w=f["w"], e=f["e"],
+                  point_names=tables[0][0], xy=f["xy"], v=f["v"], a=f["a"],
+                  joint_names=list(engine.mech.joints), value=f["value"], rate=f["rate"], accel=f["accel"],
+                  ic=f["ic"], wq=f["wq"], eq=f["eq"], vq=f["vq"], aq=f["aq"], rate_q=f["rate_q"],
+                  accel_q=f["accel_q"], requested=batch, limits=limits, crossings=crossings,
+                  frames={"th": f["th"], "r": f["r"], "w": f["wq"], "v": f["fv"], "e": f["eq"], "a": f["fa"]})
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:

@@ -41,7 +41,7 @@ import numpy as np
 from ._linalg import factor
 from .assembly import assemble, reference_points
 from .constraints import Pose, Rates, make_law
-from .errors import MotionError
+from .errors import MbplanarError, MotionError
 from .model import Mechanism
 from .topology import analyse_topology
 
@@ -162,10 +162,25 @@ class Solution:
     a: np.ndarray | None = None
 
 
-class Engine:
-    """A compiled mechanism, ready to solve batches of positions."""
+BACKENDS = ("numpy", "numba")
 
-    def __init__(self, mech: Mechanism, grouped: bool = True):
+
+class Engine:
+    """A compiled mechanism, ready to solve batches of positions.
+
+    backend: "numpy" (the reference) or "numba", which runs the kinematics of one-input sweeps through
+    compiled per-position loops (`mbplanar._numba_kinematics`; needs the optional extra `fast`) and
+    falls back to numpy wherever those loops cannot vouch for a position."""
+
+    def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy"):
+        if backend not in BACKENDS:
+            raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, not {backend!r}")
+        if backend == "numba":
+            try:
+                import numba  # noqa: F401
+            except ImportError:
+                raise MbplanarError("backend 'numba' needs numba: pip install 'mbplanar[fast]'") from None
+        self.backend = backend
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech
@@ -922,15 +937,20 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     if len(retry):
         good[retry] = _repair(e, sol, retry, idx, atlas)
     sol.valid = good
+    sol.limits, sol.crossings = met_along(atlas, x)
+    return sol
+
+
+def met_along(atlas: _Atlas, x: np.ndarray) -> tuple[list, list]:
+    """The limits and change points of the atlas that a batch x (B,) of one input runs into."""
     # only the limits this batch ran into: a row past the atlas' last node towards a limit is left out
     # because of it, even a row short of the located limit (the walk's last node can be a few H_MIN
     # short of a fold); the atlas may know limits beyond the range asked for
-    ends = {-1: nodes_phi[0], +1: nodes_phi[-1]}
-    sol.limits = [atlas.limits[d] for d in (-1, +1)
-                  if atlas.limits[d] is not None and np.any(d * (x - ends[d]) > 0)]
+    grid = atlas.arrays()[0]
+    ends = {-1: grid[0], +1: grid[-1]}
+    limits = [atlas.limits[d] for d in (-1, +1) if atlas.limits[d] is not None and np.any(d * (x - ends[d]) > 0)]
     lo, hi = float(x.min()), float(x.max())
-    sol.crossings = [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
-    return sol
+    return limits, [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
 
 
 def _in_brackets(crossings: list, x: np.ndarray) -> np.ndarray:

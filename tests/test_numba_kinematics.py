@@ -1,0 +1,99 @@
+"""The compiled backend (numba) gives the numpy engine's answers: on every model, on random mechanisms,
+past a motion limit, and where it hands the batch back to numpy (a change point). Skipped without
+numba."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mbplanar
+from mbplanar.errors import MbplanarError
+
+pytest.importorskip("numba")
+
+from test_change_points import fourbar  # noqa: E402
+from test_properties import mechanisms  # noqa: E402
+from conftest import MODELS  # noqa: E402
+
+POSITIONS = ("angle", "xy", "value")
+RATES = ("w", "e", "v", "a", "rate", "accel", "wq", "eq", "vq", "aq", "rate_q", "accel_q")
+
+
+def _pair(mech):
+    return mbplanar.Engine(mech), mbplanar.Engine(mech, backend="numba")
+
+
+def _assert_same(ref, fast, size, rate_tol=1e-8):
+    """Positions to 1e-10 of the size; rates and accelerations to `rate_tol` relative (both paths stop
+    Newton at the same residual, so near a dead point, where the rates grow without bound, they differ
+    by the conditioning times that residual)."""
+    assert fast.success == ref.success and len(fast.phi) == len(ref.phi)
+    assert [lim.phi[0] for lim in fast.limits] == [lim.phi[0] for lim in ref.limits]
+    np.testing.assert_array_equal(fast.phi, ref.phi)
+    for name in POSITIONS:
+        np.testing.assert_allclose(getattr(fast, name), getattr(ref, name), rtol=0, atol=1e-10 * size,
+                                   err_msg=name)
+    for name in RATES:
+        x, y = getattr(ref, name), getattr(fast, name)
+        scale = 1.0 + np.max(np.abs(x), axis=tuple(range(1, x.ndim)), keepdims=True)
+        np.testing.assert_allclose(y / scale, x / scale, rtol=0, atol=rate_tol, err_msg=name)
+    for name in ("th", "r", "w", "v", "e", "a"):
+        x, y = ref.frames[name], fast.frames[name]
+        scale = 1.0 + np.max(np.abs(x), axis=tuple(range(1, x.ndim)), keepdims=True)
+        np.testing.assert_allclose(y / scale, x / scale, rtol=0, atol=rate_tol, err_msg=f"frames[{name}]")
+    finite = np.isfinite(ref.ic)
+    assert np.array_equal(finite, np.isfinite(fast.ic))
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in MODELS.glob("*.toml")))
+def test_every_model_same_as_numpy(name):
+    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / f"{name}.toml"))
+    if len(ref_engine.inputs) != 1:
+        pytest.skip("several inputs: the numpy path only")
+    inp = ref_engine.inputs[0]
+    lo, hi = (inp.to_si(v) for v in inp.default_sweep()[:2])
+    phi = np.linspace(lo, hi, 721)
+    ref = mbplanar.analyse(ref_engine, phi, omega=2.5, epsilon=-0.7)
+    fast = mbplanar.analyse(fast_engine, phi, omega=2.5, epsilon=-0.7)
+    # the locking model's last rows lie a hair before its fold, where the rates are ~1e6
+    _assert_same(ref, fast, ref_engine.size, rate_tol=1e-6 if ref.limits else 1e-8)
+
+
+@settings(max_examples=15, deadline=None)
+@given(mechanisms(), st.floats(-math.pi, math.pi))
+def test_random_mechanisms_same_as_numpy(mech_kind, start):
+    mech, _ = mech_kind
+    mech.add_input("O", unit="rad")
+    ref_engine, fast_engine = _pair(mech)
+    phi = ref_engine.phi_drawn[0] + start + np.linspace(0.0, 2 * math.pi, 400)
+    ref, fast = mbplanar.analyse(ref_engine, phi), mbplanar.analyse(fast_engine, phi)
+    _assert_same(ref, fast, ref_engine.size, rate_tol=1e-6)
+
+
+def test_change_point_goes_to_numpy():
+    """Positions between the nodes around a change point need the interpolant's rates: the compiled
+    path declines the batch and the answer is numpy's, exactly."""
+    ref_engine, fast_engine = _pair(fourbar(1.0, 2.0, 1.0, 2.0, 60.0))
+    phi = ref_engine.phi_drawn[0] + np.radians(np.arange(0.0, 720.0, 0.5))
+    ref, fast = mbplanar.analyse(ref_engine, phi), mbplanar.analyse(fast_engine, phi)
+    assert fast.crossings and len(fast.crossings) == len(ref.crossings)
+    for name in POSITIONS + RATES:
+        np.testing.assert_array_equal(getattr(fast, name), getattr(ref, name))
+
+
+def test_one_position_and_past_the_limit():
+    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / "crank_slider_rocker_locking.toml"))
+    inp = ref_engine.inputs[0]
+    for values in ([inp.to_si(0.5)], [inp.to_si(v) for v in (0.5, 1.0, 1.9, 2.5)]):
+        ref, fast = mbplanar.analyse(ref_engine, values), mbplanar.analyse(fast_engine, values)
+        _assert_same(ref, fast, ref_engine.size)
+
+
+def test_unknown_backend_is_refused():
+    mech = mbplanar.read_model(MODELS / "fourbar.toml")
+    with pytest.raises(ValueError, match="backend"):
+        mbplanar.Engine(mech, backend="fortran")
+    assert issubclass(MbplanarError, Exception)
