@@ -4,7 +4,9 @@ against a vectorised numpy closed form and scipy.optimize.fsolve per position on
     python benchmarks/run.py [--quick] [--json out.json]
 
 Every time is the minimum over several repeats (wall clock, time.perf_counter) with a warm engine;
-µs per position. The engine build (assembly + structure + branch atlas) is timed separately.
+µs per position. The engine build (assembly + structure + branch atlas) is timed separately. Both
+backends are timed when numba is installed: `mbplanar_us` is the compiled one (`backend`), `numpy_us`
+the reference; the targets of issue 7 are checked at the end (`targets`).
 """
 
 from __future__ import annotations
@@ -32,6 +34,12 @@ import mbplanar  # noqa: E402
 from mbplanar.model import Mechanism  # noqa: E402
 
 MODELS = ["fourbar", "slider_crank", "shaper", "six_bar_press", "class4_group"]
+try:
+    import numba  # noqa: F401
+    BACKENDS = ["numpy", "numba"]
+except ImportError:
+    BACKENDS = ["numpy"]
+BEST = BACKENDS[-1]
 CLOSED = {"fourbar": (cf.fourbar, cf.fourbar_fsolve), "slider_crank": (cf.slider_crank, cf.slider_crank_fsolve)}
 
 
@@ -62,10 +70,10 @@ def full_turn(engine, n):
     return engine.phi_drawn[0] + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
 
 
-def build(path):
+def build(path, backend="numpy"):
     """Engine of a model file, and the times of the build and of the atlas (first solve)."""
     t0 = time.perf_counter()
-    engine = mbplanar.Engine(mbplanar.read_model(path))
+    engine = mbplanar.Engine(mbplanar.read_model(path), backend=backend)
     t1 = time.perf_counter()
     engine.atlas().cover(engine.phi_drawn[0], engine.phi_drawn[0] + 2 * np.pi)
     return engine, t1 - t0, time.perf_counter() - t1
@@ -87,44 +95,53 @@ def sweep_cases(n, repeats, fsolve_n, out):
         if not path.exists():
             continue
         engine, t_build, t_atlas = build(path)
+        fast = build(path, BEST)[0]
         builds.append((name, t_build, t_atlas))
         phi = full_turn(engine, n)
-        works = [("positions", lambda: engine.solve(phi)), ("kinematics", lambda: mbplanar.analyse(engine, phi))]
+        works = [("positions", lambda e: e.solve(phi)), ("kinematics", lambda e: mbplanar.analyse(e, phi))]
         if kinetostatics is not None:
-            motion = mbplanar.analyse(engine, phi)
             try:
-                kinetostatics(engine, motion)
-                works.append(("reactions", lambda: kinetostatics(engine, mbplanar.analyse(engine, phi))))
-            except Exception as exc:  # a model without mass data, or the module not finished
+                kinetostatics(engine, mbplanar.analyse(engine, phi))
+                works.append(("reactions", lambda e: kinetostatics(e, mbplanar.analyse(e, phi))))
+            except Exception as exc:  # a model without mass data
                 print(f"  {name}: reactions skipped ({type(exc).__name__}: {exc})")
         closed, fsolve = CLOSED.get(name, (None, None))
         for work, fn in works:
-            fn()
-            row = dict(name=name, work=work, n=n, mbplanar_us=None, closed_form_us=None, fsolve_us=None)
+            engines = [engine] if work == "positions" else [engine, fast]  # Engine.solve is numpy's
+            for e in engines:
+                fn(e)
+            row = dict(name=name, work=work, n=n, mbplanar_us=None, closed_form_us=None, fsolve_us=None,
+                       numpy_us=None, backend=engines[-1].backend)
+            calls = [lambda e=e: fn(e) for e in engines]
             if closed is not None and work != "reactions":
                 only = work == "positions"
-                t, tc = best_times([fn, lambda: closed(phi, positions_only=only)], 3 * repeats)
+                *times, tc = best_times(calls + [lambda: closed(phi, positions_only=only)], 3 * repeats)
                 row["closed_form_us"] = 1e6 * tc / n
                 few = phi[:fsolve_n]
                 row["fsolve_us"] = 1e6 * best_time(lambda: fsolve(few, rates=not only), 2) / fsolve_n
             else:
-                t = best_time(fn, repeats)
-            row["mbplanar_us"] = 1e6 * t / n
+                times = best_times(calls, repeats)
+            row["numpy_us"], row["mbplanar_us"] = 1e6 * times[0] / n, 1e6 * times[-1] / n
             out.append(row)
             ratio = f"  ({row['mbplanar_us'] / row['closed_form_us']:.1f}× closed form)" if row["closed_form_us"] else ""
-            print(f"  {name:14s} {work:11s} {row['mbplanar_us']:8.2f} µs/position{ratio}"
+            print(f"  {name:14s} {work:11s} {row['mbplanar_us']:8.2f} µs/position ({row['backend']}; numpy "
+                  f"{row['numpy_us']:.2f}){ratio}"
                   + (f"  closed {row['closed_form_us']:.3f}  fsolve {row['fsolve_us']:.1f}" if row["closed_form_us"] else ""))
     return builds
 
 
 def latency_cases(repeats, out):
     for name in ("fourbar", "shaper", "six_bar_press"):
-        engine, _, _ = build(ROOT / "models" / f"{name}.toml")
-        phi = engine.phi_drawn[:1] + 0.3
-        mbplanar.analyse(engine, phi)
-        t = best_time(lambda: mbplanar.analyse(engine, phi), repeats * 5)
-        out.append(dict(name=name, work="one position", n=1, mbplanar_us=1e6 * t, closed_form_us=None, fsolve_us=None))
-        print(f"  {name:14s} one position (analyse, warm engine) {1e6 * t:8.0f} µs")
+        times = []
+        for backend in BACKENDS:
+            engine, _, _ = build(ROOT / "models" / f"{name}.toml", backend)
+            phi = engine.phi_drawn[:1] + 0.3
+            mbplanar.analyse(engine, phi)
+            times.append(best_time(lambda: mbplanar.analyse(engine, phi), repeats * 20))
+        out.append(dict(name=name, work="one position", n=1, mbplanar_us=1e6 * times[-1], closed_form_us=None,
+                        fsolve_us=None, numpy_us=1e6 * times[0], backend=BEST))
+        print(f"  {name:14s} one position (analyse, warm engine) {1e6 * times[-1]:8.0f} µs ({BEST}; numpy "
+              f"{1e6 * times[0]:.0f})")
     cmd = [sys.executable, "-m", "mbplanar", "solve", str(ROOT / "models" / "shaper.toml"), "--at", "140.769"]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     # bytecode compiled once, as an installed package has it (PYTHONDONTWRITEBYTECODE would otherwise
@@ -133,73 +150,76 @@ def latency_cases(repeats, out):
                    capture_output=True)
     t = best_time(lambda: subprocess.run(cmd, check=True, capture_output=True, env=env), max(3, repeats))
     out.append(dict(name="shaper", work="mbplanar solve (CLI, end to end)", n=1, mbplanar_us=1e6 * t,
-                    closed_form_us=None, fsolve_us=None))
+                    closed_form_us=None, fsolve_us=None, numpy_us=1e6 * t, backend="numpy"))
     print(f"  mbplanar solve models/shaper.toml end to end (subprocess, import included) {t:.3f} s")
 
 
 def scaling_n(sizes, repeats, out):
-    engine, _, _ = build(ROOT / "models" / "shaper.toml")
+    engines = [build(ROOT / "models" / "shaper.toml", backend)[0] for backend in BACKENDS]
     for n in sizes:
-        phi = full_turn(engine, n)
+        phi = full_turn(engines[0], n)
         rep = repeats if n <= 10 ** 5 else 1
-        t = best_time(lambda: mbplanar.analyse(engine, phi), rep)
-        row = dict(name="shaper", work="kinematics, scaling in N", n=n, mbplanar_us=1e6 * t / n,
-                   closed_form_us=None, fsolve_us=None)
+        times = [best_time(lambda: mbplanar.analyse(e, phi), rep) for e in engines]
+        row = dict(name="shaper", work="kinematics, scaling in N", n=n, mbplanar_us=1e6 * times[-1] / n,
+                   closed_form_us=None, fsolve_us=None, numpy_us=1e6 * times[0] / n, backend=BEST)
         if n == sizes[-1]:
-            tracemalloc.start()
-            mbplanar.analyse(engine, phi)
-            row["peak_MB"] = tracemalloc.get_traced_memory()[1] / 2 ** 20
-            tracemalloc.stop()
+            for e, key in zip(engines, ("numpy_peak_MB", "peak_MB")):
+                tracemalloc.start()
+                mbplanar.analyse(e, phi)
+                row[key] = tracemalloc.get_traced_memory()[1] / 2 ** 20
+                tracemalloc.stop()
         out.append(row)
-        print(f"  N = {n:8d}: {row['mbplanar_us']:8.2f} µs/position, {t:.4f} s"
-              + (f", peak traced memory {row['peak_MB']:.0f} MB" if "peak_MB" in row else ""))
-
-
-def scaling_k(ks, n, repeats, out):
-    times = []
-    for k in ks:
-        t0 = time.perf_counter()
-        engine = mbplanar.Engine(dyad_chain(k))
-        phi = full_turn(engine, n)
-        mbplanar.analyse(engine, phi)
-        t_build = time.perf_counter() - t0
-        motion = mbplanar.analyse(engine, phi)
-        assert motion.success, motion.message
-        t = best_time(lambda: mbplanar.analyse(engine, phi), repeats)
-        times.append(t)
-        out.append(dict(name=f"chain of {k} dyads", work="kinematics", n=n, mbplanar_us=1e6 * t / n,
-                        closed_form_us=None, fsolve_us=None, build_s=t_build))
-        print(f"  k = {k:3d}: {1e6 * t / n:8.2f} µs/position ({1e6 * t / n / k:.2f} per group), build + atlas {t_build:.2f} s")
-    if len(ks) > 1:
-        slope = np.polyfit(np.log(ks), np.log(times), 1)[0]
-        tail = np.polyfit(np.log(ks[-3:]), np.log(times[-3:]), 1)[0] if len(ks) >= 3 else slope
-        print(f"  time ∝ k^{slope:.2f} over k = {ks[0]}…{ks[-1]} (k^{tail:.2f} over the last three)")
-        return slope
+        print(f"  N = {n:8d}: {row['mbplanar_us']:8.2f} µs/position ({BEST}; numpy {row['numpy_us']:.2f})"
+              + (f", peak traced memory {row['peak_MB']:.0f} MB (numpy {row['numpy_peak_MB']:.0f} MB)"
+                 if "peak_MB" in row else ""))
 
 
 def scaling_groups(builder, label, ks, n, repeats, out):
     """Time per position (positions + velocities + accelerations, N = n over a turn) of the mechanisms
-    builder(k) for k in ks, and the fitted exponent of time vs k."""
-    times = []
+    builder(k) for k in ks, and the fitted exponents of time vs k (best backend, numpy)."""
+    times = {b: [] for b in BACKENDS}
     for k in ks:
         t0 = time.perf_counter()
-        engine = mbplanar.Engine(builder(k))
-        t_engine = time.perf_counter() - t0
-        phi = full_turn(engine, n)
-        motion = mbplanar.analyse(engine, phi)
+        mech = builder(k)
+        engines = {b: mbplanar.Engine(mech, backend=b) for b in BACKENDS}
+        t_engine = (time.perf_counter() - t0) / len(BACKENDS)
+        phi = full_turn(engines["numpy"], n)
+        for e in engines.values():
+            motion = mbplanar.analyse(e, phi)
+            assert motion.success, motion.message
         t_build = time.perf_counter() - t0
-        assert motion.success, motion.message
-        t = best_time(lambda: mbplanar.analyse(engine, phi), repeats)
-        times.append(t)
+        for b, e in engines.items():
+            times[b].append(best_time(lambda: mbplanar.analyse(e, phi), repeats))
+        t, t_np = times[BEST][-1], times["numpy"][-1]
         out.append(dict(name=f"chain of {k} {label}", work="kinematics", n=n, mbplanar_us=1e6 * t / n,
-                        closed_form_us=None, fsolve_us=None, build_s=t_build, engine_s=t_engine))
-        print(f"  k = {k:3d}: {1e6 * t / n:8.2f} µs/position ({1e6 * t / n / k:.2f} per group), "
-              f"engine {t_engine:.2f} s, + atlas and first sweep {t_build - t_engine:.2f} s")
+                        closed_form_us=None, fsolve_us=None, numpy_us=1e6 * t_np / n, backend=BEST,
+                        build_s=t_build, engine_s=t_engine))
+        print(f"  k = {k:3d}: {1e6 * t / n:8.2f} µs/position ({1e6 * t / n / k:.2f} per group; numpy "
+              f"{1e6 * t_np / n:.2f}), engine {t_engine:.2f} s, + atlas and first sweeps {t_build - t_engine:.2f} s")
     if len(ks) > 1:
-        slope = np.polyfit(np.log(ks), np.log(times), 1)[0]
-        tail = np.polyfit(np.log(ks[-3:]), np.log(times[-3:]), 1)[0] if len(ks) >= 3 else slope
-        print(f"  time per position ∝ k^{slope:.2f} over k = {ks[0]}…{ks[-1]} (k^{tail:.2f} over the last three)")
-        return slope
+        slopes = {b: float(np.polyfit(np.log(ks), np.log(times[b]), 1)[0]) for b in BACKENDS}
+        print(f"  time per position ∝ k^{slopes[BEST]:.2f} over k = {ks[0]}…{ks[-1]} (numpy k^{slopes['numpy']:.2f})")
+        return slopes
+
+
+def check_targets(cases, slopes, slopes4):
+    """Issue 7's targets against this run: (target, value, limit, met)."""
+    def us(name, work):
+        return next((c["mbplanar_us"] for c in cases if c["name"] == name and c["work"] == work), None)
+
+    fourbar = next((c for c in cases if c["name"] == "fourbar" and c["work"] == "kinematics"), None)
+    big = max((c for c in cases if c["work"] == "kinematics, scaling in N"), key=lambda c: c["n"], default={})
+    found = [("four-bar kinematics / closed form", fourbar and fourbar["mbplanar_us"] / fourbar["closed_form_us"], 8.0),
+             ("shaper with reactions, µs/position", us("shaper", "reactions"), 1.5),
+             ("six-bar press with reactions, µs/position", us("six_bar_press", "reactions"), 1.5),
+             ("class IV model with reactions, µs/position", us("class4_group", "reactions"), 3.0),
+             ("one position, worst of three models, µs",
+              max((c["mbplanar_us"] for c in cases if c["work"] == "one position"), default=None), 50.0),
+             ("mbplanar solve end to end, s", (us("shaper", "mbplanar solve (CLI, end to end)") or 0) / 1e6 or None, 0.5),
+             (f"shaper sweep of {big.get('n')} positions, peak MB", big.get("peak_MB"), 2048.0),
+             ("time per position vs chained dyads, exponent", slopes and slopes[BEST], 1.1),
+             ("time per position vs chained class IV groups, exponent", slopes4 and slopes4[BEST], 1.1)]
+    return [dict(target=t, value=v, limit=lim, met=v is not None and v <= lim) for t, v, lim in found]
 
 
 def main(argv=None):
@@ -223,15 +243,22 @@ def main(argv=None):
     print("scaling with N (shaper, positions + velocities + accelerations):")
     scaling_n([10, 100, 1000] if quick else [10, 100, 1000, 10 ** 4, 10 ** 5, 10 ** 6], repeats, cases)
     print("scaling with mechanism size (a crank and k dyads):")
-    slope = scaling_k([1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n, repeats, cases)
+    slope = scaling_groups(dyad_chain, "dyads", [1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n, repeats, cases)
     print("scaling with mechanism size (a crank and k class IV groups):")
     slope4 = scaling_groups(class4_chain, "class IV groups", [1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n,
                             repeats, cases)
+    targets = check_targets(cases, slope, slope4)
+    print(f"targets of issue 7 (backend {BEST}):")
+    for t in targets:
+        value = "—" if t["value"] is None else f"{t['value']:.3g}"
+        print(f"  {'met ' if t['met'] else 'MISS'}  {t['target']}: {value} (≤ {t['limit']:g})")
     if args.json:
         doc = dict(machine=dict(cpu=platform.processor() or platform.machine(), cpus=os.cpu_count(),
-                                python=platform.python_version(), numpy=np.__version__),
-                   builds=[dict(name=b[0], build_s=b[1], atlas_s=b[2]) for b in builds],
-                   chain_exponent=slope, class4_chain_exponent=slope4, cases=cases)
+                                python=platform.python_version(), numpy=np.__version__,
+                                numba=sys.modules["numba"].__version__ if "numba" in sys.modules else None),
+                   backends=BACKENDS, builds=[dict(name=b[0], build_s=b[1], atlas_s=b[2]) for b in builds],
+                   chain_exponent=slope and slope[BEST], class4_chain_exponent=slope4 and slope4[BEST],
+                   chain_exponents=slope, class4_chain_exponents=slope4, targets=targets, cases=cases)
         text = json.dumps(doc, indent=1)
         if args.json == "-":
             print(text)

@@ -22,7 +22,7 @@ import numpy as np
 
 from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE
 
-__all__ = ["FIELDS", "field_sizes", "sweep"]
+__all__ = ["FIELDS", "sweep"]
 
 # what the kernel writes per position, in this order: (name, per link / point / joint, components)
 FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq", "L", 1),
@@ -31,41 +31,24 @@ FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq"
           ("value", "J", 1), ("rate", "J", 1), ("accel", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1))
 
 
-def field_sizes(n_links: int, n_points: int, n_joints: int) -> list:
-    """(name, offset, count, components) of every field in a row of the output buffer."""
-    per = {"L": n_links, "P": n_points, "J": n_joints}
-    out, at = [], 0
-    for name, kind, comp in FIELDS:
-        out.append((name, at, per[kind], comp))
-        at += per[kind] * comp
-    return out
-
-
 @dataclass
 class _Plan:
-    """The engine's blocks as arrays. Steps (S, 6) int: kind (0 R, 1 P), parent, child, relative,
-    unknown (global index, −1 for an input), input (−1 for an unknown); (S, 6) float: sign, s0 (2),
-    u0 (2), +1/−1 (parent is the carrier). Cuts (C, 3) int: kind, links a, b; (C, 4) float: s0, n0.
-    Blocks (K, 6): first step, end step, first cut, end cut, first unknown, number of unknowns."""
+    """An engine compiled for the kernel, built once: `args`, the engine's blocks and output tables as
+    arrays in `_sweep`'s order; `row`, the structured dtype of one position's output (FIELDS);
+    `scratch`, the kernel's work arrays (so that an engine is not for several threads at once)."""
 
-    steps_i: np.ndarray
-    steps_f: np.ndarray
-    cuts_i: np.ndarray
-    cuts_f: np.ndarray
-    blocks: np.ndarray
-    row_scale: np.ndarray
-    var_scale: np.ndarray
-    sense: float
-    phi_drawn: float
-    alpha: np.ndarray
-    point_link: np.ndarray
-    point_at: np.ndarray
-    joints_i: np.ndarray  # (J, 4): kind, link a (carrier), link b (slider), 0
-    joints_f: np.ndarray  # (J, 5): drawn value, at (2), u0 (2)
-    ground: int
+    args: tuple
+    row: np.dtype
+    scratch: tuple
+    m_max: int
 
 
 def _plan(engine, point_table, joint_table) -> _Plan:
+    """Steps (S, 6) int: kind (0 R, 1 P), parent, child, relative, unknown (global index, −1 for an
+    input), input (−1 for an unknown); (S, 6) float: sign, s0 (2), u0 (2), +1/−1 (parent is the
+    carrier). Cuts (C, 3) int: kind, links a, b; (C, 4) float: s0, n0. Blocks (K, 6): first step, end
+    step, first cut, end cut, first unknown, number of unknowns. Joints (J, 4) int: kind, links a, b;
+    (J, 5) float: drawn value, at, u0."""
     plan = engine.__dict__.get("_numba_plan")
     if plan is not None:
         return plan
@@ -93,20 +76,32 @@ def _plan(engine, point_table, joint_table) -> _Plan:
         var0 += bp.m
     names, links, at = point_table
     t = joint_table
-    n_j = len(t.drawn)
+    n_l, n_p, n_j = len(engine.links), len(names), len(t.drawn)
     joints_i, joints_f = np.zeros((n_j, 4), np.int64), np.zeros((n_j, 5))
     joints_f[:, 0] = t.drawn
     joints_i[t.r_col, 1], joints_i[t.r_col, 2] = t.r_a, t.r_b
     joints_i[t.p_col, 0], joints_i[t.p_col, 1], joints_i[t.p_col, 2] = 1, t.p_c, t.p_s
     joints_f[t.p_col, 1:3], joints_f[t.p_col, 3:5] = t.p_at, t.p_u0
     arr = lambda x, dt, w: np.array(x, dt).reshape(-1, w)  # noqa: E731
-    plan = _Plan(arr(steps_i, np.int64, 6), arr(steps_f, float, 6), arr(cuts_i, np.int64, 3),
-                 arr(cuts_f, float, 4), arr(blocks, np.int64, 6), np.array(rows, float),
-                 np.array(vars_, float), float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
-                 np.array([engine.reference_angle[n] for n in engine.links]), links.astype(np.int64),
-                 np.ascontiguousarray(at, float), joints_i, joints_f, idx[engine.mech.ground])
+    args = (arr(steps_i, np.int64, 6), arr(steps_f, float, 6), arr(cuts_i, np.int64, 3), arr(cuts_f, float, 4),
+            arr(blocks, np.int64, 6), np.array(rows, float), np.array(vars_, float), float(engine.inputs[0].sense),
+            float(engine.phi_drawn[0]), np.array([engine.reference_angle[n] for n in engine.links]),
+            links.astype(np.int64), np.ascontiguousarray(at, float), joints_i, joints_f, idx[engine.mech.ground])
+    per = {"L": n_l, "P": n_p, "J": n_j}
+    row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],)) for name, kind, comp in FIELDS])
+    m_max = max([1] + [bp.m for bp in engine.blocks])
+    plan = _Plan(args, row, _scratch(len(steps_i), len(cuts_i), n_l, var0, m_max), m_max)
     engine.__dict__["_numba_plan"] = plan
     return plan
+
+
+def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
+    """Work arrays of `_sweep`: pose (5, L), rates (slots, 3, L), step and cut caches, unknowns and
+    their guesses, a block's Jacobian with its row permutation, and four vectors of a block's size."""
+    vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
+    return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
+            np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
+            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))
 
 
 def _atlas_tables(atlas):
@@ -118,50 +113,32 @@ def _atlas_tables(atlas):
         return cached[1]
     grid, per_block, signs = arrays
     coefs = [coef for _, _, _, coef in per_block if coef.shape[1]]
-    m = sum(c.shape[1] for c in coefs)
     coef = (np.ascontiguousarray(np.concatenate(coefs, axis=1).transpose(2, 0, 1)) if coefs
             else np.zeros((len(grid) - 1, 6, 0)))
-    tables = (np.ascontiguousarray(grid), coef, np.ascontiguousarray(signs, float), m)
+    tables = (np.ascontiguousarray(grid), coef, np.ascontiguousarray(signs, float))
     atlas.__dict__["_numba_tables"] = (arrays, tables)
     return tables
 
 
-def sweep(engine, x, omega, epsilon, point_table, joint_table):
-    """Kinematics of the one-input positions x (B,) (SI), input speed and acceleration (B,): the output
-    buffer (B, W) laid out as `field_sizes` says, and `valid` (B,) (False past a located limit); None
-    where the numpy path must take the batch."""
+def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
+    """Kinematics of the one-input positions x (B,) (SI, between lo and hi), input speed and
+    acceleration (B,), all contiguous: one structured row per position (FIELDS) and `valid` (B,)
+    (False past a located limit); None where the numpy path must take the batch."""
     atlas = engine.atlas()
-    atlas.cover(float(x.min()), float(x.max()))
-    grid, coef, signs, m = _atlas_tables(atlas)
+    atlas.cover(lo, hi)
+    grid, coef, signs = _atlas_tables(atlas)
     if len(grid) < 2:
         return None
     for c in atlas.crossings:
-        if np.any((x >= c.bracket[0]) & (x <= c.bracket[1])):
+        if c.bracket[0] <= hi and lo <= c.bracket[1] and np.any((x >= c.bracket[0]) & (x <= c.bracket[1])):
             return None
     plan = _plan(engine, point_table, joint_table)
-    n_l, n_p, n_j = len(engine.links), len(plan.point_link), len(plan.joints_i)
-    width = sum(count * comp for _, _, count, comp in field_sizes(n_l, n_p, n_j))
-    out = np.empty((len(x), width))
+    rows = np.empty(len(x), plan.row)
     valid = np.empty(len(x), np.bool_)
     limits = np.array([atlas.limits[-1] is not None, atlas.limits[+1] is not None], np.bool_)
-    status = _sweep(plan.steps_i, plan.steps_f, plan.cuts_i, plan.cuts_f, plan.blocks, plan.row_scale,
-                    plan.var_scale, plan.sense, plan.phi_drawn, plan.alpha, plan.point_link, plan.point_at,
-                    plan.joints_i, plan.joints_f, plan.ground, grid, coef, signs, limits,
-                    np.ascontiguousarray(x, float), np.ascontiguousarray(omega, float),
-                    np.ascontiguousarray(epsilon, float), out, valid, *_scratch(plan, n_l, m))
-    if status != 0:
-        return None
-    return out, valid
-
-
-def _scratch(plan: _Plan, n_links: int, m_all: int) -> tuple:
-    """Work arrays of `_sweep`: pose (5, L), rates (slots, 3, L), step and cut caches, unknowns and
-    their guesses, a block's Jacobian with its row permutation, and four vectors of a block's size."""
-    m_max = max([1] + [int(m) for m in plan.blocks[:, 5]])
-    vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
-    return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(len(plan.steps_i), 1), 5)),
-            np.zeros((max(len(plan.cuts_i), 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))
+    status = _sweep(*plan.args, grid, coef, signs, limits, x, omega, epsilon,
+                    rows.view(np.float64).reshape(len(x), -1), valid, *plan.scratch)
+    return None if status else (rows, valid)
 
 
 # -- kernels ----------------------------------------------------------------------------------------
@@ -324,7 +301,14 @@ def _jacobian(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, jac, col):
     """Closure Jacobian (m, m) of a block, and in rt[0 … m − 1] the sensitivities of its links' rates to
     each unknown (the links outside the block stay at 0)."""
     for j in range(m):
-        rt[j, :, :] = 0.0
+        for k in range(k0, k1):  # every link the block reads starts at rest (not all L: cost per block)
+            for comp in range(3):
+                rt[j, comp, si[k, 1]] = 0.0
+                rt[j, comp, si[k, 2]] = 0.0
+        for k in range(c0, c1):
+            for comp in range(3):
+                rt[j, comp, ci[k, 1]] = 0.0
+                rt[j, comp, ci[k, 2]] = 0.0
         for k in range(k0, k1):
             _step_rates(k, si, sf, sc, rt, j, 1.0 if si[k, 4] - var0 == j and si[k, 4] >= 0 else 0.0, -1, 0.0)
         for k in range(c0, c1):

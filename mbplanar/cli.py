@@ -20,10 +20,10 @@ from .loads import has_force_data
 __all__ = ["main"]
 
 
-def _load(path):
+def _load(args):
     from .solver import Engine
     from .table import read_model
-    return Engine(read_model(path))
+    return Engine(read_model(args.model), backend=args.backend)
 
 
 def _finite(x):
@@ -85,7 +85,7 @@ def info_document(engine) -> dict:
 
 
 def cmd_info(args):
-    engine = _load(args.model)
+    engine = _load(args)
     doc = info_document(engine)
     if args.json:
         print(json.dumps(doc, indent=2))
@@ -175,7 +175,7 @@ def _speeds(engine, phi, args):
 
 
 def cmd_solve(args):
-    engine = _load(args.model)
+    engine = _load(args)
     values = _at_values(args.at)
     if len(values) != len(engine.inputs):
         raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
@@ -280,7 +280,7 @@ def sweep_table(engine, motion, angle_unit):
 
 
 def cmd_sweep(args):
-    engine = _load(args.model)
+    engine = _load(args)
     if len(engine.inputs) != 1:
         raise _ArgError("sweep drives one input; this model has several (use the Python API)")
     values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
@@ -351,7 +351,7 @@ def forces_document(engine, motion, result, row=0, values=None) -> dict:
 
 def cmd_forces(args):
     from .kinetostatics import kinetostatics
-    engine = _load(args.model)
+    engine = _load(args)
     if len(engine.inputs) != 1:
         raise _ArgError("forces drives one input; this model has several (use the Python API)")
     value = float(args.at)
@@ -455,7 +455,7 @@ def dynamics_table(dyn):
 
 def cmd_dynamics(args):
     from .dynamics import machine_dynamics, read_dynamics
-    engine = _load(args.model)
+    engine = _load(args)
     if args.steps < 36:
         raise _ArgError("--steps must be at least 36")
     if args.delta is not None and not (math.isfinite(args.delta) and 0 < args.delta < 1):
@@ -515,7 +515,7 @@ def cmd_plot(args):
         if not options["points"]:
             raise _ArgError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
-    engine = _load(args.model)
+    engine = _load(args)
     plotting.save_figure(plotting.make_figure(engine, args.what, args.at, **options), args.output, dpi=args.dpi)
     return 0
 
@@ -527,7 +527,7 @@ def cmd_animate(args):
         raise _ArgError("--frames must be at least 2")
     if kind == "gif":
         plotting.require_matplotlib()
-    engine = _load(args.model)
+    engine = _load(args)
     if kind == "gif":
         motion = plotting.write_gif(engine, args.output, args.frames, dpi=args.dpi)
     else:
@@ -546,7 +546,7 @@ def cmd_report(args):
     from .report import write_report
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
-    engine = _load(args.model)
+    engine = _load(args)
     write_report(engine, args.output, frames=args.frames)
     return 0
 
@@ -554,7 +554,7 @@ def cmd_report(args):
 # -- check ------------------------------------------------------------------------------------------
 def cmd_check(args):
     from .check import check, format_report
-    engine = _load(args.model)
+    engine = _load(args)
     report = check(engine)
     if args.json:
         print(json.dumps(_plain(report.as_dict()), indent=2, ensure_ascii=False))
@@ -587,6 +587,9 @@ def _speed_options(s):
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
+    p.add_argument("--backend", choices=("numpy", "numba"), default="numpy",
+                   help="numba: compiled kinematics for long sweeps (pip install 'mbplanar[fast]'; importing it "
+                        "and loading the compiled code take ~1 s, the very first run compiles for ~20 s)")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("info", help="links, joints, DOF, loops, Assur groups")

@@ -321,29 +321,29 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
     None where they hand the batch back to numpy."""
     from . import _numba_kinematics as compiled
 
-    batch = len(phi)
-    omega = _per_position(omega, [i.omega for i in engine.inputs], batch, 1)
-    epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, 1)
+    batch, inp = len(phi), engine.inputs[0]
+    x = np.ascontiguousarray(phi[:, 0])
+    om = np.ascontiguousarray(np.broadcast_to(np.asarray(inp.omega if omega is None else omega, float), (batch,)))
+    ep = np.ascontiguousarray(np.broadcast_to(np.asarray(inp.epsilon if epsilon is None else epsilon, float),
+                                              (batch,)))
     tables = _tables(engine)
-    x = phi[:, 0]
-    got = compiled.sweep(engine, x, omega[:, 0], epsilon[:, 0], *tables)
+    lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
+    got = compiled.sweep(engine, x, om, ep, lo, hi, *tables)
     if got is None:
         return None
-    out, valid = got
+    rows, valid = got
     keep = slice(None) if valid.all() else np.flatnonzero(valid)
-    rows = out[keep]
-    n = len(rows)
-    f = {name: (rows[:, at:at + count * comp].reshape(n, count, comp) if comp == 2 else rows[:, at:at + count])
-         for name, at, count, comp in compiled.field_sizes(len(engine.links), len(tables[0][0]),
-                                                              len(engine.mech.joints))}
-    limits, crossings = met_along(engine.atlas(), x)
-    return Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
-                  link_names=list(engine.links), angle=f["angle"], w=f["w"], e=f["e"],
-                  point_names=tables[0][0], xy=f["xy"], v=f["v"], a=f["a"],
-                  joint_names=list(engine.mech.joints), value=f["value"], rate=f["rate"], accel=f["accel"],
-                  ic=f["ic"], wq=f["wq"], eq=f["eq"], vq=f["vq"], aq=f["aq"], rate_q=f["rate_q"],
-                  accel_q=f["accel_q"], requested=batch, limits=limits, crossings=crossings,
-                  frames={"th": f["th"], "r": f["r"], "w": f["wq"], "v": f["fv"], "e": f["eq"], "a": f["fa"]})
+    if not isinstance(keep, slice):
+        rows = rows[keep]
+    limits, crossings = met_along(engine.atlas(), x, lo, hi)
+    return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
+                  link_names=list(engine.links), angle=rows["angle"], w=rows["w"], e=rows["e"],
+                  point_names=tables[0][0], xy=rows["xy"], v=rows["v"], a=rows["a"],
+                  joint_names=list(engine.mech.joints), value=rows["value"], rate=rows["rate"],
+                  accel=rows["accel"], ic=rows["ic"], wq=rows["wq"], eq=rows["eq"], vq=rows["vq"], aq=rows["aq"],
+                  rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
+                  crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
+                                               "e": rows["eq"], "a": rows["fa"]})
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:
