@@ -260,6 +260,10 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         n_in = len(engine.inputs)
         phi = np.asarray(phi, float)
+        if engine.backend == "numba" and n_in == 1 and phi.size and np.all(np.isfinite(phi)):
+            m = _compiled_motion(engine, phi.reshape(-1, 1), omega, epsilon)  # no chunks: no temporaries
+            if m is not None:
+                return m
         if n_in != 1 or phi.size <= CHUNK:
             return _analyse(engine, phi, omega, epsilon)
         return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon)
@@ -309,11 +313,15 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     n_in = len(engine.inputs)
     phi = np.asarray(phi, float)
     phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
-    if engine.backend == "numba" and n_in == 1 and len(phi) and np.all(np.isfinite(phi)):
-        m = _compiled_motion(engine, phi, omega, epsilon)
-        if m is not None:
-            return m
     return _motion(engine, engine.solve(phi), omega, epsilon)
+
+
+def _each_position(value, default, batch):
+    """A scalar or one value per position of a one-input mechanism → contiguous (B,)."""
+    value = default if value is None else value
+    if np.ndim(value) == 0:
+        return np.full(batch, float(value))
+    return np.ascontiguousarray(np.broadcast_to(np.asarray(value, float).reshape(-1), (batch,)))
 
 
 def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
@@ -323,9 +331,7 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
 
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
-    om = np.ascontiguousarray(np.broadcast_to(np.asarray(inp.omega if omega is None else omega, float), (batch,)))
-    ep = np.ascontiguousarray(np.broadcast_to(np.asarray(inp.epsilon if epsilon is None else epsilon, float),
-                                              (batch,)))
+    om, ep = _each_position(omega, inp.omega, batch), _each_position(epsilon, inp.epsilon, batch)
     tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
     got = compiled.sweep(engine, x, om, ep, lo, hi, *tables)

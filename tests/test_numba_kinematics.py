@@ -97,3 +97,15 @@ def test_unknown_backend_is_refused():
     with pytest.raises(ValueError, match="backend"):
         mbplanar.Engine(mech, backend="fortran")
     assert issubclass(MbplanarError, Exception)
+
+
+def test_cli_backend_option_gives_the_same_table(tmp_path):
+    from mbplanar.cli import main
+
+    model = str(MODELS / "shaper.toml")
+    ref, fast = tmp_path / "numpy.csv", tmp_path / "numba.csv"
+    assert main(["sweep", model, "--steps", "24", "-o", str(ref)]) == 0
+    assert main(["--backend", "numba", "sweep", model, "--steps", "24", "-o", str(fast)]) == 0
+    a, b = (np.genfromtxt(p, delimiter=",", skip_header=1) for p in (ref, fast))
+    assert a.shape == b.shape and len(a) >= 24
+    np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9)
