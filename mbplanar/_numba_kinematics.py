@@ -40,18 +40,33 @@ class _Plan:
     args: tuple
     row: np.dtype
     scratch: tuple
-    m_max: int
 
 
 def _plan(engine, point_table, joint_table) -> _Plan:
-    """Steps (S, 6) int: kind (0 R, 1 P), parent, child, relative, unknown (global index, −1 for an
-    input), input (−1 for an unknown); (S, 6) float: sign, s0 (2), u0 (2), +1/−1 (parent is the
-    carrier). Cuts (C, 3) int: kind, links a, b; (C, 4) float: s0, n0. Blocks (K, 6): first step, end
-    step, first cut, end cut, first unknown, number of unknowns. Joints (J, 4) int: kind, links a, b;
-    (J, 5) float: drawn value, at, u0."""
     plan = engine.__dict__.get("_numba_plan")
-    if plan is not None:
-        return plan
+    if plan is None:
+        steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale = _blocks(engine)
+        names, links, at = point_table
+        joints_i, joints_f = _joints(joint_table)
+        args = (steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, float(engine.inputs[0].sense),
+                float(engine.phi_drawn[0]), np.array([engine.reference_angle[n] for n in engine.links]),
+                links.astype(np.int64), np.ascontiguousarray(at, float), joints_i, joints_f,
+                engine.link_index[engine.mech.ground])
+        per = {"L": len(engine.links), "P": len(names), "J": len(joints_i)}
+        row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
+                        for name, kind, comp in FIELDS])
+        m_max = max([1] + [bp.m for bp in engine.blocks])
+        scratch = _scratch(len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
+        plan = engine.__dict__["_numba_plan"] = _Plan(args, row, scratch)
+    return plan
+
+
+def _blocks(engine) -> tuple:
+    """The engine's `BlockPlan`s flattened. Steps (S, 6) int: kind (0 R, 1 P), parent, child,
+    relative, unknown (global index, −1 for an input), input (−1 for an unknown); (S, 6) float: sign,
+    s0 (2), u0 (2), +1/−1 (parent is the carrier). Cuts (C, 3) int: kind, links a, b; (C, 4) float:
+    s0, n0. Blocks (K, 6): first step, end step, first cut, end cut, first unknown, number of unknowns.
+    Then every block's row and unknown scales, concatenated (M,)."""
     idx = engine.link_index
     steps_i, steps_f, cuts_i, cuts_f, blocks, rows, vars_ = [], [], [], [], [], [], []
     var0 = 0
@@ -67,32 +82,27 @@ def _plan(engine, point_table, joint_table) -> _Plan:
             carrier = 1.0 if not prismatic or st.parent == law.carrier else -1.0
             steps_f.append((st.sign, law.s0[0], law.s0[1], u0[0], u0[1], carrier))
         for law in bp.cuts:
-            prismatic = hasattr(law, "u0")
-            n0 = law.n0 if prismatic else (0.0, 0.0)
-            cuts_i.append((int(prismatic), idx[law.links[0]], idx[law.links[1]]))
+            n0 = law.n0 if hasattr(law, "u0") else (0.0, 0.0)
+            cuts_i.append((int(hasattr(law, "u0")), idx[law.links[0]], idx[law.links[1]]))
             cuts_f.append((law.s0[0], law.s0[1], n0[0], n0[1]))
         rows.extend(bp.row_scale)
         vars_.extend(bp.var_scale)
         var0 += bp.m
-    names, links, at = point_table
-    t = joint_table
-    n_l, n_p, n_j = len(engine.links), len(names), len(t.drawn)
+    arr = lambda x, dt, w: np.array(x, dt).reshape(-1, w)  # noqa: E731
+    return (arr(steps_i, np.int64, 6), arr(steps_f, float, 6), arr(cuts_i, np.int64, 3), arr(cuts_f, float, 4),
+            arr(blocks, np.int64, 6), np.array(rows, float), np.array(vars_, float))
+
+
+def _joints(t) -> tuple:
+    """Joints (J, 4) int: kind (0 R, 1 P), links a (carrier), b (slider), 0; (J, 5) float: drawn value,
+    at (2), u0 (2), from `kinematics._JointTable`."""
+    n_j = len(t.drawn)
     joints_i, joints_f = np.zeros((n_j, 4), np.int64), np.zeros((n_j, 5))
     joints_f[:, 0] = t.drawn
     joints_i[t.r_col, 1], joints_i[t.r_col, 2] = t.r_a, t.r_b
     joints_i[t.p_col, 0], joints_i[t.p_col, 1], joints_i[t.p_col, 2] = 1, t.p_c, t.p_s
     joints_f[t.p_col, 1:3], joints_f[t.p_col, 3:5] = t.p_at, t.p_u0
-    arr = lambda x, dt, w: np.array(x, dt).reshape(-1, w)  # noqa: E731
-    args = (arr(steps_i, np.int64, 6), arr(steps_f, float, 6), arr(cuts_i, np.int64, 3), arr(cuts_f, float, 4),
-            arr(blocks, np.int64, 6), np.array(rows, float), np.array(vars_, float), float(engine.inputs[0].sense),
-            float(engine.phi_drawn[0]), np.array([engine.reference_angle[n] for n in engine.links]),
-            links.astype(np.int64), np.ascontiguousarray(at, float), joints_i, joints_f, idx[engine.mech.ground])
-    per = {"L": n_l, "P": n_p, "J": n_j}
-    row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],)) for name, kind, comp in FIELDS])
-    m_max = max([1] + [bp.m for bp in engine.blocks])
-    plan = _Plan(args, row, _scratch(len(steps_i), len(cuts_i), n_l, var0, m_max), m_max)
-    engine.__dict__["_numba_plan"] = plan
-    return plan
+    return joints_i, joints_f
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
