@@ -108,18 +108,20 @@ def _joints(t) -> tuple:
     return joints_i, joints_f
 
 
-TILE = 64  # positions written to a small buffer before they go to the output (W, B) a row at a time
+TILE_BYTES = 2 ** 17  # the tile of outputs stays in the L2 cache: 64 positions of a six-link mechanism
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int, width: int) -> tuple:
     """Work arrays of `_sweep`: pose (5, L), rates (slots, 3, L), step and cut caches, unknowns and
     their guesses, a block's Jacobian with its row permutation, four vectors of a block's size, and the
-    tile (TILE, W) of outputs: written there position by position, then copied to the output (W, B),
-    whose rows get TILE contiguous values at a time (a position at a time would touch W pages each)."""
+    tile (T, W) of outputs (T = 4 … 64, as many positions as fit in TILE_BYTES): written there position
+    by position, then copied to the output (W, B), whose rows get T contiguous values at a time (a
+    position at a time would touch W pages each)."""
     vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
+    tile = min(64, max(4, TILE_BYTES // (8 * width)))
     return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
             np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max), np.zeros((TILE, width)))
+            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max), np.zeros((tile, width)))
 
 
 def _atlas_tables(atlas):

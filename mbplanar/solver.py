@@ -951,7 +951,8 @@ def met_along(atlas: _Atlas, x: np.ndarray, lo: float | None = None, hi: float |
     ends = {-1: grid[0], +1: grid[-1]}
     if lo is None:
         lo, hi = float(x.min()), float(x.max())
-    limits = [atlas.limits[d] for d in (-1, +1) if atlas.limits[d] is not None and d * ((hi if d > 0 else lo) - ends[d]) > 0]
+    limits = [atlas.limits[d] for d in (-1, +1)
+              if atlas.limits[d] is not None and d * ((hi if d > 0 else lo) - ends[d]) > 0]
     return limits, [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
 
 
