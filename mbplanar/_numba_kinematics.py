@@ -22,7 +22,7 @@ import numpy as np
 
 from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE
 
-__all__ = ["FIELDS", "sweep", "fields"]
+__all__ = ["FIELDS", "sweep"]
 
 # what the kernel writes per position, in this order: (name, per link / point / joint, components)
 FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq", "L", 1),
@@ -34,13 +34,11 @@ FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq"
 @dataclass
 class _Plan:
     """An engine compiled for the kernel, built once: `args`, the engine's blocks and output tables as
-    arrays in `_sweep`'s order; `layout`, (name, first row, items, components) of every field of the
-    output (W, B) and its `width` W; `scratch`, the kernel's work arrays (so that an engine is not for
-    several threads at once)."""
+    arrays in `_sweep`'s order; `row`, the structured dtype of one position's output (FIELDS);
+    `scratch`, the kernel's work arrays (so that an engine is not for several threads at once)."""
 
     args: tuple
-    layout: list
-    width: int
+    row: np.dtype
     scratch: tuple
 
 
@@ -54,13 +52,12 @@ def _plan(engine, point_table, joint_table) -> _Plan:
                 float(engine.phi_drawn[0]), np.array([engine.reference_angle[n] for n in engine.links]),
                 links.astype(np.int64), np.ascontiguousarray(at, float), joints_i, joints_f,
                 engine.link_index[engine.mech.ground])
-        per, layout, width = {"L": len(engine.links), "P": len(names), "J": len(joints_i)}, [], 0
-        for name, kind, comp in FIELDS:
-            layout.append((name, width, per[kind], comp))
-            width += per[kind] * comp
+        per = {"L": len(engine.links), "P": len(names), "J": len(joints_i)}
+        row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
+                        for name, kind, comp in FIELDS])
         m_max = max([1] + [bp.m for bp in engine.blocks])
-        scratch = _scratch(len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max, width)
-        plan = engine.__dict__["_numba_plan"] = _Plan(args, layout, width, scratch)
+        scratch = _scratch(len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
+        plan = engine.__dict__["_numba_plan"] = _Plan(args, row, scratch)
     return plan
 
 
@@ -108,20 +105,13 @@ def _joints(t) -> tuple:
     return joints_i, joints_f
 
 
-TILE_BYTES = 2 ** 17  # the tile of outputs stays in the L2 cache: 64 positions of a six-link mechanism
-
-
-def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int, width: int) -> tuple:
+def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
     """Work arrays of `_sweep`: pose (5, L), rates (slots, 3, L), step and cut caches, unknowns and
-    their guesses, a block's Jacobian with its row permutation, four vectors of a block's size, and the
-    tile (T, W) of outputs (T = 4 … 64, as many positions as fit in TILE_BYTES): written there position
-    by position, then copied to the output (W, B), whose rows get T contiguous values at a time (a
-    position at a time would touch W pages each)."""
+    their guesses, a block's Jacobian with its row permutation, and four vectors of a block's size."""
     vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
-    tile = min(64, max(4, TILE_BYTES // (8 * width)))
     return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
             np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max), np.zeros((tile, width)))
+            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))
 
 
 def _atlas_tables(atlas):
@@ -142,8 +132,8 @@ def _atlas_tables(atlas):
 
 def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
     """Kinematics of the one-input positions x (B,) (SI, between lo and hi), input speed and
-    acceleration (B,), all contiguous: the output (W, B) (`fields` reads it) and `valid` (B,) (False
-    past a located limit); None where the numpy path must take the batch."""
+    acceleration (B,), all contiguous: one structured row per position (FIELDS) and `valid` (B,)
+    (False past a located limit); None where the numpy path must take the batch."""
     atlas = engine.atlas()
     atlas.cover(lo, hi)
     grid, coef, signs = _atlas_tables(atlas)
@@ -153,21 +143,12 @@ def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
         if c.bracket[0] <= hi and lo <= c.bracket[1] and np.any((x >= c.bracket[0]) & (x <= c.bracket[1])):
             return None
     plan = _plan(engine, point_table, joint_table)
-    out = np.empty((plan.width, len(x)))
+    rows = np.empty(len(x), plan.row)
     valid = np.empty(len(x), np.bool_)
     limits = np.array([atlas.limits[-1] is not None, atlas.limits[+1] is not None], np.bool_)
-    status = _sweep(*plan.args, grid, coef, signs, limits, x, omega, epsilon, out, valid, *plan.scratch)
-    return None if status else (out, valid)
-
-
-def fields(engine, out: np.ndarray) -> dict:
-    """The FIELDS of an output (W, B) as batch-first views, (B, items) or (B, items, 2), the batch axis
-    contiguous as on the numpy path (what reads a Motion goes along the batch)."""
-    found = {}
-    for name, at, count, comp in engine.__dict__["_numba_plan"].layout:
-        block = out[at:at + count * comp]
-        found[name] = block.T if comp == 1 else block.reshape(comp, count, -1).transpose(2, 1, 0)
-    return found
+    status = _sweep(*plan.args, grid, coef, signs, limits, x, omega, epsilon,
+                    rows.view(np.float64).reshape(len(x), -1), valid, *plan.scratch)
+    return None if status else (rows, valid)
 
 
 # -- kernels ----------------------------------------------------------------------------------------
@@ -386,16 +367,13 @@ def _interval(grid, x):
 @_jit
 def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, alpha, p_link, p_at, ji, jf,
            ground, grid, coef, signs, limits, x, omega, epsilon, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
-           res, step, qd_u, qdd_u, tile):
+           res, step, qd_u, qdd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path."""
     n_blocks, n_grid, m_all = len(blocks), len(grid), coef.shape[2]
     vel, acc = len(rt) - 2, len(rt) - 1
-    n_tile = len(tile)
     ps[:, :] = 0.0
     ps[1, :] = 1.0
     for b in range(len(x)):
-        if b % n_tile == 0 and b:
-            _flush(tile, out, b - n_tile, n_tile)
         xb = x[b]
         if (limits[0] and xb < grid[0]) or (limits[1] and xb > grid[n_grid - 1]):
             valid[b] = False  # past a located limit: no solution on the branch
@@ -461,24 +439,13 @@ def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, alpha
                          0.0, res, qd_u)
             _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
                          sense, res, qdd_u)
-        _write(b % n_tile, tile, ps, rt, vel, acc, omega[b], epsilon[b], alpha, p_link, p_at, ji, jf)
-    start = (len(x) - 1) // n_tile * n_tile
-    _flush(tile, out, start, len(x) - start)
+        _write(b, out, ps, rt, vel, acc, omega[b], epsilon[b], alpha, p_link, p_at, ji, jf)
     return 0
 
 
 @_jit
-def _flush(tile, out, start, n):
-    """Rows 0 … n − 1 of the tile (positions) into columns start … start + n − 1 of the output."""
-    for f in range(tile.shape[1]):
-        for i in range(n):
-            out[f, start + i] = tile[i, f]
-
-
-@_jit
 def _write(b, out, ps, rt, vel, acc, om, ep, alpha, p_link, p_at, ji, jf):
-    """Every output of a position into row b of out (·, W): FIELDS in order, each as (components,
-    items), from the position's link states (analogue rates)."""
+    """Every output of position b (in the order of FIELDS) from its link states (analogue rates)."""
     n_l, n_p, n_j = len(alpha), len(p_link), len(ji)
     o_w, o_e, o_wq, o_eq, o_th = n_l, 2 * n_l, 3 * n_l, 4 * n_l, 5 * n_l
     o_r, o_fv, o_fa, o_ic, o_xy = 6 * n_l, 8 * n_l, 10 * n_l, 12 * n_l, 14 * n_l
@@ -492,14 +459,14 @@ def _write(b, out, ps, rt, vel, acc, om, ep, alpha, p_link, p_at, ji, jf):
         wr = w * om
         out[b, o_w + l], out[b, o_e + l] = wr, e * om2 + w * ep
         out[b, o_wq + l], out[b, o_eq + l], out[b, o_th + l] = w, e, ps[0, l]
-        out[b, o_r + l], out[b, o_r + n_l + l] = ps[3, l], ps[4, l]
-        out[b, o_fv + l], out[b, o_fv + n_l + l] = rt[vel, 1, l], rt[vel, 2, l]
-        out[b, o_fa + l], out[b, o_fa + n_l + l] = rt[acc, 1, l], rt[acc, 2, l]
+        out[b, o_r + 2 * l], out[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
+        out[b, o_fv + 2 * l], out[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
+        out[b, o_fa + 2 * l], out[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
         icx = ps[3, l] + -(rt[vel, 2, l] * om) / wr
         icy = ps[4, l] + (rt[vel, 1, l] * om) / wr
         finite = np.isfinite(icx) and np.isfinite(icy)
-        out[b, o_ic + l] = icx if finite else np.nan
-        out[b, o_ic + n_l + l] = icy if finite else np.nan
+        out[b, o_ic + 2 * l] = icx if finite else np.nan
+        out[b, o_ic + 2 * l + 1] = icy if finite else np.nan
     for p in range(n_p):
         l = p_link[p]  # noqa: E741
         c, s = ps[1, l], ps[2, l]
@@ -508,11 +475,11 @@ def _write(b, out, ps, rt, vel, acc, om, ep, alpha, p_link, p_at, ji, jf):
         vqx, vqy = rt[vel, 1, l] - w * py, rt[vel, 2, l] + w * px
         aqx = rt[acc, 1, l] - e * py - w * w * px
         aqy = rt[acc, 2, l] + e * px - w * w * py
-        out[b, o_xy + p], out[b, o_xy + n_p + p] = ps[3, l] + px, ps[4, l] + py
-        out[b, o_vq + p], out[b, o_vq + n_p + p] = vqx, vqy
-        out[b, o_aq + p], out[b, o_aq + n_p + p] = aqx, aqy
-        out[b, o_v + p], out[b, o_v + n_p + p] = vqx * om, vqy * om
-        out[b, o_a + p], out[b, o_a + n_p + p] = aqx * om2 + vqx * ep, aqy * om2 + vqy * ep
+        out[b, o_xy + 2 * p], out[b, o_xy + 2 * p + 1] = ps[3, l] + px, ps[4, l] + py
+        out[b, o_vq + 2 * p], out[b, o_vq + 2 * p + 1] = vqx, vqy
+        out[b, o_aq + 2 * p], out[b, o_aq + 2 * p + 1] = aqx, aqy
+        out[b, o_v + 2 * p], out[b, o_v + 2 * p + 1] = vqx * om, vqy * om
+        out[b, o_a + 2 * p], out[b, o_a + 2 * p + 1] = aqx * om2 + vqx * ep, aqy * om2 + vqy * ep
     for j in range(n_j):
         la, lb = ji[j, 1], ji[j, 2]
         ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]

@@ -337,17 +337,19 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
     got = compiled.sweep(engine, x, om, ep, lo, hi, *tables)
     if got is None:
         return None
-    out, valid = got
+    rows, valid = got
     keep = slice(None) if valid.all() else np.flatnonzero(valid)
-    f = compiled.fields(engine, out if isinstance(keep, slice) else out[:, keep])
+    if not isinstance(keep, slice):
+        rows = rows[keep]
     limits, crossings = met_along(engine.atlas(), x, lo, hi)
     return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
-                  link_names=list(engine.links), angle=f["angle"], w=f["w"], e=f["e"],
-                  point_names=tables[0][0], xy=f["xy"], v=f["v"], a=f["a"],
-                  joint_names=list(engine.mech.joints), value=f["value"], rate=f["rate"], accel=f["accel"],
-                  ic=f["ic"], wq=f["wq"], eq=f["eq"], vq=f["vq"], aq=f["aq"], rate_q=f["rate_q"],
-                  accel_q=f["accel_q"], requested=batch, limits=limits, crossings=crossings,
-                  frames={"th": f["th"], "r": f["r"], "w": f["wq"], "v": f["fv"], "e": f["eq"], "a": f["fa"]})
+                  link_names=list(engine.links), angle=rows["angle"], w=rows["w"], e=rows["e"],
+                  point_names=tables[0][0], xy=rows["xy"], v=rows["v"], a=rows["a"],
+                  joint_names=list(engine.mech.joints), value=rows["value"], rate=rows["rate"],
+                  accel=rows["accel"], ic=rows["ic"], wq=rows["wq"], eq=rows["eq"], vq=rows["vq"], aq=rows["aq"],
+                  rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
+                  crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
+                                               "e": rows["eq"], "a": rows["fa"]})
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:
