@@ -163,11 +163,13 @@ def scaling_n(sizes, repeats, out):
         row = dict(name="shaper", work="kinematics, scaling in N", n=n, mbplanar_us=1e6 * times[-1] / n,
                    closed_form_us=None, fsolve_us=None, numpy_us=1e6 * times[0] / n, backend=BEST)
         if n == sizes[-1]:
-            for e, key in zip(engines, ("numpy_peak_MB", "peak_MB")):
+            peaks = []
+            for e in engines:
                 tracemalloc.start()
                 mbplanar.analyse(e, phi)
-                row[key] = tracemalloc.get_traced_memory()[1] / 2 ** 20
+                peaks.append(tracemalloc.get_traced_memory()[1] / 2 ** 20)
                 tracemalloc.stop()
+            row["numpy_peak_MB"], row["peak_MB"] = peaks[0], peaks[-1]
         out.append(row)
         print(f"  N = {n:8d}: {row['mbplanar_us']:8.2f} µs/position ({BEST}; numpy {row['numpy_us']:.2f})"
               + (f", peak traced memory {row['peak_MB']:.0f} MB (numpy {row['numpy_peak_MB']:.0f} MB)"
@@ -255,7 +257,7 @@ def main(argv=None):
     if args.json:
         doc = dict(machine=dict(cpu=platform.processor() or platform.machine(), cpus=os.cpu_count(),
                                 python=platform.python_version(), numpy=np.__version__,
-                                numba=sys.modules["numba"].__version__ if "numba" in sys.modules else None),
+                                numba=sys.modules["numba"].__version__ if "numba" in BACKENDS else None),
                    backends=BACKENDS, builds=[dict(name=b[0], build_s=b[1], atlas_s=b[2]) for b in builds],
                    chain_exponent=slope and slope[BEST], class4_chain_exponent=slope4 and slope4[BEST],
                    chain_exponents=slope, class4_chain_exponents=slope4, targets=targets, cases=cases)
