@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE
+from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
 
 __all__ = ["FIELDS", "sweep"]
 
@@ -139,9 +139,8 @@ def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
     grid, coef, signs = _atlas_tables(atlas)
     if len(grid) < 2:
         return None
-    for c in atlas.crossings:
-        if c.bracket[0] <= hi and lo <= c.bracket[1] and np.any((x >= c.bracket[0]) & (x <= c.bracket[1])):
-            return None
+    if atlas.crossings and _in_brackets(atlas.crossings, x).any():
+        return None
     plan = _plan(engine, point_table, joint_table)
     rows = np.empty(len(x), plan.row)
     valid = np.empty(len(x), np.bool_)

@@ -21,6 +21,7 @@ import numpy as np
 
 from .errors import ModelError
 from .kinematics import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
+from .solver import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
@@ -380,7 +381,7 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     located = [lim for lim in limits if lim.q is not None]
     at_limits = positions_at_limits(engine, located) if located else None
     # (a full turn starts and ends at the drawn pose, which cannot be a change point: none is counted twice)
-    crossings = [c for c in engine.atlas().crossings if lo <= c.phi[0] <= hi]
+    crossings = met_along(engine.atlas(), lo, hi)[1]
     report = CheckReport(
         model=engine.mech.name, input=inp.name, unit=inp.unit, full_turn=full,
         range=(float(inp.from_si(lo)), float(inp.from_si(hi))),

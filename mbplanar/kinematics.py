@@ -316,14 +316,6 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     return _motion(engine, engine.solve(phi), omega, epsilon)
 
 
-def _each_position(value, default, batch):
-    """A scalar or one value per position of a one-input mechanism → contiguous (B,)."""
-    value = default if value is None else value
-    if np.ndim(value) == 0:
-        return np.full(batch, float(value))
-    return np.ascontiguousarray(np.broadcast_to(np.asarray(value, float).reshape(-1), (batch,)))
-
-
 def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
     """`_motion(engine, engine.solve(phi), ...)` by the compiled per-position loops of one input, or
     None where they hand the batch back to numpy."""
@@ -331,17 +323,17 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
 
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
-    om, ep = _each_position(omega, inp.omega, batch), _each_position(epsilon, inp.epsilon, batch)
+    om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1)[:, 0])
+    ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1)[:, 0])
     tables = _tables(engine)
-    lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
+    lo, hi = float(x.min()), float(x.max())
     got = compiled.sweep(engine, x, om, ep, lo, hi, *tables)
     if got is None:
         return None
     rows, valid = got
     keep = slice(None) if valid.all() else np.flatnonzero(valid)
-    if not isinstance(keep, slice):
-        rows = rows[keep]
-    limits, crossings = met_along(engine.atlas(), x, lo, hi)
+    rows = rows[keep]
+    limits, crossings = met_along(engine.atlas(), lo, hi)
     return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
                   link_names=list(engine.links), angle=rows["angle"], w=rows["w"], e=rows["e"],
                   point_names=tables[0][0], xy=rows["xy"], v=rows["v"], a=rows["a"],

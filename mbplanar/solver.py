@@ -937,22 +937,18 @@ def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     if len(retry):
         good[retry] = _repair(e, sol, retry, idx, atlas)
     sol.valid = good
-    sol.limits, sol.crossings = met_along(atlas, x)
+    sol.limits, sol.crossings = met_along(atlas, float(x.min()), float(x.max()))
     return sol
 
 
-def met_along(atlas: _Atlas, x: np.ndarray, lo: float | None = None, hi: float | None = None) -> tuple[list, list]:
-    """The limits and change points of the atlas that a batch x (B,) of one input (from lo to hi, if
-    known) runs into."""
+def met_along(atlas: _Atlas, lo: float, hi: float) -> tuple[list, list]:
+    """The limits and change points of the atlas that a batch of one input from lo to hi runs into."""
     # only the limits this batch ran into: a row past the atlas' last node towards a limit is left out
     # because of it, even a row short of the located limit (the walk's last node can be a few H_MIN
     # short of a fold); the atlas may know limits beyond the range asked for
     grid = atlas.arrays()[0]
-    ends = {-1: grid[0], +1: grid[-1]}
-    if lo is None:
-        lo, hi = float(x.min()), float(x.max())
-    limits = [atlas.limits[d] for d in (-1, +1)
-              if atlas.limits[d] is not None and d * ((hi if d > 0 else lo) - ends[d]) > 0]
+    past = {-1: lo < grid[0], +1: hi > grid[-1]}
+    limits = [atlas.limits[d] for d in (-1, +1) if atlas.limits[d] is not None and past[d]]
     return limits, [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
 
 
