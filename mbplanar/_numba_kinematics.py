@@ -28,7 +28,8 @@ __all__ = ["FIELDS", "sweep"]
 FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq", "L", 1),
           ("th", "L", 1), ("r", "L", 2), ("fv", "L", 2), ("fa", "L", 2), ("ic", "L", 2),
           ("xy", "P", 2), ("v", "P", 2), ("a", "P", 2), ("vq", "P", 2), ("aq", "P", 2),
-          ("value", "J", 1), ("rate", "J", 1), ("accel", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1))
+          ("value", "J", 1), ("rate", "J", 1), ("accel", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1),
+          ("cos", "L", 1), ("sin", "L", 1))  # cos θ, sin θ of the link frames, for the compiled kinetostatics
 
 
 @dataclass
@@ -451,10 +452,12 @@ def _write(b, out, ps, rt, vel, acc, om, ep, alpha, p_link, p_at, ji, jf):
     o_v, o_a, o_vq, o_aq = o_xy + 2 * n_p, o_xy + 4 * n_p, o_xy + 6 * n_p, o_xy + 8 * n_p
     o_val = o_xy + 10 * n_p
     o_rate, o_acc, o_rq, o_accq = o_val + n_j, o_val + 2 * n_j, o_val + 3 * n_j, o_val + 4 * n_j
+    o_cos, o_sin = o_val + 5 * n_j, o_val + 5 * n_j + n_l
     om2 = om * om
     for l in range(n_l):  # noqa: E741
         w, e = rt[vel, 0, l], rt[acc, 0, l]
         out[b, l] = ps[0, l] + alpha[l]
+        out[b, o_cos + l], out[b, o_sin + l] = ps[1, l], ps[2, l]
         wr = w * om
         out[b, o_w + l], out[b, o_e + l] = wr, e * om2 + w * ep
         out[b, o_wq + l], out[b, o_eq + l], out[b, o_th + l] = w, e, ps[0, l]

@@ -53,6 +53,9 @@ class Motion:
     limits: list[Limit] = field(default_factory=list)
     frames: dict = field(default_factory=dict)
     crossings: list[Crossing] = field(default_factory=list)  # change points passed in the range asked
+    # the compiled backend's output (B,) of structured rows, of which the arrays above are views; None
+    # from the numpy path (the compiled kinetostatics reads it a position at a time)
+    rows: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def success(self) -> bool:
@@ -341,7 +344,7 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
                   accel=rows["accel"], ic=rows["ic"], wq=rows["wq"], eq=rows["eq"], vq=rows["vq"], aq=rows["aq"],
                   rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
                   crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
-                                               "e": rows["eq"], "a": rows["fa"]})
+                                               "e": rows["eq"], "a": rows["fa"]}, rows=rows)
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:

@@ -330,7 +330,9 @@ class _Block:
     column, feature, coef) among them, the entries on columns solved earlier (local row, global column,
     feature, coef), and the elimination order fixed once per engine: `pivots` (row, column) whose entry
     is a constant (±1 on a force column of a force row), then the rows and columns left (`rest_rows`,
-    `rest_cols`, typically the moment rows of a group) solved densely with partial pivoting."""
+    `rest_cols`, typically the moment rows of a group) solved densely with partial pivoting. `fill`, per
+    pivot, the structure its elimination touches: (the live rows that have its column, the other columns
+    of its row), fill-in included (for the compiled kinetostatics, which works on dense arrays)."""
 
     rows: np.ndarray
     own: np.ndarray
@@ -339,6 +341,7 @@ class _Block:
     pivots: list
     rest_rows: list
     rest_cols: list
+    fill: list = field(default_factory=list)
 
 
 def _block(rows, own, entries, later) -> _Block:
@@ -347,7 +350,7 @@ def _block(rows, own, entries, later) -> _Block:
     table = [{} for _ in rows]
     for i, j, f, coef in entries:
         table[i][j] = coef if f == 0 else None
-    pivots, live = [], set(range(len(rows)))
+    pivots, fill, live = [], [], set(range(len(rows)))
     while True:
         counts = {}
         for i in live:
@@ -359,11 +362,12 @@ def _block(rows, own, entries, later) -> _Block:
             break
         _, i, j = best
         live.discard(i)
+        fill.append(([k for k in sorted(live) if j in table[k]], [jj for jj in table[i] if jj != j]))
         _eliminate(table, live, i, j, lambda a, m, b: None if None in (a, m, b) else a - m * b)
         pivots.append((i, j))
     done = {j for _, j in pivots}
     rest_cols = [j for j in range(len(own)) if j not in done]
-    return _Block(rows, own, entries, later, pivots, sorted(live), rest_cols)
+    return _Block(rows, own, entries, later, pivots, sorted(live), rest_cols, fill)
 
 
 def _eliminate(table, live, i, j, update):
@@ -518,12 +522,17 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     inertia: include the d'Alembert loads of the links (and J_I).
     """
     batch = len(motion.phi)
-    loads = list(evaluate_loads(engine, motion) if loads is None else loads)
-    if inertia:
-        loads += inertia_loads(engine, motion, input_inertia)
     mech, L = engine.mech, engine.size
     plan = _plan(engine)
     lay = plan.lay
+    if _compiled(engine, motion, loads, input_inertia):
+        from . import _numba_kinetostatics as compiled
+
+        x, singular, residual, loads = compiled.solve(engine, motion, plan, inertia)
+        return _result(engine, motion, lay, x, singular, residual, loads)
+    loads = list(evaluate_loads(engine, motion) if loads is None else loads)
+    if inertia:
+        loads += inertia_loads(engine, motion, input_inertia)
     b = _right_side(lay, loads, plan.centre, L, batch)
     if batch:
         x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
@@ -532,8 +541,22 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
         x[:, singular] = np.nan
     else:
         x, singular = np.zeros((lay.size, 0)), np.zeros(0, bool)
+    residual = _virtual_power(engine, motion, loads, [x[c] for c in lay.in_cols])
+    return _result(engine, motion, lay, x, singular, residual, loads)
+
+
+def _compiled(engine, motion, loads, input_inertia) -> bool:
+    """True where the compiled kinetostatics takes the batch: a compiled Motion (its rows in step with
+    its arrays) of one input, the model's own loads, no input inertia."""
+    rows = motion.rows
+    return (engine.backend == "numba" and rows is not None and len(rows) == len(motion.phi) > 0
+            and np.may_share_memory(rows, motion.xy) and loads is None and len(engine.inputs) == 1
+            and not np.any(input_inertia))
+
+
+def _result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:
+    mech = engine.mech
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
-    residual = _virtual_power(engine, motion, loads, drive)
     balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}
     return Kinetostatics(motion=motion, reactions=_report(engine, lay, x), balancing=balancing,

@@ -316,25 +316,29 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
 
 
 def _evaluate(engine, motion, load: Load) -> LoadValue:
-    mech = engine.mech
     k = engine.link_index[load.link]
     batch = len(motion.phi)
-    at = load.at
-    if at is None:
-        at = _default_point(mech, load)
+    at, force, moment = constant_parts(engine.mech, load)
     point = world_points(motion, k, np.asarray(at, float))
-    moment = np.zeros(batch)
-    if load.kind == "force":
-        force = np.tile(np.asarray(load.force, float), (batch, 1))
-    elif load.kind == "weight":
-        g = read_gravity(mech) or Gravity()
-        force = np.tile(load.magnitude * np.array([math.cos(g.direction), math.sin(g.direction)]), (batch, 1))
-    elif load.kind == "moment":
-        force = np.zeros((batch, 2))
-        moment = np.full(batch, load.moment)
+    if force is None:
+        force = guide_force_size(engine, motion, load)[:, None] * guide_direction(engine, motion, load.joint)
     else:
-        force = _guide_force(engine, motion, load)
-    return LoadValue(load.name, k, force, point, moment)
+        force = np.tile(force, (batch, 1))
+    return LoadValue(load.name, k, force, point, np.full(batch, moment))
+
+
+def constant_parts(mech, load: Load) -> tuple[tuple[float, float], np.ndarray | None, float]:
+    """What does not vary with the position: the drawn point `at` the load acts at, its force (2,)
+    (None for a guide force, `guide_force_size` along `guide_direction`) and its moment."""
+    at = load.at if load.at is not None else _default_point(mech, load)
+    if load.kind == "force":
+        return at, np.asarray(load.force, float), 0.0
+    if load.kind == "weight":
+        g = read_gravity(mech) or Gravity()
+        return at, load.magnitude * np.array([math.cos(g.direction), math.sin(g.direction)]), 0.0
+    if load.kind == "moment":
+        return at, np.zeros(2), float(load.moment)
+    return at, None, 0.0
 
 
 def _default_point(mech, load: Load):
@@ -347,10 +351,10 @@ def _default_point(mech, load: Load):
     return mech.joints_of(load.link)[0].at
 
 
-def _guide_force(engine, motion, load: Load) -> np.ndarray:
-    """Force (B, 2) along the guide opposing the slider's motion relative to the carrier."""
+def guide_force_size(engine, motion, load: Load) -> np.ndarray:
+    """Signed size (B,) of a guide force (`resistance`, `friction`) along its guide direction: it
+    opposes the slider's motion relative to the carrier."""
     j = engine.mech.joints[load.joint]
-    u = guide_direction(engine, motion, load.joint)
     rate = joint_rate_sign(motion, load.joint)
     if load.table:
         s = motion.value[:, motion.joint(load.joint)] - _displacement_zero(engine, load)
@@ -365,7 +369,7 @@ def _guide_force(engine, motion, load: Load) -> np.ndarray:
         along = -np.sign(rate)
     if load.link == j.carrier:  # the carrier feels the opposite of what the slider feels
         along = -along
-    return (along * size)[:, None] * u
+    return along * size
 
 
 def _displacement_zero(engine, load: Load) -> float:

@@ -1,0 +1,133 @@
+"""The compiled kinetostatics (numba) gives the numpy kinetostatics' answers: reactions, balancing loads,
+the loads that acted, the virtual-power residual and the singular positions, on every model with force
+data, on random mechanisms with random masses and loads, and it leaves to numpy what it does not take
+(input inertia, loads given by the caller, a numpy Motion). Skipped without numba."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+import mbplanar
+from mbplanar.kinetostatics import kinetostatics
+from mbplanar.loads import evaluate_loads, has_force_data
+
+pytest.importorskip("numba")
+
+from conftest import MODELS  # noqa: E402
+from test_kinetostatics import _equilibrium_residual, _random_mass_and_loads  # noqa: E402
+from test_properties import mechanisms  # noqa: E402
+
+FORCE_MODELS = sorted(p.stem for p in MODELS.glob("*.toml") if has_force_data(mbplanar.read_model(p)))
+
+
+def _motions(mech, phi, omega=2.5, epsilon=-0.7):
+    ref_engine = mbplanar.Engine(mech)
+    fast_engine = mbplanar.Engine(mech, backend="numba")
+    ref = mbplanar.analyse(ref_engine, phi, omega, epsilon)
+    fast = mbplanar.analyse(fast_engine, phi, omega, epsilon)
+    assert fast.rows is not None, "the compiled kinematics took the batch"
+    return (ref_engine, ref), (fast_engine, fast)
+
+
+def _assert_same(ref, fast, rtol=1e-9):
+    """Every reaction, balancing load and load to `rtol` of the largest of its kind; the same singular
+    positions; residuals of the same (round-off) size."""
+    np.testing.assert_array_equal(fast.singular, ref.singular)
+    ok = ~ref.singular
+    forces = [(r.fx, r.fy, r.moment) for r in ref.reactions.values()]
+    scale = max([1.0] + [np.max(np.abs(a[ok])) for triple in forces for a in triple])
+    for name, r in ref.reactions.items():
+        f = fast.reactions[name]
+        assert (f.on, f.source) == (r.on, r.source)
+        for part in ("fx", "fy", "moment"):
+            np.testing.assert_allclose(getattr(f, part), getattr(r, part), rtol=0, atol=rtol * scale,
+                                       err_msg=f"{name}.{part}")
+    for name, q in ref.balancing.items():
+        np.testing.assert_allclose(fast.balancing[name], q, rtol=0, atol=rtol * max(1.0, np.max(np.abs(q[ok]))))
+    assert [ld.name for ld in fast.loads] == [ld.name for ld in ref.loads]
+    for a, b in zip(ref.loads, fast.loads):
+        assert a.link == b.link
+        for part in ("force", "point", "moment"):
+            x, y = getattr(a, part), getattr(b, part)
+            np.testing.assert_allclose(y, x, rtol=0, atol=rtol * (1.0 + np.max(np.abs(x))), err_msg=f"{a.name}.{part}")
+    assert np.all(fast.virtual_power_residual[ok] < 1e-9)
+    np.testing.assert_allclose(fast.virtual_power_residual[ok], ref.virtual_power_residual[ok], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", FORCE_MODELS)
+@pytest.mark.parametrize("inertia", [True, False])
+def test_every_model_same_as_numpy(name, inertia):
+    mech = mbplanar.read_model(MODELS / f"{name}.toml")
+    engine = mbplanar.Engine(mech)
+    if len(engine.inputs) != 1:
+        pytest.skip("several inputs: the numpy path only")
+    inp = engine.inputs[0]
+    lo, hi = (inp.to_si(v) for v in inp.default_sweep()[:2])
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, np.linspace(lo, hi, 721))
+    _assert_same(kinetostatics(ref_engine, ref, inertia=inertia), kinetostatics(fast_engine, fast, inertia=inertia),
+                 rtol=1e-6 if ref.limits else 1e-9)  # the locking model's last rows: rates ~1e6
+
+
+def test_shaper_guide_loads_switch_with_the_stroke():
+    """The cutting force acts on the working stroke only: both paths switch it at the same rows."""
+    mech = mbplanar.read_model(MODELS / "shaper.toml")
+    engine = mbplanar.Engine(mech)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, engine.phi_drawn[0] + np.linspace(0, 2 * math.pi, 1441))
+    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
+    cut_ref = next(ld for ld in a.loads if ld.name == "cutting").force
+    cut_fast = next(ld for ld in b.loads if ld.name == "cutting").force
+    on = np.hypot(*cut_ref.T) > 0
+    assert 0 < on.sum() < len(on)  # a working stroke and a return stroke
+    np.testing.assert_array_equal(np.hypot(*cut_fast.T) > 0, on)
+    _assert_same(a, b)
+    assert _equilibrium_residual(fast_engine, fast, b) < 1e-8
+
+
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mechanisms(), st.data())
+def test_random_mechanisms_same_as_numpy(mech_kind, data):
+    """Four-bars, slider-cranks, inverted slider-cranks and six-bars with a dyad on a moving guide, with
+    random masses, centres, forces and moments, gravity, and a resistance on a prismatic pair."""
+    mech, _ = mech_kind
+    mech.add_input("O", unit="rad")
+    _random_mass_and_loads(mech, data.draw, ("1", "2", "3"))
+    prismatic = [j.name for j in mech.joints.values() if j.kind == "P"]
+    if prismatic:
+        mech.extras["loads"].append({"type": "resistance", "joint": prismatic[0], "force": 300.0,
+                                     "when": data.draw(st.sampled_from(["forward", "backward", "always"]))})
+    try:
+        engine = mbplanar.Engine(mech)
+    except mbplanar.MbplanarError:
+        assume(False)
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 200)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, phi, data.draw(st.floats(0.5, 20.0)),
+                                                      data.draw(st.floats(-5.0, 5.0)))
+    assume(len(ref.phi) > 0)
+    # away from dead points, where the balancing moment grows without bound
+    keep = np.all(np.abs(ref.wq) < 50, axis=1)
+    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
+    for result in (a, b):
+        result.singular = result.singular | ~keep
+    _assert_same(a, b, rtol=1e-7)
+
+
+def test_what_the_compiled_path_does_not_take_is_numpy():
+    """Input inertia and loads given by the caller go to numpy; so does a numpy Motion on a compiled
+    engine: the answers are numpy's, bit for bit."""
+    mech = mbplanar.read_model(MODELS / "shaper.toml")
+    engine = mbplanar.Engine(mech)
+    phi = engine.phi_drawn[0] + np.linspace(0, 2 * math.pi, 97)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, phi)
+    with_inertia = kinetostatics(fast_engine, fast, input_inertia=0.4)
+    assert with_inertia.loads[-1].name.startswith("input inertia")
+    _assert_same(kinetostatics(ref_engine, fast, input_inertia=0.4), with_inertia)
+    given_loads = evaluate_loads(fast_engine, fast)[:1]
+    a, b = kinetostatics(ref_engine, fast, loads=given_loads), kinetostatics(fast_engine, fast, loads=given_loads)
+    for name, r in a.reactions.items():
+        np.testing.assert_array_equal(b.reactions[name].fx, r.fx)
+    np.testing.assert_array_equal(kinetostatics(fast_engine, ref).reactions["F"].fx,
+                                  kinetostatics(ref_engine, ref).reactions["F"].fx)
+
