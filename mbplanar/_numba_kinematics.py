@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from . import _threads
 from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
 
 __all__ = ["FIELDS", "sweep"]
@@ -32,15 +33,26 @@ FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq"
           ("cos", "L", 1), ("sin", "L", 1))  # cos θ, sin θ of the link frames, for the compiled kinetostatics
 
 
+_LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi in (False, True)}
+
+
 @dataclass
 class _Plan:
     """An engine compiled for the kernel, built once: `args`, the engine's blocks and output tables as
     arrays in `_sweep`'s order; `row`, the structured dtype of one position's output (FIELDS);
-    `scratch`, the kernel's work arrays (so that an engine is not for several threads at once)."""
+    `sizes` of the kernel's work arrays, `scratch` one set of them per thread (so that an engine is
+    not for several callers at once)."""
 
     args: tuple
     row: np.dtype
-    scratch: tuple
+    sizes: tuple
+    scratch: list
+
+    def work_arrays(self, threads: int) -> list:
+        """`threads` sets of work arrays."""
+        while len(self.scratch) < threads:
+            self.scratch.append(_scratch(*self.sizes))
+        return self.scratch[:threads]
 
 
 def _plan(engine, point_table, joint_table) -> _Plan:
@@ -57,8 +69,8 @@ def _plan(engine, point_table, joint_table) -> _Plan:
         row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
                         for name, kind, comp in FIELDS])
         m_max = max([1] + [bp.m for bp in engine.blocks])
-        scratch = _scratch(len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
-        plan = engine.__dict__["_numba_plan"] = _Plan(args, row, scratch)
+        sizes = (len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
+        plan = engine.__dict__["_numba_plan"] = _Plan(args, row, sizes, [])
     return plan
 
 
@@ -145,10 +157,13 @@ def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
     plan = _plan(engine, point_table, joint_table)
     rows = np.empty(len(x), plan.row)
     valid = np.empty(len(x), np.bool_)
-    limits = np.array([atlas.limits[-1] is not None, atlas.limits[+1] is not None], np.bool_)
-    status = _sweep(*plan.args, grid, coef, signs, limits, x, omega, epsilon,
-                    rows.view(np.float64).reshape(len(x), -1), valid, *plan.scratch)
-    return None if status else (rows, valid)
+    limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
+    out = rows.view(np.float64).reshape(len(x), -1)
+    parts = _threads.chunks(len(x), engine.threads)
+    status = _threads.run([lambda p=p, w=w: _sweep(*plan.args, grid, coef, signs, limits, x[p], omega[p], epsilon[p],
+                                                   out[p], valid[p], *w)
+                           for p, w in zip(parts, plan.work_arrays(len(parts)))])
+    return None if any(status) else (rows, valid)
 
 
 # -- kernels ----------------------------------------------------------------------------------------

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from . import _threads
 from .loads import LoadValue, centre_of, constant_parts, guide_force_size, read_gravity, read_loads
 
 __all__ = ["solve"]
@@ -34,7 +35,14 @@ class _Plan:
     links: list
     guide_loads: list
     args: tuple
-    scratch: tuple
+    sizes: tuple
+    scratch: list
+
+    def work_arrays(self, threads: int) -> list:
+        """`threads` sets of work arrays."""
+        while len(self.scratch) < threads:
+            self.scratch.append(_scratch(*self.sizes))
+        return self.scratch[:threads]
 
 
 def _load_table(engine, inertia):
@@ -135,12 +143,17 @@ def _plan(engine, ks_plan, row_dtype, inertia) -> _Plan:
     args = (offsets, len(engine.links), n_points, link_row, np.asarray(ks_plan.centre, float), float(engine.size),
             jpoint, guide_i, guide_f, p_inputs, load_i, load_f, *blocks, lay.scale.astype(float),
             np.array(lay.in_cols, np.int64), in_joint)
-    n_max = max([1] + [len(b.rows) for b in ks_plan.blocks])
-    n_features = 1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs)
-    scratch = (np.zeros((n_max, n_max)), np.zeros(n_max), np.zeros((n_max, n_max)), np.zeros(n_max),
-               np.zeros(n_max, np.int64), np.zeros(n_max), np.zeros(max(lay.size, 1)), np.zeros(n_features))
-    plan = cache[key] = _Plan(names, links, guides, args, scratch)
+    sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
+             1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
+    plan = cache[key] = _Plan(names, links, guides, args, sizes, [])
     return plan
+
+
+def _scratch(n_max: int, n: int, n_features: int) -> tuple:
+    """Work arrays of `_kernel`: a block's dense matrix, its right side, the dense rest with its right
+    side, permutation and solution, the whole right side, the features."""
+    return (np.zeros((n_max, n_max)), np.zeros(n_max), np.zeros((n_max, n_max)), np.zeros(n_max),
+            np.zeros(n_max, np.int64), np.zeros(n_max), np.zeros(max(n, 1)), np.zeros(n_features))
 
 
 def _point_names(engine):
@@ -154,17 +167,20 @@ def solve(engine, motion, ks_plan, inertia=True):
     rows = motion.rows
     plan = _plan(engine, ks_plan, rows.dtype, inertia)
     batch = len(rows)
-    sizes = np.zeros((max(len(plan.guide_loads), 1), batch))
+    sizes = np.zeros((batch, max(len(plan.guide_loads), 1)))
     for g, load in enumerate(plan.guide_loads):
-        sizes[g] = guide_force_size(engine, motion, load)
+        sizes[:, g] = guide_force_size(engine, motion, load)
     x = np.empty((batch, ks_plan.lay.size))
     singular = np.empty(batch, np.bool_)
     residual = np.empty(batch)
     loads = np.empty((batch, len(plan.names), 5))
     om = np.ascontiguousarray(motion.omega[:, 0])
     ep = np.ascontiguousarray(motion.epsilon[:, 0])
-    _kernel(rows.view(np.float64).reshape(batch, -1), om, ep, sizes, *plan.args, x, singular, residual, loads,
-            *plan.scratch)
+    row = rows.view(np.float64).reshape(batch, -1)
+    parts = _threads.chunks(batch, engine.threads)
+    _threads.run([lambda p=p, w=w: _kernel(row[p], om[p], ep[p], sizes[p], *plan.args, x[p], singular[p], residual[p],
+                                           loads[p], *w)
+                  for p, w in zip(parts, plan.work_arrays(len(parts)))])
     values = [LoadValue(name, k, loads[:, i, 0:2], loads[:, i, 2:4], loads[:, i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
     return x.T, singular, residual, values
@@ -323,7 +339,7 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, siz
                 c, s = row[b, o_cos + load_i[ld, 2]], row[b, o_sin + load_i[ld, 2]]
                 ux = c * load_f[ld, 5] - s * load_f[ld, 6]
                 uy = s * load_f[ld, 5] + c * load_f[ld, 6]
-                fx, fy, mz = sizes[g, b] * ux, sizes[g, b] * uy, load_f[ld, 4]
+                fx, fy, mz = sizes[b, g] * ux, sizes[b, g] * uy, load_f[ld, 4]
             else:
                 fx, fy, mz = load_f[ld, 2], load_f[ld, 3], load_f[ld, 4]
             loads_out[b, ld, 0], loads_out[b, ld, 1], loads_out[b, ld, 2] = fx, fy, px

@@ -23,7 +23,17 @@ __all__ = ["main"]
 def _load(args):
     from .solver import Engine
     from .table import read_model
-    return Engine(read_model(args.model), backend=args.backend)
+    return Engine(read_model(args.model), backend=args.backend, threads=args.threads)
+
+
+def _positive_int(text) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"a positive integer, not {text!r}")
+    return value
 
 
 def _finite(x):
@@ -588,8 +598,12 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
     p.add_argument("--backend", choices=("numpy", "numba"), default="numpy",
-                   help="numba: compiled kinematics for long sweeps (pip install 'mbplanar[fast]'; importing it "
-                        "and loading the compiled code take ~1 s, the very first run compiles for ~20 s)")
+                   help="numba: compiled kinematics and forces for long sweeps (pip install 'mbplanar[fast]'; "
+                        "importing it and loading the compiled code take ~1 s, the very first run compiles for "
+                        "~30 s)")
+    p.add_argument("--threads", type=_positive_int, default=None, metavar="N",
+                   help="cores the numba backend splits a long sweep over (default: all available, or "
+                        "MBPLANAR_THREADS)")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("info", help="links, joints, DOF, loops, Assur groups")

@@ -263,7 +263,7 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         n_in = len(engine.inputs)
         phi = np.asarray(phi, float)
-        if engine.backend == "numba" and n_in == 1 and phi.size and np.all(np.isfinite(phi)):
+        if engine.backend == "numba" and n_in == 1 and phi.size and np.isfinite(phi.sum()):
             m = _compiled_motion(engine, phi.reshape(-1, 1), omega, epsilon)  # no chunks: no temporaries
             if m is not None:
                 return m
@@ -326,10 +326,11 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
 
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
-    om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1)[:, 0])
-    ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1)[:, 0])
+    om, ep = (np.full(batch, float(default if v is None else v)) if v is None or np.ndim(v) == 0
+              else np.ascontiguousarray(_per_position(v, None, batch, 1)[:, 0])
+              for v, default in ((omega, inp.omega), (epsilon, inp.epsilon)))
     tables = _tables(engine)
-    lo, hi = float(x.min()), float(x.max())
+    lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
     got = compiled.sweep(engine, x, om, ep, lo, hi, *tables)
     if got is None:
         return None

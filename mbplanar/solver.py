@@ -168,13 +168,19 @@ BACKENDS = ("numpy", "numba")
 class Engine:
     """A compiled mechanism, ready to solve batches of positions.
 
-    backend: "numpy" (the reference) or "numba", which runs the kinematics of one-input sweeps through
-    compiled per-position loops (`mbplanar._numba_kinematics`; needs the optional extra `fast`) and
-    falls back to numpy wherever those loops cannot vouch for a position."""
+    backend: "numpy" (the reference) or "numba", which runs the kinematics and kinetostatics of
+    one-input sweeps through compiled per-position loops (`mbplanar._numba_kinematics`,
+    `mbplanar._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
+    those loops cannot vouch for a position.
+    threads: how many cores the compiled loops split a long batch over (default: the cores available,
+    or the environment variable MBPLANAR_THREADS); the answers do not depend on it."""
 
-    def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy"):
+    def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy", threads: int | None = None):
         if backend not in BACKENDS:
             raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, not {backend!r}")
+        if threads is not None and (not isinstance(threads, int) or threads < 1):
+            raise ValueError(f"threads must be a positive integer, not {threads!r}")
+        self.threads = threads
         if backend == "numba":
             try:
                 import numba  # noqa: F401

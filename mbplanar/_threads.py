@@ -1,0 +1,45 @@
+"""Running a compiled kernel over a long batch on several cores: the batch is cut into contiguous
+chunks, one per thread, and the kernels (compiled with `nogil`) run at once. Positions are independent,
+so the answers do not depend on the cut. Each thread needs its own work arrays; the caller passes them.
+"""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+__all__ = ["MIN_CHUNK", "available", "chunks", "run"]
+
+MIN_CHUNK = 400  # positions per thread below which another thread costs more than it saves
+_pool: ThreadPoolExecutor | None = None
+
+
+def available() -> int:
+    """Threads to use by default: `MBPLANAR_THREADS` if set, else the cores this process may run on."""
+    value = os.environ.get("MBPLANAR_THREADS")
+    if value:
+        return max(1, int(value))
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def chunks(batch: int, threads: int | None = None) -> list[slice]:
+    """Contiguous slices of a batch, at most `threads` of them (default `available()`) and none
+    shorter than MIN_CHUNK."""
+    if batch < 2 * MIN_CHUNK:
+        return [slice(0, batch)]
+    k = max(1, min(threads or available(), batch // MIN_CHUNK))
+    cuts = [batch * i // k for i in range(k + 1)]
+    return [slice(a, b) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+def run(calls: list) -> list:
+    """Results of the zero-argument callables `calls`: the first in this thread, the others at once in
+    a pool of threads."""
+    global _pool
+    if len(calls) == 1:
+        return [calls[0]()]
+    if _pool is None or _pool._max_workers < len(calls) - 1:
+        _pool = ThreadPoolExecutor(max_workers=len(calls) - 1, thread_name_prefix="mbplanar")
+    futures = [_pool.submit(call) for call in calls[1:]]
+    first = calls[0]()
+    return [first] + [f.result() for f in futures]
