@@ -260,13 +260,13 @@ CHUNK = 25_000  # positions solved at once: bounds the working memory of very lo
 def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
     hold no solution, are dropped before anything is returned)."""
+    n_in = len(engine.inputs)
+    phi = np.asarray(phi, float)
+    if engine.backend == "numba" and n_in == 1 and phi.size and np.isfinite(phi).all():
+        m = _compiled_motion(engine, phi.reshape(-1, 1), omega, epsilon)  # no chunks: no temporaries
+        if m is not None:
+            return m
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        n_in = len(engine.inputs)
-        phi = np.asarray(phi, float)
-        if engine.backend == "numba" and n_in == 1 and phi.size and np.isfinite(phi.sum()):
-            m = _compiled_motion(engine, phi.reshape(-1, 1), omega, epsilon)  # no chunks: no temporaries
-            if m is not None:
-                return m
         if n_in != 1 or phi.size <= CHUNK:
             return _analyse(engine, phi, omega, epsilon)
         return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon)
