@@ -48,12 +48,6 @@ class _Plan:
     sizes: tuple
     scratch: list
 
-    def work_arrays(self, threads: int) -> list:
-        """`threads` sets of work arrays."""
-        while len(self.scratch) < threads:
-            self.scratch.append(_scratch(*self.sizes))
-        return self.scratch[:threads]
-
 
 def _plan(engine, point_table, joint_table) -> _Plan:
     plan = engine.__dict__.get("_numba_plan")
@@ -160,9 +154,10 @@ def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
     limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
     out = rows.view(np.float64).reshape(len(x), -1)
     parts = _threads.chunks(len(x), engine.threads)
+    work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
     status = _threads.run([lambda p=p, w=w: _sweep(*plan.args, grid, coef, signs, limits, x[p], omega[p], epsilon[p],
                                                    out[p], valid[p], *w)
-                           for p, w in zip(parts, plan.work_arrays(len(parts)))])
+                           for p, w in zip(parts, work)])
     return None if any(status) else (rows, valid)
 
 

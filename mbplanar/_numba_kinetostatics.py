@@ -17,6 +17,7 @@ import numba
 import numpy as np
 
 from . import _threads
+from ._numba_kinematics import _lu, _lu_solve
 from .loads import LoadValue, centre_of, constant_parts, guide_force_size, read_gravity, read_loads
 
 __all__ = ["solve"]
@@ -37,12 +38,6 @@ class _Plan:
     args: tuple
     sizes: tuple
     scratch: list
-
-    def work_arrays(self, threads: int) -> list:
-        """`threads` sets of work arrays."""
-        while len(self.scratch) < threads:
-            self.scratch.append(_scratch(*self.sizes))
-        return self.scratch[:threads]
 
 
 def _load_table(engine, inertia):
@@ -178,9 +173,10 @@ def solve(engine, motion, ks_plan, inertia=True):
     ep = np.ascontiguousarray(motion.epsilon[:, 0])
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
+    work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
     _threads.run([lambda p=p, w=w: _kernel(row[p], om[p], ep[p], sizes[p], *plan.args, x[p], singular[p], residual[p],
                                            loads[p], *w)
-                  for p, w in zip(parts, plan.work_arrays(len(parts)))])
+                  for p, w in zip(parts, work)])
     values = [LoadValue(name, k, loads[:, i, 0:2], loads[:, i, 2:4], loads[:, i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
     return x.T, singular, residual, values
@@ -193,8 +189,8 @@ _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, in
 
 @_inline
 def _dense_solve(M, n, perm, rhs, sol):
-    """Solve M[:n, :n] sol = rhs as `_linalg.factor` does (explicit inverse for n ≤ 2, else LU with
-    partial pivoting, the first largest pivot); returns the determinant. M and rhs are overwritten."""
+    """Solve M[:n, :n] sol = rhs as `_linalg.factor` does (explicit inverse for n ≤ 2, else the
+    kinematics kernel's LU with partial pivoting); returns the determinant. M is overwritten."""
     if n == 1:
         det = M[0, 0]
         sol[0] = (1.0 / det) * rhs[0]
@@ -206,34 +202,8 @@ def _dense_solve(M, n, perm, rhs, sol):
         sol[0] = i00 * rhs[0] + i01 * rhs[1]
         sol[1] = i10 * rhs[0] + i11 * rhs[1]
         return det
-    sign = 1.0
-    for i in range(n):
-        perm[i] = i
-    for k in range(n - 1):
-        p, big = k, abs(M[k, k])
-        for i in range(k + 1, n):
-            if abs(M[i, k]) > big:
-                p, big = i, abs(M[i, k])
-        if p != k:
-            for j in range(n):
-                M[k, j], M[p, j] = M[p, j], M[k, j]
-            perm[k], perm[p] = perm[p], perm[k]
-            sign = -sign
-        for i in range(k + 1, n):
-            M[i, k] /= M[k, k]
-            for j in range(k + 1, n):
-                M[i, j] -= M[i, k] * M[k, j]
-    for i in range(n):
-        sol[i] = rhs[perm[i]]
-    for i in range(1, n):
-        for j in range(i):
-            sol[i] -= M[i, j] * sol[j]
-    det = sign
-    for i in range(n - 1, -1, -1):
-        for j in range(i + 1, n):
-            sol[i] -= M[i, j] * sol[j]
-        sol[i] /= M[i, i]
-        det *= M[i, i]
+    det, _ = _lu(M, n, perm)
+    _lu_solve(M, n, perm, rhs, sol)
     return det
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 from concurrent.futures import ThreadPoolExecutor
 
-__all__ = ["MIN_CHUNK", "available", "chunks", "run"]
+__all__ = ["MIN_CHUNK", "available", "chunks", "run", "work_arrays"]
 
 MIN_CHUNK = 400  # positions per thread below which another thread costs more than it saves
 _pool: ThreadPoolExecutor | None = None
@@ -43,3 +43,10 @@ def run(calls: list) -> list:
     futures = [_pool.submit(call) for call in calls[1:]]
     first = calls[0]()
     return [first] + [f.result() for f in futures]
+
+
+def work_arrays(store: list, make, threads: int) -> list:
+    """The first `threads` sets of work arrays kept in `store`, adding sets made by `make()` as needed."""
+    while len(store) < threads:
+        store.append(make())
+    return store[:threads]
