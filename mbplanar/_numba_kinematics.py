@@ -26,11 +26,11 @@ from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, 
 __all__ = ["FIELDS", "sweep"]
 
 # what the kernel writes per position, in this order: (name, per link / point / joint, components)
-FIELDS = (("angle", "L", 1), ("w", "L", 1), ("e", "L", 1), ("wq", "L", 1), ("eq", "L", 1),
-          ("th", "L", 1), ("r", "L", 2), ("fv", "L", 2), ("fa", "L", 2), ("ic", "L", 2),
-          ("xy", "P", 2), ("v", "P", 2), ("a", "P", 2), ("vq", "P", 2), ("aq", "P", 2),
-          ("value", "J", 1), ("rate", "J", 1), ("accel", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1),
-          ("cos", "L", 1), ("sin", "L", 1))  # cos θ, sin θ of the link frames, for the compiled kinetostatics
+# (the analogues only: `Motion` derives the real rates, angles and instantaneous centres from them when
+# they are first read, so that the memory written per position, which bounds the speed, is smaller)
+FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1),
+          ("r", "L", 2), ("fv", "L", 2), ("fa", "L", 2), ("xy", "P", 2), ("vq", "P", 2), ("aq", "P", 2),
+          ("value", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1))
 
 
 _LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi in (False, True)}
@@ -56,9 +56,8 @@ def _plan(engine, point_table, joint_table) -> _Plan:
         names, links, at = point_table
         joints_i, joints_f = _joints(joint_table)
         args = (steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, float(engine.inputs[0].sense),
-                float(engine.phi_drawn[0]), np.array([engine.reference_angle[n] for n in engine.links]),
-                links.astype(np.int64), np.ascontiguousarray(at, float), joints_i, joints_f,
-                engine.link_index[engine.mech.ground])
+                float(engine.phi_drawn[0]), links.astype(np.int64), np.ascontiguousarray(at, float), joints_i,
+                joints_f, engine.link_index[engine.mech.ground])
         per = {"L": len(engine.links), "P": len(names), "J": len(joints_i)}
         row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
                         for name, kind, comp in FIELDS])
@@ -137,10 +136,10 @@ def _atlas_tables(atlas):
     return tables
 
 
-def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
-    """Kinematics of the one-input positions x (B,) (SI, between lo and hi), input speed and
-    acceleration (B,), all contiguous: one structured row per position (FIELDS) and `valid` (B,)
-    (False past a located limit); None where the numpy path must take the batch."""
+def sweep(engine, x, lo, hi, point_table, joint_table):
+    """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi): one structured
+    row per position (FIELDS) and `valid` (B,) (False past a located limit); None where the numpy path
+    must take the batch."""
     atlas = engine.atlas()
     atlas.cover(lo, hi)
     grid, coef, signs = _atlas_tables(atlas)
@@ -155,8 +154,7 @@ def sweep(engine, x, omega, epsilon, lo, hi, point_table, joint_table):
     out = rows.view(np.float64).reshape(len(x), -1)
     parts = _threads.chunks(len(x), engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    status = _threads.run([lambda p=p, w=w: _sweep(*plan.args, grid, coef, signs, limits, x[p], omega[p], epsilon[p],
-                                                   out[p], valid[p], *w)
+    status = _threads.run([lambda p=p, w=w: _sweep(*plan.args, grid, coef, signs, limits, x[p], out[p], valid[p], *w)
                            for p, w in zip(parts, work)])
     return None if any(status) else (rows, valid)
 
@@ -375,8 +373,8 @@ def _interval(grid, x):
 
 
 @_jit
-def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, alpha, p_link, p_at, ji, jf,
-           ground, grid, coef, signs, limits, x, omega, epsilon, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
+def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, p_link, p_at, ji, jf,
+           ground, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
            res, step, qd_u, qdd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path."""
     n_blocks, n_grid, m_all = len(blocks), len(grid), coef.shape[2]
@@ -449,49 +447,33 @@ def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, alpha
                          0.0, res, qd_u)
             _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
                          sense, res, qdd_u)
-        _write(b, out, ps, rt, vel, acc, omega[b], epsilon[b], alpha, p_link, p_at, ji, jf)
+        _write(b, out, ps, rt, vel, acc, p_link, p_at, ji, jf)
     return 0
 
 
 @_jit
-def _write(b, out, ps, rt, vel, acc, om, ep, alpha, p_link, p_at, ji, jf):
+def _write(b, out, ps, rt, vel, acc, p_link, p_at, ji, jf):
     """Every output of position b (in the order of FIELDS) from its link states (analogue rates)."""
-    n_l, n_p, n_j = len(alpha), len(p_link), len(ji)
-    o_w, o_e, o_wq, o_eq, o_th = n_l, 2 * n_l, 3 * n_l, 4 * n_l, 5 * n_l
-    o_r, o_fv, o_fa, o_ic, o_xy = 6 * n_l, 8 * n_l, 10 * n_l, 12 * n_l, 14 * n_l
-    o_v, o_a, o_vq, o_aq = o_xy + 2 * n_p, o_xy + 4 * n_p, o_xy + 6 * n_p, o_xy + 8 * n_p
-    o_val = o_xy + 10 * n_p
-    o_rate, o_acc, o_rq, o_accq = o_val + n_j, o_val + 2 * n_j, o_val + 3 * n_j, o_val + 4 * n_j
-    o_cos, o_sin = o_val + 5 * n_j, o_val + 5 * n_j + n_l
-    om2 = om * om
+    n_l, n_p, n_j = ps.shape[1], len(p_link), len(ji)
+    o_eq, o_th, o_cos, o_sin, o_r = n_l, 2 * n_l, 3 * n_l, 4 * n_l, 5 * n_l
+    o_fv, o_fa, o_xy = 7 * n_l, 9 * n_l, 11 * n_l
+    o_vq, o_aq, o_val = o_xy + 2 * n_p, o_xy + 4 * n_p, o_xy + 6 * n_p
+    o_rq, o_accq = o_val + n_j, o_val + 2 * n_j
     for l in range(n_l):  # noqa: E741
-        w, e = rt[vel, 0, l], rt[acc, 0, l]
-        out[b, l] = ps[0, l] + alpha[l]
+        out[b, l], out[b, o_eq + l], out[b, o_th + l] = rt[vel, 0, l], rt[acc, 0, l], ps[0, l]
         out[b, o_cos + l], out[b, o_sin + l] = ps[1, l], ps[2, l]
-        wr = w * om
-        out[b, o_w + l], out[b, o_e + l] = wr, e * om2 + w * ep
-        out[b, o_wq + l], out[b, o_eq + l], out[b, o_th + l] = w, e, ps[0, l]
         out[b, o_r + 2 * l], out[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
         out[b, o_fv + 2 * l], out[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
         out[b, o_fa + 2 * l], out[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
-        icx = ps[3, l] + -(rt[vel, 2, l] * om) / wr
-        icy = ps[4, l] + (rt[vel, 1, l] * om) / wr
-        finite = np.isfinite(icx) and np.isfinite(icy)
-        out[b, o_ic + 2 * l] = icx if finite else np.nan
-        out[b, o_ic + 2 * l + 1] = icy if finite else np.nan
     for p in range(n_p):
         l = p_link[p]  # noqa: E741
         c, s = ps[1, l], ps[2, l]
         w, e = rt[vel, 0, l], rt[acc, 0, l]
         px, py = c * p_at[p, 0] - s * p_at[p, 1], s * p_at[p, 0] + c * p_at[p, 1]
-        vqx, vqy = rt[vel, 1, l] - w * py, rt[vel, 2, l] + w * px
-        aqx = rt[acc, 1, l] - e * py - w * w * px
-        aqy = rt[acc, 2, l] + e * px - w * w * py
         out[b, o_xy + 2 * p], out[b, o_xy + 2 * p + 1] = ps[3, l] + px, ps[4, l] + py
-        out[b, o_vq + 2 * p], out[b, o_vq + 2 * p + 1] = vqx, vqy
-        out[b, o_aq + 2 * p], out[b, o_aq + 2 * p + 1] = aqx, aqy
-        out[b, o_v + 2 * p], out[b, o_v + 2 * p + 1] = vqx * om, vqy * om
-        out[b, o_a + 2 * p], out[b, o_a + 2 * p + 1] = aqx * om2 + vqx * ep, aqy * om2 + vqy * ep
+        out[b, o_vq + 2 * p], out[b, o_vq + 2 * p + 1] = rt[vel, 1, l] - w * py, rt[vel, 2, l] + w * px
+        out[b, o_aq + 2 * p] = rt[acc, 1, l] - e * py - w * w * px
+        out[b, o_aq + 2 * p + 1] = rt[acc, 2, l] + e * px - w * w * py
     for j in range(n_j):
         la, lb = ji[j, 1], ji[j, 2]
         ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]
@@ -513,4 +495,3 @@ def _write(b, out, ps, rt, vel, acc, om, ep, alpha, p_link, p_at, ji, jf):
             rq = wc * pud + ux * ddx + uy * ddy
             aq = ec * pud - wc * wc * ud + 2 * wc * (-uy * ddx + ux * ddy) + ux * dddx + uy * dddy
         out[b, o_val + j], out[b, o_rq + j], out[b, o_accq + j] = value, rq, aq
-        out[b, o_rate + j], out[b, o_acc + j] = rq * om, aq * om2 + rq * ep

@@ -23,7 +23,7 @@ from .loads import LoadValue, centre_of, constant_parts, guide_force_size, read_
 __all__ = ["solve"]
 
 # row fields the kernel reads, in the order of its `offsets` argument
-_READS = ("cos", "sin", "r", "fv", "fa", "w", "e", "wq", "xy", "vq", "rate_q")
+_READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "xy", "vq", "rate_q")
 
 
 @dataclass
@@ -265,9 +265,9 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, siz
             zero, scale, in_cols, in_joint, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol, bvec, feat):
     """Every position b: features, loads (stored in loads_out[b]: fx, fy, x, y, moment), the blocks into
     x_out[b] (scaled back, NaN where singular), and the relative virtual-power residual."""
-    o_cos, o_sin, o_r, o_fv, o_fa, o_w, o_e, o_wq, o_xy, o_vq, o_rq = (
+    o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_xy, o_vq, o_rq = (
         offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7],
-        offsets[8], offsets[9], offsets[10])
+        offsets[8], offsets[9])
     cx, cy = centre[0], centre[1]
     n_j, n_g, n_loads, n = len(jpoint), len(guide_i), len(load_i), len(scale)
     base = 1 + 2 * n_j
@@ -297,7 +297,8 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, siz
             ry = s * load_f[ld, 0] + c * load_f[ld, 1]
             px, py = row[b, o_r + 2 * k] + rx, row[b, o_r + 2 * k + 1] + ry
             if g == -2:  # d'Alembert: −m·a at the centre, −I·ε
-                wr, er = row[b, o_w + k], row[b, o_e + k]
+                wq = row[b, o_wq + k]
+                wr, er = wq * om, row[b, o_eq + k] * om2 + wq * ep  # real ω, ε (Motion.w, Motion.e)
                 ax = row[b, o_fa + 2 * k] * om2 + row[b, o_fv + 2 * k] * ep
                 ay = row[b, o_fa + 2 * k + 1] * om2 + row[b, o_fv + 2 * k + 1] * ep
                 ax -= er * ry

@@ -24,6 +24,8 @@ class Motion:
     phi (B, n_in): input values (SI); omega, epsilon (B, n_in): input speed and acceleration.
     Links: angle, w, e (B, L) real; wq, eq analogues. Points: xy, v, a (B, P, 2); vq, aq analogues.
     Joints: value, rate, accel (B, J); rate_q, accel_q analogues. Analogues are None with several inputs.
+    The compiled backend passes None for the real values of `DERIVED`: they are computed from the
+    analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...) when first read, and kept.
     """
 
     engine: Engine
@@ -68,6 +70,18 @@ class Motion:
         return "; ".join(describe_limit(self.engine, lim) for lim in self.limits) or \
             f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
 
+    def __post_init__(self):
+        for name in DERIVED:
+            if self.__dict__.get(name, 0) is None:
+                del self.__dict__[name]  # so that reading it reaches __getattr__
+
+    def __getattr__(self, name):
+        if name not in DERIVED or "wq" not in self.__dict__:
+            raise AttributeError(f"'Motion' object has no attribute '{name}'")
+        value = _derived(self, name)
+        setattr(self, name, value)
+        return value
+
     def point(self, name: str) -> int:
         return self.point_names.index(name)
 
@@ -76,6 +90,25 @@ class Motion:
 
     def joint(self, name: str) -> int:
         return self.joint_names.index(name)
+
+
+DERIVED = ("angle", "w", "e", "v", "a", "rate", "accel", "ic")  # real values that follow from the analogues
+
+
+def _derived(m: Motion, name: str) -> np.ndarray:
+    """A real value of a one-input Motion from its analogues and the input's ω, ε (B, 1)."""
+    om, ep = m.omega, m.epsilon
+    if name == "angle":
+        return m.frames["th"] + np.array([m.engine.reference_angle[n] for n in m.link_names])
+    if name == "ic":  # r + perp(v)/ω of every link frame; NaN where the link does not turn
+        return _first(_instant_centres(_last(m.frames["r"]), _last(m.frames["v"] * om[..., None]), m.w.T))
+    pair = {"w": ("wq", "eq"), "e": ("wq", "eq"), "v": ("vq", "aq"), "a": ("vq", "aq"),
+            "rate": ("rate_q", "accel_q"), "accel": ("rate_q", "accel_q")}[name]
+    xq, xqq = (getattr(m, n) for n in pair)
+    if xq.ndim == 3:  # points (B, P, 2)
+        om, ep = om[..., None], ep[..., None]
+    real = _real(xq, xqq, om, ep)
+    return real[0] if name in ("w", "v", "rate") else real[1]
 
 
 def describe_limit(engine: Engine, lim: Limit) -> str:
@@ -331,7 +364,7 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
               for v, default in ((omega, inp.omega), (epsilon, inp.epsilon)))
     tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
-    got = compiled.sweep(engine, x, om, ep, lo, hi, *tables)
+    got = compiled.sweep(engine, x, lo, hi, *tables)
     if got is None:
         return None
     rows, valid = got
@@ -339,10 +372,10 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
     rows = rows[keep]
     limits, crossings = met_along(engine.atlas(), lo, hi)
     return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
-                  link_names=list(engine.links), angle=rows["angle"], w=rows["w"], e=rows["e"],
-                  point_names=tables[0][0], xy=rows["xy"], v=rows["v"], a=rows["a"],
-                  joint_names=list(engine.mech.joints), value=rows["value"], rate=rows["rate"],
-                  accel=rows["accel"], ic=rows["ic"], wq=rows["wq"], eq=rows["eq"], vq=rows["vq"], aq=rows["aq"],
+                  link_names=list(engine.links), angle=None, w=None, e=None,
+                  point_names=tables[0][0], xy=rows["xy"], v=None, a=None,
+                  joint_names=list(engine.mech.joints), value=rows["value"], rate=None,
+                  accel=None, ic=None, wq=rows["wq"], eq=rows["eq"], vq=rows["vq"], aq=rows["aq"],
                   rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
                   crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
                                                "e": rows["eq"], "a": rows["fa"]}, rows=rows)

@@ -112,3 +112,18 @@ def test_cli_backend_option_gives_the_same_table(tmp_path):
     a, b = (np.genfromtxt(p, delimiter=",", skip_header=1) for p in (ref, fast))
     assert a.shape == b.shape and len(a) >= 24
     np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9)
+
+
+def test_real_values_follow_from_the_analogues_when_read():
+    """The compiled records hold the analogues only; `Motion` derives the real values on first read,
+    once, by v = v_q·ω and a = a_q·ω² + v_q·ε."""
+    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "shaper.toml"), backend="numba")
+    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 6.0, 50), omega=2.0, epsilon=0.5)
+    assert not {"w", "v", "a", "rate", "ic"} & set(m.rows.dtype.names)
+    assert "v" not in vars(m)
+    np.testing.assert_array_equal(m.v, m.vq * 2.0)
+    assert m.v is m.v  # kept after the first read
+    np.testing.assert_array_equal(m.a, m.aq * 4.0 + m.vq * 0.5)
+    np.testing.assert_array_equal(m.rate, m.rate_q * 2.0)
+    with pytest.raises(AttributeError, match="no attribute 'speed'"):
+        m.speed  # noqa: B018
