@@ -52,10 +52,10 @@ class _Plan:
 def _plan(engine, point_table, joint_table) -> _Plan:
     plan = engine.__dict__.get("_numba_plan")
     if plan is None:
-        steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale = _blocks(engine)
+        steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, anchors = _blocks(engine)
         names, links, at = point_table
         joints_i, joints_f = _joints(joint_table)
-        args = (steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, float(engine.inputs[0].sense),
+        args = (steps_i, steps_f, cuts_i, cuts_f, blocks, anchors, row_scale, var_scale, float(engine.inputs[0].sense),
                 float(engine.phi_drawn[0]), links.astype(np.int64), np.ascontiguousarray(at, float), joints_i,
                 joints_f, engine.link_index[engine.mech.ground])
         per = {"L": len(engine.links), "P": len(names), "J": len(joints_i)}
@@ -71,14 +71,19 @@ def _blocks(engine) -> tuple:
     """The engine's `BlockPlan`s flattened. Steps (S, 6) int: kind (0 R, 1 P), parent, child,
     relative, unknown (global index, −1 for an input), input (−1 for an unknown); (S, 6) float: sign,
     s0 (2), u0 (2), +1/−1 (parent is the carrier). Cuts (C, 3) int: kind, links a, b; (C, 4) float:
-    s0, n0. Blocks (K, 6): first step, end step, first cut, end cut, first unknown, number of unknowns.
-    Then every block's row and unknown scales, concatenated (M,)."""
+    s0, n0. Blocks (K, 8): first step, end step, first cut, end cut, first unknown, number of unknowns,
+    first and end anchor. Then every block's row and unknown scales, concatenated (M,), and its anchors:
+    the links it reads but does not place (earlier blocks' links, the ground), concatenated."""
     idx = engine.link_index
-    steps_i, steps_f, cuts_i, cuts_f, blocks, rows, vars_ = [], [], [], [], [], [], []
+    steps_i, steps_f, cuts_i, cuts_f, blocks, rows, vars_, anchors = [], [], [], [], [], [], [], []
     var0 = 0
     for bp in engine.blocks:
+        placed = {idx[st.child] for st in bp.steps}
+        read = {idx[st.parent] for st in bp.steps} | {idx[n] for law in bp.cuts for n in law.links[:2]}
+        mine = sorted(read - placed)
         blocks.append((len(steps_i), len(steps_i) + len(bp.steps), len(cuts_i), len(cuts_i) + len(bp.cuts), var0,
-                       bp.m))
+                       bp.m, len(anchors), len(anchors) + len(mine)))
+        anchors += mine
         for st in bp.steps:
             law = st.law
             prismatic = hasattr(law, "u0")
@@ -96,7 +101,7 @@ def _blocks(engine) -> tuple:
         var0 += bp.m
     arr = lambda x, dt, w: np.array(x, dt).reshape(-1, w)  # noqa: E731
     return (arr(steps_i, np.int64, 6), arr(steps_f, float, 6), arr(cuts_i, np.int64, 3), arr(cuts_f, float, 4),
-            arr(blocks, np.int64, 6), np.array(rows, float), np.array(vars_, float))
+            arr(blocks, np.int64, 8), np.array(rows, float), np.array(vars_, float), np.array(anchors, np.int64))
 
 
 def _joints(t) -> tuple:
@@ -315,18 +320,13 @@ def _lu_solve(a, m, perm, b, x):
 
 
 @_inline
-def _jacobian(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, jac, col):
+def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, si, sf, ci, anchors, sc, cc, rt, jac, col):
     """Closure Jacobian (m, m) of a block, and in rt[0 … m − 1] the sensitivities of its links' rates to
     each unknown (the links outside the block stay at 0)."""
     for j in range(m):
-        for k in range(k0, k1):  # every link the block reads starts at rest (not all L: cost per block)
+        for t in range(a0, a1):  # the links the block reads but does not place are at rest
             for comp in range(3):
-                rt[j, comp, si[k, 1]] = 0.0
-                rt[j, comp, si[k, 2]] = 0.0
-        for k in range(c0, c1):
-            for comp in range(3):
-                rt[j, comp, ci[k, 1]] = 0.0
-                rt[j, comp, ci[k, 2]] = 0.0
+                rt[j, comp, anchors[t]] = 0.0
         for k in range(k0, k1):
             _step_rates(k, si, sf, sc, rt, j, 1.0 if si[k, 4] - var0 == j and si[k, 4] >= 0 else 0.0, -1, 0.0)
         for k in range(c0, c1):
@@ -373,7 +373,7 @@ def _interval(grid, x):
 
 
 @_jit
-def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, p_link, p_at, ji, jf,
+def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_drawn, p_link, p_at, ji, jf,
            ground, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
            res, step, qd_u, qdd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path."""
@@ -418,7 +418,8 @@ def _sweep(si, sf, ci, cf, blocks, row_scale, var_scale, sense, phi_drawn, p_lin
                 if m == 0:
                     ok = True
                     break
-                _jacobian(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, jac, step)
+                _jacobian(k0, k1, c0, c1, blocks[bk, 6], blocks[bk, 7], m, var0, si, sf, ci, anchors, sc, cc, rt, jac,
+                          step)
                 det, ratio = _lu(jac, m, perm)
                 ok = err < TOL
                 if ok and not polished:
