@@ -338,7 +338,8 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, siz
         vscale, wscale = 0.0, 0.0
         for p in range(n_p):
             vx, vy = row[b, o_vq + 2 * p], row[b, o_vq + 2 * p + 1]
-            vscale = max(vscale, np.sqrt(vx * vx + vy * vy))
+            vscale = max(vscale, vx * vx + vy * vy)
+        vscale = np.sqrt(vscale)  # the largest point speed (one root: the root keeps the order)
         for k in range(n_l):
             wscale = max(wscale, abs(row[b, o_wq + k]))
         total, bound = 0.0, 0.0
