@@ -8,18 +8,23 @@ from __future__ import annotations
 import os
 from concurrent.futures import ThreadPoolExecutor
 
+from .errors import MbplanarError
+
 __all__ = ["MIN_CHUNK", "available", "chunks", "run", "work_arrays"]
 
 MIN_CHUNK = 400  # positions per thread below which another thread costs more than it saves
 _pool: ThreadPoolExecutor | None = None
+_CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
 def available() -> int:
     """Threads to use by default: `MBPLANAR_THREADS` if set, else the cores this process may run on."""
     value = os.environ.get("MBPLANAR_THREADS")
-    if value:
-        return max(1, int(value))
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if not value:
+        return _CORES
+    if not value.strip().isdigit() or int(value) < 1:
+        raise MbplanarError(f"MBPLANAR_THREADS must be a positive integer, not {value!r}")
+    return int(value)
 
 
 def chunks(batch: int, threads: int | None = None) -> list[slice]:

@@ -171,8 +171,8 @@ class _Layout:
     p_rows: dict          # P joint name → its row
     cols: dict            # joint name → first column (fx, fy[, moment])
     in_cols: list         # input k → column
-    scale: np.ndarray     # (n,) unknown = x · scale
-    size: int
+    scale: np.ndarray     # (n,) unknown as reported = x · scale (the sign turns a pair's unknown round
+    size: int             # where the reaction is reported on its first link, see `_reported_on`)
 
 
 def _layout(engine) -> _Layout:
@@ -190,7 +190,8 @@ def _layout(engine) -> _Layout:
     c = 0
     for j in mech.joints.values():
         cols[j.name] = c
-        scale += [1.0, 1.0] + ([L] if j.kind == "P" else [])
+        sign = 1.0 if _reported_on(mech, j)[0] == j.links[1] else -1.0
+        scale += [sign, sign] + ([sign * L] if j.kind == "P" else [])
         c += 3 if j.kind == "P" else 2
     in_cols = []
     for inp in engine.inputs:
@@ -497,19 +498,20 @@ def _virtual_power(engine, motion, loads, drive):
     return np.abs(total) / np.where(scale > 0, scale, 1.0)
 
 
+def _reported_on(mech, j) -> tuple[str, str]:
+    """(link the reaction of pair j is reported on, the link it comes from): the moving link for a pair
+    with the ground, the slider for a prismatic pair, the row's first link for a revolute pair."""
+    a, b = j.links
+    return (a, b) if b == mech.ground or (j.kind == "R" and a != mech.ground) else (b, a)
+
+
 def _report(engine, lay, x) -> dict:
-    """Reactions as reported, from the unknowns x (n, B)."""
-    mech = engine.mech
+    """Reactions as reported, from the unknowns x (n, B) (already turned round by `_Layout.scale`)."""
     out = {}
-    for j in mech.joints.values():
+    for j in engine.mech.joints.values():
         c = lay.cols[j.name]
-        fx, fy = x[c], x[c + 1]
         m = x[c + 2] if j.kind == "P" else np.zeros(x.shape[1])
-        a, b = j.links
-        if b == mech.ground or (j.kind == "R" and a != mech.ground):
-            out[j.name] = Reaction(j.name, a, b, -fx, -fy, -m)
-        else:
-            out[j.name] = Reaction(j.name, b, a, fx, fy, m)
+        out[j.name] = Reaction(j.name, *_reported_on(engine.mech, j), x[c], x[c + 1], m)
     return out
 
 
@@ -551,7 +553,7 @@ def _compiled(engine, motion, loads, input_inertia) -> bool:
     rows = motion.rows
     return (engine.backend == "numba" and rows is not None and len(rows) == len(motion.phi) > 0
             and np.may_share_memory(rows, motion.xy) and loads is None and len(engine.inputs) == 1
-            and not np.any(input_inertia))
+            and (input_inertia == 0 if isinstance(input_inertia, (int, float)) else not np.any(input_inertia)))
 
 
 def _result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:

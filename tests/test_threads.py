@@ -31,6 +31,10 @@ def test_thread_count_from_the_environment(monkeypatch):
     monkeypatch.setenv("MBPLANAR_THREADS", "3")
     assert _threads.available() == 3
     assert len(_threads.chunks(10 * _threads.MIN_CHUNK)) == 3
+    for bad in ("0", "-1", "two", "1.5"):
+        monkeypatch.setenv("MBPLANAR_THREADS", bad)
+        with pytest.raises(mbplanar.MbplanarError, match="MBPLANAR_THREADS must be a positive integer"):
+            _threads.available()
     monkeypatch.delenv("MBPLANAR_THREADS")
     assert _threads.available() >= 1
 
