@@ -30,7 +30,8 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "xy", "vq", "rate_q")
 class _Plan:
     """The model's loads and the system's structure as arrays in `_kernel`'s order, built once per
     engine and row layout: `names`, `links` of the loads in the order numpy lists them; `guide_loads`,
-    the rows whose size `guide_force_size` gives; `args`; `scratch`, the kernel's work arrays."""
+    the rows whose size `guide_force_size` gives; `args`; `sizes` of the kernel's work arrays and
+    `scratch`, one set of them per thread."""
 
     names: list
     links: list
@@ -86,10 +87,11 @@ def _block_tables(blocks):
     (i, j)."""
     table, rows, own, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c, zero = ([] for _ in range(13))
     for blk in blocks:
+        zeros = _zeros(blk)
         table.append((len(blk.rows), len(rows), len(ent_i), len(ent_i) + len(blk.entries), len(lat_i),
                       len(lat_i) + len(blk.later), len(piv), len(piv) + len(blk.pivots), len(rest_r),
-                      len(rest_r) + len(blk.rest_rows), len(zero), len(zero) + len(_zeros(blk))))
-        zero += _zeros(blk)
+                      len(rest_r) + len(blk.rest_rows), len(zero), len(zero) + len(zeros)))
+        zero += zeros
         rows += list(blk.rows)
         own += list(blk.own)
         ent_i += [(i, j, f) for i, j, f, _ in blk.entries]
@@ -116,7 +118,8 @@ def _zeros(blk) -> list:
     return sorted(read - entries)
 
 
-def _plan(engine, ks_plan, row_dtype, inertia) -> _Plan:
+def _plan(engine, ks_plan, motion, inertia) -> _Plan:
+    row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
     cache = engine.__dict__.setdefault("_numba_kinetostatic_plans", {})
     if key in cache:
@@ -128,7 +131,7 @@ def _plan(engine, ks_plan, row_dtype, inertia) -> _Plan:
     link_row = np.full(len(engine.links), -1, np.int64)
     for k, row in lay.rows.items():
         link_row[k] = row
-    point_of = {name: k for k, name in enumerate(_point_names(engine))}
+    point_of = {name: k for k, name in enumerate(motion.point_names)}
     jpoint = np.array([point_of[name] for name in ks_plan.joints], np.int64)
     guide_i = np.array([engine.link_index[mech.joints[n].carrier] for n in ks_plan.guides], np.int64)
     guide_f = np.array([engine.laws[n].u0 for n in ks_plan.guides], float).reshape(-1, 2)
@@ -151,16 +154,11 @@ def _scratch(n_max: int, n: int, n_features: int) -> tuple:
             np.zeros(n_max, np.int64), np.zeros(n_max), np.zeros(max(n, 1)), np.zeros(n_features))
 
 
-def _point_names(engine):
-    """The compiled Motion's points in order (joints, then points of interest)."""
-    return list(engine.mech.joints) + list(engine.mech.points)
-
-
 def solve(engine, motion, ks_plan, inertia=True):
     """x (n, B) (the unknowns, NaN where singular), singular (B,), the virtual-power residual (B,) and
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
     rows = motion.rows
-    plan = _plan(engine, ks_plan, rows.dtype, inertia)
+    plan = _plan(engine, ks_plan, motion, inertia)
     batch = len(rows)
     sizes = np.zeros((batch, max(len(plan.guide_loads), 1)))
     for g, load in enumerate(plan.guide_loads):

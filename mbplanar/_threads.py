@@ -13,7 +13,8 @@ from .errors import MbplanarError
 __all__ = ["MIN_CHUNK", "available", "chunks", "run", "work_arrays"]
 
 MIN_CHUNK = 400  # positions per thread below which another thread costs more than it saves
-_pool: ThreadPoolExecutor | None = None
+_pool: ThreadPoolExecutor | None = None  # the other threads, made on first use
+_pool_size = 0
 _CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
@@ -40,11 +41,13 @@ def chunks(batch: int, threads: int | None = None) -> list[slice]:
 def run(calls: list) -> list:
     """Results of the zero-argument callables `calls`: the first in this thread, the others at once in
     a pool of threads."""
-    global _pool
+    global _pool, _pool_size
     if len(calls) == 1:
         return [calls[0]()]
-    if _pool is None or _pool._max_workers < len(calls) - 1:
-        _pool = ThreadPoolExecutor(max_workers=len(calls) - 1, thread_name_prefix="mbplanar")
+    if _pool is None or _pool_size < len(calls) - 1:
+        if _pool is not None:
+            _pool.shutdown(wait=False)
+        _pool, _pool_size = ThreadPoolExecutor(len(calls) - 1, thread_name_prefix="mbplanar"), len(calls) - 1
     futures = [_pool.submit(call) for call in calls[1:]]
     first = calls[0]()
     return [first] + [f.result() for f in futures]
