@@ -26,11 +26,11 @@ from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, 
 __all__ = ["FIELDS", "sweep"]
 
 # what the kernel writes per position, in this order: (name, per link / point / joint, components)
-# (the analogues only: `Motion` derives the real rates, angles and instantaneous centres from them when
-# they are first read, so that the memory written per position, which bounds the speed, is smaller)
+# (the link frames and the joints only: `Motion` derives the points, the real rates, the angles and the
+# instantaneous centres from them when first read, so that the memory written per position, which
+# bounds the speed, is smaller)
 FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1),
-          ("r", "L", 2), ("fv", "L", 2), ("fa", "L", 2), ("xy", "P", 2), ("vq", "P", 2), ("aq", "P", 2),
-          ("value", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1))
+          ("r", "L", 2), ("fv", "L", 2), ("fa", "L", 2), ("value", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1))
 
 
 _LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi in (False, True)}
@@ -49,16 +49,14 @@ class _Plan:
     scratch: list
 
 
-def _plan(engine, point_table, joint_table) -> _Plan:
+def _plan(engine, joint_table) -> _Plan:
     plan = engine.__dict__.get("_numba_plan")
     if plan is None:
         steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, anchors = _blocks(engine)
-        names, links, at = point_table
         joints_i, joints_f = _joints(joint_table)
         args = (steps_i, steps_f, cuts_i, cuts_f, blocks, anchors, row_scale, var_scale, float(engine.inputs[0].sense),
-                float(engine.phi_drawn[0]), links.astype(np.int64), np.ascontiguousarray(at, float), joints_i,
-                joints_f, engine.link_index[engine.mech.ground])
-        per = {"L": len(engine.links), "P": len(names), "J": len(joints_i)}
+                float(engine.phi_drawn[0]), joints_i, joints_f, engine.link_index[engine.mech.ground])
+        per = {"L": len(engine.links), "J": len(joints_i)}
         row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
                         for name, kind, comp in FIELDS])
         m_max = max([1] + [bp.m for bp in engine.blocks])
@@ -141,7 +139,7 @@ def _atlas_tables(atlas):
     return tables
 
 
-def sweep(engine, x, lo, hi, point_table, joint_table):
+def sweep(engine, x, lo, hi, joint_table):
     """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi): one structured
     row per position (FIELDS) and `valid` (B,) (False past a located limit); None where the numpy path
     must take the batch."""
@@ -152,7 +150,7 @@ def sweep(engine, x, lo, hi, point_table, joint_table):
         return None
     if atlas.crossings and _in_brackets(atlas.crossings, x).any():
         return None
-    plan = _plan(engine, point_table, joint_table)
+    plan = _plan(engine, joint_table)
     rows = np.empty(len(x), plan.row)
     valid = np.empty(len(x), np.bool_)
     limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
@@ -373,7 +371,7 @@ def _interval(grid, x):
 
 
 @_jit
-def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_drawn, p_link, p_at, ji, jf,
+def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_drawn, ji, jf,
            ground, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
            res, step, qd_u, qdd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path."""
@@ -448,17 +446,16 @@ def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_dra
                          0.0, res, qd_u)
             _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
                          sense, res, qdd_u)
-        _write(b, out, ps, rt, vel, acc, p_link, p_at, ji, jf)
+        _write(b, out, ps, rt, vel, acc, ji, jf)
     return 0
 
 
 @_jit
-def _write(b, out, ps, rt, vel, acc, p_link, p_at, ji, jf):
+def _write(b, out, ps, rt, vel, acc, ji, jf):
     """Every output of position b (in the order of FIELDS) from its link states (analogue rates)."""
-    n_l, n_p, n_j = ps.shape[1], len(p_link), len(ji)
+    n_l, n_j = ps.shape[1], len(ji)
     o_eq, o_th, o_cos, o_sin, o_r = n_l, 2 * n_l, 3 * n_l, 4 * n_l, 5 * n_l
-    o_fv, o_fa, o_xy = 7 * n_l, 9 * n_l, 11 * n_l
-    o_vq, o_aq, o_val = o_xy + 2 * n_p, o_xy + 4 * n_p, o_xy + 6 * n_p
+    o_fv, o_fa, o_val = 7 * n_l, 9 * n_l, 11 * n_l
     o_rq, o_accq = o_val + n_j, o_val + 2 * n_j
     for l in range(n_l):  # noqa: E741
         out[b, l], out[b, o_eq + l], out[b, o_th + l] = rt[vel, 0, l], rt[acc, 0, l], ps[0, l]
@@ -466,15 +463,6 @@ def _write(b, out, ps, rt, vel, acc, p_link, p_at, ji, jf):
         out[b, o_r + 2 * l], out[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
         out[b, o_fv + 2 * l], out[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
         out[b, o_fa + 2 * l], out[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
-    for p in range(n_p):
-        l = p_link[p]  # noqa: E741
-        c, s = ps[1, l], ps[2, l]
-        w, e = rt[vel, 0, l], rt[acc, 0, l]
-        px, py = c * p_at[p, 0] - s * p_at[p, 1], s * p_at[p, 0] + c * p_at[p, 1]
-        out[b, o_xy + 2 * p], out[b, o_xy + 2 * p + 1] = ps[3, l] + px, ps[4, l] + py
-        out[b, o_vq + 2 * p], out[b, o_vq + 2 * p + 1] = rt[vel, 1, l] - w * py, rt[vel, 2, l] + w * px
-        out[b, o_aq + 2 * p] = rt[acc, 1, l] - e * py - w * w * px
-        out[b, o_aq + 2 * p + 1] = rt[acc, 2, l] + e * px - w * w * py
     for j in range(n_j):
         la, lb = ji[j, 1], ji[j, 2]
         ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]

@@ -18,12 +18,13 @@ import numpy as np
 
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
+from .kinematics import _tables
 from .loads import LoadValue, centre_of, constant_parts, guide_force_size, read_gravity, read_loads
 
 __all__ = ["solve"]
 
 # row fields the kernel reads, in the order of its `offsets` argument
-_READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "xy", "vq", "rate_q")
+_READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 
 
 @dataclass
@@ -127,20 +128,20 @@ def _plan(engine, ks_plan, motion, inertia) -> _Plan:
     mech, lay = engine.mech, ks_plan.lay
     names, links, guides, load_i, load_f = _load_table(engine, inertia)
     offsets = np.array([row_dtype.fields[name][1] // 8 for name in _READS], np.int64)
-    n_points = row_dtype["xy"].shape[0]
     link_row = np.full(len(engine.links), -1, np.int64)
     for k, row in lay.rows.items():
         link_row[k] = row
     point_of = {name: k for k, name in enumerate(motion.point_names)}
     jpoint = np.array([point_of[name] for name in ks_plan.joints], np.int64)
+    _, p_link, p_at = _tables(engine)[0]
     guide_i = np.array([engine.link_index[mech.joints[n].carrier] for n in ks_plan.guides], np.int64)
     guide_f = np.array([engine.laws[n].u0 for n in ks_plan.guides], float).reshape(-1, 2)
     p_inputs = np.array(ks_plan.p_inputs, np.int64).reshape(-1, 2)
     in_joint = np.array([list(mech.joints).index(inp.joint) for inp in engine.inputs], np.int64)
     blocks = _block_tables(ks_plan.blocks)
-    args = (offsets, len(engine.links), n_points, link_row, np.asarray(ks_plan.centre, float), float(engine.size),
-            jpoint, guide_i, guide_f, p_inputs, load_i, load_f, *blocks, lay.scale.astype(float),
-            np.array(lay.in_cols, np.int64), in_joint)
+    args = (offsets, len(engine.links), p_link.astype(np.int64), np.ascontiguousarray(p_at, float), link_row,
+            np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, load_i,
+            load_f, *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint)
     sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
              1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
     plan = cache[key] = _Plan(names, links, guides, args, sizes, [])
@@ -258,14 +259,13 @@ def _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, p
 
 
 @_jit
-def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, size, jpoint, guide_i, guide_f,
+def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, centre, size, jpoint, guide_i, guide_f,
             p_inputs, load_i, load_f, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c,
             zero, scale, in_cols, in_joint, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol, bvec, feat):
     """Every position b: features, loads (stored in loads_out[b]: fx, fy, x, y, moment), the blocks into
     x_out[b] (scaled back, NaN where singular), and the relative virtual-power residual."""
-    o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_xy, o_vq, o_rq = (
-        offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7],
-        offsets[8], offsets[9])
+    o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_rq = (
+        offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7])
     cx, cy = centre[0], centre[1]
     n_j, n_g, n_loads, n = len(jpoint), len(guide_i), len(load_i), len(scale)
     base = 1 + 2 * n_j
@@ -274,10 +274,14 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, siz
         om2 = om * om
         # the entries' features (kinetostatics._features)
         feat[0] = 1.0
-        for jj in range(n_j):
+        for jj in range(n_j):  # the joint's point from its link's frame (kinematics._moving_points)
             p = jpoint[jj]
-            feat[1 + 2 * jj] = (row[b, o_xy + 2 * p] - cx) / size
-            feat[2 + 2 * jj] = (row[b, o_xy + 2 * p + 1] - cy) / size
+            k = p_link[p]
+            c, s = row[b, o_cos + k], row[b, o_sin + k]
+            px = row[b, o_r + 2 * k] + (c * p_at[p, 0] - s * p_at[p, 1])
+            py = row[b, o_r + 2 * k + 1] + (s * p_at[p, 0] + c * p_at[p, 1])
+            feat[1 + 2 * jj] = (px - cx) / size
+            feat[2 + 2 * jj] = (py - cy) / size
         for g in range(n_g):
             c, s = row[b, o_cos + guide_i[g]], row[b, o_sin + guide_i[g]]
             feat[base + 2 * g] = c * guide_f[g, 0] - s * guide_f[g, 1]
@@ -334,8 +338,11 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, n_p, link_row, centre, siz
         singular[b] = bad
         # virtual power with the analogues (kinetostatics._virtual_power)
         vscale, wscale = 0.0, 0.0
-        for p in range(n_p):
-            vx, vy = row[b, o_vq + 2 * p], row[b, o_vq + 2 * p + 1]
+        for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
+            k = p_link[p]
+            c, s, wk = row[b, o_cos + k], row[b, o_sin + k], row[b, o_wq + k]
+            vx = row[b, o_fv + 2 * k] - wk * (s * p_at[p, 0] + c * p_at[p, 1])
+            vy = row[b, o_fv + 2 * k + 1] + wk * (c * p_at[p, 0] - s * p_at[p, 1])
             vscale = max(vscale, vx * vx + vy * vy)
         vscale = np.sqrt(vscale)  # the largest point speed (one root: the root keeps the order)
         for k in range(n_l):

@@ -24,8 +24,9 @@ class Motion:
     phi (B, n_in): input values (SI); omega, epsilon (B, n_in): input speed and acceleration.
     Links: angle, w, e (B, L) real; wq, eq analogues. Points: xy, v, a (B, P, 2); vq, aq analogues.
     Joints: value, rate, accel (B, J); rate_q, accel_q analogues. Analogues are None with several inputs.
-    The compiled backend passes None for the real values of `DERIVED`: they are computed from the
-    analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...) when first read, and kept.
+    The compiled backend passes None for the arrays of `DERIVED`: the points from the link frames, the
+    real values from the analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...), computed when first read, and
+    kept.
     """
 
     engine: Engine
@@ -45,10 +46,10 @@ class Motion:
     rate: np.ndarray
     accel: np.ndarray
     ic: np.ndarray
+    vq: np.ndarray | None  # no default: a derived array is missing from the instance until first read
+    aq: np.ndarray | None
     wq: np.ndarray | None = None
     eq: np.ndarray | None = None
-    vq: np.ndarray | None = None
-    aq: np.ndarray | None = None
     rate_q: np.ndarray | None = None
     accel_q: np.ndarray | None = None
     requested: int = 0
@@ -71,12 +72,14 @@ class Motion:
             f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
 
     def __post_init__(self):
+        if self.rows is None:
+            return
         for name in DERIVED:
             if self.__dict__.get(name, 0) is None:
                 del self.__dict__[name]  # so that reading it reaches __getattr__
 
     def __getattr__(self, name):
-        if name not in DERIVED or "wq" not in self.__dict__:
+        if name not in DERIVED or self.__dict__.get("rows") is None:
             raise AttributeError(f"'Motion' object has no attribute '{name}'")
         value = _derived(self, name)
         setattr(self, name, value)
@@ -92,12 +95,20 @@ class Motion:
         return self.joint_names.index(name)
 
 
-DERIVED = ("angle", "w", "e", "v", "a", "rate", "accel", "ic")  # real values that follow from the analogues
+DERIVED = ("xy", "vq", "aq", "angle", "w", "e", "v", "a", "rate", "accel", "ic")  # follow from the frames
 
 
 def _derived(m: Motion, name: str) -> np.ndarray:
-    """A real value of a one-input Motion from its analogues and the input's ω, ε (B, 1)."""
+    """An array of `DERIVED` of a one-input Motion from its link frames (analogues) and the input's
+    ω, ε (B, 1)."""
     om, ep = m.omega, m.epsilon
+    if name in ("xy", "vq", "aq"):  # (the compiled records hold cos θ, sin θ)
+        _, links, at = _tables(m.engine)[0]
+        r = m.rows
+        points = _moving_points(r["cos"].T, r["sin"].T, _last(r["r"]), r["wq"].T, _last(r["fv"]), r["eq"].T,
+                                _last(r["fa"]), links, at)
+        m.xy, m.vq, m.aq = (_first(x) for x in points)
+        return getattr(m, name)
     if name == "angle":
         return m.frames["th"] + np.array([m.engine.reference_angle[n] for n in m.link_names])
     if name == "ic":  # r + perp(v)/ω of every link frame; NaN where the link does not turn
@@ -364,7 +375,7 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
               for v, default in ((omega, inp.omega), (epsilon, inp.epsilon)))
     tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
-    got = compiled.sweep(engine, x, lo, hi, *tables)
+    got = compiled.sweep(engine, x, lo, hi, tables[1])
     if got is None:
         return None
     rows, valid = got
@@ -373,9 +384,9 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
     limits, crossings = met_along(engine.atlas(), lo, hi)
     return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
                   link_names=list(engine.links), angle=None, w=None, e=None,
-                  point_names=tables[0][0], xy=rows["xy"], v=None, a=None,
+                  point_names=tables[0][0], xy=None, v=None, a=None,
                   joint_names=list(engine.mech.joints), value=rows["value"], rate=None,
-                  accel=None, ic=None, wq=rows["wq"], eq=rows["eq"], vq=rows["vq"], aq=rows["aq"],
+                  accel=None, ic=None, wq=rows["wq"], eq=rows["eq"], vq=None, aq=None,
                   rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
                   crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
                                                "e": rows["eq"], "a": rows["fa"]}, rows=rows)
@@ -424,7 +435,7 @@ def _motion(engine: Engine, sol, omega, epsilon) -> Motion:
     alpha = np.array([engine.reference_angle[n] for n in engine.links])
     m = Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
                link_names=list(engine.links), angle=(th.T + alpha)[keep], w=w.T[keep], e=e.T[keep],
-               point_names=names, xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
+               point_names=names, xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep], vq=None, aq=None,
                joint_names=list(engine.mech.joints), value=value.T[keep], rate=rate.T[keep],
                accel=accel.T[keep], ic=_first(_instant_centres(r, v, w))[keep], requested=batch,
                limits=sol.limits, frames={"th": th.T[keep], "r": _first(r)[keep]}, crossings=sol.crossings)

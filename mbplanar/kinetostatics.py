@@ -552,7 +552,7 @@ def _compiled(engine, motion, loads, input_inertia) -> bool:
     its arrays) of one input, the model's own loads, no input inertia."""
     rows = motion.rows
     return (engine.backend == "numba" and rows is not None and len(rows) == len(motion.phi) > 0
-            and np.may_share_memory(rows, motion.xy) and loads is None and len(engine.inputs) == 1
+            and np.may_share_memory(rows, motion.wq) and loads is None and len(engine.inputs) == 1
             and (input_inertia == 0 if isinstance(input_inertia, (int, float)) else not np.any(input_inertia)))
 
 
