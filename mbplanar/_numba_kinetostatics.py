@@ -5,7 +5,8 @@ rows the compiled kinematics wrote (`Motion.rows`) while they are in the cache.
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
 blocks, their pivots and fill-in (`_Block.fill`) come from `kinetostatics._plan`; the loads' constant
 parts and guide-force sizes from `loads.constant_parts` and `loads.guide_force_size`; the formulas are
-numpy's written per position, in the same order. It takes the model's loads with or without the inertia
+numpy's written per position, in the same order (but for one thing: the moments are divided by the model
+size as a product with its reciprocal, a division costing several multiplications here). It takes the model's loads with or without the inertia
 loads, and no input inertia; anything else stays with numpy. Tests hold both equal to rounding.
 """
 
@@ -267,6 +268,7 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
     o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_rq = (
         offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7])
     cx, cy = centre[0], centre[1]
+    inv_size = 1.0 / size
     n_j, n_g, n_loads, n = len(jpoint), len(guide_i), len(load_i), len(scale)
     base = 1 + 2 * n_j
     for b in range(len(row)):
@@ -280,8 +282,8 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
             c, s = row[b, o_cos + k], row[b, o_sin + k]
             px = row[b, o_r + 2 * k] + (c * p_at[p, 0] - s * p_at[p, 1])
             py = row[b, o_r + 2 * k + 1] + (s * p_at[p, 0] + c * p_at[p, 1])
-            feat[1 + 2 * jj] = (px - cx) / size
-            feat[2 + 2 * jj] = (py - cy) / size
+            feat[1 + 2 * jj] = (px - cx) * inv_size
+            feat[2 + 2 * jj] = (py - cy) * inv_size
         for g in range(n_g):
             c, s = row[b, o_cos + guide_i[g]], row[b, o_sin + guide_i[g]]
             feat[base + 2 * g] = c * guide_f[g, 0] - s * guide_f[g, 1]
@@ -321,7 +323,7 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
             if r >= 0:
                 bvec[r] -= fx
                 bvec[r + 1] -= fy
-                bvec[r + 2] -= ((px - cx) * fy - (py - cy) * fx + mz) / size
+                bvec[r + 2] -= ((px - cx) * fy - (py - cy) * fx + mz) * inv_size
         # the blocks, last group first (kinetostatics._solve_blocks)
         xb = x_out[b]
         bad = False
