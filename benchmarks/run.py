@@ -4,9 +4,12 @@ against a vectorised numpy closed form and scipy.optimize.fsolve per position on
     python benchmarks/run.py [--quick] [--json out.json]
 
 Every time is the minimum over several repeats (wall clock, time.perf_counter) with a warm engine;
-µs per position. The engine build (assembly + structure + branch atlas) is timed separately. Both
-backends are timed when numba is installed: `mbplanar_us` is the compiled one (`backend`), `numpy_us`
-the reference; the targets of issue 7 are checked at the end (`targets`).
+µs per position. The sweeps and the single positions are timed in rounds (each round times every case
+a few times in a row), so that each minimum is taken over the whole run, not over one spell of the
+shared machine.
+The engine build (assembly + structure + branch atlas) is timed separately. Both backends are timed
+when numba is installed: `mbplanar_us` is the compiled one (`backend`), `numpy_us` the reference; the
+targets of issue 7 are checked at the end (`targets`).
 """
 
 from __future__ import annotations
@@ -53,15 +56,15 @@ def best_time(fn, repeats):
     return best
 
 
-def best_times(fns, repeats):
-    """Minimum wall times (s) of several functions called in turn, so that a ratio between them is not
-    skewed by another job that ran during one of them only."""
-    best = [math.inf] * len(fns)
-    for _ in range(repeats):
-        for k, fn in enumerate(fns):
-            t = time.perf_counter()
-            fn()
-            best[k] = min(best[k], time.perf_counter() - t)
+def in_rounds(cases, rounds, burst):
+    """Minimum wall times (s) of the calls of every case (a list of lists of callables): each round
+    times every call `burst` times in a row (a warm cache, as a user's repeated calls have), and the
+    rounds spread each call's repeats over the whole run."""
+    best = [[math.inf] * len(calls) for calls in cases]
+    for _ in range(rounds):
+        for calls, times in zip(cases, best):
+            for k, call in enumerate(calls):
+                times[k] = min(times[k], best_time(call, burst))
     return best
 
 
@@ -88,8 +91,11 @@ def reactions_fn():
 
 
 def sweep_cases(n, repeats, fsolve_n, out):
+    """Every model's sweeps on both backends (and the closed forms where they apply), timed in rounds:
+    each round times every case once, so that each case's minimum is taken over the whole run and a
+    slow spell of the shared machine does not decide one case."""
     kinetostatics = reactions_fn()
-    builds = []
+    builds, jobs = [], []
     for name in MODELS:
         path = ROOT / "models" / f"{name}.toml"
         if not path.exists():
@@ -98,11 +104,12 @@ def sweep_cases(n, repeats, fsolve_n, out):
         fast = build(path, BEST)[0]
         builds.append((name, t_build, t_atlas))
         phi = full_turn(engine, n)
-        works = [("positions", lambda e: e.solve(phi)), ("kinematics", lambda e: mbplanar.analyse(e, phi))]
+        works = [("positions", lambda e, phi=phi: e.solve(phi)),
+                 ("kinematics", lambda e, phi=phi: mbplanar.analyse(e, phi))]
         if kinetostatics is not None:
             try:
                 kinetostatics(engine, mbplanar.analyse(engine, phi))
-                works.append(("reactions", lambda e: kinetostatics(e, mbplanar.analyse(e, phi))))
+                works.append(("reactions", lambda e, phi=phi: kinetostatics(e, mbplanar.analyse(e, phi))))
             except Exception as exc:  # a model without mass data
                 print(f"  {name}: reactions skipped ({type(exc).__name__}: {exc})")
         closed, fsolve = CLOSED.get(name, (None, None))
@@ -112,32 +119,39 @@ def sweep_cases(n, repeats, fsolve_n, out):
                 fn(e)
             row = dict(name=name, work=work, n=n, mbplanar_us=None, closed_form_us=None, fsolve_us=None,
                        numpy_us=None, backend=engines[-1].backend)
-            calls = [lambda e=e: fn(e) for e in engines]
+            calls = [lambda e=e, fn=fn: fn(e) for e in engines]
             if closed is not None and work != "reactions":
                 only = work == "positions"
-                *times, tc = best_times(calls + [lambda: closed(phi, positions_only=only)], 3 * repeats)
-                row["closed_form_us"] = 1e6 * tc / n
+                calls.append(lambda closed=closed, phi=phi, only=only: closed(phi, positions_only=only))
                 few = phi[:fsolve_n]
                 row["fsolve_us"] = 1e6 * best_time(lambda: fsolve(few, rates=not only), 2) / fsolve_n
-            else:
-                times = best_times(calls, repeats)
-            row["numpy_us"], row["mbplanar_us"] = 1e6 * times[0] / n, 1e6 * times[-1] / n
-            out.append(row)
-            ratio = f"  ({row['mbplanar_us'] / row['closed_form_us']:.1f}× closed form)" if row["closed_form_us"] else ""
-            print(f"  {name:14s} {work:11s} {row['mbplanar_us']:8.2f} µs/position ({row['backend']}; numpy "
-                  f"{row['numpy_us']:.2f}){ratio}"
-                  + (f"  closed {row['closed_form_us']:.3f}  fsolve {row['fsolve_us']:.1f}" if row["closed_form_us"] else ""))
+            jobs.append((row, calls, len(engines)))
+    best = in_rounds([calls for _, calls, _ in jobs], repeats, 3)
+    for (row, calls, n_engines), times in zip(jobs, best):
+        row["numpy_us"], row["mbplanar_us"] = 1e6 * times[0] / n, 1e6 * times[n_engines - 1] / n
+        if len(calls) > n_engines:  # the closed form's time follows the engines'
+            row["closed_form_us"] = 1e6 * times[n_engines] / n
+        out.append(row)
+        ratio = f"  ({row['mbplanar_us'] / row['closed_form_us']:.1f}× closed form)" if row["closed_form_us"] else ""
+        print(f"  {row['name']:14s} {row['work']:11s} {row['mbplanar_us']:8.2f} µs/position ({row['backend']}; numpy "
+              f"{row['numpy_us']:.2f}){ratio}"
+              + (f"  closed {row['closed_form_us']:.3f}  fsolve {row['fsolve_us']:.1f}" if row["closed_form_us"] else ""))
     return builds
 
 
 def latency_cases(repeats, out):
-    for name in ("fourbar", "shaper", "six_bar_press"):
-        times = []
+    """One position on each backend (timed in rounds, as the sweeps), then `mbplanar solve` end to end."""
+    names = ("fourbar", "shaper", "six_bar_press")
+    calls = []
+    for name in names:
         for backend in BACKENDS:
             engine, _, _ = build(ROOT / "models" / f"{name}.toml", backend)
             phi = engine.phi_drawn[:1] + 0.3
             mbplanar.analyse(engine, phi)
-            times.append(best_time(lambda: mbplanar.analyse(engine, phi), repeats * 20))
+            calls.append(lambda engine=engine, phi=phi: mbplanar.analyse(engine, phi))
+    best = in_rounds([calls], repeats, 20)[0]
+    for i, name in enumerate(names):
+        times = best[i * len(BACKENDS):(i + 1) * len(BACKENDS)]
         out.append(dict(name=name, work="one position", n=1, mbplanar_us=1e6 * times[-1], closed_form_us=None,
                         fsolve_us=None, numpy_us=1e6 * times[0], backend=BEST))
         print(f"  {name:14s} one position (analyse, warm engine) {1e6 * times[-1]:8.0f} µs ({BEST}; numpy "

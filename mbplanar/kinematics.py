@@ -56,8 +56,9 @@ class Motion:
     limits: list[Limit] = field(default_factory=list)
     frames: dict = field(default_factory=dict)
     crossings: list[Crossing] = field(default_factory=list)  # change points passed in the range asked
-    # the compiled backend's output (B,) of structured rows, of which the arrays above are views; None
-    # from the numpy path (the compiled kinetostatics reads it a position at a time)
+    # the compiled backend's output (B,) of structured rows: the frames, analogues and joint values above
+    # are views of it, the arrays of DERIVED are computed from it; None from the numpy path (the
+    # compiled kinetostatics reads it a position at a time)
     rows: np.ndarray | None = field(default=None, repr=False)
 
     @property
