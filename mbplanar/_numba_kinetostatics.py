@@ -246,7 +246,7 @@ def _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, p
         for p in range(nr):
             for q in range(nr):
                 M[p, q] = A[rest_r[s0 + p], rest_c[s0 + q]]
-            rr[p] = rl[rest_r[s0 + p]]
+            rr[p] = rl[rest_r[s0 + p]]  # rr, free again, takes the rest's right side
         det *= _dense_solve(M, nr, perm, rr, sol)
         for q in range(nr):
             x[bown[r0 + rest_c[s0 + q]]] = sol[q]
