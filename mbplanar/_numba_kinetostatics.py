@@ -4,10 +4,11 @@ rows the compiled kinematics wrote (`Motion.rows`) while they are in the cache.
 
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
 blocks, their pivots and fill-in (`_Block.fill`) come from `kinetostatics._plan`; the loads' constant
-parts and guide-force sizes from `loads.constant_parts` and `loads.guide_force_size`; the formulas are
-numpy's written per position, in the same order (but for one thing: the moments are divided by the model
-size as a product with its reciprocal, a division costing several multiplications here). It takes the model's loads with or without the inertia
-loads, and no input inertia; anything else stays with numpy. Tests hold both equal to rounding.
+parts, guide-force sizes and heavy links from `loads`; the formulas are numpy's written per position,
+in the same order (but for one thing: the moments are divided by the model size as a product with its
+reciprocal, a division costing several multiplications here). It takes the model's loads with or
+without the inertia loads, and no input inertia; anything else stays with numpy. Tests hold both equal
+to rounding.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import numpy as np
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
 from .kinematics import _tables
-from .loads import LoadValue, centre_of, constant_parts, guide_force_size, read_gravity, read_loads
+from .loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
 
 __all__ = ["solve"]
 
@@ -61,18 +62,17 @@ def _load_table(engine, inertia):
             ints.append((k, -1, 0))
             floats.append((at[0], at[1], force[0], force[1], moment, 0.0, 0.0))
         names.append(load.name)
-    heavy = [(name, lk) for name, lk in mech.links.items() if name != mech.ground and (lk.mass or lk.inertia)]
+    heavy = heavy_links(mech)
     gravity = read_gravity(mech)
     if gravity:
-        for name, lk in heavy:
+        for name, lk, at in heavy:
             if lk.mass:
-                at, force = centre_of(mech, name), lk.mass * gravity.vector
+                force = lk.mass * gravity.vector
                 ints.append((engine.link_index[name], -1, 0))
                 floats.append((at[0], at[1], force[0], force[1], 0.0, 0.0, 0.0))
                 names.append(f"gravity on {name}")
     if inertia:
-        for name, lk in heavy:
-            at = centre_of(mech, name) if (lk.mass or lk.centre) else (0.0, 0.0)
+        for name, lk, at in heavy:
             ints.append((engine.link_index[name], -2, 0))
             floats.append((at[0], at[1], lk.mass, lk.inertia, 0.0, 0.0, 0.0))
             names.append(f"inertia of {name}")

@@ -291,9 +291,11 @@ def _instant_centres(r, v, w):
 
 def _per_position(value, default, batch, n_in):
     """A scalar, one value per input, or one per position → (B, n_in)."""
-    arr = np.asarray(default if value is None else value, float)
-    if arr.ndim == 0:
-        arr = np.full(n_in, float(arr))
+    if value is None:
+        value = default[0] if len(default) == 1 else default
+    if isinstance(value, (int, float)) or np.ndim(value) == 0:  # one value for all (the usual case): filled
+        return np.full((batch, n_in), float(value))
+    arr = np.asarray(value, float)
     if arr.ndim == 1 and n_in == 1:
         arr = arr[:, None]
     return np.broadcast_to(arr, (batch, n_in))
@@ -371,9 +373,8 @@ def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
 
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
-    om, ep = (np.full(batch, float(default if v is None else v)) if v is None or np.ndim(v) == 0
-              else np.ascontiguousarray(_per_position(v, None, batch, 1)[:, 0])
-              for v, default in ((omega, inp.omega), (epsilon, inp.epsilon)))
+    om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1).reshape(-1))
+    ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1).reshape(-1))
     tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
     got = compiled.sweep(engine, x, lo, hi, tables[1])

@@ -33,7 +33,7 @@ import numpy as np
 
 from ._linalg import factor
 from .kinematics import material_points
-from .loads import LoadValue, centre_of, evaluate_loads, guide_direction, load_power, world_points
+from .loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -127,18 +127,16 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     """d'Alembert loads: −m·a_S at the centre and −I_S·ε on every link with mass or inertia, and
     −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I."""
     mech = engine.mech
-    heavy = [name for name, lk in mech.links.items() if name != mech.ground and (lk.mass or lk.inertia)]
-    ks = np.array([engine.link_index[name] for name in heavy], int)
+    heavy = heavy_links(mech)
+    ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
     out = []
     batch = len(motion.phi)
     if heavy:
         w, v, e, a = _real_frames(engine, motion, ks)
-        at = np.array([centre_of(mech, name) if (lk.mass or lk.centre) else (0.0, 0.0)
-                       for name, lk in ((n, mech.links[n]) for n in heavy)], float)
+        at = np.array([centre for _, _, centre in heavy], float)
         th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
         xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
-        for i, (name, k) in enumerate(zip(heavy, ks)):
-            lk = mech.links[name]
+        for i, ((name, lk, _), k) in enumerate(zip(heavy, ks)):
             out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i],
                                  -lk.inertia * e[:, i]))
     inertias = np.broadcast_to(np.asarray(input_inertia, float), (len(engine.inputs),))

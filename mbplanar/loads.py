@@ -31,7 +31,7 @@ import numpy as np
 
 from .errors import ModelError, MotionError
 
-__all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power",
+__all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
            "has_force_data",
            "LOAD_TYPES"]
 
@@ -296,6 +296,14 @@ def joint_rate_sign(motion, joint: str) -> np.ndarray:
     return (motion.rate_q if motion.rate_q is not None else motion.rate)[:, k]
 
 
+def heavy_links(mech) -> list[tuple[str, object, tuple[float, float]]]:
+    """(name, link, drawn centre) of every moving link with mass or inertia, in the table's order: the
+    links that weigh and have d'Alembert loads; the centre is (0, 0) for a link with inertia only and
+    no centre (its load is a pure moment)."""
+    return [(name, lk, centre_of(mech, name) if (lk.mass or lk.centre) else (0.0, 0.0))
+            for name, lk in mech.links.items() if name != mech.ground and (lk.mass or lk.inertia)]
+
+
 def evaluate_loads(engine, motion, loads: list[Load] | None = None,
                    gravity: Gravity | None | bool = True) -> list[LoadValue]:
     """Every load (the model's rows unless `loads` is given, plus gravity on heavy links unless
@@ -306,10 +314,10 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
         gravity = read_gravity(mech)
     out = [_evaluate(engine, motion, load) for load in loads]
     if gravity:
-        for name, lk in mech.links.items():
-            if name != mech.ground and lk.mass:
+        for name, lk, centre in heavy_links(mech):
+            if lk.mass:
                 k = engine.link_index[name]
-                point = world_points(motion, k, centre_of(mech, name))
+                point = world_points(motion, k, centre)
                 force = np.broadcast_to(lk.mass * gravity.vector, point.shape).copy()
                 out.append(LoadValue(f"gravity on {name}", k, force, point, np.zeros(len(point))))
     return out
