@@ -12,10 +12,10 @@ import textwrap
 
 import numpy as np
 
-from .kinematics import describe_limit
-from .kinetostatics import kinetostatics
-from .loads import has_force_data
-from .plotting import (COLORS, _coordinate, _figure, _full_turn, _plot_lines, _xstep, cycle_motion, include_points,
+from ..kinematics._motion import describe_limit
+from ..forces._kinetostatics import kinetostatics
+from ..forces._loads import has_force_data
+from ._plotting import (COLORS, _coordinate, _figure, _full_turn, _plot_lines, _xstep, cycle_motion, include_points,
                        input_speed, lean_ticks, require_matplotlib)
 
 __all__ = ["reaction_label", "balancing_label", "draw_reactions", "forces_figure", "NO_LOADS"]

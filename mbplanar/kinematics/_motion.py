@@ -11,8 +11,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .constraints import dot, perp
-from .solver import Crossing, Engine, Limit, met_along
+from ..engine._constraints import dot, perp
+from ..engine._solver import Crossing, Engine, Limit, met_along
 
 __all__ = ["Motion", "analyse", "positions_at_limits"]
 
@@ -369,7 +369,7 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
 def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
     """`_motion(engine, engine.solve(phi), ...)` by the compiled per-position loops of one input, or
     None where they hand the batch back to numpy."""
-    from . import _numba_kinematics as compiled
+    from ..backends import _numba_kinematics as compiled
 
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])

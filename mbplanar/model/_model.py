@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .errors import ModelError
+from ..errors import ModelError
 
 __all__ = ["Link", "Joint", "Point", "Input", "Mechanism"]
 

@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._linalg import factor
-from .kinematics import material_points
-from .loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
+from ..engine._linalg import factor
+from ..kinematics._motion import material_points
+from ._loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -526,7 +526,7 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     plan = _plan(engine)
     lay = plan.lay
     if _compiled(engine, motion, loads, input_inertia):
-        from . import _numba_kinetostatics as compiled
+        from ..backends import _numba_kinetostatics as compiled
 
         x, singular, residual, loads = compiled.solve(engine, motion, plan, inertia)
         return _result(engine, motion, lay, x, singular, residual, loads)

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import networkx as nx
 
-from .errors import ModelError
-from .model import Mechanism
+from ..errors import ModelError
+from ..model._model import Mechanism
 
 __all__ = ["TreeJoint", "Block", "Topology", "analyse_topology"]
 
@@ -201,7 +201,7 @@ def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
     loops = independent_loops(mech)
     structure = None
     try:
-        from .structure import decompose
+        from ._assur import decompose
     except ImportError:  # structure module not available
         decompose = None
     if decompose is not None:

@@ -21,7 +21,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
+from ..engine._solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
 
 __all__ = ["FIELDS", "sweep"]
 

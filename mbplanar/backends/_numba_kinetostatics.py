@@ -20,8 +20,8 @@ import numpy as np
 
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
-from .kinematics import _tables
-from .loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
+from ..kinematics._motion import _tables
+from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
 
 __all__ = ["solve"]
 

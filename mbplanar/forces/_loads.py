@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .errors import ModelError, MotionError
+from ..errors import ModelError, MotionError
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
            "has_force_data",
@@ -394,7 +394,7 @@ def _displacement_zero(engine, load: Load) -> float:
 def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
         raise ModelError(f"{engine.mech.source}: {load.name}: 'zero_at' needs a model with one input")
-    from .kinematics import analyse
+    from ..kinematics._motion import analyse
     inp = engine.inputs[0]
     m = analyse(engine, np.array([inp.to_si(load.zero_at)]))
     if not m.success:

@@ -39,11 +39,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._linalg import factor
-from .assembly import assemble, reference_points
-from .constraints import Pose, Rates, make_law
-from .errors import MbplanarError, MotionError
-from .model import Mechanism
-from .topology import analyse_topology
+from ..model._assembly import assemble, reference_points
+from ._constraints import Pose, Rates, make_law
+from ..errors import MbplanarError, MotionError
+from ..model._model import Mechanism
+from ..structure._topology import analyse_topology
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
 
