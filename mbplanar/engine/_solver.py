@@ -169,8 +169,8 @@ class Engine:
     """A compiled mechanism, ready to solve batches of positions.
 
     backend: "numpy" (the reference) or "numba", which runs the kinematics and kinetostatics of
-    one-input sweeps through compiled per-position loops (`mbplanar._numba_kinematics`,
-    `mbplanar._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
+    one-input sweeps through compiled per-position loops (`mbplanar.backends._numba_kinematics`,
+    `mbplanar.backends._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
     those loops cannot vouch for a position.
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
     or the environment variable MBPLANAR_THREADS); the answers do not depend on it."""

@@ -3,7 +3,7 @@
 `svg_animation(engine, frames)` returns an SVG element (a string) whose shapes are moved by a small
 script from a JSON table of positions: the same `Scene` as the matplotlib diagram, so the drawing
 conventions agree (hatched ground pivots and guides, bars, polygons, blocks, pins). No matplotlib
-needed. `write_html_animation` wraps it into a one-file HTML page; `mbplanar.plotting.write_gif` makes
+needed. `write_html_animation` wraps it into a one-file HTML page; `mbplanar.viz.write_gif` makes
 the GIF.
 """
 

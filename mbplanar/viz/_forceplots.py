@@ -1,9 +1,9 @@
 """Pictures of the kinetostatics: reaction arrows on the kinematic diagram, and the reactions and the
 balancing moment against the generalized coordinate (magnitudes, hodographs, moments).
 
-Forces are computed by `mbplanar.kinetostatics` at the model's input speed and acceleration (no
+Forces are computed by `mbplanar.forces.kinetostatics` at the model's input speed and acceleration (no
 flywheel: J_I = 0). A model without masses, gravity or loads has no forces to draw: the pictures say so.
-matplotlib is imported only through `mbplanar.plotting.require_matplotlib`.
+matplotlib is imported only through `mbplanar.viz._plotting.require_matplotlib`.
 """
 
 from __future__ import annotations

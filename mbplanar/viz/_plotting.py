@@ -1,6 +1,6 @@
 """Pictures of a mechanism with matplotlib: the kinematic diagram (optionally with velocity and
 acceleration vectors, reaction arrows, instantaneous centres), trajectories, plots against the
-generalized coordinate, GIF animation. The force pictures live in `mbplanar.forceplots`.
+generalized coordinate, GIF animation. The force pictures live in `mbplanar.viz._forceplots`.
 
 matplotlib (the optional extra `mbplanar[plot]`) is imported only when a picture is asked for, with the
 Agg backend; without it `require_matplotlib` raises `PlotUnavailable` (CLI exit 2) saying how to install it.
