@@ -123,7 +123,7 @@ def _zeros(blk) -> list:
 def _plan(engine, ks_plan, motion, inertia) -> _Plan:
     row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
-    cache = engine.__dict__.setdefault("_numba_kinetostatic_plans", {})
+    cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key in cache:
         return cache[key]
     mech, lay = engine.mech, ks_plan.lay

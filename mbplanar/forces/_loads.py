@@ -384,7 +384,7 @@ def _displacement_zero(engine, load: Load) -> float:
     """The joint's value at the input value `zero_at` (the diagram's s = 0), or 0 (drawn pose)."""
     if load.zero_at is None:
         return 0.0
-    cache = engine.__dict__.setdefault("_displacement_zero", {})
+    cache = engine.prepare("displacement zero", dict)
     key = (load.joint, load.zero_at)
     if key not in cache:
         cache[key] = _joint_value_at(engine, load)
