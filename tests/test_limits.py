@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-import mbplanar.engine._solver as solver
+from mbplanar.engine import _nodes, _singular, _tolerances
 from mbplanar.analysis import check
 from mbplanar.kinematics import positions_at_limits
 
@@ -188,7 +188,7 @@ def test_rows_just_short_of_a_located_limit_are_solved_or_left_out_with_it():
 def test_without_the_fold_refinement_the_bracket_remains(monkeypatch):
     """If the augmented Newton does not converge, the limit is the middle of the walk's bracket (q None),
     good to a few 1e-10, and `check` falls back on its end samples."""
-    monkeypatch.setattr(solver, "FOLD_ITERATIONS", 0)
+    monkeypatch.setattr(_tolerances, "FOLD_ITERATIONS", 0)
     engine = rocker_driven()
     report = check(engine)
     assert all(lim.q is None for lim in engine.atlas().limits.values())
@@ -219,6 +219,6 @@ def test_a_change_point_is_not_taken_for_a_fold():
         for way in (+1.0, -1.0):
             phi = np.array([math.pi - way * d])
             sol = engine.solve(phi)
-            node = solver._node_at(engine, phi, np.array([way]), [st.q for st in sol.blocks])
+            node = _nodes.node_at(engine.solver, phi, np.array([way]), [st.q for st in sol.blocks])
             k = int(np.argmin(np.abs(node.dets)))
-            assert solver._locate_fold(engine, k, node, np.array([way])) is None
+            assert _singular._locate_fold(engine.solver, k, node, np.array([way])) is None

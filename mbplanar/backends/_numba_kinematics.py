@@ -21,7 +21,8 @@ import numba
 import numpy as np
 
 from . import _threads
-from ..engine._solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
+from ..engine._atlas import _in_brackets
+from ..engine._tolerances import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL
 
 __all__ = ["FIELDS", "sweep"]
 
