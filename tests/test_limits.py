@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.engine import _nodes, _singular, _tolerances
+from mbplanar.engine import Tolerances, _nodes, _singular
 from mbplanar.analysis import check
 from mbplanar.kinematics import positions_at_limits
 
@@ -33,7 +33,7 @@ def circle_meet(p, rp, q, rq, side):
     return p + x * u + side * math.sqrt(rp * rp - x * x) * np.array([-u[1], u[0]])
 
 
-def rocker_driven():
+def rocker_driven(tol=None):
     """The crank-rocker driven at C by the rocker angle ψ (the direction C → B, degrees), drawn at ψ0."""
     b = np.array([D_ + C_ * math.cos(PSI0), C_ * math.sin(PSI0)])
     a = circle_meet((0.0, 0.0), R_, b, L_, +1)
@@ -44,7 +44,7 @@ def rocker_driven():
     m.add_joint("B", "R", "2", "3", at=tuple(b))
     m.add_joint("C", "R", "0", "3", at=(D_, 0.0))
     m.add_input("C", unit="deg")
-    return mbplanar.Engine(m)
+    return mbplanar.Engine(m, tol=tol)
 
 
 def rocker_dead_points():
@@ -185,11 +185,10 @@ def test_rows_just_short_of_a_located_limit_are_solved_or_left_out_with_it():
     assert not at.success and len(at.phi) == 1 and [lim.direction for lim in at.limits] == [1]
 
 
-def test_without_the_fold_refinement_the_bracket_remains(monkeypatch):
+def test_without_the_fold_refinement_the_bracket_remains():
     """If the augmented Newton does not converge, the limit is the middle of the walk's bracket (q None),
     good to a few 1e-10, and `check` falls back on its end samples."""
-    monkeypatch.setattr(_tolerances, "FOLD_ITERATIONS", 0)
-    engine = rocker_driven()
+    engine = rocker_driven(Tolerances(fold_iterations=0))
     report = check(engine)
     assert all(lim.q is None for lim in engine.atlas().limits.values())
     want = np.degrees([psi for psi, _ in rocker_dead_points()])

@@ -15,8 +15,6 @@ from ..errors import MotionError
 from ._blocks import BlockSolver, Solution
 from ._nodes import HERMITE5, Node, hermite_between, node_at
 from ._singular import Crossing, limit_after, limit_kind, locate_crossing
-from ._tolerances import (CROSS_DIST, H_CROSS, H_DENSE, H_MAX, H_MIN, H_START, MAX_CORRECTION, PIVOT_CROSS,
-                          RATE_JUMP)
 
 __all__ = ["Atlas", "solve_along", "solve_sequence", "met_along"]
 
@@ -50,7 +48,7 @@ class Atlas:
         predictor's error (~h⁶) then stays below the closure tolerance and Newton needs no step."""
         solver = self.solver
         grid = np.array([n.phi[0] for n in self.nodes])
-        width = H_DENSE * _input_scale(solver)[0]
+        width = solver.tol.h_dense * _input_scale(solver)[0]
         parts = np.ceil(np.diff(grid) / width).astype(int)
         x = np.concatenate([grid[i] + (grid[i + 1] - grid[i]) * np.arange(1, k) / k
                             for i, k in enumerate(parts) if k > 1] or [np.zeros(0)])
@@ -64,10 +62,11 @@ class Atlas:
         sol = solver.solve_batch(x[:, None], guesses)
         solver.rates(sol, np.ones((len(x), 1)), np.zeros((len(x), 1)))
         dets, pivots = solver.dets(sol), solver.pivots(sol)
-        good = sol.valid & (pivots >= PIVOT_CROSS) & np.all(np.sign(dets) == self.arrays()[2][left], axis=1)
+        good = (sol.valid & (pivots >= solver.tol.pivot_cross)
+                & np.all(np.sign(dets) == self.arrays()[2][left], axis=1))
         for state, g, bp in zip(sol.blocks, guesses, solver.blocks):
             if bp.m:
-                good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= MAX_CORRECTION
+                good &= np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0) <= solver.tol.max_correction
         one = np.ones(1)
         extra = [Node(x[i:i + 1], one, [s.q[:, i] for s in sol.blocks], [s.qd[:, i] for s in sol.blocks],
                        [s.qdd[:, i] for s in sol.blocks], dets[i], float(pivots[i]))
@@ -102,7 +101,7 @@ def _origin(solver: BlockSolver, direction) -> Node:
     node = node_at(solver, solver.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in solver.blocks])
     if node is None:
         raise MotionError(f"{solver.mech.source}: the drawn pose does not close: it cannot be assembled")
-    if node.pivot < PIVOT_CROSS:
+    if node.pivot < solver.tol.pivot_cross:
         k = int(np.argmin(np.abs(node.dets)))
         raise MotionError(f"{solver.mech.source}: the drawn pose is a singular position of the group of links "
                           f"{', '.join(solver.blocks[k].links)} (links in line: a dead point or a change "
@@ -121,14 +120,14 @@ def _accept(solver: BlockSolver, node: Node, new: Node | None, guesses, h: float
     its prediction in position and in derivatives; "cross" when it went smoothly through a change point
     (a determinant changed sign, but positions and derivatives follow the prediction closely, which the
     other branch crossing there does not, and a dead point has no solution beyond it); else "reject"."""
-    if new is None or new.pivot < PIVOT_CROSS:  # no node on a singular position: its rates are unknown
+    if new is None or new.pivot < solver.tol.pivot_cross:  # no node on a singular position: rates unknown
         return "reject", math.inf
     dist = _distance(solver, new, guesses)
-    if dist > MAX_CORRECTION or _rate_jump(solver, node, new, h) > RATE_JUMP:
+    if dist > solver.tol.max_correction or _rate_jump(solver, node, new, h) > solver.tol.rate_jump:
         return "reject", dist
     if np.array_equal(new.signs, node.signs):
         return "ok", dist
-    if h <= H_CROSS and dist <= CROSS_DIST:  # (no node is placed on a singular position)
+    if h <= solver.tol.h_cross and dist <= solver.tol.cross_dist:  # (no node is placed on a singular position)
         return "cross", dist
     return "reject", dist
 
@@ -167,15 +166,15 @@ def _walk(solver: BlockSolver, start: Node, target: np.ndarray, overshoot: bool 
     node = start
     if not np.array_equal(node.direction, direction):
         node = node_at(solver, start.phi, direction, [q[:, None] for q in start.q])
-    nodes, crossings, s, h = [], [], 0.0, H_START
+    nodes, crossings, s, h = [], [], 0.0, solver.tol.h_start
     while s < scale:
         h_try = min(h, scale - s)
         guesses = _predict(node, h_try)
         phi = start.phi + direction * (s + h_try) if s + h_try < scale else target.astype(float)
         new = node_at(solver, phi, direction, guesses)
-        if new is not None and new.pivot < PIVOT_CROSS and s + h_try >= scale and overshoot:
+        if new is not None and new.pivot < solver.tol.pivot_cross and s + h_try >= scale and overshoot:
             # the target is a change point itself: go a little past it, so that nodes bracket it
-            scale, overshoot = scale + H_CROSS, False
+            scale, overshoot = scale + solver.tol.h_cross, False
             target = start.phi + direction * scale
             continue
         verdict, dist = _accept(solver, node, new, guesses, h_try)
@@ -195,11 +194,11 @@ def _walk(solver: BlockSolver, start: Node, target: np.ndarray, overshoot: bool 
         if verdict == "ok":
             nodes.append(new)
             node, s = new, s + h_try
-            if dist < 0.1 * MAX_CORRECTION:
-                h = min(h_try * 1.6, H_MAX)
+            if dist < 0.1 * solver.tol.max_correction:
+                h = min(h_try * 1.6, solver.tol.h_max)
             continue
         h = h_try / 2
-        if h < H_MIN:
+        if h < solver.tol.h_min:
             return nodes, limit_after(solver, node, direction, h_try), crossings
     return nodes, None, crossings
 
@@ -223,7 +222,7 @@ def _bracket(solver: BlockSolver, start: Node, node: Node, new: Node, direction:
     # half of H_CROSS in the unknowns' own units: a branch that turns fast needs closer nodes
     speed = max([1.0] + [float(np.max(np.abs(qd) * bp.var_scale, initial=0.0)) / abs(direction).max()
                          for qd, bp in zip(node.qd, solver.blocks)])
-    half = 0.5 * H_CROSS / speed
+    half = 0.5 * solver.tol.h_cross / speed
     sides = []
     for s_side in (s_c - half, s_c + half):
         if s_side <= 0:
@@ -232,8 +231,9 @@ def _bracket(solver: BlockSolver, start: Node, node: Node, new: Node, direction:
         guesses = _predict(node, s_side - s0)
         side = node_at(solver, origin + direction * s_side, direction, guesses)
         # the crossing branch is |Δq'|·half away; the prediction's own error grows as half³
-        if (side is None or side.pivot < PIVOT_CROSS or _distance(solver, side, guesses) > 0.01 * half * speed
-                or _rate_jump(solver, node, side, s_side - s0) > RATE_JUMP):
+        if (side is None or side.pivot < solver.tol.pivot_cross
+                or _distance(solver, side, guesses) > 0.01 * half * speed
+                or _rate_jump(solver, node, side, s_side - s0) > solver.tol.rate_jump):
             return None
         sides.append(side)
     before, after = sides
@@ -268,7 +268,7 @@ def solve_along(atlas: Atlas, phi: np.ndarray) -> Solution:
     for state, g, bp in zip(sol.blocks, guesses, solver.blocks):
         if bp.m:
             dist = np.max(np.abs(state.q - g) * bp.var_scale[:, None], axis=0)
-            good &= (dist <= MAX_CORRECTION) & ((dist <= CROSS_DIST) | ~at_crossing)
+            good &= (dist <= solver.tol.max_correction) & ((dist <= solver.tol.cross_dist) | ~at_crossing)
     if at_crossing.any():
         rows = np.flatnonzero(at_crossing)
         sol.given_rates = (rows, _hermite_rates(nodes_phi, per_block, x[rows]))

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._constraints import Pose, Rates
 from ._linalg import factor
-from ._tolerances import MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE
+from ._tolerances import Tolerances
 
 __all__ = ["Step", "BlockPlan", "BlockState", "Solution", "BlockSolver"]
 
@@ -93,10 +93,12 @@ class BlockSolver:
 
     mech: the assembled mechanism; laws: joint name → joint law; blocks: the topology's solving blocks;
     links: every link (rates are gathered in this order); size: the mechanism's size (lengths are
-    relative to it); phi_drawn (n_in,): the input values of the drawn pose."""
+    relative to it); phi_drawn (n_in,): the input values of the drawn pose; tol: its `Tolerances`."""
 
-    def __init__(self, mech, laws: dict, blocks, links: list, size: float, phi_drawn: np.ndarray):
+    def __init__(self, mech, laws: dict, blocks, links: list, size: float, phi_drawn: np.ndarray,
+                 tol: Tolerances):
         self.mech = mech
+        self.tol = tol
         self.laws = laws
         self.links = links
         self.size = size
@@ -160,7 +162,7 @@ class BlockSolver:
     def newton(self, bp: BlockPlan, pose: Pose, q, q_in) -> BlockState:
         batch = pose.batch
         polished = False
-        for it in range(MAX_NEWTON + 1):
+        for it in range(self.tol.max_newton + 1):
             caches, cut_caches, res = self.block_pose(bp, pose, q, q_in)
             if bp.m == 0:
                 return BlockState(q, None, caches, cut_caches, None, np.ones(batch, bool))
@@ -168,16 +170,16 @@ class BlockSolver:
                 err = np.max(np.abs(res) * bp.row_scale[:, None], axis=0)
             jac, sens = self.block_jacobian(bp, caches, cut_caches, batch)
             lu = factor(jac)
-            ok = err < TOL
-            fine = err < TOL_FINE
+            ok = err < self.tol.closure
+            fine = err < self.tol.polish
             if ok.all() and not polished:
                 # near a singular position a residual of TOL still leaves an error of TOL / (smallest
                 # pivot) along the singular direction: one more step there, to the rounding floor
                 polished = True
-                fine = (lu.pivot_ratio >= PIVOT_POLISH) | (lu.pivot_ratio < PIVOT_CROSS * 1e3)
+                fine = (lu.pivot_ratio >= self.tol.pivot_polish) | (lu.pivot_ratio < self.tol.pivot_cross * 1e3)
                 if fine.all():
                     break
-            elif ok.all() or it == MAX_NEWTON:
+            elif ok.all() or it == self.tol.max_newton:
                 break
             with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
                 step = lu.solve(-res)

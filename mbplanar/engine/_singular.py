@@ -13,8 +13,7 @@ from ._blocks import BlockPlan, BlockSolver, Solution
 from ._constraints import Pose
 from ._linalg import factor
 from ._nodes import Node, hermite_between
-from . import _tolerances as tol
-from ._tolerances import H_CROSS, MAX_CORRECTION
+from ._tolerances import Tolerances
 
 __all__ = ["Limit", "Crossing", "limit_after", "locate_crossing", "limit_kind"]
 
@@ -109,7 +108,7 @@ def _locate_fold(solver: BlockSolver, k: int, node: Node, direction: np.ndarray)
     bp = solver.blocks[k]
     x = np.append(node.q[k] * bp.var_scale, 0.0)
     border = _border(solver, k, node)
-    for _ in range(tol.FOLD_ITERATIONS):
+    for _ in range(solver.tol.fold_iterations):
         res, jac = _fold_system(solver, k, node, direction, x, border)
         if res is None:
             return None
@@ -118,12 +117,12 @@ def _locate_fold(solver: BlockSolver, k: int, node: Node, direction: np.ndarray)
         if not np.all(np.isfinite(step)):
             return None
         x = x + step
-        if np.max(np.abs(step)) <= tol.FOLD_STEP:
+        if np.max(np.abs(step)) <= solver.tol.fold_step:
             break
     else:
         return None
     s = float(x[-1])
-    if not _on_the_branch(x[:-1] - node.q[k] * bp.var_scale, s, node.qd[k] * bp.var_scale):
+    if not _on_the_branch(x[:-1] - node.q[k] * bp.var_scale, s, node.qd[k] * bp.var_scale, solver.tol):
         return None
     phi = node.phi + direction * s
     guesses = [q[:, None] for q in node.q]
@@ -135,15 +134,15 @@ def _locate_fold(solver: BlockSolver, k: int, node: Node, direction: np.ndarray)
     return phi, sol
 
 
-def _on_the_branch(dq: np.ndarray, s: float, qd: np.ndarray) -> bool:
+def _on_the_branch(dq: np.ndarray, s: float, qd: np.ndarray, tol: Tolerances) -> bool:
     """Whether a fold found at distance s ≥ 0 ahead of a node, with the unknowns moved by dq, is the end
     of the node's own branch: near a fold the unknowns move like √(s_fold − s), so from the node to the
     fold they move by 2·s·q'(node) up to a relative O(√s) (another branch's fold, or one behind the
     node, fails this). The walk's bracket is not the test: the walk can fail to converge a step short
     of the fold, which then lies up to a few `H_MIN` past the bracket."""
-    if not (0.0 <= s <= H_CROSS) or np.max(np.abs(dq)) > MAX_CORRECTION:
+    if not (0.0 <= s <= tol.h_cross) or np.max(np.abs(dq)) > tol.max_correction:
         return False
-    return bool(np.max(np.abs(dq - 2 * s * qd)) <= tol.FOLD_SQRT_LAW * np.max(np.abs(dq)))
+    return bool(np.max(np.abs(dq - 2 * s * qd)) <= tol.fold_sqrt_law * np.max(np.abs(dq)))
 
 
 def _border(solver: BlockSolver, k: int, node: Node):
@@ -178,12 +177,12 @@ def _fold_system(solver: BlockSolver, k: int, node: Node, direction: np.ndarray,
     n = len(x)
     trial = np.repeat(x[:, None], 2 * n + 1, axis=1)
     idx = np.arange(n)
-    trial[idx, 1 + 2 * idx] += tol.FOLD_DELTA
-    trial[idx, 2 + 2 * idx] -= tol.FOLD_DELTA
+    trial[idx, 1 + 2 * idx] += solver.tol.fold_delta
+    trial[idx, 2 + 2 * idx] -= solver.tol.fold_delta
     res = _fold_residual(solver, k, node, direction, trial, border)
     if res is None:
         return None, None
-    return res[:, 0], (res[:, 1::2] - res[:, 2::2]) / (2 * tol.FOLD_DELTA)
+    return res[:, 0], (res[:, 1::2] - res[:, 2::2]) / (2 * solver.tol.fold_delta)
 
 
 def _fold_residual(solver: BlockSolver, k: int, node: Node, direction: np.ndarray, x: np.ndarray, border):

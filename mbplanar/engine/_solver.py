@@ -43,6 +43,7 @@ from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
 from ._constraints import make_law
 from ._singular import Crossing, Limit
+from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
 from ..structure._topology import analyse_topology
@@ -58,9 +59,16 @@ class Engine:
     `mbplanar.backends._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
     those loops cannot vouch for a position.
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
-    or the environment variable MBPLANAR_THREADS); the answers do not depend on it."""
+    or the environment variable MBPLANAR_THREADS); the answers do not depend on it.
+    tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them."""
 
-    def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy", threads: int | None = None):
+    def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy", threads: int | None = None,
+                 tol: Tolerances | None = None):
+        if tol is None:
+            tol = Tolerances()
+        if not isinstance(tol, Tolerances):
+            raise ValueError(f"tol must be a mbplanar.engine.Tolerances, not {tol!r}")
+        self.tol = tol
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise ValueError(f"threads must be a positive integer, not {threads!r}")
         self.compiled = load_backend(backend)  # None: numpy alone
@@ -79,7 +87,7 @@ class Engine:
         self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
         self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
         self.joint_value_drawn = {name: self._drawn_joint_value(name) for name in mech.joints}
-        self.solver = BlockSolver(mech, self.laws, self.topology.blocks, self.links, self.size, self.phi_drawn)
+        self.solver = BlockSolver(mech, self.laws, self.topology.blocks, self.links, self.size, self.phi_drawn, tol)
         self.blocks = self.solver.blocks
         self._atlas = None
 
