@@ -45,7 +45,7 @@ import numpy as np
 from .errors import ModelError, MotionError
 from .kinematics import analyse, material_points
 from .loads import centre_of, evaluate_loads, load_power, read_loads
-from .table import Row
+from .table import Row, rpm_or_omega
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
            "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
@@ -100,17 +100,19 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
     row.used.add("delta")
     if not 0 < delta < 1:
         row.fail(f"'delta' = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)")
-    omega = row.number("omega_mean", inp.omega, positive=True)
+    omega = rpm_or_omega(row, "omega_mean", "rpm_mean", inp.omega)
     if not omega > 0:
-        row.fail(f"the mean speed (the input's omega = {omega}) must be positive")
+        row.fail(f"the mean speed (ω_m = {omega} rad/s) must be positive")
+    units = mech.units
     driving = row.number("driving_moment")
-    slope = row.number("motor_slope", 0.0)
+    driving = None if driving is None else driving * units.moment_scale
+    slope = row.number("motor_slope", 0.0) * units.moment_scale
     if slope < 0:
         row.fail("'motor_slope' must be >= 0 (a motor gives less moment when faster)")
     fly = Row(raw.get("flywheel", {}), f"{where}.flywheel")
-    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0),
+    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0) * units.inertia_scale,
                             motor_rpm=fly.number("motor_rpm", positive=True),
-                            motor_inertia=fly.number("motor_inertia", 0.0),
+                            motor_inertia=fly.number("motor_inertia", 0.0) * units.inertia_scale,
                             density=fly.number("density", RHO_STEEL, positive=True))
     if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
         fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")

@@ -161,7 +161,8 @@ def _read_load_row(mech, i: int, raw, where) -> Load:
         return Load(i, kind, link, at, force=force)
     if kind == "weight":
         return Load(i, kind, link, at, magnitude=_number(_need(raw, "weight", where), f"{where}: 'weight'"))
-    return Load(i, kind, link, moment=_number(_need(raw, "moment", where), f"{where}: 'moment'"))
+    moment = _number(_need(raw, "moment", where), f"{where}: 'moment'") * mech.units.moment_scale
+    return Load(i, kind, link, moment=moment)
 
 
 def _read_guide_load(mech, i, raw, kind, where) -> Load:
@@ -193,7 +194,7 @@ def _read_guide_load(mech, i, raw, kind, where) -> Load:
         raise ModelError(f"{where}: 's' and 'force' must be lists of equal length (at least 2), "
                          f"got {len(s)} and {len(table)}")
     stroke = _number(raw.get("stroke", 1.0), f"{where}: 'stroke'")
-    s = tuple(x * stroke for x in s)
+    s = tuple(x * stroke * mech.units.length_scale for x in s)
     if any(b <= a for a, b in zip(s, s[1:])):
         raise ModelError(f"{where}: 's' must increase strictly")
     return Load(i, kind, link, at, joint=joint, s=s, table=table, when=when, zero_at=zero_at)
@@ -235,7 +236,8 @@ def _point(mech, link: str, at, where) -> tuple[float, float] | None:
     if at is None:
         return None
     if isinstance(at, list):
-        return _pair(at, f"{where}: 'at'")
+        x, y = _pair(at, f"{where}: 'at'")
+        return x * mech.units.length_scale, y * mech.units.length_scale
     name = str(at)
     if name in mech.points:
         if mech.points[name].link != link:

@@ -13,7 +13,42 @@ from dataclasses import dataclass, field
 
 from .errors import ModelError
 
-__all__ = ["Link", "Joint", "Point", "Input", "Mechanism"]
+__all__ = ["Units", "Link", "Joint", "Point", "Input", "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS",
+           "MOMENT_UNITS"]
+
+LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6}
+MOMENT_UNITS = {"N*m": 1.0, "N*cm": 1e-2, "N*mm": 1e-3}
+
+
+@dataclass(frozen=True)
+class Units:
+    """The units a model was written in (its table's `length_unit`, `inertia_unit`, `moment_unit`).
+
+    Inside, everything is SI; these only convert at the edges: the table reader multiplies by the
+    scales, and output in model units (`--units model`) divides by them. `length` applies to every
+    length of the table; `inertia` to link and flywheel inertias (kg·m² unless the table says
+    otherwise); `moment` to moments (N·m unless the table says otherwise). Masses are kg, forces N.
+    """
+
+    length: str = "m"
+    inertia: str = "kg*m^2"
+    moment: str = "N*m"
+
+    @property
+    def length_scale(self) -> float:
+        """Metres per model length unit."""
+        return LENGTH_UNITS[self.length]
+
+    @property
+    def inertia_scale(self) -> float:
+        """kg·m² per model inertia unit."""
+        return INERTIA_UNITS[self.inertia]
+
+    @property
+    def moment_scale(self) -> float:
+        """N·m per model moment unit."""
+        return MOMENT_UNITS[self.moment]
 
 
 @dataclass(frozen=True)
@@ -84,8 +119,8 @@ class Point:
 class Input:
     """A generalized coordinate driving one joint: joint value = zero + sense·φ.
 
-    `unit` is how φ is written at the edges ("deg" or "rad" for a revolute joint, "m" or "mm" for a
-    prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
+    `unit` is how φ is written at the edges ("deg" or "rad" for a revolute joint, "m", "cm" or "mm" for
+    a prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
     "deg"/"rad" inputs when `zero_deg` is set). Inside, φ is in rad or m. `omega`, `epsilon`: the
     default speed dφ/dt and acceleration d²φ/dt². `drawn_at`: φ in the drawn pose (measured if None).
     `sweep`: default range of φ (in `unit`); `steps`: its default number of intervals.
@@ -104,8 +139,8 @@ class Input:
 
     @property
     def scale(self) -> float:
-        """SI value of one unit of φ (rad per degree, m per mm, 1 otherwise)."""
-        return {"deg": math.pi / 180.0, "mm": 1e-3}.get(self.unit, 1.0)
+        """SI value of one unit of φ (rad per degree, m per mm or cm, 1 otherwise)."""
+        return {"deg": math.pi / 180.0, "mm": 1e-3, "cm": 1e-2}.get(self.unit, 1.0)
 
     def to_si(self, value):
         return value * self.scale
@@ -149,6 +184,7 @@ class Mechanism:
     source: str = "<python>"
     exact: bool = False
     extras: dict = field(default_factory=dict)
+    units: Units = field(default_factory=Units)
 
     # -- building -------------------------------------------------------------------------------
     def add_link(self, name: str, **kw) -> Link:

@@ -13,11 +13,9 @@ import tomllib
 from pathlib import Path
 
 from .errors import ModelError
-from .model import Input, Mechanism
+from .model import INERTIA_UNITS, LENGTH_UNITS, MOMENT_UNITS, Input, Mechanism, Units
 
 __all__ = ["read_model", "read_model_text", "parse_model"]
-
-_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 
 
 def read_model(path) -> Mechanism:
@@ -129,12 +127,10 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     if isinstance(data, str):
         return read_model_text(data, source)
     top = Row(data, source)
-    unit_name = top.text("length_unit", "m")
-    if unit_name not in _LENGTH_UNITS:
-        top.fail(f"length_unit must be one of {', '.join(_LENGTH_UNITS)}, got '{unit_name}'")
-    unit = _LENGTH_UNITS[unit_name]
+    units = _read_units(top)
+    unit = units.length_scale
     mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.text("ground", "0"),
-                     title=top.text("title", ""), source=source)
+                     title=top.text("title", ""), source=source, units=units)
     _read_links(mech, _rows(data, "links", source), unit)
     _read_joints(mech, _rows(data, "joints", source), unit)
     _read_points(mech, _rows(data, "points", source), unit)
@@ -145,6 +141,18 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
         if key not in _EXTRA_SECTIONS:
             top.fail(f"unknown key '{key}'")
     return mech
+
+
+def _read_units(top: Row) -> Units:
+    """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`)."""
+    chosen = []
+    for key, allowed, default in (("length_unit", LENGTH_UNITS, "m"), ("inertia_unit", INERTIA_UNITS, "kg*m^2"),
+                                  ("moment_unit", MOMENT_UNITS, "N*m")):
+        name = top.text(key, default)
+        if name not in allowed:
+            top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
+        chosen.append(name)
+    return Units(*chosen)
 
 
 # Sections read by later stages (loads, dynamics); kept raw in `Mechanism.extras`.
@@ -184,7 +192,7 @@ def _read_links(mech: Mechanism, rows, unit):
             continue
         try:
             mech.add_link(name, lengths=tuple(lengths), angle=angle, mass=mass,
-                          inertia=inertia * unit * unit, centre=centre)
+                          inertia=inertia * mech.units.inertia_scale, centre=centre)
         except ModelError as exc:
             row.fail(str(exc).split(": ", 1)[-1])
 
@@ -266,6 +274,21 @@ def _steps(row: Row) -> int | None:
     return None if steps is None else int(steps)
 
 
+def rpm_or_omega(row: Row, omega_key: str, rpm_key: str, default: float | None) -> float | None:
+    """A speed given as `omega_key` (rad/s) or `rpm_key` (rev/min), never both; in rad/s."""
+    if row.has(omega_key) and row.has(rpm_key):
+        row.fail(f"give either '{omega_key}' (rad/s) or '{rpm_key}' (rev/min), not both")
+    rpm = row.number(rpm_key)
+    return row.number(omega_key, default) if rpm is None else rpm * math.pi / 30.0
+
+
+def _speed(row: Row, kind: str) -> float:
+    """The input's default speed dφ/dt: `omega` (rad/s, or m/s for a prismatic input) or `rpm`."""
+    if kind == "P" and row.has("rpm"):
+        row.fail("'rpm' is a revolute input's speed; a prismatic input takes 'omega' in m/s")
+    return rpm_or_omega(row, "omega", "rpm", 1.0)
+
+
 def _read_inputs(mech: Mechanism, data, source, unit):
     rows = data.get("inputs")
     if rows is None:
@@ -285,9 +308,9 @@ def _read_inputs(mech: Mechanism, data, source, unit):
             row.fail(f"'{joint_name}' is not a joint of the table")
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
-        default_unit = "deg" if joint.kind == "R" else "m"
+        default_unit = "deg" if joint.kind == "R" else mech.units.length
         in_unit = row.text("unit", default_unit)
-        allowed = ("deg", "rad") if joint.kind == "R" else ("m", "mm")
+        allowed = ("deg", "rad") if joint.kind == "R" else tuple(LENGTH_UNITS)
         if in_unit not in allowed:
             row.fail(f"unit of a {'revolute' if joint.kind == 'R' else 'prismatic'} input must be "
                      f"one of {', '.join(allowed)}, got '{in_unit}'")
@@ -307,7 +330,7 @@ def _read_inputs(mech: Mechanism, data, source, unit):
                 row.fail("sweep range is empty")
         inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
                     zero=row.number("zero", 0.0), sense=float(sense),
-                    omega=row.number("omega", 1.0), epsilon=row.number("epsilon", 0.0),
+                    omega=_speed(row, joint.kind), epsilon=row.number("epsilon", 0.0),
                     drawn_at=row.number("drawn_at"), sweep=sweep, steps=_steps(row))
         row.check_unknown_keys({"comment"})
         mech.inputs.append(inp)
