@@ -292,6 +292,4 @@ def assemble(mech: Mechanism) -> Mechanism:
             exact_at[p.name] = np.array(points[p.name].at)
     links = {name: replace(link, lengths=()) for name, link in mech.links.items()}
     correction = max((math.dist(joints[n].at, j.at) for n, j in mech.joints.items()), default=0.0)
-    extras = dict(mech.extras)
-    extras["_assembly_correction"] = correction
-    return replace(mech, links=links, joints=joints, points=points, exact=True, extras=extras)
+    return replace(mech, links=links, joints=joints, points=points, exact=True, assembly_correction=correction)

@@ -11,11 +11,12 @@ import csv
 import json
 import math
 import sys
+import warnings
 
 import numpy as np
 
-from .errors import MbplanarError, MotionError
-from .loads import has_force_data
+from .errors import MbplanarError, ModelError, ModelWarning, MotionError
+from .loads import has_force_data, warn_idle_resistances
 
 __all__ = ["main"]
 
@@ -48,7 +49,7 @@ def _at_values(text) -> list[float]:
     except ValueError:
         values = [math.nan]
     if not all(math.isfinite(v) for v in values):
-        raise _ArgError("--at needs finite value(s) separated by commas")
+        raise ModelError("--at needs finite value(s) separated by commas")
     return values
 
 
@@ -178,9 +179,9 @@ def _speeds(engine, phi, args):
     if not getattr(args, "true_motion", False):
         return (1.0 if args.omega is None else args.omega), (0.0 if args.epsilon is None else args.epsilon), None
     if args.omega is not None or args.epsilon is not None:
-        raise _ArgError("--true-motion computes ω and ε; leave out --omega and --epsilon")
-    if len(engine.inputs) != 1 or engine.mech.extras.get("dynamics") is None:
-        raise _ArgError(f"{engine.mech.source}: --true-motion needs a model with one input and a [dynamics] section")
+        raise ModelError("--true-motion computes ω and ε; leave out --omega and --epsilon")
+    if len(engine.inputs) != 1 or engine.mech.dynamics is None:
+        raise ModelError(f"{engine.mech.source}: --true-motion needs a model with one input and a [dynamics] section")
     return true_motion(engine, phi)
 
 
@@ -188,7 +189,7 @@ def cmd_solve(args):
     engine = _load(args)
     values = _at_values(args.at)
     if len(values) != len(engine.inputs):
-        raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
+        raise ModelError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
     phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
     motion = _motion(engine, phi, omega, epsilon)
@@ -248,13 +249,13 @@ def sweep_values(engine, steps=None, step=None, start=None, stop=None):
     hi = hi if stop is None else stop
     if step is not None:
         if not step > 0:
-            raise _ArgError("--step must be positive")
+            raise ModelError("--step must be positive")
         count = int(math.floor(abs(hi - lo) / step + 1e-9))
         return lo + math.copysign(step, hi - lo) * np.arange(count + 1)
     steps = getattr(inp, "steps", None) if steps is None else steps
     steps = 72 if steps is None else steps
     if steps < 1:
-        raise _ArgError("--steps must be at least 1")
+        raise ModelError("--steps must be at least 1")
     return np.linspace(lo, hi, steps + 1)
 
 
@@ -292,7 +293,7 @@ def sweep_table(engine, motion, angle_unit):
 def cmd_sweep(args):
     engine = _load(args)
     if len(engine.inputs) != 1:
-        raise _ArgError("sweep drives one input; this model has several (use the Python API)")
+        raise ModelError("sweep drives one input; this model has several (use the Python API)")
     values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
     inp = engine.inputs[0]
     omega, epsilon, inertia = _speeds(engine, inp.to_si(values), args)
@@ -303,6 +304,7 @@ def cmd_sweep(args):
     header, rows = sweep_table(engine, motion, angle_unit)
     forces_failed = None
     if args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech)):
+        warn_idle_resistances(engine, motion)
         f_header, f_rows, forces_failed = forces_table(engine, motion, inertia)
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
     _write_csv(args.output, header, rows)
@@ -363,15 +365,15 @@ def cmd_forces(args):
     from .kinetostatics import kinetostatics
     engine = _load(args)
     if len(engine.inputs) != 1:
-        raise _ArgError("forces drives one input; this model has several (use the Python API)")
+        raise ModelError("forces drives one input; this model has several (use the Python API)")
     value = float(args.at)
     if not math.isfinite(value):
-        raise _ArgError("--at must be a finite number")
+        raise ModelError("--at must be a finite number")
     if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
-        raise _ArgError("--input-inertia must be a finite number >= 0")
+        raise ModelError("--input-inertia must be a finite number >= 0")
     phi = np.array([_input_si(engine, value)])
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
-    if omega is None and epsilon is None and engine.mech.extras.get("dynamics") is not None:
+    if omega is None and epsilon is None and engine.mech.dynamics is not None:
         omega, epsilon, dyn_inertia = true_motion(engine, phi)
         inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
     motion = _motion(engine, phi, omega, epsilon)
@@ -467,12 +469,12 @@ def cmd_dynamics(args):
     from .dynamics import machine_dynamics, read_dynamics
     engine = _load(args)
     if args.steps < 36:
-        raise _ArgError("--steps must be at least 36")
+        raise ModelError("--steps must be at least 36")
     if args.delta is not None and not (math.isfinite(args.delta) and 0 < args.delta < 1):
-        raise _ArgError("--delta must be a number between 0 and 1")
+        raise ModelError("--delta must be a number between 0 and 1")
     spec = read_dynamics(engine.mech, args.delta)
     if spec is None:
-        raise _ArgError(f"{engine.mech.source}: the model has no [dynamics] section; give --delta")
+        raise ModelError(f"{engine.mech.source}: the model has no [dynamics] section; give --delta")
     dyn = machine_dynamics(engine, spec, steps=args.steps)
     at = None if args.at is None else np.array([_input_si(engine, v) for v in _at_values(args.at)])
     doc = dynamics_document(engine, dyn, at)
@@ -504,7 +506,7 @@ def _print_dynamics(engine, dyn, doc):
 def _suffix(path, allowed):
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
     if suffix not in allowed:
-        raise _ArgError(f"{path}: the output must end in {' or '.join('.' + a for a in allowed)}")
+        raise ModelError(f"{path}: the output must end in {' or '.join('.' + a for a in allowed)}")
     return suffix
 
 
@@ -512,18 +514,18 @@ def cmd_plot(args):
     from . import plotting
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
-        raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
+        raise ModelError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
     if args.show is not None and args.what != "diagram":
-        raise _ArgError(f"--show applies to the diagram, not to '{args.what}'")
+        raise ModelError(f"--show applies to the diagram, not to '{args.what}'")
     if args.points is not None and args.what != "trajectories":
-        raise _ArgError(f"--points applies to the trajectories, not to '{args.what}'")
+        raise ModelError(f"--points applies to the trajectories, not to '{args.what}'")
     if args.at is not None and not math.isfinite(args.at):
-        raise _ArgError("--at must be a finite number")
+        raise ModelError("--at must be a finite number")
     options = plotting.show_options(args.show) if args.what == "diagram" else {}
     if args.points is not None:
         options["points"] = [n.strip() for n in args.points.split(",") if n.strip()]
         if not options["points"]:
-            raise _ArgError("--points needs names of pairs or points separated by commas")
+            raise ModelError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args)
     plotting.save_figure(plotting.make_figure(engine, args.what, args.at, **options), args.output, dpi=args.dpi)
@@ -534,7 +536,7 @@ def cmd_animate(args):
     from . import plotting
     kind = _suffix(args.output, ("gif", "html"))
     if args.frames < 2:
-        raise _ArgError("--frames must be at least 2")
+        raise ModelError("--frames must be at least 2")
     if kind == "gif":
         plotting.require_matplotlib()
     engine = _load(args)
@@ -575,14 +577,11 @@ def cmd_check(args):
 
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
-    """One-line message that names the model file (some engine messages do not)."""
-    msg = " ".join(str(exc).split())
+    """One line; an error raised without a `source` (an argument's) is located at the model file."""
     model = getattr(args, "model", None)
-    return msg if model is None or str(model) in msg else f"{model}: {msg}"
-
-
-class _ArgError(MbplanarError):
-    exit_code = 2
+    if isinstance(exc, MbplanarError) and exc.source is None and model is not None and str(model) not in str(exc):
+        exc = type(exc)(exc.message, source=str(model), where=exc.where)
+    return " ".join(str(exc).split())
 
 
 def _speed_options(s):
@@ -686,6 +685,16 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ModelWarning)
+        try:
+            return _run(args)
+        finally:
+            _print_warnings(caught)
+
+
+def _run(args) -> int:
+    """Run the command; map mbplanar's errors to their exit status (2 bad input, 1 cannot move)."""
     try:
         return args.func(args)
     except MbplanarError as exc:
@@ -698,6 +707,15 @@ def main(argv=None) -> int:
             raise
         print(f"mbplanar: {exc}", file=sys.stderr)
         return 2
+
+
+def _print_warnings(caught):
+    """`ModelWarning`s as "mbplanar: warning: ..." lines on stderr; other warnings shown as usual."""
+    for w in caught:
+        if issubclass(w.category, ModelWarning):
+            print(f"mbplanar: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
 
 
 if __name__ == "__main__":

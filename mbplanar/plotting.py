@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import MbplanarError, ModelError, MotionError
+from .errors import ModelError, MotionError, PlotUnavailable
 from .kinematics import describe_limit
 from .scene import build_scene
 
@@ -35,12 +35,6 @@ LINK_FILL = "#cfe0f3"
 BLOCK_FILL = "#f3e3c3"
 COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
           "#7f7f7f", "#bcbd22"]
-
-
-class PlotUnavailable(MbplanarError):
-    """matplotlib / Pillow are not installed."""
-
-    exit_code = 2
 
 
 def require_matplotlib():
