@@ -42,11 +42,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .errors import ModelError, MotionError
-from .kinematics import analyse, material_points
-from .loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
-from .model import RHO_STEEL, DynamicsSpec, FlywheelSpec
-from .table import crank_input
+from ..errors import ModelError, MotionError
+from ..kinematics._motion import analyse, material_points
+from ._loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
+from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
+from ..model._table import crank_input
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
            "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]

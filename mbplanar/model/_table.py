@@ -13,9 +13,9 @@ import tomllib
 import warnings
 from pathlib import Path
 
-from .errors import ModelError, ModelWarning
-from .model import (INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
-                    FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
+from ..errors import ModelError, ModelWarning
+from ._model import (INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
+                     FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
 
 __all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
            "crank_input", "read_gravity_section", "read_dynamics_section"]

@@ -1,7 +1,7 @@
 """The mechanism model: links, joints, points of interest and inputs, as written in a table of pairs.
 
 A `Mechanism` holds what the user wrote: coordinates of every joint and point in one drawn pose (metres),
-optionally link dimensions that make that pose a sketch. `mbplanar.assembly.assemble` turns it into an
+optionally link dimensions that make that pose a sketch. `mbplanar.model.assemble` turns it into an
 exact model (same type, `exact=True`) that the engine uses. Everything here is plain data in SI units;
 angles are radians except where a name ends in `_deg`.
 """
@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ModelError
+from ..errors import ModelError
 
 __all__ = ["Units", "Link", "Joint", "Point", "Input", "Load", "Gravity", "FlywheelSpec", "DynamicsSpec",
            "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "RHO_STEEL"]
@@ -316,14 +316,14 @@ class Mechanism:
         ``m.add_load("force", link="2", at="B", force=[0.0, -100.0])``,
         ``m.add_load("resistance", joint="Bp", force=300.0, when="forward")``.
         """
-        from .table import read_load_row
+        from ._table import read_load_row
         load = read_load_row(self, len(self.loads), dict(row, type=type), self.units)
         self.loads = self.loads + (load,)
         return load
 
     def set_gravity(self, g: float = 9.81, direction: float = -90.0) -> Gravity:
         """Uniform gravity `g` (m/s²) along `direction` (degrees), as the table's `[gravity]`."""
-        from .table import read_gravity_section
+        from ._table import read_gravity_section
         self.gravity = read_gravity_section(self, {"g": g, "direction": direction})
         return self.gravity
 
@@ -331,7 +331,7 @@ class Mechanism:
         """Machine dynamics data, with the keys of the table's `[dynamics]` section (`delta`,
         `omega_mean` or `rpm_mean`, `driving_moment`, `motor_slope`, `flywheel` = {...}), in the
         mechanism's `units`."""
-        from .table import read_dynamics_section
+        from ._table import read_dynamics_section
         self.dynamics = read_dynamics_section(self, section)
         return self.dynamics
 
