@@ -19,9 +19,8 @@ import numpy as np
 import pytest
 
 import mbplanar
+from mbplanar import analyse, kinetostatics
 from mbplanar.cli import main
-from mbplanar.kinematics import analyse
-from mbplanar.kinetostatics import kinetostatics
 
 HERE = Path(__file__).resolve().parent
 MODELS = sorted((HERE.parent / "models").glob("*.toml"))
@@ -333,3 +332,68 @@ def test_prismatic_input_unit_follows_length_unit():
     text = (REPRO / "boom_at_xy_mm.toml").read_text().replace("\nunit = \"mm\"\n", "\n")
     inp = mbplanar.parse_model(text).inputs[0]
     assert inp.unit == "mm" and inp.to_si(500.385) == pytest.approx(0.500385, rel=1e-15)
+
+
+# -- output units -------------------------------------------------------------------------------------
+def _json(*argv):
+    code, out, err = run(*argv)
+    assert code == 0, err
+    return json.loads(out)
+
+
+def test_model_units_output_is_si_divided_by_the_unit():
+    """--units model: lengths in mm (×1000), speeds in mm/s, moments in N·mm, forces still N."""
+    boom = REPRO / "boom_at_xy_mm.toml"
+    si = _json("forces", boom, "--at", "520", "--json")
+    mm = _json("forces", boom, "--at", "520", "--json", "--units", "model")
+    assert si["units"]["length"] == "m" and mm["units"] == {**si["units"], "system": "model", "length": "mm",
+                                                             "velocity": "mm/s", "acceleration": "mm/s^2"}
+    assert mm["balancing"]["Cp"] == si["balancing"]["Cp"]
+    for a, b in zip(si["loads"], mm["loads"]):
+        assert (b["x"], b["y"], b["fx"]) == pytest.approx((1000 * a["x"], 1000 * a["y"], a["fx"]), rel=1e-15)
+    assert mm["input"]["omega"] == pytest.approx(1000 * si["input"]["omega"], rel=1e-15)   # m/s → mm/s
+    si = _json("solve", boom, "--at", "520", "--json")
+    mm = _json("solve", boom, "--at", "520", "--json", "--units", "model")
+    assert mm["points"]["T"]["ax"] == pytest.approx(1000 * si["points"]["T"]["ax"], rel=1e-15)
+    assert mm["joints"]["Cp"]["value"] == pytest.approx(1000 * si["joints"]["Cp"]["value"], rel=1e-15)
+    assert mm["links"]["boom"] == si["links"]["boom"]
+    # analogues per mm of the input: dx/dL unchanged, d²x/dL² per mm
+    assert mm["analogues"]["points"]["T"]["vx"] == pytest.approx(si["analogues"]["points"]["T"]["vx"], rel=1e-15)
+    assert mm["analogues"]["points"]["T"]["ax"] == pytest.approx(si["analogues"]["points"]["T"]["ax"] / 1000,
+                                                                 rel=1e-15)
+
+
+def test_model_units_of_moments_and_inertia(tmp_path):
+    """A shaper in mm with inertia in kg·mm² and moments in N·mm: --units model gives them back in
+    those units; SI output is the model in metres'."""
+    doc = tomllib.loads((MODELS[0].parent / "shaper.toml").read_text(encoding="utf-8"))
+    path = tmp_path / "shaper_mm.toml"
+    path.write_text(to_toml(rescale(doc, "mm")), encoding="utf-8")
+    si = _json("dynamics", path, "--steps", "72", "--json", "--at", "30")
+    mm = _json("dynamics", path, "--steps", "72", "--json", "--at", "30", "--units", "model")
+    assert mm["units"]["moment"] == "N*mm" and mm["units"]["inertia"] == "kg*mm^2"
+    assert mm["driving_moment"] == pytest.approx(1e3 * si["driving_moment"], rel=1e-14)
+    assert mm["inertia_first_group"] == pytest.approx(1e6 * si["inertia_first_group"], rel=1e-14)
+    assert mm["at"][0]["J_II"] == pytest.approx(1e6 * si["at"][0]["J_II"], rel=1e-14)
+    assert mm["resistance_work"] == si["resistance_work"]                                  # J
+    code, out, _ = run("dynamics", path, "--steps", "72", "--units", "model")
+    assert code == 0 and "N·mm" in out and "kg·mm²" in out
+
+
+@pytest.mark.parametrize("command", ["info", "solve", "forces", "check", "dynamics"])
+def test_every_json_document_names_its_units(command):
+    argv = [command, MODELS[0].parent / "shaper.toml", "--json"]
+    if command in ("solve", "forces"):
+        argv += ["--at", "30"]
+    doc = _json(*argv, "--units", "model")
+    assert doc["units"]["system"] == "model" and doc["units"]["force"] == "N"
+
+
+def test_sweep_headers_follow_the_units():
+    code, out, _ = run("sweep", MODELS[0].parent / "jansen.toml", "--steps", "2", "--units", "model")
+    header = out.splitlines()[0].split(",")
+    assert code == 0 and "O.x[cm]" in header and "O.ax[cm/s^2]" in header and "O.x[m]" not in header
+    si = list(csv.reader(io.StringIO(run("sweep", MODELS[0].parent / "jansen.toml", "--steps", "2")[1])))
+    cm = list(csv.reader(io.StringIO(out)))
+    k = si[0].index("O.x[m]")
+    assert float(cm[2][k]) == pytest.approx(100 * float(si[2][k]), rel=1e-11)
