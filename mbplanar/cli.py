@@ -387,8 +387,6 @@ def cmd_forces(args):
     value = float(args.at)
     if not math.isfinite(value):
         raise ModelError("--at must be a finite number")
-    if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
-        raise ModelError("--input-inertia must be a finite number >= 0")
     phi = np.array([_input_si(engine, value)])
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
     if omega is None and epsilon is None and engine.mech.dynamics is not None:

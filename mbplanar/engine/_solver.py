@@ -44,7 +44,7 @@ from ..model._assembly import assemble, reference_points
 from ._constraints import Pose, Rates, make_law
 from ..errors import MotionError
 from ..model._model import Mechanism
-from ..structure._topology import analyse_topology
+from ..structure._topology import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
 
@@ -180,6 +180,7 @@ class Engine:
         self.threads = threads
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
+        check_mobility(mech)
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech
