@@ -185,7 +185,8 @@ def _speeds(engine, phi, args):
     if args.omega is not None or args.epsilon is not None:
         raise ModelError("--true-motion computes ω and ε; leave out --omega and --epsilon")
     if len(engine.inputs) != 1 or engine.mech.dynamics is None:
-        raise ModelError(f"{engine.mech.source}: --true-motion needs a model with one input and a [dynamics] section")
+        raise ModelError("--true-motion needs a model with one input and a [dynamics] section",
+                         source=engine.mech.source)
     return true_motion(engine, phi)
 
 
@@ -198,7 +199,7 @@ def cmd_solve(args):
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
-        raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+        raise MotionError(f"cannot reach {args.at} on the drawn branch: {motion.message}", source=engine.mech.source)
     display = display_units(engine.mech, args.units)
     doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
     if args.json:
@@ -394,11 +395,11 @@ def cmd_forces(args):
         inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
-        raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+        raise MotionError(f"cannot reach {args.at} on the drawn branch: {motion.message}", source=engine.mech.source)
     inertia = inertia or 0.0
     result = kinetostatics(engine, motion, inertia)
     if not result.success:
-        raise MotionError(f"{engine.mech.source}: {result.message}")
+        raise MotionError(f"{result.message}", source=engine.mech.source)
     doc = forces_document(engine, motion, result, values=[value])
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
@@ -419,7 +420,8 @@ def cmd_forces(args):
         fx, fy, moment = (_clean(r[k], tiny) for k in ("fx", "fy", "moment"))
         rows.append([name, r["type"], r["on"], r["from"], _num(fx), _num(fy), _num(_clean(r["magnitude"], tiny)),
                      f"{r['direction_deg']:.3f}", _num(moment) if r["type"] == "P" else ""])
-    _print_columns(["joint", "type", "on", "from", "Fx [N]", "Fy [N]", "|F| [N]", "dir [°]", f"M [{moment_unit}]"], rows)
+    _print_columns(["joint", "type", "on", "from", "Fx [N]", "Fy [N]", "|F| [N]", "dir [°]", f"M [{moment_unit}]"],
+                   rows)
     for name, q in doc["balancing"].items():
         revolute = engine.mech.joints[name].kind == "R"
         unit = moment_unit if revolute else "N"
@@ -496,7 +498,7 @@ def cmd_dynamics(args):
         raise ModelError("--delta must be a number between 0 and 1")
     spec = read_dynamics(engine.mech, args.delta)
     if spec is None:
-        raise ModelError(f"{engine.mech.source}: the model has no [dynamics] section; give --delta")
+        raise ModelError("the model has no [dynamics] section; give --delta", source=engine.mech.source)
     dyn = machine_dynamics(engine, spec, steps=args.steps)
     at = None if args.at is None else np.array([_input_si(engine, v) for v in _at_values(args.at)])
     display = display_units(engine.mech, args.units)

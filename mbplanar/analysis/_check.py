@@ -373,8 +373,8 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     """Sweep the whole input range of a one-input mechanism and report its motion limits, extreme
     positions, transmission and pressure angles (see the module docstring)."""
     if len(engine.inputs) != 1:
-        raise ModelError(f"{engine.mech.source}: check drives one input; this model has "
-                         f"{len(engine.inputs)}")
+        raise ModelError("check drives one input; this model has "
+                         f"{len(engine.inputs)}", source=engine.mech.source)
     inp = engine.inputs[0]
     (lo, hi), limits, full = _reach(engine)
     motion = analyse(engine, _grid(engine, lo, hi, limits, samples))

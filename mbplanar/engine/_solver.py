@@ -574,13 +574,13 @@ def _node_at(e: Engine, phi: np.ndarray, direction: np.ndarray, guesses) -> _Nod
 def _origin(e: Engine, direction) -> _Node:
     node = _node_at(e, e.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in e.blocks])
     if node is None:
-        raise MotionError(f"{e.mech.source}: the drawn pose does not close: it cannot be assembled")
+        raise MotionError("the drawn pose does not close: it cannot be assembled", source=e.mech.source)
     if node.pivot < PIVOT_CROSS:
         k = int(np.argmin(np.abs(node.dets)))
-        raise MotionError(f"{e.mech.source}: the drawn pose is a singular position of the group of links "
+        raise MotionError("the drawn pose is a singular position of the group of links "
                           f"{', '.join(e.blocks[k].links)} (links in line: a dead point or a change "
                           "point), where the assembly branch is ambiguous; draw the mechanism in another "
-                          "position")
+                          "position", source=e.mech.source)
     return node
 
 

@@ -107,8 +107,8 @@ def reduce(engine, phi) -> Reduced:
     phi = np.asarray(phi, float).reshape(-1)
     motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
     if not motion.success:
-        raise MotionError(f"{engine.mech.source}: machine dynamics needs every position of the cycle: "
-                          f"{motion.message}")
+        raise MotionError("machine dynamics needs every position of the cycle: "
+                          f"{motion.message}", source=engine.mech.source)
     J_II, dJ_II, J_input = _reduced_inertia(engine, motion)
     warn_idle_resistances(engine, motion)
     loads = evaluate_loads(engine, motion)
@@ -302,7 +302,7 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     the exact steady-state motion with the flywheel found). `spec` defaults to the model's section."""
     spec = spec or read_dynamics(engine.mech)
     if spec is None:
-        raise ModelError(f"{engine.mech.source}: the model has no [dynamics] section (at least delta = ...)")
+        raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)
     phi = cycle_grid(steps)
     red = reduce(engine, phi)
     A_c = _cumulative_trapezoid(red.M_red, phi)
@@ -313,8 +313,8 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     phi_min, dT_min = _parabola_peak(phi, dT, i_min)
     J_I = (dT_max - dT_min) / (spec.omega_mean ** 2 * spec.delta)
     if not J_I > 0:
-        raise MotionError(f"{engine.mech.source}: the kinetic energy does not vary over the cycle "
-                          f"(no loads and no inertia?): nothing for a flywheel to even out")
+        raise MotionError("the kinetic energy does not vary over the cycle "
+                          "(no loads and no inertia?): nothing for a flywheel to even out", source=engine.mech.source)
     dyn = Dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min)
     dyn.flywheel = flywheel_sizes(dyn)
     if simulate_motion:

@@ -48,20 +48,22 @@ def reference_points(mech: Mechanism, link: str) -> tuple[str, str] | None:
 
 
 def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str, float]]:
-    where = f"{mech.source}: links '{link.name}'"
+    where = f"links '{link.name}'"
     out = []
     for p, q, value in link.lengths:
         if p == "" and q == "":
             revolute = [j.name for j in mech.joints_of(link.name) if j.kind == "R"]
             if len(revolute) != 2:
-                raise ModelError(f"{where}: 'length' needs exactly two revolute joints on the link "
-                                 f"(it has {len(revolute)}); use lengths = [[P, Q, value], ...]")
+                raise ModelError("'length' needs exactly two revolute joints on the link "
+                                 f"(it has {len(revolute)}); use lengths = [[P, Q, value], ...]",
+                                 source=mech.source, where=where)
             p, q = revolute
         for name in (p, q):
             if name not in names:
-                raise ModelError(f"{where}: length {p}-{q}: '{name}' is not a joint or point of this link")
+                raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link",
+                                 source=mech.source, where=where)
         if p == q:
-            raise ModelError(f"{where}: length {p}-{q} joins a point to itself")
+            raise ModelError(f"length {p}-{q} joins a point to itself", source=mech.source, where=where)
         out.append((p, q, value))
     return out
 
@@ -69,32 +71,33 @@ def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str,
 def _check_references(mech: Mechanism):
     for link in mech.links.values():
         names = _link_point_names(mech, link.name)
-        where = f"{mech.source}: links '{link.name}'"
+        where = f"links '{link.name}'"
         if link.angle is not None:
             for name in link.angle:
                 if name not in names:
-                    raise ModelError(f"{where}: angle point '{name}' is not on this link")
+                    raise ModelError(f"angle point '{name}' is not on this link", source=mech.source, where=where)
         if link.centre is not None and link.centre not in names and link.centre not in mech.points:
-            raise ModelError(f"{where}: centre '{link.centre}' is not a point of this link")
+            raise ModelError(f"centre '{link.centre}' is not a point of this link", source=mech.source, where=where)
         if link.centre is not None and link.centre in mech.points and mech.points[link.centre].link != link.name:
-            raise ModelError(f"{where}: centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'")
+            raise ModelError(f"centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'",
+                             source=mech.source, where=where)
     for j in mech.joints.values():
         if j.kind == "P" and j.guide_points is not None:
             names = _link_point_names(mech, j.carrier)
             for name in j.guide_points:
                 if name not in names:
-                    raise ModelError(f"{mech.source}: joints '{j.name}': guide point '{name}' is not on "
-                                     f"its carrier link '{j.carrier}'")
+                    raise ModelError(f"joints '{j.name}': guide point '{name}' is not on "
+                                     f"its carrier link '{j.carrier}'", source=mech.source)
             a, b = (names[n] for n in j.guide_points)
             if math.dist(a, b) == 0:
-                raise ModelError(f"{mech.source}: joints '{j.name}': guide points coincide")
+                raise ModelError(f"joints '{j.name}': guide points coincide", source=mech.source)
     for p in mech.points.values():
         if p.along is not None:
             names = _link_point_names(mech, p.link)
             for name in p.along:
                 if name not in names:
-                    raise ModelError(f"{mech.source}: points '{p.name}': '{name}' is not a joint or "
-                                     f"point (with 'at') of link '{p.link}'")
+                    raise ModelError(f"points '{p.name}': '{name}' is not a joint or "
+                                     f"point (with 'at') of link '{p.link}'", source=mech.source)
 
 
 def _coincident(names: dict, tol: float) -> dict[str, str]:
@@ -328,7 +331,7 @@ def assemble(mech: Mechanism) -> Mechanism:
         miss = (f"{math.degrees(abs(res[worst])):.3g}°" if inp is not None
                 else f"{abs(res[worst]) * sketch.scale / mech.units.length_scale:.3g} {mech.units.length}")
         hint = input_reference(mech, inp) if inp is not None else "Check the lengths and the sketch."
-        raise MotionError(f"the drawn pose cannot be assembled with the given dimensions and input: "
+        raise MotionError("the drawn pose cannot be assembled with the given dimensions and input: "
                           f"{what[worst]} misses by {miss}. {hint}", source=mech.source)
     joints = {}
     for j in mech.joints.values():

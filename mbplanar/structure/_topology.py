@@ -78,7 +78,7 @@ def _check_connected(mech: Mechanism, g: nx.Graph):
     lost = [link for link in mech.moving_links if ("L", link) not in reached]
     if lost:
         raise ModelError(f"link(s) {', '.join(lost)} not connected to the ground '{mech.ground}' through any "
-                         f"joint", source=mech.source)
+                         "joint", source=mech.source)
 
 
 def _check_dof(mech: Mechanism, dof: int):
@@ -130,8 +130,8 @@ def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
         a, b = find(j.links[0]), find(j.links[1])
         if a == b:
             if j.name in input_index:
-                raise ModelError(f"{mech.source}: driving joint '{j.name}' closes a loop of links whose "
-                                 f"motion is already fixed: the inputs are redundant")
+                raise ModelError(f"driving joint '{j.name}' closes a loop of links whose "
+                                 "motion is already fixed: the inputs are redundant", source=mech.source)
             cuts.append(j.name)
         else:
             tree_edges.append(j)
@@ -155,8 +155,8 @@ def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
             break
     unplaced = [link for link in links if link not in placed]
     if unplaced:
-        raise ModelError(f"{mech.source}: link(s) {', '.join(unplaced)} cannot be reached from the ground "
-                         f"through the joints")
+        raise ModelError(f"link(s) {', '.join(unplaced)} cannot be reached from the ground "
+                         "through the joints", source=mech.source)
     return Block(tuple(links), tuple(tree), tuple(cuts), group)
 
 
@@ -221,6 +221,7 @@ def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
     for block in blocks:
         equations, unknowns = 2 * len(block.cuts), len(block.unknowns)
         if equations != unknowns:
-            raise ModelError(f"{mech.source}: links {', '.join(block.links)} give {equations} closure "
-                             f"equations for {unknowns} unknowns: the chain is over- or under-constrained")
+            raise ModelError(f"links {', '.join(block.links)} give {equations} closure "
+                             f"equations for {unknowns} unknowns: the chain is over- or under-constrained",
+                             source=mech.source)
     return Topology(dof, loops, blocks, structure)
