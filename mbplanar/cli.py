@@ -731,35 +731,32 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ModelWarning)
-        try:
-            return _run(args)
-        finally:
-            _print_warnings(caught)
+        code, message = _run(args)
+    notes = [str(w.message) for w in caught if issubclass(w.category, ModelWarning)]
+    for w in caught:
+        if not issubclass(w.category, ModelWarning):
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    if message is None:                 # success: each warning on its own line
+        for note in notes:
+            print(f"mbplanar: warning: {note}", file=sys.stderr)
+    else:                               # failure: one line, the warnings (often the cause) after the error
+        print("mbplanar: " + "; warning: ".join([message] + notes), file=sys.stderr)
+    return code
 
 
-def _run(args) -> int:
-    """Run the command; map mbplanar's errors to their exit status (2 bad input, 1 cannot move)."""
+def _run(args) -> tuple[int, str | None]:
+    """Run the command: its exit status, and the error's one-line message (None on success). mbplanar's
+    errors map to their exit status (2 bad input, 1 cannot move)."""
     try:
-        return args.func(args)
+        return args.func(args), None
     except MbplanarError as exc:
         if args.debug:
             raise
-        print(f"mbplanar: {_located(exc, args)}", file=sys.stderr)
-        return exc.exit_code
+        return exc.exit_code, _located(exc, args)
     except (OSError, ValueError) as exc:
         if args.debug:
             raise
-        print(f"mbplanar: {exc}", file=sys.stderr)
-        return 2
-
-
-def _print_warnings(caught):
-    """`ModelWarning`s as "mbplanar: warning: ..." lines on stderr; other warnings shown as usual."""
-    for w in caught:
-        if issubclass(w.category, ModelWarning):
-            print(f"mbplanar: warning: {w.message}", file=sys.stderr)
-        else:
-            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+        return 2, " ".join(str(exc).split())
 
 
 if __name__ == "__main__":
