@@ -22,7 +22,7 @@ from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
 from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
-from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
+from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
 
@@ -50,7 +50,7 @@ def _load_table(engine, inertia):
     loads, gravity on the heavy links, and (with `inertia`) their d'Alembert loads."""
     mech = engine.mech
     names, rows, guides = [], [], []
-    for load in read_loads(mech):
+    for load in mech.loads:
         at, force, moment = constant_parts(mech, load)
         k = engine.link_index[load.link]
         if force is None:  # along a guide: the kernel scales its direction by `guide_force_size`
@@ -61,7 +61,7 @@ def _load_table(engine, inertia):
             rows.append((LOAD_FIXED, k, -1, 0, at, force, moment, (0.0, 0.0)))
         names.append(load.name)
     heavy = heavy_links(mech)
-    gravity = read_gravity(mech)
+    gravity = mech.gravity
     if gravity:
         for name, lk, at in heavy:
             if lk.mass:

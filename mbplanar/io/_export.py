@@ -20,6 +20,8 @@ from ..analysis import CheckReport, pressure_angles, transmission_angles
 from ..engine import Engine
 from ..forces import Dynamics, Kinetostatics
 from ..kinematics import Motion
+from ._units import (convert_check, convert_dynamics, convert_forces, convert_info, convert_solution,
+                     convert_table, display_units)
 
 __all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_document", "forces_document",
            "dynamics_document", "sweep_table", "forces_table", "dynamics_table"]
@@ -27,56 +29,72 @@ __all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_do
 
 @functools.singledispatch
 def document(result, **options) -> dict:
-    """The JSON-ready document of a result (the CLI's ``--json``); `options` go to its builder."""
+    """The JSON-ready document of a result (the CLI's ``--json``); `options` go to its builder, and
+    ``units="si"`` or ``"model"`` converts it as ``--units`` does (adding its "units" object)."""
     raise TypeError(f"no document for a {type(result).__name__}")
 
 
-@document.register
-def _(result: Engine, **options) -> dict:
-    return info_document(result)
+def _in_units(convert, engine, doc: dict, units: str | None) -> dict:
+    return doc if units is None else convert(engine, doc, display_units(engine.mech, units))
 
 
 @document.register
-def _(result: Motion, row: int = 0, values=None) -> dict:
-    return solve_document(result.engine, result, row, values)
+def _(result: Engine, units: str | None = None) -> dict:
+    return _in_units(convert_info, result, info_document(result), units)
 
 
 @document.register
-def _(result: Kinetostatics, row: int = 0, values=None) -> dict:
-    return forces_document(result.motion.engine, result.motion, result, row, values)
+def _(result: Motion, row: int = 0, values=None, units: str | None = None) -> dict:
+    return _in_units(convert_solution, result.engine, solve_document(result.engine, result, row, values), units)
 
 
 @document.register
-def _(result: Dynamics, engine=None, at=None) -> dict:
+def _(result: Kinetostatics, row: int = 0, values=None, units: str | None = None) -> dict:
+    engine = result.motion.engine
+    return _in_units(convert_forces, engine, forces_document(engine, result.motion, result, row, values), units)
+
+
+@document.register
+def _(result: Dynamics, engine=None, at=None, units: str | None = None) -> dict:
     if engine is None:
         raise TypeError("the document of a Dynamics needs its engine: document(dyn, engine=engine)")
-    return dynamics_document(engine, result, at)
+    return _in_units(convert_dynamics, engine, dynamics_document(engine, result, at), units)
 
 
 @document.register
-def _(result: CheckReport, **options) -> dict:
-    return plain(result.as_dict())
+def _(result: CheckReport, engine=None, units: str | None = None) -> dict:
+    doc = plain(result.as_dict())
+    if units is not None and engine is None:
+        raise TypeError("a check document in units needs its engine: document(report, engine=engine, units=...)")
+    return _in_units(convert_check, engine, doc, units)
 
 
 @functools.singledispatch
 def table(result, **options):
-    """(header, columns (B, k)) of a result over its batch (the CLI's CSV); `options` go to its builder."""
+    """(header, columns (B, k)) of a result over its batch (the CLI's CSV); `options` go to its builder,
+    and ``units=`` converts the columns as ``--units`` does (`mech`: the model, for a Dynamics)."""
     raise TypeError(f"no table for a {type(result).__name__}")
 
 
-@table.register
-def _(result: Motion, angle_unit: str = "deg"):
-    return sweep_table(result.engine, result, angle_unit)
+def _table_in_units(header, cols, mech, units):
+    return (header, cols) if units is None else convert_table(header, cols, display_units(mech, units))
 
 
 @table.register
-def _(result: Kinetostatics):
-    return forces_table(result)
+def _(result: Motion, angle_unit: str = "deg", units: str | None = None):
+    return _table_in_units(*sweep_table(result.engine, result, angle_unit), result.engine.mech, units)
 
 
 @table.register
-def _(result: Dynamics):
-    return dynamics_table(result)
+def _(result: Kinetostatics, units: str | None = None):
+    return _table_in_units(*forces_table(result), result.motion.engine.mech, units)
+
+
+@table.register
+def _(result: Dynamics, mech=None, units: str | None = None):
+    if units is not None and mech is None:
+        raise TypeError("a dynamics table in units needs its model: table(dyn, mech=engine.mech, units=...)")
+    return _table_in_units(*dynamics_table(result), mech, units)
 
 
 def _finite(x):
