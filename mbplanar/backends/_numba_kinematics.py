@@ -38,7 +38,7 @@ _LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi
 
 
 @dataclass
-class _Plan:
+class _KernelPlan:
     """An engine compiled for the kernel, built once: `args`, the engine's blocks and output tables as
     arrays in `_sweep`'s order; `row`, the structured dtype of one position's output (FIELDS);
     `sizes` of the kernel's work arrays, `scratch` one set of them per thread (so that an engine is
@@ -50,11 +50,11 @@ class _Plan:
     scratch: list
 
 
-def _plan(engine, joint_table) -> _Plan:
+def _plan(engine, joint_table) -> _KernelPlan:
     return engine.prepare("numba kinematics", lambda: _make_plan(engine, joint_table))
 
 
-def _make_plan(engine, joint_table) -> _Plan:
+def _make_plan(engine, joint_table) -> _KernelPlan:
     """The engine's blocks and output tables as the kernel's arguments (`_tables.kinematics_tables`)."""
     steps, cuts, blocks, joints = kinematics_tables(engine, joint_table)
     args = (steps, cuts, blocks, joints, float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
@@ -64,7 +64,7 @@ def _make_plan(engine, joint_table) -> _Plan:
                     for name, kind, comp in FIELDS])
     m_max = max([1] + [bp.m for bp in engine.blocks])
     sizes = (len(steps.parent), len(cuts.a), per["L"], len(blocks.var_scale), m_max)
-    return _Plan(args, row, sizes, [])
+    return _KernelPlan(args, row, sizes, [])
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:

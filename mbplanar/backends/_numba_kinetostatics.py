@@ -31,7 +31,7 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 
 
 @dataclass
-class _Plan:
+class _KernelPlan:
     """The model's loads and the system's structure as arrays in `_kernel`'s order, built once per
     engine and row layout: `names`, `links` of the loads in the order numpy lists them; `guide_loads`,
     the rows whose size `guide_force_size` gives; `args`; `sizes` of the kernel's work arrays and
@@ -114,7 +114,7 @@ def _zeros(blk) -> list:
     return sorted(read - entries)
 
 
-def _plan(engine, ks_plan, motion, inertia) -> _Plan:
+def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
@@ -139,7 +139,7 @@ def _plan(engine, ks_plan, motion, inertia) -> _Plan:
             *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
     sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
              1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
-    plan = cache[key] = _Plan(names, links, guides, args, sizes, [])
+    plan = cache[key] = _KernelPlan(names, links, guides, args, sizes, [])
     return plan
 
 
