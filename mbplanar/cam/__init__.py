@@ -1,0 +1,1 @@
+"""Cam mechanisms designed from a linkage's cycle (placeholder, filled below)."""
