@@ -573,6 +573,12 @@ def cmd_check(args):
     return 0
 
 
+# -- cam --------------------------------------------------------------------------------------------
+def cmd_cam(args):
+    from .cam.present import run_command
+    return run_command(args)
+
+
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One-line message that names the model file (some engine messages do not)."""
@@ -680,6 +686,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("model")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
+
+    from .cam import present as cam_present
+    s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
+    cam_present.add_arguments(s)
+    s.set_defaults(func=cmd_cam)
+    cam_present.register()
     return p
 
 

@@ -90,6 +90,8 @@ def _linkage(spec):
             raise ModelError(f"{spec.source}: [cam] has events but names no model ('model = ...')")
         return None
     from .. import Engine, read_model
+    if isinstance(spec.linkage, Engine):
+        return spec.linkage
     return Engine(spec.linkage if spec.linkage is not None else read_model(spec.model))
 
 
