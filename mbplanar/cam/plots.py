@@ -164,12 +164,12 @@ def save_animation(d, path, frames: int = 36, dpi: int = 80) -> None:
     plt.close(fig)
 
 
-def save_figure(d, what: str, path, at: float = 0.0) -> None:
+def save_figure(d, what: str, path, at: float = 0.0, frames: int = 36) -> None:
     """Write picture `what` ("motion", "pressure", "cam", "construction", "animation") to `path`."""
     if what == "animation":
         if not str(path).lower().endswith(".gif"):
             raise ModelError(f"the animation is written as a GIF, not {path}")
-        save_animation(d, path)
+        save_animation(d, path, frames=frames)
         return
     makers = {"motion": motion_figure, "pressure": pressure_figure,
               "cam": lambda d: cam_figure(d, at), "construction": construction_figure}

@@ -231,7 +231,8 @@ def _polygon(a, b, scale):
 
 def _nearest_on_polygon(poly, x0):
     """The point of the convex polygon (vertices in order) nearest to x0."""
-    inside = np.all(np.cross(np.roll(poly, -1, 0) - poly, x0 - poly) >= 0)
+    edge, rel = np.roll(poly, -1, 0) - poly, x0 - poly
+    inside = np.all(edge[:, 0] * rel[:, 1] - edge[:, 1] * rel[:, 0] >= 0)
     if inside:
         return x0.copy()
     p, q = poly, np.roll(poly, -1, 0)
