@@ -190,8 +190,8 @@ def test_report_section(tmp_path):
     """A model with a [cam] section: the report's registered section shows the cam (same figures)."""
     pytest.importorskip("matplotlib")
     import mbplanar
-    from mbplanar import report
     from mbplanar.cam import present
+    from mbplanar.viz import _report as report
     present.register()
     assert "cam" in report.SECTIONS and list(report.SECTIONS).index("cam") == list(report.SECTIONS).index(
         "flywheel") + 1

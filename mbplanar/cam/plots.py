@@ -16,8 +16,13 @@ __all__ = ["motion_figure", "pressure_figure", "cam_figure", "construction_figur
 
 
 def _plt():
-    from ..plotting import require_matplotlib
-    require_matplotlib()
+    """pyplot on the Agg backend; `PlotUnavailable` (exit 2) without matplotlib."""
+    from ..viz import PlotUnavailable
+    try:
+        import matplotlib
+    except ImportError:
+        raise PlotUnavailable("pictures need matplotlib: pip install 'mbplanar[plot]'") from None
+    matplotlib.use("Agg", force=True)
     import matplotlib.pyplot as plt
     return plt
 
@@ -174,5 +179,5 @@ def save_figure(d, what: str, path, at: float = 0.0, frames: int = 36) -> None:
     makers = {"motion": motion_figure, "pressure": pressure_figure,
               "cam": lambda d: cam_figure(d, at), "construction": construction_figure}
     fig = makers[what](d)
-    from ..plotting import save_figure as save
+    from ..viz import save_figure as save
     save(fig, path)

@@ -223,5 +223,5 @@ def report_section(engine, ctx):
 
 def register() -> None:
     """Add the cam section to `mbplanar report` (after the flywheel)."""
-    from ..report import register_section
+    from ..viz import register_section
     register_section("cam", "Cam", report_section, after="flywheel")
