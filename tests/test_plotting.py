@@ -3,7 +3,6 @@ the requested frames; the report is one valid, offline HTML file; a headless-bro
 
 from __future__ import annotations
 
-import glob
 import json
 import math
 import os
@@ -17,6 +16,7 @@ import numpy as np
 import pytest
 
 import mbplanar
+from conftest import linkage_models
 from mbplanar.forces import machine_dynamics
 from mbplanar import analyse
 
@@ -29,7 +29,7 @@ from mbplanar.cli import main  # noqa: E402
 from mbplanar.viz import SECTIONS, register_section, report_html  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = sorted(glob.glob(str(ROOT / "models" / "*.toml")))
+MODELS = [str(p) for p in linkage_models()]
 
 
 def engine(name):
