@@ -175,9 +175,31 @@ def test_limit_no_size_can_meet():
 
 
 def test_roller_too_large_warns_with_numbers():
+    from scipy.optimize import minimize_scalar
+
+    from mbplanar.cam.geometry import cam_geometry
     d = design(replace(read_cam(SHAPER_CAM), roller_ratio=0.4))
     msg = next(w for w in d.warnings if "undercut" in w)
-    assert "ρ_min = 0.0757949" in msg and "0.0967" in msg
+
+    def rho(x):
+        return cam_geometry(d.follower, np.array([x]), *d.program.evaluate(np.array([x]))[:3]).rho_pitch[0]
+    best = minimize_scalar(rho, bounds=(math.radians(15), math.radians(27)), method="bounded",
+                           options={"xatol": 1e-10})
+    assert abs(d.rho_min - best.fun) < 1e-9 and abs(d.rho_min_at - best.x) < 1e-4
+    assert f"ρ_min = {best.fun:.6g}" in msg and "r = 0.0967" in msg
+
+
+def test_swing_is_the_arc_over_the_arm():
+    import tomllib
+    data = tomllib.loads(SHAPER_CAM.read_text())
+    data["cam"]["phases"][0] = {"kind": "rise", "angle": 28.0, "law": "constant_acceleration",
+                                "swing": math.degrees(0.045 / 0.15)}
+    del data["cam"]["model"], data["cam"]["events"], data["cam"]["start"], data["cam"]["window"]
+    d = design(parse_cam(data, str(SHAPER_CAM)))
+    assert abs(d.program.stroke - 0.045) < 1e-15
+    data["cam"]["phases"][0]["stroke"] = 0.045
+    with pytest.raises(ModelError, match="not both"):
+        parse_cam(data, "x.toml")
 
 
 def test_expressions():

@@ -97,3 +97,17 @@ def test_segment_scaling(name, beta_deg, h):
     r, b = rise.evaluate(u * beta), ret.evaluate((1 - u) * beta)
     assert np.allclose(r[0], b[0], atol=1e-15) and np.allclose(r[1], -b[1]) and np.allclose(r[2], b[2])
     assert abs(rise.peaks[0] - h * law.peaks()[0] / beta) < 1e-12
+
+
+def test_polynomial_segment_through_physical_values():
+    """A polynomial phase through (s, v, a) in metres: through (0,0,0) → (h,0,0) it is the 3-4-5 rise;
+    with end velocities it matches them."""
+    beta, h = math.radians(80), 0.02
+    poly = L.Segment.through(0.3, beta, (0.0, 0.0, 0.0), (h, 0.0, 0.0))
+    rise = L.Segment("rise", L.polynomial_345(), 0.3, beta, 0.0, h)
+    phi = 0.3 + np.linspace(0, beta, 9)
+    assert np.allclose(poly.evaluate(phi), rise.evaluate(phi), atol=1e-12)
+    ramp = L.Segment.through(0.0, beta, (0.0, 0.01, 0.0), (h, 0.02, -0.05))
+    ends = ramp.evaluate(np.array([0.0, beta]))
+    assert np.allclose(ends[:3, 0], (0.0, 0.01, 0.0), atol=1e-14)
+    assert np.allclose(ends[:3, 1], (h, 0.02, -0.05), atol=1e-12)

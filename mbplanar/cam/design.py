@@ -4,7 +4,7 @@ self-check, forces and the warnings a designer must read."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -14,11 +14,11 @@ from .dynamics import CamForces, cam_forces
 from .followers import Follower
 from .geometry import CamGeometry, cam_geometry
 from .selfcheck import SelfCheck, self_check
-from .sizing import Sizing, pressure_limits, size_follower
+from .sizing import Sizing, size_follower
 from .spec import CamSpec, evaluate
 from .timing import EventResult, solve_event
 
-__all__ = ["CamDesign", "Extreme", "design", "pressure_extremes", "SELF_CHECK_TOLERANCE"]
+__all__ = ["CamDesign", "Extreme", "design", "pressure_extremes", "smallest_radius", "SELF_CHECK_TOLERANCE"]
 
 SELF_CHECK_TOLERANCE = 1e-6        # of the stroke
 
@@ -50,6 +50,8 @@ class CamDesign:
     events: dict
     start: float
     window: tuple
+    rho_min: float = math.inf
+    rho_min_at: float = math.nan
     sizing: Sizing | None = None
     forces: CamForces | None = None
     warnings: tuple[str, ...] = field(default=())
@@ -79,8 +81,9 @@ def design(spec: CamSpec) -> CamDesign:
     forces = cam_forces(geometry, spec.dynamics) if spec.dynamics else None
     start = evaluate(spec.start, names, f"{spec.source}: [cam] start")
     window = tuple(evaluate(w, names, f"{spec.source}: [cam] window") for w in spec.window)
-    out = CamDesign(spec, program, follower, geometry, check, rise, ret, events, start, window, sizing,
-                    forces, engine=engine)
+    rho_min, rho_at = smallest_radius(follower, program, geometry)
+    out = CamDesign(spec, program, follower, geometry, check, rise, ret, events, start, window, rho_min,
+                    rho_at, sizing, forces, engine=engine)
     return CamDesign(**{**out.__dict__, "warnings": tuple(_warnings(out))})
 
 
@@ -126,6 +129,10 @@ def _program(spec: CamSpec, names) -> laws.Program:
         raise ModelError(f"{spec.source}: [cam] the phases add up to {total:.6g}°, not 360°")
     segments, start, s = [], 0.0, 0.0
     for ph, span in zip(spec.phases, spans):
+        if ph.swing is not None:
+            if spec.motion != "oscillating" or spec.arm is None:
+                raise ModelError(f"{ph.where}: 'swing' is for an oscillating follower with an 'arm'")
+            ph = replace(ph, stroke=spec.arm * math.radians(ph.swing))
         if ph.kind == "polynomial":
             if ph.start and abs(ph.start[0] - s) > 1e-12:
                 raise ModelError(f"{ph.where}: starts at s = {ph.start[0]:.6g} m, but the previous phase "
@@ -182,27 +189,54 @@ def _follower(spec: CamSpec, program) -> Follower:
                     arm=spec.arm, arm_angle=math.radians(angle), face_offset=spec.face_offset)
 
 
+def _refined(phi, values, k, fun, pick):
+    """(value, angle) of the best sample `k` of `values` (on the grid `phi`) improved by resampling
+    `fun` at 401 angles within one grid step either side; `pick` is np.argmax or np.argmin."""
+    step = float(np.max(np.diff(phi)))
+    fine = phi[k] + np.linspace(-step, step, 401)
+    got = fun(fine)
+    j = int(pick(got))
+    better = got[j] >= values[k] if pick is np.argmax else got[j] <= values[k]
+    value, at = (got[j], fine[j]) if better else (values[k], phi[k])
+    return float(value), float(np.mod(at, 2 * np.pi))
+
+
 def pressure_extremes(follower, program, phi, rise_limit, return_limit):
-    """(rise, return) `Extreme`s: the largest |θ| where v > 0 and where v < 0, refined around the grid's
-    largest by resampling ±1 step at 400 points (None when a stroke is absent)."""
+    """(rise, return) `Extreme`s: the largest |θ| where v > 0 and where v < 0, refined between the grid's
+    samples (None when a stroke is absent)."""
     out = []
     s, v, a, _ = program.evaluate(phi)
     theta = cam_geometry(follower, phi, s, v, a).pressure
-    step = np.max(np.diff(phi))
     for sign, limit in ((1, rise_limit), (-1, return_limit)):
-        on = np.flatnonzero(np.sign(v) == sign)
-        if on.size == 0:
+        on = np.sign(v) == sign
+        if not np.any(on):
             out.append(None)
             continue
-        k = on[np.argmax(np.abs(theta[on]))]
-        fine = phi[k] + np.linspace(-step, step, 401)
-        s2, v2, a2, _ = program.evaluate(fine)
-        th2 = cam_geometry(follower, fine, s2, v2, a2).pressure
-        th2 = np.where(np.sign(v2) == sign, th2, 0.0)
-        j = int(np.argmax(np.abs(th2)))
-        best = (th2[j], fine[j]) if abs(th2[j]) >= abs(theta[k]) else (theta[k], phi[k])
-        out.append(Extreme(float(best[0]), float(np.mod(best[1], 2 * np.pi)), limit))
+
+        def magnitude_on_stroke(angles, sign=sign):
+            s2, v2, a2, _ = program.evaluate(angles)
+            th = cam_geometry(follower, angles, s2, v2, a2).pressure
+            return np.where(np.sign(v2) == sign, np.abs(th), 0.0)
+
+        magnitude = np.where(on, np.abs(theta), 0.0)
+        _, at = _refined(phi, magnitude, int(np.argmax(magnitude)), magnitude_on_stroke, np.argmax)
+        value = float(cam_geometry(follower, np.array([at]), *program.evaluate(np.array([at]))[:3]).pressure[0])
+        out.append(Extreme(value, at, limit))
     return tuple(out)
+
+
+def smallest_radius(follower, program, geometry) -> tuple[float, float]:
+    """(ρ_min, cam angle): the smallest convex radius of curvature of the pitch curve (a flat face: of
+    the profile), refined between the grid's samples; (inf, nan) when nothing is convex."""
+    def convex(angles):
+        g = cam_geometry(follower, angles, *program.evaluate(angles)[:3])
+        rho = g.rho_pitch if g.rho_pitch is not None else g.rho_profile
+        return np.where(rho > 0, rho, np.inf)
+
+    values = convex(geometry.phi)
+    if not np.isfinite(values).any():
+        return math.inf, math.nan
+    return _refined(geometry.phi, values, int(np.argmin(values)), convex, np.argmin)
 
 
 def _warnings(d: CamDesign) -> list[str]:
@@ -212,9 +246,9 @@ def _warnings(d: CamDesign) -> list[str]:
             out.append(f"the pressure angle on the {name} reaches {math.degrees(ext.value):.4g}° at cam angle "
                        f"{math.degrees(ext.at):.4g}°, beyond the {math.degrees(ext.limit):.4g}° limit")
     g, f = d.geometry, d.follower
-    if f.contact == "roller" and f.roller >= g.rho_min:
+    if f.contact == "roller" and f.roller >= d.rho_min:
         out.append(f"the roller (r = {f.roller:.6g} m) is not smaller than the smallest convex radius of "
-                   f"the pitch curve (ρ_min = {g.rho_min:.6g} m, ρ_min/r = {g.rho_min / f.roller:.4g}): the "
+                   f"the pitch curve (ρ_min = {d.rho_min:.6g} m, ρ_min/r = {d.rho_min / f.roller:.4g}): the "
                    f"profile is undercut and the follower cannot follow the law")
     if f.contact == "flat" and np.any(g.rho_profile <= 0):
         k = int(np.argmin(g.rho_profile))
@@ -250,8 +284,3 @@ def _window_warnings(d: CamDesign) -> list[str]:
                        f"{math.degrees(seg.start + seg.span):.4g}° (input {d.start + math.degrees(seg.start):.6g}°"
                        f"…) leaves the window {lo:.6g}°…{hi:.6g}° of the linkage")
     return out
-
-
-def limits_at(program, phi, rise_limit, return_limit):
-    """The pressure-angle limit at each cam angle (rad; 0 in dwells)."""
-    return pressure_limits(program.evaluate(phi)[1], rise_limit, return_limit)

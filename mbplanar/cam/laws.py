@@ -295,9 +295,7 @@ class Segment:
     def peaks(self) -> tuple[float, float, float]:
         """Peak |v|, |a|, |j| of the segment in m/rad, m/rad², m/rad³ (inf where unbounded)."""
         cv, ca, cj = self.law.peaks()
-        d = abs(self.s_end - self.s_start)
-        if self.kind == "polynomial":
-            d = 1.0
+        d = abs(self.s_end - self.s_start)           # a polynomial segment: 1 (its law is in metres)
         return (d * cv / self.span, d * ca / self.span ** 2, d * cj / self.span ** 3)
 
 

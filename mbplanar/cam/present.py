@@ -47,13 +47,10 @@ def document(d) -> dict:
         pressure[name] = None if ext is None else {
             "extreme_deg": _deg(ext.value), "at_deg": _deg(ext.at), "limit_deg": _deg(ext.limit),
             "exceeded": ext.exceeded}
-    rho = g.rho_pitch if g.rho_pitch is not None else g.rho_profile
-    convex = np.where(rho > 0, rho, np.inf)
-    k = int(np.argmin(convex))
-    curvature = {"rho_min": _finite(g.rho_min), "at_deg": _deg(g.phi[k]),
+    curvature = {"rho_min": _finite(d.rho_min), "at_deg": _finite(_deg(d.rho_min_at)),
                  "profile_rho_min": _finite(float(np.min(np.where(g.rho_profile > 0, g.rho_profile, np.inf)))),
-                 "largest_safe_roller": _finite(g.rho_min) if g.rho_pitch is not None else None,
-                 "rho_min_over_roller": _finite(g.rho_min / f.roller) if f.roller > 0 else None,
+                 "largest_safe_roller": _finite(d.rho_min) if g.rho_pitch is not None else None,
+                 "rho_min_over_roller": _finite(d.rho_min / f.roller) if f.roller > 0 else None,
                  "undercut": g.undercut}
     timing = {"events": {name: {"value": r.value, "roots": [{"value": x.value, "direction": x.direction}
                                                              for x in r.roots],
@@ -122,7 +119,7 @@ def text(d) -> str:
             lines.append(f"pressure angle on the {name}: {p['extreme_deg']:+.4f}° at {p['at_deg']:.4g}° "
                          f"(limit {p['limit_deg']:.4g}°)")
     c = doc["curvature"]
-    lines.append(f"ρ_min = {_num(c['rho_min'])} m at {c['at_deg']:.4g}°; profile's smallest radius "
+    lines.append(f"ρ_min = {_num(c['rho_min'])} m at {_num(c['at_deg'])}°; profile's smallest radius "
                  f"{_num(c['profile_rho_min'])} m" + (f"; ρ_min/r = {c['rho_min_over_roller']:.4g}, largest safe "
                                                     f"roller {_num(c['largest_safe_roller'])} m"
                                                     if c["rho_min_over_roller"] else ""))

@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import ModelError
 from .followers import Follower
 
-__all__ = ["Sizing", "Construction", "size_follower", "construction", "pressure_limits"]
+__all__ = ["Sizing", "Construction", "size_follower", "pressure_limits"]
 
 
 @dataclass(frozen=True)
@@ -142,10 +142,8 @@ def _size_translating(f, program, phi, rise_limit, return_limit, free_offset):
         e, s0 = x
     else:
         e = f.offset
-        a, b, _ = rows(phi)
         s0 = _smallest_along(rows, phi, e)
-    if s0 <= 0:
-        s0 = max(s0, 0.0)
+    s0 = max(s0, 0.0)                         # the limits alone may allow the follower's line through O
     r0 = math.hypot(e, s0)
     if r0 <= 0:
         raise ModelError("sizing found a zero base radius: the limits do not bound the cam")
@@ -198,7 +196,7 @@ def _size_oscillating(f, program, phi, rise_limit, return_limit):
     s, v, psi, e, w = frame(phi)
     mirror = np.array([1.0, -1.0])
     curve = ((l - sigma * v)[:, None] * e) * mirror
-    region = _region(rows, phi, start, program.stroke + l) * mirror
+    region = _polygon(*rows(phi)[:2], program.stroke + l) * mirror
     cons = Construction(curve, l * e * mirror, region, centre * mirror,
                         pressure_limits(v, rise_limit, return_limit))
     return Sizing(g, g.prime_radius, rise_limit, return_limit, cons)
@@ -255,11 +253,3 @@ def _nearest_admissible(rows, phi, x0, scale, rounds=3):
     return x
 
 
-def _region(rows, phi, x0, scale):
-    a, b, _ = rows(phi)
-    return _polygon(a, b, scale)
-
-
-def construction(sizing: Sizing) -> Construction | None:
-    """The seed's construction of a sized oscillating follower (None for other kinds)."""
-    return sizing.construction

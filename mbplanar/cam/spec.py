@@ -32,6 +32,7 @@ class PhaseSpec:
     start: tuple[float, ...] = ()
     end: tuple[float, ...] = ()
     where: str = ""
+    swing: float | None = None               # deg: an oscillating follower's stroke as an angle
 
 
 @dataclass(frozen=True)
@@ -212,9 +213,12 @@ def _phases(rows, t, unit):
         if kind not in ("rise", "return", "dwell", "polynomial"):
             r.fail(f"kind must be rise, return, dwell or polynomial, got '{kind}'")
         angle = r.get("angle", None, "angle", required=True)
-        stroke = r.get("stroke")
-        if stroke is not None and stroke <= 0:
-            r.fail(f"the stroke must be positive, got {stroke:g}")
+        stroke, swing = r.get("stroke"), r.get("swing")
+        for name, value in (("stroke", stroke), ("swing", swing)):
+            if value is not None and value <= 0:
+                r.fail(f"the {name} must be positive, got {value:g}")
+        if stroke is not None and swing is not None:
+            r.fail("give 'stroke' (the arc at the arm) or 'swing' (deg), not both")
         law = r.get("law", "dwell" if kind == "dwell" else "polynomial" if kind == "polynomial" else None,
                     str, required=kind in ("rise", "return"))
         ends = []
@@ -222,9 +226,9 @@ def _phases(rows, t, unit):
             v = r.get(key, [], list, required=kind == "polynomial")
             if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
                 r.fail(f"'{key}' must be a list of numbers [s, v, a, ...]")
-            ends.append(tuple(float(x) * (unit if j == 0 else unit) for j, x in enumerate(v)))
+            ends.append(tuple(float(x) * unit for x in v))
         out.append(PhaseSpec(kind, angle, law, r.get("k", 1.0, positive=True),
-                             None if stroke is None else stroke * unit, ends[0], ends[1], r.where))
+                             None if stroke is None else stroke * unit, ends[0], ends[1], r.where, swing))
         r.done()
     return tuple(out)
 
