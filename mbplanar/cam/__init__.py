@@ -10,7 +10,7 @@ pressure angle, curvature), `sizing` (smallest cam for the pressure limits; the 
 `selfcheck` (the follower run on the profile), `timing` (events on a linkage model), `dynamics` (spring,
 inertia, contact force, torque), `spec` (the `[cam]` section), `design` (all of it), `export` (CSV, DXF,
 SVG), `plots` (pictures), `present` (the `mbplanar cam` command, JSON, the report's section).
-Data flows one way: cam uses the public mbplanar API; nothing below imports cam.
+Data flows one way: cam uses model, engine, kinematics and viz (their public names); only the CLI imports cam.
 """
 
 from .design import CamDesign, design

@@ -92,7 +92,8 @@ def _linkage(spec):
         if spec.events:
             raise ModelError(f"{spec.source}: [cam] has events but names no model ('model = ...')")
         return None
-    from .. import Engine, read_model
+    from ..engine import Engine
+    from ..model import read_model
     if isinstance(spec.linkage, Engine):
         return spec.linkage
     return Engine(spec.linkage if spec.linkage is not None else read_model(spec.model))

@@ -148,7 +148,7 @@ def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
         raise ModelError(f"{source}: no [cam] section")
     linkage = None
     if "links" in data or "joints" in data:               # a model file carrying its cam
-        from .. import parse_model
+        from ..model import parse_model
         linkage = parse_model(data, source=source)
     else:
         unknown = set(data) - {"cam", "name", "title"}

@@ -71,7 +71,7 @@ def _turn_of(unit):
 
 
 def _coordinate(engine, point, axis, values_si):
-    from .. import analyse
+    from ..kinematics import analyse
     motion = analyse(engine, np.atleast_1d(values_si))
     if not motion.success:
         raise ModelError(f"timing: the model cannot make a full turn ({motion.message})")
