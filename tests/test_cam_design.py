@@ -121,14 +121,14 @@ def test_forces_torque_by_power_and_by_moments():
     assert any("leaves the cam" in w for w in d2.warnings)
 
 
-def test_cli_files(tmp_path, capsys):
+def test_cli_files(tmp_path, capsys, sized):
     ezdxf = pytest.importorskip("ezdxf")
     csv, dxf, svg = tmp_path / "p.csv", tmp_path / "p.dxf", tmp_path / "p.svg"
     assert main(["cam", str(SHAPER_CAM), "--size", "--json", "-o", str(csv), "--dxf", str(dxf),
                  "--svg", str(svg)]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["sized"] and doc["self_check"]["relative"] <= 1e-6
-    d = design(replace(read_cam(SHAPER_CAM), size=True))
+    d = sized
     rows = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert np.allclose(rows[:, 4:6] * 1e-3, d.geometry.profile, atol=1e-9)
     from mbplanar.cam.export import dxf_chordal_error, dxf_deviation

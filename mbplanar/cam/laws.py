@@ -17,6 +17,7 @@ through its breakpoints, then a bounded golden-section refinement), not copied f
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -52,10 +53,16 @@ class Law:
         return tuple(sorted(set(out)))
 
     def peaks(self) -> tuple[float, float, float]:
-        """(C_v, C_a, C_j); a derivative is infinite when the one below it jumps inside the law."""
-        cv, ca, cj = peak_coefficients(self)
-        jumps = self.jumps
-        return (cv, math.inf if 1 in jumps else ca, math.inf if 1 in jumps or 2 in jumps else cj)
+        """(C_v, C_a, C_j); a derivative is infinite when the one below it jumps inside the law.
+        Measured once per law (laws are frozen and hashable)."""
+        return _peaks(self)
+
+
+@functools.lru_cache(maxsize=64)
+def _peaks(law: Law) -> tuple[float, float, float]:
+    cv, ca, cj = peak_coefficients(law)
+    jumps = law.jumps
+    return (cv, math.inf if 1 in jumps else ca, math.inf if 1 in jumps or 2 in jumps else cj)
 
 
 def peak_coefficients(law: Law, samples: int = 4001) -> tuple[float, float, float]:
