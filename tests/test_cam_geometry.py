@@ -176,3 +176,13 @@ def test_self_check_random_oscillating(data):
     assert np.allclose(np.linalg.norm(g.pitch - g.profile, axis=1), f.roller, atol=1e-14)
     if not g.undercut:
         assert self_check(g, prog).relative < 1e-6
+
+
+def test_flat_face_that_turns_with_the_cam_is_refused():
+    """An oscillating flat face cannot be driven where dψ/dφ reaches the cam's own turn (σ = +1)."""
+    prog = seed_program()                                 # dψ/dφ = v/l up to 1.23
+    f = Follower("oscillating", "flat", 1, centre_distance=0.2973, arm=0.15, arm_angle=D(54))
+    with pytest.raises(ModelError, match="turns with the cam"):
+        geometry(f, prog, 720)
+    with pytest.raises(ModelError, match="passes the cam centre"):
+        Follower("oscillating", "flat", 1, centre_distance=0.2, arm=0.15, arm_angle=D(60), face_offset=0.3)

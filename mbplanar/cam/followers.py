@@ -75,6 +75,9 @@ class Follower:
             if self.centre_distance <= 0 or self.arm <= 0:
                 raise ModelError(f"the centre distance a_w and the arm l must be positive, got "
                                  f"a_w = {self.centre_distance}, l = {self.arm}")
+            if self.contact == "flat" and self.prime_radius <= 0:
+                raise ModelError(f"the flat face passes the cam centre: a_w·sin φ20 − face_offset = "
+                                 f"{self.prime_radius:.6g} m must be positive")
             if not 0 < self.arm_angle < math.pi:
                 raise ModelError(f"the arm angle φ20 must lie between 0° and 180°, got "
                                  f"{math.degrees(self.arm_angle):.6g}°")

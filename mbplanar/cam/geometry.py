@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ModelError
 from .followers import Follower, face_line, lift_direction, pitch_point
 
 __all__ = ["CamGeometry", "cam_geometry", "rotate"]
@@ -108,8 +109,13 @@ def cam_geometry(follower: Follower, phi, s, v, a) -> CamGeometry:
     c1 = rotate(b.d1 - sigma * _perp(b.b), turn)
     c2 = rotate(b.d2 - 2 * sigma * _perp(b.d1) - b.b, turn)
     speed = np.linalg.norm(c1, axis=-1)
+    if np.any(speed <= 1e-12 * (1 + np.linalg.norm(c, axis=-1))):
+        k = int(np.argmin(speed))
+        raise ModelError(f"the follower's pitch point stands still on the cam at cam angle "
+                         f"{np.degrees(phi[k]):.6g}°: no profile can drive it there")
     normal_c = sigma * _perp(c1) / speed[:, None]
-    rho_p = -sigma * speed ** 3 / _cross(c1, c2)
+    with np.errstate(divide="ignore"):
+        rho_p = -sigma * speed ** 3 / _cross(c1, c2)      # ±inf on a straight stretch
     r = follower.roller
     profile = c - r * normal_c
     profile_d1 = c1 * (1 - r / rho_p)[:, None]
@@ -124,6 +130,10 @@ def _flat(follower, phi, s, v, a, turn):
     line = face_line(follower, s, v, a)
     alpha = line.alpha + turn
     w1, w2 = line.alpha_d1 - sigma, line.alpha_d2
+    if np.any(-sigma * w1 < 1e-9):                      # the face's normal must keep turning against the cam
+        k = int(np.argmin(-sigma * w1))
+        raise ModelError(f"the flat face turns with the cam at cam angle {np.degrees(phi[k]):.6g}° "
+                         f"(dψ/dφ = {line.alpha_d1[k]:.6g}): no flat-faced cam can drive this motion")
     dp = line.p_d1 / w1
     d2p = (line.p_d2 * w1 - line.p_d1 * w2) / w1 ** 3
     nu = np.stack([np.cos(alpha), np.sin(alpha)], -1)
