@@ -325,6 +325,12 @@ def forces_table(engine, motion, input_inertia=0.0):
     """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
     from .kinetostatics import kinetostatics
     result = kinetostatics(engine, motion, input_inertia or 0.0)
+    header, cols = forces_columns(engine, result)
+    return header, cols, (None if result.success else result.message)
+
+
+def forces_columns(engine, result):
+    """Header and columns (B, k) of a `Kinetostatics`: reactions, balancing loads, virtual-power residual."""
     header, cols = [], []
     for name, r in result.reactions.items():
         header += [f"{name}.fx[N]", f"{name}.fy[N]"]
@@ -338,7 +344,7 @@ def forces_table(engine, motion, input_inertia=0.0):
         cols.append(q)
     header.append("virtual_power_residual")
     cols.append(result.virtual_power_residual)
-    return header, np.column_stack(cols), (None if result.success else result.message)
+    return header, np.column_stack(cols)
 
 
 def forces_document(engine, motion, result, row=0, values=None) -> dict:

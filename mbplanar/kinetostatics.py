@@ -93,6 +93,16 @@ class Kinetostatics:
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]
 
+    def to_frame(self):
+        """A pandas DataFrame, one row per position: the input, then the force columns of `mbplanar sweep`
+        (``A.fx[N]``, ``O.balancing[N*m]``, ``virtual_power_residual``). Needs pandas."""
+        from ._notebook import kinetostatics_frame
+        return kinetostatics_frame(self)
+
+    def _repr_html_(self) -> str:
+        from ._notebook import kinetostatics_html
+        return kinetostatics_html(self)
+
 
 # -- kinematics of the link frames ------------------------------------------------------------------
 def _real_frames(engine, motion, links=slice(None)):

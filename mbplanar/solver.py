@@ -423,6 +423,11 @@ class Engine:
             self._atlas = _Atlas(self)
         return self._atlas
 
+    def _repr_html_(self) -> str:
+        """Jupyter: the diagram in the drawn pose beside the structure (DOF, loops, Assur groups)."""
+        from ._notebook import engine_html
+        return engine_html(self)
+
     def solve(self, phi) -> Solution:
         """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
         Positions past a motion limit are left out (`valid` False, `limits` says where)."""
