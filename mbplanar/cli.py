@@ -15,14 +15,15 @@ import sys
 import numpy as np
 
 from .errors import MbplanarError, MotionError
-from .loads import has_force_data
+from .forces._loads import has_force_data
+from .io._tables import dynamics_table, forces_table, sweep_table
 
 __all__ = ["main"]
 
 
 def _load(args):
-    from .solver import Engine
-    from .table import read_model
+    from .engine._solver import Engine
+    from .model._table import read_model
     return Engine(read_model(args.model), backend=args.backend, threads=args.threads)
 
 
@@ -168,7 +169,7 @@ def _plain(obj):
 
 
 def _motion(engine, values_si, omega=None, epsilon=None):
-    from .kinematics import analyse
+    from .kinematics._motion import analyse
     return analyse(engine, values_si, omega, epsilon)
 
 
@@ -258,37 +259,6 @@ def sweep_values(engine, steps=None, step=None, start=None, stop=None):
     return np.linspace(lo, hi, steps + 1)
 
 
-def sweep_table(engine, motion, angle_unit):
-    """Header (quantity[unit]) and rows of a sweep."""
-    inp = engine.inputs[0]
-    to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
-    au = "deg" if angle_unit == "deg" else "rad"
-    header = [f"{inp.name}[{inp.unit}]"]
-    cols = [inp.from_si(motion.phi[:, 0])]
-    for k, name in enumerate(motion.link_names[1:], start=1):
-        header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
-        cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
-    for k, name in enumerate(motion.point_names):
-        header += [f"{name}.{q}" for q in ("x[m]", "y[m]", "vx[m/s]", "vy[m/s]", "ax[m/s^2]", "ay[m/s^2]")]
-        cols += [motion.xy[:, k, 0], motion.xy[:, k, 1], motion.v[:, k, 0], motion.v[:, k, 1],
-                 motion.a[:, k, 0], motion.a[:, k, 1]]
-    for k, name in enumerate(motion.joint_names):
-        if engine.mech.joints[name].kind == "R":
-            header += [f"{name}.value[{au}]", f"{name}.rate[rad/s]", f"{name}.accel[rad/s^2]"]
-            cols += [to_angle(motion.value[:, k]), motion.rate[:, k], motion.accel[:, k]]
-        else:
-            header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
-            cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    from .check import pressure_angles, transmission_angles
-    labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
-    header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    labels, angles = pressure_angles(engine, motion)              # slider S driven by rod A-B: S.A-B
-    header += [f"pressure.{s}.{a}-{b}[{au}]" if a != b else f"pressure.{s}.normal-{a}[{au}]" for a, b, s in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    return header, np.column_stack(cols) if cols else np.zeros((0, 0))
-
-
 def cmd_sweep(args):
     engine = _load(args)
     if len(engine.inputs) != 1:
@@ -307,7 +277,7 @@ def cmd_sweep(args):
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
     _write_csv(args.output, header, rows)
     if motion.crossings:
-        from .kinematics import describe_crossing
+        from .kinematics._motion import describe_crossing
         for c in motion.crossings:
             print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
     if forces_failed:
@@ -321,32 +291,6 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
-def forces_table(engine, motion, input_inertia=0.0):
-    """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
-    from .kinetostatics import kinetostatics
-    result = kinetostatics(engine, motion, input_inertia or 0.0)
-    header, cols = forces_columns(engine, result)
-    return header, cols, (None if result.success else result.message)
-
-
-def forces_columns(engine, result):
-    """Header and columns (B, k) of a `Kinetostatics`: reactions, balancing loads, virtual-power residual."""
-    header, cols = [], []
-    for name, r in result.reactions.items():
-        header += [f"{name}.fx[N]", f"{name}.fy[N]"]
-        cols += [r.fx, r.fy]
-        if engine.mech.joints[name].kind == "P":
-            header.append(f"{name}.moment[N*m]")
-            cols.append(r.moment)
-    for name, q in result.balancing.items():
-        unit = "N*m" if engine.mech.joints[name].kind == "R" else "N"
-        header.append(f"{name}.balancing[{unit}]")
-        cols.append(q)
-    header.append("virtual_power_residual")
-    cols.append(result.virtual_power_residual)
-    return header, np.column_stack(cols)
-
-
 def forces_document(engine, motion, result, row=0, values=None) -> dict:
     reactions = {}
     for name, r in result.reactions.items():
@@ -366,7 +310,7 @@ def forces_document(engine, motion, result, row=0, values=None) -> dict:
 
 
 def cmd_forces(args):
-    from .kinetostatics import kinetostatics
+    from .forces._kinetostatics import kinetostatics
     engine = _load(args)
     if len(engine.inputs) != 1:
         raise _ArgError("forces drives one input; this model has several (use the Python API)")
@@ -414,7 +358,7 @@ def cmd_forces(args):
 def true_motion(engine, phi):
     """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
     input link's own inertia (the constant inertia the force analysis adds on the input link)."""
-    from .dynamics import machine_dynamics
+    from .forces._dynamics import machine_dynamics
     dyn = machine_dynamics(engine, simulate_motion=False)
     state = dyn.state_at(engine, phi)
     return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
@@ -455,22 +399,8 @@ def dynamics_document(engine, dyn, at=None) -> dict:
     return _plain(doc)
 
 
-def dynamics_table(dyn):
-    """Header and columns (N, k) of the cycle table: φ, J_II, dJ_II, M_red per load and in total, A_c,
-    A_total, T_II, ΔT_I, ω, ε (energy–mass method) and the simulated ω, ε."""
-    red = dyn.reduced
-    header = ["phi[rad]", "J_II[kg*m2]", "dJ_II[kg*m2]"] + [f"M_red.{n}[N*m]" for n in red.moments] + \
-        ["M_red[N*m]", "A_c[J]", "A_total[J]", "T_II[J]", "dT_I[J]", "omega[rad/s]", "epsilon[rad/s2]"]
-    cols = [dyn.phi, dyn.J_II, dyn.dJ_II, *red.moments.values(), dyn.M_red, dyn.A_c, dyn.A_total,
-            dyn.T_II, dyn.dT_I, dyn.omega, dyn.epsilon]
-    if dyn.simulation is not None:
-        header += ["omega_sim[rad/s]", "epsilon_sim[rad/s2]"]
-        cols += [dyn.simulation.omega, dyn.simulation.epsilon]
-    return header, np.column_stack(cols)
-
-
 def cmd_dynamics(args):
-    from .dynamics import machine_dynamics, read_dynamics
+    from .forces._dynamics import machine_dynamics, read_dynamics
     engine = _load(args)
     if args.steps < 36:
         raise _ArgError("--steps must be at least 36")
@@ -492,7 +422,7 @@ def cmd_dynamics(args):
 
 
 def _print_dynamics(engine, dyn, doc):
-    from .dynamics import summary
+    from .forces._dynamics import summary
     inp = doc["input"]
     print(f"{doc['model']}: machine dynamics over one cycle of {inp['name']} ({doc['steps']} steps)")
     for label, value, unit in summary(dyn, engine.inputs[0]):
@@ -515,7 +445,7 @@ def _suffix(path, allowed):
 
 
 def cmd_plot(args):
-    from . import plotting
+    from .viz import _plotting as plotting
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
         raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
@@ -537,7 +467,7 @@ def cmd_plot(args):
 
 
 def cmd_animate(args):
-    from . import plotting
+    from .viz import _plotting as plotting
     kind = _suffix(args.output, ("gif", "html"))
     if args.frames < 2:
         raise _ArgError("--frames must be at least 2")
@@ -547,19 +477,19 @@ def cmd_animate(args):
     if kind == "gif":
         motion = plotting.write_gif(engine, args.output, args.frames, dpi=args.dpi)
     else:
-        from .animation import write_html_animation
+        from .viz._animation import write_html_animation
         write_html_animation(engine, args.output, args.frames)
         motion = plotting.cycle_motion(engine, args.frames)
     if motion.limits:
-        from .kinematics import describe_limit
+        from .kinematics._motion import describe_limit
         print(f"mbplanar: {engine.mech.source}: the animation stops at the motion limit: "
               + "; ".join(describe_limit(engine, lim) for lim in motion.limits), file=sys.stderr)
     return 0
 
 
 def cmd_report(args):
-    from . import plotting
-    from .report import write_report
+    from .viz import _plotting as plotting
+    from .viz._report import write_report
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -569,7 +499,7 @@ def cmd_report(args):
 
 # -- check ------------------------------------------------------------------------------------------
 def cmd_check(args):
-    from .check import check, format_report
+    from .analysis._check import check, format_report
     engine = _load(args)
     report = check(engine)
     if args.json:

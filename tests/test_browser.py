@@ -153,7 +153,7 @@ def offline(tools: DevTools, page: Path) -> list[str]:
 
 def test_the_report_renders_with_its_diagram_offline(browser, tmp_path):
     pytest.importorskip("matplotlib", reason="the report's figures need matplotlib (the [plot] extra)")
-    from mbplanar.report import report_html
+    from mbplanar.viz import report_html
     engine = mbplanar.Engine(mbplanar.read_model(ROOT / "models" / "fourbar_loaded.toml"))
     page = tmp_path / "report.html"
     page.write_text(report_html(engine, positions=6, frames=8, dpi=50), encoding="utf-8")
@@ -175,7 +175,7 @@ def test_the_report_renders_with_its_diagram_offline(browser, tmp_path):
 
 
 def test_the_animation_plays_offline(browser, tmp_path):
-    from mbplanar.animation import html_animation
+    from mbplanar.viz import html_animation
     engine = mbplanar.Engine(mbplanar.read_model(ROOT / "models" / "six_bar_press.toml"))
     page = tmp_path / "animation.html"
     page.write_text(html_animation(engine, frames=36, fps=12), encoding="utf-8")

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.animation import Animation
+from mbplanar.viz import Animation
 from mbplanar.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]

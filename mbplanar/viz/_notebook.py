@@ -1,9 +1,6 @@
-"""Results in notebooks: pandas DataFrames with the CSV tables' columns, and the HTML that Jupyter shows for a
-mechanism, an engine and each result (an inline SVG diagram, drawn from the same `Scene` as every other
-picture, beside a summary table).
-
-The result types keep one-line methods (`to_frame`, `_repr_html_`) that call this module lazily, so that
-neither pandas nor this module is imported until a notebook asks. The diagrams need no matplotlib.
+"""What Jupyter shows for a mechanism, an engine and each result: an inline SVG diagram, drawn from the same
+`Scene` as every other picture (no matplotlib needed), beside a summary table. The result types reach these
+functions through `_repr_html_()` (see `mbplanar.model._views`).
 """
 
 from __future__ import annotations
@@ -14,54 +11,19 @@ import math
 
 import numpy as np
 
-from .errors import MbplanarError
+from ..errors import MbplanarError
 
-__all__ = ["frame", "motion_frame", "kinetostatics_frame", "dynamics_frame", "mechanism_html", "engine_html",
-           "motion_html", "kinetostatics_html", "dynamics_html", "check_html"]
+__all__ = ["mechanism_html", "engine_html", "motion_html", "kinetostatics_html", "dynamics_html", "check_html",
+           "VIEWS"]
 
 _IDS = itertools.count()
-
-
-# -- DataFrames --------------------------------------------------------------------------------------
-def frame(header, columns):
-    """A pandas DataFrame of a table (`header` names, `columns` (B, k)); a clear error without pandas."""
-    try:
-        import pandas as pd
-    except ImportError:
-        raise MbplanarError("DataFrames need pandas: pip install mbplanar[pandas]") from None
-    columns = np.asarray(columns, float).reshape(-1, len(header))
-    return pd.DataFrame(columns, columns=list(header))
-
-
-def motion_frame(motion):
-    """The sweep table of a `Motion` (the columns of `mbplanar sweep` without forces), one row per position."""
-    from .cli import sweep_table
-    engine = motion.engine
-    unit = "rad" if engine.inputs[0].unit == "rad" else "deg"
-    return frame(*sweep_table(engine, motion, unit))
-
-
-def kinetostatics_frame(result):
-    """The force columns of `mbplanar sweep` for a `Kinetostatics`, with the input column first."""
-    from .cli import forces_columns
-    engine = result.motion.engine
-    inp = engine.inputs[0]
-    header, cols = forces_columns(engine, result)
-    header = [f"{inp.name}[{inp.unit}]"] + header
-    return frame(header, np.column_stack([inp.from_si(result.motion.phi[:, 0]), cols]))
-
-
-def dynamics_frame(dyn):
-    """The cycle table of `mbplanar dynamics -o` for a `Dynamics`."""
-    from .cli import dynamics_table
-    return frame(*dynamics_table(dyn))
 
 
 # -- HTML for Jupyter ------------------------------------------------------------------------------
 def _diagram(engine, motion=None) -> str:
     """A still SVG diagram of the first position of `motion` (default: the drawn pose)."""
-    from .animation import svg_animation
-    from .kinematics import analyse
+    from ._animation import svg_animation
+    from ..kinematics import analyse
     if motion is None:
         first = analyse(engine, np.asarray(engine.phi_drawn, float).reshape(1, -1))
     elif len(motion.phi):
@@ -103,7 +65,7 @@ def mechanism_html(mech) -> str:
     if mech.points:
         rows.append(("points", ", ".join(mech.points)))
     try:
-        from .solver import Engine
+        from ..engine import Engine
         engine = Engine(mech)
     except MbplanarError as exc:
         return _page(f"Mechanism {mech.name}", rows + [("cannot be assembled", str(exc))])
@@ -149,7 +111,7 @@ def kinetostatics_html(result) -> str:
 
 
 def dynamics_html(dyn) -> str:
-    from .dynamics import summary
+    from ..forces._dynamics import summary
     engine = dyn.reduced.motion.engine
     rows = []
     for label, value, unit in summary(dyn, engine.inputs[0]):
@@ -167,3 +129,8 @@ def check_html(report) -> str:
         rows.append((f"transmission angle {ang.name}", f"{math.degrees(ang.minimum):.4g}° … "
                      f"{math.degrees(ang.maximum):.4g}°"))
     return _page(f"Check of {report.model}", rows)
+
+
+#: result type's name → its HTML
+VIEWS = {"Mechanism": mechanism_html, "Engine": engine_html, "Motion": motion_html,
+         "Kinetostatics": kinetostatics_html, "Dynamics": dynamics_html, "CheckReport": check_html}

@@ -42,10 +42,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ModelError, MotionError
-from .kinematics import analyse, material_points
-from .loads import centre_of, evaluate_loads, load_power, read_loads
-from .table import Row
+from ..errors import ModelError, MotionError
+from ..kinematics._motion import analyse, material_points
+from ._loads import centre_of, evaluate_loads, load_power, read_loads
+from ..model._table import Row
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
            "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
@@ -340,12 +340,12 @@ class Dynamics:
     def to_frame(self):
         """A pandas DataFrame of the cycle, one row per grid position, with the columns of
         `mbplanar dynamics -o` (``phi[rad]``, ``J_II[kg*m2]``, ``omega[rad/s]``, ...). Needs pandas."""
-        from ._notebook import dynamics_frame
-        return dynamics_frame(self)
+        from ..model._views import view
+        return view("frame", self)
 
     def _repr_html_(self) -> str:
-        from ._notebook import dynamics_html
-        return dynamics_html(self)
+        from ..model._views import view
+        return view("html", self)
 
 
 def cycle_grid(steps: int) -> np.ndarray:
