@@ -1,16 +1,23 @@
 """Sphinx configuration of the mbplanar documentation (MyST Markdown pages, numpydoc docstrings).
 
-Two small directives are defined here rather than in an extra dependency:
+Small directives are defined here rather than in an extra dependency:
 
 * ``mbplanar-cli`` writes the command-line reference from ``mbplanar.cli.build_parser()`` at build time, so
   the page always matches the parser;
 * ``mbplanar-api`` writes an autosummary table and the autodoc entries of every name in
-  ``mbplanar.__all__``, so the reference follows the public API wherever its modules live.
+  ``mbplanar.__all__`` and in each subpackage's ``__all__``, so the reference follows the code wherever its
+  modules live;
+* ``mbplanar-benchmark`` writes the latest benchmark table from ``benchmarks/latest.json``;
+* ``mbplanar-if-page`` links pages only where they exist (pages other work adds), so that the site builds
+  with warnings as errors either way.
 """
 
 from __future__ import annotations
 
+import importlib
+import inspect
 import os
+import pkgutil
 import sys
 from pathlib import Path
 
@@ -79,20 +86,34 @@ class CliReference(SphinxDirective):
 
 
 class ApiReference(SphinxDirective):
-    """An autosummary table and the autodoc entry of every public name of ``mbplanar``."""
+    """An autosummary table and the autodoc entry of every public name: first ``mbplanar.__all__``, then, per
+    subpackage, the names its ``__all__`` adds (so the reference follows the code wherever it moves)."""
 
     def run(self):
-        import inspect
-        names = list(mbplanar.__all__)
-        lines = [".. currentmodule:: mbplanar", "", ".. autosummary::", ""]
-        lines += [f"   {n}" for n in names] + [""]
-        for n in names:
-            obj = getattr(mbplanar, n)
-            if inspect.isclass(obj):
-                lines += [f".. autoclass:: {n}", "   :members:", ""]
-            else:
-                lines += [f".. autofunction:: {n}", ""]
+        seen = {id(getattr(mbplanar, n)) for n in mbplanar.__all__}
+        lines = _api_lines("mbplanar", list(mbplanar.__all__))
+        for info in sorted(pkgutil.iter_modules(mbplanar.__path__), key=lambda m: m.name):
+            if not info.ispkg or info.name.startswith("_"):
+                continue
+            module = importlib.import_module(f"mbplanar.{info.name}")
+            names = [n for n in getattr(module, "__all__", []) if id(getattr(module, n)) not in seen
+                     and (inspect.isclass(getattr(module, n)) or callable(getattr(module, n)))]
+            seen |= {id(getattr(module, n)) for n in names}
+            if names:
+                title = f"mbplanar.{info.name}"
+                doc = (inspect.getdoc(module) or "").split("\n\n")[0]
+                lines += [title, "-" * len(title), "", doc, ""] + _api_lines(title, names)
         return _parse(self, lines)
+
+
+def _api_lines(module: str, names) -> list:
+    """reST of an autosummary table and the autodoc entries of `names` of `module`."""
+    target = importlib.import_module(module)
+    lines = [f".. currentmodule:: {module}", "", ".. autosummary::", ""] + [f"   {n}" for n in names] + [""]
+    for n in names:
+        kind = "autoclass" if inspect.isclass(getattr(target, n)) else "autofunction"
+        lines += [f".. {kind}:: {n}"] + (["   :members:"] if kind == "autoclass" else []) + [""]
+    return lines
 
 
 class IfPage(SphinxDirective):
