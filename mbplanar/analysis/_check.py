@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
-from ..engine._solver import met_along
+from ..engine._atlas import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
