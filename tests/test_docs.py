@@ -65,11 +65,11 @@ def test_readme_python_api_runs(capsys):
 
 
 def shell_sessions(text: str):
-    """(command, output lines) of every indented `$ mbplanar ...` line of a page, the output being the
-    indented lines that follow it up to the next command or the block's end."""
+    """(command, output lines) of every indented `$ ...` line of a page, the output being the indented lines
+    that follow it up to the next command or the block's end."""
     sessions, lines = [], text.splitlines()
     for k, line in enumerate(lines):
-        if line.startswith("    $ mbplanar "):
+        if line.startswith("    $ "):
             out = []
             for nxt in lines[k + 1:]:
                 if not nxt.startswith("    ") or nxt.startswith("    $ "):
@@ -86,6 +86,12 @@ def test_shown_command_output_is_what_the_command_prints(page, tmp_path, capsys,
     monkeypatch.chdir(tmp_path)                      # files the commands write land here
     checked = 0
     for command, shown in shell_sessions((ROOT / page).read_text(encoding="utf-8")):
+        if command.startswith("head "):              # a look at a file a command wrote
+            done = subprocess.run(command, shell=True, cwd=tmp_path, capture_output=True, text=True, timeout=60)
+            assert done.stdout.splitlines() == shown, f"{page}: {command}"
+            continue
+        if not command.startswith("mbplanar "):
+            continue
         argv = shlex.split(command)[1:]
         if argv[0] in ("report", "plot", "animate") or not Path(argv[1]).exists():
             continue                                 # pictures: tested elsewhere; example files not shipped

@@ -126,7 +126,7 @@ def test_the_animation_plays_inline_with_its_player(engine):
     assert len(ids) == 2                                   # two animations in one notebook do not clash
 
 
-def test_the_example_notebook_runs():
+def test_the_example_notebook_runs(monkeypatch):
     nbformat = pytest.importorskip("nbformat", reason="the notebook test needs nbformat (the [test] extra)")
     nbclient = pytest.importorskip("nbclient", reason="the notebook test needs nbclient (the [test] extra)")
     pytest.importorskip("ipykernel", reason="the notebook test needs ipykernel (the [test] extra)")
@@ -134,7 +134,7 @@ def test_the_example_notebook_runs():
     nb = nbformat.read(path, as_version=4)
     assert all(not c.get("outputs") and c.get("execution_count") is None
                for c in nb.cells if c.cell_type == "code")           # stored without outputs
-    os.environ["PYTHONPATH"] = str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")
+    monkeypatch.setenv("PYTHONPATH", str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))  # the kernel
     nbclient.NotebookClient(nb, timeout=120, kernel_name="python3",
                             resources={"metadata": {"path": str(path.parent)}}).execute()
     html = [o["data"]["text/html"] for c in nb.cells if c.cell_type == "code" for o in c.outputs
