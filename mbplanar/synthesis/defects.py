@@ -102,13 +102,16 @@ def check_defects(engine, phi, intended: dict, *, periodic: bool = True, full_tu
         Positions of the continuation over the travel.
     """
     phi = np.asarray(phi, float)
+    # the engine measures the drawn input within its default sweep: node 1 moved there by whole turns
+    shift = TWO_PI * round((float(engine.phi_drawn[0]) - phi[0]) / TWO_PI)
+    phi = phi + shift
     senses = [s for s in (1, -1) if _in_order(_offsets(phi, s, periodic))]
     order = not senses
     sense = senses[0] if senses else 1
     u = _offsets(phi, sense, periodic)
     lo, span = 0.0, TWO_PI if full_turn else float(u[-1])
     if travel is not None:
-        ends = sense * (np.asarray(travel, float) - phi[0])
+        ends = sense * (np.asarray(travel, float) + shift - phi[0])
         lo, span = min(lo, float(ends.min())), max(span, float(ends.max()))
     grid = np.unique(np.r_[np.linspace(lo, span, steps + 1), u])
     motion = analyse(engine, phi[0] + sense * grid)

@@ -223,10 +223,11 @@ def synthesise_angle_pairs(phi, psi, ground: float = 1.0, task: FunctionTask | N
         raise ModelError(f"no feasible design: the four-bar through the precision points has a defect: "
                          f"{defects.describe()}")
     rocker_offset = math.pi if c < 0 else 0.0
-    m_pts = analyse(engine, sense * phi)
+    shift = defects.node_phi[0] - sense * phi[0]          # whole turns to the engine's drawn input
+    m_pts = analyse(engine, shift + sense * phi)
     got = m_pts.value[:, m_pts.joint("B0")] - rocker_offset
     point_err = np.degrees(_wrap(got - psi))
-    m = analyse(engine, sense * grid)
+    m = analyse(engine, shift + sense * grid)
     if len(m.phi) != len(grid):
         raise ModelError("no feasible design: the four-bar meets a motion limit inside the input range")
     achieved = m.value[:, m.joint("B0")] - rocker_offset

@@ -177,7 +177,7 @@ def synthesise_seed001(target: WalkingTarget, chain: Chain = SEED001_CHAIN, form
         if not defects.ok:
             rejected.append({"candidate": int(i), "defects": defects.describe()})
             continue
-        d1m, d2m, full = walking_deviations(engine, target, node_phi[0])
+        d1m, d2m, full = walking_deviations(engine, target, defects.node_phi[0])
         motion = analyse(engine, np.asarray(defects.node_phi))
         errors = np.hypot(*(motion.xy[:, motion.point("E")] - nodes).T)
         return GuidingResult(_design(one, s), text, mech,
