@@ -266,7 +266,7 @@ def dyad_from_circle_point(poses, z, centre_hint=None) -> Dyad:
 
 def dyad_from_centre_point(poses, m) -> Dyad:
     """The dyad of centre point m: 3 poses, its circle point (2 linear equations); 4 poses, the point
-    of the centre-point curve in the direction of m from the curve's pole nearest to m."""
+    of the centre-point curve nearest to m."""
     poses = validate_poses(poses)
     m = np.asarray(m, float)
     if len(poses) == 3:
@@ -275,22 +275,41 @@ def dyad_from_centre_point(poses, m) -> Dyad:
             raise ModelError("this centre point has no circle point (a pole or a degenerate point)")
         return Dyad(m, positions(poses, np.linalg.solve(a, rhs))[0])
     if len(poses) == 4:
-        base = _base_pole(poses)
-        u = m - base
-        dist = np.hypot(*u)
-        if dist < 1e-12:
-            raise ModelError("a centre-point hint at the curve's pole is ambiguous")
-        u = u / dist
-        ss = _size(poses) * np.array([-1.0, 1.0, 2.0, 3.0])
-        vals = np.array([_det4(poses, base + s * u) for s in ss])
-        coef = np.linalg.solve(np.vander(ss, 4, increasing=True), vals)
-        roots = [r.real for r in np.roots(coef[1:][::-1]) if abs(r.imag) < 1e-9 * (1 + abs(r))]
-        if not roots:
-            raise ModelError(f"the centre-point curve has no point in the direction of the hint {m.tolist()}")
-        s = min(roots, key=lambda r: abs(r - dist))
-        centre = base + s * u
+        centre = _nearest_on_curve(poses, m)
         return Dyad(centre, _circle_points(poses, centre))
     raise ModelError("a centre point fixes a dyad for 3 or 4 poses")
+
+
+def _curve_point(poses, base, alpha, near):
+    """The centre-point curve's point on the line through `base` at direction α nearest to `near`."""
+    u = np.array([math.cos(alpha), math.sin(alpha)])
+    ss = _size(poses) * np.array([-1.0, 1.0, 2.0, 3.0])
+    vals = np.array([_det4(poses, base + s * u) for s in ss])
+    coef = np.linalg.solve(np.vander(ss, 4, increasing=True), vals)
+    pts = [base + r.real * u for r in np.roots(coef[1:][::-1]) if abs(r.imag) < 1e-9 * (1 + abs(r))]
+    return min(pts, key=lambda q: np.hypot(*(q - near))) if pts else None
+
+
+def _nearest_on_curve(poses, hint):
+    """The point of the centre-point curve of 4 poses nearest to `hint`: the nearest of a dense sample,
+    refined over the direction α of its line through the pole."""
+    from scipy.optimize import minimize_scalar
+    curve = centre_point_curve(poses, 3600)
+    c = curve["centre"]
+    dist = np.where(np.isfinite(c).all(-1), np.hypot(c[..., 0] - hint[0], c[..., 1] - hint[1]), np.inf)
+    b, k = np.unravel_index(np.argmin(dist), dist.shape)
+    if not np.isfinite(dist[b, k]):
+        raise ModelError("the centre-point curve has no real point")
+    step = curve["alpha"][1] - curve["alpha"][0]
+    near = c[b, k]
+
+    def gap(alpha):
+        q = _curve_point(poses, curve["pole"], alpha, near)
+        return np.inf if q is None else float(np.hypot(*(q - hint)))
+    res = minimize_scalar(gap, bounds=(curve["alpha"][k] - step, curve["alpha"][k] + step), method="bounded",
+                          options={"xatol": 1e-14})
+    best = _curve_point(poses, curve["pole"], res.x, near)
+    return near if best is None or gap(res.x) > dist[b, k] else best
 
 
 @dataclass(frozen=True)
@@ -355,8 +374,8 @@ def synthesise_motion(poses, circle_points=None, centre_points=None, full_turn: 
     """A defect-free four-bar through 2–5 coupler poses (x, y, θ in rad).
 
     2 poses: two circle points and two centre-point hints; 3 poses: two circle points or two centre
-    points; 4 poses: two centre-point hints (the points of the centre-point curve in their
-    directions) or none (every pair of sampled curve points is tried, best transmission first);
+    points; 4 poses: two centre-point hints (the points of the centre-point curve nearest to them)
+    or none (every pair of sampled curve points is tried, best transmission first);
     5 poses: every pair of real Burmester points. The crank is the first dyad.
     """
     t0 = time.perf_counter()

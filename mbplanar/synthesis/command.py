@@ -304,7 +304,7 @@ def _motion(args):
                 for k, a in enumerate(curve["alpha"]):
                     c, z = curve["centre"][b, k], curve["circle"][b, k]
                     if np.isfinite(c).all() and np.isfinite(z).all():
-                        w.writerow([b, repr(math.degrees(a)), repr(c[0]), repr(c[1]), repr(z[0]), repr(z[1])])
+                        w.writerow([b] + [repr(float(v)) for v in (math.degrees(a), c[0], c[1], z[0], z[1])])
         summary["curve"] = str(args.curve)
     return summary, result, _plot_motion
 
