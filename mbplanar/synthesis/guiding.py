@@ -251,32 +251,43 @@ def _null_solution(m, const):
     return x
 
 
-def form_a(chain: Chain, nodes, gamma, elbow: int = 1) -> Candidates:
+def form_a(chain: Chain, nodes, gamma, elbow=1) -> Candidates:
     """Form (a): at each fixed γ (G,), the lines through the 3 nodes' C points for some l.
 
     Unknowns ρ, θ, l: the rows [−1, sin(φ2 − γ − θ), n(θ)·E − b·sin(φ2 − θ)] have a vanishing
-    determinant, a quadratic form in (cos θ, sin θ); up to two candidates per γ.
+    determinant, a quadratic form α·cos²θ + β·cos θ sin θ + δ·sin²θ = 0, i.e.
+    (α + δ)/2 + R·cos(2θ − ψ) = 0 with R·(cos ψ, sin ψ) = ((α − δ)/2, β/2): up to two candidates per γ,
+    all γ at once.
     """
     nodes = np.asarray(nodes, float)
     if len(nodes) != 3:
         raise ModelError(f"form (a) interpolates at exactly 3 nodes, got {len(nodes)}")
     _, phi2 = chain_angles(chain, nodes, elbow)
-    out = []
-    for g in np.atleast_1d(np.asarray(gamma, float)):
-        def det(c, s):
-            col2 = np.sin(phi2 - g) * c - np.cos(phi2 - g) * s
-            col3 = c * (nodes[:, 1] - chain.b * np.sin(phi2)) + s * (chain.b * np.cos(phi2) - nodes[:, 0])
-            return np.linalg.det(np.column_stack([-np.ones(3), col2, col3]))
-        a0, a2 = det(1.0, 0.0), det(0.0, 1.0)
-        a1 = det(1.0, 1.0) - a0 - a2
-        for th in _angles_of_form([a0, a1, a2]):
-            m, const = _rows(chain, nodes, phi2, [th])
-            # ρ and l along the fixed direction γ: P2 = l cos γ, P3 = l sin γ
-            mm = np.column_stack([m[0, :, 0], m[0, :, 1] * math.cos(g) + m[0, :, 2] * math.sin(g)])
-            (rho, l), *_ = np.linalg.lstsq(mm, -const[0], rcond=None)
-            out.append((th, rho, l * math.cos(g), l * math.sin(g)))
-    arr = np.array(out, float).reshape(-1, 4)
-    return Candidates(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3], _modes(elbow, len(arr), 3))
+    g = np.atleast_1d(np.asarray(gamma, float))[:, None]                       # (G, 1)
+    const_c, const_s = nodes[:, 1] - chain.b * np.sin(phi2), chain.b * np.cos(phi2) - nodes[:, 0]
+
+    def det(c, s):
+        col2 = np.sin(phi2 - g) * c - np.cos(phi2 - g) * s
+        col3 = np.broadcast_to(c * const_c + s * const_s, col2.shape)
+        return np.linalg.det(np.stack([-np.ones_like(col2), col2, col3], axis=-1))
+    alpha, delta = det(1.0, 0.0), det(0.0, 1.0)
+    beta = det(1.0, 1.0) - alpha - delta
+    amp = np.hypot(0.5 * (alpha - delta), 0.5 * beta)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = -0.5 * (alpha + delta) / amp
+    psi = np.arctan2(0.5 * beta, 0.5 * (alpha - delta))
+    real = np.abs(ratio) <= 1.0
+    spread = np.arccos(np.clip(ratio, -1.0, 1.0))
+    theta = np.mod(0.5 * np.stack([psi + spread, psi - spread], axis=1), np.pi)     # (G, 2)
+    keep = np.stack([real, real & (spread > 0)], axis=1)
+    gi = np.broadcast_to(np.arange(len(g))[:, None], keep.shape)[keep]
+    th, gg = theta[keep], g[gi, 0]
+    m, const = _rows(chain, nodes, phi2, th)                                   # (K, 3, 3), (K, 3)
+    along = m[..., 1] * np.cos(gg)[:, None] + m[..., 2] * np.sin(gg)[:, None]  # l's column: P2, P3 ∥ γ
+    mm = np.stack([m[..., 0], along], axis=-1)                                 # (K, 3, 2)
+    rho_l = np.einsum("kij,kj->ki", np.linalg.pinv(mm), -const)
+    return Candidates(th, rho_l[:, 0], rho_l[:, 1] * np.cos(gg), rho_l[:, 1] * np.sin(gg),
+                      _modes(elbow, len(th), 3))
 
 
 def form_c(chain: Chain, nodes, elbow: int = 1) -> Candidates:

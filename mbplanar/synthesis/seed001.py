@@ -76,25 +76,30 @@ def _candidates(chain, nodes, form, fit, theta, gamma) -> Candidates:
     return cand.take(np.flatnonzero(keep))
 
 
-def _crank_sense(phi1) -> int:
-    """+1 if the crank reaches the nodes in order turning counter-clockwise, −1 clockwise, 0 neither."""
-    for s in (1, -1):
-        u = np.mod(s * (phi1 - phi1[0]), 2 * math.pi)
-        if np.all(np.diff(u) > 0):
-            return s
-    return 0
+def _crank_senses(phi1) -> np.ndarray:
+    """Per candidate (rows of node crank angles (D, n)): +1 if the crank reaches the nodes in order
+    turning counter-clockwise, −1 clockwise, 0 neither."""
+    out = np.zeros(len(phi1), int)
+    for s in (-1, 1):
+        u = np.mod(s * (phi1 - phi1[:, :1]), 2 * math.pi)
+        out[np.all(np.diff(u, axis=1) > 0, axis=1)] = s
+    return out
 
 
 def _ranked(chain, target, nodes, cand, phi):
     """Node configurations (with the crank sense per candidate) and the seed's objective Δ1 + Δ2 of
-    every candidate (inf for a candidate whose nodes are on two circuits or out of order)."""
+    every candidate (inf for a candidate whose nodes are on two circuits or out of order, which are not
+    traced at all)."""
     conf = node_configurations(chain, cand, nodes)
     sigma = conf["sigma"]
-    one_circuit = np.all(sigma == sigma[:, :1], axis=1)
-    conf["sense"] = np.array([_crank_sense(p) for p in conf["phi1"]], int)
-    path, ok = guiding_poses(chain, cand, sigma[:, 0], phi)[2:]
-    d1, d2 = seed_objective(target, path, ok)
-    return conf, np.where(one_circuit & (conf["sense"] != 0), d1 + d2, np.inf)
+    conf["sense"] = _crank_senses(conf["phi1"])
+    live = np.flatnonzero(np.all(sigma == sigma[:, :1], axis=1) & (conf["sense"] != 0))
+    score = np.full(len(cand), np.inf)
+    if len(live):
+        path, ok = guiding_poses(chain, cand.take(live), sigma[live, 0], phi)[2:]
+        d1, d2 = seed_objective(target, path, ok)
+        score[live] = d1 + d2
+    return conf, score
 
 
 def _model_text(chain, cand_one: Candidates, sigma, phi1, sense, comment) -> str:
