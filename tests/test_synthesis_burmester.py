@@ -95,3 +95,32 @@ def test_bad_poses_are_clear_errors():
     translated = np.column_stack([POSES[:4, :2], np.zeros(4)])
     with pytest.raises(ModelError, match="pure translations"):
         synthesise_motion(translated)
+
+
+_S = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model("models/slider_crank.toml")), np.radians([10, 60, 110, 160, 210]))
+SA, SB = (_S.xy[:, _S.point(n)] for n in ("A", "B"))
+SLIDER_POSES = np.column_stack([0.5 * (SA + SB), np.arctan2(SB[:, 1] - SA[:, 1], SB[:, 0] - SA[:, 0])])
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 5])
+def test_crank_and_slider_through_the_poses(n):
+    """Poses of the slider-crank's rod: a crank and a slider dyad; 4 and 5 poses find the slider point."""
+    poses = SLIDER_POSES[:n]
+    if n == 2:
+        r = synthesise_motion(poses, circle_points=[SA[0]], centre_points=[[0.001, 0.001]], slider_points=[SB[0]])
+    elif n == 3:
+        other = synthesise_motion(poses, circle_points=[SA[0]], slider_points=[SB[0] + 0.01])
+        _through_poses(other, poses)                                  # another point of the slider circle
+        assert abs(other.dyads[1].direction[1]) > 1e-6
+        r = synthesise_motion(poses, circle_points=[SA[0]], slider_points=[SB[0]])
+    else:
+        r = synthesise_motion(poses, slider_points=[SB[0]])
+        np.testing.assert_allclose(r.dyads[1].point, SB[0], atol=1e-9)
+    assert abs(r.dyads[1].direction[1]) < 1e-9                      # the guide is the x axis
+    _through_poses(r, poses)
+
+
+def test_slider_point_that_is_not_one_is_refused():
+    from mbplanar.synthesis.burmester import slider_dyad
+    with pytest.raises(ModelError, match="not in line"):
+        slider_dyad(SLIDER_POSES[:3], SA[0])

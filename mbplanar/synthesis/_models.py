@@ -13,7 +13,7 @@ import numpy as np
 
 from ..table import parse_model
 
-__all__ = ["model_toml", "read_design", "guiding_slider_toml", "fourbar_toml"]
+__all__ = ["model_toml", "read_design", "guiding_slider_toml", "fourbar_toml", "slider_crank_toml"]
 
 
 def _value(v) -> str:
@@ -92,4 +92,18 @@ def fourbar_toml(a0, a1, b1, b0, points: dict, name: str = "fourbar", title: str
               {"name": "B0", "type": "R", "links": ["0", "3"], "at": _xy(b0)}]
     rows = [{"name": n, "link": "2", "at": _xy(p)} for n, p in points.items()]
     inputs = {"joint": "A0", "name": "phi", "unit": "deg", "zero": float(zero_deg), "sense": int(sense)}
+    return model_toml(name, title, links, joints, rows, inputs, comment)
+
+
+def slider_crank_toml(a0, a1, b1, guide_deg: float, points: dict, name: str = "slider_crank",
+                      title: str = "Synthesised crank and slider", sense: int = 1, comment: str = "") -> str:
+    """A crank 1 (A0–A), a coupler 2 (A–B, with `points`) and a slider 3 at B on the fixed line through
+    B along `guide_deg` (degrees). Coordinates are the drawn pose; the input φ is the crank's direction."""
+    links = [{"name": "1", "angle": ["A0", "A"]}, {"name": "2", "angle": ["A", "B"]}, {"name": "3"}]
+    joints = [{"name": "A0", "type": "R", "links": ["0", "1"], "at": _xy(a0)},
+              {"name": "A", "type": "R", "links": ["1", "2"], "at": _xy(a1)},
+              {"name": "B", "type": "R", "links": ["2", "3"], "at": _xy(b1)},
+              {"name": "Bp", "type": "P", "links": ["0", "3"], "at": _xy(b1), "guide": float(guide_deg)}]
+    rows = [{"name": n, "link": "2", "at": _xy(p)} for n, p in points.items()]
+    inputs = {"joint": "A0", "name": "phi", "unit": "deg", "zero": 0.0, "sense": int(sense)}
     return model_toml(name, title, links, joints, rows, inputs, comment)

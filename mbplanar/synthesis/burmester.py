@@ -26,10 +26,10 @@ import numpy as np
 from ..errors import ModelError
 from ..kinematics import analyse
 from ..solver import Engine
-from ._models import fourbar_toml, read_design
+from ._models import fourbar_toml, read_design, slider_crank_toml
 from .defects import Defects, check_defects
 
-__all__ = ["Dyad", "MotionResult", "positions", "centre_point_curve", "burmester_points",
+__all__ = ["Dyad", "SliderDyad", "slider_points", "slider_dyad", "MotionResult", "positions", "centre_point_curve", "burmester_points",
            "dyad_from_circle_point", "dyad_from_centre_point", "synthesise_motion", "evaluate_fourbar",
            "validate_poses"]
 
@@ -313,6 +313,111 @@ def _nearest_on_curve(poses, hint):
 
 
 @dataclass(frozen=True)
+class SliderDyad:
+    """An RP dyad: the coupler point `point` (at pose 1) slides on the fixed line through it along the
+    unit vector `direction`."""
+
+    point: np.ndarray
+    direction: np.ndarray
+
+
+def _collinearity_circle(poses3):
+    """Centre, squared radius (or None, None) of the points whose positions in the 3 poses are in line:
+    cross(P2 − P1, P3 − P1) = k·|z|² + l·z + c (a circle: the quadratic part of the cross product of
+    two rotation-scaled copies of z is a multiple of |z|²)."""
+    s = _size(poses3)
+
+    def f(z):
+        pts = positions(poses3, to_body(poses3, z))
+        u, v = pts[1] - pts[0], pts[2] - pts[0]
+        return u[0] * v[1] - u[1] * v[0]
+    c = f(np.zeros(2))
+    fx, fmx, fy, fmy = (f(np.array(z)) for z in ([s, 0.0], [-s, 0.0], [0.0, s], [0.0, -s]))
+    k = (fx + fmx - 2 * c) / (2 * s * s)
+    lin = np.array([fx - fmx, fy - fmy]) / (2 * s)
+    if abs(k) * s * s < 1e-12 * (abs(c) + np.hypot(*lin) * s + 1e-300):
+        return None, None
+    centre = -lin / (2 * k)
+    return centre, float(centre @ centre - c / k)
+
+
+def slider_points(poses, hint=None) -> list:
+    """Coupler points (plane, pose 1) whose positions in all the poses lie on one line.
+
+    2 poses: `hint` itself; 3 poses: the point of the circle of such points nearest `hint`; 4 or 5
+    poses: the common points of the circles of poses 123 and 124 (and 125), nearest `hint` first.
+    """
+    poses = validate_poses(poses)
+    n = len(poses)
+    if n == 2:
+        if hint is None:
+            raise ModelError("with 2 poses a slider dyad needs its coupler point (slider_points)")
+        return [np.asarray(hint, float)]
+    centre, r2 = _collinearity_circle(poses[:3])
+    if centre is None or r2 < 0:
+        raise ModelError("the poses have no coupler point whose positions are in line (no slider dyad)")
+    if n == 3:
+        if hint is None:
+            raise ModelError("with 3 poses a slider dyad needs a hint for its coupler point (slider_points)")
+        h = np.asarray(hint, float)
+        d = h - centre
+        dist = np.hypot(*d)
+        return [centre + math.sqrt(r2) * (d / dist if dist > 0 else np.array([1.0, 0.0]))]
+    c2, q2 = _collinearity_circle(poses[[0, 1, 3]])
+    if c2 is None or q2 < 0:
+        raise ModelError("the poses have no coupler point whose positions are in line (no slider dyad)")
+    pts = _circle_intersections(centre, r2, c2, q2)
+    scale = _size(poses)
+    pts = [z for z in pts if _line_residual(poses, z) < 1e-9 * scale]
+    if hint is not None:
+        pts.sort(key=lambda z: np.hypot(*(z - np.asarray(hint, float))))
+    if not pts:
+        raise ModelError(f"no feasible design: the {n} poses have no coupler point whose positions are in line")
+    return pts
+
+
+def _circle_intersections(c1, r1sq, c2, r2sq) -> list:
+    d = c2 - c1
+    dist = np.hypot(*d)
+    if dist < 1e-15:
+        return []
+    a = (r1sq - r2sq + dist * dist) / (2 * dist)
+    h2 = r1sq - a * a
+    if h2 < -1e-12 * r1sq:
+        return []
+    h = math.sqrt(max(h2, 0.0))
+    u = d / dist
+    base = c1 + a * u
+    nrm = np.array([-u[1], u[0]])
+    return [base + h * nrm, base - h * nrm] if h > 0 else [base]
+
+
+def _line_fit(pts):
+    """Unit direction of the best line through points (n, 2) and the largest distance from it."""
+    mean = pts.mean(axis=0)
+    _, _, vt = np.linalg.svd(pts - mean)
+    direction = vt[0]
+    normal = np.array([-direction[1], direction[0]])
+    return direction, float(np.max(np.abs((pts - mean) @ normal)))
+
+
+def _line_residual(poses, z) -> float:
+    return _line_fit(positions(poses, to_body(poses, z)))[1]
+
+
+def slider_dyad(poses, z) -> SliderDyad:
+    """The slider dyad of coupler point z (pose 1): the guide through its positions, which must be in line."""
+    pts = positions(poses, to_body(poses, z))
+    direction, off = _line_fit(pts)
+    if off > 1e-9 * _size(poses):
+        raise ModelError(f"the positions of coupler point {np.asarray(z).tolist()} are not in line "
+                         f"(off by {off:.3g}): not a slider point")
+    if np.ptp(pts @ direction) < 1e-12 * _size(poses):
+        raise ModelError("this slider point does not move between the poses")
+    return SliderDyad(np.asarray(z, float), direction)
+
+
+@dataclass(frozen=True)
 class MotionResult:
     """A four-bar through the poses, checked by mbplanar: `pose_errors` (n,) the coupler reference
     point's distance from each pose, `angle_errors_deg` (n,) the coupler's angle error, both from the
@@ -330,12 +435,14 @@ class MotionResult:
     seconds: float
 
 
-def evaluate_fourbar(poses, d1: Dyad, d2: Dyad, full_turn: bool = False):
-    """Model text, Engine and defects of the four-bar of two dyads (crank = d1), drawn at pose 1."""
+def evaluate_fourbar(poses, d1: Dyad, d2, full_turn: bool = False):
+    """Model text, Engine and defects of the four-bar of two dyads (crank = d1, d2 an RR `Dyad` or a
+    `SliderDyad`), drawn at pose 1."""
     poses = np.asarray(poses, float)
-    size = _size(poses) + np.hypot(*(d1.centre - poses[0, :2])) + np.hypot(*(d2.centre - poses[0, :2]))
+    second = d2.point if isinstance(d2, SliderDyad) else d2.circle
+    size = _size(poses) + np.hypot(*(d1.centre - poses[0, :2])) + np.hypot(*(second - poses[0, :2]))
     a_pts = positions(poses, to_body(poses, d1.circle))
-    b_pts = positions(poses, to_body(poses, d2.circle))
+    b_pts = positions(poses, to_body(poses, second))
     ref = max(size, 1e-9)
     q_body = np.array([ref, 0.0])
     p_pts = poses[:, :2]
@@ -348,10 +455,15 @@ def evaluate_fourbar(poses, d1: Dyad, d2: Dyad, full_turn: bool = False):
             order = s
             break
     sense = order or 1
-    text = fourbar_toml(d1.centre, a_pts[0], b_pts[0], d2.centre, {"P": p_pts[0], "Q": q_pts[0]},
-                        name="motion_generator", title="Motion generator (Burmester)", sense=sense,
-                        comment="Synthesised by mbplanar synth motion. P: the coupler's reference point; "
-                                "Q: a point on its x axis.")
+    comment = "Synthesised by mbplanar synth motion. P: the coupler's reference point; Q: a point on its x axis."
+    if isinstance(d2, SliderDyad):
+        text = slider_crank_toml(d1.centre, a_pts[0], b_pts[0], math.degrees(math.atan2(*d2.direction[::-1])),
+                                 {"P": p_pts[0], "Q": q_pts[0]}, name="motion_generator",
+                                 title="Motion generator (Burmester, crank and slider)", sense=sense, comment=comment)
+    else:
+        text = fourbar_toml(d1.centre, a_pts[0], b_pts[0], d2.centre, {"P": p_pts[0], "Q": q_pts[0]},
+                            name="motion_generator", title="Motion generator (Burmester)", sense=sense,
+                            comment=comment)
     mech = read_design(text)
     engine = Engine(mech)
     defects = check_defects(engine, sense * phi, {"A": a_pts, "B": b_pts, "P": p_pts, "Q": q_pts},
@@ -369,48 +481,43 @@ def _pose_errors(engine, poses, phi):
     return np.hypot(*(p - poses[:, :2]).T), np.degrees(np.abs(np.remainder(ang - poses[:, 2] + math.pi, 2 * math.pi) - math.pi))
 
 
-def synthesise_motion(poses, circle_points=None, centre_points=None, full_turn: bool = False,
-                      curve_samples: int = 181) -> MotionResult:
-    """A defect-free four-bar through 2–5 coupler poses (x, y, θ in rad).
+def synthesise_motion(poses, circle_points=None, centre_points=None, slider_points=None,
+                      full_turn: bool = False, curve_samples: int = 181) -> MotionResult:
+    """A defect-free four-bar (or crank and slider) through 2–5 coupler poses.
 
-    2 poses: two circle points and two centre-point hints; 3 poses: two circle points or two centre
-    points; 4 poses: two centre-point hints (the points of the centre-point curve nearest to them)
-    or none (every pair of sampled curve points is tried, best transmission first);
-    5 poses: every pair of real Burmester points. The crank is the first dyad.
+    Parameters
+    ----------
+    poses : (n, 3) array
+        x, y (m) and angle (rad) of the coupler in each pose, 2 ≤ n ≤ 5, in the order to be met.
+    circle_points, centre_points : (k, 2) arrays, optional
+        The RR dyads' moving pivots at pose 1 (circle points) or fixed pivots (centre points); k = 2
+        for a four-bar, 1 with a slider dyad. 2 poses: circle points plus centre-point hints (projected
+        on the bisectors); 3 poses: either; 4 poses: centre-point hints (the nearest points of the
+        centre-point curve). Without them, 4 poses try pairs of sampled curve points (best
+        transmission first) and 5 poses every pair of real Burmester points.
+    slider_points : (1, 2) array, optional
+        Ask for a crank and a slider: a coupler point whose positions are in line (a hint for 3 poses,
+        the point itself for 2; 4–5 poses find them).
+    full_turn : bool
+        Require a crank that turns fully.
+
+    Returns
+    -------
+    MotionResult
+        The first defect-free design; the crank is the first RR dyad. ModelError when none is found.
     """
     t0 = time.perf_counter()
     poses = validate_poses(poses)
-    n = len(poses)
-    pairs = []
-    if n == 5:
-        pts = burmester_points(poses)
-        if len(pts) < 2:
-            raise ModelError(f"no feasible design: the 5 poses have {len(pts)} real Burmester point(s), a four-bar "
-                             "needs 2")
-        dy = [Dyad(m, z) for m, z in pts]
-        pairs = [(a, b) for a, b in itertools.permutations(dy, 2)]
-    elif circle_points is not None:
-        cps = np.asarray(circle_points, float).reshape(-1, 2)
-        hints = [None, None] if centre_points is None else np.asarray(centre_points, float).reshape(-1, 2)
-        if len(cps) != 2 or len(hints) != 2:
-            raise ModelError("give two circle points (and, for 2 poses, two centre-point hints)")
-        pairs = [(dyad_from_circle_point(poses, cps[0], hints[0]), dyad_from_circle_point(poses, cps[1], hints[1]))]
-    elif centre_points is not None:
-        cs = np.asarray(centre_points, float).reshape(-1, 2)
-        if len(cs) != 2:
-            raise ModelError("give two centre points")
-        pairs = [(dyad_from_centre_point(poses, cs[0]), dyad_from_centre_point(poses, cs[1]))]
-    elif n == 4:
-        pairs = _curve_pairs(poses, curve_samples)
-    else:
-        raise ModelError(f"with {n} poses give two circle points (circle_points) or two centre points")
+    pairs = _pairs(poses, circle_points, centre_points, slider_points, curve_samples)
     alternatives = []
     for d1, d2 in pairs:
-        if np.hypot(*(d1.centre - d2.centre)) < 1e-9 or np.hypot(*(d1.circle - d2.circle)) < 1e-9:
+        second = d2.point if isinstance(d2, SliderDyad) else d2.centre
+        if (not isinstance(d2, SliderDyad) and np.hypot(*(d1.centre - second)) < 1e-9) or \
+                np.hypot(*(d1.circle - (d2.point if isinstance(d2, SliderDyad) else d2.circle))) < 1e-9:
             continue
         text, mech, engine, defects, phi = evaluate_fourbar(poses, d1, d2, full_turn)
         if not defects.ok:
-            alternatives.append({"crank": _dyad_dict(d1), "rocker": _dyad_dict(d2), "defects": defects.describe()})
+            alternatives.append({"crank": _dyad_dict(d1), "second": _dyad_dict(d2), "defects": defects.describe()})
             if len(alternatives) >= 200:
                 break
             continue
@@ -421,7 +528,57 @@ def synthesise_motion(poses, circle_points=None, centre_points=None, full_turn: 
     raise ModelError(f"no feasible design: every four-bar tried ({len(alternatives)}) has a defect, e.g. {why}")
 
 
-def _dyad_dict(d: Dyad) -> dict:
+def _rr_dyads(poses, circle_points, centre_points, count):
+    """The RR dyads the user chose, `count` of them."""
+    if circle_points is not None:
+        cps = np.asarray(circle_points, float).reshape(-1, 2)
+        hints = [None] * len(cps) if centre_points is None else np.asarray(centre_points, float).reshape(-1, 2)
+        if len(cps) != count or len(hints) != count:
+            raise ModelError(f"give {count} circle point(s) (and, for 2 poses, as many centre-point hints)")
+        return [dyad_from_circle_point(poses, z, h) for z, h in zip(cps, hints)]
+    cs = np.asarray(centre_points, float).reshape(-1, 2)
+    if len(cs) != count:
+        raise ModelError(f"give {count} centre point(s)")
+    return [dyad_from_centre_point(poses, m) for m in cs]
+
+
+def _pairs(poses, circle_points, centre_points, slider_hints, curve_samples):
+    """(crank dyad, second dyad) pairs to try, in order."""
+    n = len(poses)
+    chosen = circle_points is not None or centre_points is not None
+    if slider_hints is not None:
+        hints = np.asarray(slider_hints, float).reshape(-1, 2)
+        if len(hints) != 1:
+            raise ModelError("give one slider point")
+        sliders = [slider_dyad(poses, z) for z in slider_points(poses, hints[0])]
+        if chosen:
+            cranks = _rr_dyads(poses, circle_points, centre_points, 1)
+        elif n == 4:
+            curve = centre_point_curve(poses, curve_samples)
+            c, z = curve["centre"].reshape(-1, 2), curve["circle"].reshape(-1, 2)
+            good = np.isfinite(c).all(1) & np.isfinite(z).all(1)
+            cranks = [Dyad(m, q) for m, q in zip(c[good], z[good])]
+        elif n == 5:
+            cranks = [Dyad(m, z) for m, z in burmester_points(poses)]
+        else:
+            raise ModelError(f"with {n} poses give the crank's circle point or centre point")
+        return [(c, s) for s in sliders for c in cranks]
+    if n == 5 and not chosen:
+        pts = burmester_points(poses)
+        if len(pts) < 2:
+            raise ModelError(f"no feasible design: the 5 poses have {len(pts)} real Burmester point(s), a four-bar "
+                             "needs 2")
+        return list(itertools.permutations([Dyad(m, z) for m, z in pts], 2))
+    if chosen:
+        return [tuple(_rr_dyads(poses, circle_points, centre_points, 2))]
+    if n == 4:
+        return _curve_pairs(poses, curve_samples)
+    raise ModelError(f"with {n} poses give two circle points (circle_points) or two centre points")
+
+
+def _dyad_dict(d) -> dict:
+    if isinstance(d, SliderDyad):
+        return {"slider_point": [float(v) for v in d.point], "guide": [float(v) for v in d.direction]}
     return {"centre": [float(v) for v in d.centre], "circle": [float(v) for v in d.circle]}
 
 

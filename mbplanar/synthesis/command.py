@@ -280,7 +280,7 @@ def _plot_function(r, path):
 def _motion(args):
     from .burmester import centre_point_curve, synthesise_motion
     src = args.input
-    circle = centre = None
+    circle = centre = slider = None
     full_turn = args.full_turn
     if str(src).lower().endswith(".csv"):
         rows = _csv_rows(src, 3)
@@ -289,9 +289,10 @@ def _motion(args):
         rows = _pairs(data, "poses", src, 3)
         circle = _pairs(data, "circle_points", src, 2, required=False)
         centre = _pairs(data, "centre_points", src, 2, required=False)
+        slider = _pairs(data, "slider_points", src, 2, required=False)
         full_turn = full_turn or bool(data.get("full_turn", False))
     poses = np.column_stack([rows[:, :2], np.radians(rows[:, 2])])
-    result = synthesise_motion(poses, circle, centre, full_turn)
+    result = synthesise_motion(poses, circle, centre, slider, full_turn)
     summary = summary_motion(result)
     if args.curve:
         if len(poses) != 4:
@@ -310,15 +311,20 @@ def _motion(args):
 
 
 def summary_motion(r) -> dict:
+    from .burmester import SliderDyad
     per, mx, rms = _errors(r.pose_errors)
     d1, d2 = r.dyads
-    return {"problem": "motion", "model": None,
-            "design": {"crank_pivot": d1.centre.tolist(), "crank_joint": d1.circle.tolist(),
-                       "rocker_joint": d2.circle.tolist(), "rocker_pivot": d2.centre.tolist(),
-                       "crank": float(np.hypot(*(d1.circle - d1.centre))),
-                       "coupler": float(np.hypot(*(d2.circle - d1.circle))),
-                       "rocker": float(np.hypot(*(d2.circle - d2.centre))),
-                       "ground": float(np.hypot(*(d2.centre - d1.centre)))},
+    design = {"crank_pivot": d1.centre.tolist(), "crank_joint": d1.circle.tolist(),
+              "crank": float(np.hypot(*(d1.circle - d1.centre)))}
+    if isinstance(d2, SliderDyad):
+        design |= {"slider_joint": d2.point.tolist(), "guide_deg": math.degrees(math.atan2(*d2.direction[::-1])),
+                   "coupler": float(np.hypot(*(d2.point - d1.circle)))}
+    else:
+        design |= {"rocker_joint": d2.circle.tolist(), "rocker_pivot": d2.centre.tolist(),
+                   "coupler": float(np.hypot(*(d2.circle - d1.circle))),
+                   "rocker": float(np.hypot(*(d2.circle - d2.centre))),
+                   "ground": float(np.hypot(*(d2.centre - d1.centre)))}
+    return {"problem": "motion", "model": None, "design": design,
             "poses": [[float(x), float(y), math.degrees(t)] for x, y, t in r.poses],
             "crank_phi_deg": [math.degrees(p) for p in r.crank_phi],
             "error_unit": "m", "errors": per, "max_error": mx, "rms_error": rms,
@@ -345,7 +351,12 @@ def _plot_motion(r, path):
                     arrowprops={"arrowstyle": "->", "color": "C3"})
         ax.text(x, y, f" {k + 1}", color="C3")
     d1, d2 = r.dyads
-    ax.plot(*np.array([d1.centre, d1.circle, d2.circle, d2.centre]).T, "k-o", ms=4, label="four-bar at pose 1")
+    if hasattr(d2, "direction"):
+        ax.plot(*np.array([d1.centre, d1.circle, d2.point]).T, "k-o", ms=4, label="crank and slider at pose 1")
+        ends = d2.point + np.outer([-1.0, 1.0], d2.direction) * 2 * size
+        ax.plot(*ends.T, "k--", lw=0.8)
+    else:
+        ax.plot(*np.array([d1.centre, d1.circle, d2.circle, d2.centre]).T, "k-o", ms=4, label="four-bar at pose 1")
     if len(r.poses) == 4:
         from .burmester import centre_point_curve
         curve = centre_point_curve(r.poses)
