@@ -5,13 +5,17 @@
 * `synthesise_function` / `synthesise_angle_pairs`: four-bar function generation (Freudenstein);
 * `synthesise_motion`: four-bar motion generation through 2–5 poses (Burmester), with
   `centre_point_curve` and `burmester_points`;
-* `check_defects`: circuit, branch and order defects of any design, by mbplanar's engine.
+* `check_defects`: circuit, branch and order defects of any design, by mbplanar's engine;
+* `fourbar_coupler_paths`, `path_errors`: batches of four-bar designs (D, 10) scored at once, the seam
+  for a path-generation search over design batches.
 
 Each result carries the model's TOML text (`toml`), the `Mechanism` read back from it, and errors that
 mbplanar's analysis of that model gives. Nothing below `mbplanar.cli` imports this package.
 """
 
-from .burmester import Dyad, MotionResult, burmester_points, centre_point_curve, synthesise_motion
+from .batch import fourbar_coupler_paths, path_errors
+from .burmester import (Dyad, MotionResult, SliderDyad, burmester_points, centre_point_curve, slider_points,
+                        synthesise_motion)
 from .defects import Defects, check_defects
 from .freudenstein import (FunctionResult, FunctionTask, freudenstein_coefficients, synthesise_angle_pairs,
                            synthesise_function)
@@ -21,4 +25,5 @@ from .seed001 import GuidingResult, synthesise_seed001
 __all__ = ["synthesise_seed001", "GuidingResult", "Chain", "SEED001_CHAIN", "WalkingTarget", "Candidates",
            "chebyshev_nodes", "foot_paths", "synthesise_function", "synthesise_angle_pairs", "FunctionTask",
            "FunctionResult", "freudenstein_coefficients", "synthesise_motion", "MotionResult", "Dyad",
-           "centre_point_curve", "burmester_points", "check_defects", "Defects"]
+           "centre_point_curve", "burmester_points", "SliderDyad", "slider_points", "check_defects", "Defects",
+           "fourbar_coupler_paths", "path_errors"]
