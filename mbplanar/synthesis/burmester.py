@@ -582,16 +582,19 @@ def _dyad_dict(d) -> dict:
     return {"centre": [float(v) for v in d.centre], "circle": [float(v) for v in d.circle]}
 
 
-def _curve_pairs(poses, samples):
+def _curve_pairs(poses, samples, reach: float = 3.0):
     """Dyad pairs from the sampled centre-point curve of 4 poses, pre-screened in closed form (the
     coupler triangle's orientation the same at every pose: one circuit, no fold between), best smallest
-    transmission-angle deviation first."""
+    transmission-angle deviation first. Pivots farther than `reach` times the poses' span from their
+    middle are left out (a designer's frame, not pivots at infinity)."""
     curve = centre_point_curve(poses, samples)
     c = curve["centre"].reshape(-1, 2)
     z = curve["circle"].reshape(-1, 2)
     good = np.isfinite(c).all(1) & np.isfinite(z).all(1)
     scale = _size(poses)
-    good &= np.hypot(*(c - z).T) > 1e-3 * scale
+    middle = poses[:, :2].mean(axis=0)
+    good &= np.hypot(*(c - z).T) > 1e-3 * scale                          # not a pole
+    good &= (np.hypot(*(c - middle).T) < reach * scale) & (np.hypot(*(z - middle).T) < reach * scale)
     c, z = c[good], z[good]
     if len(c) < 2:
         raise ModelError("no feasible design: the centre-point curve has too few real points")

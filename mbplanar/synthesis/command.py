@@ -79,7 +79,7 @@ def _print_text(summary: dict) -> None:
     if "structural_error" in summary:
         se = summary["structural_error"]
         print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
-    print(f"  defects checked: {summary['defects']['checked']} — none")
+    print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
     if summary.get("model"):
         print(f"  model written to {summary['model']}")
 
@@ -357,12 +357,20 @@ def _plot_motion(r, path):
         ax.plot(*ends.T, "k--", lw=0.8)
     else:
         ax.plot(*np.array([d1.centre, d1.circle, d2.circle, d2.centre]).T, "k-o", ms=4, label="four-bar at pose 1")
+    frame = np.vstack([p, r.poses[:, :2], *(np.atleast_2d(v) for d in r.dyads for v in vars(d).values()
+                                            if np.shape(v) == (2,))])
+    lo, hi = frame.min(axis=0), frame.max(axis=0)
+    pad = 0.5 * (hi - lo).max()
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
     if len(r.poses) == 4:
         from .burmester import centre_point_curve
-        curve = centre_point_curve(r.poses)
+        curve = centre_point_curve(r.poses, 7200)
         for b in range(2):
-            ax.plot(*curve["centre"][b].T, "C2.", ms=1)
-            ax.plot(*curve["circle"][b].T, "C1.", ms=1)
+            for key, colour in (("centre", "C2."), ("circle", "C1.")):
+                pts = curve[key][b]
+                inside = np.all((pts >= lo - pad) & (pts <= hi + pad), axis=1)
+                ax.plot(*pts[inside].T, colour, ms=1)
         ax.plot([], [], "C2.", label="centre-point curve")
         ax.plot([], [], "C1.", label="circle-point curve")
     ax.set_title("Motion generator (Burmester)")
@@ -380,7 +388,7 @@ def _pyplot():
 
 
 def _finish(fig, ax, path):
-    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_aspect("equal", adjustable="box" if ax.get_autoscale_on() is False else "datalim")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()

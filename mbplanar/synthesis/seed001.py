@@ -154,6 +154,7 @@ def synthesise_seed001(target: WalkingTarget, chain: Chain = SEED001_CHAIN, form
     phi = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
     cand = _candidates(chain, nodes, form, "lsq" if fit == "minimax" else fit, theta, gamma)
     conf, score = _ranked(chain, target, nodes, cand, phi)
+    scored = len(cand)
     if fit == "minimax":        # the linear programmes only for the best least-squares candidates
         best = [i for i in np.argsort(score, kind="stable")[:4 * max_checks] if np.isfinite(score[i])]
         parts = [form_b(chain, nodes, cand.theta[i:i + 1], cand.elbow[i], "minimax") for i in best]
@@ -161,6 +162,7 @@ def synthesise_seed001(target: WalkingTarget, chain: Chain = SEED001_CHAIN, form
             raise ModelError(f"no feasible design among {len(cand)} least-squares candidates")
         cand = Candidates.join(parts)
         conf, score = _ranked(chain, target, nodes, cand, phi)
+        scored += len(cand)
     sigma = conf["sigma"]
     senses = conf["sense"]
     order = np.argsort(score, kind="stable")
@@ -187,7 +189,7 @@ def synthesise_seed001(target: WalkingTarget, chain: Chain = SEED001_CHAIN, form
         errors = np.hypot(*(motion.xy[:, motion.point("E")] - nodes).T)
         return GuidingResult(_design(one, s), text, mech,
                              target, nodes, np.asarray(defects.node_phi), errors, d1m, d2m, full, defects,
-                             len(cand), checked, rejected, time.perf_counter() - t0)
+                             scored, checked, rejected, time.perf_counter() - t0)
     reason = f"; the best {checked} failed mbplanar's defect check: {rejected[0]['defects']}" if rejected else ""
     raise ModelError(f"no feasible design among {len(cand)} candidates (none turns fully through the nodes "
                      f"on one circuit in order){reason}")
