@@ -124,3 +124,28 @@ def test_slider_point_that_is_not_one_is_refused():
     from mbplanar.synthesis.burmester import slider_dyad
     with pytest.raises(ModelError, match="not in line"):
         slider_dyad(SLIDER_POSES[:3], SA[0])
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from mbplanar.synthesis.burmester import dyad_from_centre_point, dyad_from_circle_point, positions, to_body  # noqa: E402
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.floats(-1.0, 1.0), min_size=9, max_size=9), st.floats(-1.0, 1.0), st.floats(-1.0, 1.0))
+def test_three_pose_dyads_are_equidistant_and_invert(raw, zx, zy):
+    """For any 3 poses and circle point, the centre is equally far from its three positions, and the
+    centre's own circle point is the one we started from."""
+    poses = np.array(raw).reshape(3, 3) * [1.0, 1.0, 2.0]
+    z = np.array([zx, zy])
+    try:
+        d = dyad_from_circle_point(poses, z)
+        back = dyad_from_centre_point(poses, d.centre)
+    except ModelError:
+        return                                        # a degenerate draw (collinear positions, a pole)
+    r = np.hypot(*(positions(poses, to_body(poses, z)) - d.centre).T)
+    if np.max(r) > 1e6:
+        return
+    assert np.ptp(r) <= 1e-9 * max(1.0, np.max(r)) ** 2
+    np.testing.assert_allclose(back.circle, z, atol=1e-7 * max(1.0, np.max(r)) ** 2)

@@ -59,12 +59,14 @@ def test_motion_from_csv_with_curve(tmp_path, capsys):
     (["synth", "function", "missing.toml"], "cannot read"),
     (["synth", "seed001", "far.toml"], "reach"),
     (["synth", "function", "bad.csv"], "row 2"),
+    (["synth", "seed001", "typo.toml"], "unknown key(s) heigth"),
 ])
 def test_bad_input_exits_2_with_a_message(tmp_path, capsys, monkeypatch, argv, message):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "one_pose.csv").write_text("0,0,0\n", encoding="utf-8")
     (tmp_path / "two.csv").write_text("10,20\n30,40\n", encoding="utf-8")
     (tmp_path / "bad.csv").write_text("10,20\n30,x\n", encoding="utf-8")
+    (tmp_path / "typo.toml").write_text("[target]\nheigth = 0.3\n", encoding="utf-8")
     (tmp_path / "far.toml").write_text("[target]\nx_start = 10.0\ny0 = 0.0\n", encoding="utf-8")
     code, out, err = _run(capsys, argv)
     assert code == 2

@@ -160,3 +160,8 @@ def test_bad_options_are_clear_errors():
         synthesise_seed001(TARGET, form="x")
     with pytest.raises(ModelError, match="at least 2"):
         synthesise_seed001(TARGET, support_nodes=1)
+
+
+def test_the_same_input_gives_the_same_model(seed_result):
+    """The method has no randomness: a second run writes the same model to the last digit."""
+    assert synthesise_seed001(TARGET).toml == seed_result.toml

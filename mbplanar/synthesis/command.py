@@ -118,6 +118,16 @@ def _csv_rows(path, columns: int) -> np.ndarray:
     return np.array(rows)
 
 
+def _known(table, keys, where: str) -> dict:
+    """`table` itself after checking it is a table whose keys are all in `keys` (a typo is an error)."""
+    if not isinstance(table, dict):
+        raise ModelError(f"{where} must be a table")
+    unknown = sorted(set(table) - set(keys))
+    if unknown:
+        raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} (known: {', '.join(sorted(keys))})")
+    return table
+
+
 def _number(table: dict, key: str, where: str, default=None):
     value = table.get(key, default)
     if value is None:
@@ -153,14 +163,15 @@ def _seed001(args):
     from .seed001 import synthesise_seed001
     data = _toml(args.input) if args.input else {}
     src = args.input or "<default target>"
-    chain_t = data.get("chain", {})
+    _known(data, ("chain", "target", "method"), src)
+    chain_t = _known(data.get("chain", {}), ("a", "b", "pivot"), f"{src}: [chain]")
     pivot = _pairs({"p": [chain_t.get("pivot", list(SEED001_CHAIN.pivot))]}, "p", f"{src}: [chain] pivot", 2)[0]
     chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a),
                   _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b), (float(pivot[0]), float(pivot[1])))
     if chain.a <= 0 or chain.b <= 0:
         raise ModelError(f"{src}: [chain] a and b must be positive")
-    t = data.get("target", {})
     where = f"{src}: [target]"
+    t = _known(data.get("target", {}), ("x_start", "y0", "length", "height", "direction", "top_x"), where)
     direction = int(_number(t, "direction", where, -1))
     if direction not in (1, -1):
         raise ModelError(f"{where}: 'direction' must be 1 or -1")
@@ -169,7 +180,8 @@ def _seed001(args):
                            _number(t, "length", where, DEFAULT_TARGET["length"]),
                            _number(t, "height", where, DEFAULT_TARGET["height"]), direction,
                            None if "top_x" not in t else _number(t, "top_x", where))
-    method = data.get("method", {})
+    method = _known(data.get("method", {}), ("form", "support_nodes", "spacing", "fit", "k_step_deg",
+                                             "gamma_step_deg"), f"{src}: [method]")
     form = args.form or method.get("form", "b")
     step_k = args.k_step or method.get("k_step_deg", 1.0)
     step_g = args.gamma_step or method.get("gamma_step_deg", 1.0)
@@ -221,11 +233,12 @@ def _function(args):
         rows = _csv_rows(src, 2)
         result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]))
         return summary_function(result, None), result, _plot_function
-    data = _toml(src)
-    f = data.get("function")
+    data = _known(_toml(src), ("function",), src)
     where = f"{src}: [function]"
-    if not isinstance(f, dict):
+    if "function" not in data:
         raise ModelError(f"{src}: a [function] table is required")
+    f = _known(data["function"], ("expression", "x", "phi_deg", "psi_deg", "points", "spacing", "ground",
+                                  "pairs_deg"), where)
     ground = _number(f, "ground", where, 1.0)
     if ground <= 0:
         raise ModelError(f"{where}: 'ground' must be positive")
@@ -285,7 +298,7 @@ def _motion(args):
     if str(src).lower().endswith(".csv"):
         rows = _csv_rows(src, 3)
     else:
-        data = _toml(src)
+        data = _known(_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn"), src)
         rows = _pairs(data, "poses", src, 3)
         circle = _pairs(data, "circle_points", src, 2, required=False)
         centre = _pairs(data, "centre_points", src, 2, required=False)

@@ -75,10 +75,10 @@ class WalkingTarget:
         top point."""
         if support < 2:
             raise ModelError("the support segment needs at least 2 interpolation nodes")
-        lo, hi = self.x_start, self.x_start + self.length
-        x = chebyshev_nodes(support, lo, hi) if spacing == "chebyshev" else np.linspace(lo, hi, support)
         if spacing not in ("chebyshev", "uniform"):
             raise ModelError(f"node spacing must be 'chebyshev' or 'uniform', got {spacing!r}")
+        lo, hi = self.x_start, self.x_start + self.length
+        x = chebyshev_nodes(support, lo, hi) if spacing == "chebyshev" else np.linspace(lo, hi, support)
         x = x[::-1] if self.direction < 0 else x
         return np.vstack([np.column_stack([x, np.full(support, self.y0)]), self.top])
 
