@@ -421,7 +421,8 @@ def slider_dyad(poses, z) -> SliderDyad:
 class MotionResult:
     """A four-bar through the poses, checked by mbplanar: `pose_errors` (n,) the coupler reference
     point's distance from each pose, `angle_errors_deg` (n,) the coupler's angle error, both from the
-    analysed model; `defects`; `alternatives` the other dyad pairs tried (with their defects)."""
+    analysed model; `defects`; `alternatives` the other dyad pairs tried (with their defects);
+    `burmester` every real Burmester point of 5 poses [(centre, circle point at pose 1), ...]."""
 
     dyads: tuple
     toml: str
@@ -433,6 +434,7 @@ class MotionResult:
     defects: Defects
     alternatives: list
     seconds: float
+    burmester: tuple = ()
 
 
 def evaluate_fourbar(poses, d1: Dyad, d2, full_turn: bool = False):
@@ -508,7 +510,9 @@ def synthesise_motion(poses, circle_points=None, centre_points=None, slider_poin
     """
     t0 = time.perf_counter()
     poses = validate_poses(poses)
-    pairs = _pairs(poses, circle_points, centre_points, slider_points, curve_samples)
+    chosen = circle_points is not None or centre_points is not None
+    burmester = tuple(burmester_points(poses)) if len(poses) == 5 and not chosen else ()
+    pairs = _pairs(poses, circle_points, centre_points, slider_points, curve_samples, burmester)
     alternatives = []
     for d1, d2 in pairs:
         second = d2.point if isinstance(d2, SliderDyad) else d2.centre
@@ -523,7 +527,7 @@ def synthesise_motion(poses, circle_points=None, centre_points=None, slider_poin
             continue
         err, aerr = _pose_errors(engine, poses, np.asarray(defects.node_phi))
         return MotionResult((d1, d2), text, mech, poses, np.asarray(defects.node_phi), err, aerr, defects,
-                            alternatives, time.perf_counter() - t0)
+                            alternatives, time.perf_counter() - t0, burmester)
     why = alternatives[0]["defects"] if alternatives else "no dyad pair"
     raise ModelError(f"no feasible design: every four-bar tried ({len(alternatives)}) has a defect, e.g. {why}")
 
@@ -542,7 +546,7 @@ def _rr_dyads(poses, circle_points, centre_points, count):
     return [dyad_from_centre_point(poses, m) for m in cs]
 
 
-def _pairs(poses, circle_points, centre_points, slider_hints, curve_samples):
+def _pairs(poses, circle_points, centre_points, slider_hints, curve_samples, burmester=()):
     """(crank dyad, second dyad) pairs to try, in order."""
     n = len(poses)
     chosen = circle_points is not None or centre_points is not None
@@ -559,12 +563,12 @@ def _pairs(poses, circle_points, centre_points, slider_hints, curve_samples):
             good = np.isfinite(c).all(1) & np.isfinite(z).all(1)
             cranks = [Dyad(m, q) for m, q in zip(c[good], z[good])]
         elif n == 5:
-            cranks = [Dyad(m, z) for m, z in burmester_points(poses)]
+            cranks = [Dyad(m, z) for m, z in burmester]
         else:
             raise ModelError(f"with {n} poses give the crank's circle point or centre point")
         return [(c, s) for s in sliders for c in cranks]
     if n == 5 and not chosen:
-        pts = burmester_points(poses)
+        pts = burmester
         if len(pts) < 2:
             raise ModelError(f"no feasible design: the 5 poses have {len(pts)} real Burmester point(s), a four-bar "
                              "needs 2")

@@ -76,6 +76,8 @@ def _print_text(summary: dict) -> None:
     for key in ("delta1", "delta2", "delta"):
         if key in summary:
             print(f"  {key} = {summary[key]:.6g}")
+    for k, b in enumerate(summary.get("burmester_points", [])):
+        print(f"  Burmester point {k + 1}: centre {b['centre']}, circle point {b['circle']}")
     if "structural_error" in summary:
         se = summary["structural_error"]
         print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
@@ -345,6 +347,7 @@ def summary_motion(r) -> dict:
             "max_angle_error_deg": float(np.max(r.angle_errors_deg)),
             "defects": {"checked": ["circuit", "branch", "order"], **r.defects.as_dict(),
                         "rejected": r.alternatives[:20]},
+            "burmester_points": [{"centre": m.tolist(), "circle": z.tolist()} for m, z in r.burmester],
             "evaluations": len(r.alternatives) + 1, "seconds": r.seconds}
 
 
