@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
-from mbplanar.kinetostatics import kinetostatics
-from mbplanar.loads import evaluate_loads, has_force_data
+from mbplanar.forces import kinetostatics
+from mbplanar.forces import evaluate_loads, has_force_data
 
 pytest.importorskip("numba")
 
@@ -96,8 +96,8 @@ def test_random_mechanisms_same_as_numpy(mech_kind, data):
     _random_mass_and_loads(mech, data.draw, ("1", "2", "3"))
     prismatic = [j.name for j in mech.joints.values() if j.kind == "P"]
     if prismatic:
-        mech.extras["loads"].append({"type": "resistance", "joint": prismatic[0], "force": 300.0,
-                                     "when": data.draw(st.sampled_from(["forward", "backward", "always"]))})
+        mech.add_load("resistance", joint=prismatic[0], force=300.0,
+                      when=data.draw(st.sampled_from(["forward", "backward", "always"])))
     try:
         engine = mbplanar.Engine(mech)
     except mbplanar.MbplanarError:

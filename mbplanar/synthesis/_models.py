@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..table import parse_model
+from ..model import parse_model
 
 __all__ = ["model_toml", "read_design", "guiding_slider_toml", "fourbar_toml", "slider_crank_toml"]
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics import analyse
-from ..solver import Engine
+from ..engine import Engine
 from ._models import fourbar_toml, read_design, slider_crank_toml
 from .defects import Defects, check_defects
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, PlotUnavailable
 
 __all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion"]
 
@@ -91,9 +91,9 @@ def _toml(path) -> dict:
     try:
         return tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except OSError as exc:
-        raise ModelError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise ModelError(f"cannot read ({exc.strerror or exc})", source=str(path)) from None
     except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"{path}: TOML syntax error: {exc}") from None
+        raise ModelError(f"TOML syntax error: {exc}", source=str(path)) from None
 
 
 def _csv_rows(path, columns: int) -> np.ndarray:
@@ -101,7 +101,7 @@ def _csv_rows(path, columns: int) -> np.ndarray:
     try:
         text = Path(path).read_text(encoding="utf-8")
     except OSError as exc:
-        raise ModelError(f"{path}: cannot read ({exc.strerror or exc})") from None
+        raise ModelError(f"cannot read ({exc.strerror or exc})", source=str(path)) from None
     rows = []
     for n, row in enumerate(csv.reader(text.splitlines()), 1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
@@ -111,12 +111,12 @@ def _csv_rows(path, columns: int) -> np.ndarray:
         except ValueError:
             if not rows and n == 1:
                 continue                      # header
-            raise ModelError(f"{path}: row {n}: not numbers: {row}") from None
+            raise ModelError(f"not numbers: {row}", source=str(path), where=f"row {n}") from None
         if len(values) != columns or not all(math.isfinite(v) for v in values):
-            raise ModelError(f"{path}: row {n}: needs {columns} finite numbers, got {row}")
+            raise ModelError(f"needs {columns} finite numbers, got {row}", source=str(path), where=f"row {n}")
         rows.append(values)
     if not rows:
-        raise ModelError(f"{path}: no data rows")
+        raise ModelError("no data rows", source=str(path))
     return np.array(rows)
 
 
@@ -353,7 +353,7 @@ def summary_motion(r) -> dict:
 
 def _plot_motion(r, path):
     from ..kinematics import analyse
-    from ..solver import Engine
+    from ..engine import Engine
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 5.5))
     engine = Engine(r.mechanism)
@@ -399,7 +399,7 @@ def _pyplot():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        raise ModelError("--plot needs matplotlib (pip install 'mbplanar[plot]')") from None
+        raise PlotUnavailable("--plot needs matplotlib (pip install 'mbplanar[plot]')") from None
     return plt
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics import analyse
-from ..solver import Engine
+from ..engine import Engine
 from ._models import fourbar_toml, read_design
 from .defects import Defects, check_defects
 from .guiding import chebyshev_nodes

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics import analyse
-from ..solver import Engine
+from ..engine import Engine
 from ._models import guiding_slider_toml, read_design
 from .defects import Defects, check_defects
 from .guiding import (SEED001_CHAIN, Candidates, Chain, WalkingTarget, form_a, form_b, form_c,
