@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..engine import Engine
 from ..errors import ModelError
 from ..kinematics import analyse
-from ..engine import Engine
 from ._models import fourbar_toml, read_design, slider_crank_toml
 from .defects import Defects, check_defects
 
@@ -255,7 +255,6 @@ def dyad_from_circle_point(poses, z, centre_hint=None) -> Dyad:
         return Dyad(h - ((h - mid) @ t) * t, np.asarray(z, float))
     if len(poses) != 3:
         raise ModelError("a circle point alone fixes a dyad for 2 or 3 poses; for 4 give a centre-point hint")
-    a, rhs = _system(poses, np.zeros(2))
     # |P_j − m|² equal for j = 1..3: linear in m
     lhs = 2 * (pts[1:] - pts[0])
     rhs = (pts[1:] ** 2).sum(-1) - (pts[0] ** 2).sum(-1)

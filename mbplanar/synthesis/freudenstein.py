@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..engine import Engine
 from ..errors import ModelError
 from ..kinematics import analyse
-from ..engine import Engine
 from ._models import fourbar_toml, read_design
 from .defects import Defects, check_defects
 from .guiding import chebyshev_nodes

@@ -29,7 +29,7 @@ so that any search can score designs in bulk.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..engine import Engine
 from ..errors import ModelError
 from ..kinematics import analyse
-from ..engine import Engine
 from ._models import guiding_slider_toml, read_design
 from .defects import Defects, check_defects
 from .guiding import (SEED001_CHAIN, Candidates, Chain, WalkingTarget, form_a, form_b, form_c,
