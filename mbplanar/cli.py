@@ -567,6 +567,11 @@ def _speed_options(s):
                         "on the input link in the force columns")
 
 
+def cmd_synth(args) -> int:
+    from .synthesis.command import run
+    return run(args)
+
+
 def _units_option(s):
     s.add_argument("--units", choices=SYSTEMS, default="si",
                    help="units of the output: si (m, N·m, kg·m²; the default) or model (the table's "
@@ -659,6 +664,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--frames", type=int, default=36, help="frames of the animation in the report")
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
+
+    s = sub.add_parser("synth", help="synthesis: seed 001's guiding mechanism, function and motion generation")
+    from .synthesis.command import add_arguments
+    add_arguments(s)
+    s.set_defaults(func=cmd_synth)
 
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
