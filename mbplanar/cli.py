@@ -17,8 +17,8 @@ import numpy as np
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError
 from .forces._dynamics import true_motion
 from .forces._loads import has_force_data, warn_idle_resistances
-from .io import (dynamics_document, dynamics_table, forces_document, forces_table, info_document, plain,
-                 solve_document, sweep_table, write_csv)
+from .io import dynamics_document, forces_document, info_document, plain, solve_document, write_csv
+from .io._tables import dynamics_table, forces_columns, sweep_table
 from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
                         convert_solution, convert_table, display_units)
 
@@ -208,7 +208,7 @@ def cmd_sweep(args):
         from .forces._kinetostatics import kinetostatics
         warn_idle_resistances(engine, motion)
         result = kinetostatics(engine, motion, inertia or 0.0)
-        (f_header, f_rows), forces_failed = forces_table(result), (None if result.success else result.message)
+        (f_header, f_rows), forces_failed = forces_columns(engine, result), (None if result.success else result.message)
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
     write_csv(args.output, *convert_table(header, rows, display_units(engine.mech, args.units)))
     if motion.crossings:
@@ -396,6 +396,12 @@ def cmd_check(args):
     return 0
 
 
+# -- cam --------------------------------------------------------------------------------------------
+def cmd_cam(args):
+    from .cam.present import run_command
+    return run_command(args)
+
+
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One line; an error raised without a `source` (an argument's) is located at the model file."""
@@ -412,6 +418,11 @@ def _speed_options(s):
     s.add_argument("--true-motion", action="store_true",
                    help="ω(φ), ε(φ) from the machine dynamics (models with [dynamics]); in a sweep also J_I "
                         "on the input link in the force columns")
+
+
+def cmd_synth(args) -> int:
+    from .synthesis.command import run
+    return run(args)
 
 
 def _units_option(s):
@@ -507,11 +518,22 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
+    s = sub.add_parser("synth", help="synthesis: seed 001's guiding mechanism, function and motion generation")
+    from .synthesis.command import add_arguments
+    add_arguments(s)
+    s.set_defaults(func=cmd_synth)
+
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_check)
+
+    from .cam import present as cam_present
+    s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
+    cam_present.add_arguments(s)
+    s.set_defaults(func=cmd_cam)
+    cam_present.register()
     return p
 
 

@@ -11,7 +11,7 @@ import pytest
 
 import mbplanar
 from mbplanar.cli import main
-from mbplanar.io import document, forces_table, info_document, solve_document, sweep_table, table
+from mbplanar.io import document, forces_columns, info_document, solve_document, sweep_table, table
 
 MODELS = pathlib.Path(__file__).resolve().parent.parent / "models"
 
@@ -42,10 +42,10 @@ def test_table_of_a_motion_and_of_its_forces_are_the_sweep_columns(shaper, tmp_p
     values = np.linspace(0.0, 360.0, 13)
     motion = mbplanar.analyse(shaper, inp.to_si(values), omega=1.0, epsilon=0.0)  # the CLI's default
     header, cols = table(motion)
-    assert (header, cols.tolist()) == (sweep_table(shaper, motion, "deg")[0], sweep_table(shaper, motion)[1].tolist())
+    assert (header, cols.tolist()) == (sweep_table(shaper, motion, "deg")[0], sweep_table(shaper, motion, "deg")[1].tolist())
     result = mbplanar.kinetostatics(shaper, motion)
     f_header, f_cols = table(result)
-    assert f_header == forces_table(result)[0] and f_header[-1] == "virtual_power_residual"
+    assert f_header == forces_columns(shaper, result)[0] and f_header[-1] == "virtual_power_residual"
     assert f_cols.shape == (len(motion.phi), len(f_header))
     out = tmp_path / "sweep.csv"
     assert main(["sweep", str(MODELS / "shaper.toml"), "--steps", "12", "--forces", "yes", "-o", str(out)]) == 0

@@ -95,6 +95,16 @@ class Kinetostatics:
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]
 
+    def to_frame(self):
+        """A pandas DataFrame, one row per position: the input, then the force columns of `mbplanar sweep`
+        (``A.fx[N]``, ``O.balancing[N*m]``, ``virtual_power_residual``). Needs pandas."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
+
 
 # -- kinematics of the link frames ------------------------------------------------------------------
 def _real_frames(engine, motion, links=slice(None)):

@@ -16,15 +16,16 @@ import sys
 
 import numpy as np
 
-from ..analysis import CheckReport, pressure_angles, transmission_angles
+from ..analysis import CheckReport
 from ..engine import Engine
 from ..forces import Dynamics, Kinetostatics
 from ..kinematics import Motion
+from ._tables import dynamics_table, forces_columns, sweep_table
 from ._units import (convert_check, convert_dynamics, convert_forces, convert_info, convert_solution,
                      convert_table, display_units)
 
 __all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_document", "forces_document",
-           "dynamics_document", "sweep_table", "forces_table", "dynamics_table"]
+           "dynamics_document"]
 
 
 @functools.singledispatch
@@ -87,7 +88,8 @@ def _(result: Motion, angle_unit: str = "deg", units: str | None = None):
 
 @table.register
 def _(result: Kinetostatics, units: str | None = None):
-    return _table_in_units(*forces_table(result), result.motion.engine.mech, units)
+    engine = result.motion.engine
+    return _table_in_units(*forces_columns(engine, result), engine.mech, units)
 
 
 @table.register
@@ -191,58 +193,7 @@ def solve_document(engine, motion: Motion, row: int = 0, values=None) -> dict:
     return plain(doc)
 
 
-def sweep_table(engine, motion: Motion, angle_unit: str = "deg"):
-    """Header (quantity[unit]) and columns (B, k) of a sweep (`mbplanar sweep`): the input, every link,
-    point and joint, the transmission and pressure angles; angles in `angle_unit` ("deg" or "rad")."""
-    inp = engine.inputs[0]
-    to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
-    au = "deg" if angle_unit == "deg" else "rad"
-    header = [f"{inp.name}[{inp.unit}]"]
-    cols = [inp.from_si(motion.phi[:, 0])]
-    for k, name in enumerate(motion.link_names[1:], start=1):
-        header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
-        cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
-    for k, name in enumerate(motion.point_names):
-        header += [f"{name}.{q}" for q in ("x[m]", "y[m]", "vx[m/s]", "vy[m/s]", "ax[m/s^2]", "ay[m/s^2]")]
-        cols += [motion.xy[:, k, 0], motion.xy[:, k, 1], motion.v[:, k, 0], motion.v[:, k, 1],
-                 motion.a[:, k, 0], motion.a[:, k, 1]]
-    for k, name in enumerate(motion.joint_names):
-        if engine.mech.joints[name].kind == "R":
-            header += [f"{name}.value[{au}]", f"{name}.rate[rad/s]", f"{name}.accel[rad/s^2]"]
-            cols += [to_angle(motion.value[:, k]), motion.rate[:, k], motion.accel[:, k]]
-        else:
-            header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
-            cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
-    header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    labels, angles = pressure_angles(engine, motion)              # slider S driven by rod A-B: S.A-B
-    header += [f"pressure.{s}.{a}-{b}[{au}]" if a != b else f"pressure.{s}.normal-{a}[{au}]" for a, b, s in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    return header, np.column_stack(cols) if cols else np.zeros((0, 0))
-
-
 # -- forces ------------------------------------------------------------------------------------------
-def forces_table(result: Kinetostatics):
-    """Header (quantity[unit]) and columns (B, k) of the reactions, balancing loads and virtual-power
-    residual of a kinetostatic result (the force columns of `mbplanar sweep`)."""
-    engine = result.motion.engine
-    header, cols = [], []
-    for name, r in result.reactions.items():
-        header += [f"{name}.fx[N]", f"{name}.fy[N]"]
-        cols += [r.fx, r.fy]
-        if engine.mech.joints[name].kind == "P":
-            header.append(f"{name}.moment[N*m]")
-            cols.append(r.moment)
-    for name, q in result.balancing.items():
-        unit = "N*m" if engine.mech.joints[name].kind == "R" else "N"
-        header.append(f"{name}.balancing[{unit}]")
-        cols.append(q)
-    header.append("virtual_power_residual")
-    cols.append(result.virtual_power_residual)
-    return header, np.column_stack(cols)
-
-
 def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0, values=None) -> dict:
     """One position of a kinetostatic result as `mbplanar forces --json` prints it."""
     reactions = {}
@@ -296,16 +247,3 @@ def dynamics_document(engine, dyn, at=None) -> dict:
                      for k, p in enumerate(state["phi"])]
     return plain(doc)
 
-
-def dynamics_table(dyn):
-    """Header and columns (N, k) of the cycle table: φ, J_II, dJ_II, M_red per load and in total, A_c,
-    A_total, T_II, ΔT_I, ω, ε (energy–mass method) and the simulated ω, ε."""
-    red = dyn.reduced
-    header = ["phi[rad]", "J_II[kg*m2]", "dJ_II[kg*m2]"] + [f"M_red.{n}[N*m]" for n in red.moments] + \
-        ["M_red[N*m]", "A_c[J]", "A_total[J]", "T_II[J]", "dT_I[J]", "omega[rad/s]", "epsilon[rad/s2]"]
-    cols = [dyn.phi, dyn.J_II, dyn.dJ_II, *red.moments.values(), dyn.M_red, dyn.A_c, dyn.A_total,
-            dyn.T_II, dyn.dT_I, dyn.omega, dyn.epsilon]
-    if dyn.simulation is not None:
-        header += ["omega_sim[rad/s]", "epsilon_sim[rad/s2]"]
-        cols += [dyn.simulation.omega, dyn.simulation.epsilon]
-    return header, np.column_stack(cols)
