@@ -317,7 +317,7 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest.
 
     Raises `ModelError` for input values that are not finite, and for a speed `omega` or acceleration
-    `epsilon` that is not finite or beyond |ω| ≤ 1e100, |ε| ≤ 1e200 (their squares and products must
+    `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``, ``|ε| ≤ 1e200`` (their squares and products must
     stay finite).
     """
     phi = np.asarray(phi, float)
