@@ -680,6 +680,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("model")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
+
+    from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
+    add_study_parser(sub)
     return p
 
 

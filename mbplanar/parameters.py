@@ -99,6 +99,7 @@ class Template:
 
     def __init__(self, data: dict, source: str = "<table>"):
         self.source = source
+        self.raw = data
         self.data, self.parameters = split_parameters(data, source)
         for key in ("links", "joints", "points"):  # [links.1] style tables as rows with a name
             if isinstance(self.data.get(key), dict):

@@ -1,0 +1,17 @@
+"""Design studies: a model's dimensions as named parameters, variant tables, per-design summaries,
+and the same study on every core or on a Dask cluster.
+
+    >>> from mbplanar.study import run_study
+    >>> study = run_study("models/crank_slider_rocker.toml", "models/crank_slider_rocker_variants.csv")
+    >>> [d.full_turn for d in study.designs][:8]
+    [False, False, False, True, False, True, True, True]
+"""
+
+from ..parameters import Parameter, Template
+from .dimensions import with_dimensions
+from .run import Study, load_template, run_study
+from .summary import DesignSummary, summarise
+from .variants import Variants, read_variants, variants_from
+
+__all__ = ["Parameter", "Template", "with_dimensions", "Study", "run_study", "load_template",
+           "DesignSummary", "summarise", "Variants", "read_variants", "variants_from"]
