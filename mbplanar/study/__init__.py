@@ -8,10 +8,11 @@ and the same study on every core or on a Dask cluster.
 """
 
 from ..parameters import Parameter, Template
+from .batch import DesignBatch, DesignLimit, DesignMotion, design_batch
 from .dimensions import with_dimensions
 from .run import Study, load_template, run_study
 from .summary import DesignSummary, summarise
 from .variants import Variants, read_variants, variants_from
 
-__all__ = ["Parameter", "Template", "with_dimensions", "Study", "run_study", "load_template",
+__all__ = ["Parameter", "Template", "with_dimensions", "DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "Study", "run_study", "load_template",
            "DesignSummary", "summarise", "Variants", "read_variants", "variants_from"]
