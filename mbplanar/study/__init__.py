@@ -10,9 +10,9 @@ and the same study on every core or on a Dask cluster.
 from ..parameters import Parameter, Template
 from .batch import DesignBatch, DesignLimit, DesignMotion, design_batch
 from .dimensions import with_dimensions
-from .run import Study, load_template, run_study
+from .run import Study, join_motions, load_template, run_study, solve_designs
 from .summary import DesignSummary, summarise
 from .variants import Variants, read_variants, variants_from
 
-__all__ = ["Parameter", "Template", "with_dimensions", "DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "Study", "run_study", "load_template",
+__all__ = ["Parameter", "Template", "with_dimensions", "DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "Study", "run_study", "solve_designs", "join_motions", "load_template",
            "DesignSummary", "summarise", "Variants", "read_variants", "variants_from"]

@@ -35,6 +35,8 @@ from .geometry import DesignGeometry, mechanism_of
 
 __all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch"]
 
+CHUNK = 25_000  # (design, position) pairs corrected at once
+
 
 @dataclass
 class DesignLimit:
@@ -92,18 +94,18 @@ class _Nodes:
         self.parts = []
         self.blocks = blocks
 
-    def add(self, design, phi, q, qd, qdd, signs):
-        self.parts.append((design, phi, q, qd, qdd, signs))
+    def add(self, design, phi, q, qd, qdd, dets):
+        self.parts.append((design, phi, q, qd, qdd, dets))
 
     def arrays(self):
-        """Sorted by (design, φ): design (K,), φ (K,), per block (q, qd, qdd) (m, K), signs (K, n_b)."""
+        """Sorted by (design, φ): design (K,), φ (K,), per block (q, qd, qdd) (m, K), dets (K, n_b)."""
         design = np.concatenate([p[0] for p in self.parts])
         phi = np.concatenate([p[1] for p in self.parts])
         order = np.lexsort((phi, design))
         per_block = [tuple(np.concatenate([p[i][b] for p in self.parts], axis=1)[:, order] for i in (2, 3, 4))
                      for b in range(self.blocks)]
-        signs = np.concatenate([p[5] for p in self.parts])[order]
-        return design[order], phi[order], per_block, signs
+        dets = np.concatenate([p[5] for p in self.parts])[order]
+        return design[order], phi[order], per_block, dets
 
 
 class DesignBatch:
@@ -128,6 +130,8 @@ class DesignBatch:
         self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
         self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
         self._engines = {}
+        self.nodes = None
+        self.motion = None
 
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray):
@@ -155,6 +159,32 @@ class DesignBatch:
         if design not in self._engines:
             self._engines[design] = with_dimensions(self.engine, mechanism_of(self.engine.mech, self.geometry, design))
         return self._engines[design]
+
+    def seeded_engine(self, design: int):
+        """Design `design`'s own engine with the branch atlas its march built (the nodes, densified as
+        the engine does, and the located limits), so that `check` and `analyse` on it walk no further
+        than the batch did. Call after `solve` (with exact limits); a design the batch left to its own
+        engine gets that engine as it is."""
+        eng = self.engine_of(design)
+        if eng._atlas is not None or self.nodes is None:
+            return eng
+        d, phi, per_block, dets = self.nodes
+        rows = np.flatnonzero(d == design)
+        limits = self.motion.limits_of(design)
+        if not len(rows) or any(lim.limit is None for lim in limits) or self.scale != 1.0:
+            return eng
+        one = np.ones(1)
+        atlas = _solver._Atlas.__new__(_solver._Atlas)
+        atlas.engine, atlas.crossings, atlas._arrays = eng, [], None
+        atlas.nodes = [_solver._Node(phi[i:i + 1].copy(), one, [b[0][:, i].copy() for b in per_block],
+                                     [b[1][:, i].copy() for b in per_block], [b[2][:, i].copy() for b in per_block],
+                                     dets[i].copy()) for i in rows]
+        atlas.limits = {+1: None, -1: None}
+        for lim in limits:
+            atlas.limits[lim.direction] = lim.limit
+        atlas._densify()
+        eng._atlas = atlas
+        return eng
 
     # -- 1. the march -----------------------------------------------------------------------------------
     def _solve_nodes(self, designs, phi, guesses, rate):
@@ -230,7 +260,7 @@ class DesignBatch:
                 h[acc] = np.where(grow, np.minimum(h_try[ok] * 1.6, S.H_MAX), h[acc])
                 nodes.add(designs[acc], phi[ok], [st.q[:, ok] for st in sol.blocks],
                           [st.qd[:, ok] / (direction * self.scale) for st in sol.blocks],
-                          [st.qdd[:, ok] / self.scale ** 2 for st in sol.blocks], np.sign(new_dets[ok]))
+                          [st.qdd[:, ok] / self.scale ** 2 for st in sol.blocks], new_dets[ok])
             for k in np.flatnonzero(cross):
                 d = designs[a[k]]
                 self.reasons[d] = self.reasons[d] or "passes a change point (the batch leaves it to its own engine)"
@@ -282,7 +312,7 @@ class DesignBatch:
             dets = dets[good]
             if len(designs):
                 nodes.add(designs, self.geometry.phi0[designs], [st.q for st in origin.blocks],
-                          [st.qd for st in origin.blocks], [st.qdd for st in origin.blocks], np.sign(dets))
+                          [st.qd for st in origin.blocks], [st.qdd for st in origin.blocks], dets)
                 for direction in (+1, -1):
                     lo, hi = phi[designs].min(axis=1), phi[designs].max(axis=1)
                     target = hi if direction > 0 else lo
@@ -290,12 +320,14 @@ class DesignBatch:
                     if side.any():
                         self._march(designs[side], _take_solution(origin, side), dets[side], target[side],
                                     direction, nodes, limits)
+        self.nodes = nodes.arrays() if nodes.parts else None
         motion = self._positions(phi, nodes, designs)
         motion.limits = self._limits(limits, exact_limits)
         self._past_limits(motion)
         if fallback:
             self._fall_back(motion, phi)
         motion.ok = np.array([r is None for r in self.reasons], bool)
+        self.motion = motion
         motion.reasons = [None if motion.ok[d] else self.reasons[d] for d in range(D)]
         return motion
 
@@ -312,56 +344,66 @@ class DesignBatch:
             return out
         rows = np.repeat(designs, N)
         x = phi[designs].reshape(-1)
-        guesses, inside, node_signs = _interpolate(nodes.arrays(), rows, x)
-        eng = self.bound(rows)
-        with np.errstate(all="ignore"):
-            sol = eng._solve_batch(x[:, None], guesses)
-            good = sol.valid & inside & np.all(eng.signs(sol) == node_signs, axis=1)
-            for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
-                if bp.m:
-                    good &= np.max(np.abs(st.q - gk) * bp.var_scale[:, None], axis=0) <= _solver.MAX_CORRECTION
-            eng.rates(sol, np.ones((len(x), 1)), np.zeros((len(x), 1)))
-        doubtful = inside & ~good
-        for d in np.unique(rows[doubtful]):
-            self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
-        self._fill(out, designs, N, eng, sol, good)
+        arrays = self.nodes
+        step = max(N, CHUNK // N * N)  # whole designs per chunk: the working arrays stay in cache
+        for start in range(0, len(x), step):
+            part = slice(start, start + step)
+            self._correct(out, arrays, rows[part], x[part], N)
         out.ok[designs] = True
         return out
 
-    def _fill(self, out: DesignMotion, designs, N, eng, sol, good):
-        """Copy the solved link states and the points into the (D, N, ...) arrays."""
+    def _correct(self, out: DesignMotion, arrays, rows, x, N):
+        """Correct one chunk of (design, position) pairs (whole designs) and copy it into `out`; pairs
+        outside their design's march (past a limit) are left out of the Newton batch."""
+        guesses, inside, node_signs = _interpolate(arrays, rows, x)
+        take = np.flatnonzero(inside)
+        good = np.zeros(len(x), bool)
+        if not len(take):
+            return
+        eng = self.bound(rows[take])
+        with np.errstate(all="ignore"):
+            sol = eng._solve_batch(x[take, None], [g[:, take] for g in guesses])
+            ok = sol.valid & np.all(eng.signs(sol) == node_signs[take], axis=1)
+            for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
+                if bp.m:
+                    ok &= np.max(np.abs(st.q - gk[:, take]) * bp.var_scale[:, None], axis=0) <= _solver.MAX_CORRECTION
+            eng.rates(sol, np.ones((len(take), 1)), np.zeros((len(take), 1)))
+        good[take] = ok
+        for d in np.unique(rows[take[~ok]]):
+            self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
+        self._fill(out, rows, take, eng, sol, good)
+
+    def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
+        """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
         pose, links = sol.pose, eng.links
-        th = np.stack([pose.th[n] for n in links])  # (L, B)
+        th = np.stack([pose.th[n] for n in links])  # (L, T)
         c, s = np.cos(th), np.sin(th)
-        r = np.stack([pose.r[n] for n in links], axis=1)  # (2, L, B)
-        reference = np.stack([self.geometry.reference[n][np.repeat(designs, N)] for n in links])
-        wq, eqq = sol.w.T, sol.e.T  # (L, B)
-        vf = np.transpose(sol.v, (2, 1, 0))
-        af = np.transpose(sol.a, (2, 1, 0))
-        rows = np.repeat(designs, N)
-        at = np.stack([self.geometry.at[n][:, rows] for n in self.points], axis=1)  # (2, P, B)
+        r = np.stack([pose.r[n] for n in links], axis=1)  # (2, L, T)
+        where = rows[take]
+        reference = np.stack([self.geometry.reference[n][where] for n in links])
+        wq, eqq = sol.w.T, sol.e.T  # (L, T)
+        vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
+        at = np.stack([self.geometry.at[n][:, where] for n in self.points], axis=1)  # (2, P, T)
         li = np.array(self.point_link)
         cp, sp = c[li], s[li]
         rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
         w, e = wq[li], eqq[li]
+        turned = np.stack([-rho[1], rho[0]])
         xy = r[:, li] + rho
-        vq = vf[:, li] + w * np.stack([-rho[1], rho[0]])
-        aq = af[:, li] + e * np.stack([-rho[1], rho[0]]) - (w * w) * rho
-        mask = good.reshape(len(designs), N)
-        shape = (len(designs), N)
-
-        def put(target, value):  # value (..., B) → target[designs] (n, N, ...)
-            v = np.moveaxis(value, -1, 0).reshape(shape + value.shape[:-1])
-            v = np.where(mask.reshape(shape + (1,) * (v.ndim - 2)), v, np.nan)
-            target[designs] = v
-
-        put(out.angle, th + reference)
-        put(out.wq, wq)
-        put(out.eq, eqq)
-        put(out.xy, np.moveaxis(xy, 0, -2))
-        put(out.vq, np.moveaxis(vq, 0, -2))
-        put(out.aq, np.moveaxis(aq, 0, -2))
-        out.valid[designs] = mask
+        vq = vf[:, li] + w * turned
+        aq = af[:, li] + e * turned - (w * w) * rho
+        d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
+        ok = good[take]
+        out.valid[d_idx, n_idx] = ok
+        bad = ~ok
+        for target, value in ((out.angle, th + reference), (out.wq, wq), (out.eq, eqq)):
+            v = value.T.copy()
+            v[bad] = np.nan
+            target[d_idx, n_idx] = v
+        for target, value in ((out.xy, xy), (out.vq, vq), (out.aq, aq)):
+            v = np.moveaxis(value, 0, -1).transpose(1, 0, 2).copy()  # (T, P, 2)
+            v[bad] = np.nan
+            target[d_idx, n_idx] = v
 
     def _limits(self, found, exact: bool) -> list:
         """The motion limits the march met, located by the engine's fold Newton when `exact`."""
@@ -423,7 +465,7 @@ def _interpolate(arrays, rows, x):
     """Guesses (per block (m, B)) for designs `rows` (B,) at x (B,) from their nodes: the quintic
     Hermite interpolant between the two nodes around x. Also whether x lies within the design's nodes
     and the signs of the node below it."""
-    design, phi, per_block, signs = arrays
+    design, phi, per_block, dets = arrays
     first = np.searchsorted(design, rows, "left")
     last = np.searchsorted(design, rows, "right") - 1
     lo_phi, hi_phi = phi[first], phi[np.maximum(last, first)]
@@ -447,7 +489,7 @@ def _interpolate(arrays, rows, x):
             inner = inner * t + coef[k]
         guesses.append(inner)
     near = np.where(np.abs(x - phi[lo]) <= np.abs(x - phi[hi]), lo, hi)
-    return guesses, inside, signs[near]
+    return guesses, inside, np.sign(dets[near])
 
 
 def design_batch(model, variants, engine=None) -> DesignBatch:

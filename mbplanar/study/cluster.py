@@ -56,14 +56,19 @@ def run_on_client(client, func, data, source, parts, args, progress=None) -> lis
     shared = client.scatter(data, broadcast=True)
     futures = [client.submit(func, shared, source, part, *args, pure=False) for part in parts]
     order = {f.key: k for k, f in enumerate(futures)}
-    results, done, total = [None] * len(parts), 0, sum(len(p) for p in parts)
+    results, done, total = [None] * len(parts), 0, sum(_size(p) for p in parts)
     for future in distributed.as_completed(futures):
         k = order[future.key]
         results[k] = future.result()
-        done += len(parts[k])
+        done += _size(parts[k])
         if progress is not None:
             progress(done, total)
     return results
+
+
+def _size(part) -> int:
+    """Designs in a task's part (a Variants, or a (Variants, φ) pair)."""
+    return len(part[0]) if isinstance(part, tuple) else len(part)
 
 
 def progress_bar(total: int):

@@ -70,19 +70,20 @@ def _exact(template: Template, mech, values: dict, count: int):
           for name in mech.joints}
     guides = template.guides(values)
     rows = {str(r.get("name")): (i, r) for i, r in enumerate(template.data.get("points", []))}
-    for name, p in mech.points.items():
+    for name in mech.points:
         i, row = rows[name]
         if row.get("at") is not None:
             xy = [template._value(x, "length", values, f"points[{i}] at") for x in row["at"]]
             at[name] = np.stack([_full(xy[0], count), _full(xy[1], count)]) * unit
-    for name, p in mech.points.items():  # built on the exact coordinates, after those given by `at`
-        if p.along is not None:
-            i, row = rows[name]
+    for name in mech.points:  # built on the exact coordinates, after those given by `at`
+        i, row = rows[name]
+        if row.get("along") is not None:
+            along = [str(n) for n in row["along"]]
             get = lambda key: (None if row.get(key) is None else  # noqa: E731
                                _full(template._value(row[key], "plain" if key == "fraction" else "length",
                                                      values, f"points[{i}] {key}"), count))
             dist, off = get("distance"), get("offset")
-            xy = _construct_along(at[p.along[0]], at[p.along[1]], get("fraction"),
+            xy = _construct_along(at[along[0]], at[along[1]], get("fraction"),
                                   None if dist is None else dist * unit, 0.0 if off is None else off * unit)
             at[name] = np.stack(xy)
     guide = {}
