@@ -79,8 +79,9 @@ def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: i
     """
     template = Template(data, source)
     base = _base_engine(template)
+    values = [{**template.defaults(), **variants.row(k)} for k in range(len(variants))]
     if method == "serial" or base.mech.joints[base.inputs[0].joint].kind != "R":
-        return [summarise_design(base, template, variants.names[k], variants.row(k), points, samples, forces)
+        return [summarise_design(base, template, variants.names[k], values[k], points, samples, forces)
                 for k in range(len(variants))]
     from .batch import DesignBatch
     from .geometry import design_geometry
@@ -91,14 +92,14 @@ def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: i
         batch.solve(np.stack([phi0 - FULL_TURN, phi0 + FULL_TURN], axis=1))
     out = []
     for k in range(len(variants)):
-        name, values = variants.names[k], variants.row(k)
+        name = variants.names[k]
         if batch.reasons[k] is not None:
-            out.append(failed_design(name, values, batch.reasons[k]))
+            out.append(failed_design(name, values[k], batch.reasons[k]))
             continue
         try:
-            out.append(summarise(batch.seeded_engine(k), name, values, points, samples, forces))
+            out.append(summarise(batch.seeded_engine(k), name, values[k], points, samples, forces))
         except MbplanarError as exc:
-            out.append(failed_design(name, values, str(exc)))
+            out.append(failed_design(name, values[k], str(exc)))
     return out
 
 
