@@ -7,7 +7,7 @@ import pytest
 
 import mbplanar
 from mbplanar.errors import ModelError
-from mbplanar.parameters import Template
+from mbplanar.model._parameters import Template
 
 BASE = """
 name = "p"

@@ -27,8 +27,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import solver as _solver
-from ..constraints import perp
+from ..engine._atlas import Atlas
+from ..engine._blocks import BlockSolver
+from ..engine._constraints import perp
+from ..engine._nodes import HERMITE5, Node
+from ..engine._singular import limit_after
 from ..kinematics import analyse
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
@@ -134,30 +137,26 @@ class DesignBatch:
         self.motion = None
 
     # -- engines over batches of designs --------------------------------------------------------------
-    def bound(self, index: np.ndarray):
-        """A copy of the engine whose joint laws hold the constants of designs `index` (B,), one per
-        batch element: its Newton and rate passes then solve batches of exactly those designs."""
+    def bound(self, index: np.ndarray) -> BlockSolver:
+        """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
+        per batch element: its Newton and rate passes then solve batches of exactly those designs."""
         base, g = self.engine, self.geometry
-        eng = copy.copy(base)
-        for key in [k for k in eng.__dict__ if k.startswith("_")]:
-            del eng.__dict__[key]
-        eng._atlas = None
-        eng.laws = {}
+        laws = {}
         for name, j in base.mech.joints.items():
             law = copy.copy(base.laws[name])
             law.s0 = g.at[name][:, index]
             if j.kind == "P":
                 law.u0 = g.guide[name][:, index]
                 law.n0 = perp(law.u0)
-            eng.laws[name] = law
-        eng.phi_drawn = g.phi0[index][:, None]
-        eng.blocks = [eng._plan(block) for block in eng.topology.blocks]
-        return eng
+            laws[name] = law
+        return BlockSolver(base.mech, laws, base.topology.blocks, base.links, base.size, g.phi0[index][:, None],
+                           base.tol)
 
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
         if design not in self._engines:
-            self._engines[design] = with_dimensions(self.engine, mechanism_of(self.engine.mech, self.geometry, design))
+            mech = mechanism_of(self.engine.mech, self.geometry, design)
+            self._engines[design] = with_dimensions(self.engine, mech)
         return self._engines[design]
 
     def seeded_engine(self, design: int):
@@ -174,9 +173,9 @@ class DesignBatch:
         if not len(rows) or any(lim.limit is None for lim in limits) or self.scale != 1.0:
             return eng
         one = np.ones(1)
-        atlas = _solver._Atlas.__new__(_solver._Atlas)
-        atlas.engine, atlas.crossings, atlas._arrays = eng, [], None
-        atlas.nodes = [_solver._Node(phi[i:i + 1].copy(), one, [b[0][:, i].copy() for b in per_block],
+        atlas = Atlas.__new__(Atlas)
+        atlas.solver, atlas.crossings, atlas._arrays = eng.solver, [], None
+        atlas.nodes = [Node(phi[i:i + 1].copy(), one, [b[0][:, i].copy() for b in per_block],
                                      [b[1][:, i].copy() for b in per_block], [b[2][:, i].copy() for b in per_block],
                                      dets[i].copy()) for i in rows]
         atlas.limits = {+1: None, -1: None}
@@ -191,7 +190,7 @@ class DesignBatch:
         """Solve designs (B,) at φ (B,) from guesses; rates along s (dφ/ds = `rate` (B,))."""
         eng = self.bound(designs)
         with np.errstate(all="ignore"):
-            sol = eng._solve_batch(phi[:, None], guesses)
+            sol = eng.solve_batch(phi[:, None], guesses)
             eng.rates(sol, rate[:, None], np.zeros((len(designs), 1)))
         return eng, sol
 
@@ -202,10 +201,11 @@ class DesignBatch:
         zeros = [np.zeros((bp.m, len(designs))) for bp in self.engine.blocks]
         eng, sol = self._solve_nodes(designs, g.phi0[designs], zeros, np.ones(len(designs)))
         pivots, dets = eng.pivots(sol), eng.dets(sol)
+        tol = self.engine.tol
         for k, d in enumerate(designs):
             if not sol.valid[k]:
                 self.reasons[d] = self.reasons[d] or "the drawn pose does not close: it cannot be assembled"
-            elif not pivots[k] >= _solver.PIVOT_CROSS:
+            elif not pivots[k] >= tol.pivot_cross:
                 self.reasons[d] = self.reasons[d] or (
                     "the drawn pose is a singular position (links in line: a dead point or a change point)")
         return sol, dets
@@ -214,7 +214,7 @@ class DesignBatch:
         """Walk every design from its drawn pose towards target (B,) (all on the same side), adding the
         accepted nodes; a design stops at its target, at a motion limit (added to `limits`) or at a
         change point (its reason set)."""
-        S = _solver
+        S = self.engine.tol
         g, blocks = self.geometry, self.engine.blocks
         count = len(designs)
         phi0 = g.phi0[designs]
@@ -224,7 +224,7 @@ class DesignBatch:
         qd = [st.qd * direction * self.scale for st in origin.blocks]  # per unit s
         qdd = [st.qdd * self.scale ** 2 for st in origin.blocks]
         signs = np.sign(dets)
-        s, h = np.zeros(count), np.full(count, S.H_START)
+        s, h = np.zeros(count), np.full(count, S.h_start)
         active = span > 0
         while active.any():
             a = np.flatnonzero(active)
@@ -245,19 +245,19 @@ class DesignBatch:
                     dist = np.maximum(dist, np.max(np.abs(st.q - gk) * vs, axis=0))
                     err = np.abs(st.qd - qd[k][:, a] - qdd[k][:, a] * h_try) * vs / (1.0 + np.abs(qd[k][:, a]) * vs)
                     jump = np.maximum(jump, np.where(np.all(np.isfinite(err), axis=0), np.max(err, axis=0), np.inf))
-            good = (sol.valid & (eng.pivots(sol) >= S.PIVOT_CROSS) & (dist <= S.MAX_CORRECTION)
-                    & (jump <= S.RATE_JUMP))
+            good = (sol.valid & (eng.pivots(sol) >= S.pivot_cross) & (dist <= S.max_correction)
+                    & (jump <= S.rate_jump))
             same = np.all(np.sign(new_dets) == signs[a], axis=1)
             ok = good & same
-            cross = good & ~same & (h_try <= S.H_CROSS) & (dist <= S.CROSS_DIST)
+            cross = good & ~same & (h_try <= S.h_cross) & (dist <= S.cross_dist)
             if ok.any():
                 acc = a[ok]
                 for k, st in enumerate(sol.blocks):
                     q[k][:, acc], qd[k][:, acc], qdd[k][:, acc] = st.q[:, ok], st.qd[:, ok], st.qdd[:, ok]
                 signs[acc] = np.sign(new_dets[ok])
                 s[acc] += h_try[ok]
-                grow = dist[ok] < 0.1 * S.MAX_CORRECTION
-                h[acc] = np.where(grow, np.minimum(h_try[ok] * 1.6, S.H_MAX), h[acc])
+                grow = dist[ok] < 0.1 * S.max_correction
+                h[acc] = np.where(grow, np.minimum(h_try[ok] * 1.6, S.h_max), h[acc])
                 nodes.add(designs[acc], phi[ok], [st.q[:, ok] for st in sol.blocks],
                           [st.qd[:, ok] / (direction * self.scale) for st in sol.blocks],
                           [st.qdd[:, ok] / self.scale ** 2 for st in sol.blocks], new_dets[ok])
@@ -267,7 +267,7 @@ class DesignBatch:
                 active[a[k]] = False
             rejected = ~ok & ~cross
             h[a[rejected]] = h_try[rejected] / 2
-            stop = a[rejected][h[a[rejected]] < S.H_MIN]
+            stop = a[rejected][h[a[rejected]] < S.h_min]
             for i in stop:
                 d = designs[i]
                 state = [(qk[:, i].copy(), qdk[:, i].copy(), qddk[:, i].copy()) for qk, qdk, qddk in zip(q, qd, qdd)]
@@ -362,11 +362,11 @@ class DesignBatch:
             return
         eng = self.bound(rows[take])
         with np.errstate(all="ignore"):
-            sol = eng._solve_batch(x[take, None], [g[:, take] for g in guesses])
+            sol = eng.solve_batch(x[take, None], [g[:, take] for g in guesses])
             ok = sol.valid & np.all(eng.signs(sol) == node_signs[take], axis=1)
             for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
                 if bp.m:
-                    ok &= np.max(np.abs(st.q - gk[:, take]) * bp.var_scale[:, None], axis=0) <= _solver.MAX_CORRECTION
+                    ok &= np.max(np.abs(st.q - gk[:, take]) * bp.var_scale[:, None], axis=0) <= self.engine.tol.max_correction
             eng.rates(sol, np.ones((len(take), 1)), np.zeros((len(take), 1)))
         good[take] = ok
         for d in np.unique(rows[take[~ok]]):
@@ -375,7 +375,7 @@ class DesignBatch:
 
     def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
         """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
-        pose, links = sol.pose, eng.links
+        pose, links = sol.pose, self.engine.links
         th = np.stack([pose.th[n] for n in links])  # (L, T)
         c, s = np.cos(th), np.sin(th)
         r = np.stack([pose.r[n] for n in links], axis=1)  # (2, L, T)
@@ -414,9 +414,9 @@ class DesignBatch:
                 eng = self.engine_of(int(d))
                 q, qd, qdd = ([s[i] for s in state] for i in range(3))
                 dirs = np.array([direction * self.scale])
-                node = _solver._Node(np.array([phi_node]), dirs, q, qd, qdd, signs, 1.0)
+                node = Node(np.array([phi_node]), dirs, q, qd, qdd, signs, 1.0)
                 with np.errstate(all="ignore"):
-                    located = _solver._limit(eng, node, dirs, h)
+                    located = limit_after(eng.solver, node, dirs, h)
                 lim.phi, lim.links, lim.joints, lim.kind, lim.limit = (float(located.phi[0]), located.links,
                                                                      located.joints, located.kind, located)
             out.append(lim)
@@ -483,7 +483,7 @@ def _interpolate(arrays, rows, x):
     for q, qd, qdd in per_block:
         ends = np.stack([q[:, lo], q[:, hi], width * qd[:, lo], width * qd[:, hi],
                          width * width * qdd[:, lo], width * width * qdd[:, hi]])  # (6, m, B)
-        coef = np.einsum("ce,emb->cmb", _solver._HERMITE5, ends)
+        coef = np.einsum("ce,emb->cmb", HERMITE5, ends)
         inner = coef[5]
         for k in range(4, -1, -1):
             inner = inner * t + coef[k]
@@ -498,7 +498,7 @@ def design_batch(model, variants, engine=None) -> DesignBatch:
     Parameters
     ----------
     model : str, Path, dict or Template
-        The model (see `mbplanar.parameters`).
+        The model (see `mbplanar.model._parameters`).
     variants : Variants, dict or str
         The designs: a `Variants`, a dict of parameter arrays (D,) each, or a CSV variant table's path.
     engine : Engine, optional
@@ -508,8 +508,8 @@ def design_batch(model, variants, engine=None) -> DesignBatch:
     -------
     DesignBatch
     """
-    from ..solver import Engine
-    from ..table import parse_model
+    from ..engine import Engine
+    from ..model import parse_model
     from .geometry import design_geometry
     from .run import load_template
     from .variants import Variants, read_variants, variants_from

@@ -8,8 +8,9 @@ import math
 
 import numpy as np
 
-from ..assembly import assemble
-from ..constraints import make_law
+from ..model._assembly import assemble
+from ..engine._blocks import BlockSolver
+from ..engine._constraints import make_law
 from ..errors import ModelError
 from ..model import Mechanism
 
@@ -55,8 +56,7 @@ def with_dimensions(engine, mechanism: Mechanism):
         raise ModelError(f"{mechanism.source}: the variant's links, joints, points or inputs differ from "
                          f"the model's ({engine.mech.source}); re-dimensioning keeps the structure")
     new = copy.copy(engine)
-    for key in [k for k in new.__dict__ if k.startswith("_")]:  # caches of the old dimensions
-        del new.__dict__[key]
+    new.prepared = {}  # tables of the old dimensions
     new._atlas = None
     new.mech = mech = assemble(mechanism)
     new.inputs = mech.inputs
@@ -65,5 +65,6 @@ def with_dimensions(engine, mechanism: Mechanism):
     new.reference_angle = {link: new._drawn_link_angle(link) for link in new.links}
     new.phi_drawn = np.array([new._drawn_phi(inp) for inp in new.inputs])
     new.joint_value_drawn = {name: new._drawn_joint_value(name) for name in mech.joints}
-    new.blocks = [new._plan(block) for block in new.topology.blocks]
+    new.solver = BlockSolver(mech, new.laws, new.topology.blocks, new.links, new.size, new.phi_drawn, new.tol)
+    new.blocks = new.solver.blocks
     return new

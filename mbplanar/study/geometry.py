@@ -14,10 +14,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..assembly import assemble, reference_points
+from ..model._assembly import assemble, reference_points
 from ..errors import MbplanarError
-from ..parameters import Template
-from ..table import parse_model
+from ..model._parameters import Template
+from ..model import parse_model
 from .variants import Variants
 
 __all__ = ["DesignGeometry", "design_geometry", "mechanism_of"]

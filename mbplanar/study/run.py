@@ -12,10 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
-from ..parameters import Template
-from ..table import parse_model
-from ..errors import MbplanarError
+from ..errors import MbplanarError, ModelError
+from ..model import parse_model
+from ..model._parameters import Template
 from .summary import SAMPLES, DesignSummary, failed_design, summarise, summarise_design
 from .variants import Variants, read_variants
 
@@ -63,7 +62,7 @@ def load_template(model) -> Template:
 
 
 def _base_engine(template: Template):
-    from ..solver import Engine
+    from ..engine import Engine
 
     return Engine(parse_model(template.bind(), source=template.source))
 

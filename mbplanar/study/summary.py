@@ -16,12 +16,12 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..check import check
+from ..analysis import check
 from ..errors import MbplanarError, ModelError
 from ..kinematics import analyse
-from ..kinetostatics import kinetostatics
-from ..loads import has_force_data
-from ..table import parse_model
+from ..forces import kinetostatics
+from ..forces import has_force_data
+from ..model import parse_model
 from .dimensions import with_dimensions
 
 __all__ = ["DesignSummary", "summarise", "summarise_design", "failed_design", "SAMPLES"]

@@ -1,6 +1,6 @@
 """Variant tables: one design per row, one column per parameter (CSV), read into arrays.
 
-A variant table is a CSV file whose header names parameters of the model (see `mbplanar.parameters`);
+A variant table is a CSV file whose header names parameters of the model (see `mbplanar.model._parameters`);
 an optional first column `variant` (or `name`) names each row. Lines starting with `#` are comments.
 Every cell must be a finite number; the error names the file, the row and the column at fault.
 Parameters the table leaves out keep the model's declared values.
@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..parameters import Template
+from ..model._parameters import Template
 
 __all__ = ["Variants", "read_variants", "variants_from"]
 

@@ -1,0 +1,191 @@
+"""Positions, velocities and accelerations of every link: Newton–Raphson on the loop closures of each
+block, continuation along the input that never leaves the drawn branch, and located motion limits.
+
+`Engine(mechanism)` compiles a model once: exact drawn pose, topology, joint laws, index maps. It then
+solves any batch of input values at once (arrays with a batch axis, no loop over positions):
+
+1. The branch atlas: from the drawn pose the engine walks the input up and down with adaptive steps
+   (second-order predictor from the analytic derivatives, Newton corrector). A step is accepted only when
+   Newton converges, the corrector stays close to the predictor in positions and in derivatives, and no
+   block's Jacobian determinant changes sign; otherwise the step is halved. A sign change with positions
+   and derivatives that follow the predictor closely over a short step is a change point (another
+   assembly branch crosses this one, e.g. the parallelogram four-bar with its links in line): the walk
+   goes through it on the smooth branch, placing two nodes either side (`_bracket`) between which the
+   interpolant gives the rates, where the singular Jacobian cannot. A step that cannot be made smaller
+   than `H_MIN` marks a
+   motion limit (dead point, lock-up, end of assembly). At a fold (the usual dead point: a block's
+   Jacobian loses rank one and the branch turns back) the limit's φ and configuration are then solved
+   for together, by Newton on the block's closure equations bordered by a singularity condition
+   (`_locate_fold`), to the rounding floor (~1e-15 in φ); otherwise the limit is the middle of the
+   walk's last bracket, good to ~`H_MIN`. The walked nodes are then filled in, one batch solve, to at
+   most `H_DENSE` apart. The atlas is built once per engine and extended on demand; positions between
+   its last node and a limit (at most a few `H_MIN`) are left out with the limit.
+2. Every requested position is predicted by the quintic Hermite interpolant of the atlas nodes around it
+   (within the closure tolerance, so Newton usually only confirms it) and corrected by a batched Newton,
+   block by block; the few that fail a check are walked to individually.
+
+Velocities and accelerations come from the same factorised block Jacobians (the analogues are the rates
+for dφ/dt = 1, d²φ/dt² = 0).
+
+Inside, arrays carry the batch last (unknowns q (m, B), Jacobians (m, m, B), see `constraints`), so that
+every elementwise operation runs over a contiguous batch; `Solution` exposes the usual batch-first views.
+"""
+
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._atlas import Atlas, solve_along, solve_sequence
+from ._backend import load as load_backend
+from ._blocks import BlockSolver, Solution
+from ._constraints import make_law
+from ._singular import Crossing, Limit
+from ._tolerances import Tolerances
+from ..model._assembly import assemble, reference_points
+from ..model._model import Mechanism
+from ..structure._topology import analyse_topology
+
+__all__ = ["Engine", "Solution", "Limit", "Crossing"]
+
+
+class Engine:
+    """A compiled mechanism, ready to solve batches of positions.
+
+    backend: "numpy" (the reference) or "numba", which runs the kinematics and kinetostatics of
+    one-input sweeps through compiled per-position loops (`mbplanar.backends._numba_kinematics`,
+    `mbplanar.backends._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
+    those loops cannot vouch for a position.
+    threads: how many cores the compiled loops split a long batch over (default: the cores available,
+    or the environment variable MBPLANAR_THREADS); the answers do not depend on it.
+    tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them."""
+
+    def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy", threads: int | None = None,
+                 tol: Tolerances | None = None):
+        if tol is None:
+            tol = Tolerances()
+        if not isinstance(tol, Tolerances):
+            raise ValueError(f"tol must be a mbplanar.engine.Tolerances, not {tol!r}")
+        self.tol = tol
+        if threads is not None and (not isinstance(threads, int) or threads < 1):
+            raise ValueError(f"threads must be a positive integer, not {threads!r}")
+        self.compiled = load_backend(backend)  # None: numpy alone
+        self.threads = threads
+        self.backend = backend
+        self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
+        self.mech = assemble(mech)
+        self.topology = analyse_topology(self.mech, grouped)
+        mech = self.mech
+        self.links = mech.all_links
+        self.link_index = {name: k for k, name in enumerate(self.links)}
+        self.laws = {name: make_law(j) for name, j in mech.joints.items()}
+        self.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
+                                  for b in mech.joints.values()])
+        self.inputs = mech.inputs
+        self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
+        self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
+        self.joint_value_drawn = {name: self._drawn_joint_value(name) for name in mech.joints}
+        self.solver = BlockSolver(mech, self.laws, self.topology.blocks, self.links, self.size, self.phi_drawn, tol)
+        self.blocks = self.solver.blocks
+        self._atlas = None
+
+    def prepare(self, name: str, make):
+        """The engine's table called `name`, made by `make()` on first use and kept (the output tables,
+        the kinetostatic plan, a backend's kernel tables, ...)."""
+        table = self.prepared.get(name)
+        if table is None:
+            table = self.prepared[name] = make()
+        return table
+
+    # -- compile --------------------------------------------------------------------------------
+    def _drawn_link_angle(self, link: str) -> float:
+        """Direction of the link's reference line in the drawn pose (rad)."""
+        if link == self.mech.ground:
+            return 0.0
+        ref = reference_points(self.mech, link)
+        if ref is not None:
+            p, q = (self._drawn_point(link, n) for n in ref)
+            return math.atan2(q[1] - p[1], q[0] - p[0])
+        guide = next((j for j in self.mech.joints_of(link) if j.kind == "P"), None)
+        return math.radians(guide.guide_deg) if guide is not None else 0.0
+
+    def _drawn_point(self, link: str, name: str):
+        if name in self.mech.joints:
+            return self.mech.joints[name].at
+        return self.mech.points[name].at
+
+    def _drawn_phi(self, inp) -> float:
+        if inp.drawn_at is not None:
+            return inp.to_si(inp.drawn_at)
+        j = self.mech.joints[inp.joint]
+        if j.kind == "P":
+            return -inp.zero * inp.scale / inp.sense
+        value = self.reference_angle[j.links[1]] - self.reference_angle[j.links[0]]
+        phi = (value - inp.zero * inp.scale) / inp.sense
+        lo = inp.to_si(inp.default_sweep()[0])
+        return lo + (phi - lo) % (2 * math.pi)
+
+    def _drawn_joint_value(self, name: str) -> float:
+        inp = next((k for k, i in enumerate(self.inputs) if i.joint == name), None)
+        if inp is not None:
+            return float(self.inputs[inp].joint_value(self.phi_drawn[inp]))
+        j = self.mech.joints[name]
+        if j.kind == "P":
+            return 0.0
+        return self.reference_angle[j.links[1]] - self.reference_angle[j.links[0]]
+
+    # -- the façade: block Newton and rates (`_blocks`), continuation (`_atlas`), limits (`_singular`) ----
+    def rates(self, sol: Solution, phi_rate, phi_accel) -> Solution:
+        """Fill the velocities and accelerations of every link for input rates (B, n_in) and input
+        accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues."""
+        return self.solver.rates(sol, phi_rate, phi_accel)
+
+    def dets(self, sol: Solution) -> np.ndarray:
+        """Each block's Jacobian determinant (B, n_blocks); 1 for a block without unknowns."""
+        return self.solver.dets(sol)
+
+    def signs(self, sol: Solution) -> np.ndarray:
+        """Sign of each block's Jacobian determinant (B, n_blocks)."""
+        return self.solver.signs(sol)
+
+    def pivots(self, sol: Solution) -> np.ndarray:
+        """Smallest pivot ratio over the blocks (B,): near 0 at a singular position."""
+        return self.solver.pivots(sol)
+
+    def atlas(self) -> Atlas:
+        """The drawn branch's atlas of one input, built on first use and extended on demand."""
+        if self._atlas is None:
+            self._atlas = Atlas(self.solver)
+        return self._atlas
+
+    def solve(self, phi) -> Solution:
+        """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
+        Positions past a motion limit are left out (`valid` False, `limits` says where)."""
+        phi = np.asarray(phi, dtype=float)
+        if phi.ndim == 0:
+            phi = phi[None]
+        if phi.ndim == 1:
+            phi = phi[:, None] if len(self.inputs) == 1 else phi[None, :]
+        if phi.shape[1] != len(self.inputs):
+            raise ValueError(f"expected {len(self.inputs)} input value(s) per position")
+        if not np.all(np.isfinite(phi)):
+            raise ValueError("input values must be finite")
+        if len(self.inputs) != 1:
+            return solve_sequence(self.solver, phi)
+        return solve_along(self.atlas(), phi)
+
+    def solve_limits(self, limits: list) -> Solution:
+        """The configurations at the located motion limits among `limits` (those with `Limit.q`), one
+        row each: every block is already converged there, so Newton takes no step (which it could not,
+        the block at fault being singular). The rates of such a row are meaningless (infinite)."""
+        found = [lim for lim in limits if lim.q is not None]
+        phi = np.array([lim.phi for lim in found], float).reshape(len(found), len(self.inputs))
+        guesses = [np.stack([lim.q[k] for lim in found], axis=1) if found else np.zeros((bp.m, 0))
+                   for k, bp in enumerate(self.blocks)]
+        sol = self.solver.solve_batch(phi, guesses)
+        sol.limits = found
+        return sol
+
+
