@@ -78,12 +78,12 @@ def test_seed002_study_lists_every_variant_with_its_turn_or_lock(capsys, seed002
 def test_batch_equals_one_by_one(seed002_rows):
     """Positions, link angles (and, away from motion limits, analogues) of a design batch against each
     design's own engine, to 1e-12; the same positions reached, the same limits."""
-    variants = read_variants(VARIANTS, mbplanar.study.load_template(SEED002)).take(np.arange(0, 30, 3))
+    variants = read_variants(VARIANTS, mbplanar.study.load_template(SEED002)).take(np.arange(0, 30, 6))
     batch = design_batch(SEED002, variants)
     phi = np.linspace(-math.pi, math.pi, 37)
     motion = batch.solve(phi)
     for d in range(len(variants)):
-        row = seed002_rows[3 * d]
+        row = seed002_rows[6 * d]
         engine = mbplanar.Engine(seed002_mechanism(*row[1:]))
         single = mbplanar.analyse(engine, phi)
         reached = np.isin(phi, single.phi[:, 0])
@@ -265,8 +265,8 @@ def test_dask_two_workers_equal_the_serial_run():
     pytest.importorskip("distributed")
     from mbplanar.study.cluster import close, local_client
 
-    rows = read_variants(VARIANTS, mbplanar.study.load_template(SEED002)).take(np.arange(4, 10))
-    phi = np.radians(np.arange(0, 360, 20.0))
+    rows = read_variants(VARIANTS, mbplanar.study.load_template(SEED002)).take(np.array([3, 5, 6, 8]))
+    phi = np.radians(np.arange(0, 360, 30.0))
     serial = run_study(SEED002, rows, chunk=2)
     kin = solve_designs(SEED002, rows, phi, chunk=2)
     client = local_client(2)

@@ -53,8 +53,9 @@ def run_on_client(client, func, data, source, parts, args, progress=None) -> lis
     """func(data, source, part, *args) for every part, one task each on `client`; the results in the
     order of `parts`. progress(done, total) is called as chunks finish (designs done so far)."""
     distributed = _distributed()
-    shared = client.scatter(data, broadcast=True)
-    futures = [client.submit(func, shared, source, part, *args, pure=False) for part in parts]
+    # the table travels with each task (a few kB): no scattered future whose release could race a
+    # later study of the same table
+    futures = [client.submit(func, data, source, part, *args, pure=False) for part in parts]
     order = {f.key: k for k, f in enumerate(futures)}
     results, done, total = [None] * len(parts), 0, sum(_size(p) for p in parts)
     for future in distributed.as_completed(futures):

@@ -43,7 +43,8 @@ class DesignSummary:
     change_points : [{"phi", "phi_deg", "links", "joints", "kind"}]: branch crossings passed.
     extremes : [{"name", "kind", "minimum", "at_min", "maximum", "at_max", "stroke", "turns",
         "quick_return"}]: link angles (rad) and slider displacements (m), at input values (model unit);
-        `quick_return` = input travel from the minimum to the maximum over that back (full turn only).
+        `quick_return` = the input's travel over the slower stroke (minimum to maximum or back) divided by
+        its travel over the faster one, ≥ 1: the time ratio at constant input speed (full turn only).
     transmission_min_deg, transmission_at, transmission_pair : the smallest transmission angle, where.
     samples_phi : (S,) input values of the samples (model unit); samples : {point: (S, 2) m}.
     max_reaction (N), max_reaction_joint, mean_balancing (N·m or N): with loads or masses only.
@@ -103,7 +104,7 @@ def _extremes(inp, report) -> list:
             turn = inp.from_si(2 * math.pi)
             forward = (e.at_max - e.at_min) % turn
             if 0 < forward < turn:
-                doc["quick_return"] = forward / (turn - forward)
+                doc["quick_return"] = max(forward, turn - forward) / min(forward, turn - forward)
         out.append(doc)
     return out
 
