@@ -34,6 +34,9 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from run import best_time  # noqa: E402
 
 import mbplanar  # noqa: E402
 from mbplanar.study import design_batch, solve_designs  # noqa: E402
@@ -60,15 +63,6 @@ def crank_rockers(count: int, seed: int = 1) -> dict:
     return {k: x[idx] for k, x in v.items()}
 
 
-def best(fn, repeats: int) -> float:
-    out = np.inf
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        out = min(out, time.perf_counter() - t)
-    return out
-
-
 def batch_case(designs: int, repeats: int) -> dict:
     phi = np.radians(np.arange(360.0))
     values = crank_rockers(designs)
@@ -80,7 +74,7 @@ def batch_case(designs: int, repeats: int) -> dict:
         assert motion.valid.all(), "every crank-rocker turns fully"
         return xy, vq
 
-    seconds = best(run, repeats)
+    seconds = best_time(run, repeats)
     n = designs * len(phi)
     return {"case": "design batch", "designs": designs, "positions": n, "seconds": seconds,
             "positions_per_s": n / seconds, "us_per_position": 1e6 * seconds / n}
@@ -96,7 +90,7 @@ def sweep_case(positions: int, repeats: int) -> dict:
         k = motion.point("M")
         return motion.xy[:, k].copy(), motion.vq[:, k].copy()
 
-    seconds = best(run, repeats)
+    seconds = best_time(run, repeats)
     return {"case": "single-design sweep", "positions": positions, "seconds": seconds,
             "positions_per_s": positions / seconds, "us_per_position": 1e6 * seconds / positions}
 
