@@ -286,3 +286,39 @@ def test_dask_two_workers_equal_the_serial_run(tmp_path, capsys):
     for name in ("valid", "ok", "angle", "xy", "vq", "aq"):
         assert np.array_equal(getattr(kin, name), getattr(kin2, name), equal_nan=True)
     assert [(lim.design, lim.phi, lim.kind) for lim in kin.limits] == [(lim.design, lim.phi, lim.kind) for lim in kin2.limits]
+
+
+HEAVY = open("models/fourbar_design.toml").read().replace(
+    '''  { name = "1" },                 # crank OA
+  { name = "2" },                 # coupler AB
+  { name = "3" },                 # rocker CB''',
+    '''  { name = "1", mass = 0.5, inertia = 0.001, centre = "S1" },
+  { name = "2", mass = "m2", inertia = 0.004, centre = "M" },
+  { name = "3", mass = 1.5, inertia = 0.008, centre = "S3" },''').replace(
+    '''points = [''', '''points = [
+  { name = "S1", link = "1", along = ["O", "A"], fraction = 0.5 },
+  { name = "S3", link = "3", along = ["C", "B"], fraction = 0.4 },''').replace(
+    "[parameters]", "[gravity]\ng = 9.81\n\n[parameters]\nm2 = 1.0") + "omega = 10.0\n"
+
+
+def test_forces_in_the_summary_balance_over_a_turn(tmp_path):
+    """With masses, gravity and a constant input speed but no working load, the drive does no net work
+    over a full turn (kinetic and potential energy come back): the mean balancing moment over the
+    samples of a turn vanishes against its swing, while the reactions do not."""
+    model = tmp_path / "heavy.toml"
+    model.write_text(HEAVY)
+    table = tmp_path / "v.csv"
+    table.write_text("variant,m2,a\nlight,0.5,0.08\nheavy,2.0,0.1\n")
+    study = run_study(model, table, samples=48)
+    for d in study.designs:
+        assert d.full_turn and d.max_reaction > 0 and d.max_reaction_joint in "OABC"
+        engine = with_dimensions(mbplanar.Engine(mbplanar.read_model(model)),
+                                 mbplanar.parse_model(study_template(model).bind(d.parameters)))
+        motion = mbplanar.analyse(engine, d.samples_phi * math.pi / 180)
+        swing = np.ptp(next(iter(mbplanar.kinetostatics(engine, motion).balancing.values())))
+        assert abs(d.mean_balancing) < 1e-9 * swing
+    assert study.designs[1].max_reaction > study.designs[0].max_reaction
+
+
+def study_template(path):
+    return mbplanar.study.load_template(path)

@@ -201,13 +201,12 @@ class DesignBatch:
         zeros = [np.zeros((bp.m, len(designs))) for bp in self.engine.blocks]
         eng, sol = self._solve_nodes(designs, g.phi0[designs], zeros, np.ones(len(designs)))
         pivots, dets = eng.pivots(sol), eng.dets(sol)
-        tol = self.engine.tol
-        for k, d in enumerate(designs):
-            if not sol.valid[k]:
-                self.reasons[d] = self.reasons[d] or "the drawn pose does not close: it cannot be assembled"
-            elif not pivots[k] >= tol.pivot_cross:
-                self.reasons[d] = self.reasons[d] or (
-                    "the drawn pose is a singular position (links in line: a dead point or a change point)")
+        singular = sol.valid & ~(pivots >= self.engine.tol.pivot_cross)
+        for k in np.flatnonzero(~sol.valid):
+            self.reasons[designs[k]] = "the drawn pose does not close: it cannot be assembled"
+        for k in np.flatnonzero(singular):
+            self.reasons[designs[k]] = ("the drawn pose is a singular position (links in line: a dead point "
+                                        "or a change point)")
         return sol, dets
 
     def _march(self, designs, origin, dets, target, direction: int, nodes: _Nodes, limits: list):
