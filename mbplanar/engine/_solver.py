@@ -46,7 +46,7 @@ from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
-from ..structure._topology import analyse_topology
+from ..structure._topology import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
 
@@ -75,6 +75,7 @@ class Engine:
         self.threads = threads
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
+        check_mobility(mech)
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech
@@ -159,6 +160,11 @@ class Engine:
         if self._atlas is None:
             self._atlas = Atlas(self.solver)
         return self._atlas
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the diagram in the drawn pose beside the structure (DOF, loops, Assur groups)."""
+        from ..model._views import view
+        return view("html", self)
 
     def solve(self, phi) -> Solution:
         """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
