@@ -676,16 +676,14 @@ def build_parser() -> argparse.ArgumentParser:
     _units_option(s)
     s.set_defaults(func=cmd_check)
 
-<<<<<<< HEAD
-    from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
-    add_study_parser(sub)
-=======
     from .cam import present as cam_present
     s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
     cam_present.add_arguments(s)
     s.set_defaults(func=cmd_cam)
     cam_present.register()
->>>>>>> main
+
+    from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
+    add_study_parser(sub)
     return p
 
 

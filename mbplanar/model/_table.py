@@ -148,20 +148,12 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     """
     if isinstance(data, str):
         return read_model_text(data, source)
-<<<<<<< HEAD
     if isinstance(data, dict) and _has_parameters(data):
         from ._parameters import Template  # named dimensions and polar placements, bound to their values
         data = Template(data, source).bind()
-    top = Row(data, source)
-    unit_name = top.text("length_unit", "m")
-    if unit_name not in _LENGTH_UNITS:
-        top.fail(f"length_unit must be one of {', '.join(_LENGTH_UNITS)}, got '{unit_name}'")
-    unit = _LENGTH_UNITS[unit_name]
-=======
     top = Row(data, None, source)
     units = _read_units(top)
     unit = units.length_scale
->>>>>>> main
     mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.text("ground", "0"),
                      title=top.text("title", ""), source=source, units=units)
     link_rows = _read_links(mech, _rows(data, "links", source), unit)
@@ -182,7 +174,6 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     return mech
 
 
-<<<<<<< HEAD
 def _has_parameters(data: dict) -> bool:
     """Whether the table declares [parameters] or places a joint by a length and an angle."""
     joints = data.get("joints")
@@ -190,9 +181,6 @@ def _has_parameters(data: dict) -> bool:
     return "parameters" in data or any(isinstance(r, dict) and isinstance(r.get("at"), dict) for r in rows)
 
 
-# Sections read by later stages (loads, dynamics); kept raw in `Mechanism.extras`.
-_EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "plot", "description"}
-=======
 def _read_units(top: Row) -> Units:
     """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`)."""
     chosen = []
@@ -203,7 +191,6 @@ def _read_units(top: Row) -> Units:
             top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
         chosen.append(name)
     return Units(*chosen)
->>>>>>> main
 
 
 # Sections kept raw in `Mechanism.extras` for the pictures, the report and the cam (mbplanar.cam reads
