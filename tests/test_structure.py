@@ -12,6 +12,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
+from conftest import linkage_models
 from mbplanar.cli import main
 from mbplanar.errors import ModelError
 from mbplanar.structure import AssurGroup, Structure, decompose, roman
@@ -442,7 +443,7 @@ MODEL_STRUCTURES = {
 
 
 def test_every_bundled_model_is_in_the_table():
-    assert set(MODEL_STRUCTURES) == {path.stem for path in MODELS.glob("*.toml")}
+    assert set(MODEL_STRUCTURES) == {path.stem for path in linkage_models()}
 
 
 @pytest.mark.parametrize("name", sorted(MODEL_STRUCTURES))

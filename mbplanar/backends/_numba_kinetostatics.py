@@ -21,7 +21,7 @@ import numpy as np
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
 from ..kinematics._motion import _tables
-from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
+from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
 
@@ -49,7 +49,7 @@ def _load_table(engine, inertia):
     load), carrier; float table (N, 7): at (2), force (2) or (mass, inertia), moment, u0 (2))."""
     mech = engine.mech
     names, ints, floats, guides = [], [], [], []
-    for load in read_loads(mech):
+    for load in mech.loads:
         at, force, moment = constant_parts(mech, load)
         k = engine.link_index[load.link]
         if force is None:
@@ -63,7 +63,7 @@ def _load_table(engine, inertia):
             floats.append((at[0], at[1], force[0], force[1], moment, 0.0, 0.0))
         names.append(load.name)
     heavy = heavy_links(mech)
-    gravity = read_gravity(mech)
+    gravity = mech.gravity
     if gravity:
         for name, lk, at in heavy:
             if lk.mass:

@@ -100,13 +100,13 @@ class Atlas:
 def _origin(solver: BlockSolver, direction) -> Node:
     node = node_at(solver, solver.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in solver.blocks])
     if node is None:
-        raise MotionError(f"{solver.mech.source}: the drawn pose does not close: it cannot be assembled")
+        raise MotionError("the drawn pose does not close: it cannot be assembled", source=solver.mech.source)
     if node.pivot < solver.tol.pivot_cross:
         k = int(np.argmin(np.abs(node.dets)))
-        raise MotionError(f"{solver.mech.source}: the drawn pose is a singular position of the group of links "
+        raise MotionError("the drawn pose is a singular position of the group of links "
                           f"{', '.join(solver.blocks[k].links)} (links in line: a dead point or a change "
                           "point), where the assembly branch is ambiguous; draw the mechanism in another "
-                          "position")
+                          "position", source=solver.mech.source)
     return node
 
 

@@ -46,7 +46,7 @@ from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
-from ..structure._topology import analyse_topology
+from ..structure._topology import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
 
@@ -75,6 +75,7 @@ class Engine:
         self.threads = threads
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
+        check_mobility(mech)
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech

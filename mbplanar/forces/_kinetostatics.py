@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
 from ..kinematics._motion import material_points
@@ -533,9 +534,21 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     loads: evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
     inertia: include the d'Alembert loads of the links (and J_I).
     The engine's compiled backend takes the batch where it can (`engine._backend.dispatch`); numpy, the
-    reference, does the rest.
+    reference, does the rest. Raises `ModelError` for an `input_inertia` that is not finite and >= 0.
     """
+    _check_input_inertia(engine, input_inertia)
     return dispatch(engine, "kinetostatics", _reference, motion, input_inertia, loads, inertia)
+
+
+def _check_input_inertia(engine, input_inertia):
+    try:
+        values = np.asarray(input_inertia, float)
+    except (TypeError, ValueError):
+        values = np.array([np.nan])
+    if not np.all(np.isfinite(values) & (values >= 0)) or values.ndim > 1 or values.size not in (1, len(engine.inputs)):
+        raise ModelError(f"input_inertia must be a finite number >= 0 (kg·m², or kg for a prismatic input), "
+                         f"one or one per input, got {input_inertia!r}", source=engine.mech.source,
+                         where="kinetostatics")
 
 
 def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:

@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import MbplanarError, ModelError, MotionError
+from ..errors import ModelError, MotionError, PlotUnavailable
 from ..kinematics._motion import describe_limit
 from ._scene import build_scene
 
@@ -35,12 +35,6 @@ LINK_FILL = "#cfe0f3"
 BLOCK_FILL = "#f3e3c3"
 COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
           "#7f7f7f", "#bcbd22"]
-
-
-class PlotUnavailable(MbplanarError):
-    """matplotlib / Pillow are not installed."""
-
-    exit_code = 2
 
 
 def require_matplotlib():
@@ -64,7 +58,7 @@ def _full_turn(engine) -> bool:
 def cycle_values(engine, count: int = 72) -> np.ndarray:
     """`count` input values (SI) over the model's sweep; a full turn leaves out its repeated end."""
     if len(engine.inputs) != 1:
-        raise ModelError(f"{engine.mech.source}: pictures drive one input; this model has several")
+        raise ModelError("pictures drive one input; this model has several", source=engine.mech.source)
     if count < 1:
         raise ModelError("the number of positions must be at least 1")
     inp = engine.inputs[0]
@@ -84,7 +78,7 @@ def cycle_motion(engine, count: int = 72):
     if motion.success:
         return motion
     if len(motion.phi) == 0:
-        raise MotionError(f"{engine.mech.source}: no position of the sweep can be reached: {motion.message}")
+        raise MotionError(f"no position of the sweep can be reached: {motion.message}", source=engine.mech.source)
     lo, hi = float(motion.phi[0, 0]), float(motion.phi[-1, 0])
     fine = analyse(engine, np.linspace(lo, hi, count))
     fine.limits = motion.limits
@@ -99,7 +93,8 @@ def position_motion(engine, at=None):
     motion = analyse(engine, np.array([phi]))
     if not motion.success:
         where = inp.from_si(phi)
-        raise MotionError(f"{engine.mech.source}: cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}")
+        raise MotionError(f"cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}",
+                          source=engine.mech.source)
     return motion
 
 
@@ -379,8 +374,8 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
     known = whole.joint_names + whole.point_names
     for name in points or ():
         if name not in known:
-            raise ModelError(f"{engine.mech.source}: no point or pair '{name}' to trace; the model has: "
-                             f"{', '.join(known)}")
+            raise ModelError(f"no point or pair '{name}' to trace; the model has: "
+                             f"{', '.join(known)}", source=engine.mech.source)
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
@@ -458,7 +453,7 @@ def _panels_figure(engine, real, count, figsize):
     plt = require_matplotlib()
     motion = cycle_motion(engine, count)
     if not real and motion.wq is None:
-        raise ModelError(f"{engine.mech.source}: analogues need a single input")
+        raise ModelError("analogues need a single input", source=engine.mech.source)
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
     axes = fig.subplots(3, 2, sharex=True)
