@@ -22,14 +22,36 @@ import mbplanar
 from mbplanar import analyse, kinetostatics
 from mbplanar.cli import main
 
+from conftest import linkage_models
+
 HERE = Path(__file__).resolve().parent
-MODELS = sorted((HERE.parent / "models").glob("*.toml"))
+MODELS = linkage_models()
 REPRO = HERE / "data" / "repro"
 REPROS = sorted(REPRO.glob("*.toml"))
 
 
 # -- a scaler: the same model written in other units ------------------------------------------------
 LENGTH = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+
+
+class _Lengths:
+    """Scales lengths of a document by k: a number, or a parameter's name (its value in `[parameters]`
+    is scaled once), or a polar placement `{from, length, angle}` (its length)."""
+
+    def __init__(self, doc, k):
+        self.params, self.k, self.done = doc.get("parameters", {}), k, set()
+
+    def __call__(self, value):
+        if isinstance(value, str):
+            if value not in self.done:
+                self.params[value] *= self.k
+                self.done.add(value)
+            return value
+        if isinstance(value, dict):
+            return {**value, "length": self(value["length"])}
+        if isinstance(value, list):
+            return [self(v) for v in value]
+        return value * self.k
 
 
 def _scaled_pair(value, k):
@@ -46,20 +68,21 @@ def rescale(doc: dict, unit: str) -> dict:
     if unit == "mm":
         doc["inertia_unit"], doc["moment_unit"] = "kg*mm^2", "N*mm"
         ki, km = 1e6, 1e3
+    length = _Lengths(doc, k)
     for link in _rows(doc, "links"):
         if "length" in link:
-            link["length"] *= k
-        link["lengths"] = [[p, q, v * k] for p, q, v in link.get("lengths", [])]
+            link["length"] = length(link["length"])
+        link["lengths"] = [[p, q, length(v)] for p, q, v in link.get("lengths", [])]
         if "inertia" in link:
             link["inertia"] *= ki
     for joint in _rows(doc, "joints"):
-        joint["at"] = _scaled_pair(joint["at"], k)
+        joint["at"] = length(joint["at"])
     for point in _rows(doc, "points"):
         if "at" in point:
-            point["at"] = _scaled_pair(point["at"], k)
+            point["at"] = length(point["at"])
         for key in ("distance", "offset"):
             if key in point:
-                point[key] *= k
+                point[key] = length(point[key])
     prismatic_inputs = {}
     for inp in ([doc["input"]] if "input" in doc else doc.get("inputs", [])):
         joint = next(j for j in _rows(doc, "joints") if j["name"] == inp["joint"])
