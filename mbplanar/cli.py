@@ -17,6 +17,7 @@ import numpy as np
 
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError
 from .forces._loads import has_force_data, warn_idle_resistances
+from .io._tables import dynamics_table, forces_table, sweep_table
 from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
                         convert_solution, convert_table, display_units)
 
@@ -278,37 +279,6 @@ def sweep_values(engine, steps=None, step=None, start=None, stop=None):
     return np.linspace(lo, hi, steps + 1)
 
 
-def sweep_table(engine, motion, angle_unit):
-    """Header (quantity[unit]) and rows of a sweep."""
-    inp = engine.inputs[0]
-    to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
-    au = "deg" if angle_unit == "deg" else "rad"
-    header = [f"{inp.name}[{inp.unit}]"]
-    cols = [inp.from_si(motion.phi[:, 0])]
-    for k, name in enumerate(motion.link_names[1:], start=1):
-        header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
-        cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
-    for k, name in enumerate(motion.point_names):
-        header += [f"{name}.{q}" for q in ("x[m]", "y[m]", "vx[m/s]", "vy[m/s]", "ax[m/s^2]", "ay[m/s^2]")]
-        cols += [motion.xy[:, k, 0], motion.xy[:, k, 1], motion.v[:, k, 0], motion.v[:, k, 1],
-                 motion.a[:, k, 0], motion.a[:, k, 1]]
-    for k, name in enumerate(motion.joint_names):
-        if engine.mech.joints[name].kind == "R":
-            header += [f"{name}.value[{au}]", f"{name}.rate[rad/s]", f"{name}.accel[rad/s^2]"]
-            cols += [to_angle(motion.value[:, k]), motion.rate[:, k], motion.accel[:, k]]
-        else:
-            header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
-            cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    from .analysis._check import pressure_angles, transmission_angles
-    labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
-    header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    labels, angles = pressure_angles(engine, motion)              # slider S driven by rod A-B: S.A-B
-    header += [f"pressure.{s}.{a}-{b}[{au}]" if a != b else f"pressure.{s}.normal-{a}[{au}]" for a, b, s in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    return header, np.column_stack(cols) if cols else np.zeros((0, 0))
-
-
 def cmd_sweep(args):
     engine = _load(args)
     if len(engine.inputs) != 1:
@@ -342,26 +312,6 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
-def forces_table(engine, motion, input_inertia=0.0):
-    """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
-    from .forces._kinetostatics import kinetostatics
-    result = kinetostatics(engine, motion, input_inertia or 0.0)
-    header, cols = [], []
-    for name, r in result.reactions.items():
-        header += [f"{name}.fx[N]", f"{name}.fy[N]"]
-        cols += [r.fx, r.fy]
-        if engine.mech.joints[name].kind == "P":
-            header.append(f"{name}.moment[N*m]")
-            cols.append(r.moment)
-    for name, q in result.balancing.items():
-        unit = "N*m" if engine.mech.joints[name].kind == "R" else "N"
-        header.append(f"{name}.balancing[{unit}]")
-        cols.append(q)
-    header.append("virtual_power_residual")
-    cols.append(result.virtual_power_residual)
-    return header, np.column_stack(cols), (None if result.success else result.message)
-
-
 def forces_document(engine, motion, result, row=0, values=None) -> dict:
     reactions = {}
     for name, r in result.reactions.items():
@@ -473,20 +423,6 @@ def dynamics_document(engine, dyn, at=None) -> dict:
                       "omega": state["omega"][k], "epsilon": state["epsilon"][k]}
                      for k, p in enumerate(state["phi"])]
     return _plain(doc)
-
-
-def dynamics_table(dyn):
-    """Header and columns (N, k) of the cycle table: φ, J_II, dJ_II, M_red per load and in total, A_c,
-    A_total, T_II, ΔT_I, ω, ε (energy–mass method) and the simulated ω, ε."""
-    red = dyn.reduced
-    header = ["phi[rad]", "J_II[kg*m2]", "dJ_II[kg*m2]"] + [f"M_red.{n}[N*m]" for n in red.moments] + \
-        ["M_red[N*m]", "A_c[J]", "A_total[J]", "T_II[J]", "dT_I[J]", "omega[rad/s]", "epsilon[rad/s2]"]
-    cols = [dyn.phi, dyn.J_II, dyn.dJ_II, *red.moments.values(), dyn.M_red, dyn.A_c, dyn.A_total,
-            dyn.T_II, dyn.dT_I, dyn.omega, dyn.epsilon]
-    if dyn.simulation is not None:
-        header += ["omega_sim[rad/s]", "epsilon_sim[rad/s2]"]
-        cols += [dyn.simulation.omega, dyn.simulation.epsilon]
-    return header, np.column_stack(cols)
 
 
 def cmd_dynamics(args):
@@ -607,6 +543,12 @@ def cmd_check(args):
     return 0
 
 
+# -- cam --------------------------------------------------------------------------------------------
+def cmd_cam(args):
+    from .cam.present import run_command
+    return run_command(args)
+
+
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One line; an error raised without a `source` (an argument's) is located at the model file."""
@@ -623,6 +565,11 @@ def _speed_options(s):
     s.add_argument("--true-motion", action="store_true",
                    help="ω(φ), ε(φ) from the machine dynamics (models with [dynamics]); in a sweep also J_I "
                         "on the input link in the force columns")
+
+
+def cmd_synth(args) -> int:
+    from .synthesis.command import run
+    return run(args)
 
 
 def _units_option(s):
@@ -718,11 +665,22 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
+    s = sub.add_parser("synth", help="synthesis: seed 001's guiding mechanism, function and motion generation")
+    from .synthesis.command import add_arguments
+    add_arguments(s)
+    s.set_defaults(func=cmd_synth)
+
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_check)
+
+    from .cam import present as cam_present
+    s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
+    cam_present.add_arguments(s)
+    s.set_defaults(func=cmd_cam)
+    cam_present.register()
     return p
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
-from ..engine._solver import met_along
+from ..engine._atlas import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
@@ -81,6 +81,10 @@ class CheckReport:
             for ang in doc[key]:
                 ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
         return doc
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
 
 
 # -- four-bar closed form ---------------------------------------------------------------------------

@@ -288,6 +288,16 @@ class Dynamics:
     def delta_simulated(self) -> float | None:
         return None if self.simulation is None else self.simulation.delta
 
+    def to_frame(self):
+        """A pandas DataFrame of the cycle, one row per grid position, with the columns of
+        `mbplanar dynamics -o` (``phi[rad]``, ``J_II[kg*m2]``, ``omega[rad/s]``, ...). Needs pandas."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
+
 
 def cycle_grid(steps: int) -> np.ndarray:
     """φ = 0 … 2π in `steps` equal intervals, both ends included (N = steps + 1)."""

@@ -95,6 +95,16 @@ class Kinetostatics:
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]
 
+    def to_frame(self):
+        """A pandas DataFrame, one row per position: the input, then the force columns of `mbplanar sweep`
+        (``A.fx[N]``, ``O.balancing[N*m]``, ``virtual_power_residual``). Needs pandas."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
+
 
 # -- kinematics of the link frames ------------------------------------------------------------------
 def _real_frames(engine, motion, links=slice(None)):
@@ -453,13 +463,13 @@ def _features(engine, motion, plan):
     return out
 
 
-def _solve_blocks(plan, features, b):
+def _solve_blocks(plan, features, b, threshold: float):
     """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
-    singular positions (B,)."""
+    singular positions (B,): where a block's |det| / Π‖row‖ is not above `threshold`."""
     x = np.zeros(b.shape)
     singular = np.zeros(b.shape[1], bool)
     for blk in plan.blocks:
-        singular |= ~(_solve_block(blk, features, b, x) > 1e-12)
+        singular |= ~(_solve_block(blk, features, b, x) > threshold)
     return x, singular
 
 
@@ -551,7 +561,7 @@ def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
         loads += inertia_loads(engine, motion, input_inertia)
     b = _right_side(lay, loads, plan.centre, engine.size, batch)
     if batch:
-        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
+        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b, engine.tol.singular)
         x *= lay.scale[:, None]
         singular |= ~np.all(np.isfinite(x), axis=0)
         x[:, singular] = np.nan

@@ -97,6 +97,16 @@ class Motion:
     def joint(self, name: str) -> int:
         return self.joint_names.index(name)
 
+    def to_frame(self):
+        """A pandas DataFrame of the positions, one row each, with the columns of `mbplanar sweep`
+        (``phi[deg]``, ``3.angle[deg]``, ``B.vx[m/s]``, ...). Needs pandas (``pip install mbplanar[pandas]``)."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
+
 
 DERIVED = ("xy", "vq", "aq", "angle", "w", "e", "v", "a", "rate", "accel", "ic")  # follow from the frames
 

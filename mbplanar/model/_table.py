@@ -183,8 +183,9 @@ def _read_units(top: Row) -> Units:
     return Units(*chosen)
 
 
-# Sections kept raw in `Mechanism.extras` for the pictures and the report.
-_EXTRA_SECTIONS = {"plot", "description"}
+# Sections kept raw in `Mechanism.extras` for the pictures, the report and the cam (mbplanar.cam reads
+# and checks `[cam]` itself).
+_EXTRA_SECTIONS = {"plot", "description", "cam"}
 
 
 def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
