@@ -23,7 +23,8 @@ from mbplanar import analyse, kinetostatics
 from mbplanar.cli import main
 
 HERE = Path(__file__).resolve().parent
-MODELS = sorted((HERE.parent / "models").glob("*.toml"))
+MODELS = sorted(p for p in (HERE.parent / "models").glob("*.toml")          # linkages (not the cam tables)
+                if "joints" in tomllib.loads(p.read_text(encoding="utf-8")))
 REPRO = HERE / "data" / "repro"
 REPROS = sorted(REPRO.glob("*.toml"))
 

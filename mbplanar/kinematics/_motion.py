@@ -319,8 +319,8 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest.
 
     Raises `ModelError` for input values that are not finite, and for a speed `omega` or acceleration
-    `epsilon` that is not finite or beyond |ω| ≤ 1e100, |ε| ≤ 1e200 (their squares and products must
-    stay finite).
+    `epsilon` that is not finite or larger in size than 1e100 (ω) or 1e200 (ε): their squares and
+    products must stay finite.
     """
     phi = np.asarray(phi, float)
     if not np.all(np.isfinite(phi)):
