@@ -10,7 +10,9 @@ import argparse
 import csv
 import json
 import math
+import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -34,6 +36,34 @@ def _positive_int(text) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"a positive integer, not {text!r}")
     return value
+
+
+def _finite_float(text) -> float:
+    """A finite number (argparse type): nan and ±inf are refused at the edge."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"a finite number, not {text!r}")
+    return value
+
+
+DPI_RANGE = (10, 1200)       # a picture of 8 × 6 in at 1200 dpi is ~70 Mpixel (~280 MB in memory)
+FRAMES_MAX = 3600
+
+
+def _bounded_int(lo, hi):
+    """An integer in [lo, hi] (argparse type)."""
+    def parse(text) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = lo - 1
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"an integer from {lo} to {hi}, not {text!r}")
+        return value
+    return parse
 
 
 def _finite(x):
@@ -68,6 +98,34 @@ def _write_csv(path, header, rows):
 def _input_si(engine, value):
     inp = engine.inputs[0]
     return inp.to_si(value)
+
+
+def _at_si(engine, values) -> np.ndarray:
+    """--at values (model units) as SI (1, n_in). A single revolute input far from the drawn pose on a
+    periodic branch is first reduced by whole periods in the model's unit, exactly for degrees
+    (fmod is exact), with a note; the engine reduces SI values itself, to the float spacing of φ."""
+    from .solver import FAR_TURNS, LOST_PRECISION
+    phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
+    if len(engine.inputs) != 1 or engine.mech.joints[engine.inputs[0].joint].kind != "R":
+        return phi
+    inp, value = engine.inputs[0], float(values[0])
+    if abs(phi[0, 0] - engine.phi_drawn[0]) <= 2 * math.pi * FAR_TURNS:
+        return phi
+    period = engine.period()
+    if period is None:
+        return phi  # the engine refuses it, naming the range, or stops at a limit
+    turns = round(period / (2 * math.pi))
+    in_unit = 360.0 * turns if inp.unit == "deg" else period
+    reduced = math.fmod(value, in_unit)
+    error = 0.0 if inp.unit == "deg" else abs(value / in_unit) * np.spacing(in_unit)
+    if error > LOST_PRECISION:
+        raise _ArgError(f"--at {value:g} {inp.unit}: reducing it by whole turns leaves an uncertainty of "
+                        f"{error:.3g} rad; give the value reduced by whole turns")
+    note = f"; the reduction is good to {error:.2g} rad" if error > 1e-15 else ""
+    print(f"mbplanar: {engine.mech.source}: note: {inp.name} = {value:g} {inp.unit} lies "
+          f"{abs(value) / in_unit:.6g} period(s) from zero; the motion repeats every {turns} turn(s), so it is "
+          f"solved at the equivalent {reduced:.15g} {inp.unit}{note}", file=sys.stderr)
+    return np.array([[inp.to_si(reduced)]])
 
 
 # -- info -------------------------------------------------------------------------------------------
@@ -128,6 +186,17 @@ def _input_documents(engine, motion, row, values=None) -> list[dict]:
              "epsilon": float(motion.epsilon[row, k])} for k, inp in enumerate(engine.inputs)]
 
 
+def _unreachable(engine, at, motion) -> MotionError:
+    """The error of an --at the drawn branch cannot reach, with the range a single input can move
+    through when a motion limit stopped it."""
+    where = ""
+    if len(engine.inputs) == 1 and motion.limits:
+        inp = engine.inputs[0]
+        lo, hi = engine.reach()
+        where = f" (the input moves within {inp.from_si(lo):.10g} … {inp.from_si(hi):.10g} {inp.unit})"
+    return MotionError(f"{engine.mech.source}: cannot reach {at} on the drawn branch: {motion.message}{where}")
+
+
 def solve_document(engine, motion, row=0, values=None) -> dict:
     inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name, "input": inputs[0], "inputs": inputs,
@@ -169,7 +238,24 @@ def _plain(obj):
 
 def _motion(engine, values_si, omega=None, epsilon=None):
     from .kinematics import analyse
-    return analyse(engine, values_si, omega, epsilon)
+    motion = analyse(engine, values_si, omega, epsilon)
+    _check_overflow(motion)
+    return motion
+
+
+def _check_overflow(motion):
+    """Refuse an input speed or acceleration whose real velocities or accelerations leave the
+    floating-point range (--omega 1e300 squares to infinity) while their analogues are finite."""
+    real = (motion.w, motion.e, motion.v, motion.a)
+    if all(np.all(np.isfinite(x)) for x in real):
+        return
+    analogues = (motion.wq, motion.eq, motion.vq, motion.aq)
+    if any(x is not None and not np.all(np.isfinite(x)) for x in analogues):
+        return  # a singular position: its rates are infinite whatever the speed
+    om, ep = np.max(np.abs(motion.omega)), np.max(np.abs(motion.epsilon))
+    raise _ArgError(f"input speed {om:g} and acceleration {ep:g}: the velocities or accelerations leave "
+                    f"the floating-point range (above {np.finfo(float).max:.3g}); give a smaller --omega "
+                    "or --epsilon")
 
 
 def _speeds(engine, phi, args):
@@ -189,11 +275,11 @@ def cmd_solve(args):
     values = _at_values(args.at)
     if len(values) != len(engine.inputs):
         raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
-    phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
+    phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
-        raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+        raise _unreachable(engine, args.at, motion)
     doc = solve_document(engine, motion, values=values)
     if args.json:
         print(json.dumps(doc, indent=2))
@@ -246,6 +332,8 @@ def sweep_values(engine, steps=None, step=None, start=None, stop=None):
     lo, hi = inp.default_sweep()
     lo = lo if start is None else start
     hi = hi if stop is None else stop
+    if hi == lo:
+        return np.array([float(lo)])  # one position: --from and --to equal
     if step is not None:
         if not step > 0:
             raise _ArgError("--step must be positive")
@@ -369,14 +457,17 @@ def cmd_forces(args):
         raise _ArgError("--at must be a finite number")
     if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
         raise _ArgError("--input-inertia must be a finite number >= 0")
-    phi = np.array([_input_si(engine, value)])
+    if not has_force_data(engine.mech):
+        raise _ArgError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
+                        "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
+    phi = _at_si(engine, [value])[:, 0]
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
     if omega is None and epsilon is None and engine.mech.extras.get("dynamics") is not None:
         omega, epsilon, dyn_inertia = true_motion(engine, phi)
         inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
-        raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
+        raise _unreachable(engine, args.at, motion)
     inertia = inertia or 0.0
     result = kinetostatics(engine, motion, inertia)
     if not result.success:
@@ -587,8 +678,8 @@ class _ArgError(MbplanarError):
 
 def _speed_options(s):
     """--omega, --epsilon or --true-motion of solve and sweep (see `_speeds`)."""
-    s.add_argument("--omega", type=float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
-    s.add_argument("--epsilon", type=float, help="input acceleration (default 0)")
+    s.add_argument("--omega", type=_finite_float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
+    s.add_argument("--epsilon", type=_finite_float, help="input acceleration (default 0)")
     s.add_argument("--true-motion", action="store_true",
                    help="ω(φ), ε(φ) from the machine dynamics (models with [dynamics]); in a sweep also J_I "
                         "on the input link in the force columns")
@@ -621,32 +712,33 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("sweep", help="the whole cycle as a CSV table")
     s.add_argument("model")
     g = s.add_mutually_exclusive_group()
-    g.add_argument("--steps", type=int, help="number of equal intervals (both ends included)")
-    g.add_argument("--step", type=float, help="spacing in the model's unit")
-    s.add_argument("--from", dest="start", type=float, help="first value (default: the model's sweep)")
-    s.add_argument("--to", dest="stop", type=float, help="last value")
+    g.add_argument("--steps", type=_positive_int, help="number of equal intervals (both ends included)")
+    g.add_argument("--step", type=_finite_float, help="spacing in the model's unit")
+    s.add_argument("--from", dest="start", type=_finite_float, help="first value (default: the model's sweep)")
+    s.add_argument("--to", dest="stop", type=_finite_float, help="last value")
     _speed_options(s)
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
                    help="reaction and balancing columns: auto = when the model has loads or masses")
-    s.add_argument("--input-inertia", type=float, help="J_I on the input link for the force columns")
+    s.add_argument("--input-inertia", type=_finite_float, help="J_I on the input link for the force columns")
     s.set_defaults(func=cmd_sweep)
 
     s = sub.add_parser("forces", help="one position: every joint reaction and the balancing moment")
     s.add_argument("model")
     s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
-    s.add_argument("--omega", type=float, help="input speed dφ/dt (default: the model's omega)")
-    s.add_argument("--epsilon", type=float, help="input acceleration (default: the model's, else 0)")
-    s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
+    s.add_argument("--omega", type=_finite_float, help="input speed dφ/dt (default: the model's omega)")
+    s.add_argument("--epsilon", type=_finite_float, help="input acceleration (default: the model's, else 0)")
+    s.add_argument("--input-inertia", type=_finite_float, help="reduced inertia J_I on the input link (kg·m²)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_forces)
 
     s = sub.add_parser("dynamics", help="reduced inertia and moments, flywheel, true ω(φ) and ε(φ)")
     s.add_argument("model")
     s.add_argument("--at", help="also the values at these input values (model's unit, comma-separated)")
-    s.add_argument("--steps", type=int, default=3600, help="intervals over the cycle (default 3600)")
-    s.add_argument("--delta", type=float, help="coefficient of speed fluctuation (default: the model's)")
+    s.add_argument("--steps", type=_bounded_int(36, 10 ** 6), default=3600,
+                   help="intervals over the cycle (36 to 10⁶, default 3600)")
+    s.add_argument("--delta", type=_finite_float, help="coefficient of speed fluctuation (default: the model's)")
     s.add_argument("-o", "--output", help="CSV file of the cycle table")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_dynamics)
@@ -655,24 +747,25 @@ def build_parser() -> argparse.ArgumentParser:
                                     "transmission, forces, ...")
     s.add_argument("model")
     s.add_argument("what", help="diagram, vectors, trajectories, kinematics, analogues, transmission, forces, ...")
-    s.add_argument("--at", type=float, help="generalized coordinate in the model's unit (default: drawn pose)")
+    s.add_argument("--at", type=_finite_float, help="generalized coordinate in the model's unit (default: drawn pose)")
     s.add_argument("--show", help="on the diagram: a comma list of velocities, accelerations, reactions, "
                                   "centres (or all)")
     s.add_argument("--points", help="trajectories of these pairs or points only (comma list, e.g. B,S3)")
-    s.add_argument("--dpi", type=int, default=120)
+    s.add_argument("--dpi", type=_bounded_int(*DPI_RANGE), default=120, help="resolution (10 to 1200)")
     s.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
     s.set_defaults(func=cmd_plot)
 
     s = sub.add_parser("animate", help="animation of a cycle: GIF or a browser page (SVG)")
     s.add_argument("model")
-    s.add_argument("--frames", type=int, default=36)
-    s.add_argument("--dpi", type=int, default=80)
+    s.add_argument("--frames", type=_bounded_int(2, FRAMES_MAX), default=36)
+    s.add_argument("--dpi", type=_bounded_int(*DPI_RANGE), default=80, help="resolution (10 to 1200)")
     s.add_argument("-o", "--output", required=True, help="FILE.gif or FILE.html")
     s.set_defaults(func=cmd_animate)
 
     s = sub.add_parser("report", help="one self-contained HTML report of the model")
     s.add_argument("model")
-    s.add_argument("--frames", type=int, default=36, help="frames of the animation in the report")
+    s.add_argument("--frames", type=_bounded_int(2, FRAMES_MAX), default=36,
+                   help="frames of the animation in the report")
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
@@ -687,7 +780,11 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_note
+            return args.func(args)
+    except BrokenPipeError:
+        return _quiet_broken_pipe()
     except MbplanarError as exc:
         if args.debug:
             raise
@@ -698,6 +795,22 @@ def main(argv=None) -> int:
             raise
         print(f"mbplanar: {exc}", file=sys.stderr)
         return 2
+
+
+def _show_note(message, category, filename, lineno, file=None, line=None):
+    """A library warning as one line on standard error, without the source location."""
+    print(f"mbplanar: note: {message}", file=sys.stderr)
+
+
+def _quiet_broken_pipe() -> int:
+    """The reader of our standard output went away (`mbplanar sweep ... | head`): stop quietly, as a
+    filter does, with no message and no error at the interpreter's final flush."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    return 0
 
 
 if __name__ == "__main__":

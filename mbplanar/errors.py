@@ -5,7 +5,7 @@
 Both carry a message that names the file, row, joint or link at fault.
 """
 
-__all__ = ["MbplanarError", "ModelError", "MotionError"]
+__all__ = ["MbplanarError", "ModelError", "MotionError", "PrecisionWarning"]
 
 
 class MbplanarError(Exception):
@@ -24,3 +24,8 @@ class MotionError(MbplanarError):
     """The mechanism cannot be assembled or cannot move as asked."""
 
     exit_code = 1
+
+
+class PrecisionWarning(UserWarning):
+    """An answer is given with fewer correct digits than usual (e.g. an input value far out, reduced
+    by whole periods of the motion)."""

@@ -34,6 +34,7 @@ every elementwise operation runs over a contiguous batch; `Solution` exposes the
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -41,7 +42,7 @@ import numpy as np
 from ._linalg import factor
 from .assembly import assemble, reference_points
 from .constraints import Pose, Rates, make_law
-from .errors import MbplanarError, MotionError
+from .errors import MbplanarError, ModelError, MotionError, PrecisionWarning
 from .model import Mechanism
 from .topology import analyse_topology
 
@@ -63,6 +64,11 @@ H_CROSS = 2e-2         # widest step across a change point (relative to the inpu
 CROSS_DIST = 1e-6      # largest corrector distance of a step across a change point
 PIVOT_POLISH = 0.05    # below this pivot ratio a converged position gets one more Newton step
 PIVOT_CROSS = 1e-9     # nodes on either side of a change point must be at least this far from singular
+FAR_TURNS = 2          # a revolute input is walked at most this many turns from the drawn pose: farther
+                       # values are reduced by the branch's period (one or two turns), or refused
+FAR_SIZES = 100.0      # a prismatic input is walked at most this many sizes of the mechanism
+LOST_PRECISION = 1e-6  # refuse input values whose floating-point spacing (SI) exceeds this
+PERIOD_TOL = 1e-8      # largest scaled difference of the unknowns one period apart (besides whole turns)
 
 
 @dataclass
@@ -437,6 +443,31 @@ class Engine:
             raise ValueError("input values must be finite")
         return _solve_along(self, phi)
 
+    def period(self) -> float | None:
+        """The period (rad) of the drawn branch along a single revolute input: one or two turns when
+        the mechanism returns to its configuration (relative angles up to whole turns), else None (a
+        rocker, a lock, a prismatic input). Walks up to `FAR_TURNS` turns once, then is cached."""
+        if len(self.inputs) != 1:
+            return None
+        found = self.atlas().period()
+        return None if found is None else found[0]
+
+    def within_walk(self, lo: float, hi: float) -> bool:
+        """Whether input values lo … hi (SI) of a single input lie within the walk's reach from the
+        drawn pose, where no period is needed (`FAR_TURNS`, `FAR_SIZES`)."""
+        phi0 = float(self.phi_drawn[0])
+        return max(abs(lo - phi0), abs(hi - phi0)) <= _far_span(self)
+
+    def reach(self) -> tuple[float, float]:
+        """The input range (SI) the walk from the drawn pose can vouch for without a period: up to the
+        motion limits, or `FAR_TURNS` turns (`FAR_SIZES` sizes for a slider) either way."""
+        phi0, span = float(self.phi_drawn[0]), _far_span(self)
+        atlas = self.atlas()
+        atlas.cover(phi0 - span, phi0 + span)
+        ends = {d: float(atlas.limits[d].phi[0]) if atlas.limits[d] is not None else phi0 + d * span
+                for d in (-1, +1)}
+        return ends[-1], ends[+1]
+
     def solve_limits(self, limits: list) -> Solution:
         """The configurations at the located motion limits among `limits` (those with `Limit.q`), one
         row each: every block is already converged there, so Newton takes no step (which it could not,
@@ -458,6 +489,40 @@ class _Atlas:
         self.nodes = [_origin(engine, np.ones(1))]
         self.limits = {+1: None, -1: None}
         self.crossings = []
+
+    _period = ()  # not looked for yet
+
+    def period(self):
+        """(T, shift) of the branch along a revolute input: the period T (rad, one or two turns) and
+        per block the change of its unknowns over one period (whole turns of relative angles, see
+        `_period_shift`); None when there is none within `FAR_TURNS` turns (a limit, or no return)."""
+        if self._period != ():
+            return self._period
+        self._period = None
+        e = self.engine
+        if e.mech.joints[e.inputs[0].joint].kind != "R":
+            return None
+        phi0 = float(e.phi_drawn[0])
+        origin = next(n for n in self.nodes if n.phi[0] == phi0)
+        for turns in range(1, FAR_TURNS + 1):
+            end = phi0 + 2 * math.pi * turns
+            self.cover(phi0, end)
+            if self.limits[+1] is not None and self.arrays()[0][-1] < end:
+                return None
+            q_end = self._solve_at(end)
+            shift = None if q_end is None else _period_shift(e, origin.q, q_end)
+            if shift is not None:
+                self._period = (2 * math.pi * turns, shift)
+                break
+        return self._period
+
+    def _solve_at(self, x: float):
+        """Every block's unknowns (m,) at input x inside the atlas, or None."""
+        grid, per_block, _ = self.arrays()
+        xs = np.array([x])
+        guesses = _interpolate(grid, per_block, xs, _nearest(grid, xs), np.ones(1, bool))
+        sol = self.engine._solve_batch(xs[:, None], guesses)
+        return [s.q[:, 0] for s in sol.blocks] if sol.valid[0] else None
 
     def cover(self, lo: float, hi: float):
         """Extend the atlas to cover [lo, hi], or up to a motion limit."""
@@ -913,10 +978,80 @@ def _world(pose: Pose, link: str, at) -> np.ndarray:
     return pose.r[link][:, 0] + pose.rot(link, np.array(at, float))[:, 0]
 
 
+def _far_span(e: Engine) -> float:
+    """How far (SI) from the drawn pose the walk goes along a single input before a period is needed."""
+    return 2 * math.pi * FAR_TURNS if e.mech.joints[e.inputs[0].joint].kind == "R" else FAR_SIZES * e.size
+
+
+def _period_shift(e: Engine, q0: list, q1: list) -> list | None:
+    """Per block the change q1 − q0 of its unknowns when it is whole turns of the relative angles and
+    nothing else (within `PERIOD_TOL`, scaled), else None."""
+    out = []
+    for bp, a, b in zip(e.blocks, q0, q1):
+        angle = np.array([e.mech.joints[st.law.name].kind == "R" for st in bp.steps if st.var is not None],
+                         bool)
+        d = b - a
+        whole = np.where(angle, 2 * math.pi * np.round(d / (2 * math.pi)), 0.0)
+        if np.any(np.abs(d - whole) * bp.var_scale > PERIOD_TOL):
+            return None
+        out.append(whole)
+    return out
+
+
+def _periods_away(e: Engine, x: np.ndarray):
+    """Whole periods n (B,) to take off x for the walk, or None when every row is within reach
+    (`_far_span`) or past a motion limit found within it. Rows beyond reach on a side without a limit
+    need a period; a mechanism without one gets a `MotionError` naming the range walked."""
+    phi0, span = float(e.phi_drawn[0]), _far_span(e)
+    far = np.abs(x - phi0) > span
+    if not far.any():
+        return None
+    atlas = e.atlas()
+    atlas.cover(max(float(x.min()), phi0 - span), min(float(x.max()), phi0 + span))
+    open_side = (far & (x > phi0) & (atlas.limits[+1] is None)) | (far & (x < phi0) & (atlas.limits[-1] is None))
+    if not open_side.any():
+        return None  # far rows lie past a limit: the walk stops there
+    spacing = float(np.spacing(np.abs(x[far])).max())
+    if spacing > LOST_PRECISION:
+        inp = e.inputs[0]
+        raise ModelError(f"{e.mech.source}: {inp.name} = {inp.from_si(float(np.abs(x).max())):g} {inp.unit}: at this "
+                         f"size floating-point numbers are {spacing:.3g} (SI) apart, so the position within a "
+                         "turn is lost; give the value reduced by whole turns")
+    found = atlas.period()
+    if found is None:
+        inp = e.inputs[0]
+        lo, hi = e.reach()
+        raise MotionError(f"{e.mech.source}: {inp.name} = {inp.from_si(float(x[open_side][0])):g} {inp.unit} "
+                          f"is beyond the range the analysis walks from the drawn pose "
+                          f"({inp.from_si(lo):g} … {inp.from_si(hi):g} {inp.unit}), and the motion does not "
+                          f"repeat within {FAR_TURNS} turns")
+    n = np.floor((x - phi0) / found[0])
+    error = spacing + float(np.abs(n).max()) * np.spacing(found[0])
+    if error > 1e-12:
+        warnings.warn(f"{e.mech.source}: input values as large as {float(np.abs(x).max()):.6g} rad are reduced by "
+                      f"whole periods with an uncertainty of {error:.2g} rad", PrecisionWarning, stacklevel=4)
+    return n
+
+
+def _solve_periodic(e: Engine, phi: np.ndarray, n: np.ndarray) -> Solution:
+    """Rows far along a periodic branch: solved n periods back, near the drawn pose, then moved on by
+    n periods (whole turns of the relative angles) and confirmed at the values asked."""
+    period, shift = e.atlas().period()
+    near = _solve_along(e, (phi[:, 0] - n * period)[:, None])
+    guesses = [s.q + d[:, None] * n[None, :] for s, d in zip(near.blocks, shift)]
+    sol = e._solve_batch(phi, guesses)
+    sol.valid &= near.valid
+    sol.limits, sol.crossings, sol.given_rates = near.limits, near.crossings, near.given_rates
+    return sol
+
+
 def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
     """Batch solve on the drawn branch: predict from the atlas, correct, check, walk the rest."""
     if len(e.inputs) != 1:
         return _solve_sequence(e, phi)
+    n = _periods_away(e, phi[:, 0])
+    if n is not None:
+        return _solve_periodic(e, phi, n)
     atlas = e.atlas()
     x = phi[:, 0]
     atlas.cover(float(x.min()), float(x.max()))
