@@ -637,7 +637,7 @@ def cmd_animate(args):
         motion = plotting.cycle_motion(engine, args.frames)
     if motion.limits:
         from .kinematics import describe_limit
-        print(f"mbplanar: {engine.mech.source}: the animation stops at the motion limit: "
+        print(f"mbplanar: {engine.mech.source}: the animation turns back at the motion limits: "
               + "; ".join(describe_limit(engine, lim) for lim in motion.limits), file=sys.stderr)
     return 0
 

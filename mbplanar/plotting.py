@@ -24,7 +24,7 @@ from .kinematics import describe_limit
 from .scene import build_scene
 
 __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure",
-           "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
+           "save_figure", "cycle_values", "cycle_motion", "swing_values", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
            "forces_figure", "transmission_angles", "pressure_angles", "moving_points", "write_gif",
@@ -85,10 +85,29 @@ def cycle_motion(engine, count: int = 72):
         return motion
     if len(motion.phi) == 0:
         raise MotionError(f"{engine.mech.source}: no position of the sweep can be reached: {motion.message}")
+    swing = swing_values(engine, count) if engine.inputs[0].sweep is None else None
+    if swing is not None:
+        fine = analyse(engine, swing)
+        fine.limits = [lim for lim in engine.atlas().limits.values() if lim is not None]
+        return fine
     lo, hi = float(motion.phi[0, 0]), float(motion.phi[-1, 0])
     fine = analyse(engine, np.linspace(lo, hi, count))
     fine.limits = motion.limits
     return fine
+
+
+def swing_values(engine, count: int = 72) -> np.ndarray | None:
+    """`count` input values (SI) of a rocking input's whole cycle: from the dead point below the drawn
+    pose to the one above and back (a triangle wave, so an animation loops without a jump and a
+    trajectory retraces itself instead of closing with a chord), ending at the walk's last solvable
+    positions next to the limits; None unless the input is stopped by a motion limit both ways."""
+    engine.reach()
+    atlas = engine.atlas()
+    if atlas.limits[-1] is None or atlas.limits[+1] is None:
+        return None
+    grid = atlas.arrays()[0]
+    t = np.arange(count) / max(count, 1)
+    return grid[0] + (grid[-1] - grid[0]) * (1.0 - np.abs(1.0 - 2.0 * t))
 
 
 def position_motion(engine, at=None):
