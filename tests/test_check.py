@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.check import check, transmission_angles
+from mbplanar.analysis import check, transmission_angles
 from mbplanar.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -231,7 +231,7 @@ def test_grashof_names(lengths, drawn_crossed, kind):
     m.add_joint("C", "R", "3", "0", at=tuple(c))
     m.add_input("O", unit="deg")
     g = mbplanar.Engine(m)
-    from mbplanar.check import grashof
+    from mbplanar.analysis import grashof
     assert grashof(g)["kind"] == kind
 
 

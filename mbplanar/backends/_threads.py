@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 from concurrent.futures import ThreadPoolExecutor
 
-from .errors import MbplanarError
+from ..errors import MbplanarError
 
 __all__ = ["MIN_CHUNK", "available", "chunks", "run", "work_arrays"]
 

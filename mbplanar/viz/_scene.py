@@ -3,8 +3,8 @@
 `build_scene(engine, motion)` turns a `Motion` into the shapes of a mechanism drawing, batch first:
 revolute pairs (circles), ground pivots, sliders (blocks on their guides), guide lines fixed on their
 carriers, links as bars (two attachment points, or all of them in line) or polygons (three or more),
-points of interest. The matplotlib figures (`mbplanar.plotting`) and the browser animation
-(`mbplanar.animation`) both draw a `Scene`, so a picture and an animation always agree.
+points of interest. The matplotlib figures (`mbplanar.viz._plotting`) and the browser animation
+(`mbplanar.viz._animation`) both draw a `Scene`, so a picture and an animation always agree.
 
 Every shape is fixed on one link: it is given by its coordinates in the drawn pose and placed at each
 position by the link's frame (xy = r_k + R(th_k)·s, see `mbplanar.kinematics`).

@@ -1,7 +1,7 @@
 """The mechanism model: links, joints, points of interest and inputs, as written in a table of pairs.
 
 A `Mechanism` holds what the user wrote: coordinates of every joint and point in one drawn pose (metres),
-optionally link dimensions that make that pose a sketch. `mbplanar.assembly.assemble` turns it into an
+optionally link dimensions that make that pose a sketch. `mbplanar.model.assemble` turns it into an
 exact model (same type, `exact=True`) that the engine uses. Everything here is plain data in SI units;
 angles are radians except where a name ends in `_deg`.
 """
@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .errors import ModelError
+from ..errors import ModelError
 
 __all__ = ["Link", "Joint", "Point", "Input", "Mechanism"]
 

@@ -1,6 +1,6 @@
 """Pictures of a mechanism with matplotlib: the kinematic diagram (optionally with velocity and
 acceleration vectors, reaction arrows, instantaneous centres), trajectories, plots against the
-generalized coordinate, GIF animation. The force pictures live in `mbplanar.forceplots`.
+generalized coordinate, GIF animation. The force pictures live in `mbplanar.viz._forceplots`.
 
 matplotlib (the optional extra `mbplanar[plot]`) is imported only when a picture is asked for, with the
 Agg backend; without it `require_matplotlib` raises `PlotUnavailable` (CLI exit 2) saying how to install it.
@@ -19,9 +19,9 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import MbplanarError, ModelError, MotionError
-from .kinematics import describe_limit
-from .scene import build_scene
+from ..errors import MbplanarError, ModelError, MotionError
+from ..kinematics._motion import describe_limit
+from ._scene import build_scene
 
 __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure",
            "save_figure", "cycle_values", "cycle_motion", "swing_values", "position_motion", "draw_mechanism",
@@ -78,7 +78,7 @@ def cycle_motion(engine, count: int = 72):
     If the drawn branch ends before the sweep does, the `count` positions are spread over the part that
     is reached (so an animation still has `count` frames). MotionError if not even one position is.
     """
-    from .kinematics import analyse
+    from ..kinematics._motion import analyse
     values = cycle_values(engine, count)
     motion = analyse(engine, values)
     if motion.success:
@@ -112,7 +112,7 @@ def swing_values(engine, count: int = 72) -> np.ndarray | None:
 
 def position_motion(engine, at=None):
     """Kinematics at one position: `at` in the model's unit, default the drawn pose."""
-    from .kinematics import analyse
+    from ..kinematics._motion import analyse
     inp = engine.inputs[0]
     phi = engine.phi_drawn[0] if at is None else inp.to_si(float(at))
     motion = analyse(engine, np.array([phi]))
@@ -365,8 +365,8 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=Fals
     if centres:
         draw_instant_centres(ax, scene, motion, 0)
     if reactions:
-        from .forceplots import draw_reactions
-        from .kinetostatics import kinetostatics
+        from ._forceplots import draw_reactions
+        from ..forces._kinetostatics import kinetostatics
         draw_reactions(ax, engine, kinetostatics(engine, motion), 0, scene.size)
     if vectors or reactions:
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
@@ -504,7 +504,7 @@ def transmission_angles(engine, motion) -> dict:
     """Transmission angle μ (°, 0…180, not folded) at every revolute pair P–J–Q inside an Assur group
     (the pairs `mbplanar check` judges): the angle at J between the lines to P and Q.
     {'μ at B (A–B–C)': (B,) array}."""
-    from .check import transmission_triples
+    from ..analysis._check import transmission_triples
     out = {}
     for p, j, q in transmission_triples(engine):
         mid = motion.xy[:, motion.point(j)]
@@ -518,7 +518,7 @@ def transmission_angles(engine, motion) -> dict:
 def pressure_angles(engine, motion) -> dict:
     """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
     {'ϑ at Bp (A–B)': (B,) array}."""
-    from .check import pressure_angles as angles
+    from ..analysis._check import pressure_angles as angles
     pairs, values = angles(engine, motion)
     return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
             for k, (a, b, s) in enumerate(pairs)}
@@ -552,7 +552,7 @@ def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
 
 def forces_figure(engine, at=None, **options):
     """Reactions (magnitudes, hodographs), balancing moment and prismatic-pair moments over the cycle."""
-    from .forceplots import forces_figure as draw
+    from ._forceplots import forces_figure as draw
     return draw(engine, at, **options)
 
 
@@ -561,7 +561,7 @@ def dynamics_figure(engine, at=None, *, dynamics=None, count=3600, figsize=(10, 
     true ω(φ), ε(φ) of the crank (energy–mass method and the simulated steady state). `dynamics`: a
     computed `Dynamics` (default: `machine_dynamics(engine)` on `count` steps, at least 36); `at`
     marks one position. ModelError for a model without a [dynamics] section."""
-    from .dynamics import machine_dynamics
+    from ..forces._dynamics import machine_dynamics
     plt = require_matplotlib()
     d = machine_dynamics(engine, steps=max(int(count), 36)) if dynamics is None else dynamics
     inp = engine.inputs[0]

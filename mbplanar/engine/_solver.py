@@ -39,12 +39,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._backend import load as load_backend
 from ._linalg import factor
-from .assembly import assemble, reference_points
-from .constraints import Pose, Rates, make_law
-from .errors import MbplanarError, ModelError, MotionError, PrecisionWarning
-from .model import Mechanism
-from .topology import analyse_topology
+from ..model._assembly import assemble, reference_points
+from ._constraints import Pose, Rates, make_law
+from ..errors import ModelError, MotionError, PrecisionWarning
+from ..model._model import Mechanism
+from ..structure._topology import analyse_topology
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
 
@@ -168,31 +169,23 @@ class Solution:
     a: np.ndarray | None = None
 
 
-BACKENDS = ("numpy", "numba")
-
-
 class Engine:
     """A compiled mechanism, ready to solve batches of positions.
 
     backend: "numpy" (the reference) or "numba", which runs the kinematics and kinetostatics of
-    one-input sweeps through compiled per-position loops (`mbplanar._numba_kinematics`,
-    `mbplanar._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
+    one-input sweeps through compiled per-position loops (`mbplanar.backends._numba_kinematics`,
+    `mbplanar.backends._numba_kinetostatics`; needs the optional extra `fast`) and falls back to numpy wherever
     those loops cannot vouch for a position.
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
     or the environment variable MBPLANAR_THREADS); the answers do not depend on it."""
 
     def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy", threads: int | None = None):
-        if backend not in BACKENDS:
-            raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, not {backend!r}")
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise ValueError(f"threads must be a positive integer, not {threads!r}")
+        self.compiled = load_backend(backend)  # None: numpy alone
         self.threads = threads
-        if backend == "numba":
-            try:
-                import numba  # noqa: F401
-            except ImportError:
-                raise MbplanarError("backend 'numba' needs numba: pip install 'mbplanar[fast]'") from None
         self.backend = backend
+        self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech
@@ -207,6 +200,14 @@ class Engine:
         self.joint_value_drawn = {name: self._drawn_joint_value(name) for name in mech.joints}
         self.blocks = [self._plan(block) for block in self.topology.blocks]
         self._atlas = None
+
+    def prepare(self, name: str, make):
+        """The engine's table called `name`, made by `make()` on first use and kept (the output tables,
+        the kinetostatic plan, a backend's kernel tables, ...)."""
+        table = self.prepared.get(name)
+        if table is None:
+            table = self.prepared[name] = make()
+        return table
 
     # -- compile --------------------------------------------------------------------------------
     def _drawn_link_angle(self, link: str) -> float:

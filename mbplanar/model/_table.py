@@ -12,8 +12,8 @@ import math
 import tomllib
 from pathlib import Path
 
-from .errors import ModelError
-from .model import Input, Mechanism
+from ..errors import ModelError
+from ._model import Input, Mechanism
 
 __all__ = ["read_model", "read_model_text", "parse_model"]
 

@@ -21,7 +21,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from .solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
+from ..engine._solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
 
 __all__ = ["FIELDS", "sweep"]
 
@@ -50,19 +50,21 @@ class _Plan:
 
 
 def _plan(engine, joint_table) -> _Plan:
-    plan = engine.__dict__.get("_numba_plan")
-    if plan is None:
-        steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, anchors = _blocks(engine)
-        joints_i, joints_f = _joints(joint_table)
-        args = (steps_i, steps_f, cuts_i, cuts_f, blocks, anchors, row_scale, var_scale, float(engine.inputs[0].sense),
-                float(engine.phi_drawn[0]), joints_i, joints_f, engine.link_index[engine.mech.ground])
-        per = {"L": len(engine.links), "J": len(joints_i)}
-        row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
-                        for name, kind, comp in FIELDS])
-        m_max = max([1] + [bp.m for bp in engine.blocks])
-        sizes = (len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
-        plan = engine.__dict__["_numba_plan"] = _Plan(args, row, sizes, [])
-    return plan
+    return engine.prepare("numba kinematics", lambda: _make_plan(engine, joint_table))
+
+
+def _make_plan(engine, joint_table) -> _Plan:
+    """The engine's blocks and output tables as the kernel's arrays."""
+    steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, anchors = _blocks(engine)
+    joints_i, joints_f = _joints(joint_table)
+    args = (steps_i, steps_f, cuts_i, cuts_f, blocks, anchors, row_scale, var_scale, float(engine.inputs[0].sense),
+            float(engine.phi_drawn[0]), joints_i, joints_f, engine.link_index[engine.mech.ground])
+    per = {"L": len(engine.links), "J": len(joints_i)}
+    row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
+                    for name, kind, comp in FIELDS])
+    m_max = max([1] + [bp.m for bp in engine.blocks])
+    sizes = (len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
+    return _Plan(args, row, sizes, [])
 
 
 def _blocks(engine) -> tuple:
@@ -123,11 +125,11 @@ def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) ->
             np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))
 
 
-def _atlas_tables(atlas):
+def _atlas_tables(engine, atlas):
     """The atlas' interpolant with every block's unknowns stacked: grid (K,), coefficients
-    (K − 1, 6, M), node signs (K, n_blocks); cached per extension of the atlas."""
+    (K − 1, 6, M), node signs (K, n_blocks); made again when the atlas has grown."""
     arrays = atlas.arrays()
-    cached = atlas.__dict__.get("_numba_tables")
+    cached = engine.prepared.get("numba atlas")
     if cached is not None and cached[0] is arrays:
         return cached[1]
     grid, per_block, signs = arrays
@@ -135,7 +137,7 @@ def _atlas_tables(atlas):
     coef = (np.ascontiguousarray(np.concatenate(coefs, axis=1).transpose(2, 0, 1)) if coefs
             else np.zeros((len(grid) - 1, 6, 0)))
     tables = (np.ascontiguousarray(grid), coef, np.ascontiguousarray(signs, float))
-    atlas.__dict__["_numba_tables"] = (arrays, tables)
+    engine.prepared["numba atlas"] = (arrays, tables)
     return tables
 
 
@@ -145,7 +147,7 @@ def sweep(engine, x, lo, hi, joint_table):
     must take the batch."""
     atlas = engine.atlas()
     atlas.cover(lo, hi)
-    grid, coef, signs = _atlas_tables(atlas)
+    grid, coef, signs = _atlas_tables(engine, atlas)
     if len(grid) < 2:
         return None
     if atlas.crossings and _in_brackets(atlas.crossings, x).any():

@@ -45,7 +45,7 @@ class ReportContext:
 
     def figure(self, fig, alt: str) -> str:
         """An inline <img> (base64 PNG) of a matplotlib figure (closed afterwards)."""
-        from .plotting import figure_bytes
+        from ._plotting import figure_bytes
         data = base64.b64encode(figure_bytes(fig, "png", self.dpi)).decode("ascii")
         return f'<figure><img alt="{html.escape(alt)}" src="data:image/png;base64,{data}"></figure>'
 
@@ -80,7 +80,7 @@ def _model_section(engine, ctx):
 
 
 def _diagram_section(engine, ctx):
-    from .plotting import diagram_figure, vectors_figure
+    from ._plotting import diagram_figure, vectors_figure
     return (ctx.figure(diagram_figure(engine, cycle=ctx.cycle), "kinematic diagram in the drawn pose")
             + ctx.figure(vectors_figure(engine, cycle=ctx.cycle),
                          "velocities, accelerations and instantaneous centres in the drawn pose"))
@@ -104,7 +104,7 @@ def _structure_section(engine, ctx):
 def _motion_section(engine, ctx):
     """`check`'s verdict: whether the input turns fully, dead points and change points, extreme
     positions, transmission and pressure angles."""
-    from .check import check, format_report
+    from ..analysis._check import check, format_report
     if len(engine.inputs) != 1:
         return "<p>The motion range is checked for a mechanism with one input.</p>"
     return ("<p>The whole range the input can move through (<code>mbplanar check</code>): dead points are "
@@ -113,8 +113,8 @@ def _motion_section(engine, ctx):
 
 
 def _positions_section(engine, ctx):
-    from .plotting import moving_points
-    from .scene import build_scene
+    from ._plotting import moving_points
+    from ._scene import build_scene
     m = ctx.table
     inp = engine.inputs[0]
     phi = inp.from_si(m.phi[:, 0])
@@ -136,12 +136,12 @@ def _positions_section(engine, ctx):
 
 
 def _limits(engine, motion):
-    from .kinematics import describe_limit
+    from ..kinematics._motion import describe_limit
     return "; ".join(describe_limit(engine, lim) for lim in motion.limits)
 
 
 def _plots_section(engine, ctx):
-    from .plotting import (analogues_figure, kinematics_figure, pressure_angles, trajectories_figure,
+    from ._plotting import (analogues_figure, kinematics_figure, pressure_angles, trajectories_figure,
                            transmission_angles, transmission_figure)
     out = ctx.figure(trajectories_figure(engine), "trajectories")
     out += ctx.figure(kinematics_figure(engine, count=121), "real velocities and accelerations")
@@ -154,13 +154,13 @@ def _plots_section(engine, ctx):
 def _reactions_section(engine, ctx):
     """Kinetostatics at the model's speed: the balancing load and every pair's reaction at the table
     positions, a diagram with the reaction arrows, the plots over the cycle, the virtual-power check."""
-    from .loads import has_force_data
+    from ..forces._loads import has_force_data
     if not has_force_data(engine.mech):
         return ("<p>The model has no loads: no masses, inertias, gravity or load rows, so every reaction "
                 "and the balancing moment are zero.</p>")
-    from .forceplots import balancing_label, forces_figure, reaction_label
-    from .kinetostatics import kinetostatics
-    from .plotting import diagram_figure, input_speed
+    from ._forceplots import balancing_label, forces_figure, reaction_label
+    from ..forces._kinetostatics import kinetostatics
+    from ._plotting import diagram_figure, input_speed
     inp = engine.inputs[0]
     table, cycle = kinetostatics(engine, ctx.table), kinetostatics(engine, ctx.cycle)
     residual = max(float(np.nanmax(r.virtual_power_residual, initial=0.0)) for r in (table, cycle))
@@ -211,13 +211,13 @@ def _reactions_section(engine, ctx):
 
 
 def _animation_section(engine, ctx):
-    from .animation import svg_animation
+    from ._animation import svg_animation
     return svg_animation(engine, ctx.frames, element_id="report-animation", width=560)
 
 
 def _flywheel_section(engine, ctx):
-    from .dynamics import machine_dynamics, summary
-    from .plotting import dynamics_figure
+    from ..forces._dynamics import machine_dynamics, summary
+    from ._plotting import dynamics_figure
     if engine.mech.extras.get("dynamics") is None:
         return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
     d = machine_dynamics(engine)
@@ -271,7 +271,7 @@ nav a{margin-right:1em} .grid{display:flex;flex-wrap:wrap;gap:0 1.5em}
 
 def report_html(engine, *, positions: int = REPORT_POSITIONS, frames: int = 36, dpi: int = 90) -> str:
     """The whole report as one HTML string."""
-    from .plotting import cycle_motion, require_matplotlib
+    from ._plotting import cycle_motion, require_matplotlib
     require_matplotlib()
     ctx = ReportContext(engine, cycle_motion(engine, 72), cycle_motion(engine, positions), dpi, frames)
     mech = engine.mech

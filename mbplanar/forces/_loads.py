@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .errors import ModelError, MotionError
+from ..errors import ModelError, MotionError
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
            "has_force_data",
@@ -384,7 +384,7 @@ def _displacement_zero(engine, load: Load) -> float:
     """The joint's value at the input value `zero_at` (the diagram's s = 0), or 0 (drawn pose)."""
     if load.zero_at is None:
         return 0.0
-    cache = engine.__dict__.setdefault("_displacement_zero", {})
+    cache = engine.prepare("displacement zero", dict)
     key = (load.joint, load.zero_at)
     if key not in cache:
         cache[key] = _joint_value_at(engine, load)
@@ -394,7 +394,7 @@ def _displacement_zero(engine, load: Load) -> float:
 def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
         raise ModelError(f"{engine.mech.source}: {load.name}: 'zero_at' needs a model with one input")
-    from .kinematics import analyse
+    from ..kinematics._motion import analyse
     inp = engine.inputs[0]
     m = analyse(engine, np.array([inp.to_si(load.zero_at)]))
     if not m.success:

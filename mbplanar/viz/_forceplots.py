@@ -1,9 +1,9 @@
 """Pictures of the kinetostatics: reaction arrows on the kinematic diagram, and the reactions and the
 balancing moment against the generalized coordinate (magnitudes, hodographs, moments).
 
-Forces are computed by `mbplanar.kinetostatics` at the model's input speed and acceleration (no
+Forces are computed by `mbplanar.forces.kinetostatics` at the model's input speed and acceleration (no
 flywheel: J_I = 0). A model without masses, gravity or loads has no forces to draw: the pictures say so.
-matplotlib is imported only through `mbplanar.plotting.require_matplotlib`.
+matplotlib is imported only through `mbplanar.viz._plotting.require_matplotlib`.
 """
 
 from __future__ import annotations
@@ -12,10 +12,10 @@ import textwrap
 
 import numpy as np
 
-from .kinematics import describe_limit
-from .kinetostatics import kinetostatics
-from .loads import has_force_data
-from .plotting import (COLORS, _coordinate, _figure, _full_turn, _plot_lines, _xstep, cycle_motion, include_points,
+from ..kinematics._motion import describe_limit
+from ..forces._kinetostatics import kinetostatics
+from ..forces._loads import has_force_data
+from ._plotting import (COLORS, _coordinate, _figure, _full_turn, _plot_lines, _xstep, cycle_motion, include_points,
                        input_speed, lean_ticks, require_matplotlib)
 
 __all__ = ["reaction_label", "balancing_label", "draw_reactions", "forces_figure", "NO_LOADS"]

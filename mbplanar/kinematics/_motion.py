@@ -11,8 +11,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .constraints import dot, perp
-from .solver import Crossing, Engine, Limit, met_along
+from ..engine._backend import dispatch
+from ..engine._constraints import dot, perp
+from ..engine._solver import Crossing, Engine, Limit
 
 __all__ = ["Motion", "analyse", "positions_at_limits"]
 
@@ -188,10 +189,7 @@ def _joint_table(engine: Engine) -> _JointTable:
 
 def _tables(engine: Engine):
     """Point and joint tables of an engine, computed on first use and kept on the engine."""
-    cached = engine.__dict__.get("_output_tables")
-    if cached is None:
-        cached = engine.__dict__["_output_tables"] = (_point_table(engine), _joint_table(engine))
-    return cached
+    return engine.prepare("output tables", lambda: (_point_table(engine), _joint_table(engine)))
 
 
 def _rotated(c, s, at):
@@ -306,15 +304,15 @@ CHUNK = 25_000  # positions solved at once: bounds the working memory of very lo
 
 def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
-    hold no solution, are dropped before anything is returned)."""
-    n_in = len(engine.inputs)
-    phi = np.asarray(phi, float)
-    if engine.backend == "numba" and n_in == 1 and phi.size and np.isfinite(phi).all():
-        m = _compiled_motion(engine, phi.reshape(-1, 1), omega, epsilon)  # no chunks: no temporaries
-        if m is not None:
-            return m
+    hold no solution, are dropped before anything is returned). The engine's compiled backend takes the
+    batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest."""
+    return dispatch(engine, "kinematics", _reference, np.asarray(phi, float), omega, epsilon)
+
+
+def _reference(engine: Engine, phi: np.ndarray, omega, epsilon) -> Motion:
+    """`analyse` by numpy: one batch, or chunks of a long sweep of one input."""
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        if n_in != 1 or phi.size <= CHUNK:
+        if len(engine.inputs) != 1 or phi.size <= CHUNK:
             return _analyse(engine, phi, omega, epsilon)
         return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon)
 
@@ -364,36 +362,6 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     phi = np.asarray(phi, float)
     phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
     return _motion(engine, engine.solve(phi), omega, epsilon)
-
-
-def _compiled_motion(engine: Engine, phi, omega, epsilon) -> Motion | None:
-    """`_motion(engine, engine.solve(phi), ...)` by the compiled per-position loops of one input, or
-    None where they hand the batch back to numpy."""
-    from . import _numba_kinematics as compiled
-
-    batch, inp = len(phi), engine.inputs[0]
-    x = np.ascontiguousarray(phi[:, 0])
-    om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1).reshape(-1))
-    ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1).reshape(-1))
-    tables = _tables(engine)
-    lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
-    if not engine.within_walk(lo, hi):
-        return None  # far values: the numpy path reduces them by the period
-    got = compiled.sweep(engine, x, lo, hi, tables[1])
-    if got is None:
-        return None
-    rows, valid = got
-    keep = slice(None) if valid.all() else np.flatnonzero(valid)
-    rows = rows[keep]
-    limits, crossings = met_along(engine.atlas(), lo, hi)
-    return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
-                  link_names=list(engine.links), angle=None, w=None, e=None,
-                  point_names=tables[0][0], xy=None, v=None, a=None,
-                  joint_names=list(engine.mech.joints), value=rows["value"], rate=None,
-                  accel=None, ic=None, wq=rows["wq"], eq=rows["eq"], vq=None, aq=None,
-                  rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
-                  crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
-                                               "e": rows["eq"], "a": rows["fa"]}, rows=rows)
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:

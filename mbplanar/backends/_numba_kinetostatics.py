@@ -20,8 +20,8 @@ import numpy as np
 
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
-from .kinematics import _tables
-from .loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
+from ..kinematics._motion import _tables
+from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
 
 __all__ = ["solve"]
 
@@ -123,7 +123,7 @@ def _zeros(blk) -> list:
 def _plan(engine, ks_plan, motion, inertia) -> _Plan:
     row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
-    cache = engine.__dict__.setdefault("_numba_kinetostatic_plans", {})
+    cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key in cache:
         return cache[key]
     mech, lay = engine.mech, ks_plan.lay

@@ -31,9 +31,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._linalg import factor
-from .kinematics import material_points
-from .loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
+from ..engine._backend import dispatch
+from ..engine._linalg import factor
+from ..kinematics._motion import material_points
+from ._loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -294,11 +295,14 @@ def _owners(engine, lay):
     return row_block, col_block
 
 
+def plan_of(engine) -> _Plan:
+    """Layout, features and block order of an engine's system, made once per engine (also read by the
+    compiled backend)."""
+    return engine.prepare("kinetostatic plan", lambda: _plan(engine))
+
+
 def _plan(engine) -> _Plan:
-    """Layout, features and block order of an engine's system (cached on the engine)."""
-    plan = engine.__dict__.get("_kinetostatic_plan")
-    if plan is not None:
-        return plan
+    """Layout, features and block order of an engine's system."""
     mech = engine.mech
     lay = _layout(engine)
     entries, jnames, guides, p_inputs = _entries(engine, lay)
@@ -318,9 +322,7 @@ def _plan(engine) -> _Plan:
         later = [(local_row[r], c, f, coef) for r, c, f, coef in mine if c not in local_col]
         blocks.append(_block(rows, own, inside, later))
     centre = np.mean([j.at for j in mech.joints.values()], axis=0)
-    plan = _Plan(lay, centre, jnames, guides, p_inputs, blocks)
-    engine.__dict__["_kinetostatic_plan"] = plan
-    return plan
+    return _Plan(lay, centre, jnames, guides, p_inputs, blocks)
 
 
 @dataclass
@@ -520,20 +522,21 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     input_inertia: J_I (kg·m², or kg for a prismatic input) on each input link, scalar or per input.
     loads: evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
     inertia: include the d'Alembert loads of the links (and J_I).
+    The engine's compiled backend takes the batch where it can (`engine._backend.dispatch`); numpy, the
+    reference, does the rest.
     """
-    batch = len(motion.phi)
-    mech, L = engine.mech, engine.size
-    plan = _plan(engine)
-    lay = plan.lay
-    if _compiled(engine, motion, loads, input_inertia):
-        from . import _numba_kinetostatics as compiled
+    return dispatch(engine, "kinetostatics", _reference, motion, input_inertia, loads, inertia)
 
-        x, singular, residual, loads = compiled.solve(engine, motion, plan, inertia)
-        return _result(engine, motion, lay, x, singular, residual, loads)
+
+def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
+    """`kinetostatics` by numpy."""
+    batch = len(motion.phi)
+    plan = plan_of(engine)
+    lay = plan.lay
     loads = list(evaluate_loads(engine, motion) if loads is None else loads)
     if inertia:
         loads += inertia_loads(engine, motion, input_inertia)
-    b = _right_side(lay, loads, plan.centre, L, batch)
+    b = _right_side(lay, loads, plan.centre, engine.size, batch)
     if batch:
         x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
         x *= lay.scale[:, None]
@@ -542,19 +545,11 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     else:
         x, singular = np.zeros((lay.size, 0)), np.zeros(0, bool)
     residual = _virtual_power(engine, motion, loads, [x[c] for c in lay.in_cols])
-    return _result(engine, motion, lay, x, singular, residual, loads)
+    return result(engine, motion, lay, x, singular, residual, loads)
 
 
-def _compiled(engine, motion, loads, input_inertia) -> bool:
-    """True where the compiled kinetostatics takes the batch: a compiled Motion (its rows in step with
-    its arrays) of one input, the model's own loads, no input inertia."""
-    rows = motion.rows
-    return (engine.backend == "numba" and rows is not None and len(rows) == len(motion.phi) > 0
-            and np.may_share_memory(rows, motion.wq) and loads is None and len(engine.inputs) == 1
-            and (input_inertia == 0 if isinstance(input_inertia, (int, float)) else not np.any(input_inertia)))
-
-
-def _result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:
+def result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:
+    """The reported reactions and balancing loads from the unknowns x (n, B) (also the compiled backend's)."""
     mech = engine.mech
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
     balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q

@@ -4,7 +4,7 @@ The engine solves a mechanism block by block. A block is a set of links whose po
 links solved before it (ground, input links, earlier blocks). Inside a block a spanning tree hangs every
 link on a known link through one joint (its tree joint, whose variable is an unknown or, for a driving
 joint, an input); the block's other joints are cut joints whose closure gives its equations. With the
-Assur decomposition (`mbplanar.structure`) every group is a block; the single global block is kept as a
+Assur decomposition (`mbplanar.structure.decompose`) every group is a block; the single global block is kept as a
 cross-check and fallback.
 """
 
@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import networkx as nx
 
-from .errors import ModelError
-from .model import Mechanism
+from ..errors import ModelError
+from ..model._model import Mechanism
 
 __all__ = ["TreeJoint", "Block", "Topology", "analyse_topology"]
 
@@ -201,7 +201,7 @@ def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
     loops = independent_loops(mech)
     structure = None
     try:
-        from .structure import decompose
+        from ._assur import decompose
     except ImportError:  # structure module not available
         decompose = None
     if decompose is not None:

@@ -3,7 +3,7 @@
 `svg_animation(engine, frames)` returns an SVG element (a string) whose shapes are moved by a small
 script from a JSON table of positions: the same `Scene` as the matplotlib diagram, so the drawing
 conventions agree (hatched ground pivots and guides, bars, polygons, blocks, pins). No matplotlib
-needed. `write_html_animation` wraps it into a one-file HTML page; `mbplanar.plotting.write_gif` makes
+needed. `write_html_animation` wraps it into a one-file HTML page; `mbplanar.viz.write_gif` makes
 the GIF.
 """
 
@@ -14,7 +14,7 @@ import json
 
 import numpy as np
 
-from .scene import build_scene
+from ._scene import build_scene
 
 __all__ = ["svg_animation", "html_animation", "write_html_animation"]
 
@@ -64,7 +64,7 @@ def _hatch(a, b, normal, step, depth):
 def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str = "mbanim", trajectories=True,
                   width: int = 640) -> str:
     """An inline SVG (with its player: play/pause, a position slider) animating `frames` positions."""
-    from .plotting import cycle_motion  # matplotlib-free part of plotting
+    from ._plotting import cycle_motion  # matplotlib-free part of plotting
     motion = cycle_motion(engine, frames)
     sc = build_scene(engine, motion, motion)
     size = sc.size
@@ -79,7 +79,7 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
         moving.append(f'<{tag} data-k="{k}" {attrs}/>' if tag != "text" else f'<text data-k="{k}" {attrs}</text>')
 
     if trajectories:
-        from .plotting import COLORS, _point_xy, moving_points
+        from ._plotting import COLORS, _point_xy, moving_points
         for k, name in enumerate(moving_points(engine, sc)):
             static.append(f'<polyline points="{_pts(_point_xy(sc, name))}" fill="none" '
                           f'stroke="{COLORS[k % len(COLORS)]}" stroke-width="{lw * 0.35:.4g}" opacity="0.8"/>')

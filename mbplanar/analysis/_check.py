@@ -19,9 +19,9 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from .errors import ModelError
-from .kinematics import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
-from .solver import met_along
+from ..errors import ModelError
+from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
+from ..engine._solver import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]

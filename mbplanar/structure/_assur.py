@@ -74,7 +74,7 @@ from typing import Iterable, Sequence
 
 import networkx as nx
 
-from .errors import ModelError
+from ..errors import ModelError
 
 __all__ = ["AssurGroup", "Structure", "decompose", "roman"]
 

@@ -42,10 +42,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ModelError, MotionError
-from .kinematics import analyse, material_points
-from .loads import centre_of, evaluate_loads, load_power, read_loads
-from .table import Row
+from ..errors import ModelError, MotionError
+from ..kinematics._motion import analyse, material_points
+from ._loads import centre_of, evaluate_loads, load_power, read_loads
+from ..model._table import Row
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
            "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]

@@ -16,8 +16,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from .errors import ModelError, MotionError
-from .model import Joint, Link, Mechanism, Point
+from ..errors import ModelError, MotionError
+from ._model import Joint, Link, Mechanism, Point
 
 __all__ = ["assemble", "reference_points"]
 
