@@ -778,7 +778,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)
+        return exc.code if isinstance(exc.code, int) else 2
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_note
