@@ -258,29 +258,74 @@ def _check_overflow(motion):
                     "or --epsilon")
 
 
-def _speeds(engine, phi, args):
+def _speeds(engine, phi, args, cache=None, check_only=False):
     """ω, ε of the input for solve and sweep: --omega/--epsilon (default 1 and 0: the analogues), or the
-    true motion from the machine dynamics with --true-motion (then also the first group's J_I)."""
+    true motion from the machine dynamics with --true-motion (then also the first group's J_I). `cache`
+    keeps the machine dynamics between the chunks of a sweep; `check_only` only checks the options."""
     if not getattr(args, "true_motion", False):
         return (1.0 if args.omega is None else args.omega), (0.0 if args.epsilon is None else args.epsilon), None
     if args.omega is not None or args.epsilon is not None:
         raise _ArgError("--true-motion computes ω and ε; leave out --omega and --epsilon")
     if len(engine.inputs) != 1 or engine.mech.extras.get("dynamics") is None:
         raise _ArgError(f"{engine.mech.source}: --true-motion needs a model with one input and a [dynamics] section")
-    return true_motion(engine, phi)
+    return None if check_only else true_motion(engine, phi, cache)
+
+
+def _inputs_at(engine, text) -> list[float]:
+    """The --at values, one per input of the model."""
+    values = _at_values(text)
+    if len(values) != len(engine.inputs):
+        raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas "
+                        f"({', '.join(i.name for i in engine.inputs)})")
+    return values
+
+
+def partials_document(engine, phi) -> dict:
+    """First, second and mixed partial analogues at one position phi (1, n_in) (SI): ∂x/∂φ_k and
+    ∂²x/∂φ_k∂φ_l of every point (x, y), link angle and joint value. The second derivative along a
+    direction u is the acceleration for ω = u, ε = 0, a quadratic form in u, so the mixed partial is
+    (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing)."""
+    from .kinematics._motion import analyse
+    n_in = len(engine.inputs)
+    eye = np.eye(n_in)
+
+    def along(u):
+        m = analyse(engine, phi, omega=u[None, :], epsilon=np.zeros((1, n_in)))
+        return m, {"points": {n: np.array([m.v[0, k], m.a[0, k]]) for k, n in enumerate(m.point_names)},
+                   "links": {n: np.array([m.w[0, k], m.e[0, k]]) for k, n in enumerate(m.link_names)},
+                   "joints": {n: np.array([m.rate[0, k], m.accel[0, k]]) for k, n in enumerate(m.joint_names)}}
+
+    single = [along(eye[k])[1] for k in range(n_in)]
+    names = [i.name for i in engine.inputs]
+    doc = {"inputs": names, "first": {}, "second": {}}
+
+    def pack(table, which):
+        return {"points": {n: {"x": v[which][0], "y": v[which][1]} for n, v in table["points"].items()},
+                "links": {n: v[which] for n, v in table["links"].items()},
+                "joints": {n: v[which] for n, v in table["joints"].items()}}
+
+    for k in range(n_in):
+        doc["first"][names[k]] = pack(single[k], 0)
+        doc["second"][f"{names[k]},{names[k]}"] = pack(single[k], 1)
+        for j in range(k + 1, n_in):
+            both = along(eye[k] + eye[j])[1]
+            mixed = {part: {n: (both[part][n] - single[k][part][n] - single[j][part][n]) / 2
+                            for n in both[part]} for part in both}
+            doc["second"][f"{names[k]},{names[j]}"] = pack(mixed, 1)
+    return _plain(doc)
 
 
 def cmd_solve(args):
     engine = _load(args)
-    values = _at_values(args.at)
-    if len(values) != len(engine.inputs):
-        raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
+    values = _inputs_at(engine, args.at)
     phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
         raise _unreachable(engine, args.at, motion)
     doc = solve_document(engine, motion, values=values)
+    if args.json:
+        doc["partials"] = partials_document(engine, motion.phi)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
@@ -327,32 +372,79 @@ def _print_columns(head, rows):
 
 # -- sweep ------------------------------------------------------------------------------------------
 def sweep_values(engine, steps=None, step=None, start=None, stop=None):
-    """Input values (model units) of a sweep: `steps` intervals or a `step`, both ends included."""
-    inp = engine.inputs[0]
-    lo, hi = inp.default_sweep()
-    lo = lo if start is None else start
-    hi = hi if stop is None else stop
+    """Input values (model units) of a one-input sweep: `steps` intervals or a `step`, both ends
+    included (see `sweep_plan` for the lazy form the CLI streams)."""
+    count, values, _ = sweep_plan(engine, steps, step, None if start is None else [start],
+                                  None if stop is None else [stop])
+    return values(0, count)[:, 0]
+
+
+def sweep_plan(engine, steps=None, step=None, start=None, stop=None, grid=False):
+    """A sweep's positions, generated lazily so that a long one never sits in memory: the number of
+    rows, a function values(i, j) → input values (j − i, n_in) (model units) of rows i … j − 1, and the
+    grid's shape (or None).
+
+    One input: `steps` intervals or a `step` from `start` to `stop` (default: the model's sweep), both
+    ends included; equal ends give one row. Several inputs: `start` and `stop` (one value per input)
+    are the ends of a straight path in input space with `steps` intervals; with `grid` the box they
+    span, with `steps` intervals per input (one count for all, or one per input), the first input
+    varying slowest."""
+    n_in = len(engine.inputs)
+    if n_in == 1:
+        lo, hi = engine.inputs[0].default_sweep()
+        lo, hi = (lo if start is None else start[0]), (hi if stop is None else stop[0])
+        return _line_plan(lo, hi, steps or [getattr(engine.inputs[0], "steps", None) or 72], step)
+    if start is None or stop is None:
+        raise _ArgError(f"a sweep of {n_in} inputs needs --from and --to with {n_in} values each "
+                        "(the ends of a path in input space, or the corners of a grid with --grid)")
+    if step is not None:
+        raise _ArgError("--step applies to one input; give --steps for several")
+    lo, hi = np.array(start, float), np.array(stop, float)
+    counts = steps or [72]
+    if not grid:
+        if len(counts) != 1:
+            raise _ArgError("--steps of a path is one number; several numbers need --grid")
+        n = 1 if np.all(lo == hi) else counts[0] + 1
+        return n, (lambda i, j: lo + (hi - lo) * (np.arange(i, j)[:, None] / max(n - 1, 1))), None
+    if len(counts) not in (1, n_in):
+        raise _ArgError(f"--steps of a grid is one number or {n_in} numbers")
+    axes = [np.linspace(a, b, (1 if a == b else int(c) + 1)) for a, b, c in
+            zip(lo, hi, np.broadcast_to(counts, (n_in,)))]
+    shape = tuple(len(ax) for ax in axes)
+
+    def values(i, j):
+        idx = np.unravel_index(np.arange(i, j), shape)
+        return np.stack([ax[k] for ax, k in zip(axes, idx)], axis=1)
+    return int(np.prod(shape)), values, shape
+
+
+def _line_plan(lo, hi, steps, step):
+    """`sweep_plan` of one input from lo to hi."""
     if hi == lo:
-        return np.array([float(lo)])  # one position: --from and --to equal
+        return 1, (lambda i, j: np.full((j - i, 1), float(lo))), None  # --from and --to equal
     if step is not None:
         if not step > 0:
             raise _ArgError("--step must be positive")
-        count = int(math.floor(abs(hi - lo) / step + 1e-9))
-        return lo + math.copysign(step, hi - lo) * np.arange(count + 1)
-    steps = getattr(inp, "steps", None) if steps is None else steps
-    steps = 72 if steps is None else steps
-    if steps < 1:
-        raise _ArgError("--steps must be at least 1")
-    return np.linspace(lo, hi, steps + 1)
+        count = int(math.floor(abs(hi - lo) / step + 1e-9)) + 1
+        signed = math.copysign(step, hi - lo)
+        return count, (lambda i, j: (lo + signed * np.arange(i, j))[:, None]), None
+    if len(steps) != 1:
+        raise _ArgError("--steps of one input is one number")
+    n = int(steps[0])
+    width = (hi - lo) / n
+
+    def values(i, j):  # as np.linspace(lo, hi, n + 1): the last value is hi itself
+        k = np.arange(i, j)
+        return np.where(k == n, hi, lo + k * width)[:, None]
+    return n + 1, values, None
 
 
 def sweep_table(engine, motion, angle_unit):
     """Header (quantity[unit]) and rows of a sweep."""
-    inp = engine.inputs[0]
     to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
     au = "deg" if angle_unit == "deg" else "rad"
-    header = [f"{inp.name}[{inp.unit}]"]
-    cols = [inp.from_si(motion.phi[:, 0])]
+    header = [f"{inp.name}[{inp.unit}]" for inp in engine.inputs]
+    cols = [inp.from_si(motion.phi[:, k]) for k, inp in enumerate(engine.inputs)]
     for k, name in enumerate(motion.link_names[1:], start=1):
         header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
         cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
@@ -377,33 +469,113 @@ def sweep_table(engine, motion, angle_unit):
     return header, np.column_stack(cols) if cols else np.zeros((0, 0))
 
 
+SWEEP_CHUNK = 20_000  # positions solved and written at a time: memory stays bounded whatever --steps
+
+
+def _steps_list(text) -> list[int]:
+    """--steps: one positive count, or one per input of a grid (argparse type)."""
+    counts = [_positive_int(part) for part in str(text).split(",")]
+    return counts
+
+
+def _values_list(text) -> list[float]:
+    """--from / --to: one finite value per input, comma-separated (argparse type)."""
+    return [_finite_float(part) for part in str(text).split(",")]
+
+
+class _Output:
+    """A text output opened at its first write (so a command refused before it leaves no file), and
+    removed when the command fails with an error part way (a truncated table would pass for a whole
+    one); standard output when `path` is None."""
+
+    def __init__(self, path):
+        self.path, self.file = path, None
+
+    def write_rows(self, rows):
+        if self.file is None:
+            self.file = open(self.path, "w", newline="", encoding="utf-8") if self.path else sys.stdout
+            self.writer = csv.writer(self.file)
+        self.writer.writerows(rows)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if self.path and self.file is not None:
+            self.file.close()
+            if kind is not None and not issubclass(kind, BrokenPipeError):
+                os.remove(self.path)
+        elif self.file is not None:
+            self.file.flush()
+        return False
+
+
+def _cells(rows):
+    """CSV cells of a table (k, n): 12 significant digits, non-finite cells left empty."""
+    return [["" if not math.isfinite(x) else f"{x:.12g}" for x in row] for row in rows.tolist()]
+
+
 def cmd_sweep(args):
     engine = _load(args)
-    if len(engine.inputs) != 1:
-        raise _ArgError("sweep drives one input; this model has several (use the Python API)")
-    values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
-    inp = engine.inputs[0]
-    omega, epsilon, inertia = _speeds(engine, inp.to_si(values), args)
-    if args.input_inertia is not None:
-        inertia = args.input_inertia
-    motion = _motion(engine, inp.to_si(values), omega, epsilon)
-    angle_unit = args.angles or ("rad" if inp.unit == "rad" else "deg")
-    header, rows = sweep_table(engine, motion, angle_unit)
-    forces_failed = None
-    if args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech)):
-        f_header, f_rows, forces_failed = forces_table(engine, motion, inertia)
-        header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
-    _write_csv(args.output, header, rows)
-    if motion.crossings:
-        from .kinematics._motion import describe_crossing
-        for c in motion.crossings:
-            print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
+    n_in = len(engine.inputs)
+    start = None if args.start is None else args.start
+    stop = None if args.stop is None else args.stop
+    for name, given in (("--from", start), ("--to", stop)):
+        if given is not None and len(given) != n_in:
+            raise _ArgError(f"{name} needs {n_in} value(s) separated by commas")
+    if args.grid and n_in == 1:
+        raise _ArgError("--grid applies to several inputs")
+    count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
+    if args.true_motion or n_in == 1:
+        _speeds(engine, None, args, check_only=True)
+    with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))
+    angle_unit = args.angles or ("rad" if engine.inputs[0].unit == "rad" else "deg")
+    cache, notes, written, missing, forces_failed, stopped = {}, [], 0, 0, None, None
+    with _Output(args.output) as out:
+        for i in range(0, count, SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])):
+            j = min(count, i + (SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])))
+            for a, b in ([(i, j)] if shape is None else [(k, k + shape[-1]) for k in range(i, j, shape[-1])]):
+                values = values_of(a, b)
+                phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(engine.inputs)])
+                omega, epsilon, inertia = _speeds(engine, phi[:, 0], args, cache=cache)
+                if args.input_inertia is not None:
+                    inertia = args.input_inertia
+                motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
+                header, rows = sweep_table(engine, motion, angle_unit)
+                if with_forces:
+                    f_header, f_rows, failed = forces_table(engine, motion, inertia)
+                    header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
+                    forces_failed = forces_failed or failed
+                if written == 0:
+                    out.write_rows([header])
+                notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
+                reached = len(motion.phi)
+                if shape is not None and reached < len(values):  # a grid line: the rest left empty
+                    full = np.full((len(values), len(header)), np.nan)
+                    full[:reached] = rows.reshape(reached, len(header))
+                    full[reached:, :n_in] = values[reached:]
+                    rows, missing = full, missing + len(values) - reached
+                    stopped = stopped or motion.message
+                out.write_rows(_cells(rows))
+                written += len(rows)
+                if shape is None and not motion.success:
+                    stopped = motion
+                    break
+            if shape is None and stopped is not None:
+                break
+    from .kinematics._motion import describe_crossing
+    for c in notes:
+        print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
     if forces_failed:
         print(f"mbplanar: {engine.mech.source}: {forces_failed} (their force cells are empty)", file=sys.stderr)
         return 1
-    if not motion.success:
-        print(f"mbplanar: {engine.mech.source}: {motion.message}; wrote the {len(motion.phi)} of "
-              f"{motion.requested} positions before it", file=sys.stderr)
+    if shape is not None and missing:
+        print(f"mbplanar: {engine.mech.source}: {missing} of the {count} grid points cannot be reached from the "
+              f"drawn pose (their cells are empty), e.g.: {stopped}", file=sys.stderr)
+        return 1
+    if stopped is not None:
+        print(f"mbplanar: {engine.mech.source}: {stopped.message}; wrote the {written} of {count} positions "
+              "before it", file=sys.stderr)
         return 1
     return 0
 
@@ -436,8 +608,9 @@ def forces_document(engine, motion, result, row=0, values=None) -> dict:
         reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
                            "fx": fx, "fy": fy, "moment": float(r.moment[row]),
                            "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
+    inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name,
-           "input": _input_documents(engine, motion, row, values)[0],
+           "input": inputs[0], "inputs": inputs,
            "reactions": reactions,
            "balancing": {name: float(q[row]) for name, q in result.balancing.items()},
            "virtual_power_residual": float(result.virtual_power_residual[row]),
@@ -450,19 +623,17 @@ def forces_document(engine, motion, result, row=0, values=None) -> dict:
 def cmd_forces(args):
     from .forces._kinetostatics import kinetostatics
     engine = _load(args)
-    if len(engine.inputs) != 1:
-        raise _ArgError("forces drives one input; this model has several (use the Python API)")
-    value = float(args.at)
-    if not math.isfinite(value):
-        raise _ArgError("--at must be a finite number")
+    values = _inputs_at(engine, args.at)
     if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
         raise _ArgError("--input-inertia must be a finite number >= 0")
     if not has_force_data(engine.mech):
         raise _ArgError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
                         "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
-    phi = _at_si(engine, [value])[:, 0]
+    phi = _at_si(engine, values)
+    phi = phi[:, 0] if len(engine.inputs) == 1 else phi
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
-    if omega is None and epsilon is None and engine.mech.extras.get("dynamics") is not None:
+    if omega is None and epsilon is None and engine.mech.extras.get("dynamics") is not None \
+            and len(engine.inputs) == 1:
         omega, epsilon, dyn_inertia = true_motion(engine, phi)
         inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
     motion = _motion(engine, phi, omega, epsilon)
@@ -472,15 +643,15 @@ def cmd_forces(args):
     result = kinetostatics(engine, motion, inertia)
     if not result.success:
         raise MotionError(f"{engine.mech.source}: {result.message}")
-    doc = forces_document(engine, motion, result, values=[value])
+    doc = forces_document(engine, motion, result, values=values)
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
-    inp = doc["input"]
-    print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
-          f"(ω = {inp['omega']:g}, ε = {inp['epsilon']:g}, J_I = {inertia:g}; {how})")
+    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g}, "
+                                           f"ε = {i['epsilon']:g})" for i in doc["inputs"])
+          + f"  J_I = {inertia:g}; {how}")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
     rows = []
     for name, r in doc["reactions"].items():
@@ -496,11 +667,13 @@ def cmd_forces(args):
     return 0
 
 
-def true_motion(engine, phi):
+def true_motion(engine, phi, cache=None):
     """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
-    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
+    input link's own inertia (the constant inertia the force analysis adds on the input link); `cache`
+    (a dict) keeps the machine dynamics for later calls."""
     from .forces._dynamics import machine_dynamics
-    dyn = machine_dynamics(engine, simulate_motion=False)
+    cache = {} if cache is None else cache
+    dyn = cache.get("dynamics") or cache.setdefault("dynamics", machine_dynamics(engine, simulate_motion=False))
     state = dyn.state_at(engine, phi)
     return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
 
@@ -608,8 +781,6 @@ def cmd_plot(args):
         raise _ArgError(f"--show applies to the diagram, not to '{args.what}'")
     if args.points is not None and args.what != "trajectories":
         raise _ArgError(f"--points applies to the trajectories, not to '{args.what}'")
-    if args.at is not None and not math.isfinite(args.at):
-        raise _ArgError("--at must be a finite number")
     options = plotting.show_options(args.show) if args.what == "diagram" else {}
     if args.points is not None:
         options["points"] = [n.strip() for n in args.points.split(",") if n.strip()]
@@ -617,7 +788,13 @@ def cmd_plot(args):
             raise _ArgError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args)
-    plotting.save_figure(plotting.make_figure(engine, args.what, args.at, **options), args.output, dpi=args.dpi)
+    at = None
+    if args.at is not None:
+        values = _inputs_at(engine, args.at)
+        phi = _at_si(engine, values)[0]
+        at = [inp.from_si(float(p)) for inp, p in zip(engine.inputs, phi)]
+        at = at[0] if len(at) == 1 else at
+    plotting.save_figure(plotting.make_figure(engine, args.what, at, **options), args.output, dpi=args.dpi)
     return 0
 
 
@@ -712,10 +889,14 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("sweep", help="the whole cycle as a CSV table")
     s.add_argument("model")
     g = s.add_mutually_exclusive_group()
-    g.add_argument("--steps", type=_positive_int, help="number of equal intervals (both ends included)")
+    g.add_argument("--steps", type=_steps_list, help="number of equal intervals (both ends included); with "
+                   "--grid one per input (e.g. 20,30) or one for all")
     g.add_argument("--step", type=_finite_float, help="spacing in the model's unit")
-    s.add_argument("--from", dest="start", type=_finite_float, help="first value (default: the model's sweep)")
-    s.add_argument("--to", dest="stop", type=_finite_float, help="last value")
+    s.add_argument("--from", dest="start", type=_values_list,
+                   help="first value (default: the model's sweep); one per input, comma-separated")
+    s.add_argument("--to", dest="stop", type=_values_list, help="last value (one per input)")
+    s.add_argument("--grid", action="store_true",
+                   help="several inputs: every combination over the box from --from to --to, not a path")
     _speed_options(s)
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
@@ -747,7 +928,8 @@ def build_parser() -> argparse.ArgumentParser:
                                     "transmission, forces, ...")
     s.add_argument("model")
     s.add_argument("what", help="diagram, vectors, trajectories, kinematics, analogues, transmission, forces, ...")
-    s.add_argument("--at", type=_finite_float, help="generalized coordinate in the model's unit (default: drawn pose)")
+    s.add_argument("--at", help="generalized coordinate(s) in the model's unit, one per input, comma-separated "
+                               "(default: the drawn pose)")
     s.add_argument("--show", help="on the diagram: a comma list of velocities, accelerations, reactions, "
                                   "centres (or all)")
     s.add_argument("--points", help="trajectories of these pairs or points only (comma list, e.g. B,S3)")
