@@ -831,8 +831,15 @@ def cmd_report(args):
 
 # -- check ------------------------------------------------------------------------------------------
 def cmd_check(args):
-    from .analysis._check import check, format_report
+    from .analysis._check import check, check_region, format_region, format_report
     engine = _load(args)
+    if len(engine.inputs) == 2:
+        region = check_region(engine)
+        if args.json:
+            print(json.dumps(_plain(region.as_dict()), indent=2, ensure_ascii=False))
+        else:
+            print(format_region(region))
+        return 0
     report = check(engine)
     if args.json:
         print(json.dumps(_plain(report.as_dict()), indent=2, ensure_ascii=False))

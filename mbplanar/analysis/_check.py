@@ -23,7 +23,7 @@ from ..errors import ModelError
 from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
 from ..engine._solver import met_along
 
-__all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
+__all__ = ["Extreme", "AngleRange", "CheckReport", "RegionReport", "check", "check_region", "format_region", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
 
 SAMPLES = 721          # sweep resolution of a full turn (0.5°)
@@ -560,3 +560,109 @@ def _format_local(ext: Extreme, loc: dict, unit: str) -> str:
     """One local extreme: 'max 61.601550° at 315 deg' (an end of the range marked 'at the limit')."""
     value = f"{math.degrees(loc['value']):.6f}°" if ext.kind == "link" else f"{loc['value']:.9g} m"
     return f"{loc['kind']} {value} at {loc['at']:.8g} {unit}" + (" (limit)" if loc["end"] else "")
+
+
+# -- two inputs: the reachable region and the singular curves ----------------------------------------
+REGION_SAMPLES = 37    # grid points per input (10° over a full turn)
+
+
+@dataclass
+class RegionReport:
+    """What a two-input mechanism can reach: a grid over both inputs' sweeps (model units), which grid
+    points the drawn branch reaches, the range each input reaches, and the points of the singular
+    curves (a block's Jacobian determinant changes sign between neighbouring reached grid points:
+    there the branch folds, the links line up)."""
+
+    model: str
+    inputs: list            # names
+    units: list
+    grid: list              # per input the grid values (n_k,)
+    reachable: np.ndarray   # (n_1, n_2) bool
+    ranges: list            # per input (lo, hi) over the reached grid points
+    singular: list          # [{"at": [a, b], "links": [...], "joints": [...], "kind": str}]: the motion
+                            # limits the walks ran into (the edge of the region) and sign changes inside
+
+    def as_dict(self) -> dict:
+        return {"model": self.model, "inputs": self.inputs, "units": self.units,
+                "grid": [list(map(float, g)) for g in self.grid],
+                "reachable": self.reachable.tolist(), "reached": int(self.reachable.sum()),
+                "ranges": [list(r) if r is not None else None for r in self.ranges],
+                "singular": self.singular}
+
+
+def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
+    """The region of a two-input mechanism: every grid line (first input fixed) is walked on the drawn
+    branch from the drawn pose, first along the first input, then along the second up and down from
+    its drawn value, so a grid point counts as reached when the branch gets there without crossing a
+    motion limit. Sign changes of a block's Jacobian determinant between neighbours on a line or
+    across lines mark the singular curves (located by linear interpolation of the determinant)."""
+    if len(engine.inputs) != 2:
+        raise ModelError(f"{engine.mech.source}: the region check drives two inputs; this model has "
+                         f"{len(engine.inputs)}")
+    inputs = engine.inputs
+    grid = [np.linspace(*inp.default_sweep(), samples) for inp in inputs]
+    drawn = [inp.from_si(float(p)) for inp, p in zip(inputs, engine.phi_drawn)]
+    n1, n2 = len(grid[0]), len(grid[1])
+    reach = np.zeros((n1, n2), bool)
+    dets = np.full((n1, n2, len(engine.blocks)), np.nan)
+    folds = []
+    up = grid[1] >= drawn[1]
+    for i, a in enumerate(grid[0]):
+        for part in (np.flatnonzero(up), np.flatnonzero(~up)[::-1]):
+            values = np.column_stack([np.full(len(part) + 1, a), np.append(drawn[1], grid[1][part])])
+            phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(inputs)])
+            sol = engine.solve(phi)
+            ok = sol.valid[1:]
+            reach[i, part] = ok
+            dets[i, part] = np.where(ok[:, None], engine.dets(sol)[1:], np.nan)
+            folds += [{"at": [float(inp.from_si(p)) for inp, p in zip(inputs, lim.phi)], "links": list(lim.links),
+                       "joints": list(lim.joints), "kind": lim.kind} for lim in sol.limits]
+    ranges = []
+    for axis in (0, 1):
+        hit = np.flatnonzero(reach.any(axis=1 - axis))
+        ranges.append((float(grid[axis][hit[0]]), float(grid[axis][hit[-1]])) if len(hit) else None)
+    return RegionReport(engine.mech.name, [i.name for i in inputs], [i.unit for i in inputs], grid, reach,
+                        ranges, sorted(_singular_points(engine, grid, dets) + folds, key=lambda s: s["at"]))
+
+
+def _singular_points(engine, grid, dets) -> list:
+    """Where a block's determinant changes sign between reached neighbours along either input."""
+    out = []
+    for axis in (0, 1):
+        d0 = dets[:-1] if axis == 0 else dets[:, :-1]
+        d1 = dets[1:] if axis == 0 else dets[:, 1:]
+        i, j, k = np.nonzero(d0 * d1 < 0)
+        for a, b, blk in zip(i, j, k):
+            t = d0[a, b, blk] / (d0[a, b, blk] - d1[a, b, blk])
+            p = [grid[0][a], grid[1][b]]
+            nxt = grid[axis][(a if axis == 0 else b) + 1]
+            p[axis] = p[axis] + t * (nxt - p[axis])
+            bp = engine.blocks[blk]
+            out.append({"at": [float(p[0]), float(p[1])], "links": list(bp.links), "joints": list(bp.joints),
+                        "kind": "change of assembly sign between grid points"})
+    return out
+
+
+def format_region(report: RegionReport) -> str:
+    """Plain-text summary of a `RegionReport`."""
+    names = ", ".join(f"{n} [{u}]" for n, u in zip(report.inputs, report.units))
+    total = report.reachable.size
+    lines = [f"{report.model}: inputs {names}; {int(report.reachable.sum())} of {total} grid points "
+             f"({len(report.grid[0])} × {len(report.grid[1])}) reached on the drawn branch"]
+    for name, unit, r in zip(report.inputs, report.units, report.ranges):
+        lines.append(f"  {name} reaches {r[0]:.6g} … {r[1]:.6g} {unit} (on the grid)" if r else
+                     f"  {name}: no grid point reached")
+    for row in _region_map(report):
+        lines.append("    " + row)
+    if report.singular:
+        lines.append(f"  singular curves ({len(report.singular)} points, links in line):")
+        for s in report.singular:
+            lines.append(f"    {report.inputs[0]} = {s['at'][0]:.8g}, {report.inputs[1]} = {s['at'][1]:.8g}: "
+                         f"links {', '.join(s['links'])} — {s['kind']}")
+    return "\n".join(lines)
+
+
+def _region_map(report: RegionReport) -> list[str]:
+    """The reached grid as text: one row per value of the second input (top: the largest), '#' reached."""
+    return ["".join("#" if r else "." for r in report.reachable[:, j]) + f"  {report.grid[1][j]:g}"
+            for j in range(report.reachable.shape[1] - 1, -1, -1)]
