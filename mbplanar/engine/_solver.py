@@ -132,6 +132,32 @@ class Crossing:
     kind: str = ""
 
 
+class ScaledLU:
+    """The factors of a block's Jacobian J (m, m, B) made dimensionless, J_s = R·J·V⁻¹ (R the rows'
+    scale, V the unknowns', see `BlockPlan`): the pivot ratio and the determinant's sign do not depend
+    on the mechanism's size or units, and J·x = b is solved as x = V⁻¹·J_s⁻¹·R·b. `det` is J_s's."""
+
+    def __init__(self, lu, row_scale: np.ndarray, var_scale: np.ndarray):
+        self.lu, self.row_scale, self.var_scale = lu, row_scale[:, None], var_scale[:, None]
+
+    @property
+    def det(self) -> np.ndarray:
+        return self.lu.det
+
+    @property
+    def pivot_ratio(self) -> np.ndarray:
+        return self.lu.pivot_ratio
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.lu.solve(b * self.row_scale) / self.var_scale
+
+
+def _factor_scaled(bp: BlockPlan, jac: np.ndarray) -> ScaledLU:
+    """`ScaledLU` of a block's Jacobian (m, m, B)."""
+    return ScaledLU(factor(jac * bp.row_scale[:, None, None] / bp.var_scale[None, :, None]),
+                    bp.row_scale, bp.var_scale)
+
+
 @dataclass
 class BlockState:
     """A solved block: unknowns q (m, B), their factorised Jacobian, the joint caches for the rate passes,
@@ -192,8 +218,8 @@ class Engine:
         self.links = mech.all_links
         self.link_index = {name: k for k, name in enumerate(self.links)}
         self.laws = {name: make_law(j) for name, j in mech.joints.items()}
-        self.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
-                                  for b in mech.joints.values()])
+        self.size = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
+                        + [0.0]) or 1.0  # (no floor: every tolerance is relative to it)
         self.inputs = mech.inputs
         self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
         self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
@@ -309,7 +335,7 @@ class Engine:
             with np.errstate(invalid="ignore"):
                 err = np.max(np.abs(res) * bp.row_scale[:, None], axis=0)
             jac, sens = self._block_jacobian(bp, caches, cut_caches, batch)
-            lu = factor(jac)
+            lu = _factor_scaled(bp, jac)
             ok = err < TOL
             fine = err < TOL_FINE
             if ok.all() and not polished:
@@ -803,7 +829,7 @@ def _det_at(e: Engine, k: int, phi: np.ndarray, guesses) -> float:
     for bp, q in zip(e.blocks[:k + 1], guesses):
         caches, cut_caches, _ = e._block_pose(bp, pose, q, q_in)
     jac, _ = e._block_jacobian(e.blocks[k], caches, cut_caches, 1)
-    return float(factor(jac).det[0])
+    return float(_factor_scaled(e.blocks[k], jac).det[0])
 
 
 def _locate_crossing(e: Engine, k: int, a: _Node, b: _Node, iterations: int = 6) -> np.ndarray:

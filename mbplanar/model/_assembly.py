@@ -263,12 +263,45 @@ def assemble(mech: Mechanism) -> Mechanism:
     if mech.exact:
         return mech
     _check_references(mech)
+    size = max((math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()), default=0.0)
+    if size and not SIZE_RANGE[0] <= size <= SIZE_RANGE[1]:
+        raise ModelError(f"{mech.source}: scale out of range: the joints are up to {size:.3g} m apart; mbplanar "
+                         f"works with mechanisms from {SIZE_RANGE[0]:g} to {SIZE_RANGE[1]:g} m (squares of "
+                         "lengths must stay within floating point)")
+    if not size:
+        return _assemble(mech)
+    # assembled at unit size, scaled by a power of two (exact both ways): every tolerance is relative
+    k = 2.0 ** -round(math.log2(size))
+    return scaled(_assemble(scaled(mech, k), 1.0 / k), 1.0 / k)
+
+
+SIZE_RANGE = (1e-100, 1e100)  # sizes (m) whose squares, products and their ratios stay well inside floating point
+
+
+def scaled(mech: Mechanism, k: float) -> Mechanism:
+    """`mech` with every length multiplied by k: joints, points (coordinates, distances, offsets) and
+    link lengths (the loads, in `extras`, are not touched)."""
+    def xy(at):
+        return None if at is None else (at[0] * k, at[1] * k)
+    joints = {n: replace(j, at=xy(j.at)) for n, j in mech.joints.items()}
+    points = {n: replace(p, at=xy(p.at), distance=None if p.distance is None else p.distance * k,
+                         offset=p.offset * k) for n, p in mech.points.items()}
+    links = {n: replace(lk, lengths=tuple((a, b, v * k) for a, b, v in lk.lengths)) for n, lk in mech.links.items()}
+    extras = dict(mech.extras)
+    if "_assembly_correction" in extras:
+        extras["_assembly_correction"] *= k
+    return replace(mech, joints=joints, points=points, links=links, extras=extras)
+
+
+def _assemble(mech: Mechanism, metres: float = 1.0) -> Mechanism:
+    """`assemble` at the mechanism's own scale (`metres`: one of its length units in metres, for the
+    messages)."""
     sketch = _Sketch(mech)
     x, res, what, ok = _gauss_newton(sketch)
     if not ok:
         worst = int(np.argmax(np.abs(res)))
         raise MotionError(f"{mech.source}: the drawn pose cannot be assembled with the given dimensions "
-                          f"and input: {what[worst]} misses by {abs(res[worst]) * sketch.scale:.3g} "
+                          f"and input: {what[worst]} misses by {abs(res[worst]) * sketch.scale * metres:.3g} "
                           f"(check the lengths and the sketch)")
     joints = {}
     for j in mech.joints.values():
