@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -69,6 +69,7 @@ FAR_TURNS = 2          # a revolute input is walked at most this many turns from
                        # values are reduced by the branch's period (one or two turns), or refused
 FAR_SIZES = 100.0      # a prismatic input is walked at most this many sizes of the mechanism
 LOST_PRECISION = 1e-6  # refuse input values whose floating-point spacing (SI) exceeds this
+MAX_REPEATED = 1000    # change points reported per change point of the period, over a span of many turns
 PERIOD_TOL = 1e-8      # largest scaled difference of the unknowns one period apart (besides whole turns)
 
 
@@ -1068,8 +1069,24 @@ def _solve_periodic(e: Engine, phi: np.ndarray, n: np.ndarray) -> Solution:
     guesses = [s.q + d[:, None] * n[None, :] for s, d in zip(near.blocks, shift)]
     sol = e._solve_batch(phi, guesses)
     sol.valid &= near.valid
-    sol.limits, sol.crossings, sol.given_rates = near.limits, near.crossings, near.given_rates
+    sol.limits, sol.given_rates = near.limits, near.given_rates
+    sol.crossings = _crossings_over(e.atlas(), float(phi[:, 0].min()), float(phi[:, 0].max()), period)
     return sol
+
+
+def _crossings_over(atlas: _Atlas, lo: float, hi: float, period: float) -> list:
+    """The change points of a periodic branch between lo and hi: those of the atlas' first period
+    from the drawn pose, repeated every period."""
+    phi0 = float(atlas.engine.phi_drawn[0])
+    out = []
+    for c in atlas.crossings:
+        if not phi0 <= c.phi[0] < phi0 + period:
+            continue
+        first, last = math.ceil((lo - c.phi[0]) / period), math.floor((hi - c.phi[0]) / period)
+        last = min(last, first + MAX_REPEATED - 1)  # a span of many turns: the first ones only
+        out += [replace(c, phi=c.phi + k * period, bracket=(c.bracket[0] + k * period, c.bracket[1] + k * period))
+                for k in range(first, last + 1)]
+    return sorted(out, key=lambda c: c.phi[0])
 
 
 def _solve_along(e: Engine, phi: np.ndarray) -> Solution:
