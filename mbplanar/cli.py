@@ -16,8 +16,11 @@ import warnings
 
 import numpy as np
 
-from .errors import MbplanarError, MotionError
-from .forces._loads import has_force_data
+from .errors import MbplanarError, ModelError, ModelWarning, MotionError, PrecisionWarning
+from .forces._loads import has_force_data, warn_idle_resistances
+from .io._tables import dynamics_table, forces_table, sweep_table
+from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
+                        convert_solution, convert_table, display_units)
 
 __all__ = ["main"]
 
@@ -78,7 +81,7 @@ def _at_values(text) -> list[float]:
     except ValueError:
         values = [math.nan]
     if not all(math.isfinite(v) for v in values):
-        raise _ArgError("--at needs finite value(s) separated by commas")
+        raise ModelError("--at needs finite value(s) separated by commas")
     return values
 
 
@@ -104,7 +107,7 @@ def _at_si(engine, values) -> np.ndarray:
     """--at values (model units) as SI (1, n_in). A single revolute input far from the drawn pose on a
     periodic branch is first reduced by whole periods in the model's unit, exactly for degrees
     (fmod is exact), with a note; the engine reduces SI values itself, to the float spacing of φ."""
-    from .engine._solver import FAR_TURNS, LOST_PRECISION
+    from .engine._atlas import FAR_TURNS, LOST_PRECISION
     phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
     if len(engine.inputs) != 1 or engine.mech.joints[engine.inputs[0].joint].kind != "R":
         return phi
@@ -119,7 +122,7 @@ def _at_si(engine, values) -> np.ndarray:
     reduced = math.fmod(value, in_unit)
     error = 0.0 if inp.unit == "deg" else abs(value / in_unit) * np.spacing(in_unit)
     if error > LOST_PRECISION:
-        raise _ArgError(f"--at {value:g} {inp.unit}: reducing it by whole turns leaves an uncertainty of "
+        raise ModelError(f"--at {value:g} {inp.unit}: reducing it by whole turns leaves an uncertainty of "
                         f"{error:.3g} rad; give the value reduced by whole turns")
     note = f"; the reduction is good to {error:.2g} rad" if error > 1e-15 else ""
     print(f"mbplanar: {engine.mech.source}: note: {inp.name} = {value:g} {inp.unit} lies "
@@ -154,19 +157,21 @@ def info_document(engine) -> dict:
 
 def cmd_info(args):
     engine = _load(args)
-    doc = info_document(engine)
+    display = display_units(engine.mech, args.units)
+    doc = convert_info(engine, info_document(engine), display)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
+    length = display.name("length")
     print(f"{doc['model']}: {doc['title']}")
     print(f"links: {', '.join(doc['links'])} (ground {engine.mech.ground})")
     print(f"DOF = {doc['dof']}, independent loops = {doc['loops']}")
     for name, j in doc["joints"].items():
         extra = f"  guide {j['guide_deg']:.4f}°" if j["type"] == "P" else ""
         print(f"  joint {name:6s} {j['type']}  {j['links'][0]}–{j['links'][1]}  "
-              f"at ({j['at'][0]:.6f}, {j['at'][1]:.6f}){extra}")
+              f"at ({j['at'][0]:.6f}, {j['at'][1]:.6f}) {length}{extra}")
     for name, p in doc["points"].items():
-        print(f"  point {name:6s} on {p['link']}  at ({p['at'][0]:.6f}, {p['at'][1]:.6f})")
+        print(f"  point {name:6s} on {p['link']}  at ({p['at'][0]:.6f}, {p['at'][1]:.6f}) {length}")
     if "groups" in doc:
         for g in doc["groups"]:
             kind = f" {g['kind']}" if g["kind"] else ""
@@ -253,7 +258,7 @@ def _check_overflow(motion):
     if any(x is not None and not np.all(np.isfinite(x)) for x in analogues):
         return  # a singular position: its rates are infinite whatever the speed
     om, ep = np.max(np.abs(motion.omega)), np.max(np.abs(motion.epsilon))
-    raise _ArgError(f"input speed {om:g} and acceleration {ep:g}: the velocities or accelerations leave "
+    raise ModelError(f"input speed {om:g} and acceleration {ep:g}: the velocities or accelerations leave "
                     f"the floating-point range (above {np.finfo(float).max:.3g}); give a smaller --omega "
                     "or --epsilon")
 
@@ -265,9 +270,10 @@ def _speeds(engine, phi, args, cache=None, check_only=False):
     if not getattr(args, "true_motion", False):
         return (1.0 if args.omega is None else args.omega), (0.0 if args.epsilon is None else args.epsilon), None
     if args.omega is not None or args.epsilon is not None:
-        raise _ArgError("--true-motion computes ω and ε; leave out --omega and --epsilon")
-    if len(engine.inputs) != 1 or engine.mech.extras.get("dynamics") is None:
-        raise _ArgError(f"{engine.mech.source}: --true-motion needs a model with one input and a [dynamics] section")
+        raise ModelError("--true-motion computes ω and ε; leave out --omega and --epsilon")
+    if len(engine.inputs) != 1 or engine.mech.dynamics is None:
+        raise ModelError("--true-motion needs a model with one input and a [dynamics] section",
+                         source=engine.mech.source)
     return None if check_only else true_motion(engine, phi, cache)
 
 
@@ -275,7 +281,7 @@ def _inputs_at(engine, text) -> list[float]:
     """The --at values, one per input of the model."""
     values = _at_values(text)
     if len(values) != len(engine.inputs):
-        raise _ArgError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas "
+        raise ModelError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas "
                         f"({', '.join(i.name for i in engine.inputs)})")
     return values
 
@@ -323,21 +329,31 @@ def cmd_solve(args):
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
         raise _unreachable(engine, args.at, motion)
-    doc = solve_document(engine, motion, values=values)
+    display = display_units(engine.mech, args.units)
+    doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
     if args.json:
         doc["partials"] = partials_document(engine, motion.phi)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
-    _print_solution(engine, doc)
+    _print_solution(engine, doc, display)
     return 0
 
 
-def _print_solution(engine, doc):
-    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g}, "
-                                           f"ε = {i['epsilon']:g})" for i in doc["inputs"]))
+def _text_unit(name: str) -> str:
+    """A unit name for text tables: N·m, kg·m², m/s²."""
+    return name.replace("*", "·").replace("^2", "²")
+
+
+def _print_solution(engine, doc, display):
+    u = {k: _text_unit(display.name(k)) for k in ("length", "velocity", "acceleration")}
+    kinds = [[_text_unit(display.name(kind)) for kind in input_kinds(engine, k)] for k in range(len(doc["inputs"]))]
+    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
+                                           f"ε = {i['epsilon']:g} {accel})"
+                                           for i, (rate, accel, _) in zip(doc["inputs"], kinds)))
     size = max([1e-300] + [abs(p[k]) for p in doc["points"].values() for k in ("x", "y")])
-    _print_columns(["point", "x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]"],
+    _print_columns(["point", f"x [{u['length']}]", f"y [{u['length']}]", f"vx [{u['velocity']}]",
+                    f"vy [{u['velocity']}]", f"ax [{u['acceleration']}]", f"ay [{u['acceleration']}]"],
                    [[name] + [_num(_clean(p[k], 1e-12 * size)) for k in ("x", "y", "vx", "vy", "ax", "ay")]
                     for name, p in doc["points"].items()])
     rows = []
@@ -345,12 +361,16 @@ def _print_solution(engine, doc):
         ic = doc["instant_centres"][name]
         rows.append([name, _num(math.degrees(link["angle"])), _num(link["omega"]), _num(link["epsilon"])]
                     + ([_num(ic[0]), _num(ic[1])] if ic else ["—", "—"]))
-    _print_columns(["link", "angle [°]", "ω [rad/s]", "ε [rad/s²]", "IC x", "IC y"], rows)
+    _print_columns(["link", "angle [°]", "ω [rad/s]", "ε [rad/s²]", f"IC x [{u['length']}]",
+                    f"IC y [{u['length']}]"], rows)
     rows = []
     for name, j in doc["joints"].items():
-        revolute = j["type"] == "R"
-        value = _num(math.degrees(j["value"])) + " °" if revolute else _num(j["value"]) + " m"
-        rows.append([name, j["type"], value, _num(j["rate"]), _num(j["accel"])])
+        if j["type"] == "R":
+            cells = [_num(math.degrees(j["value"])) + " °", _num(j["rate"]) + " rad/s", _num(j["accel"]) + " rad/s²"]
+        else:
+            cells = [_num(j["value"]) + f" {u['length']}", _num(j["rate"]) + f" {u['velocity']}",
+                     _num(j["accel"]) + f" {u['acceleration']}"]
+        rows.append([name, j["type"], *cells])
     _print_columns(["joint", "type", "value", "rate", "accel"], rows)
 
 
@@ -395,19 +415,19 @@ def sweep_plan(engine, steps=None, step=None, start=None, stop=None, grid=False)
         lo, hi = (lo if start is None else start[0]), (hi if stop is None else stop[0])
         return _line_plan(lo, hi, steps or [getattr(engine.inputs[0], "steps", None) or 72], step)
     if start is None or stop is None:
-        raise _ArgError(f"a sweep of {n_in} inputs needs --from and --to with {n_in} values each "
+        raise ModelError(f"a sweep of {n_in} inputs needs --from and --to with {n_in} values each "
                         "(the ends of a path in input space, or the corners of a grid with --grid)")
     if step is not None:
-        raise _ArgError("--step applies to one input; give --steps for several")
+        raise ModelError("--step applies to one input; give --steps for several")
     lo, hi = np.array(start, float), np.array(stop, float)
     counts = steps or [72]
     if not grid:
         if len(counts) != 1:
-            raise _ArgError("--steps of a path is one number; several numbers need --grid")
+            raise ModelError("--steps of a path is one number; several numbers need --grid")
         n = 1 if np.all(lo == hi) else counts[0] + 1
         return n, (lambda i, j: lo + (hi - lo) * (np.arange(i, j)[:, None] / max(n - 1, 1))), None
     if len(counts) not in (1, n_in):
-        raise _ArgError(f"--steps of a grid is one number or {n_in} numbers")
+        raise ModelError(f"--steps of a grid is one number or {n_in} numbers")
     axes = [np.linspace(a, b, (1 if a == b else int(c) + 1)) for a, b, c in
             zip(lo, hi, np.broadcast_to(counts, (n_in,)))]
     shape = tuple(len(ax) for ax in axes)
@@ -424,12 +444,12 @@ def _line_plan(lo, hi, steps, step):
         return 1, (lambda i, j: np.full((j - i, 1), float(lo))), None  # --from and --to equal
     if step is not None:
         if not step > 0:
-            raise _ArgError("--step must be positive")
+            raise ModelError("--step must be positive")
         count = int(math.floor(abs(hi - lo) / step + 1e-9)) + 1
         signed = math.copysign(step, hi - lo)
         return count, (lambda i, j: (lo + signed * np.arange(i, j))[:, None]), None
     if len(steps) != 1:
-        raise _ArgError("--steps of one input is one number")
+        raise ModelError("--steps of one input is one number")
     n = int(steps[0])
     width = (hi - lo) / n
 
@@ -437,36 +457,6 @@ def _line_plan(lo, hi, steps, step):
         k = np.arange(i, j)
         return np.where(k == n, hi, lo + k * width)[:, None]
     return n + 1, values, None
-
-
-def sweep_table(engine, motion, angle_unit):
-    """Header (quantity[unit]) and rows of a sweep."""
-    to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
-    au = "deg" if angle_unit == "deg" else "rad"
-    header = [f"{inp.name}[{inp.unit}]" for inp in engine.inputs]
-    cols = [inp.from_si(motion.phi[:, k]) for k, inp in enumerate(engine.inputs)]
-    for k, name in enumerate(motion.link_names[1:], start=1):
-        header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
-        cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
-    for k, name in enumerate(motion.point_names):
-        header += [f"{name}.{q}" for q in ("x[m]", "y[m]", "vx[m/s]", "vy[m/s]", "ax[m/s^2]", "ay[m/s^2]")]
-        cols += [motion.xy[:, k, 0], motion.xy[:, k, 1], motion.v[:, k, 0], motion.v[:, k, 1],
-                 motion.a[:, k, 0], motion.a[:, k, 1]]
-    for k, name in enumerate(motion.joint_names):
-        if engine.mech.joints[name].kind == "R":
-            header += [f"{name}.value[{au}]", f"{name}.rate[rad/s]", f"{name}.accel[rad/s^2]"]
-            cols += [to_angle(motion.value[:, k]), motion.rate[:, k], motion.accel[:, k]]
-        else:
-            header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
-            cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    from .analysis._check import pressure_angles, transmission_angles
-    labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
-    header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    labels, angles = pressure_angles(engine, motion)              # slider S driven by rod A-B: S.A-B
-    header += [f"pressure.{s}.{a}-{b}[{au}]" if a != b else f"pressure.{s}.normal-{a}[{au}]" for a, b, s in labels]
-    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
-    return header, np.column_stack(cols) if cols else np.zeros((0, 0))
 
 
 SWEEP_CHUNK = 20_000  # positions solved and written at a time: memory stays bounded whatever --steps
@@ -522,14 +512,15 @@ def cmd_sweep(args):
     stop = None if args.stop is None else args.stop
     for name, given in (("--from", start), ("--to", stop)):
         if given is not None and len(given) != n_in:
-            raise _ArgError(f"{name} needs {n_in} value(s) separated by commas")
+            raise ModelError(f"{name} needs {n_in} value(s) separated by commas")
     if args.grid and n_in == 1:
-        raise _ArgError("--grid applies to several inputs")
+        raise ModelError("--grid applies to several inputs")
     count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
     if args.true_motion or n_in == 1:
         _speeds(engine, None, args, check_only=True)
     with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))
     angle_unit = args.angles or ("rad" if engine.inputs[0].unit == "rad" else "deg")
+    display = display_units(engine.mech, args.units)
     cache, notes, written, missing, forces_failed, stopped = {}, [], 0, 0, None, None
     with _Output(args.output) as out:
         for i in range(0, count, SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])):
@@ -543,9 +534,12 @@ def cmd_sweep(args):
                 motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
                 header, rows = sweep_table(engine, motion, angle_unit)
                 if with_forces:
+                    if written == 0:
+                        warn_idle_resistances(engine, motion)
                     f_header, f_rows, failed = forces_table(engine, motion, inertia)
                     header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
                     forces_failed = forces_failed or failed
+                header, rows = convert_table(header, rows, display, skip=n_in)
                 if written == 0:
                     out.write_rows([header])
                 notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
@@ -581,26 +575,6 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
-def forces_table(engine, motion, input_inertia=0.0):
-    """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
-    from .forces._kinetostatics import kinetostatics
-    result = kinetostatics(engine, motion, input_inertia or 0.0)
-    header, cols = [], []
-    for name, r in result.reactions.items():
-        header += [f"{name}.fx[N]", f"{name}.fy[N]"]
-        cols += [r.fx, r.fy]
-        if engine.mech.joints[name].kind == "P":
-            header.append(f"{name}.moment[N*m]")
-            cols.append(r.moment)
-    for name, q in result.balancing.items():
-        unit = "N*m" if engine.mech.joints[name].kind == "R" else "N"
-        header.append(f"{name}.balancing[{unit}]")
-        cols.append(q)
-    header.append("virtual_power_residual")
-    cols.append(result.virtual_power_residual)
-    return header, np.column_stack(cols), (None if result.success else result.message)
-
-
 def forces_document(engine, motion, result, row=0, values=None) -> dict:
     reactions = {}
     for name, r in result.reactions.items():
@@ -625,14 +599,14 @@ def cmd_forces(args):
     engine = _load(args)
     values = _inputs_at(engine, args.at)
     if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
-        raise _ArgError("--input-inertia must be a finite number >= 0")
+        raise ModelError("--input-inertia must be a finite number >= 0")
     if not has_force_data(engine.mech):
-        raise _ArgError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
+        raise ModelError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
                         "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
     phi = _at_si(engine, values)
     phi = phi[:, 0] if len(engine.inputs) == 1 else phi
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
-    if omega is None and epsilon is None and engine.mech.extras.get("dynamics") is not None \
+    if omega is None and epsilon is None and engine.mech.dynamics is not None \
             and len(engine.inputs) == 1:
         omega, epsilon, dyn_inertia = true_motion(engine, phi)
         inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
@@ -642,27 +616,33 @@ def cmd_forces(args):
     inertia = inertia or 0.0
     result = kinetostatics(engine, motion, inertia)
     if not result.success:
-        raise MotionError(f"{engine.mech.source}: {result.message}")
+        raise MotionError(f"{result.message}", source=engine.mech.source)
     doc = forces_document(engine, motion, result, values=values)
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
+    display = display_units(engine.mech, args.units)
+    doc = convert_forces(engine, doc, display)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
-    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g}, "
-                                           f"ε = {i['epsilon']:g})" for i in doc["inputs"])
-          + f"  J_I = {inertia:g}; {how}")
+    rate, accel, inertia_kind = (_text_unit(display.name(k)) for k in input_kinds(engine))
+    moment_unit = _text_unit(display.name("moment"))
+    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
+                                           f"ε = {i['epsilon']:g} {accel})" for i in doc["inputs"])
+          + f"  J_I = {doc['input']['input_inertia']:g} {inertia_kind}; {how}")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
     rows = []
     for name, r in doc["reactions"].items():
         fx, fy, moment = (_clean(r[k], tiny) for k in ("fx", "fy", "moment"))
         rows.append([name, r["type"], r["on"], r["from"], _num(fx), _num(fy), _num(_clean(r["magnitude"], tiny)),
                      f"{r['direction_deg']:.3f}", _num(moment) if r["type"] == "P" else ""])
-    _print_columns(["joint", "type", "on", "from", "Fx [N]", "Fy [N]", "|F| [N]", "dir [°]", "M [N·m]"], rows)
+    _print_columns(["joint", "type", "on", "from", "Fx [N]", "Fy [N]", "|F| [N]", "dir [°]", f"M [{moment_unit}]"],
+                   rows)
     for name, q in doc["balancing"].items():
-        unit = "N·m" if engine.mech.joints[name].kind == "R" else "N"
-        q = _clean(q, tiny * (engine.size if unit == "N·m" else 1.0))
-        print(f"balancing {'moment' if unit == 'N·m' else 'force'} at {name}: {q:.6g} {unit}")
+        revolute = engine.mech.joints[name].kind == "R"
+        unit = moment_unit if revolute else "N"
+        q = _clean(q, tiny * (engine.size / display.scale("moment") if revolute else 1.0))
+        print(f"balancing {'moment' if revolute else 'force'} at {name}: {q:.6g} {unit}")
     print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
     return 0
 
@@ -713,62 +693,55 @@ def dynamics_document(engine, dyn, at=None) -> dict:
     return _plain(doc)
 
 
-def dynamics_table(dyn):
-    """Header and columns (N, k) of the cycle table: φ, J_II, dJ_II, M_red per load and in total, A_c,
-    A_total, T_II, ΔT_I, ω, ε (energy–mass method) and the simulated ω, ε."""
-    red = dyn.reduced
-    header = ["phi[rad]", "J_II[kg*m2]", "dJ_II[kg*m2]"] + [f"M_red.{n}[N*m]" for n in red.moments] + \
-        ["M_red[N*m]", "A_c[J]", "A_total[J]", "T_II[J]", "dT_I[J]", "omega[rad/s]", "epsilon[rad/s2]"]
-    cols = [dyn.phi, dyn.J_II, dyn.dJ_II, *red.moments.values(), dyn.M_red, dyn.A_c, dyn.A_total,
-            dyn.T_II, dyn.dT_I, dyn.omega, dyn.epsilon]
-    if dyn.simulation is not None:
-        header += ["omega_sim[rad/s]", "epsilon_sim[rad/s2]"]
-        cols += [dyn.simulation.omega, dyn.simulation.epsilon]
-    return header, np.column_stack(cols)
-
-
 def cmd_dynamics(args):
     from .forces._dynamics import machine_dynamics, read_dynamics
     engine = _load(args)
     if args.steps < 36:
-        raise _ArgError("--steps must be at least 36")
+        raise ModelError("--steps must be at least 36")
     if args.delta is not None and not (math.isfinite(args.delta) and 0 < args.delta < 1):
-        raise _ArgError("--delta must be a number between 0 and 1")
+        raise ModelError("--delta must be a number between 0 and 1")
     spec = read_dynamics(engine.mech, args.delta)
     if spec is None:
-        raise _ArgError(f"{engine.mech.source}: the model has no [dynamics] section; give --delta")
+        raise ModelError("the model has no [dynamics] section; give --delta", source=engine.mech.source)
     dyn = machine_dynamics(engine, spec, steps=args.steps)
     at = None if args.at is None else np.array([_input_si(engine, v) for v in _at_values(args.at)])
-    doc = dynamics_document(engine, dyn, at)
+    display = display_units(engine.mech, args.units)
+    doc = convert_dynamics(engine, dynamics_document(engine, dyn, at), display)
     if args.output:
-        _write_csv(args.output, *dynamics_table(dyn))
+        _write_csv(args.output, *convert_table(*dynamics_table(dyn), display))
     if args.json:
         print(json.dumps(doc, indent=2, ensure_ascii=False))
         return 0
-    _print_dynamics(engine, dyn, doc)
+    _print_dynamics(engine, dyn, doc, display)
     return 0
 
 
-def _print_dynamics(engine, dyn, doc):
+def _print_dynamics(engine, dyn, doc, display):
     from .forces._dynamics import summary
     inp = doc["input"]
+    inertia, moment = _text_unit(display.name("inertia")), _text_unit(display.name("moment"))
+    shown = {"N·m": ("moment", moment), "kg·m²": ("inertia", inertia)}
     print(f"{doc['model']}: machine dynamics over one cycle of {inp['name']} ({doc['steps']} steps)")
     for label, value, unit in summary(dyn, engine.inputs[0]):
+        head = unit.split(" ", 1)[0]
+        if isinstance(value, float) and head in shown:
+            kind, name = shown[head]
+            value, unit = display.show(value, kind), name + unit[len(head):]
         value = f"{value:.6g}" if isinstance(value, float) else str(value)
         print(f"  {label:38s} {value:>24s} {unit}")
     for at in doc.get("at", []):
-        print(f"at {inp['name']} = {at['value']:g} {inp['unit']}: J_II = {at['J_II']:.6g} kg·m², "
-              f"dJ_II = {at['dJ_II']:.6g} kg·m², M_red = {at['M_red']:.6g} N·m, ΔT_I = {at['dT_I']:.6g} J, "
-              f"ω = {at['omega']:.6g} rad/s, ε = {at['epsilon']:.6g} rad/s²")
+        print(f"at {inp['name']} = {at['value']:g} {inp['unit']}: J_II = {at['J_II']:.6g} {inertia}, "
+              f"dJ_II = {at['dJ_II']:.6g} {inertia}, M_red = {at['M_red']:.6g} {moment}, "
+              f"ΔT_I = {at['dT_I']:.6g} J, ω = {at['omega']:.6g} rad/s, ε = {at['epsilon']:.6g} rad/s²")
         for name, m in at["M_red_by_load"].items():
-            print(f"    M_red of {name}: {m:.6g} N·m")
+            print(f"    M_red of {name}: {m:.6g} {moment}")
 
 
 # -- pictures ---------------------------------------------------------------------------------------
 def _suffix(path, allowed):
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
     if suffix not in allowed:
-        raise _ArgError(f"{path}: the output must end in {' or '.join('.' + a for a in allowed)}")
+        raise ModelError(f"{path}: the output must end in {' or '.join('.' + a for a in allowed)}")
     return suffix
 
 
@@ -776,16 +749,16 @@ def cmd_plot(args):
     from .viz import _plotting as plotting
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
-        raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
+        raise ModelError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
     if args.show is not None and args.what != "diagram":
-        raise _ArgError(f"--show applies to the diagram, not to '{args.what}'")
+        raise ModelError(f"--show applies to the diagram, not to '{args.what}'")
     if args.points is not None and args.what != "trajectories":
-        raise _ArgError(f"--points applies to the trajectories, not to '{args.what}'")
+        raise ModelError(f"--points applies to the trajectories, not to '{args.what}'")
     options = plotting.show_options(args.show) if args.what == "diagram" else {}
     if args.points is not None:
         options["points"] = [n.strip() for n in args.points.split(",") if n.strip()]
         if not options["points"]:
-            raise _ArgError("--points needs names of pairs or points separated by commas")
+            raise ModelError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args)
     at = None
@@ -802,7 +775,7 @@ def cmd_animate(args):
     from .viz import _plotting as plotting
     kind = _suffix(args.output, ("gif", "html"))
     if args.frames < 2:
-        raise _ArgError("--frames must be at least 2")
+        raise ModelError("--frames must be at least 2")
     if kind == "gif":
         plotting.require_matplotlib()
     engine = _load(args)
@@ -841,23 +814,27 @@ def cmd_check(args):
             print(format_region(region))
         return 0
     report = check(engine)
+    display = display_units(engine.mech, args.units)
     if args.json:
-        print(json.dumps(_plain(report.as_dict()), indent=2, ensure_ascii=False))
+        print(json.dumps(convert_check(engine, _plain(report.as_dict()), display), indent=2, ensure_ascii=False))
     else:
-        print(format_report(report))
+        print(format_report(report, length=(display.name("length"), display.scale("length"))))
     return 0
+
+
+# -- cam --------------------------------------------------------------------------------------------
+def cmd_cam(args):
+    from .cam.present import run_command
+    return run_command(args)
 
 
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
-    """One-line message that names the model file (some engine messages do not)."""
-    msg = " ".join(str(exc).split())
+    """One line; an error raised without a `source` (an argument's) is located at the model file."""
     model = getattr(args, "model", None)
-    return msg if model is None or str(model) in msg else f"{model}: {msg}"
-
-
-class _ArgError(MbplanarError):
-    exit_code = 2
+    if isinstance(exc, MbplanarError) and exc.source is None and model is not None and str(model) not in str(exc):
+        exc = type(exc)(exc.message, source=str(model), where=exc.where)
+    return " ".join(str(exc).split())
 
 
 def _speed_options(s):
@@ -867,6 +844,17 @@ def _speed_options(s):
     s.add_argument("--true-motion", action="store_true",
                    help="ω(φ), ε(φ) from the machine dynamics (models with [dynamics]); in a sweep also J_I "
                         "on the input link in the force columns")
+
+
+def cmd_synth(args) -> int:
+    from .synthesis.command import run
+    return run(args)
+
+
+def _units_option(s):
+    s.add_argument("--units", choices=SYSTEMS, default="si",
+                   help="units of the output: si (m, N·m, kg·m²; the default) or model (the table's "
+                        "length_unit, moment_unit, inertia_unit)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -884,6 +872,7 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("info", help="links, joints, DOF, loops, Assur groups")
     s.add_argument("model")
     s.add_argument("--json", action="store_true")
+    _units_option(s)
     s.set_defaults(func=cmd_info)
 
     s = sub.add_parser("solve", help="one position: positions, velocities, accelerations")
@@ -891,6 +880,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
     _speed_options(s)
     s.add_argument("--json", action="store_true")
+    _units_option(s)
     s.set_defaults(func=cmd_solve)
 
     s = sub.add_parser("sweep", help="the whole cycle as a CSV table")
@@ -910,6 +900,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
                    help="reaction and balancing columns: auto = when the model has loads or masses")
     s.add_argument("--input-inertia", type=_finite_float, help="J_I on the input link for the force columns")
+    _units_option(s)
     s.set_defaults(func=cmd_sweep)
 
     s = sub.add_parser("forces", help="one position: every joint reaction and the balancing moment")
@@ -919,6 +910,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--epsilon", type=_finite_float, help="input acceleration (default: the model's, else 0)")
     s.add_argument("--input-inertia", type=_finite_float, help="reduced inertia J_I on the input link (kg·m²)")
     s.add_argument("--json", action="store_true")
+    _units_option(s)
     s.set_defaults(func=cmd_forces)
 
     s = sub.add_parser("dynamics", help="reduced inertia and moments, flywheel, true ω(φ) and ε(φ)")
@@ -929,6 +921,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--delta", type=_finite_float, help="coefficient of speed fluctuation (default: the model's)")
     s.add_argument("-o", "--output", help="CSV file of the cycle table")
     s.add_argument("--json", action="store_true")
+    _units_option(s)
     s.set_defaults(func=cmd_dynamics)
 
     s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, "
@@ -958,10 +951,22 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
+    s = sub.add_parser("synth", help="synthesis: seed 001's guiding mechanism, function and motion generation")
+    from .synthesis.command import add_arguments
+    add_arguments(s)
+    s.set_defaults(func=cmd_synth)
+
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
     s.add_argument("--json", action="store_true")
+    _units_option(s)
     s.set_defaults(func=cmd_check)
+
+    from .cam import present as cam_present
+    s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
+    cam_present.add_arguments(s)
+    s.set_defaults(func=cmd_cam)
+    cam_present.register()
     return p
 
 
@@ -971,27 +976,40 @@ def main(argv=None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)
         return exc.code if isinstance(exc.code, int) else 2
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ModelWarning)
+        warnings.simplefilter("always", PrecisionWarning)
+        code, message = _run(args)
+    notes = [str(w.message) for w in caught if issubclass(w.category, ModelWarning)]
+    for w in caught:
+        if issubclass(w.category, PrecisionWarning):
+            print(f"mbplanar: note: {w.message}", file=sys.stderr)
+        elif not issubclass(w.category, ModelWarning):
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    if message is None:                 # success: each warning on its own line
+        for note in notes:
+            print(f"mbplanar: warning: {note}", file=sys.stderr)
+    else:                               # failure: one line, the warnings (often the cause) after the error
+        print("mbplanar: " + "; warning: ".join([message] + notes), file=sys.stderr)
+    return code
+
+
+def _run(args) -> tuple[int, str | None]:
+    """Run the command: its exit status, and the error's one-line message (None on success). mbplanar's
+    errors map to their exit status (2 bad input, 1 cannot move); a closed standard output (a pipe into
+    `head`) ends quietly with status 0."""
     try:
-        with warnings.catch_warnings():
-            warnings.showwarning = _show_note
-            return args.func(args)
+        return args.func(args), None
     except BrokenPipeError:
-        return _quiet_broken_pipe()
+        return _quiet_broken_pipe(), None
     except MbplanarError as exc:
         if args.debug:
             raise
-        print(f"mbplanar: {_located(exc, args)}", file=sys.stderr)
-        return exc.exit_code
+        return exc.exit_code, _located(exc, args)
     except (OSError, ValueError) as exc:
         if args.debug:
             raise
-        print(f"mbplanar: {exc}", file=sys.stderr)
-        return 2
-
-
-def _show_note(message, category, filename, lineno, file=None, line=None):
-    """A library warning as one line on standard error, without the source location."""
-    print(f"mbplanar: note: {message}", file=sys.stderr)
+        return 2, " ".join(str(exc).split())
 
 
 def _quiet_broken_pipe() -> int:

@@ -3,8 +3,8 @@ rate passes run position by position as scalar loops, and every output of `Motio
 same pass.
 
 It is the same engine, not a second one: the branch atlas, its nodes and interpolant, the joint laws'
-formulas, the tolerances and the acceptance checks are `solver`'s; only the loop order differs (per
-position instead of per operation over the batch). It takes the common case only: every position
+formulas, the tolerances (the engine's `Tolerances`, passed as an argument) and the acceptance checks
+are the engine's; only the loop order differs (per position instead of per operation over the batch). It takes the common case only: every position
 between two atlas nodes or past a located limit, corrected on the branch at the first try. Anything
 else (a change point's bracket, a position the batch corrector would hand to `_repair`, an atlas of
 one node) returns None and the numpy path does the whole batch. Tests hold both paths equal to
@@ -21,7 +21,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ..engine._solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
+from ..engine._atlas import _in_brackets
 
 __all__ = ["FIELDS", "sweep"]
 
@@ -58,7 +58,8 @@ def _make_plan(engine, joint_table) -> _Plan:
     steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, anchors = _blocks(engine)
     joints_i, joints_f = _joints(joint_table)
     args = (steps_i, steps_f, cuts_i, cuts_f, blocks, anchors, row_scale, var_scale, float(engine.inputs[0].sense),
-            float(engine.phi_drawn[0]), joints_i, joints_f, engine.link_index[engine.mech.ground])
+            float(engine.phi_drawn[0]), joints_i, joints_f, engine.link_index[engine.mech.ground],
+            engine.tol.as_array())
     per = {"L": len(engine.links), "J": len(joints_i)}
     row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
                     for name, kind, comp in FIELDS])
@@ -374,9 +375,12 @@ def _interval(grid, x):
 
 @_jit
 def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_drawn, ji, jf,
-           ground, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
+           ground, tol, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
            res, step, qd_u, qdd_u):
-    """Solve and write every position; returns 0, or 1 when a position needs the numpy path."""
+    """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
+    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
+    closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
+        tol[0], int(tol[1]), tol[2], tol[3], tol[4])
     n_blocks, n_grid, m_all = len(blocks), len(grid), coef.shape[2]
     vel, acc = len(rt) - 2, len(rt) - 1
     ps[:, :] = 0.0
@@ -407,7 +411,7 @@ def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_dra
             k0, k1, c0, c1, var0, m = blocks[bk, 0], blocks[bk, 1], blocks[bk, 2], blocks[bk, 3], blocks[bk, 4], \
                 blocks[bk, 5]
             polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
-            for it in range(MAX_NEWTON + 1):
+            for it in range(max_newton + 1):
                 for k in range(k0, k1):
                     _place(k, si, sf, q, q_in, ps, sc)
                 err = 0.0
@@ -421,13 +425,13 @@ def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_dra
                 _jacobian(k0, k1, c0, c1, blocks[bk, 6], blocks[bk, 7], m, var0, si, sf, ci, anchors, sc, cc, rt, jac,
                           step)
                 det, ratio = _lu(jac, m, perm)
-                ok = err < TOL
+                ok = err < closure
                 if ok and not polished:
                     # near a singular position one more step, as solver.Engine._newton does
                     polished = True
-                    if ratio >= PIVOT_POLISH or ratio < PIVOT_CROSS * 1e3:
+                    if ratio >= pivot_polish or ratio < pivot_cross * 1e3:
                         break
-                elif ok or it == MAX_NEWTON:
+                elif ok or it == max_newton:
                     break
                 for i in range(m):
                     res[i] = -res[i]
@@ -441,7 +445,7 @@ def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_dra
                 if det == 0.0 or (det > 0) != (signs[near, bk] > 0):
                     return 1
                 for i in range(m):
-                    if abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] > MAX_CORRECTION:
+                    if abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] > max_correction:
                         return 1
             # velocity analogues, then acceleration analogues (input rate sense·1, acceleration 0)
             _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, vel, -1, jac, perm, sense, qd_u,

@@ -21,7 +21,7 @@ import numpy as np
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
 from ..kinematics._motion import _tables
-from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
+from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
 
@@ -49,7 +49,7 @@ def _load_table(engine, inertia):
     load), carrier; float table (N, 7): at (2), force (2) or (mass, inertia), moment, u0 (2))."""
     mech = engine.mech
     names, ints, floats, guides = [], [], [], []
-    for load in read_loads(mech):
+    for load in mech.loads:
         at, force, moment = constant_parts(mech, load)
         k = engine.link_index[load.link]
         if force is None:
@@ -63,7 +63,7 @@ def _load_table(engine, inertia):
             floats.append((at[0], at[1], force[0], force[1], moment, 0.0, 0.0))
         names.append(load.name)
     heavy = heavy_links(mech)
-    gravity = read_gravity(mech)
+    gravity = mech.gravity
     if gravity:
         for name, lk, at in heavy:
             if lk.mass:
@@ -142,7 +142,7 @@ def _plan(engine, ks_plan, motion, inertia) -> _Plan:
     blocks = _block_tables(ks_plan.blocks)
     args = (offsets, len(engine.links), p_link.astype(np.int64), np.ascontiguousarray(p_at, float), link_row,
             np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, load_i,
-            load_f, *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint)
+            load_f, *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
     sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
              1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
     plan = cache[key] = _Plan(names, links, guides, args, sizes, [])
@@ -262,9 +262,11 @@ def _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, p
 @_jit
 def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, centre, size, jpoint, guide_i, guide_f,
             p_inputs, load_i, load_f, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c,
-            zero, scale, in_cols, in_joint, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol, bvec, feat):
+            zero, scale, in_cols, in_joint, min_measure, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol,
+            bvec, feat):
     """Every position b: features, loads (stored in loads_out[b]: fx, fy, x, y, moment), the blocks into
-    x_out[b] (scaled back, NaN where singular), and the relative virtual-power residual."""
+    x_out[b] (scaled back, NaN where a block's measure is not above min_measure, `Tolerances.singular`),
+    and the relative virtual-power residual."""
     o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_rq = (
         offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7])
     cx, cy = centre[0], centre[1]
@@ -330,7 +332,7 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
         for bk in range(len(blocks)):
             measure = _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r,
                                    rest_c, zero, feat, bvec, xb, A, rl, M, rr, perm, sol)
-            bad = bad or not measure > 1e-12
+            bad = bad or not measure > min_measure
         for i in range(n):
             xb[i] *= scale[i]
             bad = bad or not np.isfinite(xb[i])

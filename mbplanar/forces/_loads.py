@@ -1,4 +1,7 @@
-"""External loads on the links, read as data from a model's `[gravity]` section and `loads` rows.
+"""External loads on the links: their evaluation over a batch of positions.
+
+The table reader (`mbplanar.table`) reads the `loads` rows and `[gravity]` once, into
+`Mechanism.loads` (`Load` records) and `Mechanism.gravity` (SI units); this module only evaluates them.
 
 Every load law is plain data (numbers, names, tables), never an expression that gets evaluated. A load
 evaluated over a batch of positions (`evaluate_loads(engine, motion)`) is a `LoadValue`: the link it acts
@@ -16,8 +19,9 @@ Laws (one TOML row each in `loads = [...]`, `type` selects the law):
   s = 0), acting only `when = "forward"` (joint rate ≥ 0), `"backward"` (rate ≤ 0) or `"always"`;
 - `friction`: a constant force `force = F` along the guide opposing the slider's velocity.
 
-`at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` of a material
-point of the link in the exact drawn pose (for a sketched model prefer a named point); it defaults to the link's centre (or, for guide forces, the joint's slider point).
+`at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` (in the
+table's `length_unit`) of a material point of the link in the exact drawn pose (for a sketched model
+prefer a named point); it defaults to the link's centre (or, for guide forces, the joint's slider point).
 `[gravity]` (`g` in m/s², `direction` in degrees, default −90) adds m·g at the centre of every link with a
 mass. Gravity is not a `LoadValue` row of the table: `evaluate_loads` appends one per heavy link.
 """
@@ -25,54 +29,16 @@ mass. Gravity is not a `LoadValue` row of the table: `evaluate_loads` appends on
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError, MotionError
+from ..errors import ModelError, ModelWarning, MotionError
+from ..model._model import LOAD_TYPES, Gravity, Load
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
-           "has_force_data",
-           "LOAD_TYPES"]
-
-LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction")
-_WHEN = ("forward", "backward", "always")
-
-
-@dataclass(frozen=True)
-class Gravity:
-    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2)."""
-
-    g: float = 9.81
-    direction: float = -math.pi / 2
-
-    @property
-    def vector(self) -> np.ndarray:
-        return self.g * np.array([math.cos(self.direction), math.sin(self.direction)])
-
-
-@dataclass(frozen=True)
-class Load:
-    """One row of `loads`, checked. `at` is drawn coordinates on `link` (None: see the law)."""
-
-    index: int
-    kind: str
-    link: str
-    at: tuple[float, float] | None = None
-    force: tuple[float, float] = (0.0, 0.0)
-    moment: float = 0.0
-    magnitude: float = 0.0
-    joint: str | None = None
-    s: tuple[float, ...] = ()
-    table: tuple[float, ...] = ()
-    when: str = "always"
-    zero_at: float | None = None
-    label: str | None = None
-
-    @property
-    def name(self) -> str:
-        """The row's `name`, else its place in the table, loads[i]."""
-        return self.label or f"loads[{self.index}]"
+           "has_force_data", "warn_idle_resistances", "LOAD_TYPES"]
 
 
 @dataclass
@@ -87,174 +53,32 @@ class LoadValue:
     moment: np.ndarray
 
 
-# -- reading ----------------------------------------------------------------------------------------
 def has_force_data(mech) -> bool:
     """True when the model has loads, gravity or mass data (otherwise every reaction is zero)."""
-    return bool(mech.extras.get("loads") or mech.extras.get("gravity")
-                or any(lk.mass or lk.inertia for lk in mech.links.values()))
-
-
-def read_gravity(mech) -> Gravity | None:
-    """The `[gravity]` section, or None."""
-    raw = mech.extras.get("gravity")
-    if raw is None:
-        return None
-    where = f"{mech.source}: gravity"
-    if not isinstance(raw, dict):
-        raise ModelError(f"{where}: expected a table with g (and direction)")
-    unknown = set(raw) - {"g", "direction"}
-    if unknown:
-        raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-    g = _number(raw.get("g", 9.81), f"{where}: 'g'")
-    direction = _number(raw.get("direction", -90.0), f"{where}: 'direction'")
-    return Gravity(g, math.radians(direction))
+    return bool(mech.loads or mech.gravity or any(lk.mass or lk.inertia for lk in mech.links.values()))
 
 
 def read_loads(mech) -> list[Load]:
-    """Check the `loads` rows of an (assembled) mechanism and return them as `Load`s."""
-    rows = mech.extras.get("loads", [])
-    if not isinstance(rows, list):
-        raise ModelError(f"{mech.source}: 'loads' must be a list of rows")
-    loads = [_read_load(mech, i, raw) for i, raw in enumerate(rows)]
-    seen = {}
-    for ld in loads:
-        if ld.name in seen or ld.name.startswith("gravity on "):
-            why = f"is also loads[{seen[ld.name]}]'s" if ld.name in seen else "is kept for gravity"
-            raise ModelError(f"{mech.source}: loads[{ld.index}]: the name '{ld.name}' {why}")
-        seen[ld.name] = ld.index
-    return loads
+    """The model's loads (read and checked with the table: `Mechanism.loads`)."""
+    return list(mech.loads)
 
 
-_KEYS = {
-    "force": {"link", "at", "force"},
-    "weight": {"link", "at", "weight"},
-    "moment": {"link", "moment"},
-    "resistance": {"joint", "link", "at", "force", "s", "stroke", "when", "zero_at"},
-    "friction": {"joint", "link", "at", "force"},
-}
+def read_gravity(mech) -> Gravity | None:
+    """The model's gravity (`Mechanism.gravity`), or None."""
+    return mech.gravity
 
 
-def _read_load(mech, i: int, raw) -> Load:
-    where = f"{mech.source}: loads[{i}]"
-    if not isinstance(raw, dict):
-        raise ModelError(f"{where}: expected a table {{type = ..., ...}}")
-    label = raw.get("name")
-    if label is not None and (not isinstance(label, str) or not label.strip()):
-        raise ModelError(f"{where}: 'name' must be a non-empty text, got {label!r}")
-    return replace(_read_load_row(mech, i, raw, where), label=label)
-
-
-def _read_load_row(mech, i: int, raw, where) -> Load:
-    kind = raw.get("type")
-    if kind not in LOAD_TYPES:
-        raise ModelError(f"{where}: 'type' must be one of {', '.join(LOAD_TYPES)}, got {kind!r}")
-    where = f"{where} ({kind})"
-    unknown = set(raw) - _KEYS[kind] - {"type", "name"}
-    if unknown:
-        raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-    if kind in ("resistance", "friction"):
-        return _read_guide_load(mech, i, raw, kind, where)
-    link = _link(mech, raw, where)
-    at = _point(mech, link, raw.get("at"), where)
-    if kind == "force":
-        force = _pair(raw.get("force"), f"{where}: 'force'")
-        return Load(i, kind, link, at, force=force)
-    if kind == "weight":
-        return Load(i, kind, link, at, magnitude=_number(_need(raw, "weight", where), f"{where}: 'weight'"))
-    return Load(i, kind, link, moment=_number(_need(raw, "moment", where), f"{where}: 'moment'"))
-
-
-def _read_guide_load(mech, i, raw, kind, where) -> Load:
-    joint = str(_need(raw, "joint", where))
-    j = mech.joints.get(joint)
-    if j is None or j.kind != "P":
-        raise ModelError(f"{where}: joint '{joint}' is not a prismatic joint of the model")
-    link = str(raw.get("link", j.slider))
-    if link not in j.links or link == mech.ground:
-        raise ModelError(f"{where}: link '{link}' must be the moving link of joint '{joint}' the force acts on")
-    at = _point(mech, link, raw.get("at"), where)
-    if kind == "friction":
-        return Load(i, kind, link, at, joint=joint,
-                    magnitude=_number(_need(raw, "force", where), f"{where}: 'force'"), when="always")
-    when = raw.get("when", "always")
-    if when not in _WHEN:
-        raise ModelError(f"{where}: 'when' must be one of {', '.join(_WHEN)}, got {when!r}")
-    force = _need(raw, "force", where)
-    zero_at = raw.get("zero_at")
-    if zero_at is not None:
-        zero_at = _number(zero_at, f"{where}: 'zero_at'")
-    if not isinstance(force, list):
-        if "s" in raw:
-            raise ModelError(f"{where}: with 's' the 'force' must be a list of the same length")
-        return Load(i, kind, link, at, joint=joint, magnitude=_number(force, f"{where}: 'force'"), when=when)
-    s = _numbers(_need(raw, "s", where), f"{where}: 's'")
-    table = _numbers(force, f"{where}: 'force'")
-    if len(s) != len(table) or len(s) < 2:
-        raise ModelError(f"{where}: 's' and 'force' must be lists of equal length (at least 2), "
-                         f"got {len(s)} and {len(table)}")
-    stroke = _number(raw.get("stroke", 1.0), f"{where}: 'stroke'")
-    s = tuple(x * stroke for x in s)
-    if any(b <= a for a, b in zip(s, s[1:])):
-        raise ModelError(f"{where}: 's' must increase strictly")
-    return Load(i, kind, link, at, joint=joint, s=s, table=table, when=when, zero_at=zero_at)
-
-
-def _need(raw, key, where):
-    if key not in raw:
-        raise ModelError(f"{where}: missing '{key}'")
-    return raw[key]
-
-
-def _number(value, where) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ModelError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
-
-
-def _numbers(value, where) -> tuple[float, ...]:
-    if not isinstance(value, list):
-        raise ModelError(f"{where} must be a list of numbers, got {value!r}")
-    return tuple(_number(v, f"{where}[{k}]") for k, v in enumerate(value))
-
-
-def _pair(value, where) -> tuple[float, float]:
-    if not isinstance(value, list) or len(value) != 2:
-        raise ModelError(f"{where} must be [x, y], got {value!r}")
-    return _numbers(value, where)
-
-
-def _link(mech, raw, where) -> str:
-    link = str(_need(raw, "link", where))
-    if link not in mech.links or link == mech.ground:
-        raise ModelError(f"{where}: '{link}' is not a moving link of the model")
-    return link
-
-
-def _point(mech, link: str, at, where) -> tuple[float, float] | None:
-    """Drawn coordinates of `at` (a name or [x, y]) on `link`; None when not given."""
-    if at is None:
-        return None
-    if isinstance(at, list):
-        return _pair(at, f"{where}: 'at'")
-    name = str(at)
-    if name in mech.points:
-        if mech.points[name].link != link:
-            raise ModelError(f"{where}: point '{name}' is on link '{mech.points[name].link}', not '{link}'")
-        return tuple(mech.points[name].at)
-    if name in mech.joints:
-        if link not in mech.joints[name].links:
-            raise ModelError(f"{where}: joint '{name}' does not belong to link '{link}'")
-        return tuple(mech.joints[name].at)
-    raise ModelError(f"{where}: 'at' = '{name}' is neither a point nor a joint of the model")
+def named_point(mech, name: str) -> tuple[float, float]:
+    """Drawn coordinates of a point of interest or joint `name` (exact once assembled)."""
+    return tuple(mech.points[name].at if name in mech.points else mech.joints[name].at)
 
 
 def centre_of(mech, link: str, why: str = "a link with mass needs a 'centre' point") -> tuple[float, float]:
     """Drawn coordinates of a link's centre of mass (ModelError `why` if the link has none)."""
     lk = mech.links[link]
     if lk.centre is None:
-        raise ModelError(f"{mech.source}: links '{link}': {why}")
-    name = lk.centre
-    return tuple(mech.points[name].at if name in mech.points else mech.joints[name].at)
+        raise ModelError(why, source=mech.source, where=f"link '{link}'")
+    return named_point(mech, lk.centre)
 
 
 # -- evaluating -------------------------------------------------------------------------------------
@@ -309,9 +133,9 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
     """Every load (the model's rows unless `loads` is given, plus gravity on heavy links unless
     `gravity` is False) over the batch of `motion`."""
     mech = engine.mech
-    loads = read_loads(mech) if loads is None else loads
+    loads = mech.loads if loads is None else loads
     if gravity is True:
-        gravity = read_gravity(mech)
+        gravity = mech.gravity
     out = [_evaluate(engine, motion, load) for load in loads]
     if gravity:
         for name, lk, centre in heavy_links(mech):
@@ -338,25 +162,15 @@ def _evaluate(engine, motion, load: Load) -> LoadValue:
 def constant_parts(mech, load: Load) -> tuple[tuple[float, float], np.ndarray | None, float]:
     """What does not vary with the position: the drawn point `at` the load acts at, its force (2,)
     (None for a guide force, `guide_force_size` along `guide_direction`) and its moment."""
-    at = load.at if load.at is not None else _default_point(mech, load)
+    at = load.at if load.at is not None else named_point(mech, load.point)
     if load.kind == "force":
         return at, np.asarray(load.force, float), 0.0
     if load.kind == "weight":
-        g = read_gravity(mech) or Gravity()
+        g = mech.gravity or Gravity()
         return at, load.magnitude * np.array([math.cos(g.direction), math.sin(g.direction)]), 0.0
     if load.kind == "moment":
         return at, np.zeros(2), float(load.moment)
     return at, None, 0.0
-
-
-def _default_point(mech, load: Load):
-    """Where a load without `at` acts: the joint's slider point (guide forces), else the link's centre,
-    else its first joint (for a pure moment the point does not matter)."""
-    if load.joint:
-        return mech.joints[load.joint].at
-    if mech.links[load.link].centre is not None or load.kind != "moment":
-        return centre_of(mech, load.link, f"{load.name} has no 'at' and the link has no 'centre'")
-    return mech.joints_of(load.link)[0].at
 
 
 def guide_force_size(engine, motion, load: Load) -> np.ndarray:
@@ -380,6 +194,30 @@ def guide_force_size(engine, motion, load: Load) -> np.ndarray:
     return along * size
 
 
+def warn_idle_resistances(engine, motion):
+    """A `ModelWarning` for each resistance with an `s` diagram that is zero at every position of
+    `motion` while it acts (e.g. `when = "backward"` with a diagram on s > 0 while the slider moves
+    back over s < 0): it does no work there, which is rarely what the table meant."""
+    units = engine.mech.units
+    for load in engine.mech.loads:
+        if load.kind != "resistance" or not load.table or len(motion.phi) < 2:
+            continue
+        size = guide_force_size(engine, motion, load)
+        if np.any(size != 0):
+            continue
+        s = motion.value[:, motion.joint(load.joint)] - _displacement_zero(engine, load)
+        rate = joint_rate_sign(motion, load.joint)
+        active = {"forward": rate >= 0, "backward": rate <= 0}.get(load.when, np.ones(len(s), bool))
+        k = units.length_scale
+        span = (f"s = {s[active].min() / k:.4g} … {s[active].max() / k:.4g} {units.length}" if active.any()
+                else "no position")
+        warnings.warn(ModelWarning(
+            f"{engine.mech.source}: {load.name}: the resistance does no work over the {len(s)} positions: "
+            f"it acts ({load.when}) over {span}, where its diagram (s = {load.s[0] / k:.4g} … "
+            f"{load.s[-1] / k:.4g} {units.length}) gives 0 N; check the sign of 's', 'zero_at' or 'when'"),
+            stacklevel=2)
+
+
 def _displacement_zero(engine, load: Load) -> float:
     """The joint's value at the input value `zero_at` (the diagram's s = 0), or 0 (drawn pose)."""
     if load.zero_at is None:
@@ -393,11 +231,11 @@ def _displacement_zero(engine, load: Load) -> float:
 
 def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
-        raise ModelError(f"{engine.mech.source}: {load.name}: 'zero_at' needs a model with one input")
+        raise ModelError("'zero_at' needs a model with one input", source=engine.mech.source, where=load.name)
     from ..kinematics._motion import analyse
     inp = engine.inputs[0]
     m = analyse(engine, np.array([inp.to_si(load.zero_at)]))
     if not m.success:
-        raise MotionError(f"{engine.mech.source}: {load.name}: zero_at = {load.zero_at} cannot be reached: "
-                          f"{m.message}")
+        raise MotionError(f"zero_at = {load.zero_at} {inp.unit} cannot be reached: {m.message}",
+                          source=engine.mech.source, where=load.name)
     return float(m.value[0, m.joint(load.joint)])

@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import MbplanarError, ModelError, MotionError
+from ..errors import ModelError, MotionError, PlotUnavailable
 from ..kinematics._motion import describe_limit
 from ._scene import build_scene
 
@@ -35,12 +35,6 @@ LINK_FILL = "#cfe0f3"
 BLOCK_FILL = "#f3e3c3"
 COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
           "#7f7f7f", "#bcbd22"]
-
-
-class PlotUnavailable(MbplanarError):
-    """matplotlib / Pillow are not installed."""
-
-    exit_code = 2
 
 
 def require_matplotlib():
@@ -89,7 +83,7 @@ def cycle_motion(engine, count: int = 72):
     if motion.success:
         return motion
     if len(motion.phi) == 0:
-        raise MotionError(f"{engine.mech.source}: no position of the sweep can be reached: {motion.message}")
+        raise MotionError(f"no position of the sweep can be reached: {motion.message}", source=engine.mech.source)
     several = len(engine.inputs) != 1
     swing = swing_values(engine, count) if not several and engine.inputs[0].sweep is None else None
     if swing is not None:
@@ -122,12 +116,12 @@ def position_motion(engine, at=None):
     values = [inp.from_si(p) for inp, p in zip(engine.inputs, engine.phi_drawn)] if at is None else \
         list(np.atleast_1d(np.asarray(at, float)))
     if len(values) != len(engine.inputs):
-        raise ModelError(f"{engine.mech.source}: a position needs {len(engine.inputs)} input value(s)")
+        raise ModelError(f"a position needs {len(engine.inputs)} input value(s)", source=engine.mech.source)
     phi = np.array([[inp.to_si(v) for inp, v in zip(engine.inputs, values)]])
     motion = analyse(engine, phi if len(values) > 1 else phi[:, 0])
     if not motion.success:
         where = ", ".join(f"{inp.name} = {v:g} {inp.unit}" for inp, v in zip(engine.inputs, values))
-        raise MotionError(f"{engine.mech.source}: cannot reach {where}: {motion.message}")
+        raise MotionError(f"cannot reach {where}: {motion.message}", source=engine.mech.source)
     return motion
 
 
@@ -410,8 +404,8 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
     known = whole.joint_names + whole.point_names
     for name in points or ():
         if name not in known:
-            raise ModelError(f"{engine.mech.source}: no point or pair '{name}' to trace; the model has: "
-                             f"{', '.join(known)}")
+            raise ModelError(f"no point or pair '{name}' to trace; the model has: "
+                             f"{', '.join(known)}", source=engine.mech.source)
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
@@ -489,7 +483,7 @@ def _panels_figure(engine, real, count, figsize):
     plt = require_matplotlib()
     motion = cycle_motion(engine, count)
     if not real and motion.wq is None:
-        raise ModelError(f"{engine.mech.source}: analogues need a single input")
+        raise ModelError("analogues need a single input", source=engine.mech.source)
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
     axes = fig.subplots(3, 2, sharex=True)

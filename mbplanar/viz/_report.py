@@ -218,7 +218,7 @@ def _animation_section(engine, ctx):
 def _flywheel_section(engine, ctx):
     from ..forces._dynamics import machine_dynamics, summary
     from ._plotting import dynamics_figure
-    if engine.mech.extras.get("dynamics") is None:
+    if engine.mech.dynamics is None:
         return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
     d = machine_dynamics(engine)
     inp = engine.inputs[0]
