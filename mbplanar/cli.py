@@ -104,31 +104,36 @@ def _input_si(engine, value):
 
 
 def _at_si(engine, values) -> np.ndarray:
-    """--at values (model units) as SI (1, n_in). A single revolute input far from the drawn pose on a
-    periodic branch is first reduced by whole periods in the model's unit, exactly for degrees
-    (fmod is exact), with a note; the engine reduces SI values itself, to the float spacing of φ."""
+    """--at values (model units) as SI (1, n_in), reduced by whole periods where far (`_at_reduced`)."""
+    return np.array([[i.to_si(v) for i, v in zip(engine.inputs, _at_reduced(engine, values))]])
+
+
+def _at_reduced(engine, values) -> list[float]:
+    """--at values (model units), unchanged unless a single revolute input lies far from the drawn
+    pose on a periodic branch: then reduced by whole periods in the model's unit, exactly for degrees
+    (fmod is exact), with a note (the engine reduces SI values itself, to the float spacing of φ)."""
     from .engine._atlas import FAR_TURNS, LOST_PRECISION
-    phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
+    values = [float(v) for v in values]
     if len(engine.inputs) != 1 or engine.mech.joints[engine.inputs[0].joint].kind != "R":
-        return phi
-    inp, value = engine.inputs[0], float(values[0])
-    if abs(phi[0, 0] - engine.phi_drawn[0]) <= 2 * math.pi * FAR_TURNS:
-        return phi
+        return values
+    inp, value = engine.inputs[0], values[0]
+    if abs(inp.to_si(value) - engine.phi_drawn[0]) <= 2 * math.pi * FAR_TURNS:
+        return values
     period = engine.period()
     if period is None:
-        return phi  # the engine refuses it, naming the range, or stops at a limit
+        return values  # the engine refuses it, naming the range, or stops at a limit
     turns = round(period / (2 * math.pi))
     in_unit = 360.0 * turns if inp.unit == "deg" else period
     reduced = math.fmod(value, in_unit)
     error = 0.0 if inp.unit == "deg" else abs(value / in_unit) * np.spacing(in_unit)
     if error > LOST_PRECISION:
         raise ModelError(f"--at {value:g} {inp.unit}: reducing it by whole turns leaves an uncertainty of "
-                        f"{error:.3g} rad; give the value reduced by whole turns")
+                         f"{error:.3g} rad; give the value reduced by whole turns", source=engine.mech.source)
     note = f"; the reduction is good to {error:.2g} rad" if error > 1e-15 else ""
     print(f"mbplanar: {engine.mech.source}: note: {inp.name} = {value:g} {inp.unit} lies "
           f"{abs(value) / in_unit:.6g} period(s) from zero; the motion repeats every {turns} turn(s), so it is "
           f"solved at the equivalent {reduced:.15g} {inp.unit}{note}", file=sys.stderr)
-    return np.array([[inp.to_si(reduced)]])
+    return [reduced]
 
 
 # -- info -------------------------------------------------------------------------------------------
@@ -598,8 +603,6 @@ def cmd_forces(args):
     from .forces._kinetostatics import kinetostatics
     engine = _load(args)
     values = _inputs_at(engine, args.at)
-    if args.input_inertia is not None and not (math.isfinite(args.input_inertia) and args.input_inertia >= 0):
-        raise ModelError("--input-inertia must be a finite number >= 0")
     if not has_force_data(engine.mech):
         raise ModelError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
                         "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
@@ -627,9 +630,9 @@ def cmd_forces(args):
         return 0
     rate, accel, inertia_kind = (_text_unit(display.name(k)) for k in input_kinds(engine))
     moment_unit = _text_unit(display.name("moment"))
-    print(f"{doc['model']}: " + "; ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
-                                           f"ε = {i['epsilon']:g} {accel})" for i in doc["inputs"])
-          + f"  J_I = {doc['input']['input_inertia']:g} {inertia_kind}; {how}")
+    print(f"{doc['model']}: " + "); ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
+                                            f"ε = {i['epsilon']:g} {accel}" for i in doc["inputs"])
+          + f", J_I = {doc['input']['input_inertia']:g} {inertia_kind}; {how})")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
     rows = []
     for name, r in doc["reactions"].items():
@@ -763,9 +766,7 @@ def cmd_plot(args):
     engine = _load(args)
     at = None
     if args.at is not None:
-        values = _inputs_at(engine, args.at)
-        phi = _at_si(engine, values)[0]
-        at = [inp.from_si(float(p)) for inp, p in zip(engine.inputs, phi)]
+        at = _at_reduced(engine, _inputs_at(engine, args.at))
         at = at[0] if len(at) == 1 else at
     plotting.save_figure(plotting.make_figure(engine, args.what, at, **options), args.output, dpi=args.dpi)
     return 0
@@ -839,8 +840,8 @@ def _located(exc, args) -> str:
 
 def _speed_options(s):
     """--omega, --epsilon or --true-motion of solve and sweep (see `_speeds`)."""
-    s.add_argument("--omega", type=_finite_float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
-    s.add_argument("--epsilon", type=_finite_float, help="input acceleration (default 0)")
+    s.add_argument("--omega", type=float, help="input speed dφ/dt in rad/s or m/s (default 1: the analogues)")
+    s.add_argument("--epsilon", type=float, help="input acceleration (default 0)")
     s.add_argument("--true-motion", action="store_true",
                    help="ω(φ), ε(φ) from the machine dynamics (models with [dynamics]); in a sweep also J_I "
                         "on the input link in the force columns")
@@ -899,16 +900,16 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
                    help="reaction and balancing columns: auto = when the model has loads or masses")
-    s.add_argument("--input-inertia", type=_finite_float, help="J_I on the input link for the force columns")
+    s.add_argument("--input-inertia", type=float, help="J_I on the input link for the force columns")
     _units_option(s)
     s.set_defaults(func=cmd_sweep)
 
     s = sub.add_parser("forces", help="one position: every joint reaction and the balancing moment")
     s.add_argument("model")
     s.add_argument("--at", required=True, help="generalized coordinate in the model's unit")
-    s.add_argument("--omega", type=_finite_float, help="input speed dφ/dt (default: the model's omega)")
-    s.add_argument("--epsilon", type=_finite_float, help="input acceleration (default: the model's, else 0)")
-    s.add_argument("--input-inertia", type=_finite_float, help="reduced inertia J_I on the input link (kg·m²)")
+    s.add_argument("--omega", type=float, help="input speed dφ/dt (default: the model's omega)")
+    s.add_argument("--epsilon", type=float, help="input acceleration (default: the model's, else 0)")
+    s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_forces)
@@ -918,7 +919,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--at", help="also the values at these input values (model's unit, comma-separated)")
     s.add_argument("--steps", type=_bounded_int(36, 10 ** 6), default=3600,
                    help="intervals over the cycle (36 to 10⁶, default 3600)")
-    s.add_argument("--delta", type=_finite_float, help="coefficient of speed fluctuation (default: the model's)")
+    s.add_argument("--delta", type=float, help="coefficient of speed fluctuation (default: the model's)")
     s.add_argument("-o", "--output", help="CSV file of the cycle table")
     s.add_argument("--json", action="store_true")
     _units_option(s)

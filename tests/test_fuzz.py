@@ -169,10 +169,10 @@ ROCKER = str(DATA / "double_rocker.toml")
 
 CLI_CASES = [
     # (argv, exit status, text the one-line message contains)
-    (["solve", FOURBAR, "--at", "30", "--omega", "nan"], 2, "finite number"),
-    (["solve", FOURBAR, "--at", "30", "--omega", "inf"], 2, "finite number"),
-    (["solve", FOURBAR, "--at", "30", "--omega=-inf"], 2, "finite number"),
-    (["solve", FOURBAR, "--at", "30", "--epsilon", "nan"], 2, "finite number"),
+    (["solve", FOURBAR, "--at", "30", "--omega", "nan"], 2, "omega must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--omega", "inf"], 2, "omega must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--omega=-inf"], 2, "omega must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--epsilon", "nan"], 2, "epsilon must be finite"),
     (["solve", FOURBAR, "--at", "30", "--omega", "1e300"], 2, "omega must be finite and at most"),
     (["solve", FOURBAR, "--at", "30", "--epsilon", "1e308"], 2, "epsilon must be finite and at most"),
     (["solve", FOURBAR, "--at", "nan"], 2, "finite"),
@@ -180,7 +180,7 @@ CLI_CASES = [
     (["solve", ROCKER, "--at", "1e20"], 1, "moves within -91.79078466 … 91.79078466 deg"),
     (["solve", ROCKER, "--at", "120"], 1, "motion limit"),
     (["forces", FOURBAR, "--at", "180"], 2, "no loads"),
-    (["forces", SHAPER, "--at", "30", "--input-inertia", "-1"], 2, "input-inertia"),
+    (["forces", SHAPER, "--at", "30", "--input-inertia", "-1"], 2, "input_inertia must be a finite number >= 0"),
     (["sweep", FOURBAR, "--steps", "0"], 2, "positive integer"),
     (["sweep", FOURBAR, "--steps", "-5"], 2, "positive integer"),
     (["sweep", FOURBAR, "--step", "0"], 2, "--step must be positive"),
@@ -200,7 +200,8 @@ CLI_CASES = [
     (["report", FOURBAR, "--frames", "0"], 2, "from 2 to 3600"),
     (["dynamics", SHAPER, "--steps", "10"], 2, "from 36 to"),
     (["dynamics", SHAPER, "--steps", "1000000000"], 2, "from 36 to"),
-    (["dynamics", SHAPER, "--delta", "nan"], 2, "finite number"),
+    (["dynamics", SHAPER, "--delta", "nan"], 2, "--delta must be a number between 0 and 1"),
+    (["sweep", SHAPER, "--omega", "nan"], 2, "omega must be finite"),
 ]
 
 

@@ -240,7 +240,7 @@ def test_cli_forces_default_omega_and_table(capsys, tmp_path):
     model.write_text(text[:text.index("[dynamics]")], encoding="utf-8")
     assert main(["forces", str(model), "--at", "140.769"]) == 0
     out = capsys.readouterr().out
-    assert "ω = 7.64454" in out and "ε = 0," in out and "balancing moment at O" in out
+    assert "ω = 7.64454" in out and "ε = 0 rad/s²," in out and "balancing moment at O" in out
 
 
 def test_cli_forces_bad_input(capsys):
