@@ -50,6 +50,8 @@ def _motion(engine, phi, omega, epsilon) -> Motion | None:
     ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1).reshape(-1))
     tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
+    if not engine.within_walk(lo, hi):
+        return None  # far values: the numpy path reduces them by the period
     got = _numba_kinematics.sweep(engine, x, lo, hi, tables[1])
     if got is None:
         return None

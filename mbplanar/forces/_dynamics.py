@@ -412,10 +412,12 @@ def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
         ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
 
 
-def true_motion(engine, phi):
+def true_motion(engine, phi, cache: dict | None = None):
     """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
-    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
-    dyn = machine_dynamics(engine, simulate_motion=False)
+    input link's own inertia (the constant inertia the force analysis adds on the input link); `cache`
+    (a dict) keeps the machine dynamics for later calls (the chunks of a streamed sweep)."""
+    cache = {} if cache is None else cache
+    dyn = cache.get("dynamics") or cache.setdefault("dynamics", machine_dynamics(engine, simulate_motion=False))
     state = dyn.state_at(engine, phi)
     return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
 

@@ -402,9 +402,13 @@ def _read_inputs(mech: Mechanism, data, source, unit):
             sweep = (row._check_number("sweep", sweep[0]), row._check_number("sweep", sweep[1]))
             if sweep[0] == sweep[1]:
                 row.fail("sweep range is empty")
+        omega, epsilon = _speed(row, joint.kind), row.number("epsilon", 0.0)
+        for key, value, bound in (("omega", omega, 1e100), ("epsilon", epsilon, 1e200)):
+            if abs(value) > bound:  # (as analyse's own check: squares and products must stay finite)
+                row.fail(f"{key} must be at most {bound:g} in size, got {value:g}")
         inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
                     zero=row.number("zero", 0.0), sense=float(sense),
-                    omega=_speed(row, joint.kind), epsilon=row.number("epsilon", 0.0),
+                    omega=omega, epsilon=epsilon,
                     drawn_at=row.number("drawn_at"), sweep=sweep, steps=_steps(row))
         row.check_unknown_keys({"comment"})
         mech.inputs.append(inp)

@@ -24,7 +24,7 @@ from ..kinematics._motion import describe_limit
 from ._scene import build_scene
 
 __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure",
-           "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
+           "save_figure", "cycle_values", "cycle_motion", "swing_values", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
            "forces_figure", "transmission_series", "pressure_series", "transmission_angles", "pressure_angles",
@@ -58,13 +58,18 @@ def _full_turn(engine) -> bool:
 
 def cycle_values(engine, count: int = 72) -> np.ndarray:
     """`count` input values (SI) over the model's sweep; a full turn leaves out its repeated end."""
-    if len(engine.inputs) != 1:
-        raise ModelError("pictures drive one input; this model has several", source=engine.mech.source)
     if count < 1:
         raise ModelError("the number of positions must be at least 1")
-    inp = engine.inputs[0]
+    if len(engine.inputs) != 1:  # a straight path in input space: every input over its sweep at once
+        return np.stack([_input_cycle(inp, count) for inp in engine.inputs], axis=1)
+    return _input_cycle(engine.inputs[0], count)
+
+
+def _input_cycle(inp, count: int) -> np.ndarray:
+    """`count` values (SI) of one input over its sweep; a full turn leaves out its repeated end."""
     lo, hi = inp.default_sweep()
-    return inp.to_si(np.linspace(lo, hi, count, endpoint=not _full_turn(engine) or count == 1))
+    full = inp.unit in ("deg", "rad") and abs(inp.to_si(hi - lo)) >= 2 * math.pi - 1e-9
+    return inp.to_si(np.linspace(lo, hi, count, endpoint=not full or count == 1))
 
 
 def cycle_motion(engine, count: int = 72):
@@ -80,22 +85,44 @@ def cycle_motion(engine, count: int = 72):
         return motion
     if len(motion.phi) == 0:
         raise MotionError(f"no position of the sweep can be reached: {motion.message}", source=engine.mech.source)
-    lo, hi = float(motion.phi[0, 0]), float(motion.phi[-1, 0])
-    fine = analyse(engine, np.linspace(lo, hi, count))
+    several = len(engine.inputs) != 1
+    swing = swing_values(engine, count) if not several and engine.inputs[0].sweep is None else None
+    if swing is not None:
+        fine = analyse(engine, swing)
+        fine.limits = [lim for lim in engine.atlas().limits.values() if lim is not None]
+        return fine
+    lo, hi = motion.phi[0], motion.phi[-1]
+    fine = analyse(engine, np.linspace(lo, hi, count) if several else np.linspace(lo[0], hi[0], count))
     fine.limits = motion.limits
     return fine
+
+
+def swing_values(engine, count: int = 72) -> np.ndarray | None:
+    """`count` input values (SI) of a rocking input's whole cycle: from the dead point below the drawn
+    pose to the one above and back (a triangle wave, so an animation loops without a jump and a
+    trajectory retraces itself instead of closing with a chord), ending at the walk's last solvable
+    positions next to the limits; None unless the input is stopped by a motion limit both ways."""
+    engine.reach()
+    atlas = engine.atlas()
+    if atlas.limits[-1] is None or atlas.limits[+1] is None:
+        return None
+    grid = atlas.arrays()[0]
+    t = np.arange(count) / max(count, 1)
+    return grid[0] + (grid[-1] - grid[0]) * (1.0 - np.abs(1.0 - 2.0 * t))
 
 
 def position_motion(engine, at=None):
     """Kinematics at one position: `at` in the model's unit, default the drawn pose."""
     from ..kinematics._motion import analyse
-    inp = engine.inputs[0]
-    phi = engine.phi_drawn[0] if at is None else inp.to_si(float(at))
-    motion = analyse(engine, np.array([phi]))
+    values = [inp.from_si(p) for inp, p in zip(engine.inputs, engine.phi_drawn)] if at is None else \
+        list(np.atleast_1d(np.asarray(at, float)))
+    if len(values) != len(engine.inputs):
+        raise ModelError(f"a position needs {len(engine.inputs)} input value(s)", source=engine.mech.source)
+    phi = np.array([[inp.to_si(v) for inp, v in zip(engine.inputs, values)]])
+    motion = analyse(engine, phi if len(values) > 1 else phi[:, 0])
     if not motion.success:
-        where = inp.from_si(phi)
-        raise MotionError(f"cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}",
-                          source=engine.mech.source)
+        where = ", ".join(f"{inp.name} = {v:g} {inp.unit}" for inp, v in zip(engine.inputs, values))
+        raise MotionError(f"cannot reach {where}: {motion.message}", source=engine.mech.source)
     return motion
 
 
@@ -310,10 +337,13 @@ def input_speed(engine) -> str:
     return f"v = {inp.omega:g} m/s, a = {inp.epsilon:g} m/s²"
 
 
+def input_label(engine, phi_row, fmt=".4g") -> str:
+    """'phi = 30 deg' of a position's input values (SI, (n_in,)), every input, comma-separated."""
+    return ", ".join(f"{inp.name} = {inp.from_si(float(p)):{fmt}} {inp.unit}" for inp, p in zip(engine.inputs, phi_row))
+
+
 def _title(engine, motion, b=0):
-    inp = engine.inputs[0]
-    value = inp.from_si(float(motion.phi[b, 0]))
-    return f"{engine.mech.title or engine.mech.name}\n{inp.name} = {value:.4g} {inp.unit}"
+    return f"{engine.mech.title or engine.mech.name}\n{input_label(engine, motion.phi[b])}"
 
 
 def _figure(plt, figsize):
@@ -647,16 +677,14 @@ def write_gif(engine, path, frames=36, *, dpi=80, fps=12, figsize=(6.4, 5.6), tr
     fig = plt.figure(figsize=figsize, dpi=dpi)
     ax = fig.add_axes((0.02, 0.02, 0.96, 0.88))
     images = []
-    inp = engine.inputs[0]
     for b in range(scene.batch):
         ax.clear()
         if trajectories:
             draw_trajectories(ax, scene, lw=0.7)
         draw_mechanism(ax, scene, b)
         _frame_axes(ax, scene)
-        fig.suptitle(f"{engine.mech.title or engine.mech.name}\n{inp.name} = "
-                     f"{inp.from_si(float(motion.phi[b, 0])):7.2f} {inp.unit}   frame {b + 1}/{scene.batch}",
-                     fontsize=10)
+        fig.suptitle(f"{engine.mech.title or engine.mech.name}\n{input_label(engine, motion.phi[b], '7.2f')}"
+                     f"   frame {b + 1}/{scene.batch}", fontsize=10)
         fig.canvas.draw()
         rgba = np.asarray(fig.canvas.buffer_rgba())
         images.append(Image.fromarray(rgba[..., :3].copy()).convert("P", palette=Image.ADAPTIVE, colors=64))
