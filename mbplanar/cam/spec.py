@@ -129,7 +129,21 @@ class _Table:
 
 
 def read_cam(path) -> CamSpec:
-    """Read a cam file, or a model file with a `[cam]` section."""
+    """Read a cam file, or a model file with a `[cam]` section.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    CamSpec
+
+    Raises
+    ------
+    ModelError
+        unreadable file, TOML syntax, unknown or mistyped keys (naming the file, table and row).
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
