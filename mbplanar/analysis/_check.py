@@ -82,6 +82,10 @@ class CheckReport:
                 ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
         return doc
 
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
+
 
 # -- four-bar closed form ---------------------------------------------------------------------------
 def grashof(engine) -> dict | None:

@@ -395,3 +395,4 @@ def solve_sequence(solver: BlockSolver, phi: np.ndarray) -> Solution:
     sol = solver.solve_batch(phi, q)
     sol.valid &= reached
     sol.limits, sol.crossings = limits, passed
+    return sol

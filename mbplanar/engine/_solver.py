@@ -161,6 +161,11 @@ class Engine:
             self._atlas = Atlas(self.solver)
         return self._atlas
 
+    def _repr_html_(self) -> str:
+        """Jupyter: the diagram in the drawn pose beside the structure (DOF, loops, Assur groups)."""
+        from ..model._views import view
+        return view("html", self)
+
     def solve(self, phi) -> Solution:
         """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
         Positions past a motion limit are left out (`valid` False, `limits` says where)."""

@@ -350,3 +350,8 @@ class Mechanism:
 
     def input_for(self, joint: str) -> Input | None:
         return next((i for i in self.inputs if i.joint == joint), None)
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the table's summary and, when it assembles, the diagram in the drawn pose."""
+        from ._views import view
+        return view("html", self)
