@@ -534,6 +534,9 @@ def build_parser() -> argparse.ArgumentParser:
     cam_present.add_arguments(s)
     s.set_defaults(func=cmd_cam)
     cam_present.register()
+
+    from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
+    add_study_parser(sub)
     return p
 
 

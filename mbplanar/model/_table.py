@@ -148,6 +148,9 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     """
     if isinstance(data, str):
         return read_model_text(data, source)
+    if isinstance(data, dict) and _has_parameters(data):
+        from ._parameters import Template  # named dimensions and polar placements, bound to their values
+        data = Template(data, source).bind()
     top = Row(data, None, source)
     units = _read_units(top)
     unit = units.length_scale
@@ -169,6 +172,13 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
         if key not in _EXTRA_SECTIONS:
             top.fail(f"unknown key '{key}'")
     return mech
+
+
+def _has_parameters(data: dict) -> bool:
+    """Whether the table declares [parameters] or places a joint by a length and an angle."""
+    joints = data.get("joints")
+    rows = joints.values() if isinstance(joints, dict) else joints if isinstance(joints, list) else []
+    return "parameters" in data or any(isinstance(r, dict) and isinstance(r.get("at"), dict) for r in rows)
 
 
 def _read_units(top: Row) -> Units:
