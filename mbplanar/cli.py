@@ -7,7 +7,6 @@ Exit status: 0 success, 1 a mechanism that cannot move as asked (lock, dead poin
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import sys
@@ -16,8 +15,10 @@ import warnings
 import numpy as np
 
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError
+from .forces._dynamics import true_motion
 from .forces._loads import has_force_data, warn_idle_resistances
-from .io._tables import dynamics_table, forces_table, sweep_table
+from .io import dynamics_document, forces_document, info_document, plain, solve_document, write_csv
+from .io._tables import dynamics_table, forces_columns, sweep_table
 from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
                         convert_solution, convert_table, display_units)
 
@@ -40,11 +41,6 @@ def _positive_int(text) -> int:
     return value
 
 
-def _finite(x):
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
 def _at_values(text) -> list[float]:
     """The finite numbers of a comma-separated --at."""
     try:
@@ -56,48 +52,12 @@ def _at_values(text) -> list[float]:
     return values
 
 
-def _write_csv(path, header, rows):
-    """A table as CSV to `path` (standard output when None); non-finite cells are left empty."""
-    out = open(path, "w", newline="", encoding="utf-8") if path else sys.stdout
-    try:
-        writer = csv.writer(out)
-        writer.writerow(header)
-        for row in rows:
-            writer.writerow(["" if not math.isfinite(x) else f"{x:.12g}" for x in row])
-    finally:
-        if path:
-            out.close()
-
-
 def _input_si(engine, value):
     inp = engine.inputs[0]
     return inp.to_si(value)
 
 
 # -- info -------------------------------------------------------------------------------------------
-def info_document(engine) -> dict:
-    mech, topo = engine.mech, engine.topology
-    doc = {
-        "model": mech.name, "title": mech.title,
-        "links": [mech.ground] + mech.moving_links,
-        "joints": {j.name: {"type": j.kind, "links": list(j.links), "at": list(j.at),
-                            **({"guide_deg": j.guide_deg} if j.kind == "P" else {})}
-                   for j in mech.joints.values()},
-        "points": {p.name: {"link": p.link, "at": list(p.at)} for p in mech.points.values()},
-        "inputs": [{"joint": i.joint, "name": i.name, "unit": i.unit} for i in mech.inputs],
-        "dof": topo.dof,
-        "loops": len(topo.loops),
-        "loop_joints": [list(loop) for loop in topo.loops],
-    }
-    s = topo.structure
-    if s is not None:
-        doc["groups"] = [{"class": g.group_class, "order": g.order, "kind": g.kind, "links": list(g.links),
-                          "joints": list(g.joints), "external": list(g.external)} for g in s.groups]
-        doc["mechanism_class"] = s.mechanism_class
-        doc["formula"] = s.formula
-    return doc
-
-
 def cmd_info(args):
     engine = _load(args)
     display = display_units(engine.mech, args.units)
@@ -125,54 +85,6 @@ def cmd_info(args):
 
 
 # -- solve ------------------------------------------------------------------------------------------
-def _input_documents(engine, motion, row, values=None) -> list[dict]:
-    """Each input at `row`: its value in the model's unit (as requested, when given, so that 30° is not
-    printed back as 29.999999999999996), in SI, and its speed and acceleration."""
-    values = values or [inp.from_si(float(motion.phi[row, k])) for k, inp in enumerate(engine.inputs)]
-    return [{"name": inp.name, "joint": inp.joint, "unit": inp.unit, "value": float(values[k]),
-             "value_si": float(motion.phi[row, k]), "omega": float(motion.omega[row, k]),
-             "epsilon": float(motion.epsilon[row, k])} for k, inp in enumerate(engine.inputs)]
-
-
-def solve_document(engine, motion, row=0, values=None) -> dict:
-    inputs = _input_documents(engine, motion, row, values)
-    doc = {"model": engine.mech.name, "input": inputs[0], "inputs": inputs,
-           "points": {}, "links": {}, "joints": {}, "instant_centres": {}}
-    for k, name in enumerate(motion.point_names):
-        (x, y), (vx, vy), (ax, ay) = motion.xy[row, k], motion.v[row, k], motion.a[row, k]
-        doc["points"][name] = {"x": x, "y": y, "vx": vx, "vy": vy, "ax": ax, "ay": ay}
-    for k, name in enumerate(motion.link_names):
-        doc["links"][name] = {"angle": motion.angle[row, k], "omega": motion.w[row, k],
-                              "epsilon": motion.e[row, k]}
-        ic = motion.ic[row, k]
-        doc["instant_centres"][name] = None if not np.all(np.isfinite(ic)) else [ic[0], ic[1]]
-    for k, name in enumerate(motion.joint_names):
-        doc["joints"][name] = {"type": engine.mech.joints[name].kind, "value": motion.value[row, k],
-                               "rate": motion.rate[row, k], "accel": motion.accel[row, k]}
-    if motion.vq is not None:
-        doc["analogues"] = {
-            "points": {n: {"vx": motion.vq[row, k, 0], "vy": motion.vq[row, k, 1],
-                           "ax": motion.aq[row, k, 0], "ay": motion.aq[row, k, 1]}
-                       for k, n in enumerate(motion.point_names)},
-            "links": {n: {"omega": motion.wq[row, k], "epsilon": motion.eq[row, k]}
-                      for k, n in enumerate(motion.link_names)},
-        }
-    return _plain(doc)
-
-
-def _plain(obj):
-    """numpy scalars → float, non-finite → None, for JSON."""
-    if isinstance(obj, dict):
-        return {k: _plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
-    if isinstance(obj, (float, np.floating)):
-        return _finite(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
-
-
 def _motion(engine, values_si, omega=None, epsilon=None):
     from .kinematics._motion import analyse
     return analyse(engine, values_si, omega, epsilon)
@@ -293,10 +205,12 @@ def cmd_sweep(args):
     header, rows = sweep_table(engine, motion, angle_unit)
     forces_failed = None
     if args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech)):
+        from .forces._kinetostatics import kinetostatics
         warn_idle_resistances(engine, motion)
-        f_header, f_rows, forces_failed = forces_table(engine, motion, inertia)
+        result = kinetostatics(engine, motion, inertia or 0.0)
+        (f_header, f_rows), forces_failed = forces_columns(engine, result), (None if result.success else result.message)
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
-    _write_csv(args.output, *convert_table(header, rows, display_units(engine.mech, args.units)))
+    write_csv(args.output, *convert_table(header, rows, display_units(engine.mech, args.units)))
     if motion.crossings:
         from .kinematics._motion import describe_crossing
         for c in motion.crossings:
@@ -312,24 +226,6 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
-def forces_document(engine, motion, result, row=0, values=None) -> dict:
-    reactions = {}
-    for name, r in result.reactions.items():
-        fx, fy = float(r.fx[row]), float(r.fy[row])
-        reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
-                           "fx": fx, "fy": fy, "moment": float(r.moment[row]),
-                           "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
-    doc = {"model": engine.mech.name,
-           "input": _input_documents(engine, motion, row, values)[0],
-           "reactions": reactions,
-           "balancing": {name: float(q[row]) for name, q in result.balancing.items()},
-           "virtual_power_residual": float(result.virtual_power_residual[row]),
-           "loads": [{"name": ld.name, "link": motion.link_names[ld.link], "fx": ld.force[row, 0],
-                      "fy": ld.force[row, 1], "x": ld.point[row, 0], "y": ld.point[row, 1],
-                      "moment": ld.moment[row]} for ld in result.loads]}
-    return _plain(doc)
-
-
 def cmd_forces(args):
     from .forces._kinetostatics import kinetostatics
     engine = _load(args)
@@ -381,50 +277,7 @@ def cmd_forces(args):
     return 0
 
 
-def true_motion(engine, phi):
-    """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
-    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
-    from .forces._dynamics import machine_dynamics
-    dyn = machine_dynamics(engine, simulate_motion=False)
-    state = dyn.state_at(engine, phi)
-    return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
-
-
 # -- dynamics ---------------------------------------------------------------------------------------
-def dynamics_document(engine, dyn, at=None) -> dict:
-    """The JSON document of `mbplanar dynamics` (values at input values `at`, SI, when given)."""
-    inp = engine.inputs[0]
-    red, sim = dyn.reduced, dyn.simulation
-    doc = {"model": engine.mech.name,
-           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit},
-           "steps": len(dyn.phi) - 1,
-           "delta_target": dyn.spec.delta,
-           "omega_mean": dyn.omega_mean,
-           "driving_moment": dyn.driving_moment,
-           "resistance_work": dyn.resistance_work,
-           "work_by_kind": dyn.work_by_kind(),
-           "inertia_first_group": dyn.inertia_first_group,
-           "input_link_inertia": dyn.input_link_inertia,
-           "dT_I_max": dyn.dT_I_max, "dT_I_max_at": inp.from_si(dyn.phi_dT_max),
-           "dT_I_min": dyn.dT_I_min, "dT_I_min_at": inp.from_si(dyn.phi_dT_min),
-           "omega_min": dyn.omega_min, "omega_max": dyn.omega_max,
-           "epsilon_min": dyn.epsilon_min, "epsilon_max": dyn.epsilon_max,
-           "delta_simulated": dyn.delta_simulated,
-           "simulation": None if sim is None else {
-               "omega_min": sim.omega_min, "omega_max": sim.omega_max, "omega_time_mean": sim.omega_time_mean,
-               "period": sim.period, "success": sim.success, "message": sim.message},
-           "flywheel": dyn.flywheel}
-    if at is not None:
-        state = dyn.state_at(engine, at)
-        doc["at"] = [{"value": inp.from_si(float(p)), "J_II": state["J_II"][k], "dJ_II": state["dJ_II"][k],
-                      "M_red": state["M_red"][k],
-                      "M_red_by_load": {name: m[k] for name, m in state["moments"].items()},
-                      "A_c": state["A_c"][k], "dT_I": state["dT_I"][k],
-                      "omega": state["omega"][k], "epsilon": state["epsilon"][k]}
-                     for k, p in enumerate(state["phi"])]
-    return _plain(doc)
-
-
 def cmd_dynamics(args):
     from .forces._dynamics import machine_dynamics, read_dynamics
     engine = _load(args)
@@ -440,7 +293,7 @@ def cmd_dynamics(args):
     display = display_units(engine.mech, args.units)
     doc = convert_dynamics(engine, dynamics_document(engine, dyn, at), display)
     if args.output:
-        _write_csv(args.output, *convert_table(*dynamics_table(dyn), display))
+        write_csv(args.output, *convert_table(*dynamics_table(dyn), display))
     if args.json:
         print(json.dumps(doc, indent=2, ensure_ascii=False))
         return 0
@@ -537,7 +390,7 @@ def cmd_check(args):
     report = check(engine)
     display = display_units(engine.mech, args.units)
     if args.json:
-        print(json.dumps(convert_check(engine, _plain(report.as_dict()), display), indent=2, ensure_ascii=False))
+        print(json.dumps(convert_check(engine, plain(report.as_dict()), display), indent=2, ensure_ascii=False))
     else:
         print(format_report(report, length=(display.name("length"), display.scale("length"))))
     return 0

@@ -192,7 +192,7 @@ def test_pressure_angle_of_the_slider_crank_by_the_sine_rule():
     j = eng.mech.joints
     r, rod = math.dist(j["O"].at, j["A"].at), math.dist(j["A"].at, j["B"].at)
     phi = np.radians([10.0, 75.0, 200.0, 300.0])
-    (theta,) = plotting.pressure_angles(eng, analyse(eng, phi)).values()
+    (theta,) = plotting.pressure_series(eng, analyse(eng, phi)).values()
     np.testing.assert_allclose(theta, np.degrees(np.abs(np.arcsin(r * np.sin(phi) / rod))), atol=1e-9)
 
 
@@ -209,7 +209,7 @@ def test_transmission_angle_of_the_fourbar_by_the_cosine_rule():
     eng = engine("fourbar")
     phi = np.radians([0.0, 90.0, 180.0])
     motion = analyse(eng, phi)
-    (mu,) = plotting.transmission_angles(eng, motion).values()
+    (mu,) = plotting.transmission_series(eng, motion).values()
     O, C = np.array([0.0, 0.0]), np.array([0.3, 0.0])
     A = 0.1 * np.column_stack([np.cos(phi), np.sin(phi)])
     diag = np.linalg.norm(C - A, axis=1)  # A–C diagonal

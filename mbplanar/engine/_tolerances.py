@@ -39,7 +39,7 @@ class Tolerances:
         Largest accepted corrector distance (rad, or lengths / size).
     rate_jump : float
         Largest accepted change of the unknowns' derivatives against their prediction, relative to
-        1 + |q'|: a larger one means the corrector found another branch.
+        1 + ``|q'|``: a larger one means the corrector found another branch.
     h_cross : float
         Widest step across a change point; the nodes that bracket it are half of it away, where the
         Jacobian is still well enough conditioned for rates to ~1e-12.
@@ -58,7 +58,7 @@ class Tolerances:
     fold_sqrt_law : float
         Largest relative departure from the square-root law between a node and its fold.
     singular : float
-        Kinetostatics: a block whose |det| / Π‖row‖ is not above this is singular (NaN reactions).
+        Kinetostatics: a block whose ``|det| / Π‖row‖`` is not above this is singular (NaN reactions).
     """
 
     closure: float = 1e-13

@@ -49,7 +49,7 @@ from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
 from ..model._table import crank_input
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
-           "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
+           "reduce", "machine_dynamics", "true_motion", "simulate", "flywheel_sizes", "summary"]
 
 _RIM = (0.437, 6123.0)    # D₂ = c·J^(1/5), m = k·(D₂² − D₁²)·b at ρ₀ (course-book constants)
 _DISC = (0.366, 1230.0)   # D = c·J^(1/5), m = k·D³ at ρ₀
@@ -410,6 +410,14 @@ def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
         ("  rim D2, D1, b", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, {rim['width']:.5g}",
          f"m; mass {rim['mass']:.5g} kg"),
         ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
+
+
+def true_motion(engine, phi):
+    """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
+    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
+    dyn = machine_dynamics(engine, simulate_motion=False)
+    state = dyn.state_at(engine, phi)
+    return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
 
 
 # -- the exact equation of motion -------------------------------------------------------------------

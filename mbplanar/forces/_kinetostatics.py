@@ -34,7 +34,7 @@ import numpy as np
 from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
-from ..kinematics._motion import material_points
+from ..kinematics._motion import Motion, material_points
 from ._loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
@@ -70,7 +70,7 @@ class Kinetostatics:
     virtual_power_residual (B,): relative residual of the virtual-power balance; loads: what acted.
     """
 
-    motion: object
+    motion: Motion
     reactions: dict
     balancing: dict
     virtual_power_residual: np.ndarray

@@ -236,14 +236,12 @@ def material_points(th, r, w, v, e, a, links, at):
     return tuple(_first(x) for x in out)
 
 
-def _last(x):
-    """(B, L, 2) → (2, L, B) view."""
+def _flip(x):
+    """(B, L, 2) ↔ (2, L, B) view: batch first at the surface, batch last inside."""
     return x.transpose(2, 1, 0)
 
 
-def _first(x):
-    """(2, L, B) → (B, L, 2) view."""
-    return x.transpose(2, 1, 0)
+_last = _first = _flip  # named for where the batch axis goes
 
 
 def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
@@ -319,7 +317,7 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest.
 
     Raises `ModelError` for input values that are not finite, and for a speed `omega` or acceleration
-    `epsilon` that is not finite or beyond |ω| ≤ 1e100, |ε| ≤ 1e200 (their squares and products must
+    `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``, ``|ε| ≤ 1e200`` (their squares and products must
     stay finite).
     """
     phi = np.asarray(phi, float)

@@ -27,7 +27,8 @@ __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure"
            "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
-           "forces_figure", "transmission_angles", "pressure_angles", "moving_points", "write_gif",
+           "forces_figure", "transmission_series", "pressure_series", "transmission_angles", "pressure_angles",
+           "moving_points", "write_gif",
            "figure_bytes", "SHOW", "show_options", "input_speed"]
 
 INK = "#1a1a1a"
@@ -476,7 +477,7 @@ def analogues_figure(engine, at=None, *, count=181, figsize=(10, 10)):
     return _panels_figure(engine, False, count, figsize)
 
 
-def transmission_angles(engine, motion) -> dict:
+def transmission_series(engine, motion) -> dict:
     """Transmission angle μ (°, 0…180, not folded) at every revolute pair P–J–Q inside an Assur group
     (the pairs `mbplanar check` judges): the angle at J between the lines to P and Q.
     {'μ at B (A–B–C)': (B,) array}."""
@@ -491,13 +492,17 @@ def transmission_angles(engine, motion) -> dict:
     return out
 
 
-def pressure_angles(engine, motion) -> dict:
+def pressure_series(engine, motion) -> dict:
     """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
     {'ϑ at Bp (A–B)': (B,) array}."""
     from ..analysis._check import pressure_angles as angles
     pairs, values = angles(engine, motion)
     return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
             for k, (a, b, s) in enumerate(pairs)}
+
+
+# the names these had (`mbplanar.analysis` has functions of those names returning labels and radians)
+transmission_angles, pressure_angles = transmission_series, pressure_series
 
 
 def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
@@ -508,7 +513,7 @@ def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
     top, bottom = fig.subplots(2, 1, sharex=True)
-    angles, pressure = transmission_angles(engine, motion), pressure_angles(engine, motion)
+    angles, pressure = transmission_series(engine, motion), pressure_series(engine, motion)
     _plot_lines(top, x, list(angles.values()), list(angles), "μ [°]", None, "Transmission angles (90° ideal)",
                 _xstep(engine, x))
     top.axhspan(40, 140, color="#2ca02c", alpha=0.07)
