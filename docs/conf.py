@@ -48,7 +48,8 @@ root_doc = "index"
 exclude_patterns = ["_build", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store"]
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
-suppress_warnings = ["myst.header"]   # a page may skip a heading level
+suppress_warnings = ["myst.header",        # a page may skip a heading level
+                    "misc.highlighting_failure"]   # a block that is not quite its language (an excerpt)
 
 autosummary_generate = False
 autodoc_member_order = "bysource"
@@ -206,7 +207,16 @@ def _parse(directive, lines):
     return node.children
 
 
+def _plain_bars(app, what, name, obj, options, lines):
+    """Docstrings write |x| for a magnitude; reST would read it as a substitution. Escape bars outside
+    tables and line blocks (lines that start with a bar or a plus sign)."""
+    for k, line in enumerate(lines):
+        if "|" in line and not line.lstrip().startswith(("|", "+")):
+            lines[k] = line.replace("\\|", "|").replace("|", "\\|")
+
+
 def setup(app):
+    app.connect("autodoc-process-docstring", _plain_bars, priority=600)
     app.add_directive("mbplanar-cli", CliReference)
     app.add_directive("mbplanar-api", ApiReference)
     app.add_directive("mbplanar-if-page", IfPage)

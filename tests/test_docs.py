@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import os
 import re
-import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -14,6 +13,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
+sys.path.insert(0, str(DOCS))
+import sessions  # noqa: E402  (docs/sessions.py: the shown command sessions, run and compared)
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 
 
@@ -41,7 +42,7 @@ def test_readme_is_a_short_users_guide():
     lines = README.splitlines()
     assert len(lines) <= 250
     assert "../shared" not in README and "REFERENCE.md" not in README
-    assert not re.search(r"\bissue \d+|\bsession \d+|\bseed \d+", README, flags=re.I)
+    assert not re.search(r"\bissue \d+|\bsession \d+|\bruns? of\b", README, flags=re.I)
     for target in re.findall(r"\]\(([^)#]+)\)", README):          # every relative link exists
         if "://" not in target:
             assert (ROOT / target).exists(), target
@@ -64,44 +65,12 @@ def test_readme_python_api_runs(capsys):
     assert abs(balancing - 2.69865) < 5e-6 and residual < 1e-12 and out[-1] == "True"
 
 
-def shell_sessions(text: str):
-    """(command, output lines) of every indented `$ ...` line of a page, the output being the indented lines
-    that follow it up to the next command or the block's end."""
-    sessions, lines = [], text.splitlines()
-    for k, line in enumerate(lines):
-        if line.startswith("    $ "):
-            out = []
-            for nxt in lines[k + 1:]:
-                if not nxt.startswith("    ") or nxt.startswith("    $ "):
-                    break
-                out.append(nxt[4:].rstrip())
-            sessions.append((line[6:], out))
-    return sessions
-
-
-@pytest.mark.parametrize("page", ["README.md", "docs/cli.md"])
-def test_shown_command_output_is_what_the_command_prints(page, tmp_path, capsys, monkeypatch):
-    from mbplanar.cli import main
+@pytest.mark.parametrize("page", sessions.PAGES)
+def test_shown_command_output_is_what_the_command_prints(page, tmp_path):
     (tmp_path / "models").symlink_to(ROOT / "models")
-    monkeypatch.chdir(tmp_path)                      # files the commands write land here
-    checked = 0
-    for command, shown in shell_sessions((ROOT / page).read_text(encoding="utf-8")):
-        if command.startswith("head "):              # a look at a file a command wrote
-            done = subprocess.run(command, shell=True, cwd=tmp_path, capture_output=True, text=True, timeout=60)
-            assert done.stdout.splitlines() == shown, f"{page}: {command}"
-            continue
-        if not command.startswith("mbplanar "):
-            continue
-        argv = shlex.split(command)[1:]
-        if argv[0] in ("report", "plot", "animate") or not Path(argv[1]).exists():
-            continue                                 # pictures: tested elsewhere; example files not shipped
-        code = main(argv)
-        printed = capsys.readouterr()
-        out = [ln.rstrip() for ln in (printed.out + printed.err).splitlines()]
-        assert code == (1 if any(ln.startswith("mbplanar: ") for ln in shown) else 0), command
-        assert out == shown or (not shown and not out), f"{page}: {command}"
-        checked += 1
-    assert checked >= 4
+    stale, ran = sessions.check(page, tmp_path)
+    assert ran >= 4
+    assert not stale, f"shown output is stale (python docs/sessions.py --write refreshes it): {stale}"
 
 
 def test_tutorial_code_blocks_run_and_check_their_answers():
