@@ -165,7 +165,7 @@ def reduce(engine, phi) -> Reduced:
     moments, kind_of = {}, {}
     w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
     for ld in loads:
-        moments[ld.name] = load_power(ld, w, v, r)
+        moments[ld.name] = moments.get(ld.name, 0.0) + load_power(ld, w, v, r)  # a spring: both ends
         kind = kinds.get(ld.name, "gravity")
         kind_of[ld.name] = "gravity" if kind == "weight" else kind
     return Reduced(phi, J_II, dJ_II, J_input, moments, kind_of, motion)

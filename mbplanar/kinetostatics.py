@@ -33,7 +33,8 @@ import numpy as np
 
 from ._linalg import factor
 from .kinematics import material_points
-from .loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
+from .loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, needs_numpy, real_frames,
+                    world_points)
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -95,24 +96,11 @@ class Kinetostatics:
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
-def _real_frames(engine, motion, links=slice(None)):
-    """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
-    f = motion.frames
-    if "v" in f and motion.wq is not None:
-        om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
-        v, a = f["v"][:, links], f["a"][:, links]
-        real_a = a * om[..., None] ** 2 + v * ep[..., None]
-        return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
-    sol = engine.solve(motion.phi)
-    engine.rates(sol, motion.omega, motion.epsilon)
-    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
-
-
 def _virtual_frames(engine, motion):
     """Virtual velocities (w, v) of every link frame: the analogues with one input, else real."""
     if "v" in motion.frames and motion.wq is not None:
         return motion.wq, motion.frames["v"]
-    w, v, _, _ = _real_frames(engine, motion)
+    w, v, _, _ = real_frames(engine, motion)
     return w, v
 
 
@@ -132,7 +120,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     out = []
     batch = len(motion.phi)
     if heavy:
-        w, v, e, a = _real_frames(engine, motion, ks)
+        w, v, e, a = real_frames(engine, motion, ks)
         at = np.array([centre for _, _, centre in heavy], float)
         th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
         xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
@@ -549,7 +537,7 @@ def _compiled(engine, motion, loads, input_inertia) -> bool:
     """True where the compiled kinetostatics takes the batch: a compiled Motion (its rows in step with
     its arrays) of one input, the model's own loads, no input inertia."""
     rows = motion.rows
-    return (engine.backend == "numba" and rows is not None and len(rows) == len(motion.phi) > 0
+    return (engine.backend == "numba" and rows is not None and not needs_numpy(engine.mech) and len(rows) == len(motion.phi) > 0
             and np.may_share_memory(rows, motion.wq) and loads is None and len(engine.inputs) == 1
             and (input_inertia == 0 if isinstance(input_inertia, (int, float)) else not np.any(input_inertia)))
 

@@ -14,7 +14,19 @@ Laws (one TOML row each in `loads = [...]`, `type` selects the law):
   relative to the carrier, of constant size `force = F` or piecewise linear in the slider's displacement
   (`s = [...]`, `force = [...]`, optionally `stroke` multiplying `s`, `zero_at` the input value where
   s = 0), acting only `when = "forward"` (joint rate ≥ 0), `"backward"` (rate ≤ 0) or `"always"`;
-- `friction`: a constant force `force = F` along the guide opposing the slider's velocity.
+- `friction`: a constant force `force = F` along the guide opposing the slider's velocity;
+- `spring`: a spring between two points `at = [P, Q]` (on the links `links = [a, b]`, which a point
+  names itself): tension T = `preload` + `stiffness`·(l − `free_length`) (N, N/m, m; free length
+  default: the drawn distance), or T(l) piecewise linear from `length = [...]`, `force = [...]`; it
+  pulls P towards Q and Q towards P while T > 0;
+- `damper`: a linear damper between two points (`at`, `links` as for a spring), tension c·dl/dt
+  (`damping` c in N·s/m); or, with `joint = J` (a revolute pair), a rotational damper: moment
+  −c·(ω_b − ω_a) on the pair's second link b and the opposite on a (c in N·m·s/rad);
+- `torque`: a moment `moment = M` (N·m) on the second link of `links = [a, b]` and −M on the first.
+
+Any row can be switched on the sign of a velocity: `switch = J` (a joint: its rate) or `switch = P` (a
+point: its velocity along `switch_direction`, degrees, default 0), with `when = "forward"` (active while
+that velocity is ≥ 0) or `"backward"` (≤ 0).
 
 `at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` of a material
 point of the link in the exact drawn pose (for a sketched model prefer a named point); it defaults to the link's centre (or, for guide forces, the joint's slider point).
@@ -32,10 +44,11 @@ import numpy as np
 from .errors import ModelError, MotionError
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
-           "has_force_data",
+           "has_force_data", "real_frames", "point_motion", "spring_energy", "needs_numpy",
            "LOAD_TYPES"]
 
-LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction")
+LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction", "spring", "damper", "torque")
+ELEMENT_TYPES = ("spring", "damper", "torque")  # act between two links
 _WHEN = ("forward", "backward", "always")
 
 
@@ -68,6 +81,14 @@ class Load:
     when: str = "always"
     zero_at: float | None = None
     label: str | None = None
+    other: str | None = None                     # spring, damper, torque: the second link
+    other_at: tuple[float, float] | None = None  # ... and the drawn point on it
+    stiffness: float = 0.0
+    free_length: float = 0.0
+    preload: float = 0.0
+    damping: float = 0.0
+    switch: str | None = None                    # joint or point whose velocity sign switches the row
+    switch_direction: float = 0.0                # rad, for a point
 
     @property
     def name(self) -> str:
@@ -131,7 +152,11 @@ _KEYS = {
     "moment": {"link", "moment"},
     "resistance": {"joint", "link", "at", "force", "s", "stroke", "when", "zero_at"},
     "friction": {"joint", "link", "at", "force"},
+    "spring": {"links", "at", "stiffness", "free_length", "preload", "length", "force"},
+    "damper": {"links", "at", "damping", "joint"},
+    "torque": {"links", "moment"},
 }
+_SWITCH_KEYS = {"switch", "switch_direction", "when"}
 
 
 def _read_load(mech, i: int, raw) -> Load:
@@ -141,7 +166,25 @@ def _read_load(mech, i: int, raw) -> Load:
     label = raw.get("name")
     if label is not None and (not isinstance(label, str) or not label.strip()):
         raise ModelError(f"{where}: 'name' must be a non-empty text, got {label!r}")
-    return replace(_read_load_row(mech, i, raw, where), label=label)
+    load = replace(_read_load_row(mech, i, raw, where), label=label)
+    if "switch" in raw:
+        load = _read_switch(mech, raw, load, f"{where} ({load.kind})")
+    return load
+
+
+def _read_switch(mech, raw, load: Load, where) -> Load:
+    """`switch` (a joint or point name), `switch_direction` (deg, points) and `when` of any row."""
+    name = str(raw["switch"])
+    if name not in mech.joints and name not in mech.points:
+        raise ModelError(f"{where}: 'switch' = '{name}' is neither a joint nor a point of the model")
+    if "switch_direction" in raw and name not in mech.points:
+        raise ModelError(f"{where}: 'switch_direction' applies to a point; '{name}' is a joint")
+    direction = math.radians(_number(raw.get("switch_direction", 0.0), f"{where}: 'switch_direction'"))
+    when = raw.get("when")
+    if when not in ("forward", "backward"):
+        raise ModelError(f"{where}: a switched row needs 'when' = \"forward\" (active while the velocity is "
+                         f">= 0) or \"backward\" (<= 0), got {when!r}")
+    return replace(load, switch=name, switch_direction=direction, when=when)
 
 
 def _read_load_row(mech, i: int, raw, where) -> Load:
@@ -149,11 +192,16 @@ def _read_load_row(mech, i: int, raw, where) -> Load:
     if kind not in LOAD_TYPES:
         raise ModelError(f"{where}: 'type' must be one of {', '.join(LOAD_TYPES)}, got {kind!r}")
     where = f"{where} ({kind})"
-    unknown = set(raw) - _KEYS[kind] - {"type", "name"}
+    switch_keys = _SWITCH_KEYS if "switch" in raw else set()
+    unknown = set(raw) - _KEYS[kind] - {"type", "name"} - switch_keys
     if unknown:
         raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
     if kind in ("resistance", "friction"):
+        if switch_keys:
+            raise ModelError(f"{where}: a guide force is switched by its own joint ('when'); no 'switch'")
         return _read_guide_load(mech, i, raw, kind, where)
+    if kind in ELEMENT_TYPES:
+        return _read_element(mech, i, raw, kind, where)
     link = _link(mech, raw, where)
     at = _point(mech, link, raw.get("at"), where)
     if kind == "force":
@@ -199,6 +247,85 @@ def _read_guide_load(mech, i, raw, kind, where) -> Load:
     return Load(i, kind, link, at, joint=joint, s=s, table=table, when=when, zero_at=zero_at)
 
 
+def _read_element(mech, i, raw, kind, where) -> Load:
+    """A spring, damper or torque between two links."""
+    if kind == "damper" and "joint" in raw:
+        return _read_rotary_damper(mech, i, raw, where)
+    if kind == "torque":
+        a, b = _two_links(mech, raw.get("links"), where, required=True)
+        return Load(i, kind, b, None, moment=_number(_need(raw, "moment", where), f"{where}: 'moment'"),
+                    other=a)
+    ends = _need(raw, "at", where)
+    if not isinstance(ends, list) or len(ends) != 2:
+        raise ModelError(f"{where}: 'at' must be [P, Q], two points (names or [x, y]), got {ends!r}")
+    links = _end_links(mech, ends, raw.get("links"), where)
+    (pa, pb) = (_point(mech, link, end, where) for link, end in zip(links, ends))
+    drawn = math.dist(pa, pb)
+    if kind == "damper":
+        c = _number(_need(raw, "damping", where), f"{where}: 'damping'")
+        if c < 0:
+            raise ModelError(f"{where}: 'damping' must be >= 0, got {c}")
+        return Load(i, kind, links[1], pb, other=links[0], other_at=pa, damping=c)
+    if drawn == 0:
+        raise ModelError(f"{where}: the spring's ends coincide in the drawn pose")
+    if "length" in raw or isinstance(raw.get("force"), list):
+        if {"stiffness", "free_length", "preload"} & set(raw):
+            raise ModelError(f"{where}: give either a table (length, force) or stiffness/free_length/preload")
+        ls = _numbers(_need(raw, "length", where), f"{where}: 'length'")
+        fs = _numbers(_need(raw, "force", where), f"{where}: 'force'")
+        if len(ls) != len(fs) or len(ls) < 2 or any(b <= a for a, b in zip(ls, ls[1:])) or ls[0] < 0:
+            raise ModelError(f"{where}: 'length' (increasing, >= 0) and 'force' must be lists of equal length "
+                             f"(at least 2), got {len(ls)} and {len(fs)}")
+        return Load(i, kind, links[1], pb, other=links[0], other_at=pa, s=ls, table=fs)
+    k = _number(_need(raw, "stiffness", where), f"{where}: 'stiffness'")
+    free = _number(raw.get("free_length", drawn), f"{where}: 'free_length'")
+    if k < 0 or free < 0:
+        raise ModelError(f"{where}: 'stiffness' and 'free_length' must be >= 0")
+    return Load(i, kind, links[1], pb, other=links[0], other_at=pa, stiffness=k, free_length=free,
+                preload=_number(raw.get("preload", 0.0), f"{where}: 'preload'"))
+
+
+def _read_rotary_damper(mech, i, raw, where) -> Load:
+    if "at" in raw or "links" in raw:
+        raise ModelError(f"{where}: a rotational damper takes 'joint' only (no 'at' or 'links')")
+    joint = str(raw["joint"])
+    j = mech.joints.get(joint)
+    if j is None or j.kind != "R":
+        raise ModelError(f"{where}: joint '{joint}' is not a revolute joint of the model")
+    c = _number(_need(raw, "damping", where), f"{where}: 'damping'")
+    if c < 0:
+        raise ModelError(f"{where}: 'damping' must be >= 0, got {c}")
+    return Load(i, "damper", j.links[1], None, joint=joint, other=j.links[0], damping=c)
+
+
+def _two_links(mech, value, where, required=False):
+    if value is None and not required:
+        return None
+    if not isinstance(value, list) or len(value) != 2 or value[0] == value[1]:
+        raise ModelError(f"{where}: 'links' must be two different links [a, b], got {value!r}")
+    for name in value:
+        if str(name) not in mech.links and str(name) != mech.ground:
+            raise ModelError(f"{where}: '{name}' in 'links' is not a link of the model")
+    return str(value[0]), str(value[1])
+
+
+def _end_links(mech, ends, links, where) -> tuple[str, str]:
+    """The links of a two-point element's ends: `links` if given, else each point's own link."""
+    given = _two_links(mech, links, where)
+    if given is not None:
+        return given
+    out = []
+    for end in ends:
+        if isinstance(end, str) and end in mech.points:
+            out.append(mech.points[end].link)
+        else:
+            raise ModelError(f"{where}: say on which links the ends lie ('links = [a, b]'): {end!r} is "
+                             "not a named point of one link")
+    if out[0] == out[1]:
+        raise ModelError(f"{where}: both ends are on link '{out[0]}'")
+    return out[0], out[1]
+
+
 def _need(raw, key, where):
     if key not in raw:
         raise ModelError(f"{where}: missing '{key}'")
@@ -236,7 +363,9 @@ def _point(mech, link: str, at, where) -> tuple[float, float] | None:
         return None
     if isinstance(at, list):
         return _pair(at, f"{where}: 'at'")
-    name = str(at)
+    if not isinstance(at, str):
+        raise ModelError(f"{where}: 'at' must be a point's name or [x, y], got {at!r}")
+    name = at
     if name in mech.points:
         if mech.points[name].link != link:
             raise ModelError(f"{where}: point '{name}' is on link '{mech.points[name].link}', not '{link}'")
@@ -312,7 +441,7 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
     loads = read_loads(mech) if loads is None else loads
     if gravity is True:
         gravity = read_gravity(mech)
-    out = [_evaluate(engine, motion, load) for load in loads]
+    out = [value for load in loads for value in _evaluate_switched(engine, motion, load)]
     if gravity:
         for name, lk, centre in heavy_links(mech):
             if lk.mass:
@@ -321,6 +450,118 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
                 force = np.broadcast_to(lk.mass * gravity.vector, point.shape).copy()
                 out.append(LoadValue(f"gravity on {name}", k, force, point, np.zeros(len(point))))
     return out
+
+
+def needs_numpy(mech) -> bool:
+    """True when a model has rows that only the numpy kinetostatics evaluates (springs, dampers,
+    torques between links, switched rows)."""
+    return any(ld.kind in ELEMENT_TYPES or ld.switch for ld in read_loads(mech))
+
+
+def real_frames(engine, motion, links=slice(None)):
+    """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
+    f = motion.frames
+    if "v" in f and motion.wq is not None:
+        om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
+        v, a = f["v"][:, links], f["a"][:, links]
+        real_a = a * om[..., None] ** 2 + v * ep[..., None]
+        return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
+    sol = engine.solve(motion.phi)
+    engine.rates(sol, motion.omega, motion.epsilon)
+    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
+
+
+def point_motion(engine, motion, link: int, at) -> tuple[np.ndarray, np.ndarray]:
+    """Position and real velocity (B, 2) each of the material point drawn at `at` (2,) on link `link`."""
+    xy = world_points(motion, link, at)
+    w, v, _, _ = real_frames(engine, motion, [link])
+    r = motion.frames["r"][:, link]
+    vel = v[:, 0].copy()
+    vel[:, 0] -= w[:, 0] * (xy[:, 1] - r[:, 1])
+    vel[:, 1] += w[:, 0] * (xy[:, 0] - r[:, 0])
+    return xy, vel
+
+
+def _evaluate_switched(engine, motion, load: Load) -> list[LoadValue]:
+    """The load's values, zero where its switch is off."""
+    out = _evaluate_element(engine, motion, load) if load.kind in ELEMENT_TYPES else [_evaluate(engine, motion, load)]
+    if load.switch is None:
+        return out
+    speed = _switch_speed(engine, motion, load)
+    on = (speed >= 0) if load.when == "forward" else (speed <= 0)
+    for value in out:
+        value.force = np.where(on[:, None], value.force, 0.0)
+        value.moment = np.where(on, value.moment, 0.0)
+    return out
+
+
+def _switch_speed(engine, motion, load: Load) -> np.ndarray:
+    """The velocity (B,) whose sign switches a row: a joint's rate, or a point's velocity along the
+    row's direction (fixed to the frame)."""
+    mech = engine.mech
+    if load.switch in mech.joints:
+        return motion.rate[:, motion.joint(load.switch)]
+    k = motion.point(load.switch)
+    d = load.switch_direction
+    return motion.v[:, k, 0] * math.cos(d) + motion.v[:, k, 1] * math.sin(d)
+
+
+def _element_ends(engine, motion, load: Load):
+    """Both ends of a two-point element: link indices, positions and real velocities (B, 2)."""
+    ka, kb = engine.link_index[load.other], engine.link_index[load.link]
+    pa, va = point_motion(engine, motion, ka, np.asarray(load.other_at, float))
+    pb, vb = point_motion(engine, motion, kb, np.asarray(load.at, float))
+    return ka, kb, pa, va, pb, vb
+
+
+def spring_tension(load: Load, length: np.ndarray) -> np.ndarray:
+    """Tension (B,) of a spring row at `length` (B,) (N, pulling its ends together when positive)."""
+    if load.table:
+        return np.interp(length, load.s, load.table)
+    return load.preload + load.stiffness * (length - load.free_length)
+
+
+def spring_energy(engine, motion, load: Load) -> np.ndarray:
+    """Potential energy (B,) of a spring row (J): ∫T dl from the free length (linear), or from the
+    table's first length (a table), so that only its changes matter."""
+    _, _, pa, _, pb, _ = _element_ends(engine, motion, load)
+    length = np.hypot(*(pb - pa).T)
+    if not load.table:
+        x = length - load.free_length
+        return load.preload * x + 0.5 * load.stiffness * x * x
+    ls, fs = np.asarray(load.s), np.asarray(load.table)
+    nodes = np.concatenate([[0.0], np.cumsum(np.diff(ls) * (fs[1:] + fs[:-1]) / 2)])
+    k = np.clip(np.searchsorted(ls, length, side="right") - 1, 0, len(ls) - 2)
+    slope = (fs[k + 1] - fs[k]) / (ls[k + 1] - ls[k])
+    x = length - ls[k]
+    return nodes[k] + fs[k] * x + 0.5 * slope * x * x
+
+
+def _evaluate_element(engine, motion, load: Load) -> list[LoadValue]:
+    """A spring, damper or torque: equal and opposite loads on its two links."""
+    batch = len(motion.phi)
+    zero2, zero = np.zeros((batch, 2)), np.zeros(batch)
+    if load.kind == "torque" or load.joint:
+        ka, kb = engine.link_index[load.other], engine.link_index[load.link]
+        if load.kind == "torque":
+            m = np.full(batch, load.moment)
+        else:
+            w, _, _, _ = real_frames(engine, motion, [ka, kb])
+            m = -load.damping * (w[:, 1] - w[:, 0])
+        origin = motion.frames["r"]
+        return [LoadValue(load.name, kb, zero2, origin[:, kb].copy(), m),
+                LoadValue(load.name, ka, zero2.copy(), origin[:, ka].copy(), -m)]
+    ka, kb, pa, va, pb, vb = _element_ends(engine, motion, load)
+    d = pb - pa
+    length = np.hypot(d[:, 0], d[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = d / length[:, None]
+    if load.kind == "spring":
+        tension = spring_tension(load, length)
+    else:
+        tension = load.damping * np.einsum("bi,bi->b", u, vb - va)
+    force = tension[:, None] * u  # on a, towards b
+    return [LoadValue(load.name, kb, -force, pb, zero), LoadValue(load.name, ka, force, pa, zero.copy())]
 
 
 def _evaluate(engine, motion, load: Load) -> LoadValue:

@@ -22,8 +22,10 @@ class Link:
 
     `lengths`: exact distances ((P, Q, metres), ...) between points of this link (joints or points of
     interest); `length` is the shortcut for a link with two revolute joints. `angle`: the two points whose
-    direction is reported as the link's angle (default: its first two revolute joints). Mass data are
-    used by kinetostatics and dynamics: `mass` (kg), `inertia` (kg·m² about the centre), `centre` (a point).
+    direction is reported as the link's angle (default: its first two revolute joints), plus
+    `angle_offset` (rad), so that the reported angle can follow any convention (a body axis at +90° to
+    P→Q). Mass data are used by kinetostatics and dynamics: `mass` (kg), `inertia` (kg·m² about the
+    centre), `centre` (a point).
     """
 
     name: str
@@ -32,6 +34,7 @@ class Link:
     mass: float = 0.0
     inertia: float = 0.0
     centre: str | None = None
+    angle_offset: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -148,7 +148,7 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
 
 
 # Sections read by later stages (loads, dynamics); kept raw in `Mechanism.extras`.
-_EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "plot", "description"}
+_EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "simulate", "plot", "description"}
 
 
 def _read_links(mech: Mechanism, rows, unit):
@@ -172,11 +172,12 @@ def _read_links(mech: Mechanism, rows, unit):
             lengths.append((str(p), str(q), length))
         row.used.add("lengths")
         angle = row.names("angle")
+        angle_offset = math.radians(row.number("angle_offset", 0.0))
         mass = row.number("mass", 0.0)
         inertia = row.number("inertia", 0.0)
         if mass < 0 or inertia < 0:
             row.fail("mass and inertia must not be negative")
-        centre = row.text("centre")
+        centre, centre_at = _centre(row, name, unit)
         row.check_unknown_keys({"comment"})
         if name == mech.ground:
             if lengths:
@@ -184,9 +185,21 @@ def _read_links(mech: Mechanism, rows, unit):
             continue
         try:
             mech.add_link(name, lengths=tuple(lengths), angle=angle, mass=mass,
-                          inertia=inertia * unit * unit, centre=centre)
+                          inertia=inertia * unit * unit, centre=centre, angle_offset=angle_offset)
+            if centre_at is not None:
+                mech.add_point(centre, name, at=centre_at)
         except ModelError as exc:
             row.fail(str(exc).split(": ", 1)[-1])
+
+
+def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, float] | None]:
+    """A link's `centre`: a point's name, or coordinates [x, y] in the drawn pose, which make a point
+    of the link named `<link>:centre` (its drawn coordinates in metres)."""
+    value = row.data.get("centre")
+    if not isinstance(value, list):
+        return row.text("centre"), None
+    x, y = row.pair("centre")
+    return f"{link}:centre", (x * unit, y * unit)
 
 
 def _read_joints(mech: Mechanism, rows, unit):
