@@ -160,6 +160,8 @@ def _plain(obj):
         return {k: _plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [_plain(v) for v in obj.tolist()]
     if isinstance(obj, (float, np.floating)):
         return _finite(obj)
     if isinstance(obj, np.integer):
@@ -500,6 +502,85 @@ def _print_dynamics(engine, dyn, doc):
             print(f"    M_red of {name}: {m:.6g} N·m")
 
 
+# -- motion under given forces ---------------------------------------------------------------------
+def simulate_document(engine, tr) -> dict:
+    """The simulated motion: per time, the inputs' φ, ω, ε, every link's angle, ω, ε, every joint's
+    value, rate, acceleration and reaction (on `on` from `from`), the balancing load at each input (it
+    equals the drive), the energies; and the solver's settings and statistics."""
+    m, ks, spec = tr.motion, tr.kinetostatics, tr.spec
+    doc = {"model": engine.mech.name, "t": tr.t,
+           "solver": {"method": spec.method, "rtol": spec.rtol, "atol": spec.atol, "evaluations": tr.nfev,
+                      "success": tr.success, "message": tr.message},
+           "inputs": {inp.name: {"joint": inp.joint, "phi": tr.phi[:, k], "omega": tr.omega[:, k],
+                                 "epsilon": tr.epsilon[:, k], "drive": tr.drive[:, k],
+                                 "balancing": ks.balancing[inp.joint]}
+                      for k, inp in enumerate(engine.inputs)},
+           "links": {name: {"angle": m.angle[:, k], "omega": m.w[:, k], "epsilon": m.e[:, k]}
+                     for k, name in enumerate(m.link_names) if name != engine.mech.ground},
+           "joints": {}, "energy": tr.energy}
+    for k, name in enumerate(m.joint_names):
+        r = ks.reactions[name]
+        doc["joints"][name] = {"value": m.value[:, k], "rate": m.rate[:, k], "accel": m.accel[:, k],
+                               "on": r.on, "from": r.source, "fx": r.fx, "fy": r.fy, "moment": r.moment}
+    return _plain(doc)
+
+
+def simulate_table(doc) -> tuple[list, np.ndarray]:
+    """Header and columns (N, k) of the simulated motion for CSV."""
+    header, cols = ["t[s]"], [doc["t"]]
+    for name, d in doc["inputs"].items():
+        header += [f"{name}", f"{name}.omega", f"{name}.epsilon", f"{name}.drive"]
+        cols += [d["phi"], d["omega"], d["epsilon"], d["drive"]]
+    for name, d in doc["links"].items():
+        header += [f"angle.{name}[rad]", f"omega.{name}[rad/s]", f"epsilon.{name}[rad/s2]"]
+        cols += [d["angle"], d["omega"], d["epsilon"]]
+    for name, d in doc["joints"].items():
+        header += [f"{name}.value", f"F{name}.x[N]", f"F{name}.y[N]"]
+        cols += [d["value"], d["fx"], d["fy"]]
+    header += ["kinetic[J]", "potential[J]", "drive_work[J]"]
+    cols += [doc["energy"]["kinetic"], doc["energy"]["potential"], doc["energy"]["drive_work"]]
+    return header, np.column_stack([np.asarray(c, float) for c in cols])
+
+
+def _from_state(path, engine) -> tuple[list, list]:
+    """φ and ω of every input at the last time of a previous `simulate --json` output."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+        ins = [doc["inputs"][inp.name] for inp in engine.inputs]
+        return [float(d["phi"][-1]) for d in ins], [float(d["omega"][-1]) for d in ins]
+    except (KeyError, IndexError, TypeError, json.JSONDecodeError) as exc:
+        raise _ArgError(f"{path}: not the JSON output of 'mbplanar simulate' for this model ({exc})") from None
+
+
+def cmd_simulate(args):
+    from .simulation import read_simulate, simulate_motion
+    engine = _load(args)
+    over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
+    for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega)):
+        over[key] = None if text is None else _at_values(text)
+    if args.start is not None:
+        over["phi"], over["omega"] = _from_state(args.start, engine)
+    spec = read_simulate(engine.mech, **over)
+    tr = simulate_motion(engine, spec)
+    doc = simulate_document(engine, tr)
+    if args.output:
+        _write_csv(args.output, *simulate_table(doc))
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0 if tr.success else 1
+    last = -1
+    print(f"{doc['model']}: motion under the given forces from t = 0 to {tr.t[-1]:g} s "
+          f"({spec.method}, rtol {spec.rtol:g}, {tr.nfev} evaluations): {tr.message}")
+    for name, d in doc["inputs"].items():
+        print(f"  {name}: {d['phi'][last]:.12g}, speed {d['omega'][last]:.12g}, acceleration "
+              f"{d['epsilon'][last]:.12g}; drive {d['drive'][last]:.6g}, balancing {d['balancing'][last]:.6g}")
+    e = doc["energy"]
+    print(f"  energy: kinetic {e['kinetic'][last]:.9g} J, potential {e['potential'][last]:.9g} J, "
+          f"work of the drive {e['drive_work'][last]:.9g} J")
+    return 0 if tr.success else 1
+
+
 # -- pictures ---------------------------------------------------------------------------------------
 def _suffix(path, allowed):
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
@@ -650,6 +731,21 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", help="CSV file of the cycle table")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_dynamics)
+
+    s = sub.add_parser("simulate", help="motion under given forces: integrate the equations of motion in time")
+    s.add_argument("model")
+    s.add_argument("--t", type=float, help="end time in s (default: the model's [simulate] t)")
+    s.add_argument("--torque", help="drive on each input, N·m or N (comma list; default: the model's, else 0)")
+    s.add_argument("--motor-slope", help="motor characteristic: drive = torque − slope·speed (N·m·s/rad)")
+    s.add_argument("--omega", help="start speed of each input (default 0)")
+    s.add_argument("--from", dest="start", help="start from the last state of a previous --json output")
+    s.add_argument("--rtol", type=float, help="relative tolerance of solve_ivp (default 1e-10)")
+    s.add_argument("--atol", type=float, help="absolute tolerance (default 1e-12)")
+    s.add_argument("--method", help="solve_ivp method (default DOP853)")
+    s.add_argument("--steps", type=int, help="output intervals (default 100)")
+    s.add_argument("-o", "--output", help="CSV file of the motion")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_simulate)
 
     s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, "
                                     "transmission, forces, ...")
