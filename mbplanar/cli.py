@@ -380,12 +380,26 @@ def cmd_forces(args):
     if not motion.success:
         raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
     inertia = inertia or 0.0
-    result = kinetostatics(engine, motion, inertia)
+    from .friction import friction_kinetostatics, read_friction
+    if args.mu is not None and not (math.isfinite(args.mu) and args.mu >= 0):
+        raise _ArgError("--mu must be a finite number >= 0")
+    spec = read_friction(engine.mech, args.mu)
+    fr = None if spec is None else friction_kinetostatics(engine, motion, spec, inertia)
+    result = kinetostatics(engine, motion, inertia) if fr is None else fr.kinetostatics
     if not result.success:
         raise MotionError(f"{engine.mech.source}: {result.message}")
     doc = forces_document(engine, motion, result, values=[value])
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
+    if fr is not None:
+        doc["friction"] = _plain({"iterations": fr.iterations, "residual": float(fr.residual[0]),
+                                  "converged": fr.converged, "losses": float(fr.losses[0]),
+                                  "efficiency": float(fr.efficiency[0]),
+                                  "balancing_without_friction": {n: float(q[0]) for n, q in
+                                                                 fr.ideal.balancing.items()}})
+        if not fr.converged:
+            raise MotionError(f"{engine.mech.source}: the friction iteration did not converge in "
+                              f"{fr.iterations} iterations (residual {fr.residual[0]:.3g}): self-locking?")
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
@@ -404,6 +418,10 @@ def cmd_forces(args):
         q = _clean(q, tiny * (engine.size if unit == "N·m" else 1.0))
         print(f"balancing {'moment' if unit == 'N·m' else 'force'} at {name}: {q:.6g} {unit}")
     print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
+    if "friction" in doc:
+        f = doc["friction"]
+        print(f"friction: {f['iterations']} iterations, residual {f['residual']:.3g}; power lost "
+              f"{-f['losses']:.6g} W; instantaneous efficiency {f['efficiency']}")
     return 0
 
 
@@ -720,6 +738,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--omega", type=float, help="input speed dφ/dt (default: the model's omega)")
     s.add_argument("--epsilon", type=float, help="input acceleration (default: the model's, else 0)")
     s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
+    s.add_argument("--mu", type=float, help="friction coefficient of every pair (overrides [friction] mu)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_forces)
 

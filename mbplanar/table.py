@@ -148,7 +148,7 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
 
 
 # Sections read by later stages (loads, dynamics); kept raw in `Mechanism.extras`.
-_EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "simulate", "plot", "description"}
+_EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "simulate", "friction", "plot", "description"}
 
 
 def _read_links(mech: Mechanism, rows, unit):
