@@ -172,7 +172,7 @@ def efficiency_figure(engine, at=None, *, count=181, mu=None, figsize=(7.5, 5)):
 
 def simulation_figure(engine, at=None, *, trajectory=None, figsize=(10, 7), **_):
     """The simulated motion (`mbplanar.simulation`, the model's `[simulate]` section, integrated for the
-    picture at rtol ≥ 1e-8 unless a `trajectory` is given): the inputs' coordinate and speed against
+    picture at rtol ≥ 1e-6 unless a `trajectory` is given): the inputs' coordinate and speed against
     time, and the energies (kinetic + potential − work of the drive should stay constant)."""
     from dataclasses import replace
 
@@ -186,7 +186,7 @@ def simulation_figure(engine, at=None, *, trajectory=None, figsize=(10, 7), **_)
         return fig
     if trajectory is None:
         spec = read_simulate(engine.mech)
-        trajectory = simulate_motion(engine, replace(spec, rtol=max(spec.rtol, 1e-8), atol=max(spec.atol, 1e-10)))
+        trajectory = simulate_motion(engine, replace(spec, rtol=max(spec.rtol, 1e-6), atol=max(spec.atol, 1e-9)))
     tr = trajectory
     axes = fig.subplots(2, 2)
     names = [f"{inp.name} [{'rad' if engine.mech.joints[inp.joint].kind == 'R' else 'm'}]" for inp in engine.inputs]
