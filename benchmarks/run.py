@@ -84,7 +84,7 @@ def build(path, backend="numpy"):
 
 def reactions_fn():
     try:
-        from mbplanar.kinetostatics import kinetostatics
+        from mbplanar.forces import kinetostatics
     except ImportError:
         return None
     return kinetostatics

@@ -9,18 +9,21 @@
     >>> mbplanar.kinetostatics(engine, motion).balancing["O"]       # reactions, balancing moment
     >>> mbplanar.machine_dynamics(engine).flywheel                  # flywheel, true ω(φ)
 
-The public API is this module; everything else is private by convention.
+The public API is this module. The subpackages (`model`, `structure`, `engine`, `kinematics`, `forces`,
+`backends`, `analysis`, `io`, `viz`) export their own documented names; modules whose names start with an
+underscore are private. See ``docs/architecture.md``.
 """
 
-from .assembly import assemble
-from .check import CheckReport, check
-from .dynamics import Dynamics, machine_dynamics
-from .errors import MbplanarError, ModelError, MotionError
-from .kinematics import Motion, analyse
-from .kinetostatics import Kinetostatics, kinetostatics
-from .model import Input, Joint, Link, Mechanism, Point
-from .solver import Engine, Limit
-from .table import parse_model, read_model
+from . import _deprecated
+
+_deprecated.install()  # old module paths (mbplanar.solver, ...) as warning aliases, for one release
+
+from .analysis import CheckReport, check  # noqa: E402
+from .engine import Engine, Limit  # noqa: E402
+from .errors import MbplanarError, ModelError, MotionError  # noqa: E402
+from .forces import Dynamics, Kinetostatics, kinetostatics, machine_dynamics  # noqa: E402
+from .kinematics import Motion, analyse  # noqa: E402
+from .model import Input, Joint, Link, Mechanism, Point, assemble, parse_model, read_model  # noqa: E402
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
            "Engine", "Limit", "analyse", "Motion", "MbplanarError", "ModelError", "MotionError",

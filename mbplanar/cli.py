@@ -15,14 +15,14 @@ import sys
 import numpy as np
 
 from .errors import MbplanarError, MotionError
-from .loads import has_force_data
+from .forces._loads import has_force_data
 
 __all__ = ["main"]
 
 
 def _load(args):
-    from .solver import Engine
-    from .table import read_model
+    from .engine._solver import Engine
+    from .model._table import read_model
     return Engine(read_model(args.model), backend=args.backend, threads=args.threads)
 
 
@@ -170,7 +170,7 @@ def _plain(obj):
 
 
 def _motion(engine, values_si, omega=None, epsilon=None):
-    from .kinematics import analyse
+    from .kinematics._motion import analyse
     return analyse(engine, values_si, omega, epsilon)
 
 
@@ -281,7 +281,7 @@ def sweep_table(engine, motion, angle_unit):
         else:
             header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
             cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    from .check import pressure_angles, transmission_angles
+    from .analysis._check import pressure_angles, transmission_angles
     labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
     header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
     cols += [to_angle(angles[:, k]) for k in range(len(labels))]
@@ -309,7 +309,7 @@ def cmd_sweep(args):
         header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
     _write_csv(args.output, header, rows)
     if motion.crossings:
-        from .kinematics import describe_crossing
+        from .kinematics._motion import describe_crossing
         for c in motion.crossings:
             print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
     if forces_failed:
@@ -325,7 +325,7 @@ def cmd_sweep(args):
 # -- forces -----------------------------------------------------------------------------------------
 def forces_table(engine, motion, input_inertia=0.0):
     """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
-    from .kinetostatics import kinetostatics
+    from .forces._kinetostatics import kinetostatics
     result = kinetostatics(engine, motion, input_inertia or 0.0)
     header, cols = [], []
     for name, r in result.reactions.items():
@@ -362,7 +362,7 @@ def forces_document(engine, motion, result, row=0, values=None) -> dict:
 
 
 def cmd_forces(args):
-    from .kinetostatics import kinetostatics
+    from .forces._kinetostatics import kinetostatics
     engine = _load(args)
     if len(engine.inputs) != 1:
         raise _ArgError("forces drives one input; this model has several (use the Python API)")
@@ -380,7 +380,7 @@ def cmd_forces(args):
     if not motion.success:
         raise MotionError(f"{engine.mech.source}: cannot reach {args.at} on the drawn branch: {motion.message}")
     inertia = inertia or 0.0
-    from .friction import friction_kinetostatics, read_friction
+    from .forces._friction import friction_kinetostatics, read_friction
     if args.mu is not None and not (math.isfinite(args.mu) and args.mu >= 0):
         raise _ArgError("--mu must be a finite number >= 0")
     spec = read_friction(engine.mech, args.mu)
@@ -428,7 +428,7 @@ def cmd_forces(args):
 def true_motion(engine, phi):
     """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
     input link's own inertia (the constant inertia the force analysis adds on the input link)."""
-    from .dynamics import machine_dynamics
+    from .forces._dynamics import machine_dynamics
     dyn = machine_dynamics(engine, simulate_motion=False)
     state = dyn.state_at(engine, phi)
     return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
@@ -484,7 +484,7 @@ def dynamics_table(dyn):
 
 
 def cmd_dynamics(args):
-    from .dynamics import machine_dynamics, read_dynamics
+    from .forces._dynamics import machine_dynamics, read_dynamics
     engine = _load(args)
     if args.steps < 36:
         raise _ArgError("--steps must be at least 36")
@@ -506,7 +506,7 @@ def cmd_dynamics(args):
 
 
 def _print_dynamics(engine, dyn, doc):
-    from .dynamics import summary
+    from .forces._dynamics import summary
     inp = doc["input"]
     print(f"{doc['model']}: machine dynamics over one cycle of {inp['name']} ({doc['steps']} steps)")
     for label, value, unit in summary(dyn, engine.inputs[0]):
@@ -572,7 +572,7 @@ def _from_state(path, engine) -> tuple[list, list]:
 
 
 def cmd_simulate(args):
-    from .simulation import read_simulate, simulate_motion
+    from .forces._simulation import read_simulate, simulate_motion
     engine = _load(args)
     over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
     for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega)):
@@ -608,7 +608,7 @@ def _suffix(path, allowed):
 
 
 def cmd_plot(args):
-    from . import plotting
+    from .viz import _plotting as plotting
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
         raise _ArgError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
@@ -630,7 +630,7 @@ def cmd_plot(args):
 
 
 def cmd_animate(args):
-    from . import plotting
+    from .viz import _plotting as plotting
     kind = _suffix(args.output, ("gif", "html"))
     if args.frames < 2:
         raise _ArgError("--frames must be at least 2")
@@ -640,19 +640,19 @@ def cmd_animate(args):
     if kind == "gif":
         motion = plotting.write_gif(engine, args.output, args.frames, dpi=args.dpi)
     else:
-        from .animation import write_html_animation
+        from .viz._animation import write_html_animation
         write_html_animation(engine, args.output, args.frames)
         motion = plotting.cycle_motion(engine, args.frames)
     if motion.limits:
-        from .kinematics import describe_limit
+        from .kinematics._motion import describe_limit
         print(f"mbplanar: {engine.mech.source}: the animation stops at the motion limit: "
               + "; ".join(describe_limit(engine, lim) for lim in motion.limits), file=sys.stderr)
     return 0
 
 
 def cmd_report(args):
-    from . import plotting
-    from .report import write_report
+    from .viz import _plotting as plotting
+    from .viz._report import write_report
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -662,7 +662,7 @@ def cmd_report(args):
 
 # -- check ------------------------------------------------------------------------------------------
 def cmd_check(args):
-    from .check import check, format_report
+    from .analysis._check import check, format_report
     engine = _load(args)
     report = check(engine)
     if args.json:

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 import mbplanar
-from mbplanar.check import check, transmission_angles
+from mbplanar.analysis import check, transmission_angles
 from mbplanar.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -16,9 +16,9 @@ from hypothesis import strategies as st
 
 import mbplanar
 from mbplanar.cli import main
-from mbplanar.dynamics import DynamicsSpec, machine_dynamics, reduce, simulate
+from mbplanar.forces import DynamicsSpec, machine_dynamics, reduce, simulate
 from mbplanar.errors import ModelError
-from mbplanar.kinetostatics import kinetostatics
+from mbplanar.forces import kinetostatics
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 F_SHAPER = math.radians(140.76923076923077)

@@ -9,8 +9,8 @@ import pytest
 import mbplanar
 
 pytest.importorskip("matplotlib")
-from mbplanar import plotting  # noqa: E402
-from mbplanar.elementplots import spring_path  # noqa: E402
+from mbplanar.viz import _plotting as plotting  # noqa: E402
+from mbplanar.viz._elementplots import spring_path  # noqa: E402
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 

@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mbplanar
-from mbplanar.dynamics import reduce
-from mbplanar.loads import evaluate_loads, read_loads, spring_energy
+from mbplanar.forces._dynamics import reduce
+from mbplanar.forces._loads import evaluate_loads, read_loads, spring_energy
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 

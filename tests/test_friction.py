@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.friction import FrictionSpec, PairFriction, friction_kinetostatics, read_friction
+from mbplanar.forces import FrictionSpec, PairFriction, friction_kinetostatics, read_friction
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 

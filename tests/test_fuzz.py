@@ -17,9 +17,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
-from mbplanar.dynamics import read_dynamics
+from mbplanar.forces._dynamics import read_dynamics
 from mbplanar.errors import MbplanarError
-from mbplanar.kinetostatics import kinetostatics
+from mbplanar.forces import kinetostatics
 
 MODELS = sorted(Path(__file__).resolve().parent.parent.joinpath("models").glob("*.toml"))
 TEXTS = {p.name: p.read_text(encoding="utf-8") for p in MODELS}
@@ -148,7 +148,7 @@ def test_document_mutants_fail_cleanly(doc):
 @settings(max_examples=500, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(text_mutants())
 def test_text_mutants_fail_cleanly(text):
-    _run(lambda: mbplanar.table.read_model_text(text, source="mutant.toml"))
+    _run(lambda: mbplanar.model.read_model_text(text, source="mutant.toml"))
 
 
 @pytest.mark.parametrize("name", sorted(DOCS))

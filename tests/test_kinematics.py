@@ -10,7 +10,7 @@ import pytest
 
 import mbplanar
 from mbplanar.kinematics import material_points
-from mbplanar.table import read_model_text
+from mbplanar.model import read_model_text
 
 from conftest import trammel
 

@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 
 import mbplanar
 from mbplanar.cli import main
-from mbplanar.kinetostatics import kinetostatics
-from mbplanar.loads import evaluate_loads
+from mbplanar.forces import kinetostatics
+from mbplanar.forces import evaluate_loads
 
 SHAPER = "models/shaper.toml"
 

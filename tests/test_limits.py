@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import mbplanar
-import mbplanar.solver as solver
-from mbplanar.check import check
+import mbplanar.engine._solver as solver
+from mbplanar.analysis import check
 from mbplanar.kinematics import positions_at_limits
 
 from conftest import trammel

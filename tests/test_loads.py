@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.loads import evaluate_loads, read_loads
+from mbplanar.forces import evaluate_loads
+from mbplanar.forces._loads import read_loads
 
 
 def _engine(path, loads=None, gravity=None):

@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
-from mbplanar.kinetostatics import kinetostatics
-from mbplanar.loads import evaluate_loads, has_force_data
+from mbplanar.forces import kinetostatics
+from mbplanar.forces import evaluate_loads, has_force_data
 
 pytest.importorskip("numba")
 

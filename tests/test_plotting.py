@@ -17,16 +17,16 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.dynamics import machine_dynamics
+from mbplanar.forces import machine_dynamics
 from mbplanar import analyse
 
 pytest.importorskip("matplotlib")
 from PIL import Image  # noqa: E402  (Pillow comes with the [plot] extra)
 
-from mbplanar import plotting  # noqa: E402
-from mbplanar.animation import html_animation  # noqa: E402
+from mbplanar.viz import _plotting as plotting  # noqa: E402
+from mbplanar.viz import html_animation  # noqa: E402
 from mbplanar.cli import main  # noqa: E402
-from mbplanar.report import SECTIONS, register_section, report_html  # noqa: E402
+from mbplanar.viz import SECTIONS, register_section, report_html  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = sorted(glob.glob(str(ROOT / "models" / "*.toml")))
@@ -124,7 +124,7 @@ def test_velocity_arrows_are_the_solved_velocities_to_one_scale():
     motion = plotting.position_motion(eng, 40.0)
     fig = plotting.diagram_figure(eng, 40.0, vectors=("v",))
     (q,) = artists(fig, "vectors:v")
-    scene = mbplanar.scene.build_scene(eng, motion)
+    scene = mbplanar.viz.build_scene(eng, motion)
     names = plotting.moving_points(eng, scene)
     v = motion.v[0, [motion.point(n) for n in names]]
     arrows = np.column_stack([q.U, q.V])
@@ -136,7 +136,7 @@ def test_velocity_arrows_are_the_solved_velocities_to_one_scale():
 @pytest.mark.parametrize("name,at", [("shaper", 200.0), ("six_bar_press", 40.0)])
 def test_reaction_arrows_point_along_the_computed_reactions(name, at):
     """One arrow per pair, from the pair's point along F_ij, one scale for all (model's input speed)."""
-    from mbplanar.kinetostatics import kinetostatics
+    from mbplanar.forces import kinetostatics
     eng = engine(name)
     motion = analyse(eng, np.array([eng.inputs[0].to_si(at)]), eng.inputs[0].omega, eng.inputs[0].epsilon)
     result = kinetostatics(eng, motion)
@@ -159,7 +159,7 @@ def test_reaction_arrows_point_along_the_computed_reactions(name, at):
 
 
 def test_a_model_without_loads_says_so():
-    from mbplanar.report import SECTIONS
+    from mbplanar.viz import SECTIONS
     eng = engine("fourbar")
     fig = plotting.diagram_figure(eng, 30.0, reactions=True, count=13)
     assert not [a for a in fig.axes[0].get_children() if str(a.get_gid()).startswith("reaction:")]
@@ -169,7 +169,7 @@ def test_a_model_without_loads_says_so():
 
 
 def test_forces_plot_draws_the_reactions_against_the_coordinate():
-    from mbplanar.kinetostatics import kinetostatics
+    from mbplanar.forces import kinetostatics
     eng = engine("six_bar_press")
     fig = plotting.forces_figure(eng, count=24)
     inp = eng.inputs[0]
@@ -315,7 +315,7 @@ def _table(page, caption):
 def test_report_motion_section_is_the_check_report(shaper_report):
     import html as html_module
 
-    from mbplanar.check import check, format_report
+    from mbplanar.analysis import check, format_report
     # line by line up to the first " at ": where a tied extreme is reached may differ in the last digit
     for line in html_module.escape(format_report(check(engine("shaper")))).splitlines():
         assert line.split(" at ")[0] in shaper_report
@@ -323,7 +323,7 @@ def test_report_motion_section_is_the_check_report(shaper_report):
 
 
 def test_report_reactions_are_the_kinetostatics_at_the_models_speed(shaper_report):
-    from mbplanar.kinetostatics import kinetostatics
+    from mbplanar.forces import kinetostatics
     eng = engine("shaper")
     section = shaper_report[shaper_report.index('<section id="reactions">'):]
     section = section[:section.index("</section>")]
@@ -346,7 +346,7 @@ def test_report_reactions_are_the_kinetostatics_at_the_models_speed(shaper_repor
 
 
 def test_report_hook_replaces_a_placeholder(monkeypatch):
-    import mbplanar.report as report
+    from mbplanar.viz import _report as report
     monkeypatch.setattr(report, "SECTIONS", dict(report.SECTIONS))
     register_section("reactions", "Reactions", lambda e, ctx: "<p>R12 = 42 N</p>")
     register_section("extra", "Extra", lambda e, ctx: None, after="plots")
@@ -404,8 +404,7 @@ def test_cli_says_how_to_install_matplotlib(monkeypatch, tmp_path, capsys):
 
 
 def test_matplotlib_is_imported_only_for_a_picture():
-    code = ("import sys, mbplanar, mbplanar.cli, mbplanar.plotting, mbplanar.forceplots, mbplanar.report, "
-            "mbplanar.animation\n"
+    code = ("import sys, mbplanar, mbplanar.cli, mbplanar.viz\n"
             "from mbplanar.cli import main\n"
             "assert main(['info', 'models/fourbar.toml']) == 0\n"
             "assert not [m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'PIL')], 'imported'\n")

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.shaking import balance, inertia_shaking_force, shaking, shaking_from_loads
+from mbplanar.forces._shaking import balance, inertia_shaking_force, shaking, shaking_from_loads
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 

@@ -13,7 +13,7 @@ import pytest
 import mbplanar
 from mbplanar.cli import main
 from mbplanar.errors import ModelError
-from mbplanar.simulation import accelerations, read_simulate, simulate_motion
+from mbplanar.forces._simulation import accelerations, read_simulate, simulate_motion
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 
@@ -138,7 +138,7 @@ def test_two_dof_energy_is_conserved():
 
 def test_one_dof_reduced_form():
     """With one input the equation is the reduced form J(φ)·φ̈ + ½·J′(φ)·φ̇² = M(φ, φ̇)."""
-    from mbplanar.dynamics import reduce
+    from mbplanar.forces._dynamics import reduce
     engine = mbplanar.Engine(mbplanar.read_model(MODELS / "six_bar_press.toml"))
     spec = read_simulate(engine.mech)
     phi, om = 1.3, 4.0

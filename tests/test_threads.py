@@ -1,4 +1,4 @@
-"""Splitting a long batch over threads (`mbplanar._threads`): the chunks cover the batch, the thread
+"""Splitting a long batch over threads (`mbplanar.backends._threads`): the chunks cover the batch, the thread
 count is the caller's or the environment's, and the compiled answers do not depend on it."""
 
 import math
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar import _threads
-from mbplanar.kinetostatics import kinetostatics
+from mbplanar.backends import _threads
+from mbplanar.forces import kinetostatics
 
 from conftest import MODELS
 from test_change_points import fourbar

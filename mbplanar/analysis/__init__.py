@@ -1,0 +1,12 @@
+"""Analysis of a mechanism's motion: `check` (motion range, limit and change points, extremes,
+transmission and pressure angles, Grashof), `transmission_angles`, `pressure_angles`.
+
+``mbplanar.check`` the module is a deprecated alias of ``mbplanar.analysis._check``; ``mbplanar.check``
+the function stays.
+"""
+
+from ._check import (AngleRange, CheckReport, Extreme, check, format_report, grashof, pressure_angles,
+                     transmission_angles)
+
+__all__ = ["check", "CheckReport", "Extreme", "AngleRange", "grashof", "transmission_angles", "pressure_angles",
+           "format_report"]

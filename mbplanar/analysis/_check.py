@@ -1,0 +1,437 @@
+"""Checking a design: does the input turn fully, where are the dead points, how far do the output links
+swing, and how good are the transmission and pressure angles over the cycle.
+
+`check(engine)` sweeps the whole range the (single) input can move through with the engine's continuation
+(it stops at motion limits and says where), refines every extreme position inside the range by Newton on
+the analogue (ω_q = 0 for a link angle, v_q = 0 for a slider) and gives a `CheckReport`. The range ends at
+the located limits, and the values there (extreme positions at a dead point, transmission and pressure
+angles) come from the configuration the engine solved at the limit itself (`Limit.q`), so they are exact
+where a sample next to a fold would be off by the square root of its distance. For a four-bar it also gives
+the Grashof verdict, which must agree with the numerical one. `transmission_angles` and `pressure_angles`
+work on any `Motion`, so a sweep can report them too. Angles are radians inside; the report converts
+to degrees at its edge (`as_dict`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from ..errors import ModelError
+from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
+from ..engine._solver import met_along
+
+__all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
+           "pressure_angles", "format_report"]
+
+SAMPLES = 721          # sweep resolution of a full turn (0.5°)
+FULL_TURN = 2 * math.pi
+
+
+@dataclass
+class Extreme:
+    """Extreme positions of one output quantity: a link angle (rad) or a slider displacement (m).
+    `at_min`/`at_max` are the input values (model unit) where they occur; `turns` marks a full rotation."""
+
+    name: str
+    kind: str               # "link" or "slider"
+    minimum: float | None
+    at_min: float | None
+    maximum: float | None
+    at_max: float | None
+    turns: bool = False
+
+
+@dataclass
+class AngleRange:
+    """Min/max over the cycle of a transmission or pressure angle (rad), with the input values."""
+
+    name: str
+    points: tuple           # (P, J, Q): the angle at J between J→P and J→Q (or guide / rod)
+    minimum: float
+    at_min: float
+    maximum: float
+    at_max: float
+
+
+@dataclass
+class CheckReport:
+    model: str
+    input: str
+    unit: str
+    full_turn: bool
+    range: tuple            # (lo, hi) the input can move through, model unit
+    limits: list            # [{"phi", "direction", "links", "joints", "kind", "message"}]
+    change_points: list = field(default_factory=list)  # [{"phi", "links", "joints", "kind", "message"}]
+    extremes: list = field(default_factory=list)
+    transmission: list = field(default_factory=list)
+    pressure: list = field(default_factory=list)
+    grashof: dict | None = None
+
+    def as_dict(self) -> dict:
+        """JSON-ready document, angles in degrees."""
+        doc = asdict(self)
+        for ext in doc["extremes"]:
+            if ext["kind"] == "link":
+                for key in ("minimum", "maximum"):
+                    ext[key] = None if ext[key] is None else math.degrees(ext[key])
+        for key in ("transmission", "pressure"):
+            for ang in doc[key]:
+                ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
+        return doc
+
+
+# -- four-bar closed form ---------------------------------------------------------------------------
+def grashof(engine) -> dict | None:
+    """Grashof verdict for a four-bar (four links, four revolute pairs), else None.
+
+    s + l ≤ p + q: the shortest link turns fully relative to the others. The input (a link on the
+    ground) turns fully when the condition holds and the shortest link is the input link or the ground.
+    """
+    mech = engine.mech
+    joints = list(mech.joints.values())
+    if len(mech.moving_links) != 3 or len(joints) != 4 or any(j.kind != "R" for j in joints) \
+            or len(engine.inputs) != 1:
+        return None
+    lengths = {}
+    for link in mech.all_links:
+        pts = [j.at for j in mech.joints_of(link)]
+        if len(pts) != 2:
+            return None
+        lengths[link] = math.dist(*pts)
+    driver = mech.joints[engine.inputs[0].joint]
+    if mech.ground not in driver.links:
+        return None
+    input_link = driver.other(mech.ground)
+    s, p, q, l_ = sorted(lengths.values())
+    shortest = min(lengths, key=lengths.get)
+    holds = s + l_ <= p + q + 1e-12 * engine.size
+    turns = holds and shortest in (input_link, mech.ground)
+    output_link = next(j.other(mech.ground) for j in joints
+                       if mech.ground in j.links and j.name != driver.name)
+    kind = ("non-Grashof (triple rocker)" if not holds else
+            "double crank" if shortest == mech.ground else
+            "crank-rocker" if shortest == input_link else
+            "rocker-crank (the input rocks, the output turns)" if shortest == output_link else
+            "double rocker")
+    return {"lengths": lengths, "s_plus_l": s + l_, "p_plus_q": p + q, "grashof": bool(holds),
+            "change_point": bool(abs(s + l_ - p - q) <= 1e-9 * engine.size),
+            "shortest": shortest, "input_link": input_link, "kind": kind, "input_turns": bool(turns)}
+
+
+# -- transmission and pressure angles ---------------------------------------------------------------
+def _fold(cos_angle):
+    """Angle between two lines (not directions), in [0, π/2], from the cosine of their angle."""
+    return np.arccos(np.clip(np.abs(cos_angle), 0.0, 1.0))
+
+
+def _other_revolute(mech, link, joint):
+    """The revolute joint of `link` farthest from `joint` in the drawn pose (None if all coincide)."""
+    at = mech.joints[joint].at
+    others = [j for j in mech.joints_of(link) if j.kind == "R" and j.name != joint
+              and math.dist(j.at, at) > 1e-12]
+    return max(others, key=lambda j: math.dist(j.at, at)).name if others else None
+
+
+def transmission_triples(engine) -> list[tuple[str, str, str]]:
+    """(P, J, Q) for each revolute pair J inside an Assur group (every R pair between moving links
+    without a decomposition) whose two links carry further revolute pairs P and Q."""
+    mech = engine.mech
+    structure = engine.topology.structure
+    if structure is not None:
+        candidates = [name for g in structure.groups for name in g.internal]
+    else:
+        candidates = [j.name for j in mech.joints.values() if mech.ground not in j.links]
+    out = []
+    for name in candidates:
+        j = mech.joints[name]
+        if j.kind != "R":
+            continue
+        p, q = (_other_revolute(mech, link, name) for link in j.links)
+        if p is not None and q is not None:
+            out.append((p, name, q))
+    return out
+
+
+def transmission_angles(engine, motion: Motion):
+    """Transmission angle at every R–R–R pair: the angle at J between links J→P and J→Q, folded into
+    [0, π/2] (π/2 is ideal, 0 is a dead point). Returns (triples, angles (B, K) rad)."""
+    triples = transmission_triples(engine)
+    if not triples:
+        return triples, np.zeros((len(motion.phi), 0))
+    idx = np.array([[motion.point(n) for n in t] for t in triples])
+    xy = motion.xy
+    u = xy[:, idx[:, 0]] - xy[:, idx[:, 1]]
+    v = xy[:, idx[:, 2]] - xy[:, idx[:, 1]]
+    cos = np.einsum("bki,bki->bk", u, v) / (np.linalg.norm(u, axis=-1) * np.linalg.norm(v, axis=-1))
+    return triples, _fold(cos)
+
+
+def _rod(mech, link, joint, inputs):
+    """The far pin of `link` if it is a connecting rod pinned at `joint`: only revolute pairs, at two
+    distinct places, not driven (a two-force member); else None."""
+    pairs = mech.joints_of(link)
+    if link == mech.ground or any(j.kind != "R" or j.name in inputs for j in pairs):
+        return None
+    far = _other_revolute(mech, link, joint)
+    at = mech.joints[joint].at
+    places = {j.name for j in pairs if math.dist(j.at, at) > 1e-12}
+    if far is None or any(math.dist(mech.joints[n].at, mech.joints[far].at) > 1e-12 for n in places):
+        return None
+    return far
+
+
+def pressure_pairs(engine) -> list[tuple[str, str, str]]:
+    """(A, B, S): the force on the slider of prismatic pair S acts along the line A→B. Either a
+    connecting rod (two-force link) far pin A, pinned to the slider at B, or, for a slider with only one
+    other pair, a frictionless prismatic pair B (A = B) whose normal carries the force."""
+    mech = engine.mech
+    inputs = {i.joint for i in engine.inputs}
+    out = []
+    for s in mech.joints.values():
+        if s.kind != "P" or s.name in inputs:
+            continue
+        others = [j for j in mech.joints_of(s.slider) if j.name != s.name]
+        for j in others:
+            if j.kind == "R":
+                far = _rod(mech, j.other(s.slider), j.name, inputs)
+                if far is not None:
+                    out.append((far, j.name, s.name))
+            elif len(others) == 1:
+                out.append((j.name, j.name, s.name))
+    return out
+
+
+def pressure_angles(engine, motion: Motion):
+    """Pressure angle of each slider driven by a rod: the angle between the rod (force direction) and
+    the slider's guide (its relative velocity), in [0, π/2] (0 is ideal). Returns (pairs, (B, K) rad)."""
+    pairs = pressure_pairs(engine)
+    if not pairs:
+        return pairs, np.zeros((len(motion.phi), 0))
+    mech = engine.mech
+    th = motion.frames["th"]
+
+    def guide_angle(name):
+        j = mech.joints[name]
+        return np.radians(j.guide_deg) + th[:, engine.link_index[j.carrier]]
+
+    rods = []
+    for a, b, _ in pairs:
+        if a == b:  # force normal to the guide of the prismatic pair b
+            g = guide_angle(b) + np.pi / 2
+            rods.append(np.stack([np.cos(g), np.sin(g)], axis=-1))
+        else:
+            rods.append(motion.xy[:, motion.point(b)] - motion.xy[:, motion.point(a)])
+    rod = np.stack(rods, axis=1)
+    guide = np.stack([guide_angle(s) for _, _, s in pairs], axis=1)
+    cos = (rod[..., 0] * np.cos(guide) + rod[..., 1] * np.sin(guide)) / np.linalg.norm(rod, axis=-1)
+    return pairs, _fold(cos)
+
+
+# -- the sweep --------------------------------------------------------------------------------------
+def _reach(engine):
+    """Input range (SI) reachable from the drawn pose, its limits, and whether the input turns fully."""
+    inp = engine.inputs[0]
+    phi0 = float(engine.phi_drawn[0])
+    revolute = engine.mech.joints[inp.joint].kind == "R"
+    span = FULL_TURN if revolute else 4.0 * engine.size
+    up = analyse(engine, np.array([phi0, phi0 + span]))
+    limits = {lim.direction: lim for lim in up.limits}
+    if revolute and +1 not in limits:
+        return (phi0, phi0 + span), [], True
+    down = analyse(engine, np.array([phi0 - span, phi0]))
+    limits.update({lim.direction: lim for lim in down.limits})
+    lo = float(limits[-1].phi[0]) if -1 in limits else phi0 - span
+    hi = float(limits[+1].phi[0]) if +1 in limits else phi0 + span
+    return (lo, hi), [limits[d] for d in (-1, +1) if d in limits], False
+
+
+def _grid(engine, lo, hi, limits, samples):
+    """Sweep positions over [lo, hi]. At a motion limit the end sample is the atlas' last node before it
+    (within a few `H_MIN` of the limit): the nearest position a sweep can solve, rates included; the
+    limit itself is added from its located configuration (`positions_at_limits`)."""
+    grid = np.linspace(lo, hi, samples)
+    nodes = engine.atlas().nodes
+    for lim in limits:
+        end, node = (0, nodes[0]) if lim.direction < 0 else (-1, nodes[-1])
+        if lo <= node.phi[0] <= hi:
+            grid[end] = node.phi[0]
+    return grid
+
+
+def _quantities(engine, motion):
+    """Output quantities (B, K) with their first and second analogues, names and kinds."""
+    mech = engine.mech
+    names, kinds, q, dq, ddq = [], [], [], [], []
+    for k, link in enumerate(motion.link_names):
+        if link == mech.ground:
+            continue
+        names.append(link), kinds.append("link")
+        q.append(motion.angle[:, k]), dq.append(motion.wq[:, k]), ddq.append(motion.eq[:, k])
+    for k, joint in enumerate(motion.joint_names):
+        if mech.joints[joint].kind == "P":
+            names.append(joint), kinds.append("slider")
+            q.append(motion.value[:, k]), dq.append(motion.rate_q[:, k]), ddq.append(motion.accel_q[:, k])
+    return names, kinds, np.stack(q, 1), np.stack(dq, 1), np.stack(ddq, 1)
+
+
+def _refine(engine, phi_guess, which, newton_steps=2):
+    """Newton on the analogue (dq/dφ = 0) from `phi_guess` (N,) for quantity indices `which` (N,)."""
+    phi = np.asarray(phi_guess, float)
+    for _ in range(newton_steps + 1):
+        motion = analyse(engine, phi)
+        if not motion.success:
+            return None
+        _, _, q, dq, ddq = _quantities(engine, motion)
+        rows = np.arange(len(phi))
+        d1, d2 = dq[rows, which], ddq[rows, which]
+        step = np.where(np.abs(d2) > 0, -d1 / np.where(d2 == 0, 1, d2), 0.0)
+        if np.all(np.abs(step) < 1e-12):
+            break
+        phi = phi + np.clip(step, -0.01, 0.01)
+    return phi, q[rows, which]
+
+
+def _ends(engine, motion, at_limits, kinds, q):
+    """Input values (2,) and quantities (2, K) at the two ends of the sweep: the end samples, replaced at
+    a located motion limit by the exact configuration there (`at_limits`, rows in the order of its
+    `limits`), whose link angles are put on the unwrapped branch of the neighbouring sample."""
+    phi, values = motion.phi[[0, -1], 0].copy(), q[[0, -1]].copy()
+    if at_limits is None:
+        return phi, values
+    link = np.array(kinds) == "link"
+    _, _, q_lim, _, _ = _quantities(engine, at_limits)
+    for row, lim in enumerate(at_limits.limits):
+        end = 0 if lim.direction < 0 else 1
+        value = q_lim[row]
+        value[link] += FULL_TURN * np.round((values[end, link] - value[link]) / FULL_TURN)
+        phi[end], values[end] = lim.phi[0], value
+    return phi, values
+
+
+def _extremes(engine, motion, full_turn, at_limits=None):
+    """Extreme positions of every output quantity: refined stationary points inside the sweep, and its
+    ends (exact at located motion limits, see `_ends`)."""
+    inp = engine.inputs[0]
+    names, kinds, q, dq, _ = _quantities(engine, motion)
+    phi = motion.phi[:, 0]
+    q = np.where(np.array(kinds) == "link", np.unwrap(q, axis=0), q)
+    end_phi, end_q = _ends(engine, motion, at_limits, kinds, q)
+    # candidates: sign changes of the analogue between samples (interior), and the ends of the range
+    i, k = np.nonzero(dq[:-1] * dq[1:] < 0)
+    guess = phi[i] - dq[i, k] * (phi[i + 1] - phi[i]) / (dq[i + 1, k] - dq[i, k])
+    refined = _refine(engine, guess, k) if len(k) else None
+    if refined is not None:
+        guess, values = refined
+        # the unwrapped branch of a link angle: shift the refined value next to its neighbour sample
+        values = np.where(np.array(kinds)[k] == "link",
+                          values + FULL_TURN * np.round((q[i, k] - values) / FULL_TURN), values)
+    else:
+        values = q[i, k]
+        guess = phi[i]
+    out = []
+    for n, (name, kind) in enumerate(zip(names, kinds)):
+        span = q[:, n].max() - q[:, n].min()
+        if kind == "link" and full_turn and span >= FULL_TURN - 1e-6:
+            out.append(Extreme(name, kind, None, None, None, None, turns=True))
+            continue
+        if span <= 1e-12 * max(1.0, engine.size):
+            continue  # does not move (a block that only translates, say)
+        cand_phi = np.concatenate([guess[k == n], end_phi])
+        cand_val = np.concatenate([values[k == n], end_q[:, n]])
+        lo, hi = int(np.argmin(cand_val)), int(np.argmax(cand_val))
+        vmin, vmax = float(cand_val[lo]), float(cand_val[hi])
+        if kind == "link":  # report angles in (−π, π] around the minimum
+            shift = FULL_TURN * math.floor((vmin + math.pi) / FULL_TURN)
+            vmin, vmax = vmin - shift, vmax - shift
+        out.append(Extreme(name, kind, vmin, float(inp.from_si(cand_phi[lo])), vmax,
+                           float(inp.from_si(cand_phi[hi]))))
+    return out
+
+
+def _angle_ranges(engine, motion, at_limits, angles_of, name_of):
+    """Min/max of the angles `angles_of(engine, motion)` over the sweep and the located limits."""
+    inp = engine.inputs[0]
+    labels, angles = angles_of(engine, motion)
+    phi = motion.phi[:, 0]
+    if at_limits is not None:
+        phi = np.concatenate([phi, at_limits.phi[:, 0]])
+        angles = np.concatenate([angles, angles_of(engine, at_limits)[1]])
+    phi = inp.from_si(phi)
+    out = []
+    for k, label in enumerate(labels):
+        a = angles[:, k]
+        lo, hi = int(np.argmin(a)), int(np.argmax(a))
+        out.append(AngleRange(name_of(label), tuple(label), float(a[lo]), float(phi[lo]),
+                              float(a[hi]), float(phi[hi])))
+    return out
+
+
+def check(engine, samples: int = SAMPLES) -> CheckReport:
+    """Sweep the whole input range of a one-input mechanism and report its motion limits, extreme
+    positions, transmission and pressure angles (see the module docstring)."""
+    if len(engine.inputs) != 1:
+        raise ModelError(f"{engine.mech.source}: check drives one input; this model has "
+                         f"{len(engine.inputs)}")
+    inp = engine.inputs[0]
+    (lo, hi), limits, full = _reach(engine)
+    motion = analyse(engine, _grid(engine, lo, hi, limits, samples))
+    located = [lim for lim in limits if lim.q is not None]
+    at_limits = positions_at_limits(engine, located) if located else None
+    # (a full turn starts and ends at the drawn pose, which cannot be a change point: none is counted twice)
+    crossings = met_along(engine.atlas(), lo, hi)[1]
+    report = CheckReport(
+        model=engine.mech.name, input=inp.name, unit=inp.unit, full_turn=full,
+        range=(float(inp.from_si(lo)), float(inp.from_si(hi))),
+        limits=[{"phi": float(inp.from_si(lim.phi[0])), "direction": lim.direction,
+                 "links": list(lim.links), "joints": list(lim.joints), "kind": lim.kind,
+                 "message": describe_limit(engine, lim)} for lim in limits],
+        change_points=[{"phi": float(inp.from_si(c.phi[0])), "links": list(c.links), "joints": list(c.joints),
+                        "kind": c.kind, "message": describe_crossing(engine, c)} for c in crossings],
+        grashof=grashof(engine))
+    if len(motion.phi) < 2:
+        return report
+    report.extremes = _extremes(engine, motion, full, at_limits)
+    report.transmission = _angle_ranges(engine, motion, at_limits, transmission_angles,
+                                        lambda t: f"{t[0]}-{t[1]}-{t[2]}")
+    report.pressure = _angle_ranges(engine, motion, at_limits, pressure_angles,
+                                    lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
+                                    f"{t[2]} (normal of {t[0]})")
+    return report
+
+
+def format_report(report: CheckReport) -> str:
+    """Plain-text report (angles in degrees)."""
+    u = report.unit
+    lines = [f"{report.model}: input {report.input} [{u}]"]
+    if report.grashof is not None:
+        g = report.grashof
+        lines.append(f"Grashof: s + l = {g['s_plus_l']:.6g} {'≤' if g['grashof'] else '>'} p + q = "
+                     f"{g['p_plus_q']:.6g}: {g['kind']}; the input "
+                     f"{'turns fully' if g['input_turns'] else 'does not turn fully'}")
+    if report.full_turn:
+        lines.append("the input turns fully (numerically: a whole turn without a motion limit)")
+    else:
+        lines.append(f"the input does NOT turn fully: it moves through {report.range[0]:.8g} … "
+                     f"{report.range[1]:.8g} {u}")
+    for lim in report.limits:
+        lines.append(f"  dead point / limit: {lim['message']}")
+    for c in report.change_points:
+        lines.append(f"  {c['message']}")
+    for e in report.extremes:
+        if e.turns:
+            lines.append(f"  link {e.name}: turns fully")
+        elif e.kind == "link":
+            lines.append(f"  link {e.name}: angle {math.degrees(e.minimum):.6f}° at {e.at_min:.8g} {u} … "
+                         f"{math.degrees(e.maximum):.6f}° at {e.at_max:.8g} {u} "
+                         f"(swing {math.degrees(e.maximum - e.minimum):.6f}°)")
+        else:
+            lines.append(f"  slider {e.name}: {e.minimum:.9g} m at {e.at_min:.8g} {u} … {e.maximum:.9g} m "
+                         f"at {e.at_max:.8g} {u} (stroke {e.maximum - e.minimum:.9g} m)")
+    for title, items in (("transmission angle", report.transmission), ("pressure angle", report.pressure)):
+        for a in items:
+            lines.append(f"  {title} {a.name}: min {math.degrees(a.minimum):.4f}° at {a.at_min:.8g} {u}, "
+                         f"max {math.degrees(a.maximum):.4f}° at {a.at_max:.8g} {u}")
+    return "\n".join(lines)

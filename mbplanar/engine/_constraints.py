@@ -1,0 +1,214 @@
+"""Joint laws: how a revolute or prismatic joint places a link (as a tree joint) or closes a loop (as a
+cut joint), with the time derivatives of both, vectorised over a batch of positions.
+
+Coordinates. Every link k carries a frame that coincides with the world frame in the drawn pose; its
+state is the rotation θ_k from the drawn pose and the position r_k of its frame origin, so a point drawn
+at s on link k is at  X = r_k + R(θ_k) s.  Ground has θ = 0, r = 0.
+
+Tree joints place a child link from its parent with one variable: a revolute joint sets the child's
+rotation (absolute; relative to the parent for a driving joint between moving links), a prismatic joint
+sets the slider's displacement along the guide (rotation shared with the parent). Cut joints give two
+closure equations each: revolute, the two links' copies of the joint point coincide; prismatic, the
+relative rotation stays as drawn and the slider point stays on the guide line.
+
+Rate passes are linear in the rates of the parents and of the tree variables, with C columns (the
+Jacobian uses one column per unknown). The same pass gives accelerations when `vel` (the actual
+velocities) is given: it then adds the centripetal and Coriolis terms.
+
+Shapes (batch last, so that every elementwise operation runs over a contiguous batch): B = batch of
+positions, C = columns; angles (B,), points (2, B), rates (C, B) and (2, C, B).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model._model import Joint
+
+__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot"]
+
+
+def perp(v: np.ndarray) -> np.ndarray:
+    """v rotated by +90°, components first: (x, y) → (−y, x)."""
+    out = np.empty_like(v)
+    out[0] = -v[1]
+    out[1] = v[0]
+    return out
+
+
+def dot(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Scalar product over the leading component axis."""
+    return p[0] * q[0] + p[1] * q[1]
+
+
+def rotate(c: np.ndarray, s: np.ndarray, vec: np.ndarray) -> np.ndarray:
+    """R(θ)·vec for a batch of angles given by cos, sin (B,); vec (2,) → (2, B)."""
+    out = np.empty((2,) + c.shape)
+    out[0] = c * vec[0] - s * vec[1]
+    out[1] = s * vec[0] + c * vec[1]
+    return out
+
+
+class Pose:
+    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (2, B)."""
+
+    def __init__(self, batch: int):
+        zero = np.zeros(batch)
+        self.batch = batch
+        self.th, self.c, self.s, self.r = {}, {}, {}, {}
+        self._ground = (zero, np.ones(batch), zero, np.zeros((2, batch)))
+
+    def set_ground(self, name: str):
+        self.th[name], self.c[name], self.s[name], self.r[name] = self._ground
+
+    def place(self, link: str, th: np.ndarray, r: np.ndarray | None = None):
+        self.th[link], self.c[link], self.s[link] = th, np.cos(th), np.sin(th)
+        if r is not None:
+            self.r[link] = r
+
+    def rot(self, link: str, vec: np.ndarray) -> np.ndarray:
+        return rotate(self.c[link], self.s[link], vec)
+
+
+class Rates:
+    """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest."""
+
+    def __init__(self, batch: int, columns: int):
+        self.w, self.v = {}, {}
+        self._rest = (np.zeros((columns, batch)), np.zeros((2, columns, batch)))
+
+    def get(self, link):
+        if link in self.w:
+            return self.w[link], self.v[link]
+        return self._rest
+
+    def set(self, link, w, v):
+        self.w[link], self.v[link] = w, v
+
+
+class JointLaw:
+    """The hooks each joint type fills in (tree placement, loop closure, and their rates)."""
+
+    def __init__(self, joint: Joint):
+        self.name = joint.name
+        self.links = joint.links
+        self.s0 = np.array(joint.at, dtype=float)
+
+    def place(self, pose: Pose, parent: str, child: str, q, relative: bool):
+        raise NotImplementedError
+
+    def place_rates(self, cache, rates: Rates, parent, child, qd, relative, vel=None, qd_vel=None):
+        raise NotImplementedError
+
+    def closure(self, pose: Pose):
+        raise NotImplementedError
+
+    def closure_rates(self, cache, rates: Rates, vel: Rates | None = None):
+        raise NotImplementedError
+
+
+class Revolute(JointLaw):
+    """Revolute pair: one point shared by both links."""
+
+    def place(self, pose, parent, child, q, relative):
+        rho_p = pose.rot(parent, self.s0)
+        th = pose.th[parent] + q if relative else q
+        pose.place(child, th)
+        rho_c = pose.rot(child, self.s0)
+        pose.r[child] = pose.r[parent] + rho_p - rho_c
+        return rho_p, rho_c, perp(rho_p)[:, None], perp(rho_c)[:, None]
+
+    def place_rates(self, cache, rates, parent, child, qd, relative, vel=None, qd_vel=None):
+        rho_p, rho_c, perp_p, perp_c = cache
+        wp, vp = rates.get(parent)
+        wc = qd + wp if relative else qd
+        vc = vp + wp * perp_p - wc * perp_c
+        if vel is not None:
+            Wp, Wc = vel.get(parent)[0], vel.w[child]
+            vc = vc - (Wp * Wp) * rho_p[:, None] + (Wc * Wc) * rho_c[:, None]
+        rates.set(child, wc, vc)
+
+    def closure(self, pose):
+        a, b = self.links
+        rho_a, rho_b = pose.rot(a, self.s0), pose.rot(b, self.s0)
+        return pose.r[a] + rho_a - pose.r[b] - rho_b, (rho_a, rho_b, perp(rho_a)[:, None], perp(rho_b)[:, None])
+
+    def closure_rates(self, cache, rates, vel=None):
+        (a, b), (rho_a, rho_b, perp_a, perp_b) = self.links, cache
+        wa, va = rates.get(a)
+        wb, vb = rates.get(b)
+        out = va + wa * perp_a - vb - wb * perp_b
+        if vel is not None:
+            Wa, Wb = vel.get(a)[0], vel.get(b)[0]
+            out = out - (Wa * Wa) * rho_a[:, None] + (Wb * Wb) * rho_b[:, None]
+        return out
+
+
+class Prismatic(JointLaw):
+    """Prismatic pair: the slider keeps its drawn angle to the carrier, its point stays on the guide."""
+
+    def __init__(self, joint: Joint):
+        super().__init__(joint)
+        angle = np.radians(joint.guide_deg)
+        self.u0 = np.array([np.cos(angle), np.sin(angle)])
+        self.n0 = perp(self.u0)
+
+    @property
+    def carrier(self):
+        return self.links[0]
+
+    @property
+    def slider(self):
+        return self.links[1]
+
+    def place(self, pose, parent, child, q, relative):
+        sign = 1.0 if parent == self.carrier else -1.0
+        u = pose.rot(parent, self.u0)
+        pose.th[child], pose.c[child], pose.s[child] = pose.th[parent], pose.c[parent], pose.s[parent]
+        pose.r[child] = pose.r[parent] + (sign * q) * u
+        return sign, u[:, None], q, perp(u)[:, None]
+
+    def place_rates(self, cache, rates, parent, child, qd, relative, vel=None, qd_vel=None):
+        sign, u, q, pu = cache
+        wp, vp = rates.get(parent)
+        vc = vp + sign * (qd * u + (q * wp) * pu)
+        if vel is not None:
+            Wp = vel.get(parent)[0]
+            vc = vc + sign * ((2 * qd_vel * Wp) * pu - (q * Wp * Wp) * u)
+        rates.set(child, wp, vc)
+
+    def closure(self, pose):
+        c, s = self.carrier, self.slider
+        n = pose.rot(c, self.n0)
+        rho_s, rho_c = pose.rot(s, self.s0), pose.rot(c, self.s0)
+        delta = pose.r[s] + rho_s - pose.r[c] - rho_c
+        out = np.empty((2, pose.batch))
+        out[0] = pose.th[s] - pose.th[c]
+        out[1] = dot(n, delta)
+        perps = perp(rho_s)[:, None], perp(rho_c)[:, None]
+        return out, (n, delta, rho_s, rho_c, perps, dot(perp(n), delta))
+
+    def _delta_rate(self, cache, rates):
+        """Rate of (slider point − carrier point), (2, C, B)."""
+        perp_s, perp_c = cache[4]
+        ws, vs = rates.get(self.slider)
+        wc, vc = rates.get(self.carrier)
+        return vs + ws * perp_s - vc - wc * perp_c
+
+    def closure_rates(self, cache, rates, vel=None):
+        n, delta, rho_s, rho_c, _, pn_delta = cache
+        ws, wc = rates.get(self.slider)[0], rates.get(self.carrier)[0]
+        d_rate = self._delta_rate(cache, rates)
+        out = np.empty(d_rate.shape)
+        out[0] = ws - wc
+        out[1] = d_rate[0] * n[0] + d_rate[1] * n[1] + wc * pn_delta
+        if vel is not None:  # centripetal and Coriolis terms of (n·Δ)''
+            Ws, Wc = vel.get(self.slider)[0][0], vel.get(self.carrier)[0][0]
+            d_vel = self._delta_rate(cache, vel)[:, 0]
+            accel_bias = -(Ws * Ws) * rho_s + (Wc * Wc) * rho_c
+            out[1] += -(Wc * Wc) * dot(n, delta) + 2 * Wc * dot(perp(n), d_vel) + dot(n, accel_bias)
+        return out
+
+
+def make_law(joint: Joint) -> JointLaw:
+    return Revolute(joint) if joint.kind == "R" else Prismatic(joint)

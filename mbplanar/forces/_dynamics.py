@@ -1,0 +1,520 @@
+"""Machine dynamics of a machine driven by one crank: reduced inertia and moments, work and energy,
+the flywheel for a coefficient of speed fluctuation δ, and the true motion ω(φ), ε(φ) of the crank.
+
+The machine is reduced to its input link (the crank, generalized coordinate φ in rad):
+
+* second group, the links whose reduced inertia varies: J_II(φ) = Σ(m·v_qS² + I_S·ω_q²) over every
+  moving link except the input link, and dJ_II/dφ = 2·Σ(m·v_qS·a_qS + I_S·ω_q·ε_q);
+* reduced moment of each load: M_red(φ) = F·v_q + M·ω_q (the power of the load per unit of dφ/dt);
+* first group: everything with a constant reduced inertia (the input link itself, shafts, the flywheel),
+  J_I = (ΔT_I,max − ΔT_I,min)/(ω_m²·δ) — the energy–mass method of the course books (seeds 000, 003):
+  A_c(φ) = ∫₀^φ M_red dφ (trapezoid rule on the cycle grid), M_dr = −A_c(2π)/2π (a constant driving
+  moment that balances the cycle), A_Σ = A_c + M_dr·φ, T_II = J_II·ω_m²/2, ΔT_I = A_Σ − T_II,
+  ω(φ) = ω_m + (ΔT_I − (ΔT_I,max + ΔT_I,min)/2)/(J_I·ω_m),
+  ε(φ) = (M_red + M_dr)/(J_I + J_II) − ω²·J_II′/(2(J_I + J_II)).
+
+Beyond the seeds, `simulate` integrates the exact equation of motion
+(J_I + J_II)·φ̈ + ½·J_II′·φ̇² = M_dr(φ̇) + M_red(φ) with scipy's solve_ivp (φ as the independent
+variable) to a periodic steady state and reports the δ it achieves.
+
+The `[dynamics]` section of a model (all keys optional but `delta`)::
+
+    [dynamics]
+    delta = 0.05              # coefficient of speed fluctuation (ω_max − ω_min)/ω_m
+    omega_mean = 7.64         # ω_m in rad/s (default: the input's omega)
+    driving_moment = 102.0    # N·m along φ (default: the constant that balances the cycle)
+    motor_slope = 0.0         # N·m·s/rad: motor characteristic M_dr(ω) = M_dr − slope·(ω − ω_m)
+    [dynamics.flywheel]
+    shaft_inertia = 0.1625    # kg·m² already on the crank shaft (gears, couplings)
+    motor_rpm = 1412.4        # put the flywheel on the motor shaft turning this fast (rev/min)
+    motor_inertia = 0.0875    # kg·m² of the motor rotor, on the motor shaft
+    density = 7800            # kg/m³ of the flywheel
+
+Flywheel sizes follow the course books' formulas for steel (ρ₀ = 7800 kg/m³), scaled to `density`
+(J ∝ ρ·D⁵): a rim D₂ = 0.437·(J·ρ₀/ρ)^(1/5), D₁ = 0.8·D₂, b = 0.2·D₂, m = 6123·(ρ/ρ₀)·(D₂² − D₁²)·b;
+a disc D = 0.366·(J·ρ₀/ρ)^(1/5), b = 0.2·D, m = 1230·(ρ/ρ₀)·D³.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelError, MotionError
+from ..kinematics._motion import analyse, material_points
+from ._loads import centre_of, evaluate_loads, load_power, read_loads
+from ..model._table import Row
+
+__all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
+           "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
+
+RHO_STEEL = 7800.0
+_RIM = (0.437, 6123.0)    # D₂ = c·J^(1/5), m = k·(D₂² − D₁²)·b at ρ₀ (course-book constants)
+_DISC = (0.366, 1230.0)   # D = c·J^(1/5), m = k·D³ at ρ₀
+
+
+# -- the model's [dynamics] section -----------------------------------------------------------------
+@dataclass(frozen=True)
+class FlywheelSpec:
+    """Where the flywheel goes and what is already there: inertia on the crank shaft (kg·m²), the motor
+    shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia."""
+
+    shaft_inertia: float = 0.0
+    motor_rpm: float | None = None
+    motor_inertia: float = 0.0
+    density: float = RHO_STEEL
+
+
+@dataclass(frozen=True)
+class DynamicsSpec:
+    """The machine's dynamics data: δ, ω_m (rad/s), the driving moment (None: balance the cycle) and
+    the slope of the motor characteristic (N·m·s/rad)."""
+
+    delta: float
+    omega_mean: float
+    driving_moment: float | None = None
+    motor_slope: float = 0.0
+    flywheel: FlywheelSpec = field(default_factory=FlywheelSpec)
+
+
+def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
+    """The `[dynamics]` section of a model as a `DynamicsSpec` (None when there is none and no
+    `delta` is given); `delta` overrides the model's."""
+    raw = mech.extras.get("dynamics")
+    if raw is None and delta is None:
+        return None
+    raw = {} if raw is None else raw
+    where = f"{mech.source}: dynamics"
+    row = Row(raw, where)
+    if len(mech.inputs) != 1:
+        raise ModelError(f"{where}: machine dynamics needs a model with one input, this one has "
+                         f"{len(mech.inputs)}")
+    inp = mech.inputs[0]
+    if mech.joints[inp.joint].kind != "R" or mech.ground not in mech.joints[inp.joint].links:
+        raise ModelError(f"{where}: machine dynamics needs a crank (a revolute input joint with the "
+                         f"ground); input '{inp.joint}' is not one")
+    if delta is None:
+        delta = row.number("delta", required=True, positive=True)
+    row.used.add("delta")
+    if not 0 < delta < 1:
+        row.fail(f"'delta' = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)")
+    omega = row.number("omega_mean", inp.omega, positive=True)
+    if not omega > 0:
+        row.fail(f"the mean speed (the input's omega = {omega}) must be positive")
+    driving = row.number("driving_moment")
+    slope = row.number("motor_slope", 0.0)
+    if slope < 0:
+        row.fail("'motor_slope' must be >= 0 (a motor gives less moment when faster)")
+    fly = Row(raw.get("flywheel", {}), f"{where}.flywheel")
+    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0),
+                            motor_rpm=fly.number("motor_rpm", positive=True),
+                            motor_inertia=fly.number("motor_inertia", 0.0),
+                            density=fly.number("density", RHO_STEEL, positive=True))
+    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
+        fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")
+    row.used.add("flywheel")
+    row.check_unknown_keys()
+    fly.check_unknown_keys()
+    return DynamicsSpec(delta, omega, driving, slope, flywheel)
+
+
+# -- reduction to the crank -------------------------------------------------------------------------
+@dataclass
+class Reduced:
+    """The machine reduced to its crank over a batch of positions φ (B,), rad.
+
+    J_II, dJ_II (B,): reduced inertia of the second group and its derivative dJ_II/dφ (kg·m²);
+    J_input (B,): reduced inertia of the input link (constant for a crank; part of the first group);
+    moments: load name → reduced moment (B,) in N·m; kinds: load name → its kind (resistance, friction,
+    gravity (weights too), force, moment); M_red (B,): their sum.
+    """
+
+    phi: np.ndarray
+    J_II: np.ndarray
+    dJ_II: np.ndarray
+    J_input: np.ndarray
+    moments: dict
+    kinds: dict
+    motion: object = None
+
+    @property
+    def M_red(self) -> np.ndarray:
+        return sum(self.moments.values(), np.zeros(len(self.phi)))
+
+    def by_kind(self) -> dict:
+        """Reduced moment (B,) summed per kind of load."""
+        out = {}
+        for name, m in self.moments.items():
+            out[self.kinds[name]] = out.get(self.kinds[name], 0.0) + m
+        return out
+
+
+def reduce(engine, phi, omega: float = 1.0) -> Reduced:
+    """Reduced inertia (and its derivative) and reduced moments of the loads at the input values `phi`
+    (SI, (B,)); MotionError if a position cannot be reached on the drawn branch. Loads that depend on
+    the speed (dampers) are evaluated at the input speed `omega` (rad/s)."""
+    phi = np.asarray(phi, float).reshape(-1)
+    motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
+    if not motion.success:
+        raise MotionError(f"{engine.mech.source}: machine dynamics needs every position of the cycle: "
+                          f"{motion.message}")
+    J_II, dJ_II, J_input = _reduced_inertia(engine, motion)
+    dampers = any(ld.kind == "damper" for ld in read_loads(engine.mech))
+    at_speed = analyse(engine, phi, omega=omega, epsilon=0.0) if dampers and omega != 1.0 else motion
+    loads = evaluate_loads(engine, at_speed)
+    kinds = {ld.name: ld.kind for ld in read_loads(engine.mech)}  # LoadValue names are the rows' names
+    moments, kind_of = {}, {}
+    w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
+    for ld in loads:
+        moments[ld.name] = moments.get(ld.name, 0.0) + load_power(ld, w, v, r)  # a spring: both ends
+        kind = kinds.get(ld.name, "gravity")
+        kind_of[ld.name] = "gravity" if kind == "weight" else kind
+    return Reduced(phi, J_II, dJ_II, J_input, moments, kind_of, motion)
+
+
+def _input_links(engine) -> set:
+    mech = engine.mech
+    return {n for inp in engine.inputs for n in mech.joints[inp.joint].links if n != mech.ground}
+
+
+def _reduced_inertia(engine, motion):
+    """J_II, dJ_II over the links other than the input link, and J of the input link, (B,) each."""
+    mech, f = engine.mech, motion.frames
+    batch = len(motion.phi)
+    J_II, dJ_II, J_input = np.zeros(batch), np.zeros(batch), np.zeros(batch)
+    inputs = _input_links(engine)
+    for name, lk in mech.links.items():
+        if name == mech.ground or not (lk.mass or lk.inertia):
+            continue
+        k = engine.link_index[name]
+        at = np.array([centre_of(mech, name)]) if lk.mass else np.zeros((1, 2))
+        _, vq, aq = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], np.array([k]), at)
+        vq, aq, wq, eq = vq[:, 0], aq[:, 0], f["w"][:, k], f["e"][:, k]
+        J = lk.mass * np.einsum("bi,bi->b", vq, vq) + lk.inertia * wq * wq
+        if name in inputs:
+            J_input += J
+            continue
+        J_II += J
+        dJ_II += 2.0 * (lk.mass * np.einsum("bi,bi->b", vq, aq) + lk.inertia * wq * eq)
+    return J_II, dJ_II, J_input
+
+
+# -- the energy–mass method -------------------------------------------------------------------------
+@dataclass
+class Simulation:
+    """The exact steady-state motion over the cycle grid: ω, ε (N,), its δ, ω range and the period."""
+
+    omega: np.ndarray
+    epsilon: np.ndarray
+    delta: float
+    omega_min: float
+    omega_max: float
+    omega_time_mean: float
+    period: float
+    success: bool
+    message: str
+
+
+@dataclass
+class Dynamics:
+    """Machine dynamics over one cycle φ = 0 … 2π (grid `phi` (N,), rad).
+
+    Arrays (N,): J_II, dJ_II, M_red (total) and `reduced.moments` per load, A_c (work of the loads
+    from φ = 0), A_total (A_c + M_dr·φ), T_II, dT_I, omega, epsilon (the energy–mass method).
+    Scalars: driving_moment M_dr (N·m along φ), resistance_work A_c(2π) (J), inertia_first_group J_I,
+    input_link_inertia (the input link's share of J_I), dT_I_max/min and where (phi_dT_max/min),
+    omega_mean, omega_min, omega_max, epsilon_min, epsilon_max; `simulation` (exact motion) and
+    `flywheel` (sizes), see `flywheel_sizes`.
+    """
+
+    spec: DynamicsSpec
+    reduced: Reduced
+    phi: np.ndarray
+    A_c: np.ndarray
+    driving_moment: float
+    inertia_first_group: float
+    dT_I_max: float
+    dT_I_min: float
+    phi_dT_max: float
+    phi_dT_min: float
+    simulation: Simulation | None = None
+    flywheel: dict = field(default_factory=dict)
+
+    # derived curves ------------------------------------------------------------------------------
+    @property
+    def J_II(self):
+        return self.reduced.J_II
+
+    @property
+    def dJ_II(self):
+        return self.reduced.dJ_II
+
+    @property
+    def M_red(self):
+        return self.reduced.M_red
+
+    @property
+    def omega_mean(self) -> float:
+        return self.spec.omega_mean
+
+    @property
+    def resistance_work(self) -> float:
+        return float(self.A_c[-1])
+
+    @property
+    def input_link_inertia(self) -> float:
+        return float(np.mean(self.reduced.J_input))
+
+    @property
+    def A_total(self):
+        return self.A_c + self.driving_moment * self.phi
+
+    @property
+    def T_II(self):
+        return self.J_II * self.omega_mean ** 2 / 2
+
+    @property
+    def dT_I(self):
+        return _energy_change(self.A_c, self.driving_moment, self.phi, self.J_II, self.omega_mean)
+
+    @property
+    def omega(self):
+        return self.omega_at(self.dT_I)
+
+    @property
+    def epsilon(self):
+        return self.epsilon_at(self.omega, self.M_red, self.J_II, self.dJ_II)
+
+    @property
+    def omega_min(self) -> float:
+        return self.omega_at(self.dT_I_min)
+
+    @property
+    def omega_max(self) -> float:
+        return self.omega_at(self.dT_I_max)
+
+    @property
+    def epsilon_min(self) -> float:
+        return float(np.min(self.epsilon))
+
+    @property
+    def epsilon_max(self) -> float:
+        return float(np.max(self.epsilon))
+
+    @property
+    def _dT_mid(self) -> float:
+        return (self.dT_I_max + self.dT_I_min) / 2
+
+    def work_by_kind(self) -> dict:
+        """Work (J) over the cycle of the loads of each kind (resistance, friction, gravity, ...)."""
+        return {kind: float(_cumulative_trapezoid(m, self.phi)[-1]) for kind, m in self.reduced.by_kind().items()}
+
+    def omega_at(self, dT_I):
+        """ω from ΔT_I (the seeds' linearised relation)."""
+        return self.omega_mean + (dT_I - self._dT_mid) / (self.inertia_first_group * self.omega_mean)
+
+    def epsilon_at(self, omega, M_red, J_II, dJ_II):
+        """ε from the equation of motion with the first group's J_I."""
+        J = self.inertia_first_group + J_II
+        return (M_red + self.driving_moment) / J - omega * omega * dJ_II / (2 * J)
+
+    def state_at(self, engine, phi) -> dict:
+        """The values at input values `phi` (SI, (B,), any, taken modulo the cycle): J_II, dJ_II, M_red,
+        A_c, dT_I, omega, epsilon (B,) each — computed at those positions, with the work integrated
+        exactly as on the grid up to the grid node below and by the trapezoid rule from there."""
+        phi = np.asarray(phi, float).reshape(-1)
+        cyc = np.mod(phi, 2 * math.pi)
+        red = reduce(engine, phi, self.omega_mean)
+        k = np.clip(np.searchsorted(self.phi, cyc, side="right") - 1, 0, len(self.phi) - 2)
+        M = red.M_red
+        A_c = self.A_c[k] + (cyc - self.phi[k]) * (self.M_red[k] + M) / 2
+        dT = _energy_change(A_c, self.driving_moment, cyc, red.J_II, self.omega_mean)
+        omega = self.omega_at(dT)
+        return {"phi": phi, "J_II": red.J_II, "dJ_II": red.dJ_II, "M_red": M, "A_c": A_c, "dT_I": dT,
+                "omega": omega, "epsilon": self.epsilon_at(omega, M, red.J_II, red.dJ_II),
+                "moments": red.moments}
+
+    @property
+    def delta_simulated(self) -> float | None:
+        return None if self.simulation is None else self.simulation.delta
+
+
+def cycle_grid(steps: int) -> np.ndarray:
+    """φ = 0 … 2π in `steps` equal intervals, both ends included (N = steps + 1)."""
+    if steps < 36:
+        raise ModelError(f"machine dynamics needs at least 36 steps over the cycle, got {steps}")
+    return np.linspace(0.0, 2 * math.pi, steps + 1)
+
+
+def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600,
+                     simulate_motion: bool = True) -> Dynamics:
+    """The energy–mass method over one cycle of the crank (and, unless `simulate_motion` is False,
+    the exact steady-state motion with the flywheel found). `spec` defaults to the model's section."""
+    spec = spec or read_dynamics(engine.mech)
+    if spec is None:
+        raise ModelError(f"{engine.mech.source}: the model has no [dynamics] section (at least delta = ...)")
+    phi = cycle_grid(steps)
+    red = reduce(engine, phi, spec.omega_mean)
+    A_c = _cumulative_trapezoid(red.M_red, phi)
+    M_dr = -A_c[-1] / (2 * math.pi) if spec.driving_moment is None else spec.driving_moment
+    dT = _energy_change(A_c, M_dr, phi, red.J_II, spec.omega_mean)
+    i_max, i_min = int(np.argmax(dT[:-1])), int(np.argmin(dT[:-1]))
+    phi_max, dT_max = _parabola_peak(phi, dT, i_max)
+    phi_min, dT_min = _parabola_peak(phi, dT, i_min)
+    J_I = (dT_max - dT_min) / (spec.omega_mean ** 2 * spec.delta)
+    if not J_I > 0:
+        raise MotionError(f"{engine.mech.source}: the kinetic energy does not vary over the cycle "
+                          f"(no loads and no inertia?): nothing for a flywheel to even out")
+    dyn = Dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min)
+    dyn.flywheel = flywheel_sizes(dyn)
+    if simulate_motion:
+        dyn.simulation = simulate(dyn)
+    return dyn
+
+
+def _energy_change(A_c, M_dr, phi, J_II, omega_mean):
+    """ΔT_I = A_c + M_dr·φ − J_II·ω_m²/2: the work of loads and drive less the second group's energy."""
+    return A_c + M_dr * phi - J_II * omega_mean ** 2 / 2
+
+
+def _cumulative_trapezoid(y, x):
+    out = np.zeros_like(y)
+    out[1:] = np.cumsum((y[1:] + y[:-1]) * np.diff(x) / 2)
+    return out
+
+
+def _parabola_peak(x, y, i):
+    """Vertex of the parabola through the grid points around index i of a periodic sampling whose
+    last point repeats the first (the value of the extremum between grid nodes)."""
+    n = len(x) - 1
+    i0, i2 = (i - 1) % n, (i + 1) % n
+    y0, y1, y2 = y[i0], y[i], y[i2]
+    h = x[1] - x[0]
+    den = y0 - 2 * y1 + y2
+    if den == 0:
+        return float(x[i]), float(y1)
+    t = float(np.clip(0.5 * (y0 - y2) / den, -1.0, 1.0))
+    return float(x[i] + t * h) % (2 * math.pi), float(y1 - 0.25 * (y0 - y2) * t)
+
+
+# -- flywheel ---------------------------------------------------------------------------------------
+def flywheel_sizes(dyn: Dynamics) -> dict:
+    """The flywheel's inertia and its size as a rim and as a disc.
+
+    J_fw (on the crank shaft) = J_I − the input link's own inertia − shaft_inertia − motor_inertia·u²,
+    u = motor speed / crank speed; on the motor shaft (motor_rpm given) J_fw/u² (seed 000's J_m).
+    """
+    fs = dyn.spec.flywheel
+    crank_rpm = dyn.omega_mean * 60 / (2 * math.pi)
+    u = 1.0 if fs.motor_rpm is None else fs.motor_rpm / crank_rpm
+    on_crank = dyn.inertia_first_group - dyn.input_link_inertia - fs.shaft_inertia - fs.motor_inertia * u * u
+    J = on_crank / (u * u)
+    out = {"inertia": J, "inertia_on_crank_shaft": on_crank,
+           "shaft": "crank" if fs.motor_rpm is None else "motor", "speed_ratio": u, "density": fs.density,
+           "needed": J > 0}
+    if J <= 0:
+        return out
+    scale = (J * RHO_STEEL / fs.density) ** 0.2
+    d2 = _RIM[0] * scale
+    d1, b = 0.8 * d2, 0.2 * d2
+    out["rim"] = {"outer_diameter": d2, "inner_diameter": d1, "width": b,
+                  "mass": _RIM[1] * fs.density / RHO_STEEL * (d2 * d2 - d1 * d1) * b}
+    d = _DISC[0] * scale
+    out["disc"] = {"diameter": d, "width": 0.2 * d, "mass": _DISC[1] * fs.density / RHO_STEEL * d ** 3}
+    return out
+
+
+def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
+    """The results as (quantity, value, unit or note) rows, for the command line and the report;
+    `inp` is the model's input (its name and unit label the positions)."""
+    at = lambda phi: f"at {inp.name} = {inp.from_si(phi):.6g} {inp.unit}"  # noqa: E731
+    rows = [("coefficient of speed fluctuation δ", dyn.spec.delta, ""),
+            ("mean speed ω_m", dyn.omega_mean, "rad/s"),
+            ("work of the loads per cycle A_c(2π)", dyn.resistance_work, "J")]
+    rows += [(f"  of which {kind}", work, "J") for kind, work in dyn.work_by_kind().items()]
+    rows += [("driving moment M_dr = −A_c(2π)/2π", dyn.driving_moment, "N·m"),
+             ("ΔT_I max", dyn.dT_I_max, f"J {at(dyn.phi_dT_max)}"),
+             ("ΔT_I min", dyn.dT_I_min, f"J {at(dyn.phi_dT_min)}"),
+             ("first-group inertia J_I", dyn.inertia_first_group, "kg·m²"),
+             ("ω min … max (energy–mass method)", f"{dyn.omega_min:.6g} … {dyn.omega_max:.6g}", "rad/s"),
+             ("ε min … max", f"{dyn.epsilon_min:.6g} … {dyn.epsilon_max:.6g}", "rad/s²")]
+    sim, fw = dyn.simulation, dyn.flywheel
+    if sim is not None:
+        rows += [("simulated δ (solve_ivp)", sim.delta, sim.message),
+                 ("simulated ω min … max", f"{sim.omega_min:.6g} … {sim.omega_max:.6g}", "rad/s")]
+    if not fw.get("needed"):
+        return rows + [("flywheel", "not needed", "the machine's own inertia is enough")]
+    rim, disc = fw["rim"], fw["disc"]
+    return rows + [
+        (f"flywheel on the {fw['shaft']} shaft J", fw["inertia"], f"kg·m² (speed ratio {fw['speed_ratio']:.6g})"),
+        ("  rim D2, D1, b", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, {rim['width']:.5g}",
+         f"m; mass {rim['mass']:.5g} kg"),
+        ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
+
+
+# -- the exact equation of motion -------------------------------------------------------------------
+def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulation:
+    """Integrate (J_I + J_II)·φ̈ + ½·J_II′·φ̇² = M_dr(φ̇) + M_red(φ) over the cycle to its periodic
+    steady state (scipy.integrate.solve_ivp, φ as the independent variable, ω(φ) as the state, with
+    J_II, J_II′ and M_red interpolated periodically from the cycle grid).
+
+    With a constant driving moment every start speed gives a periodic motion; the one whose mean speed
+    (ω_max + ω_min)/2 is ω_m is taken. With a motor characteristic (slope > 0) the periodic motion is
+    unique: ω(2π) = ω(0). Both conditions are met by a secant iteration on ω(0).
+    """
+    from scipy.integrate import solve_ivp
+
+    phi, spec = dyn.phi, dyn.spec
+    J_I, M_dr, slope, om_m = dyn.inertia_first_group, dyn.driving_moment, spec.motor_slope, spec.omega_mean
+    J_II, dJ, M = dyn.J_II, dyn.dJ_II, dyn.M_red
+    period = 2 * math.pi
+
+    # J_II, J_II', M_red by linear interpolation on the uniform grid, in plain floats (the right-hand
+    # side is called tens of thousands of times)
+    h, n = float(phi[1] - phi[0]), len(phi) - 1
+    table = [a.tolist() for a in (J_II, dJ, M)]
+
+    def accel(om, j, dj, m):
+        """φ̈ from the equation of motion, for ω and the reduced quantities at φ."""
+        return (M_dr - slope * (om - om_m) + m - 0.5 * dj * om * om) / (J_I + j)
+
+    def rhs(x, y):
+        om = float(y[0])
+        s = (x % period) / h
+        i = min(int(s), n - 1)
+        t = s - i
+        j, dj, m = (a[i] + t * (a[i + 1] - a[i]) for a in table)
+        return [accel(om, j, dj, m) / om, 1.0 / om]
+
+    def stalled(x, y):
+        return y[0] - 1e-6 * om_m
+    stalled.terminal = True
+
+    def cycle(om0):
+        """ω over the grid, the period, and the error of the periodicity condition, from ω(0) = om0."""
+        sol = solve_ivp(rhs, (0.0, period), [om0, 0.0], t_eval=phi, rtol=rtol, atol=1e-12 * om_m,
+                        method="RK45", events=stalled)
+        if sol.status != 0:
+            raise MotionError("the machine stalls: the driving moment cannot carry it through the cycle "
+                              f"(ω falls to 0 near φ = {math.degrees(sol.t[-1]):.4g}°)")
+        om = sol.y[0]
+        error = om[-1] - om0 if slope > 0 else (om.max() + om.min()) / 2 - om_m
+        return om, sol.y[1][-1], error
+
+    x0 = float(dyn.omega_at(dyn.dT_I[0]))
+    x1 = x0 * (1 + 1e-3)
+    f0 = cycle(x0)[2]
+    om, T, f1 = cycle(x1)
+    success = False
+    for _ in range(max_iter):
+        success = bool(abs(f1) < 1e-7 * om_m)
+        if success or f1 == f0:
+            break
+        x0, x1, f0 = x1, x1 - f1 * (x1 - x0) / (f1 - f0), f1
+        om, T, f1 = cycle(x1)
+    message = "periodic steady state" if success else "the periodic motion was not found"
+    eps = accel(om, J_II, dJ, M)
+    lo, hi = float(om.min()), float(om.max())
+    return Simulation(om, eps, (hi - lo) / ((hi + lo) / 2), lo, hi, period / T, T, success, message)

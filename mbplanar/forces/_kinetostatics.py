@@ -1,0 +1,547 @@
+"""Kinetostatics: every joint reaction and the balancing moment (or force) at every input, from one
+linear system assembled from the joint table, solved for a batch of positions group by group (`_Plan`):
+in each block the force rows are eliminated with their constant ±1 pivots in an order fixed once per
+engine, only what is left (the moment rows) is factorised with pivoting, all over the batch axis.
+
+Equations: per moving link ΣFx = 0, ΣFy = 0, ΣM = 0 (moments about a fixed point of the model, the mean of
+the drawn joints, divided by the model size so that every row is in newtons), with d'Alembert inertia
+loads −m·a_S at the centre S and −I_S·ε, gravity and the model's loads; per prismatic pair one more: no
+force along its guide. Unknowns: both components of every pair's reaction, the moment in every
+prismatic pair and the balancing moment (force, for a prismatic input) the drive applies at each input.
+The system is square (3·moving links + P pairs = 2·pairs + P pairs + DOF).
+
+Sign conventions. The unknown of a pair with links (a, b) is the force and moment on b from a, applied at
+the joint (for a prismatic pair at the slider's point; the pair's moment is about that point). Reactions
+are reported as F_ij = force ON link i FROM link j, the way seed 000 writes them: a pair with the ground
+acts on the moving link (F10, F30, F50); a prismatic pair on its slider from its carrier (F23, F45); a
+revolute pair between moving links on its row's first link from its second (F12, F34). The other side
+is always the opposite (F21 = −F12). Moments are counter-clockwise positive.
+The balancing moment at an input acts on the input joint's second link (on its first, the opposite).
+
+Check: the virtual power of all loads (inertia included) plus the balancing power vanishes for any
+velocity field the joints allow. `virtual_power_residual` computes it with the velocity analogues
+(real velocities with several inputs), independently of the matrix, relative to Σ(|F|·v_max + |M|·ω_max)
+over the loads (v_max, ω_max: the largest point speed and angular speed at that position) plus the
+balancing power.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..engine._backend import dispatch
+from ..engine._linalg import factor
+from ..kinematics._motion import material_points
+from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, real_frames,
+                     world_points)
+
+__all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
+
+
+@dataclass
+class Reaction:
+    """Force (fx, fy) (B,) and moment (B,) on link `on` from link `source` in joint `joint`."""
+
+    joint: str
+    on: str
+    source: str
+    fx: np.ndarray
+    fy: np.ndarray
+    moment: np.ndarray
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        return np.hypot(self.fx, self.fy)
+
+    @property
+    def direction_deg(self) -> np.ndarray:
+        """Direction of the force, degrees counter-clockwise from +x in [0, 360)."""
+        return np.degrees(np.arctan2(self.fy, self.fx)) % 360.0
+
+
+@dataclass
+class Kinetostatics:
+    """Reactions and balancing loads over a batch (the positions of `motion`).
+
+    reactions: joint name → Reaction (as reported: on the moving link for pairs with the ground);
+    balancing: input joint name → (B,) moment (N·m) or force (N) the drive applies to the input link;
+    virtual_power_residual (B,): relative residual of the virtual-power balance; loads: what acted.
+    """
+
+    motion: object
+    reactions: dict
+    balancing: dict
+    virtual_power_residual: np.ndarray
+    loads: list = field(default_factory=list)
+    singular: np.ndarray | None = None
+
+    @property
+    def success(self) -> bool:
+        return self.singular is None or not bool(np.any(self.singular))
+
+    @property
+    def message(self) -> str:
+        if self.success:
+            return "solved"
+        bad = np.flatnonzero(self.singular)
+        inp = self.motion.engine.inputs[0]
+        where = ", ".join(f"{inp.from_si(self.motion.phi[k, 0]):.6g}" for k in bad[:5])
+        return (f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where}"
+                f"{', ...' if len(bad) > 5 else ''}): links in line at a dead point, where the drive cannot "
+                "balance the loads, or at a change point, where the reactions are statically indeterminate")
+
+    def reaction(self, joint: str) -> Reaction:
+        return self.reactions[joint]
+
+
+# -- kinematics of the link frames ------------------------------------------------------------------
+def _virtual_frames(engine, motion):
+    """Virtual velocities (w, v) of every link frame: the analogues with one input, else real."""
+    if "v" in motion.frames and motion.wq is not None:
+        return motion.wq, motion.frames["v"]
+    w, v, _, _ = real_frames(engine, motion)
+    return w, v
+
+
+def _input_link(engine, inp) -> tuple[str, str]:
+    """(input link, the other link) of an input joint: its second link unless that is the ground."""
+    j = engine.mech.joints[inp.joint]
+    a, b = j.links
+    return (a, b) if b == engine.mech.ground else (b, a)
+
+
+def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
+    """d'Alembert loads: −m·a_S at the centre and −I_S·ε on every link with mass or inertia, and
+    −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I."""
+    mech = engine.mech
+    heavy = heavy_links(mech)
+    ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
+    out = []
+    batch = len(motion.phi)
+    if heavy:
+        w, v, e, a = real_frames(engine, motion, ks)
+        at = np.array([centre for _, _, centre in heavy], float)
+        th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
+        xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
+        for i, ((name, lk, _), k) in enumerate(zip(heavy, ks)):
+            out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i],
+                                 -lk.inertia * e[:, i]))
+    inertias = np.broadcast_to(np.asarray(input_inertia, float), (len(engine.inputs),))
+    for inp, J in zip(engine.inputs, inertias):
+        if not J:
+            continue
+        link, _ = _input_link(engine, inp)
+        k = engine.link_index[link]
+        jt = mech.joints[inp.joint]
+        kj = motion.joint(inp.joint)
+        if jt.kind == "R":
+            point = world_points(motion, k, np.asarray(jt.at))
+            out.append(LoadValue(f"input inertia on {link}", k, np.zeros((batch, 2)), point,
+                                 -J * motion.e[:, k]))
+        else:
+            sign = 1.0 if link == jt.slider else -1.0
+            u = guide_direction(engine, motion, inp.joint)
+            point = world_points(motion, engine.link_index[jt.slider], np.asarray(jt.at))
+            force = -J * sign * motion.accel[:, kj, None] * u
+            out.append(LoadValue(f"input inertia on {link}", k, force, point, np.zeros(batch)))
+    return out
+
+
+# -- the assembled system ---------------------------------------------------------------------------
+@dataclass
+class _Layout:
+    """Row and column numbering of the system."""
+
+    rows: dict            # moving link index → first of its 3 rows
+    p_rows: dict          # P joint name → its row
+    cols: dict            # joint name → first column (fx, fy[, moment])
+    in_cols: list         # input k → column
+    scale: np.ndarray     # (n,) unknown as reported = x · scale (the sign turns a pair's unknown round
+    size: int             # where the reaction is reported on its first link, see `_reported_on`)
+
+
+def _layout(engine) -> _Layout:
+    mech = engine.mech
+    L = engine.size
+    rows, p_rows, cols, scale = {}, {}, {}, []
+    n = 0
+    for name in mech.moving_links:
+        rows[engine.link_index[name]] = n
+        n += 3
+    for j in mech.joints.values():
+        if j.kind == "P":
+            p_rows[j.name] = n
+            n += 1
+    c = 0
+    for j in mech.joints.values():
+        cols[j.name] = c
+        sign = 1.0 if _reported_on(mech, j)[0] == j.links[1] else -1.0
+        scale += [sign, sign] + ([sign * L] if j.kind == "P" else [])
+        c += 3 if j.kind == "P" else 2
+    in_cols = []
+    for inp in engine.inputs:
+        in_cols.append(c)
+        scale.append(L if mech.joints[inp.joint].kind == "R" else 1.0)
+        c += 1
+    return _Layout(rows, p_rows, cols, in_cols, np.array(scale), n)
+
+
+@dataclass
+class _Plan:
+    """The structure of the system, computed once per engine.
+
+    Every matrix entry is `coef · feature[f]`, the features being per-position scalars (B, F):
+    feature 0 is 1; then, per pair, the lever (point − centre)/L of its force (x, y); per prismatic pair
+    its guide direction (x, y); per prismatic input the lever of the guide force, cross(d, u).
+    `blocks` lists the `_Block`s in back-substitution order. Solving the blocks of the engine from the
+    last group to the input links is exact: a joint's reaction (and an input's balancing load) belongs to
+    the later of its two links' blocks, so the system is block triangular; each Assur group is statically
+    determinate on its own. If a block is not square, the whole system is one block.
+    """
+
+    lay: _Layout
+    centre: np.ndarray
+    joints: list          # names of the joints whose force point is a feature, in feature order
+    guides: list          # prismatic joint names whose guide direction is a feature
+    p_inputs: list        # (guide index, joint index) of prismatic inputs (cross feature)
+    blocks: list
+
+
+def _entries(engine, lay):
+    """Every non-zero of the system as (row, col, feature, coef), and the feature tables."""
+    mech = engine.mech
+    jnames = list(mech.joints)
+    jindex = {n: k for k, n in enumerate(jnames)}
+    guides = [n for n in jnames if mech.joints[n].kind == "P"]
+    gindex = {n: k for k, n in enumerate(guides)}
+    nj = len(jnames)
+    dx = lambda j: 1 + 2 * jindex[j]  # noqa: E731  (feature of the lever's x; y is the next one)
+    ux = lambda j: 1 + 2 * nj + 2 * gindex[j]  # noqa: E731
+    p_inputs, out = [], []
+
+    def wrench(link, col, sign, force=None, moment=0.0, joint=None, cross=None):
+        """Column `col` as a force (unit x, unit y, or the guide of `force`) at the joint plus a moment."""
+        row = lay.rows.get(link)
+        if row is None:
+            return
+        if force == "x":
+            out.extend([(row, col, 0, sign), (row + 2, col, dx(joint) + 1, -sign)])
+        elif force == "y":
+            out.extend([(row + 1, col, 0, sign), (row + 2, col, dx(joint), sign)])
+        elif force == "guide":
+            out.extend([(row, col, ux(joint), sign), (row + 1, col, ux(joint) + 1, sign),
+                        (row + 2, col, cross, sign)])
+        if moment:
+            out.append((row + 2, col, 0, sign * moment))
+
+    for j in mech.joints.values():
+        ia, ib = (engine.link_index[n] for n in j.links)
+        c = lay.cols[j.name]
+        for link, sign in ((ib, 1.0), (ia, -1.0)):
+            wrench(link, c, sign, "x", joint=j.name)
+            wrench(link, c + 1, sign, "y", joint=j.name)
+            if j.kind == "P":
+                wrench(link, c + 2, sign, moment=1.0)
+        if j.kind == "P":
+            out.extend([(lay.p_rows[j.name], c, ux(j.name), 1.0), (lay.p_rows[j.name], c + 1, ux(j.name) + 1, 1.0)])
+    n_features = 1 + 2 * nj + 2 * len(guides)
+    for inp, col in zip(engine.inputs, lay.in_cols):
+        j = mech.joints[inp.joint]
+        ia, ib = (engine.link_index[n] for n in j.links)
+        cross = None
+        if j.kind == "P":
+            cross = n_features + len(p_inputs)
+            p_inputs.append((gindex[j.name], jindex[j.name]))
+        for link, sign in ((ib, 1.0), (ia, -1.0)):
+            if j.kind == "R":
+                wrench(link, col, sign, moment=1.0)
+            else:
+                wrench(link, col, sign, "guide", joint=j.name, cross=cross)
+    assert len({(r, c) for r, c, _, _ in out}) == len(out), "one entry per (row, column)"
+    return out, jnames, guides, p_inputs
+
+
+def _owners(engine, lay):
+    """Block of every row and column: a link's rows in its block; a joint's columns (and its prismatic
+    row, and the balancing column of an input at it) in the later block of its two links."""
+    block_of = {engine.link_index[n]: k for k, b in enumerate(engine.blocks) for n in b.links}
+    mech = engine.mech
+    row_block, col_block = np.zeros(lay.size, int), np.zeros(lay.size, int)
+    for link, row in lay.rows.items():
+        row_block[row:row + 3] = block_of[link]
+    owner = {}
+    for j in mech.joints.values():
+        owner[j.name] = max(block_of.get(engine.link_index[n], -1) for n in j.links)
+        c = lay.cols[j.name]
+        col_block[c:c + (3 if j.kind == "P" else 2)] = owner[j.name]
+        if j.kind == "P":
+            row_block[lay.p_rows[j.name]] = owner[j.name]
+    for inp, col in zip(engine.inputs, lay.in_cols):
+        col_block[col] = owner[inp.joint]
+    return row_block, col_block
+
+
+def plan_of(engine) -> _Plan:
+    """Layout, features and block order of an engine's system, made once per engine (also read by the
+    compiled backend)."""
+    return engine.prepare("kinetostatic plan", lambda: _plan(engine))
+
+
+def _plan(engine) -> _Plan:
+    """Layout, features and block order of an engine's system."""
+    mech = engine.mech
+    lay = _layout(engine)
+    entries, jnames, guides, p_inputs = _entries(engine, lay)
+    row_block, col_block = _owners(engine, lay)
+    ids = sorted(set(row_block))
+    square = all(np.sum(row_block == k) == np.sum(col_block == k) for k in ids)
+    if not square:
+        row_block[:], col_block[:], ids = 0, 0, [0]
+    blocks = []
+    for k in reversed(ids):
+        rows = np.flatnonzero(row_block == k)
+        own = np.flatnonzero(col_block == k)
+        local_row = {r: i for i, r in enumerate(rows)}
+        local_col = {c: i for i, c in enumerate(own)}
+        mine = [e for e in entries if e[0] in local_row]
+        inside = [(local_row[r], local_col[c], f, coef) for r, c, f, coef in mine if c in local_col]
+        later = [(local_row[r], c, f, coef) for r, c, f, coef in mine if c not in local_col]
+        blocks.append(_block(rows, own, inside, later))
+    centre = np.mean([j.at for j in mech.joints.values()], axis=0)
+    return _Plan(lay, centre, jnames, guides, p_inputs, blocks)
+
+
+@dataclass
+class _Block:
+    """One block of the system: its global rows and (own) columns, the entries (local row, local
+    column, feature, coef) among them, the entries on columns solved earlier (local row, global column,
+    feature, coef), and the elimination order fixed once per engine: `pivots` (row, column) whose entry
+    is a constant (±1 on a force column of a force row), then the rows and columns left (`rest_rows`,
+    `rest_cols`, typically the moment rows of a group) solved densely with partial pivoting. `fill`, per
+    pivot, the structure its elimination touches: (the live rows that have its column, the other columns
+    of its row), fill-in included (for the compiled kinetostatics, which works on dense arrays)."""
+
+    rows: np.ndarray
+    own: np.ndarray
+    entries: list
+    later: list
+    pivots: list
+    rest_rows: list
+    rest_cols: list
+    fill: list = field(default_factory=list)
+
+
+def _block(rows, own, entries, later) -> _Block:
+    """Choose the constant pivots of a block (least fill-in first) on its structure: a value is a
+    number when the entry is the same at every position, None when it varies."""
+    table = [{} for _ in rows]
+    for i, j, f, coef in entries:
+        table[i][j] = coef if f == 0 else None
+    pivots, fill, live = [], [], set(range(len(rows)))
+    while True:
+        counts = {}
+        for i in live:
+            for j in table[i]:
+                counts[j] = counts.get(j, 0) + 1
+        best = min((((len(table[i]) - 1) * (counts[j] - 1), i, j) for i in live for j, v in table[i].items()
+                    if v is not None and abs(v) >= 0.5), default=None)
+        if best is None:
+            break
+        _, i, j = best
+        live.discard(i)
+        fill.append(([k for k in sorted(live) if j in table[k]], [jj for jj in table[i] if jj != j]))
+        _eliminate(table, live, i, j, lambda a, m, b: None if None in (a, m, b) else a - m * b)
+        pivots.append((i, j))
+    done = {j for _, j in pivots}
+    rest_cols = [j for j in range(len(own)) if j not in done]
+    return _Block(rows, own, entries, later, pivots, sorted(live), rest_cols, fill)
+
+
+def _eliminate(table, live, i, j, update):
+    """Eliminate column j from the live rows of `table` (dicts column → value) with pivot row i; `update`
+    (old, multiplier, pivot-row value) → new value. Returns the multipliers {row: m}."""
+    pivot, out = table[i][j], {}
+    for k in live:
+        if j not in table[k]:
+            continue
+        a = table[k].pop(j)
+        m = out[k] = None if a is None or pivot is None else a / pivot
+        for jj, v in table[i].items():
+            if jj != j:
+                table[k][jj] = update(table[k].get(jj, 0.0), m, v)
+    return out
+
+
+def _solve_block(blk: _Block, features, b, x):
+    """Solve one block into x (n, B) (batch last), the earlier columns known; returns its singularity
+    measure (B,): |det| / Π‖row‖ (Hadamard's ratio, 1 for orthogonal rows, 0 when singular)."""
+    table = [{} for _ in blk.rows]
+    for i, j, f, coef in blk.entries:
+        table[i][j] = coef if f == 0 else coef * features[f]
+    norm2 = 1.0  # Π‖row‖²
+    for row in table:
+        norm2 = norm2 * sum(v * v for v in row.values())
+    rhs = [b[r] for r in blk.rows]
+    for i, c, f, coef in blk.later:
+        rhs[i] = rhs[i] - (coef if f == 0 else coef * features[f]) * x[c]
+    live = set(range(len(blk.rows)))
+    det = 1.0
+    for i, j in blk.pivots:
+        live.discard(i)
+        for k, m in _eliminate(table, live, i, j, lambda a, m, v: a - m * v).items():
+            rhs[k] = rhs[k] - m * rhs[i]
+        det = det * table[i][j]
+    own, batch = blk.own, b.shape[1]
+    if blk.rest_rows:
+        n = len(blk.rest_rows)
+        a = np.empty((n, n, batch))
+        for p, i in enumerate(blk.rest_rows):
+            for q, j in enumerate(blk.rest_cols):
+                a[p, q] = table[i].get(j, 0.0)
+        f = factor(a)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            x[own[blk.rest_cols]] = f.solve(np.array([rhs[i] for i in blk.rest_rows]))
+        det = det * f.det
+    for i, j in reversed(blk.pivots):
+        acc = rhs[i]
+        for jj, v in table[i].items():
+            if jj != j:
+                acc = acc - v * x[own[jj]]
+        x[own[j]] = acc / table[i][j]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.broadcast_to(np.abs(det) / np.sqrt(norm2), (batch,))
+
+
+def _features(engine, motion, plan):
+    """The per-position scalars (F, B) (batch last) the entries of the system are made of."""
+    L = engine.size
+    th = motion.frames["th"].T  # (L, B) view
+    # the joints' points are the motion's own (a revolute pair's point is common to both its links)
+    xy = motion.xy[:, [motion.point(name) for name in plan.joints]].transpose(2, 1, 0)  # (2, J, B)
+    n_joints, n_guides, batch = xy.shape[1], len(plan.guides), th.shape[1]
+    out = np.empty((1 + 2 * n_joints + 2 * n_guides + len(plan.p_inputs), batch))
+    out[0] = 1.0
+    lever_x, lever_y = out[1:1 + 2 * n_joints:2], out[2:2 + 2 * n_joints:2]
+    lever_x[:] = (xy[0] - plan.centre[0]) / L
+    lever_y[:] = (xy[1] - plan.centre[1]) / L
+    if n_guides:
+        base = 1 + 2 * n_joints
+        carriers = np.array([engine.link_index[engine.mech.joints[n].carrier] for n in plan.guides])
+        u0 = np.array([engine.laws[n].u0 for n in plan.guides])
+        tc = th[carriers]
+        c, s = np.cos(tc), np.sin(tc)
+        ux, uy = out[base:base + 2 * n_guides:2], out[base + 1:base + 2 * n_guides:2]
+        ux[:] = c * u0[:, 0, None] - s * u0[:, 1, None]
+        uy[:] = s * u0[:, 0, None] + c * u0[:, 1, None]
+        for k, (g, j) in enumerate(plan.p_inputs):
+            out[base + 2 * n_guides + k] = lever_x[j] * uy[g] - lever_y[j] * ux[g]
+    return out
+
+
+def _solve_blocks(plan, features, b):
+    """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
+    singular positions (B,)."""
+    x = np.zeros(b.shape)
+    singular = np.zeros(b.shape[1], bool)
+    for blk in plan.blocks:
+        singular |= ~(_solve_block(blk, features, b, x) > 1e-12)
+    return x, singular
+
+
+def _right_side(lay, loads, centre, L, batch):
+    """Right-hand side (n, B), batch last: minus the loads' forces and moments per link."""
+    b = np.zeros((lay.size, batch))
+    for ld in loads:
+        row = lay.rows.get(ld.link)
+        if row is None:
+            continue
+        fx, fy = ld.force[:, 0], ld.force[:, 1]
+        b[row] -= fx
+        b[row + 1] -= fy
+        b[row + 2] -= ((ld.point[:, 0] - centre[0]) * fy - (ld.point[:, 1] - centre[1]) * fx + ld.moment) / L
+    return b
+
+
+def _virtual_power(engine, motion, loads, drive):
+    """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
+    w, v = _virtual_frames(engine, motion)
+    r = motion.frames["r"]
+    rates = motion.rate_q if motion.rate_q is not None else motion.rate
+    total = np.zeros(len(motion.phi))  # Σ of the terms
+    scale = np.zeros(len(motion.phi))  # what they could be
+    # relative to what the loads could do at this position's largest point speed and angular speed, so
+    # that a position where most links stand still (an extreme position) is not judged on round-off
+    point_v = motion.vq if motion.vq is not None else motion.v
+    vscale = np.hypot(point_v[..., 0], point_v[..., 1]).max(axis=1, initial=0.0)
+    wscale = np.abs(w).max(axis=1)
+    for ld in loads:
+        total += load_power(ld, w, v, r)
+        scale += np.hypot(ld.force[:, 0], ld.force[:, 1]) * vscale + np.abs(ld.moment) * wscale
+    for inp, q in zip(engine.inputs, drive):  # the drive acts on the joint's links (b, a) as (+q, −q)
+        term = q * rates[:, motion.joint(inp.joint)]
+        total += term
+        scale += np.abs(term)
+    return np.abs(total) / np.where(scale > 0, scale, 1.0)
+
+
+def _reported_on(mech, j) -> tuple[str, str]:
+    """(link the reaction of pair j is reported on, the link it comes from): the moving link for a pair
+    with the ground, the slider for a prismatic pair, the row's first link for a revolute pair."""
+    a, b = j.links
+    return (a, b) if b == mech.ground or (j.kind == "R" and a != mech.ground) else (b, a)
+
+
+def _report(engine, lay, x) -> dict:
+    """Reactions as reported, from the unknowns x (n, B) (already turned round by `_Layout.scale`)."""
+    out = {}
+    for j in engine.mech.joints.values():
+        c = lay.cols[j.name]
+        m = x[c + 2] if j.kind == "P" else np.zeros(x.shape[1])
+        out[j.name] = Reaction(j.name, *_reported_on(engine.mech, j), x[c], x[c + 1], m)
+    return out
+
+
+def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | None = None,
+                  inertia: bool = True) -> Kinetostatics:
+    """Reactions in every pair and the balancing load at every input over the positions of `motion`.
+
+    input_inertia: J_I (kg·m², or kg for a prismatic input) on each input link, scalar or per input.
+    loads: evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
+    inertia: include the d'Alembert loads of the links (and J_I).
+    The engine's compiled backend takes the batch where it can (`engine._backend.dispatch`); numpy, the
+    reference, does the rest.
+    """
+    return dispatch(engine, "kinetostatics", _reference, motion, input_inertia, loads, inertia)
+
+
+def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
+    """`kinetostatics` by numpy."""
+    batch = len(motion.phi)
+    plan = plan_of(engine)
+    lay = plan.lay
+    loads = list(evaluate_loads(engine, motion) if loads is None else loads)
+    if inertia:
+        loads += inertia_loads(engine, motion, input_inertia)
+    b = _right_side(lay, loads, plan.centre, engine.size, batch)
+    if batch:
+        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
+        x *= lay.scale[:, None]
+        singular |= ~np.all(np.isfinite(x), axis=0)
+        x[:, singular] = np.nan
+    else:
+        x, singular = np.zeros((lay.size, 0)), np.zeros(0, bool)
+    residual = _virtual_power(engine, motion, loads, [x[c] for c in lay.in_cols])
+    return result(engine, motion, lay, x, singular, residual, loads)
+
+
+def result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:
+    """The reported reactions and balancing loads from the unknowns x (n, B) (also the compiled backend's)."""
+    mech = engine.mech
+    drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
+    balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
+                 for inp, q in zip(engine.inputs, drive)}
+    return Kinetostatics(motion=motion, reactions=_report(engine, lay, x), balancing=balancing,
+                         virtual_power_residual=residual, loads=loads, singular=singular)
+

@@ -1,0 +1,13 @@
+"""Kinematics: `analyse(engine, phi, omega, epsilon)` → `Motion`, positions, analogues and real
+velocities and accelerations of every link, joint and point (batch first, SI); `positions_at_limits`.
+
+This subpackage replaces the old module ``mbplanar.kinematics`` and keeps its public names; its other
+names are forwarded from ``mbplanar.kinematics._motion`` with a DeprecationWarning.
+"""
+
+from .. import _deprecated
+from ._motion import Motion, analyse, material_points, positions_at_limits
+
+__all__ = ["Motion", "analyse", "positions_at_limits", "material_points"]
+
+__getattr__ = _deprecated.forwarder(__name__, __name__ + "._motion")

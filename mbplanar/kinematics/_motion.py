@@ -1,0 +1,418 @@
+"""Kinematic results for every link, joint and point: positions, analogues (d/dφ, d²/dφ²) and real
+velocities and accelerations, instantaneous centres of velocity.
+
+`analyse(engine, phi, omega, epsilon)` solves a batch and returns a `Motion`: arrays with the batch
+first, in SI units (m, rad, s). Real values follow the analogues: v = v_q·ω, a = a_q·ω² + v_q·ε.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..engine._backend import dispatch
+from ..engine._constraints import dot, perp
+from ..engine._solver import Crossing, Engine, Limit
+
+__all__ = ["Motion", "analyse", "positions_at_limits"]
+
+
+@dataclass
+class Motion:
+    """Kinematics of a batch of positions (only those reached on the drawn branch).
+
+    phi (B, n_in): input values (SI); omega, epsilon (B, n_in): input speed and acceleration.
+    Links: angle, w, e (B, L) real; wq, eq analogues. Points: xy, v, a (B, P, 2); vq, aq analogues.
+    Joints: value, rate, accel (B, J); rate_q, accel_q analogues. Analogues are None with several inputs.
+    The compiled backend passes None for the arrays of `DERIVED`: the points from the link frames, the
+    real values from the analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...), computed when first read, and
+    kept.
+    """
+
+    engine: Engine
+    phi: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    link_names: list
+    angle: np.ndarray
+    w: np.ndarray
+    e: np.ndarray
+    point_names: list
+    xy: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    joint_names: list
+    value: np.ndarray
+    rate: np.ndarray
+    accel: np.ndarray
+    ic: np.ndarray
+    vq: np.ndarray | None  # no default: a derived array is missing from the instance until first read
+    aq: np.ndarray | None
+    wq: np.ndarray | None = None
+    eq: np.ndarray | None = None
+    rate_q: np.ndarray | None = None
+    accel_q: np.ndarray | None = None
+    requested: int = 0
+    limits: list[Limit] = field(default_factory=list)
+    frames: dict = field(default_factory=dict)
+    crossings: list[Crossing] = field(default_factory=list)  # change points passed in the range asked
+    # the compiled backend's output (B,) of structured rows: the frames, analogues and joint values above
+    # are views of it, the arrays of DERIVED are computed from it; None from the numpy path (the
+    # compiled kinetostatics reads it a position at a time)
+    rows: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def success(self) -> bool:
+        return len(self.phi) == self.requested
+
+    @property
+    def message(self) -> str:
+        if self.success:
+            return "solved"
+        return "; ".join(describe_limit(self.engine, lim) for lim in self.limits) or \
+            f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
+
+    def __post_init__(self):
+        if self.rows is None:
+            return
+        for name in DERIVED:
+            if self.__dict__.get(name, 0) is None:
+                del self.__dict__[name]  # so that reading it reaches __getattr__
+
+    def __getattr__(self, name):
+        if name not in DERIVED or self.__dict__.get("rows") is None:
+            raise AttributeError(f"'Motion' object has no attribute '{name}'")
+        value = _derived(self, name)
+        setattr(self, name, value)
+        return value
+
+    def point(self, name: str) -> int:
+        return self.point_names.index(name)
+
+    def link(self, name: str) -> int:
+        return self.link_names.index(name)
+
+    def joint(self, name: str) -> int:
+        return self.joint_names.index(name)
+
+
+DERIVED = ("xy", "vq", "aq", "angle", "w", "e", "v", "a", "rate", "accel", "ic")  # follow from the frames
+
+
+def _derived(m: Motion, name: str) -> np.ndarray:
+    """An array of `DERIVED` of a one-input Motion from its link frames (analogues) and the input's
+    ω, ε (B, 1)."""
+    om, ep = m.omega, m.epsilon
+    if name in ("xy", "vq", "aq"):  # (the compiled records hold cos θ, sin θ)
+        _, links, at = _tables(m.engine)[0]
+        r = m.rows
+        points = _moving_points(r["cos"].T, r["sin"].T, _last(r["r"]), r["wq"].T, _last(r["fv"]), r["eq"].T,
+                                _last(r["fa"]), links, at)
+        m.xy, m.vq, m.aq = (_first(x) for x in points)
+        return getattr(m, name)
+    if name == "angle":
+        return m.frames["th"] + np.array([m.engine.reference_angle[n] for n in m.link_names])
+    if name == "ic":  # r + perp(v)/ω of every link frame; NaN where the link does not turn
+        return _first(_instant_centres(_last(m.frames["r"]), _last(m.frames["v"] * om[..., None]), m.w.T))
+    pair = {"w": ("wq", "eq"), "e": ("wq", "eq"), "v": ("vq", "aq"), "a": ("vq", "aq"),
+            "rate": ("rate_q", "accel_q"), "accel": ("rate_q", "accel_q")}[name]
+    xq, xqq = (getattr(m, n) for n in pair)
+    if xq.ndim == 3:  # points (B, P, 2)
+        om, ep = om[..., None], ep[..., None]
+    real = _real(xq, xqq, om, ep)
+    return real[0] if name in ("w", "v", "rate") else real[1]
+
+
+def describe_limit(engine: Engine, lim: Limit) -> str:
+    inp = engine.inputs[0]
+    where = ", ".join(f"{i.name} = {i.from_si(p):.10g} {i.unit}" for i, p in zip(engine.inputs, lim.phi))
+    way = {1: "going up", -1: "going down"}.get(lim.direction, "")
+    return (f"motion limit at {where} ({way}): links {', '.join(lim.links)} — {lim.kind}"
+            if inp else "motion limit")
+
+
+def describe_crossing(engine: Engine, c: Crossing) -> str:
+    where = ", ".join(f"{i.name} = {i.from_si(p):.10g} {i.unit}" for i, p in zip(engine.inputs, c.phi))
+    return (f"change point at {where}: links {', '.join(c.links)} — {c.kind}; two assembly branches cross "
+            "here: the analysis follows the smooth branch, a real mechanism may switch branch unless "
+            "something guides it through")
+
+
+def _point_table(engine: Engine):
+    """(names, link index, drawn coordinates) of every joint (its slider point for P) and point."""
+    mech = engine.mech
+    names, links, at = [], [], []
+    for j in mech.joints.values():
+        names.append(j.name)
+        links.append(engine.link_index[j.slider if j.kind == "P" else j.links[0]])
+        at.append(j.at)
+    for p in mech.points.values():
+        names.append(p.name)
+        links.append(engine.link_index[p.link])
+        at.append(p.at)
+    return names, np.array(links, int), np.array(at, float).reshape(-1, 2)
+
+
+@dataclass
+class _JointTable:
+    """Index maps of the joints, built once per engine: revolute columns `r_col` with their links
+    (`r_a`, `r_b`), prismatic columns `p_col` with carrier `p_c`, slider `p_s`, point `p_at` (Pp, 2)
+    and guide direction `p_u0` (Pp, 2); `drawn` (J,) joint values in the drawn pose."""
+
+    r_col: np.ndarray
+    r_a: np.ndarray
+    r_b: np.ndarray
+    p_col: np.ndarray
+    p_c: np.ndarray
+    p_s: np.ndarray
+    p_at: np.ndarray
+    p_u0: np.ndarray
+    drawn: np.ndarray
+
+
+def _joint_table(engine: Engine) -> _JointTable:
+    joints = list(engine.mech.joints.values())
+    rev = [(k, j) for k, j in enumerate(joints) if j.kind == "R"]
+    pri = [(k, j) for k, j in enumerate(joints) if j.kind == "P"]
+    idx = engine.link_index
+    ints = lambda xs: np.array(xs, int)  # noqa: E731
+    return _JointTable(
+        r_col=ints([k for k, _ in rev]), r_a=ints([idx[j.links[0]] for _, j in rev]),
+        r_b=ints([idx[j.links[1]] for _, j in rev]),
+        p_col=ints([k for k, _ in pri]), p_c=ints([idx[j.links[0]] for _, j in pri]),
+        p_s=ints([idx[j.links[1]] for _, j in pri]),
+        p_at=np.array([j.at for _, j in pri], float).reshape(-1, 2),
+        p_u0=np.array([engine.laws[j.name].u0 for _, j in pri], float).reshape(-1, 2),
+        drawn=np.array([engine.joint_value_drawn[j.name] for j in joints]))
+
+
+def _tables(engine: Engine):
+    """Point and joint tables of an engine, computed on first use and kept on the engine."""
+    return engine.prepare("output tables", lambda: (_point_table(engine), _joint_table(engine)))
+
+
+def _rotated(c, s, at):
+    """R(θ)·at for cos, sin (P, B) and drawn vectors at (P, 2) → (2, P, B)."""
+    out = np.empty((2,) + c.shape)
+    out[0] = c * at[:, 0, None] - s * at[:, 1, None]
+    out[1] = s * at[:, 0, None] + c * at[:, 1, None]
+    return out
+
+
+def _moving_points(c, s, r, w, v, e, a, links, at, position=True):
+    """Position (if asked), velocity and acceleration (2, P, B) of points drawn at `at` (P, 2) on links
+    `links` (P,), from the links' cos, sin, w, e (L, B) and frame states r, v, a (2, L, B)."""
+    rho = _rotated(c.take(links, 0), s.take(links, 0), at)
+    wl, el = w.take(links, 0), e.take(links, 0)
+    w2 = wl * wl
+    # v + ω·perp(ρ) and a + ε·perp(ρ) − ω²ρ written per component (perp(ρ) = (−ρy, ρx)): the same
+    # floating-point operations without the temporaries
+    vel, acc = v.take(links, 1), a.take(links, 1)
+    vel[0] -= wl * rho[1]
+    vel[1] += wl * rho[0]
+    acc[0] -= el * rho[1]
+    acc[1] += el * rho[0]
+    acc[0] -= w2 * rho[0]
+    acc[1] -= w2 * rho[1]
+    return (r.take(links, 1) + rho if position else None), vel, acc
+
+
+def material_points(th, r, w, v, e, a, links, at):
+    """Position, velocity and acceleration (B, P, 2) of points drawn at `at` (P, 2) on links `links`
+    (P,), from batch-first link states th, w, e (B, L) and r, v, a (B, L, 2)."""
+    out = _moving_points(np.cos(th.T), np.sin(th.T), _last(r), w.T, _last(v), e.T, _last(a), links, at)
+    return tuple(_first(x) for x in out)
+
+
+def _last(x):
+    """(B, L, 2) → (2, L, B) view."""
+    return x.transpose(2, 1, 0)
+
+
+def _first(x):
+    """(2, L, B) → (B, L, 2) view."""
+    return x.transpose(2, 1, 0)
+
+
+def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
+    """value (if asked), rate, accel (J, B) of every joint from the link states (batch last): relative
+    angle of a revolute joint, displacement of the slider point along the guide for a prismatic joint."""
+    batch, n = th.shape[1], len(table.drawn)
+    out_v, out_r, out_a = (np.empty((n, batch)) for _ in range(3))
+    t = table
+    if len(t.r_col):
+        if value:
+            out_v[t.r_col] = th[t.r_b] - th[t.r_a] + t.drawn[t.r_col, None]
+        out_r[t.r_col] = w[t.r_b] - w[t.r_a]
+        out_a[t.r_col] = e[t.r_b] - e[t.r_a]
+    if len(t.p_col):
+        xs, vs, as_ = _moving_points(c, s, r, w, v, e, a, t.p_s, t.p_at)
+        xc, vc, ac = _moving_points(c, s, r, w, v, e, a, t.p_c, t.p_at)
+        d, dd, ddd = xs - xc, vs - vc, as_ - ac
+        u = _rotated(c[t.p_c], s[t.p_c], t.p_u0)
+        pu = perp(u)
+        wc, ec = w[t.p_c], e[t.p_c]
+        pu_d, u_d = dot(pu, d), dot(u, d)
+        if value:
+            out_v[t.p_col] = t.drawn[t.p_col, None] + u_d
+        out_r[t.p_col] = wc * pu_d + dot(u, dd)
+        out_a[t.p_col] = ec * pu_d - wc * wc * u_d + 2 * wc * dot(pu, dd) + dot(u, ddd)
+    return out_v, out_r, out_a
+
+
+def _link_states(engine: Engine, sol):
+    """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order."""
+    names, pose = engine.links, sol.pose
+    th, c, s = (np.empty((len(names), len(sol.phi))) for _ in range(3))
+    r = np.empty((2,) + th.shape)
+    for k, n in enumerate(names):  # row by row: cheaper than np.stack for a small batch
+        th[k], c[k], s[k], r[:, k] = pose.th[n], pose.c[n], pose.s[n], pose.r[n]
+    return th, c, s, r
+
+
+def _real(xq, xqq, om, ep):
+    """Real rate and acceleration from the analogues: x' = x_q ω, x'' = x_qq ω² + x_q ε.
+    om (B,) broadcasts against xq (batch axis last); ep (B,), or None for a constant input speed."""
+    if ep is None:
+        return xq * om, xqq * (om * om)
+    return xq * om, xqq * (om * om) + xq * ep
+
+
+def _instant_centres(r, v, w):
+    """Instantaneous centre (2, L, B) of every link: r + perp(v)/ω; NaN where ω = 0 (translation)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ic = r + perp(v) / w
+    ic[~np.isfinite(ic)] = np.nan
+    return ic
+
+
+def _per_position(value, default, batch, n_in):
+    """A scalar, one value per input, or one per position → (B, n_in)."""
+    if value is None:
+        value = default[0] if len(default) == 1 else default
+    if isinstance(value, (int, float)) or np.ndim(value) == 0:  # one value for all (the usual case): filled
+        return np.full((batch, n_in), float(value))
+    arr = np.asarray(value, float)
+    if arr.ndim == 1 and n_in == 1:
+        arr = arr[:, None]
+    return np.broadcast_to(arr, (batch, n_in))
+
+
+CHUNK = 25_000  # positions solved at once: bounds the working memory of very long sweeps
+
+
+def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
+    """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
+    hold no solution, are dropped before anything is returned). The engine's compiled backend takes the
+    batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest."""
+    return dispatch(engine, "kinematics", _reference, np.asarray(phi, float), omega, epsilon)
+
+
+def _reference(engine: Engine, phi: np.ndarray, omega, epsilon) -> Motion:
+    """`analyse` by numpy: one batch, or chunks of a long sweep of one input."""
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        if len(engine.inputs) != 1 or phi.size <= CHUNK:
+            return _analyse(engine, phi, omega, epsilon)
+        return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon)
+
+
+def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
+    """A long sweep of one input in chunks of `CHUNK` positions, copied into arrays allocated once, so
+    that the peak memory is the result plus one chunk's work. Same answers as one batch: every position
+    is predicted from the same atlas and corrected on its own."""
+    batch = len(phi)
+    omega = _per_position(omega, [i.omega for i in engine.inputs], batch, 1)
+    epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, 1)
+    out, frames, fill, limits, crossings, first = {}, {}, 0, [], [], None
+    for start in range(0, batch, CHUNK):
+        part = slice(start, start + CHUNK)
+        m = _analyse(engine, phi[part], omega[part], epsilon[part])
+        if first is None:
+            first = m
+            for name, value in vars(m).items():
+                if isinstance(value, np.ndarray):
+                    out[name] = np.empty((batch,) + value.shape[1:], value.dtype)
+            aliases = {name: next((f for f in out if np.may_share_memory(value, getattr(m, f))), None)
+                       for name, value in m.frames.items()}  # frames["w"] is the array of wq, ...
+            frames = {name: np.empty((batch,) + value.shape[1:]) for name, value in m.frames.items()
+                      if aliases[name] is None}
+        n = len(m.phi)
+        for name, arr in out.items():
+            arr[fill:fill + n] = getattr(m, name)
+        for name, arr in frames.items():
+            arr[fill:fill + n] = m.frames[name]
+        fill += n
+        limits += [lim for lim in m.limits if not any(lim is seen for seen in limits)]
+        crossings += [c for c in m.crossings if not any(c is seen for seen in crossings)]
+        del m
+    fields = {name: arr[:fill] for name, arr in out.items()}
+    frames = {name: (fields[aliases[name]] if aliases[name] else frames[name][:fill]) for name in aliases}
+    return replace(first, **fields, requested=batch, limits=limits, frames=frames, crossings=crossings)
+
+
+def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
+    """Solve `phi` (SI; (B,) or (B, n_in)) and return the kinematics of the positions reached.
+
+    omega, epsilon: input speed and acceleration, scalars or per position (default: the model's).
+    With one input everything is computed once as analogues (d/dφ, d²/dφ²) and the real rates follow
+    by v = v_q·ω, a = a_q·ω² + v_q·ε.
+    """
+    n_in = len(engine.inputs)
+    phi = np.asarray(phi, float)
+    phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
+    return _motion(engine, engine.solve(phi), omega, epsilon)
+
+
+def positions_at_limits(engine: Engine, limits: list) -> Motion:
+    """The configurations at located motion limits (those with `Limit.q`, in that order) as a `Motion`:
+    exact positions, link angles and joint values where a sweep can only come within `H_MIN`. Every
+    rate and analogue is NaN: at a fold (dead point) the driven links' rates are infinite."""
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        m = _motion(engine, engine.solve_limits(limits), None, None)
+    for name in ("w", "e", "v", "a", "rate", "accel", "ic", "wq", "eq", "vq", "aq", "rate_q", "accel_q"):
+        if getattr(m, name) is not None:
+            setattr(m, name, np.full_like(getattr(m, name), np.nan))
+    m.frames = {name: (x if name in ("th", "r") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
+    return m
+
+
+def _motion(engine: Engine, sol, omega, epsilon) -> Motion:
+    """The kinematics of a solved batch (only its valid rows)."""
+    n_in = len(engine.inputs)
+    phi = sol.phi
+    batch = len(phi)
+    keep = slice(None) if sol.valid.all() else np.flatnonzero(sol.valid)
+    omega = _per_position(omega, [i.omega for i in engine.inputs], batch, n_in)
+    epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, n_in)
+    th, c, s, r = _link_states(engine, sol)
+    (names, links, at), joints = _tables(engine)
+    analog = n_in == 1
+    if analog:
+        engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
+        wq, vq_f, eq, aq_f = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        om, ep = omega[:, 0], epsilon[:, 0]
+        ep = ep if ep.any() else None  # constant input speed: x'' = x_qq ω²
+        w, e = _real(wq, eq, om, ep)
+        v, a = _real(vq_f, aq_f, om, ep)
+        xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)
+        pv, pa = _real(pvq, paq, om, ep)
+        value, rq, accq = _joint_values(joints, th, c, s, r, wq, vq_f, eq, aq_f)
+        rate, accel = _real(rq, accq, om, ep)
+    else:
+        engine.rates(sol, omega, epsilon)
+        w, v, e, a = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
+        value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
+    alpha = np.array([engine.reference_angle[n] for n in engine.links])
+    m = Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
+               link_names=list(engine.links), angle=(th.T + alpha)[keep], w=w.T[keep], e=e.T[keep],
+               point_names=names, xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep], vq=None, aq=None,
+               joint_names=list(engine.mech.joints), value=value.T[keep], rate=rate.T[keep],
+               accel=accel.T[keep], ic=_first(_instant_centres(r, v, w))[keep], requested=batch,
+               limits=sol.limits, frames={"th": th.T[keep], "r": _first(r)[keep]}, crossings=sol.crossings)
+    if analog:
+        m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
+        m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]
+        m.frames.update(w=wq.T[keep], v=_first(vq_f)[keep], e=eq.T[keep], a=_first(aq_f)[keep])
+    return m

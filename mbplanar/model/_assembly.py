@@ -1,0 +1,297 @@
+"""Exact drawn pose from a sketch: the step between the table and the engine.
+
+A table gives every joint and point in one drawn pose. When links carry exact dimensions (`lengths`) or
+the input states its value in the drawn pose (`drawn_at`), that pose is only a sketch. `assemble` finds
+the exact pose nearest to it: the unknowns are each moving link's placement (a small rigid motion about
+its centroid) and the link-fixed coordinates of the points that dimensions constrain; the equations are
+the joints (revolute: coincident points; prismatic: slider point on the guide, relative angle kept),
+the dimensions and the drawn input value. Minimum-norm Gauss-Newton from the sketch keeps the sketch's
+assembly mode (branch). The result is a `Mechanism` with `exact=True` whose coordinates the engine trusts.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from ..errors import ModelError, MotionError
+from ._model import Joint, Link, Mechanism, Point
+
+__all__ = ["assemble", "reference_points"]
+
+
+def _unit(deg):
+    return np.array([math.cos(math.radians(deg)), math.sin(math.radians(deg))])
+
+
+def _link_point_names(mech: Mechanism, link: str) -> dict[str, tuple[float, float]]:
+    """Named points of a link and their sketch coordinates: its joints, then points given by `at`."""
+    names = {j.name: j.at for j in mech.joints_of(link)}
+    names.update({p.name: p.at for p in mech.points.values() if p.link == link and p.at is not None})
+    return names
+
+
+def reference_points(mech: Mechanism, link: str) -> tuple[str, str] | None:
+    """The two points whose direction is the link's reported angle (None: use a guide or 0)."""
+    spec = mech.links[link].angle if link in mech.links else None
+    if spec is not None:
+        return spec
+    revolute = [j for j in mech.joints_of(link) if j.kind == "R"]
+    for k, first in enumerate(revolute):
+        for second in revolute[k + 1:]:
+            if math.dist(first.at, second.at) > 0:
+                return first.name, second.name
+    return None
+
+
+def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str, float]]:
+    where = f"{mech.source}: links '{link.name}'"
+    out = []
+    for p, q, value in link.lengths:
+        if p == "" and q == "":
+            revolute = [j.name for j in mech.joints_of(link.name) if j.kind == "R"]
+            if len(revolute) != 2:
+                raise ModelError(f"{where}: 'length' needs exactly two revolute joints on the link "
+                                 f"(it has {len(revolute)}); use lengths = [[P, Q, value], ...]")
+            p, q = revolute
+        for name in (p, q):
+            if name not in names:
+                raise ModelError(f"{where}: length {p}-{q}: '{name}' is not a joint or point of this link")
+        if p == q:
+            raise ModelError(f"{where}: length {p}-{q} joins a point to itself")
+        out.append((p, q, value))
+    return out
+
+
+def _check_references(mech: Mechanism):
+    for link in mech.links.values():
+        names = _link_point_names(mech, link.name)
+        where = f"{mech.source}: links '{link.name}'"
+        if link.angle is not None:
+            for name in link.angle:
+                if name not in names:
+                    raise ModelError(f"{where}: angle point '{name}' is not on this link")
+        if link.centre is not None and link.centre not in names and link.centre not in mech.points:
+            raise ModelError(f"{where}: centre '{link.centre}' is not a point of this link")
+        if link.centre is not None and link.centre in mech.points and mech.points[link.centre].link != link.name:
+            raise ModelError(f"{where}: centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'")
+    for j in mech.joints.values():
+        if j.kind == "P" and j.guide_points is not None:
+            names = _link_point_names(mech, j.carrier)
+            for name in j.guide_points:
+                if name not in names:
+                    raise ModelError(f"{mech.source}: joints '{j.name}': guide point '{name}' is not on "
+                                     f"its carrier link '{j.carrier}'")
+            a, b = (names[n] for n in j.guide_points)
+            if math.dist(a, b) == 0:
+                raise ModelError(f"{mech.source}: joints '{j.name}': guide points coincide")
+    for p in mech.points.values():
+        if p.along is not None:
+            names = _link_point_names(mech, p.link)
+            for name in p.along:
+                if name not in names:
+                    raise ModelError(f"{mech.source}: points '{p.name}': '{name}' is not a joint or "
+                                     f"point (with 'at') of link '{p.link}'")
+
+
+def _coincident(names: dict, tol: float) -> dict[str, str]:
+    """Points of one link drawn at the same place (within tol) are one material point: name → the first
+    such name (only for the names that have an earlier twin)."""
+    alias, firsts = {}, []
+    for name, xy in names.items():
+        twin = next((f for f in firsts if math.dist(names[f], xy) <= tol), None)
+        if twin is None:
+            firsts.append(name)
+        else:
+            alias[name] = twin
+    return alias
+
+
+class _Sketch:
+    """The assembly problem: unknown vector layout and residuals."""
+
+    def __init__(self, mech: Mechanism):
+        self.mech = mech
+        self.moving = mech.moving_links
+        self.scale = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
+                                   for b in mech.joints.values()])
+        self.local: dict[str, dict[str, np.ndarray]] = {}
+        self.centroid: dict[str, np.ndarray] = {}
+        self.alias: dict[str, dict[str, str]] = {}
+        for link in mech.all_links:
+            names = _link_point_names(mech, link)
+            self.local[link] = {n: np.array(xy, float) for n, xy in names.items()}
+            self.alias[link] = _coincident(names, 1e-12 * self.scale)
+            pts = np.array(list(names.values()) or [(0.0, 0.0)], float)
+            self.centroid[link] = pts.mean(axis=0)
+        self.lengths = [(link.name, self.alias[link.name].get(p, p), self.alias[link.name].get(q, q), value)
+                        for link in mech.links.values()
+                        for p, q, value in _resolve_lengths(mech, link, self.local[link.name])]
+        shape_points = sorted({(link, p) for link, p, q, _ in self.lengths}
+                              | {(link, q) for link, p, q, _ in self.lengths})
+        self.shape_index = {key: 3 * len(self.moving) + 2 * k for k, key in enumerate(shape_points)}
+        self.size = 3 * len(self.moving) + 2 * len(shape_points)
+
+    def initial(self) -> np.ndarray:
+        x = np.zeros(self.size)
+        for (link, name), k in self.shape_index.items():
+            x[k:k + 2] = self.local[link][name]
+        return x
+
+    def placement(self, x, link):
+        if link == self.mech.ground:
+            return (0.0, 0.0), 0.0
+        k = 3 * self.moving.index(link)
+        return x[k:k + 2], x[k + 2]
+
+    def local_point(self, x, link, name):
+        name = self.alias[link].get(name, name)
+        k = self.shape_index.get((link, name))
+        return x[k:k + 2] if k is not None else self.local[link][name]
+
+    def world(self, x, link, name):
+        """World coordinates of a link's point (plain floats: this runs thousands of times)."""
+        t, th = self.placement(x, link)
+        c = self.centroid[link]
+        p = self.local_point(x, link, name)
+        dx, dy = p[0] - c[0], p[1] - c[1]
+        cos, sin = math.cos(th), math.sin(th)
+        return np.array((c[0] + t[0] + cos * dx - sin * dy, c[1] + t[1] + sin * dx + cos * dy))
+
+    def direction(self, x, link, local_dir):
+        th = self.placement(x, link)[1]
+        cos, sin = math.cos(th), math.sin(th)
+        return np.array((cos * local_dir[0] - sin * local_dir[1], sin * local_dir[0] + cos * local_dir[1]))
+
+    def guide(self, x, j: Joint):
+        """(point on the line, unit direction) of a prismatic joint's guide, in the world."""
+        if j.guide_points is not None:
+            a = self.world(x, j.carrier, j.guide_points[0])
+            b = self.world(x, j.carrier, j.guide_points[1])
+            return a, (b - a) / np.linalg.norm(b - a)
+        return self.world(x, j.carrier, j.name), self.direction(x, j.carrier, _unit(j.guide_deg))
+
+    def link_angle(self, x, link):
+        if link == self.mech.ground:
+            return 0.0
+        ref = reference_points(self.mech, link)
+        if ref is not None:
+            d = self.world(x, link, ref[1]) - self.world(x, link, ref[0])
+            return math.atan2(d[1], d[0])
+        guide = next((j for j in self.mech.joints_of(link) if j.kind == "P"), None)
+        if guide is None:
+            return self.placement(x, link)[1]
+        d = self.guide(x, guide)[1]
+        return math.atan2(d[1], d[0])
+
+    def residuals(self, x) -> tuple[np.ndarray, list[str]]:
+        x = np.asarray(x, float).tolist()  # plain floats are faster than numpy scalars here
+        res, what = [], []
+        for j in self.mech.joints.values():
+            a, b = j.links
+            if j.kind == "R":
+                d = (self.world(x, a, j.name) - self.world(x, b, j.name)) / self.scale
+                res += list(d)
+                what += [f"joint '{j.name}'"] * 2
+            else:
+                point, u = self.guide(x, j)
+                d = self.world(x, j.slider, j.name) - point
+                res.append((u[0] * d[1] - u[1] * d[0]) / self.scale)
+                res.append(self.placement(x, j.slider)[1] - self.placement(x, j.carrier)[1])
+                what += [f"joint '{j.name}'"] * 2
+        for link, p, q, value in self.lengths:
+            a, b = self.local_point(x, link, p), self.local_point(x, link, q)
+            res.append((math.hypot(b[0] - a[0], b[1] - a[1]) - value) / self.scale)
+            what.append(f"length {p}-{q} of link '{link}'")
+        for inp in self.mech.inputs:
+            if inp.drawn_at is None:
+                continue
+            j = self.mech.joints[inp.joint]
+            target = inp.joint_value(inp.to_si(inp.drawn_at))
+            if j.kind == "R":
+                rel = self.link_angle(x, j.links[1]) - self.link_angle(x, j.links[0]) - target
+                res.append(math.remainder(rel, 2 * math.pi))
+                what.append(f"input '{inp.joint}' at drawn_at = {inp.drawn_at:g}")
+        return np.array(res), what
+
+    def jacobian(self, x) -> np.ndarray:
+        h = 1e-7
+        cols = []
+        for k in range(self.size):
+            e = np.zeros(self.size)
+            e[k] = h
+            cols.append((self.residuals(x + e)[0] - self.residuals(x - e)[0]) / (2 * h))
+        return np.array(cols).T
+
+
+def _gauss_newton(sketch: _Sketch, tol=1e-13, max_iter=60):
+    x = sketch.initial()
+    res, what = sketch.residuals(x)
+    for _ in range(max_iter):
+        if not res.size or np.max(np.abs(res)) < tol:
+            return x, res, what, True
+        step = np.linalg.lstsq(sketch.jacobian(x), -res, rcond=1e-12)[0]
+        # a damped step keeps the nearest solution when the sketch is far off
+        for damping in (1.0, 0.5, 0.25, 0.125):
+            trial = x + damping * step
+            trial_res = sketch.residuals(trial)[0]
+            if np.linalg.norm(trial_res) < np.linalg.norm(res) or damping == 0.125:
+                break
+        x, res = trial, trial_res
+    return x, res, what, bool(not res.size or np.max(np.abs(res)) < 1e-10)
+
+
+def _construct_along(p: Point, a, b) -> tuple[float, float]:
+    d = b - a
+    length = float(np.hypot(*d))
+    if length == 0:
+        raise ModelError(f"points '{p.name}': the two points of 'along' coincide")
+    u = d / length
+    dist = p.distance if p.distance is not None else p.fraction * length
+    xy = a + dist * u + p.offset * np.array([-u[1], u[0]])
+    return (float(xy[0]), float(xy[1]))
+
+
+def assemble(mech: Mechanism) -> Mechanism:
+    """Return the exact drawn pose of `mech` (a new `Mechanism` with `exact=True`).
+
+    Raises `MotionError` when the dimensions cannot be met near the sketch, naming the worst joint or
+    length, and `ModelError` for dimensions that name points not on their link.
+    """
+    if mech.exact:
+        return mech
+    _check_references(mech)
+    sketch = _Sketch(mech)
+    x, res, what, ok = _gauss_newton(sketch)
+    if not ok:
+        worst = int(np.argmax(np.abs(res)))
+        raise MotionError(f"{mech.source}: the drawn pose cannot be assembled with the given dimensions "
+                          f"and input: {what[worst]} misses by {abs(res[worst]) * sketch.scale:.3g} "
+                          f"(check the lengths and the sketch)")
+    joints = {}
+    for j in mech.joints.values():
+        at = sketch.world(x, j.slider if j.kind == "P" else j.links[0], j.name)
+        guide = None
+        if j.kind == "P":
+            u = sketch.guide(x, j)[1]
+            guide = math.degrees(math.atan2(u[1], u[0]))
+        joints[j.name] = replace(j, at=(float(at[0]), float(at[1])), guide_deg=guide)
+    exact_at = {name: np.array(j.at) for name, j in joints.items()}
+    points = {}
+    for p in mech.points.values():
+        if p.at is not None:
+            xy = sketch.world(x, p.link, p.name)
+            points[p.name] = replace(p, at=(float(xy[0]), float(xy[1])))
+            exact_at[p.name] = xy
+    for p in mech.points.values():
+        if p.along is not None:
+            a, b = (exact_at.get(n) for n in p.along)
+            points[p.name] = Point(p.name, p.link, _construct_along(p, a, b))
+            exact_at[p.name] = np.array(points[p.name].at)
+    links = {name: replace(link, lengths=()) for name, link in mech.links.items()}
+    correction = max((math.dist(joints[n].at, j.at) for n, j in mech.joints.items()), default=0.0)
+    extras = dict(mech.extras)
+    extras["_assembly_correction"] = correction
+    return replace(mech, links=links, joints=joints, points=points, exact=True, extras=extras)

@@ -1,0 +1,219 @@
+"""Topology of a mechanism: the link–joint graph, its mobility, its loops and its solving blocks.
+
+The engine solves a mechanism block by block. A block is a set of links whose pose follows from the
+links solved before it (ground, input links, earlier blocks). Inside a block a spanning tree hangs every
+link on a known link through one joint (its tree joint, whose variable is an unknown or, for a driving
+joint, an input); the block's other joints are cut joints whose closure gives its equations. With the
+Assur decomposition (`mbplanar.structure.decompose`) every group is a block; the single global block is kept as a
+cross-check and fallback.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import networkx as nx
+
+from ..errors import ModelError
+from ..model._model import Mechanism
+
+__all__ = ["TreeJoint", "Block", "Topology", "analyse_topology"]
+
+
+@dataclass(frozen=True)
+class TreeJoint:
+    """A tree joint: it places `child` from the already placed `parent`."""
+
+    joint: str
+    parent: str
+    child: str
+    input: int | None  # index of the input driving it, None if its variable is unknown
+
+
+@dataclass(frozen=True)
+class Block:
+    """Links solved together: their tree joints (in placing order) and the cut joints that close them."""
+
+    links: tuple[str, ...]
+    tree: tuple[TreeJoint, ...]
+    cuts: tuple[str, ...]
+    group: object = None  # the AssurGroup it came from, if any
+
+    @property
+    def unknowns(self) -> tuple[TreeJoint, ...]:
+        return tuple(t for t in self.tree if t.input is None)
+
+
+@dataclass(frozen=True)
+class Topology:
+    dof: int
+    loops: tuple[tuple[str, ...], ...]  # independent loops, each as its joints in order
+    blocks: tuple[Block, ...]
+    structure: object = None  # mbplanar.structure.Structure when the decomposition succeeded
+
+
+def link_joint_graph(mech: Mechanism) -> nx.Graph:
+    """Bipartite graph: a node per link ('L', name) and per joint ('J', name)."""
+    g = nx.Graph()
+    for link in mech.all_links:
+        g.add_node(("L", link))
+    for j in mech.joints.values():
+        g.add_edge(("J", j.name), ("L", j.links[0]))
+        g.add_edge(("J", j.name), ("L", j.links[1]))
+    return g
+
+
+def mobility(mech: Mechanism) -> int:
+    """Chebyshev–Grübler: W = 3n − 2p for n moving links and p lower pairs."""
+    return 3 * len(mech.moving_links) - 2 * len(mech.joints)
+
+
+def independent_loops(mech: Mechanism) -> tuple[tuple[str, ...], ...]:
+    basis = nx.cycle_basis(link_joint_graph(mech), ("L", mech.ground))
+    return tuple(tuple(name for kind, name in cycle if kind == "J") for cycle in basis)
+
+
+def _check_connected(mech: Mechanism, g: nx.Graph):
+    reached = nx.node_connected_component(g, ("L", mech.ground))
+    lost = [link for link in mech.moving_links if ("L", link) not in reached]
+    if lost:
+        raise ModelError(f"{mech.source}: link(s) {', '.join(lost)} not connected to the ground "
+                         f"'{mech.ground}' through any joint")
+
+
+def _check_dof(mech: Mechanism, dof: int):
+    n, p = len(mech.moving_links), len(mech.joints)
+    if dof != len(mech.inputs):
+        why = (f"DOF = 3·n − 2·p = 3·{n} − 2·{p} = {dof} (n moving links, p pairs), but the table has "
+               f"{len(mech.inputs)} input(s)")
+        if dof <= 0:
+            why += ": the chain is rigid or over-constrained (a missing link, or a joint too many?)"
+        else:
+            why += ": give one input per degree of freedom (or a missing joint?)"
+        raise ModelError(f"{mech.source}: {why}")
+
+
+def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
+    """Spanning tree of `links` hung on the `known` links: driving joints first, then revolute, then
+    prismatic ones (Kruskal on a union-find where every known link is one node)."""
+    links = list(links)
+    inside = set(links)
+    input_index = {inp.joint: k for k, inp in enumerate(mech.inputs)}
+    joints = [j for j in mech.joints.values()
+              if (j.links[0] in inside or j.links[1] in inside)
+              and all(link in inside or link in known for link in j.links)]
+    joints.sort(key=lambda j: (j.name not in input_index, j.kind != "R"))
+    KNOWN = "<known>"
+    root = {link: link for link in links}
+    root[KNOWN] = KNOWN
+
+    def find(link):
+        if link in known:
+            return KNOWN
+        while root[link] != link:
+            root[link] = root[root[link]]
+            link = root[link]
+        return link
+
+    tree_edges, cuts = [], []
+    for j in joints:
+        a, b = find(j.links[0]), find(j.links[1])
+        if a == b:
+            if j.name in input_index:
+                raise ModelError(f"{mech.source}: driving joint '{j.name}' closes a loop of links whose "
+                                 f"motion is already fixed: the inputs are redundant")
+            cuts.append(j.name)
+        else:
+            tree_edges.append(j)
+            if a == KNOWN:
+                root[b] = KNOWN
+            else:
+                root[a] = b
+    # orient the tree edges outward from the known links, in placing order
+    placed, tree, pending = set(known), [], list(tree_edges)
+    while pending:
+        progress = False
+        for j in list(pending):
+            a, b = j.links
+            if (a in placed) != (b in placed):
+                parent, child = (a, b) if a in placed else (b, a)
+                tree.append(TreeJoint(j.name, parent, child, input_index.get(j.name)))
+                placed.add(child)
+                pending.remove(j)
+                progress = True
+        if not progress:
+            break
+    unplaced = [link for link in links if link not in placed]
+    if unplaced:
+        raise ModelError(f"{mech.source}: link(s) {', '.join(unplaced)} cannot be reached from the ground "
+                         f"through the joints")
+    return Block(tuple(links), tuple(tree), tuple(cuts), group)
+
+
+def _driven_links(mech: Mechanism) -> list[str]:
+    """Links driven straight from the ground by an input joint (class I mechanisms)."""
+    out = []
+    for inp in mech.inputs:
+        a, b = mech.joints[inp.joint].links
+        if mech.ground in (a, b):
+            out.append(b if a == mech.ground else a)
+    return out
+
+
+def global_blocks(mech: Mechanism) -> tuple[Block, ...]:
+    """Input links as one block, every other link in one global block."""
+    driven = _driven_links(mech)
+    known = {mech.ground}
+    blocks = []
+    if driven:
+        blocks.append(build_block(mech, driven, known))
+        known |= set(driven)
+    rest = [link for link in mech.moving_links if link not in known]
+    if rest:
+        blocks.append(build_block(mech, rest, known))
+    return tuple(blocks)
+
+
+def group_blocks(mech: Mechanism, structure) -> tuple[Block, ...]:
+    """A block for the input links, then one per Assur group in solving order."""
+    driven = [link for link in structure.input_links]
+    known = {mech.ground}
+    blocks = []
+    if driven:
+        blocks.append(build_block(mech, driven, known))
+        known |= set(driven)
+    for group in structure.groups:
+        blocks.append(build_block(mech, group.links, known, group))
+        known |= set(group.links)
+    return tuple(blocks)
+
+
+def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
+    """Check the link–joint graph and split the mechanism into solving blocks.
+
+    `grouped=True` uses the Assur groups when the structure module can decompose the mechanism,
+    else (or with `grouped=False`) one global block after the input links.
+    """
+    g = link_joint_graph(mech)
+    _check_connected(mech, g)
+    dof = mobility(mech)
+    _check_dof(mech, dof)
+    loops = independent_loops(mech)
+    structure = None
+    try:
+        from ._assur import decompose
+    except ImportError:  # structure module not available
+        decompose = None
+    if decompose is not None:
+        joints = [(j.name, j.kind, j.links[0], j.links[1]) for j in mech.joints.values()]
+        structure = decompose(mech.ground, mech.moving_links, joints, [i.joint for i in mech.inputs])
+    if grouped and structure is not None:
+        blocks = group_blocks(mech, structure)
+    else:
+        blocks = global_blocks(mech)
+    for block in blocks:
+        equations, unknowns = 2 * len(block.cuts), len(block.unknowns)
+        if equations != unknowns:
+            raise ModelError(f"{mech.source}: links {', '.join(block.links)} give {equations} closure "
+                             f"equations for {unknowns} unknowns: the chain is over- or under-constrained")
+    return Topology(dof, loops, blocks, structure)

@@ -1,0 +1,153 @@
+"""Animation of a cycle that plays in a browser without network: inline SVG + a few lines of inline JS.
+
+`svg_animation(engine, frames)` returns an SVG element (a string) whose shapes are moved by a small
+script from a JSON table of positions: the same `Scene` as the matplotlib diagram, so the drawing
+conventions agree (hatched ground pivots and guides, bars, polygons, blocks, pins). No matplotlib
+needed. `write_html_animation` wraps it into a one-file HTML page; `mbplanar.viz.write_gif` makes
+the GIF.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+
+import numpy as np
+
+from ._scene import build_scene
+
+__all__ = ["svg_animation", "html_animation", "write_html_animation"]
+
+_SCRIPT = """
+(function(){
+  var root=document.getElementById('%(id)s'); var D=JSON.parse(root.querySelector('script[type="application/json"]').textContent);
+  var els=D.shapes.map(function(s){return root.querySelector('[data-k="'+s+'"]');});
+  var n=D.frames, i=0, playing=true, last=0, slider=root.parentNode.querySelector('input[type=range]');
+  var btn=root.parentNode.querySelector('button'), out=root.parentNode.querySelector('output');
+  function show(f){ for(var k=0;k<els.length;k++){ var c=D.xy[k][f], e=els[k];
+      if(e.tagName==='circle'){e.setAttribute('cx',c[0]);e.setAttribute('cy',c[1]);}
+      else if(e.tagName==='text'){e.setAttribute('x',c[0]);e.setAttribute('y',-c[1]);}
+      else {var p=[];for(var j=0;j<c.length;j+=2)p.push(c[j]+','+c[j+1]);e.setAttribute('points',p.join(' '));}}
+    if(slider)slider.value=f; if(out)out.textContent=D.phi[f]; }
+  function tick(t){ if(playing&&t-last>1000/D.fps){last=t;i=(i+1)%%n;show(i);} requestAnimationFrame(tick);}
+  if(slider)slider.addEventListener('input',function(){playing=false;i=+slider.value;show(i);btn.textContent='play';});
+  if(btn)btn.addEventListener('click',function(){playing=!playing;btn.textContent=playing?'pause':'play';});
+  show(0); requestAnimationFrame(tick);
+})();
+"""
+
+
+def _num(x):
+    return float(f"{x:.5g}")
+
+
+def _flat(arr):
+    """(B, n, 2) → per frame a flat list [x0, y0, x1, y1, ...] rounded to 5 digits."""
+    return [[_num(v) for v in frame.reshape(-1)] for frame in np.asarray(arr)]
+
+
+def _pts(xy):
+    return " ".join(f"{_num(x)},{_num(y)}" for x, y in np.asarray(xy).reshape(-1, 2))
+
+
+def _hatch(a, b, normal, step, depth):
+    a, b, normal = np.asarray(a, float), np.asarray(b, float), np.asarray(normal, float)
+    u = (b - a) / max(np.linalg.norm(b - a), 1e-12)
+    n = max(int(np.linalg.norm(b - a) / step), 2)
+    out = [f'<polyline points="{_pts([a, b])}" stroke-width="{depth * 0.35:.4g}"/>']
+    for t in np.linspace(0, 1, n + 1)[1:]:
+        p = a + t * (b - a)
+        out.append(f'<polyline points="{_pts([p, p + depth * normal - depth * u])}"/>')
+    return out
+
+
+def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str = "mbanim", trajectories=True,
+                  width: int = 640) -> str:
+    """An inline SVG (with its player: play/pause, a position slider) animating `frames` positions."""
+    from ._plotting import cycle_motion  # matplotlib-free part of plotting
+    motion = cycle_motion(engine, frames)
+    sc = build_scene(engine, motion, motion)
+    size = sc.size
+    x0, x1, y0, y1 = sc.extent()
+    lw = 0.012 * size
+    static, moving, shapes, xy = [], [], [], []
+
+    def dyn(tag, arr, attrs):
+        k = f"s{len(shapes)}"
+        shapes.append(k)
+        xy.append(_flat(arr) if tag != "circle" else [[_num(v) for v in f] for f in np.asarray(arr)])
+        moving.append(f'<{tag} data-k="{k}" {attrs}/>' if tag != "text" else f'<text data-k="{k}" {attrs}</text>')
+
+    if trajectories:
+        from ._plotting import COLORS, _point_xy, moving_points
+        for k, name in enumerate(moving_points(engine, sc)):
+            static.append(f'<polyline points="{_pts(_point_xy(sc, name))}" fill="none" '
+                          f'stroke="{COLORS[k % len(COLORS)]}" stroke-width="{lw * 0.35:.4g}" opacity="0.8"/>')
+    for s in sc.sliders:
+        g = s.guide[0]
+        if s.grounded:
+            u = (g[1] - g[0]) / np.linalg.norm(g[1] - g[0])
+            n = np.array([-u[1], u[0]])
+            if n[1] > 1e-9 or (abs(n[1]) <= 1e-9 and n[0] > 0):
+                n = -n
+            off = 0.032 * size * n
+            static.append(f'<polyline points="{_pts(g)}" stroke-width="{lw * 0.3:.4g}" '
+                          f'stroke-dasharray="{size * 0.03:.4g} {size * 0.01:.4g}"/>')
+            static += _hatch(g[0] + off, g[1] + off, n, 0.022 * size, 0.025 * size)
+        else:
+            dyn("polyline", s.guide, f'stroke-width="{lw * 0.8:.4g}" stroke-linecap="round"')
+    for name in sc.pivots:
+        x, y = sc.joint_xy[0, sc.joint_names.index(name)]
+        h, w = 0.055 * size, 0.032 * size
+        static.append(f'<polygon points="{_pts([[x, y], [x - w, y - h], [x + w, y - h]])}" fill="white"/>')
+        static += _hatch((x - 1.6 * w, y - h), (x + 1.6 * w, y - h), (0, -1), 0.35 * w, 0.45 * w)
+    for link in sc.links:
+        if link.kind == "bar":
+            dyn("polyline", link.outline, f'stroke-width="{lw:.4g}" stroke-linecap="round"')
+            for m in range(link.stubs.shape[1]):
+                dyn("polyline", link.stubs[:, m], f'stroke-width="{lw * 0.8:.4g}" stroke-linecap="round"')
+        elif link.kind == "polygon":
+            dyn("polygon", link.outline, f'fill="#cfe0f3" stroke-width="{lw * 0.75:.4g}" stroke-linejoin="round"')
+    for s in sc.sliders:
+        dyn("polygon", s.corners, f'fill="#f3e3c3" stroke-width="{lw * 0.5:.4g}"')
+    for name in sc.revolute:
+        dyn("circle", sc.joint_xy[:, sc.joint_names.index(name)], f'r="{0.016 * size:.4g}" fill="white" '
+            f'stroke-width="{lw * 0.4:.4g}"')
+    for k, name in enumerate(sc.point_names):
+        dyn("circle", sc.point_xy[:, k], f'r="{0.009 * size:.4g}" fill="#1a1a1a"')
+    for name in sc.joint_names:
+        if sc.labels.get(name):
+            dyn("text", sc.joint_xy[:, sc.joint_names.index(name)] + 0.025 * size,
+                f'font-style="italic">{html.escape(name)}')
+    for link in sc.links:
+        if np.all(np.isfinite(link.label)):
+            dyn("text", link.label, f'font-weight="bold" fill="#1f4e8c" text-anchor="middle" '
+                f'dominant-baseline="middle">{html.escape(link.name)}')
+    inp = engine.inputs[0]
+    data = {"shapes": shapes, "xy": xy, "frames": sc.batch, "fps": fps,
+            "phi": [f"{inp.name} = {inp.from_si(p):.2f} {inp.unit}" for p in motion.phi[:, 0]]}
+    texts = [m for m in moving if m.startswith("<text")]
+    shapes_svg = [m for m in moving if not m.startswith("<text")]
+    height = int(width * (y1 - y0) / (x1 - x0))
+    return (f'<div class="mbanim"><svg id="{element_id}" width="{width}" '
+            f'height="{height}" viewBox="{_num(x0)} {_num(-y1)} {_num(x1 - x0)} {_num(y1 - y0)}">'
+            f'<script type="application/json">{json.dumps(data, separators=(",", ":"))}</script>'
+            f'<g transform="scale(1,-1)" stroke="#1a1a1a" fill="none" stroke-width="{lw * 0.3:.4g}">'
+            + "".join(static) + "".join(shapes_svg) + "</g>"
+            f'<g font-family="sans-serif" font-size="{0.045 * size:.4g}" fill="#1a1a1a">' + "".join(texts)
+            + "</g></svg><div><button type=\"button\">pause</button> "
+            f'<input type="range" min="0" max="{sc.batch - 1}" value="0" style="width:60%"> <output></output>'
+            f"</div><script>{_SCRIPT % {'id': element_id}}</script></div>")
+
+
+def html_animation(engine, frames: int = 72, **kw) -> str:
+    """A one-file HTML page with the animation (no external resource)."""
+    title = html.escape(engine.mech.title or engine.mech.name)
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + title +
+            "</title><style>body{font-family:sans-serif;margin:1.5em}</style></head><body><h1>" + title +
+            "</h1>" + svg_animation(engine, frames, **kw) + "</body></html>\n")
+
+
+def write_html_animation(engine, path, frames: int = 72, **kw):
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(html_animation(engine, frames, **kw))

@@ -1,0 +1,682 @@
+"""Pictures of a mechanism with matplotlib: the kinematic diagram (optionally with velocity and
+acceleration vectors, reaction arrows, instantaneous centres), trajectories, plots against the
+generalized coordinate, GIF animation. The force pictures live in `mbplanar.viz._forceplots`.
+
+matplotlib (the optional extra `mbplanar[plot]`) is imported only when a picture is asked for, with the
+Agg backend; without it `require_matplotlib` raises `PlotUnavailable` (CLI exit 2) saying how to install it.
+
+Figures are registered in `FIGURES` (WHAT → `Figure(function, help)`): every function takes
+`(engine, at=None, **options)` and returns a matplotlib Figure; `at` is the generalized coordinate in the
+model's unit (default: the drawn pose). Other modules add their pictures (e.g. dynamics) with
+`register_figure(name, function, help)`; `mbplanar plot MODEL WHAT` picks them up.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from ..errors import MbplanarError, ModelError, MotionError
+from ..kinematics._motion import describe_limit
+from ._scene import build_scene
+
+__all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure",
+           "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
+           "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
+           "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
+           "forces_figure", "transmission_angles", "pressure_angles", "moving_points", "write_gif",
+           "figure_bytes", "SHOW", "show_options", "input_speed"]
+
+INK = "#1a1a1a"
+LINK_FILL = "#cfe0f3"
+BLOCK_FILL = "#f3e3c3"
+COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
+          "#7f7f7f", "#bcbd22"]
+
+
+class PlotUnavailable(MbplanarError):
+    """matplotlib / Pillow are not installed."""
+
+    exit_code = 2
+
+
+def require_matplotlib():
+    """Import matplotlib with the Agg backend (no display needed); `PlotUnavailable` if it is missing."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg", force=True)
+        import matplotlib.pyplot as plt
+    except ImportError as exc:
+        raise PlotUnavailable("pictures need matplotlib and Pillow: pip install mbplanar[plot]") from exc
+    return plt
+
+
+# -- positions to draw --------------------------------------------------------------------------------
+def _full_turn(engine) -> bool:
+    inp = engine.inputs[0]
+    lo, hi = inp.default_sweep()
+    return inp.unit in ("deg", "rad") and abs(inp.to_si(hi - lo)) >= 2 * math.pi - 1e-9
+
+
+def cycle_values(engine, count: int = 72) -> np.ndarray:
+    """`count` input values (SI) over the model's sweep; a full turn leaves out its repeated end."""
+    if len(engine.inputs) != 1:
+        raise ModelError(f"{engine.mech.source}: pictures drive one input; this model has several")
+    if count < 1:
+        raise ModelError("the number of positions must be at least 1")
+    inp = engine.inputs[0]
+    lo, hi = inp.default_sweep()
+    return inp.to_si(np.linspace(lo, hi, count, endpoint=not _full_turn(engine) or count == 1))
+
+
+def cycle_motion(engine, count: int = 72):
+    """Kinematics over the cycle at the model's speed; the positions up to a motion limit if there is one.
+
+    If the drawn branch ends before the sweep does, the `count` positions are spread over the part that
+    is reached (so an animation still has `count` frames). MotionError if not even one position is.
+    """
+    from ..kinematics._motion import analyse
+    values = cycle_values(engine, count)
+    motion = analyse(engine, values)
+    if motion.success:
+        return motion
+    if len(motion.phi) == 0:
+        raise MotionError(f"{engine.mech.source}: no position of the sweep can be reached: {motion.message}")
+    lo, hi = float(motion.phi[0, 0]), float(motion.phi[-1, 0])
+    fine = analyse(engine, np.linspace(lo, hi, count))
+    fine.limits = motion.limits
+    return fine
+
+
+def position_motion(engine, at=None):
+    """Kinematics at one position: `at` in the model's unit, default the drawn pose."""
+    from ..kinematics._motion import analyse
+    inp = engine.inputs[0]
+    phi = engine.phi_drawn[0] if at is None else inp.to_si(float(at))
+    motion = analyse(engine, np.array([phi]))
+    if not motion.success:
+        where = inp.from_si(phi)
+        raise MotionError(f"{engine.mech.source}: cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}")
+    return motion
+
+
+def _coordinate(engine, phi_si):
+    """Input values in the model's unit for plot axes, and the axis label."""
+    inp = engine.inputs[0]
+    return inp.from_si(np.asarray(phi_si)), f"{inp.name} [{inp.unit}]"
+
+
+def moving_points(engine, scene) -> list:
+    """Names of the points worth plotting: moving, one per place (coincident pairs once)."""
+    names = [n for n in scene.joint_names if scene.labels.get(n) and n not in scene.pivots]
+    names = [n for n in names if np.ptp(scene.joint_xy[:, scene.joint_names.index(n)], axis=0).max()
+             > 1e-9 * scene.size or scene.batch == 1]
+    return names + list(scene.point_names)
+
+
+def _point_xy(scene, name):
+    if name in scene.joint_names:
+        return scene.joint_xy[:, scene.joint_names.index(name)]
+    return scene.point_xy[:, scene.point_names.index(name)]
+
+
+# -- drawing the mechanism --------------------------------------------------------------------------
+def _hatch_line(ax, a, b, normal, step, depth, gid, lw=1.0):
+    """A base line a–b with short slanted strokes on the side of `normal` (the ground symbol)."""
+    a, b, normal = np.asarray(a, float), np.asarray(b, float), np.asarray(normal, float)
+    ax.plot([a[0], b[0]], [a[1], b[1]], color=INK, lw=lw * 1.4, solid_capstyle="butt", gid=gid, zorder=2)
+    length = np.linalg.norm(b - a)
+    u = (b - a) / max(length, 1e-12)
+    n = max(int(length / step), 2)
+    starts = a + np.outer(np.linspace(0, 1, n + 1)[1:], b - a)
+    ends = starts + depth * normal - depth * u
+    segs = np.stack((starts, ends), axis=1)
+    from matplotlib.collections import LineCollection
+    ax.add_collection(LineCollection(segs, colors=INK, linewidths=lw * 0.8, zorder=2, gid=gid))
+
+
+def _ground_pivot(ax, p, size, name):
+    """Ground revolute pair: a triangle under the pin with a hatched base."""
+    h, w = 0.055 * size, 0.032 * size
+    x, y = p
+    from matplotlib.patches import Polygon
+    ax.add_patch(Polygon([[x, y], [x - w, y - h], [x + w, y - h]], closed=True, fc="white", ec=INK, lw=1.2,
+                         zorder=3, gid=f"pivot:{name}"))
+    _hatch_line(ax, (x - 1.6 * w, y - h), (x + 1.6 * w, y - h), (0, -1), 0.35 * w, 0.45 * w, f"pivot:{name}")
+
+
+def draw_mechanism(ax, scene, b: int = 0, *, labels: bool = True, alpha: float = 1.0, ghost: bool = False):
+    """Draw position `b` of a Scene on `ax` in the conventions of mechanism drawings.
+
+    Artists carry gids: 'joint:NAME' (revolute pair markers, data = its centre), 'slider:NAME' (block
+    polygons), 'guide:NAME', 'link:NAME', 'pivot:NAME', 'point:NAME'. `ghost`: thin grey lines only (for
+    other positions drawn behind the main one).
+    """
+    from matplotlib.patches import Polygon
+    size = scene.size
+    ink = "#9a9a9a" if ghost else INK
+    lw_bar = 1.0 if ghost else 2.6
+    r_pin = 0.016 * size
+    for s in scene.sliders:  # guides first: the carrier holds them
+        g = s.guide[b]
+        if s.grounded and not ghost:
+            u = (g[1] - g[0]) / np.linalg.norm(g[1] - g[0])
+            n = np.array([-u[1], u[0]])
+            if n[1] > 1e-9 or (abs(n[1]) <= 1e-9 and n[0] > 0):
+                n = -n
+            off = 0.032 * size * n
+            ax.plot(g[:, 0], g[:, 1], color=ink, lw=0.8, ls=(0, (8, 3, 1, 3)), zorder=1, gid=f"guide:{s.joint}")
+            _hatch_line(ax, g[0] + off, g[1] + off, n, 0.022 * size, 0.025 * size, f"guide:{s.joint}")
+        elif not s.grounded:
+            ax.plot(g[:, 0], g[:, 1], color=ink, lw=lw_bar * 0.8, alpha=alpha, zorder=3, gid=f"guide:{s.joint}",
+                    solid_capstyle="round")
+    for k, link in enumerate(scene.links):
+        out = link.outline[b]
+        color = COLORS[k % len(COLORS)]
+        if link.kind == "bar":
+            ax.plot(out[:, 0], out[:, 1], color=ink, lw=lw_bar, alpha=alpha, solid_capstyle="round", zorder=3,
+                    gid=f"link:{link.name}")
+            for st in link.stubs[b]:
+                ax.plot(st[:, 0], st[:, 1], color=ink, lw=lw_bar * 0.8, alpha=alpha, solid_capstyle="round",
+                        zorder=3, gid=f"link:{link.name}")
+        elif link.kind == "polygon":
+            ax.add_patch(Polygon(out, closed=True, fc="none" if ghost else LINK_FILL, ec=ink, lw=lw_bar * 0.75,
+                                 alpha=alpha, zorder=3, joinstyle="round", gid=f"link:{link.name}"))
+        if labels and not ghost and np.all(np.isfinite(link.label[b])):
+            ax.text(*link.label[b], link.name, color=color, fontsize=11, fontweight="bold", ha="center",
+                    va="center", zorder=8, gid=f"linklabel:{link.name}")
+    for s in scene.sliders:
+        ax.add_patch(Polygon(s.corners[b], closed=True, fc="none" if ghost else BLOCK_FILL, ec=ink,
+                             lw=1.0 if ghost else 1.6, alpha=alpha, zorder=5, gid=f"slider:{s.joint}"))
+    if not ghost:
+        for name in scene.pivots:
+            _ground_pivot(ax, scene.joint_xy[b, scene.joint_names.index(name)], size, name)
+    for name in scene.revolute:
+        p = scene.joint_xy[b, scene.joint_names.index(name)]
+        ax.plot([p[0]], [p[1]], marker="o", ms=4 if ghost else 7.5, mfc="white", mec=ink, mew=1.4,
+                alpha=alpha, ls="none", zorder=7, gid=f"joint:{name}")
+    for k, name in enumerate(scene.point_names):
+        p = scene.point_xy[b, k]
+        if ghost:
+            continue
+        centre = name in scene.centres
+        ax.plot([p[0]], [p[1]], marker="o", ms=6.5 if centre else 4.5, mfc=INK, mec=INK,
+                mfcalt="white", fillstyle="left" if centre else "full", ls="none", zorder=7, gid=f"point:{name}")
+        if labels:
+            ax.annotate(name, p, xytext=(5, -11), textcoords="offset points", fontsize=8.5, color="#444",
+                        zorder=8)
+    if labels and not ghost:
+        for name in scene.joint_names:
+            text = scene.labels.get(name)
+            if text:
+                p = scene.joint_xy[b, scene.joint_names.index(name)]
+                ax.annotate(text, p, xytext=(6, 5), textcoords="offset points", fontsize=10, style="italic",
+                            zorder=8, gid=f"jointlabel:{name}")
+    del r_pin
+
+
+def _frame_axes(ax, scene, title=None):
+    x0, x1, y0, y1 = scene.extent()
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for spine in ax.spines.values():
+        spine.set_visible(False)
+    _scale_bar(ax, scene.size, (x0, x1, y0, y1))
+    if title:
+        ax.set_title(title, fontsize=11)
+
+
+def _scale_bar(ax, size, box):
+    """A scale bar of a round length in the lower-left corner."""
+    x0, x1, y0, y1 = box
+    target = 0.25 * size
+    length = 10 ** math.floor(math.log10(target))
+    length *= next(m for m in (5, 2, 1) if m * length <= target)
+    x, y = x0 + 0.03 * (x1 - x0), y0 + 0.03 * (y1 - y0)
+    ax.plot([x, x + length], [y, y], color=INK, lw=2, solid_capstyle="butt", gid="scalebar")
+    ax.text(x + length / 2, y + 0.012 * (y1 - y0), f"{length:g} m", ha="center", va="bottom", fontsize=8)
+
+
+def draw_trajectories(ax, scene, names=None, lw=1.1):
+    """Paths of points over the scene's positions (coupler curves), each named at its start."""
+    names = moving_points(None, scene) if names is None else names
+    for k, name in enumerate(names):
+        xy = _point_xy(scene, name)
+        closed = np.vstack([xy, xy[:1]]) if scene.batch > 2 else xy
+        ax.plot(closed[:, 0], closed[:, 1], color=COLORS[k % len(COLORS)], lw=lw, alpha=0.9, zorder=1.5,
+                gid=f"trajectory:{name}", label=name)
+
+
+def draw_vectors(ax, scene, motion, b, which="v", share=0.3):
+    """Velocity ('v') or acceleration ('a') vectors of the moving points at position `b`, one scale for
+    all, the longest `share`·size long; the scale is written in the corner."""
+    names = moving_points(None, scene)
+    vec = motion.v if which == "v" else motion.a
+    idx = [motion.point(n) for n in names]
+    p, q = motion.xy[b, idx], vec[b, idx]
+    big = float(np.max(np.linalg.norm(q, axis=-1))) if len(q) else 0.0
+    if not big > 0:
+        return 0.0
+    k = share * scene.size / big
+    color = "#c0392b" if which == "v" else "#2e86c1"
+    ax.quiver(p[:, 0], p[:, 1], q[:, 0] * k, q[:, 1] * k, angles="xy", scale_units="xy", scale=1, color=color,
+              width=0.004, zorder=9, gid=f"vectors:{which}")
+    include_points(ax, p + q * k, 0.05 * scene.size)
+    unit = "m/s" if which == "v" else "m/s²"
+    ax.plot([], [], color=color, lw=2, label=f"{'velocity' if which == 'v' else 'acceleration'}: "
+                                              f"{scene.size * share:.3g} m ≙ {big:.3g} {unit}")
+    return k
+
+
+def include_points(ax, xy, pad):
+    """Widen the axes' limits so that the points (n, 2) (e.g. arrow tips) are inside, `pad` beyond."""
+    xy = np.asarray(xy, float).reshape(-1, 2)
+    xy = xy[np.all(np.isfinite(xy), axis=1)]
+    if len(xy):
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        ax.set_xlim(min(x0, xy[:, 0].min() - pad), max(x1, xy[:, 0].max() + pad))
+        ax.set_ylim(min(y0, xy[:, 1].min() - pad), max(y1, xy[:, 1].max() + pad))
+
+
+def draw_instant_centres(ax, scene, motion, b, reach=1.5):
+    """Instantaneous centres P_k0 of the moving links (those within `reach` of the drawing's extent)."""
+    x0, x1, y0, y1 = scene.extent()
+    w, h = x1 - x0, y1 - y0
+    shown = []
+    for k, link in enumerate(motion.link_names[1:], start=1):
+        c = motion.ic[b, k]
+        if not np.all(np.isfinite(c)):
+            continue
+        if not (x0 - reach * w <= c[0] <= x1 + reach * w and y0 - reach * h <= c[1] <= y1 + reach * h):
+            continue
+        ax.plot([c[0]], [c[1]], marker="x", ms=8, mew=2, color="#8e44ad", ls="none", zorder=9,
+                gid=f"ic:{link}")
+        ax.annotate(f"P{link}0", c, xytext=(5, 5), textcoords="offset points", fontsize=9, color="#8e44ad")
+        shown.append(c)
+    if shown:
+        pts = np.array(shown)
+        ax.set_xlim(min(ax.get_xlim()[0], pts[:, 0].min() - 0.1 * w), max(ax.get_xlim()[1], pts[:, 0].max() + 0.1 * w))
+        ax.set_ylim(min(ax.get_ylim()[0], pts[:, 1].min() - 0.1 * h), max(ax.get_ylim()[1], pts[:, 1].max() + 0.1 * h))
+    return len(shown)
+
+
+def input_speed(engine) -> str:
+    """'ω = 7.645 rad/s, ε = 0 rad/s²' (a prismatic input: 'v = ... m/s, a = ... m/s²'): the model's."""
+    inp = engine.inputs[0]
+    if engine.mech.joints[inp.joint].kind == "R":
+        return f"ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s²"
+    return f"v = {inp.omega:g} m/s, a = {inp.epsilon:g} m/s²"
+
+
+def _title(engine, motion, b=0):
+    inp = engine.inputs[0]
+    value = inp.from_si(float(motion.phi[b, 0]))
+    return f"{engine.mech.title or engine.mech.name}\n{inp.name} = {value:.4g} {inp.unit}"
+
+
+def _figure(plt, figsize):
+    return plt.figure(figsize=figsize, layout="constrained")
+
+
+SHOW = {"velocities": "v", "accelerations": "a", "reactions": "reactions", "centres": "centres", "loads": "loads"}
+
+
+def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=False, loads=False, cycle=None,
+                   count=72, figsize=(7.5, 6.5)):
+    """Kinematic diagram at one position, at the model's input speed, with its springs, dampers and
+    torques between links; `vectors` ⊂ {'v', 'a'} adds velocity/acceleration vectors, `centres` the
+    instantaneous centres, `reactions` the reaction arrows (kinetostatics), `loads` the applied loads.
+    `count` positions of the cycle size the guides and the frame."""
+    plt = require_matplotlib()
+    motion = position_motion(engine, at)
+    cycle = cycle_motion(engine, count) if cycle is None else cycle
+    scene = build_scene(engine, motion, cycle)
+    fig = _figure(plt, figsize)
+    ax = fig.add_subplot()
+    draw_mechanism(ax, scene, 0)
+    title = _title(engine, motion) + (f", {input_speed(engine)}" if vectors or reactions else "")
+    _frame_axes(ax, build_scene(engine, cycle, cycle) if cycle is not None else scene, title)
+    from ._elementplots import draw_elements, draw_loads
+    draw_elements(ax, engine, motion, 0, scene.size)
+    if loads:
+        draw_loads(ax, engine, motion, 0, scene.size)
+    for which in vectors:
+        draw_vectors(ax, scene, motion, 0, which)
+    if centres:
+        draw_instant_centres(ax, scene, motion, 0)
+    if reactions:
+        from ._forceplots import draw_reactions
+        from ..forces._kinetostatics import kinetostatics
+        draw_reactions(ax, engine, kinetostatics(engine, motion), 0, scene.size)
+    if (vectors or reactions or loads) and ax.get_legend_handles_labels()[1]:
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
+    return fig
+
+
+def show_options(text: str | None) -> dict:
+    """`diagram_figure` options from a comma list of SHOW names ('velocities,reactions'; 'all')."""
+    names = [n.strip() for n in (text or "").split(",") if n.strip()]
+    names = list(SHOW) if names == ["all"] else names
+    bad = [n for n in names if n not in SHOW]
+    if bad:
+        raise ModelError(f"unknown --show item '{bad[0]}'; choose from: {', '.join(SHOW)} (or all)")
+    return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
+            "centres": "centres" in names, "reactions": "reactions" in names, "loads": "loads" in names}
+
+
+def vectors_figure(engine, at=None, **kw):
+    """Diagram with the velocity and acceleration vectors and the instantaneous centres."""
+    return diagram_figure(engine, at, vectors=("v", "a"), centres=True, **kw)
+
+
+def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5, 6.5)):
+    """Trajectories of the moving points (or of `points`: names of pairs and points) over the cycle,
+    drawn with the mechanism at `at` and, faint, at eight other positions."""
+    plt = require_matplotlib()
+    cycle = cycle_motion(engine, count)
+    whole = build_scene(engine, cycle, cycle)
+    known = whole.joint_names + whole.point_names
+    for name in points or ():
+        if name not in known:
+            raise ModelError(f"{engine.mech.source}: no point or pair '{name}' to trace; the model has: "
+                             f"{', '.join(known)}")
+    motion = position_motion(engine, at)
+    scene = build_scene(engine, motion, cycle)
+    fig = _figure(plt, figsize)
+    ax = fig.add_subplot()
+    for b in np.linspace(0, whole.batch - 1, 8, endpoint=False).astype(int):
+        draw_mechanism(ax, whole, b, labels=False, ghost=True, alpha=0.6)
+    draw_trajectories(ax, whole, points)
+    draw_mechanism(ax, scene, 0)
+    _frame_axes(ax, whole, "Trajectories over the cycle: " + _title(engine, motion))
+    ax.legend(loc="upper left", fontsize=8, frameon=False, ncols=2)
+    return fig
+
+
+def _link_series(motion):
+    return motion.link_names[1:], slice(1, None)
+
+
+def _xstep(engine, x) -> float | None:
+    """Tick spacing of a coordinate axis in degrees spanning half a turn or more: 90°."""
+    return 90.0 if engine.inputs[0].unit == "deg" and len(x) and np.ptp(x) >= 180 else None
+
+
+def lean_ticks(ax, xstep=None):
+    """Few ticks (at most about 5 per axis, x every `xstep`): cleaner small panels, and ticks are most of
+    what a multi-panel figure costs to draw."""
+    from matplotlib.ticker import MaxNLocator, MultipleLocator
+    steps = [1, 2, 2.5, 5, 10]
+    ax.xaxis.set_major_locator(MultipleLocator(xstep) if xstep else MaxNLocator(5, steps=steps))
+    ax.yaxis.set_major_locator(MaxNLocator(5, steps=steps))
+
+
+def _plot_lines(ax, x, ys, names, ylabel, xlabel, title, xstep=None):
+    lean_ticks(ax, xstep)
+    for k, (y, name) in enumerate(zip(ys, names)):
+        ax.plot(x, y, color=COLORS[k % len(COLORS)], lw=1.4, label=name)
+    if xlabel:
+        ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, alpha=0.3)
+    if names:
+        ax.legend(fontsize=7, ncols=2, frameon=False)
+
+
+def _series_panels(engine, motion, real: bool):
+    """(title, ylabel, names, values (n, B)) of the kinematic panels."""
+    scene = build_scene(engine, motion, motion)
+    links = motion.link_names[1:]
+    pts = moving_points(engine, scene)
+    idx = [motion.point(n) for n in pts]
+    sliders = [n for n in motion.joint_names if engine.mech.joints[n].kind == "P"]
+    jdx = [motion.joint(n) for n in sliders]
+    angles = np.degrees(np.unwrap(motion.angle[:, 1:], axis=0)).T
+    if real:
+        w, e, v, a = motion.w[:, 1:], motion.e[:, 1:], motion.v[:, idx], motion.a[:, idx]
+        sfx, wu, eu, vu, au = "", "rad/s", "rad/s²", "m/s", "m/s²"
+    else:
+        w, e, v, a = motion.wq[:, 1:], motion.eq[:, 1:], motion.vq[:, idx], motion.aq[:, idx]
+        sfx, wu, eu, vu, au = " analogue", "rad/rad", "rad/rad²", "m/rad", "m/rad²"
+    panels = [("Link angles", "angle [°]", links, angles)]
+    if sliders:
+        panels.append(("Slider displacements (from the drawn pose)", "s [m]", sliders,
+                       (motion.value[:, jdx] - np.array([engine.joint_value_drawn[n] for n in sliders])).T))
+    else:
+        panels.append(("Point coordinates", "x, y [m]", [f"{n}.{c}" for n in pts for c in "xy"],
+                       motion.xy[:, idx].reshape(len(motion.phi), -1).T))
+    panels += [(f"Angular velocity{sfx}", f"ω [{wu}]", links, w.T),
+               (f"Point speed{sfx}", f"|v| [{vu}]", pts, np.linalg.norm(v, axis=-1).T),
+               (f"Angular acceleration{sfx}", f"ε [{eu}]", links, e.T),
+               (f"Point acceleration{sfx}", f"|a| [{au}]", pts, np.linalg.norm(a, axis=-1).T)]
+    return panels
+
+
+def _panels_figure(engine, real, count, figsize):
+    plt = require_matplotlib()
+    motion = cycle_motion(engine, count)
+    if not real and motion.wq is None:
+        raise ModelError(f"{engine.mech.source}: analogues need a single input")
+    x, xlabel = _coordinate(engine, motion.phi[:, 0])
+    fig = _figure(plt, figsize)
+    axes = fig.subplots(3, 2, sharex=True)
+    for k, (ax, (title, ylabel, names, values)) in enumerate(zip(axes.flat, _series_panels(engine, motion, real))):
+        _plot_lines(ax, x, values, names, ylabel, xlabel if k >= 4 else None, title, _xstep(engine, x))
+    inp = engine.inputs[0]
+    what = f"real, at ω = {inp.omega:g} rad/s" if real else "analogues (d/dφ, d²/dφ²)"
+    limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
+    fig.suptitle(f"{engine.mech.title or engine.mech.name}: kinematics, {what}{limit}", fontsize=10)
+    return fig
+
+
+def kinematics_figure(engine, at=None, *, count=181, figsize=(10, 10)):
+    """Positions, real velocities and accelerations (at the model's input speed) over the cycle."""
+    return _panels_figure(engine, True, count, figsize)
+
+
+def analogues_figure(engine, at=None, *, count=181, figsize=(10, 10)):
+    """Positions and the analogues of velocities and accelerations (d/dφ, d²/dφ²) over the cycle."""
+    return _panels_figure(engine, False, count, figsize)
+
+
+def transmission_angles(engine, motion) -> dict:
+    """Transmission angle μ (°, 0…180, not folded) at every revolute pair P–J–Q inside an Assur group
+    (the pairs `mbplanar check` judges): the angle at J between the lines to P and Q.
+    {'μ at B (A–B–C)': (B,) array}."""
+    from ..analysis._check import transmission_triples
+    out = {}
+    for p, j, q in transmission_triples(engine):
+        mid = motion.xy[:, motion.point(j)]
+        a = motion.xy[:, motion.point(p)] - mid
+        c = motion.xy[:, motion.point(q)] - mid
+        cos = np.einsum("bi,bi->b", a, c) / (np.linalg.norm(a, axis=-1) * np.linalg.norm(c, axis=-1))
+        out[f"μ at {j} ({p}–{j}–{q})"] = np.degrees(np.arccos(np.clip(cos, -1, 1)))
+    return out
+
+
+def pressure_angles(engine, motion) -> dict:
+    """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
+    {'ϑ at Bp (A–B)': (B,) array}."""
+    from ..analysis._check import pressure_angles as angles
+    pairs, values = angles(engine, motion)
+    return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
+            for k, (a, b, s) in enumerate(pairs)}
+
+
+def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
+    """Transmission angles μ of the revolute pairs inside Assur groups (with the usual 40°…140° band)
+    and pressure angles of the sliders driven by rods, over the cycle."""
+    plt = require_matplotlib()
+    motion = cycle_motion(engine, count)
+    x, xlabel = _coordinate(engine, motion.phi[:, 0])
+    fig = _figure(plt, figsize)
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    angles, pressure = transmission_angles(engine, motion), pressure_angles(engine, motion)
+    _plot_lines(top, x, list(angles.values()), list(angles), "μ [°]", None, "Transmission angles (90° ideal)",
+                _xstep(engine, x))
+    top.axhspan(40, 140, color="#2ca02c", alpha=0.07)
+    top.set_ylim(0, 180)
+    if not angles:
+        top.text(0.5, 0.5, "no revolute pair between two rods in an Assur group", transform=top.transAxes,
+                 ha="center")
+    _plot_lines(bottom, x, list(pressure.values()), list(pressure), "ϑ [°]", xlabel,
+                "Pressure angles of the sliders (0° ideal)", _xstep(engine, x))
+    bottom.set_ylim(0, 90)
+    if not pressure:
+        bottom.text(0.5, 0.5, "no slider driven by a rod", transform=bottom.transAxes, ha="center")
+    limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
+    fig.suptitle(f"{engine.mech.title or engine.mech.name}: transmission and pressure angles{limit}", fontsize=10)
+    return fig
+
+
+def forces_figure(engine, at=None, **options):
+    """Reactions (magnitudes, hodographs), balancing moment and prismatic-pair moments over the cycle."""
+    from ._forceplots import forces_figure as draw
+    return draw(engine, at, **options)
+
+
+def dynamics_figure(engine, at=None, *, dynamics=None, count=3600, figsize=(10, 10)):
+    """Machine dynamics over the cycle: J_II and dJ_II/dφ, the reduced moments, work and ΔT_I, and the
+    true ω(φ), ε(φ) of the crank (energy–mass method and the simulated steady state). `dynamics`: a
+    computed `Dynamics` (default: `machine_dynamics(engine)` on `count` steps, at least 36); `at`
+    marks one position. ModelError for a model without a [dynamics] section."""
+    from ..forces._dynamics import machine_dynamics
+    plt = require_matplotlib()
+    d = machine_dynamics(engine, steps=max(int(count), 36)) if dynamics is None else dynamics
+    inp = engine.inputs[0]
+    x, xlabel = _coordinate(engine, d.phi)
+    fig = _figure(plt, figsize)
+    axes = fig.subplots(3, 2, sharex=True).flat
+    _plot_lines(axes[0], x, [d.J_II, d.dJ_II], ["J_II", "dJ_II/dφ"], "[kg·m²]", None,
+                "Reduced inertia of the second group")
+    moments = list(d.reduced.moments.items())
+    _plot_lines(axes[1], x, [m for _, m in moments] + [d.M_red], [n for n, _ in moments] + ["M_red (total)"],
+                "M [N·m]", None, f"Reduced moments (dashed: −M_dr = {-d.driving_moment:.6g} N·m)")
+    axes[1].axhline(-d.driving_moment, color=INK, lw=0.8, ls="--")
+    _plot_lines(axes[2], x, [d.A_c, d.driving_moment * d.phi, d.A_total], ["A_c (loads)", "A_dr (drive)", "A_Σ"],
+                "A [J]", None, "Work from φ = 0")
+    _plot_lines(axes[3], x, [d.T_II, d.dT_I], ["T_II = J_II·ω_m²/2", "ΔT_I = A_Σ − T_II"], "T [J]", None,
+                f"Kinetic energy; J_I = {d.inertia_first_group:.6g} kg·m² (δ = {d.spec.delta:g})")
+    for value in (d.dT_I_max, d.dT_I_min):
+        axes[3].axhline(value, color=INK, lw=0.6, ls=":")
+    sim = d.simulation
+    omegas, names = [d.omega], ["energy–mass method"]
+    eps, enames = [d.epsilon], ["energy–mass method"]
+    if sim is not None:
+        omegas.append(sim.omega)
+        names.append(f"simulated (δ = {sim.delta:.4g})")
+        eps.append(sim.epsilon)
+        enames.append("simulated")
+    _plot_lines(axes[4], x, omegas, names, "ω [rad/s]", xlabel, f"Crank speed; ω_m = {d.omega_mean:.6g} rad/s")
+    axes[4].axhline(d.omega_mean, color=INK, lw=0.6, ls="--")
+    _plot_lines(axes[5], x, eps, enames, "ε [rad/s²]", xlabel, "Crank acceleration")
+    if at is not None:
+        mark = _coordinate(engine, np.array([inp.to_si(float(at))]))[0][0]
+        for ax in axes:
+            ax.axvline(mark, color="#d62728", lw=0.8, alpha=0.6)
+    fig.suptitle(f"{engine.mech.title or engine.mech.name}: machine dynamics", fontsize=10)
+    return fig
+
+
+# -- registry ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Figure:
+    function: Callable
+    help: str
+
+
+FIGURES: dict[str, Figure] = {
+    "diagram": Figure(diagram_figure, "kinematic diagram at one position"),
+    "vectors": Figure(vectors_figure, "diagram with velocity and acceleration vectors and instantaneous centres"),
+    "trajectories": Figure(trajectories_figure, "trajectories (coupler curves) of the points over the cycle"),
+    "kinematics": Figure(kinematics_figure, "positions, real velocities and accelerations against the coordinate"),
+    "analogues": Figure(analogues_figure, "positions and analogues of velocities and accelerations"),
+    "transmission": Figure(transmission_figure, "transmission angles and pressure angles against the coordinate"),
+    "forces": Figure(forces_figure, "reactions, their hodographs and the balancing moment against the coordinate"),
+    "dynamics": Figure(dynamics_figure, "J_II, reduced moments, work, ΔT_I, true ω(φ) and ε(φ) (models with [dynamics])"),
+    "shaking": Figure(lambda engine, at=None, **kw: _elementplots().shaking_figure(engine, at, **kw),
+                      "shaking force on the frame (hodograph) and shaking moment over the cycle"),
+    "efficiency": Figure(lambda engine, at=None, **kw: _elementplots().efficiency_figure(engine, at, **kw),
+                         "instantaneous efficiency with friction in the pairs (models with [friction])"),
+    "simulation": Figure(lambda engine, at=None, **kw: _elementplots().simulation_figure(engine, at, **kw),
+                         "motion under the given forces against time and its energy balance ([simulate])"),
+}
+
+
+def _elementplots():
+    from . import _elementplots as module
+    return module
+
+
+def register_figure(name: str, function: Callable, help: str) -> None:
+    """Add a picture (`function(engine, at=None, **options) -> Figure`), e.g. 'forces', 'dynamics'."""
+    FIGURES[name] = Figure(function, help)
+
+
+def make_figure(engine, what: str, at=None, **options):
+    require_matplotlib()
+    if what not in FIGURES:
+        raise ModelError(f"unknown picture '{what}'; choose one of: {', '.join(FIGURES)}")
+    return FIGURES[what].function(engine, at, **options)
+
+
+def save_figure(fig, path, dpi=120):
+    """Write a figure (format from the suffix: png, svg, pdf) and close it."""
+    plt = require_matplotlib()
+    suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
+    if suffix not in ("png", "svg", "pdf"):
+        plt.close(fig)
+        raise ModelError(f"{path}: a picture is written as .png, .svg or .pdf")
+    try:
+        fig.savefig(path, dpi=dpi)
+    finally:
+        plt.close(fig)
+
+
+def figure_bytes(fig, fmt="png", dpi=100) -> bytes:
+    """The figure as PNG or SVG bytes (closed afterwards)."""
+    import io
+    plt = require_matplotlib()
+    buf = io.BytesIO()
+    try:
+        fig.savefig(buf, format=fmt, dpi=dpi)
+    finally:
+        plt.close(fig)
+    return buf.getvalue()
+
+
+# -- GIF animation ----------------------------------------------------------------------------------
+def write_gif(engine, path, frames=36, *, dpi=80, fps=12, figsize=(6.4, 5.6), trajectories=True):
+    """An animated GIF of the cycle with `frames` frames (fewer positions than asked only if the
+    mechanism cannot move at all); returns the motion drawn."""
+    plt = require_matplotlib()
+    from PIL import Image
+    motion = cycle_motion(engine, frames)
+    scene = build_scene(engine, motion, motion)
+    fig = plt.figure(figsize=figsize, dpi=dpi)
+    ax = fig.add_axes((0.02, 0.02, 0.96, 0.88))
+    images = []
+    inp = engine.inputs[0]
+    for b in range(scene.batch):
+        ax.clear()
+        if trajectories:
+            draw_trajectories(ax, scene, lw=0.7)
+        draw_mechanism(ax, scene, b)
+        _frame_axes(ax, scene)
+        fig.suptitle(f"{engine.mech.title or engine.mech.name}\n{inp.name} = "
+                     f"{inp.from_si(float(motion.phi[b, 0])):7.2f} {inp.unit}   frame {b + 1}/{scene.batch}",
+                     fontsize=10)
+        fig.canvas.draw()
+        rgba = np.asarray(fig.canvas.buffer_rgba())
+        images.append(Image.fromarray(rgba[..., :3].copy()).convert("P", palette=Image.ADAPTIVE, colors=64))
+    plt.close(fig)
+    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0,
+                   optimize=False, disposal=1)
+    return motion

@@ -1,0 +1,295 @@
+"""A model's whole analysis in ONE self-contained HTML file: figures inline (base64 PNG), tables of the
+structure, positions and analogues, reactions and the balancing moment, the animation (inline SVG +
+JS). No external URL: it reads offline.
+
+The report is a list of sections, `SECTIONS` (key → `Section(title, function)`, in order). A section
+function takes `(engine, ctx)` (ctx: a `ReportContext` with the cycle motion and helpers for figures and
+tables) and returns an HTML fragment, or None to leave the section out. Other code adds sections, or
+replaces one in place, with `register_section`:
+
+    register_section("cam", "Cam", my_function, after="flywheel")
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["Section", "SECTIONS", "register_section", "ReportContext", "report_html", "write_report",
+           "REPORT_POSITIONS"]
+
+REPORT_POSITIONS = 12  # positions in the tables (equally spaced over the cycle)
+
+
+@dataclass(frozen=True)
+class Section:
+    title: str
+    function: Callable
+
+
+@dataclass
+class ReportContext:
+    """What sections share: the engine, the cycle motion (`cycle`), the table positions (`table`)."""
+
+    engine: object
+    cycle: object
+    table: object
+    dpi: int = 90
+    frames: int = 36
+    notes: list = field(default_factory=list)
+
+    def figure(self, fig, alt: str) -> str:
+        """An inline <img> (base64 PNG) of a matplotlib figure (closed afterwards)."""
+        from ._plotting import figure_bytes
+        data = base64.b64encode(figure_bytes(fig, "png", self.dpi)).decode("ascii")
+        return f'<figure><img alt="{html.escape(alt)}" src="data:image/png;base64,{data}"></figure>'
+
+
+def html_table(header, rows, caption=None) -> str:
+    """An HTML table; floats printed with 6 significant digits, non-finite as '—'."""
+    def cell(x):
+        if isinstance(x, (float, np.floating)):
+            return f"{x:.6g}" if math.isfinite(x) else "—"
+        return html.escape(str(x))
+    cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
+    head = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{cell(x)}</td>" for x in row) + "</tr>" for row in rows)
+    return f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+# -- the sections -----------------------------------------------------------------------------------
+def _model_section(engine, ctx):
+    mech = engine.mech
+    inp = engine.inputs[0]
+    rows = []
+    for j in mech.joints.values():
+        guide = f"{j.guide_deg:.4f}°" if j.kind == "P" else ""
+        rows.append((j.name, j.kind, " – ".join(j.links), j.at[0], j.at[1], guide))
+    text = (f"<p>Model file <code>{html.escape(str(mech.source))}</code>. Generalized coordinate "
+            f"<b>{html.escape(inp.name)}</b> [{html.escape(inp.unit)}] drives joint {html.escape(inp.joint)}; "
+            f"input speed ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s². "
+            f"Ground link {html.escape(mech.ground)}; moving links {html.escape(', '.join(mech.moving_links))}.</p>")
+    links = [(lk.name, lk.mass, lk.inertia, lk.centre or "") for lk in mech.links.values() if lk.name != mech.ground]
+    return (text + html_table(("pair", "type", "links", "x [m]", "y [m]", "guide"), rows, "Table of kinematic pairs")
+            + html_table(("link", "mass [kg]", "J_S [kg·m²]", "centre"), links, "Links"))
+
+
+def _diagram_section(engine, ctx):
+    from ._plotting import diagram_figure, vectors_figure
+    return (ctx.figure(diagram_figure(engine, cycle=ctx.cycle), "kinematic diagram in the drawn pose")
+            + ctx.figure(vectors_figure(engine, cycle=ctx.cycle),
+                         "velocities, accelerations and instantaneous centres in the drawn pose"))
+
+
+def _structure_section(engine, ctx):
+    topo = engine.topology
+    s = topo.structure
+    text = (f"<p>Degrees of freedom W = {topo.dof} (Chebyshev–Grübler), independent loops: {len(topo.loops)}"
+            + (f"; loops: {html.escape('; '.join(' – '.join(loop) for loop in topo.loops))}" if topo.loops else "")
+            + ".</p>")
+    if s is None:
+        return text + "<p>No Assur decomposition for this model.</p>"
+    rows = [(k + 1, g.group_class, g.order, g.kind or "", ", ".join(g.links), ", ".join(g.internal),
+             ", ".join(g.external)) for k, g in enumerate(s.groups)]
+    return (text + f"<p>Structural formula: <b>{html.escape(s.formula)}</b>; mechanism class "
+            f"{s.mechanism_class}.</p>" + html_table(("#", "class", "order", "kind", "links", "internal pairs",
+                                                      "external pairs"), rows, "Assur groups in solving order"))
+
+
+def _motion_section(engine, ctx):
+    """`check`'s verdict: whether the input turns fully, dead points and change points, extreme
+    positions, transmission and pressure angles."""
+    from ..analysis._check import check, format_report
+    if len(engine.inputs) != 1:
+        return "<p>The motion range is checked for a mechanism with one input.</p>"
+    return ("<p>The whole range the input can move through (<code>mbplanar check</code>): dead points are "
+            "located exactly, extreme positions refined by Newton on the analogue, transmission and "
+            "pressure angles over the range.</p><pre>" + html.escape(format_report(check(engine))) + "</pre>")
+
+
+def _positions_section(engine, ctx):
+    from ._plotting import moving_points
+    from ._scene import build_scene
+    m = ctx.table
+    inp = engine.inputs[0]
+    phi = inp.from_si(m.phi[:, 0])
+    links = m.link_names[1:]
+    head = [f"{inp.name} [{inp.unit}]"] + [f"φ{n} [°]" for n in links] + [f"ω{n}q" for n in links] + \
+        [f"ε{n}q" for n in links]
+    rows = np.column_stack([phi, np.degrees(m.angle[:, 1:]), m.wq[:, 1:], m.eq[:, 1:]])
+    pts = moving_points(engine, build_scene(engine, m, m))
+    idx = [m.point(n) for n in pts]
+    ph = [f"{inp.name} [{inp.unit}]"] + [f"{n}.{q}" for n in pts for q in ("x", "y", "vqx", "vqy", "aqx", "aqy")]
+    cols = [phi]
+    for k in idx:
+        cols += [m.xy[:, k, 0], m.xy[:, k, 1], m.vq[:, k, 0], m.vq[:, k, 1], m.aq[:, k, 0], m.aq[:, k, 1]]
+    note = "" if not m.limits else f"<p class=\"warn\">{html.escape(_limits(engine, m))}</p>"
+    return (note + "<p>Angles of the links' reference lines, analogues of angular velocities ω_q = dφ_k/dφ "
+            "[rad/rad] and accelerations ε_q = d²φ_k/dφ² [rad/rad²]; points: coordinates [m], analogues of "
+            "velocity [m/rad] and acceleration [m/rad²].</p>"
+            + html_table(head, rows.tolist(), "Links") + html_table(ph, np.column_stack(cols).tolist(), "Points"))
+
+
+def _limits(engine, motion):
+    from ..kinematics._motion import describe_limit
+    return "; ".join(describe_limit(engine, lim) for lim in motion.limits)
+
+
+def _plots_section(engine, ctx):
+    from ._plotting import (analogues_figure, kinematics_figure, pressure_angles, trajectories_figure,
+                           transmission_angles, transmission_figure)
+    out = ctx.figure(trajectories_figure(engine), "trajectories")
+    out += ctx.figure(kinematics_figure(engine, count=121), "real velocities and accelerations")
+    out += ctx.figure(analogues_figure(engine, count=121), "analogues")
+    if transmission_angles(engine, ctx.table) or pressure_angles(engine, ctx.table):
+        out += ctx.figure(transmission_figure(engine, count=121), "transmission and pressure angles")
+    return out
+
+
+def _reactions_section(engine, ctx):
+    """Kinetostatics at the model's speed: the balancing load and every pair's reaction at the table
+    positions, a diagram with the reaction arrows, the plots over the cycle, the virtual-power check."""
+    from ..forces._loads import has_force_data
+    if not has_force_data(engine.mech):
+        return ("<p>The model has no loads: no masses, inertias, gravity or load rows, so every reaction "
+                "and the balancing moment are zero.</p>")
+    from ._forceplots import balancing_label, forces_figure, reaction_label
+    from ..forces._kinetostatics import kinetostatics
+    from ._plotting import diagram_figure, input_speed
+    inp = engine.inputs[0]
+    table, cycle = kinetostatics(engine, ctx.table), kinetostatics(engine, ctx.cycle)
+    residual = max(float(np.nanmax(r.virtual_power_residual, initial=0.0)) for r in (table, cycle))
+    phi = inp.from_si(ctx.table.phi[:, 0])
+    coord = f"{inp.name} [{inp.unit}]"
+    out = (f"<p>Kinetostatics at the model's input speed and acceleration ({input_speed(engine)}), "
+           "with the d'Alembert inertia loads, gravity and the model's loads; "
+           "no flywheel (J_I = 0). F<sub>ij</sub> is the force on link i from link j, applied at the pair "
+           "(a prismatic pair: at its slider point, with its moment M about that point); the other link "
+           "gets the opposite. Directions in degrees counter-clockwise from +x; moments counter-clockwise "
+           "positive.</p>"
+           f"<p>Check: the virtual power of all loads plus the balancing power vanishes for every motion the "
+           f"pairs allow; its largest relative residual over the {len(ctx.cycle.phi)} positions of the cycle "
+           f"and the table is <b>{residual:.2e}</b>.</p>")
+    notes = [r.message for r in (table, cycle) if not r.success] + ([_limits(engine, ctx.cycle)]
+                                                                     if ctx.cycle.limits else [])
+    out += "".join(f"<p class=\"warn\">{html.escape(n)}</p>" for n in dict.fromkeys(notes))
+    tiny = 1e-12 * max([1.0] + [float(np.nanmax(r.magnitude, initial=0.0)) for r in table.reactions.values()])
+    tiny_m = tiny * engine.size  # round-off of a moment: what is left of the forces' moments
+
+    def clean(x, eps):
+        return np.where(np.abs(x) < eps, 0.0, x)
+
+    head, cols = [coord], [phi]
+    for joint, q in table.balancing.items():
+        what, unit = balancing_label(engine, joint)
+        head.append(f"{what} at {joint} [{unit}]")
+        cols.append(clean(q, tiny_m if unit == "N·m" else tiny))
+    head.append("virtual-power residual")
+    cols.append(table.virtual_power_residual)
+    out += html_table(head, np.column_stack(cols).tolist(), "Balancing load")
+    grid = []
+    for joint, r in table.reactions.items():
+        prismatic = engine.mech.joints[joint].kind == "P"
+        fx, fy = clean(r.fx, tiny), clean(r.fy, tiny)
+        mag = np.hypot(fx, fy)
+        direction = np.where(mag > 0, np.degrees(np.arctan2(fy, fx)) % 360.0, np.nan)
+        head = [coord, "Fx [N]", "Fy [N]", "|F| [N]", "direction [°]"] + (["M [N·m]"] if prismatic else [])
+        rows = np.column_stack([phi, fx, fy, mag, direction] + ([clean(r.moment, tiny_m)] if prismatic else []))
+        grid.append(html_table(head, rows.tolist(), f"{reaction_label(r)}: pair {joint} "
+                                                    f"({'prismatic' if prismatic else 'revolute'}), on link "
+                                                    f"{r.on} from link {r.source}"))
+    out += '<div class="grid">' + "".join(grid) + "</div>"
+    out += ctx.figure(diagram_figure(engine, reactions=True, cycle=ctx.cycle),
+                      "reaction arrows in the drawn pose")
+    out += ctx.figure(forces_figure(engine, cycle=ctx.cycle), "reactions and balancing moment over the cycle")
+    return out
+
+
+def _animation_section(engine, ctx):
+    from ._animation import svg_animation
+    return svg_animation(engine, ctx.frames, element_id="report-animation", width=560)
+
+
+def _flywheel_section(engine, ctx):
+    from ..forces._dynamics import machine_dynamics, summary
+    from ._plotting import dynamics_figure
+    if engine.mech.extras.get("dynamics") is None:
+        return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
+    d = machine_dynamics(engine)
+    inp = engine.inputs[0]
+    rows = summary(d, inp)
+    state = d.state_at(engine, ctx.table.phi[:, 0])
+    head = [f"{inp.name} [{inp.unit}]", "J_II [kg·m²]", "dJ_II/dφ [kg·m²]", "M_red [N·m]", "ΔT_I [J]",
+            "ω [rad/s]", "ε [rad/s²]"]
+    table = np.column_stack([inp.from_si(ctx.table.phi[:, 0]), state["J_II"], state["dJ_II"], state["M_red"],
+                             state["dT_I"], state["omega"], state["epsilon"]])
+    return (html_table(("quantity", "value", "unit / note"), rows, "Energy–mass method and flywheel")
+            + ctx.figure(dynamics_figure(engine, dynamics=d), "machine dynamics")
+            + html_table(head, table.tolist(), "Reduced quantities and the true motion of the crank"))
+
+
+SECTIONS: dict[str, Section] = {
+    "model": Section("Model", _model_section),
+    "diagram": Section("Kinematic diagram", _diagram_section),
+    "structure": Section("Structure", _structure_section),
+    "motion": Section("Motion range, dead points and angles", _motion_section),
+    "positions": Section("Positions and analogues", _positions_section),
+    "plots": Section("Kinematic plots", _plots_section),
+    "animation": Section("Animation", _animation_section),
+    "reactions": Section("Joint reactions and balancing moment", _reactions_section),
+    "flywheel": Section("Machine dynamics and flywheel", _flywheel_section),
+}
+
+
+def register_section(key: str, title: str, function: Callable, after: str | None = None) -> None:
+    """Add a section, or replace one in place (same key); `after`: insert a new one after that key."""
+    global SECTIONS
+    if key in SECTIONS or after is None or after not in SECTIONS:
+        SECTIONS[key] = Section(title, function)
+        return
+    items = list(SECTIONS.items())
+    pos = [k for k, _ in items].index(after) + 1
+    items.insert(pos, (key, Section(title, function)))
+    SECTIONS = dict(items)
+
+
+_STYLE = """
+body{font-family:system-ui,sans-serif;max-width:1100px;margin:1.5em auto;padding:0 1em;color:#1a1a1a}
+h1{font-size:1.6em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.6em}
+table{border-collapse:collapse;margin:.6em 0 1.2em;font-size:.82em;display:block;overflow-x:auto}
+th,td{border:1px solid #ccc;padding:2px 6px;text-align:right;white-space:nowrap} th{background:#eef3f8}
+caption{text-align:left;font-weight:bold;padding:.3em 0}
+figure{margin:.5em 0} img{max-width:100%} .todo{color:#777;font-style:italic} .warn{color:#b03a2e}
+nav a{margin-right:1em} .grid{display:flex;flex-wrap:wrap;gap:0 1.5em}
+"""
+
+
+def report_html(engine, *, positions: int = REPORT_POSITIONS, frames: int = 36, dpi: int = 90) -> str:
+    """The whole report as one HTML string."""
+    from ._plotting import cycle_motion, require_matplotlib
+    require_matplotlib()
+    ctx = ReportContext(engine, cycle_motion(engine, 72), cycle_motion(engine, positions), dpi, frames)
+    mech = engine.mech
+    title = html.escape(mech.title or mech.name)
+    parts, nav = [], []
+    for key, sec in list(SECTIONS.items()):
+        body = sec.function(engine, ctx)
+        if body is None:
+            continue
+        nav.append(f'<a href="#{key}">{html.escape(sec.title)}</a>')
+        parts.append(f'<section id="{key}"><h2>{html.escape(sec.title)}</h2>\n{body}\n</section>')
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>{title} — mbplanar report</title><style>{_STYLE}</style></head><body>"
+            f"<h1>{title}</h1><p>mbplanar report for model <b>{html.escape(mech.name)}</b>.</p>"
+            f"<nav>{''.join(nav)}</nav>\n" + "\n".join(parts) + "\n</body></html>\n")
+
+
+def write_report(engine, path, **kw) -> None:
+    text = report_html(engine, **kw)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
