@@ -575,7 +575,8 @@ def cmd_simulate(args):
     from .forces._simulation import read_simulate, simulate_motion
     engine = _load(args)
     over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
-    for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega)):
+    for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega),
+                      ("input_inertia", args.input_inertia)):
         over[key] = None if text is None else _at_values(text)
     if args.start is not None:
         over["phi"], over["omega"] = _from_state(args.start, engine)
@@ -754,9 +755,10 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("simulate", help="motion under given forces: integrate the equations of motion in time")
     s.add_argument("model")
     s.add_argument("--t", type=float, help="end time in s (default: the model's [simulate] t)")
-    s.add_argument("--torque", help="drive on each input, N·m or N (comma list; default: the model's, else 0)")
+    s.add_argument("--torque", help="drive on each input along its coordinate, N·m or N (comma list; default: the model's, else 0)")
     s.add_argument("--motor-slope", help="motor characteristic: drive = torque − slope·speed (N·m·s/rad)")
     s.add_argument("--omega", help="start speed of each input (default 0)")
+    s.add_argument("--input-inertia", help="kg·m² (kg) on each input link besides the links' own (default 0)")
     s.add_argument("--from", dest="start", help="start from the last state of a previous --json output")
     s.add_argument("--rtol", type=float, help="relative tolerance of solve_ivp (default 1e-10)")
     s.add_argument("--atol", type=float, help="absolute tolerance (default 1e-12)")

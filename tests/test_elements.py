@@ -148,3 +148,16 @@ def test_angle_offset_and_centre_by_coordinates():
     with pytest.raises(mbplanar.ModelError, match="angle_offset"):
         d["links"][2]["angle_offset"] = "right"
         mbplanar.parse_model(d)
+
+
+def test_guide_loads_oppose_the_motion_running_backwards():
+    """A resistance and a guide friction oppose the slider's real motion for either sense of the input."""
+    d = tomllib.loads((MODELS / "slider_crank.toml").read_text())
+    d["loads"] = [{"type": "resistance", "name": "r", "joint": "Bp", "force": 100.0},
+                  {"type": "friction", "name": "f", "joint": "Bp", "force": 10.0}]
+    engine = mbplanar.Engine(mbplanar.parse_model(d))
+    for omega in (5.0, -5.0):
+        motion = mbplanar.analyse(engine, np.radians(np.arange(5.0, 360.0, 20.0)), omega=omega)
+        v = motion.v[:, motion.point("B"), 0]
+        for value in evaluate_loads(engine, motion, gravity=False):
+            assert np.all(value.force[:, 0] * v < 0)

@@ -148,6 +148,14 @@ def test_one_dof_reduced_form():
     # the press's loads do not depend on the speed's size, only on its sign (positive here)
     expected = (red.M_red[0] - 0.5 * dJ * om * om) / J
     assert accelerations(engine, [phi], [om], spec)[0] == pytest.approx(expected, rel=1e-10)
+    slower = (red.M_red[0] - 0.5 * dJ * om * om) / (J + 2.5)  # a flywheel of 2.5 kg·m² on the crank
+    assert accelerations(engine, [phi], [om], spec, input_inertia=[2.5])[0] == pytest.approx(slower, rel=1e-10)
+
+
+def test_chattering_motion_stops_with_an_error():
+    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "squeezer.toml"))
+    with pytest.raises(mbplanar.MotionError, match="50 evaluations reached"):
+        simulate_motion(engine, replace(read_simulate(engine.mech), max_evaluations=50))
 
 
 def test_bad_simulate_input():

@@ -420,9 +420,14 @@ def guide_direction(engine, motion, joint: str) -> np.ndarray:
 
 
 def joint_rate_sign(motion, joint: str) -> np.ndarray:
-    """Rate of a joint (B,): its analogue (d/dφ) with one input, its real rate otherwise."""
+    """A joint's rate (B,) for the sign of the motion: its analogue (d/dφ) with one input, with the sign of
+    the input's speed (so a load opposing the motion still opposes it when the input runs backwards),
+    its real rate otherwise."""
     k = motion.joint(joint)
-    return (motion.rate_q if motion.rate_q is not None else motion.rate)[:, k]
+    if motion.rate_q is None:
+        return motion.rate[:, k]
+    # the analogue's sign, turned round where the input runs backwards (at rest: the motion along +φ)
+    return motion.rate_q[:, k] * np.where(motion.omega[:, 0] < 0, -1.0, 1.0)
 
 
 def heavy_links(mech) -> list[tuple[str, object, tuple[float, float]]]:

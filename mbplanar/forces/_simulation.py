@@ -29,6 +29,8 @@ The `[simulate]` section of a model (all keys optional)::
     atol = 1e-12
     method = "DOP853"
     steps = 100           # output intervals
+    input_inertia = 0.0   # kg·m² (kg) on each input link besides the links' own: shafts, a flywheel
+    max_evaluations = 50000    # a motion that chatters at a switched load (a stalled press) stops here
 """
 
 from __future__ import annotations
@@ -55,7 +57,8 @@ class SimulateSpec:
     """What drives the motion and how it is integrated: the drive `torque` (N·m or N) and `motor_slope`
     (N·m·s/rad) per input, the start speed `omega` (rad/s or m/s) per input (None: 0), the start
     position `phi` (SI, None: the drawn pose), the end time `t` (s), solve_ivp's `rtol`, `atol`,
-    `method`, and the output `steps`."""
+    `method`, the output `steps`, the `input_inertia` (kg·m² or kg) per input link besides the links' own,
+    and the most right-hand-side evaluations `max_evaluations`."""
 
     t: float | None = None
     torque: tuple[float, ...] = (0.0,)
@@ -66,6 +69,8 @@ class SimulateSpec:
     atol: float = 1e-12
     method: str = "DOP853"
     steps: int = 100
+    input_inertia: tuple[float, ...] | None = None
+    max_evaluations: int = 50000
 
 
 def read_simulate(mech, **override) -> SimulateSpec:
@@ -78,15 +83,16 @@ def read_simulate(mech, **override) -> SimulateSpec:
     row = Row(raw, where)
     n = len(mech.inputs)
     values = {"t": row.number("t", None, positive=True)}
-    for key, default in (("torque", 0.0), ("motor_slope", 0.0), ("omega", None)):
+    for key, default in (("torque", 0.0), ("motor_slope", 0.0), ("omega", None), ("input_inertia", 0.0)):
         values[key] = _per_input(row, key, default, n)
     values["rtol"] = row.number("rtol", 1e-10, positive=True)
     values["atol"] = row.number("atol", 1e-12, positive=True)
     values["method"] = row.text("method", "DOP853")
     values["steps"] = row.number("steps", 100, positive=True)
+    values["max_evaluations"] = row.number("max_evaluations", 50000, positive=True)
     row.check_unknown_keys()
     values.update({k: v for k, v in override.items() if v is not None})
-    for key in ("torque", "motor_slope", "omega", "phi"):
+    for key in ("torque", "motor_slope", "omega", "phi", "input_inertia"):
         if values.get(key) is not None:
             values[key] = _tuple(values[key], n, f"{where}: '{key}'")
     spec = SimulateSpec(**values)
@@ -125,6 +131,10 @@ def _check(spec: SimulateSpec, where):
         raise ModelError(f"{where}: 'steps' must be a positive whole number, got {spec.steps}")
     if any(s < 0 for s in spec.motor_slope):
         raise ModelError(f"{where}: 'motor_slope' must be >= 0 (a motor gives less when faster)")
+    if spec.input_inertia is not None and any(j < 0 for j in spec.input_inertia):
+        raise ModelError(f"{where}: 'input_inertia' must be >= 0")
+    if int(spec.max_evaluations) != spec.max_evaluations:
+        raise ModelError(f"{where}: 'max_evaluations' must be a whole number, got {spec.max_evaluations}")
 
 
 # -- the equations of motion ------------------------------------------------------------------------
@@ -247,7 +257,8 @@ class Trajectory:
 
 def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None) -> Trajectory:
     """Integrate the equations of motion from the start state of `spec` (default: the model's
-    `[simulate]` section) to its end time, with solve_ivp; the reactions along the motion follow."""
+    `[simulate]` section) to its end time, with solve_ivp; the reactions along the motion follow.
+    `input_inertia` (default: the spec's) is added on each input link."""
     from scipy.integrate import solve_ivp
 
     mech = engine.mech
@@ -257,9 +268,16 @@ def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None
     n = len(engine.inputs)
     q0 = np.array(spec.phi if spec.phi is not None else engine.phi_drawn, float)
     qd0 = np.array(spec.omega if spec.omega is not None else (0.0,) * n, float)
-    J_in = np.zeros(n) if input_inertia is None else np.broadcast_to(np.asarray(input_inertia, float), (n,))
+    if input_inertia is None:
+        input_inertia = spec.input_inertia if spec.input_inertia is not None else 0.0
+    J_in = np.broadcast_to(np.asarray(input_inertia, float), (n,))
+    calls = [0]
 
     def rhs(t, y):
+        calls[0] += 1
+        if calls[0] > spec.max_evaluations:
+            raise MotionError(f"{mech.source}: {spec.max_evaluations} evaluations reached at t = {t:.9g} s: the "
+                              "motion chatters (a switched load at a stall?) or needs a looser rtol")
         q, qd = y[:n], y[n:2 * n]
         M, b, drive, _ = _mass_and_forces(engine, _columns(engine, q, qd), qd, spec, J_in)
         qdd = _solve_mass(engine, M, b)
