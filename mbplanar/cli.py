@@ -600,6 +600,54 @@ def cmd_simulate(args):
     return 0 if tr.success else 1
 
 
+def balance_document(engine, bal, count: int = 360) -> dict:
+    """Counterweights, and before/after at the model's speed over a turn: the RMS and largest shaking
+    force, the largest reaction in every pair, the largest balancing moment (or force)."""
+    from .forces._shaking import shaking
+    from .engine._solver import Engine
+    from .forces._kinetostatics import kinetostatics
+    from .kinematics._motion import analyse
+    doc = {"model": engine.mech.name, "counterweights": [vars(cw) for cw in bal.counterweights],
+           "rms_unit_speed": {"before": bal.rms_before, "after": bal.rms_after}}
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, count, endpoint=False)
+    balanced = Engine(bal.mechanism, backend=engine.backend, threads=engine.threads)
+    for when, eng in (("before", engine), ("after", balanced)):
+        ks = kinetostatics(eng, analyse(eng, phi))
+        sh = shaking(eng, ks)
+        doc[when] = {"shaking_force_max": float(np.max(sh.magnitude)),
+                     "shaking_force_rms": float(np.sqrt(np.mean(sh.magnitude ** 2))),
+                     "shaking_moment_max": float(np.max(np.abs(sh.moment))),
+                     "reaction_max": {n: float(np.max(r.magnitude)) for n, r in ks.reactions.items()},
+                     "balancing_max": {n: float(np.max(np.abs(q))) for n, q in ks.balancing.items()}}
+    return _plain(doc)
+
+
+def cmd_balance(args):
+    from .forces._shaking import balance
+    engine = _load(args)
+    links = [n.strip() for n in args.links.split(",") if n.strip()]
+    radius = None if args.radius is None else _at_values(args.radius)
+    if radius is not None and not all(r > 0 for r in radius):
+        raise _ArgError("--radius must be positive")
+    bal = balance(engine, links, radius)
+    doc = balance_document(engine, bal)
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0
+    print(f"{doc['model']}: counterweights on {', '.join(links)} (shaking force RMS at 1 rad/s: "
+          f"{bal.rms_before:.6g} -> {bal.rms_after:.3g} N)")
+    for cw in bal.counterweights:
+        print(f"  link {cw.link}: {cw.mass:.6g} kg at ({cw.at[0]:.6g}, {cw.at[1]:.6g}) m, first moment "
+              f"{cw.first_moment:.6g} kg·m about {cw.about} at {cw.angle_deg:.4f}° to the link's line")
+    for when in ("before", "after"):
+        d = doc[when]
+        print(f"  {when}: shaking force max {d['shaking_force_max']:.6g} N, RMS {d['shaking_force_rms']:.6g} N, "
+              f"shaking moment max {d['shaking_moment_max']:.6g} N·m; balancing max "
+              + ", ".join(f"{n} {q:.6g}" for n, q in d["balancing_max"].items()))
+        print("    largest reactions: " + ", ".join(f"{n} {f:.6g} N" for n, f in d["reaction_max"].items()))
+    return 0
+
+
 # -- pictures ---------------------------------------------------------------------------------------
 def _suffix(path, allowed):
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
@@ -767,6 +815,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", help="CSV file of the motion")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_simulate)
+
+    s = sub.add_parser("balance", help="counterweights that cancel the shaking force (or minimise its RMS)")
+    s.add_argument("model")
+    s.add_argument("--links", required=True, help="comma list of the links that get a counterweight")
+    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot, m (one or per link)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_balance)
 
     s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, "
                                     "transmission, forces, ...")

@@ -83,3 +83,22 @@ def test_balance_rejects_bad_links():
     engine = _heavy_fourbar()
     with pytest.raises(mbplanar.ModelError, match="not a moving link"):
         balance(engine, ["0"])
+
+
+def test_balance_command(tmp_path, capsys):
+    import json
+
+    from mbplanar.cli import main
+    text = (MODELS / "fourbar.toml").read_text()
+    for name, extra in (("1", "mass = 1.0, inertia = 0.002, centre = [0.03, 0.04]"),
+                        ("3", "mass = 2.0, inertia = 0.02, centre = [0.31, 0.1]")):
+        text = text.replace(f'{{ name = "{name}", length', f'{{ name = "{name}", {extra}, length')
+    model = tmp_path / "heavy.toml"
+    model.write_text(text.replace('{ name = "2", length = 0.30 }',
+                                  '{ name = "2", length = 0.30, mass = 3.0, inertia = 0.03, centre = "M" }'))
+    assert main(["balance", str(model), "--links", "1,3", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["after"]["shaking_force_max"] <= 1e-9 * doc["before"]["shaking_force_max"]
+    assert [cw["link"] for cw in doc["counterweights"]] == ["1", "3"]
+    assert set(doc["before"]["reaction_max"]) == {"O", "A", "B", "C"}
+    assert main(["balance", str(model), "--links", "1", "--radius", "-1"]) == 2
