@@ -242,7 +242,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (smoke run)")
     ap.add_argument("--json", metavar="FILE", nargs="?", const="-", help="write the cases as JSON ('-': stdout)")
+    ap.add_argument("--study", action="store_true", help="only the design-study cases (benchmarks/study.py)")
     args = ap.parse_args(argv)
+    if args.study:  # design batches and Dask: their own script, sizes and JSON
+        import study
+        study.main(["--quick"] if args.quick else [])
+        return 0
     quick = args.quick
     repeats = 2 if quick else 7
     n = 360 if quick else 3600

@@ -23,11 +23,12 @@ import warnings
 
 __all__ = ["MOVED", "install", "forwarder"]
 
-#: old module (under ``mbplanar.``) → its new home
+#: old module (under ``mbplanar.``) → its new home (or homes, searched in order, for a module split up)
 MOVED = {
     "table": "model._table", "assembly": "model._assembly",
     "topology": "structure._topology",
-    "solver": "engine._solver", "constraints": "engine._constraints", "_linalg": "engine._linalg",
+    "solver": ("engine._solver", "engine._tolerances", "engine._atlas", "engine._singular", "engine._blocks"),
+    "constraints": "engine._constraints", "_linalg": "engine._linalg",
     "loads": "forces._loads", "kinetostatics": "forces._kinetostatics", "dynamics": "forces._dynamics",
     "_numba_kinematics": "backends._numba_kinematics", "_numba_kinetostatics": "backends._numba_kinetostatics",
     "_threads": "backends._threads",
@@ -41,20 +42,23 @@ SHADOWED = ("check", "kinetostatics")
 REMOVED_IN = "0.3"
 
 
-def forwarder(old: str, new: str):
-    """A module ``__getattr__`` serving the names of ``new`` under ``old``, each with a DeprecationWarning."""
+def forwarder(old: str, new: str | tuple[str, ...]):
+    """A module ``__getattr__`` serving the names of ``new`` (the first of several modules that has the
+    name) under ``old``, each with a DeprecationWarning."""
+    homes = (new,) if isinstance(new, str) else new
 
     def __getattr__(name: str):
         if name.startswith("__") and name != "__all__":
             raise AttributeError(f"module {old!r} has no attribute {name!r}")
-        target = importlib.import_module(new)
-        try:
-            value = getattr(target, name)
-        except AttributeError:
-            raise AttributeError(f"module {old!r} has no attribute {name!r}") from None
+        for home in homes:
+            target = importlib.import_module(home)
+            if hasattr(target, name):
+                break
+        else:
+            raise AttributeError(f"module {old!r} has no attribute {name!r}")
         if name != "__all__":
-            warnings.warn(_message(old, new, name), DeprecationWarning, stacklevel=2)
-        return value
+            warnings.warn(_message(old, home, name), DeprecationWarning, stacklevel=2)
+        return getattr(target, name)
 
     return __getattr__
 
@@ -74,10 +78,11 @@ class _ShimLoader(importlib.abc.Loader):
 
     def exec_module(self, module):
         old = module.__name__
-        new = "mbplanar." + MOVED[old.rpartition(".")[2]]
-        module.__doc__ = f"Deprecated alias of `{new}` (goes in mbplanar {REMOVED_IN})."
-        module.__getattr__ = forwarder(old, new)
-        module.__dir__ = lambda: sorted(getattr(importlib.import_module(new), "__all__", ()))
+        moved = MOVED[old.rpartition(".")[2]]
+        homes = tuple("mbplanar." + m for m in ((moved,) if isinstance(moved, str) else moved))
+        module.__doc__ = f"Deprecated alias of `{homes[0]}` (goes in mbplanar {REMOVED_IN})."
+        module.__getattr__ = forwarder(old, homes)
+        module.__dir__ = lambda: sorted(getattr(importlib.import_module(homes[0]), "__all__", ()))
 
 
 class _ShimFinder(importlib.abc.MetaPathFinder):

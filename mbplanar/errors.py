@@ -1,21 +1,49 @@
-"""Errors raised by mbplanar.
+"""Errors and warnings raised by mbplanar: every class in one place, each with its CLI exit status.
 
-`ModelError` is bad input (a table that cannot describe a mechanism): the CLI exits with status 2.
+`ModelError` is bad input (a table that cannot describe a mechanism, a bad argument): exit status 2.
 `MotionError` is a mechanism that cannot move as asked (cannot be assembled, locks): exit status 1.
-Both carry a message that names the file, row, joint or link at fault.
+`PlotUnavailable`: a picture was asked for without matplotlib (exit 2). Every error carries a message
+that names the file (`source`), the row, joint or link (`where`) at fault; ``str(error)`` composes
+them once, as "source: where: message". `ModelWarning` flags input that is valid but probably not
+what the author meant (a drawn input value far from the sketch, a length that contradicts the
+coordinates, a load diagram out of scale); the CLI prints it on stderr.
 """
 
-__all__ = ["MbplanarError", "ModelError", "MotionError"]
+__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "ModelWarning"]
 
 
 class MbplanarError(Exception):
-    """Base of every error mbplanar raises on purpose."""
+    """Base of every error mbplanar raises on purpose.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong.
+    source : str, optional
+        The model file (or "<python>", "<table>").
+    where : str, optional
+        The row, joint, link or argument at fault, e.g. "loads[2] 'cutting'".
+    """
 
     exit_code = 1
 
+    def __init__(self, message: str = "", *, source: str | None = None, where: str | None = None):
+        self.message, self.source, self.where = str(message), source, where
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        return ": ".join(p for p in (self.source, self.where, self.message) if p)
+
+    def __reduce__(self):
+        return _rebuild, (type(self), self.message, self.source, self.where)
+
+
+def _rebuild(cls, message, source, where):
+    return cls(message, source=source, where=where)
+
 
 class ModelError(MbplanarError, ValueError):
-    """The table or the model is wrong: unknown names, bad values, wrong DOF, ..."""
+    """The table, the model or an argument is wrong: unknown names, bad values, wrong DOF, ..."""
 
     exit_code = 2
 
@@ -24,3 +52,13 @@ class MotionError(MbplanarError):
     """The mechanism cannot be assembled or cannot move as asked."""
 
     exit_code = 1
+
+
+class PlotUnavailable(MbplanarError):
+    """A picture was asked for but matplotlib (the `plot` extra) is not installed."""
+
+    exit_code = 2
+
+
+class ModelWarning(UserWarning):
+    """Valid input that is probably not what was meant; the message gives the numbers."""

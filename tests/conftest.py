@@ -19,6 +19,12 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 MODELS = Path(__file__).resolve().parent.parent / "models"
 
 
+def linkage_models() -> list[Path]:
+    """The bundled linkage models (models/*.toml without the cam files, which have no joints)."""
+    import tomllib
+    return sorted(p for p in MODELS.glob("*.toml") if "joints" in tomllib.loads(p.read_text(encoding="utf-8")))
+
+
 @pytest.fixture(scope="session")
 def engine_of():
     cache = {}

@@ -1,6 +1,7 @@
 """Pictures of the force elements and of the forces: springs and dampers on the diagram, applied loads,
 the shaking hodograph, the efficiency, the simulated motion."""
 
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -35,10 +36,11 @@ def test_spring_path_joins_its_ends():
 
 
 def test_diagram_draws_springs_dampers_and_loads():
-    data = mbplanar.read_model(MODELS / "shaper.toml")
-    data.extras = dict(data.extras, loads=list(data.extras.get("loads", [])) + [
+    data = tomllib.loads((MODELS / "shaper.toml").read_text())
+    data["loads"] = data.get("loads", []) + [
         {"type": "damper", "name": "dash", "at": [[0.0, 0.0], "S5"], "links": ["0", "5"], "damping": 10.0},
-        {"type": "torque", "name": "tq", "links": ["1", "3"], "moment": 5.0}])
+        {"type": "torque", "name": "tq", "links": ["1", "3"], "moment": 5.0}]
+    data = mbplanar.parse_model(data)
     engine = mbplanar.Engine(data)
     fig = plotting.make_figure(engine, "diagram", **plotting.show_options("loads"))
     assert _gids(fig, "damper:dash") and _gids(fig, "torque:tq") and _gids(fig, "load:cutting")
@@ -56,9 +58,10 @@ def test_shaking_and_efficiency_figures(tmp_path):
     fig = plotting.make_figure(engine, "shaking", count=37)
     (hod,) = [a for a in _gids(fig, "hodograph:shaking")]
     assert len(hod.get_xydata()) == 37
-    crank = mbplanar.read_model(MODELS / "slider_crank.toml")
-    crank.extras = {"loads": [{"type": "resistance", "joint": "Bp", "force": 100.0}],
-                    "friction": {"pairs": [{"joint": "Bp", "mu": 0.2}]}}
+    crank = tomllib.loads((MODELS / "slider_crank.toml").read_text())
+    crank.update(loads=[{"type": "resistance", "joint": "Bp", "force": 100.0}],
+                 friction={"pairs": [{"joint": "Bp", "mu": 0.2}]})
+    crank = mbplanar.parse_model(crank)
     fig = plotting.make_figure(mbplanar.Engine(crank), "efficiency", count=37)
     (eta,) = _gids(fig, "efficiency")
     y = eta.get_ydata()

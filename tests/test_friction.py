@@ -66,12 +66,10 @@ def test_slider_crank_closed_form():
 def test_friction_circle_of_a_crank():
     """A massless crank with a force F at its tip: the pin's reaction is −F, so the drive needs the
     load's moment plus μ·r·|F| in the sense of rotation."""
-    m = mbplanar.Mechanism("crank")
-    m.add_link("1")
-    m.add_joint("O", "R", "0", "1", at=(0.0, 0.0))
-    m.add_point("A", "1", at=(0.2, 0.0))
-    m.add_input("O")
-    m.extras = {"loads": [{"type": "force", "link": "1", "at": "A", "force": [30.0, -40.0]}]}
+    m = mbplanar.parse_model({"links": [{"name": "1"}], "joints": [{"name": "O", "type": "R", "links": ["0", "1"],
+                                                                    "at": [0.0, 0.0]}],
+                              "points": [{"name": "A", "link": "1", "at": [0.2, 0.0]}], "input": {"joint": "O"},
+                              "loads": [{"type": "force", "link": "1", "at": "A", "force": [30.0, -40.0]}]})
     engine = mbplanar.Engine(m)
     phi = np.radians([10.0, 100.0, 250.0])
     mu, r = 0.15, 0.01

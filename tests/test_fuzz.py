@@ -17,11 +17,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
+from conftest import linkage_models
 from mbplanar.forces._dynamics import read_dynamics
 from mbplanar.errors import MbplanarError
 from mbplanar.forces import kinetostatics
 
-MODELS = sorted(Path(__file__).resolve().parent.parent.joinpath("models").glob("*.toml"))
+MODELS = linkage_models()
 TEXTS = {p.name: p.read_text(encoding="utf-8") for p in MODELS}
 DOCS = {name: tomllib.loads(text) for name, text in TEXTS.items()}
 

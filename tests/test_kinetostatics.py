@@ -140,7 +140,7 @@ def test_static_fourbar_closed_form():
     (B−C)×(S·u) = −M3; then F10 = S·u, F12 = −S·u, F23 = −S·u, F30 = −S·u, M1 = S·(A−O)×u."""
     pose = ((0.3, 0.4), (1.4, 0.9), (1.2, 0.0))
     mech = _fourbar(pose)
-    mech.extras = {"loads": [{"type": "moment", "link": "3", "moment": 25.0}]}
+    mech.add_load("moment", link="3", moment=25.0)
     engine = mbplanar.Engine(mech)
     motion = mbplanar.analyse(engine, engine.phi_drawn, 0.0, 0.0)
     result = kinetostatics(engine, motion)
@@ -184,7 +184,9 @@ def _random_mass_and_loads(mech, draw, links):
         loads.append({"type": "force", "link": name, "at": [draw(coord), draw(coord)],
                       "force": [draw(coord) * 100, draw(coord) * 100]})
         loads.append({"type": "moment", "link": name, "moment": draw(coord) * 50})
-    mech.extras = {"loads": loads, "gravity": {"g": 9.81}}
+    for row in loads:
+        mech.add_load(**row)
+    mech.set_gravity(9.81)
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-import mbplanar.engine._solver as solver
+from mbplanar.engine import Tolerances, _nodes, _singular
 from mbplanar.analysis import check
 from mbplanar.kinematics import positions_at_limits
 
@@ -33,7 +33,7 @@ def circle_meet(p, rp, q, rq, side):
     return p + x * u + side * math.sqrt(rp * rp - x * x) * np.array([-u[1], u[0]])
 
 
-def rocker_driven():
+def rocker_driven(tol=None):
     """The crank-rocker driven at C by the rocker angle ψ (the direction C → B, degrees), drawn at ψ0."""
     b = np.array([D_ + C_ * math.cos(PSI0), C_ * math.sin(PSI0)])
     a = circle_meet((0.0, 0.0), R_, b, L_, +1)
@@ -44,7 +44,7 @@ def rocker_driven():
     m.add_joint("B", "R", "2", "3", at=tuple(b))
     m.add_joint("C", "R", "0", "3", at=(D_, 0.0))
     m.add_input("C", unit="deg")
-    return mbplanar.Engine(m)
+    return mbplanar.Engine(m, tol=tol)
 
 
 def rocker_dead_points():
@@ -185,11 +185,10 @@ def test_rows_just_short_of_a_located_limit_are_solved_or_left_out_with_it():
     assert not at.success and len(at.phi) == 1 and [lim.direction for lim in at.limits] == [1]
 
 
-def test_without_the_fold_refinement_the_bracket_remains(monkeypatch):
+def test_without_the_fold_refinement_the_bracket_remains():
     """If the augmented Newton does not converge, the limit is the middle of the walk's bracket (q None),
     good to a few 1e-10, and `check` falls back on its end samples."""
-    monkeypatch.setattr(solver, "FOLD_ITERATIONS", 0)
-    engine = rocker_driven()
+    engine = rocker_driven(Tolerances(fold_iterations=0))
     report = check(engine)
     assert all(lim.q is None for lim in engine.atlas().limits.values())
     want = np.degrees([psi for psi, _ in rocker_dead_points()])
@@ -219,6 +218,6 @@ def test_a_change_point_is_not_taken_for_a_fold():
         for way in (+1.0, -1.0):
             phi = np.array([math.pi - way * d])
             sol = engine.solve(phi)
-            node = solver._node_at(engine, phi, np.array([way]), [st.q for st in sol.blocks])
+            node = _nodes.node_at(engine.solver, phi, np.array([way]), [st.q for st in sol.blocks])
             k = int(np.argmin(np.abs(node.dets)))
-            assert solver._locate_fold(engine, k, node, np.array([way])) is None
+            assert _singular._locate_fold(engine.solver, k, node, np.array([way])) is None

@@ -11,6 +11,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
+from conftest import linkage_models
 from mbplanar.forces import kinetostatics
 from mbplanar.forces import evaluate_loads, has_force_data
 
@@ -20,7 +21,7 @@ from conftest import MODELS  # noqa: E402
 from test_kinetostatics import _equilibrium_residual, _random_mass_and_loads  # noqa: E402
 from test_properties import mechanisms  # noqa: E402
 
-FORCE_MODELS = sorted(p.stem for p in MODELS.glob("*.toml") if has_force_data(mbplanar.read_model(p)))
+FORCE_MODELS = sorted(p.stem for p in linkage_models() if has_force_data(mbplanar.read_model(p)))
 
 
 def _motions(mech, phi, omega=2.5, epsilon=-0.7):
@@ -96,8 +97,8 @@ def test_random_mechanisms_same_as_numpy(mech_kind, data):
     _random_mass_and_loads(mech, data.draw, ("1", "2", "3"))
     prismatic = [j.name for j in mech.joints.values() if j.kind == "P"]
     if prismatic:
-        mech.extras["loads"].append({"type": "resistance", "joint": prismatic[0], "force": 300.0,
-                                     "when": data.draw(st.sampled_from(["forward", "backward", "always"]))})
+        mech.add_load("resistance", joint=prismatic[0], force=300.0,
+                      when=data.draw(st.sampled_from(["forward", "backward", "always"])))
     try:
         engine = mbplanar.Engine(mech)
     except mbplanar.MbplanarError:

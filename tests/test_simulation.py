@@ -14,6 +14,7 @@ import mbplanar
 from mbplanar.cli import main
 from mbplanar.errors import ModelError
 from mbplanar.forces._simulation import accelerations, read_simulate, simulate_motion
+from mbplanar.model._model import Gravity
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 
@@ -119,7 +120,7 @@ def _five_bar():
         m.add_point(name, link, at=p)
     m.add_input("O", unit="rad")
     m.add_input("D", unit="rad")
-    m.extras = {"gravity": {"g": 9.81}}
+    m.gravity = Gravity(9.81)
     return m
 
 

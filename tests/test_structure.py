@@ -12,6 +12,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
+from conftest import linkage_models
 from mbplanar.cli import main
 from mbplanar.errors import ModelError
 from mbplanar.structure import AssurGroup, Structure, decompose, roman
@@ -413,6 +414,7 @@ def test_smaller_group_found_first_does_not_hide_a_pending_one():
 # Read off each model's table of pairs by hand (the textbook decomposition).
 MODEL_STRUCTURES = {
     "fourbar": (1, 1, 2, "I(0,1) → II(2,3)", [(2, 2, "RRR", ["2", "3"], ["B"], ["A", "C"])]),
+    "fourbar_loaded": (1, 1, 2, "I(0,1) → II(2,3)", [(2, 2, "RRR", ["2", "3"], ["B"], ["A", "C"])]),
     "slider_crank": (1, 1, 2, "I(0,1) → II(2,3)", [(2, 2, "RRP", ["2", "3"], ["B"], ["A", "Bp"])]),
     "crank_slider_rocker": (1, 2, 2, "I(0,1) → II(2,5) → II(3,4)", [
         (2, 2, "RRP", ["2", "5"], ["C5"], ["A", "Cp"]),
@@ -446,7 +448,7 @@ MODEL_STRUCTURES = {
 
 
 def test_every_bundled_model_is_in_the_table():
-    assert set(MODEL_STRUCTURES) == {path.stem for path in MODELS.glob("*.toml")}
+    assert set(MODEL_STRUCTURES) == {path.stem for path in linkage_models()}
 
 
 @pytest.mark.parametrize("name", sorted(MODEL_STRUCTURES))

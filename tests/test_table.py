@@ -50,7 +50,7 @@ CASES = [  # (label, mutation, error type, words the message must contain)
     ("input is a link", lambda d: d["input"].update(joint="2"), ModelError, ["inputs[0]", "not a joint"]),
     ("bad sense", lambda d: d["input"].update(sense=[1]), ModelError, ["inputs[0]", "sense"]),
     ("two inputs", lambda d: d.update(inputs=[d.pop("input"), {"joint": "C"}]), ModelError,
-     ["DOF = 3·n − 2·p = 3·3 − 2·4 = 1", "2 input(s)"]),
+     ["DOF = 1 (structural count 3·n − 2·p = 3·3 − 2·4", "2 input(s)"]),
     ("rigid", lambda d: (_strip_lengths(d), d["links"].append({"name": "4"}),
                          d["joints"].extend([{"name": "E", "type": "R", "links": ["0", "4"], "at": [0.1, 0]},
                                              {"name": "G", "type": "R", "links": ["4", "2"], "at": [0.15, 0.08]}])),

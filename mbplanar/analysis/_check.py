@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
-from ..engine._solver import met_along
+from ..engine._atlas import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
            "pressure_angles", "format_report"]
@@ -81,6 +81,10 @@ class CheckReport:
             for ang in doc[key]:
                 ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
         return doc
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
 
 
 # -- four-bar closed form ---------------------------------------------------------------------------
@@ -373,8 +377,8 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     """Sweep the whole input range of a one-input mechanism and report its motion limits, extreme
     positions, transmission and pressure angles (see the module docstring)."""
     if len(engine.inputs) != 1:
-        raise ModelError(f"{engine.mech.source}: check drives one input; this model has "
-                         f"{len(engine.inputs)}")
+        raise ModelError("check drives one input; this model has "
+                         f"{len(engine.inputs)}", source=engine.mech.source)
     inp = engine.inputs[0]
     (lo, hi), limits, full = _reach(engine)
     motion = analyse(engine, _grid(engine, lo, hi, limits, samples))
@@ -402,14 +406,15 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     return report
 
 
-def format_report(report: CheckReport) -> str:
-    """Plain-text report (angles in degrees)."""
+def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -> str:
+    """Plain-text report (angles in degrees); lengths in `length` = (name, metres per unit)."""
     u = report.unit
+    lu, k = length
     lines = [f"{report.model}: input {report.input} [{u}]"]
     if report.grashof is not None:
         g = report.grashof
-        lines.append(f"Grashof: s + l = {g['s_plus_l']:.6g} {'≤' if g['grashof'] else '>'} p + q = "
-                     f"{g['p_plus_q']:.6g}: {g['kind']}; the input "
+        lines.append(f"Grashof: s + l = {g['s_plus_l'] / k:.6g} {lu} {'≤' if g['grashof'] else '>'} p + q = "
+                     f"{g['p_plus_q'] / k:.6g} {lu}: {g['kind']}; the input "
                      f"{'turns fully' if g['input_turns'] else 'does not turn fully'}")
     if report.full_turn:
         lines.append("the input turns fully (numerically: a whole turn without a motion limit)")
@@ -428,8 +433,8 @@ def format_report(report: CheckReport) -> str:
                          f"{math.degrees(e.maximum):.6f}° at {e.at_max:.8g} {u} "
                          f"(swing {math.degrees(e.maximum - e.minimum):.6f}°)")
         else:
-            lines.append(f"  slider {e.name}: {e.minimum:.9g} m at {e.at_min:.8g} {u} … {e.maximum:.9g} m "
-                         f"at {e.at_max:.8g} {u} (stroke {e.maximum - e.minimum:.9g} m)")
+            lines.append(f"  slider {e.name}: {e.minimum / k:.9g} {lu} at {e.at_min:.8g} {u} … {e.maximum / k:.9g} "
+                         f"{lu} at {e.at_max:.8g} {u} (stroke {(e.maximum - e.minimum) / k:.9g} {lu})")
     for title, items in (("transmission angle", report.transmission), ("pressure angle", report.pressure)):
         for a in items:
             lines.append(f"  {title} {a.name}: min {math.degrees(a.minimum):.4f}° at {a.at_min:.8g} {u}, "

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine._solver import met_along
+from ..engine._atlas import met_along
 from ..forces._kinetostatics import plan_of, result
 from ..forces._loads import needs_numpy
 from ..kinematics._motion import Motion, _per_position, _tables

@@ -3,14 +3,14 @@ rate passes run position by position as scalar loops, and every output of `Motio
 same pass.
 
 It is the same engine, not a second one: the branch atlas, its nodes and interpolant, the joint laws'
-formulas, the tolerances and the acceptance checks are `solver`'s; only the loop order differs (per
-position instead of per operation over the batch). It takes the common case only: every position
+formulas, the tolerances (the engine's `Tolerances`, passed as an argument) and the acceptance checks
+are the engine's; only the loop order differs (per position instead of per operation over the batch). It takes the common case only: every position
 between two atlas nodes or past a located limit, corrected on the branch at the first try. Anything
 else (a change point's bracket, a position the batch corrector would hand to `_repair`, an atlas of
 one node) returns None and the numpy path does the whole batch. Tests hold both paths equal to
 rounding on every model.
 
-The plan is the engine's `BlockPlan`s flattened into arrays (`_Plan`), built once per engine.
+The plan is the engine's `BlockPlan`s as named tables of arrays (`_tables`), built once per engine.
 """
 
 from __future__ import annotations
@@ -21,7 +21,8 @@ import numba
 import numpy as np
 
 from . import _threads
-from ..engine._solver import MAX_CORRECTION, MAX_NEWTON, PIVOT_CROSS, PIVOT_POLISH, TOL, TOL_FINE, _in_brackets
+from ._tables import kinematics_tables
+from ..engine._atlas import _in_brackets
 
 __all__ = ["FIELDS", "sweep"]
 
@@ -37,7 +38,7 @@ _LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi
 
 
 @dataclass
-class _Plan:
+class _KernelPlan:
     """An engine compiled for the kernel, built once: `args`, the engine's blocks and output tables as
     arrays in `_sweep`'s order; `row`, the structured dtype of one position's output (FIELDS);
     `sizes` of the kernel's work arrays, `scratch` one set of them per thread (so that an engine is
@@ -49,71 +50,21 @@ class _Plan:
     scratch: list
 
 
-def _plan(engine, joint_table) -> _Plan:
+def _plan(engine, joint_table) -> _KernelPlan:
     return engine.prepare("numba kinematics", lambda: _make_plan(engine, joint_table))
 
 
-def _make_plan(engine, joint_table) -> _Plan:
-    """The engine's blocks and output tables as the kernel's arrays."""
-    steps_i, steps_f, cuts_i, cuts_f, blocks, row_scale, var_scale, anchors = _blocks(engine)
-    joints_i, joints_f = _joints(joint_table)
-    args = (steps_i, steps_f, cuts_i, cuts_f, blocks, anchors, row_scale, var_scale, float(engine.inputs[0].sense),
-            float(engine.phi_drawn[0]), joints_i, joints_f, engine.link_index[engine.mech.ground])
-    per = {"L": len(engine.links), "J": len(joints_i)}
+def _make_plan(engine, joint_table) -> _KernelPlan:
+    """The engine's blocks and output tables as the kernel's arguments (`_tables.kinematics_tables`)."""
+    steps, cuts, blocks, joints = kinematics_tables(engine, joint_table)
+    args = (steps, cuts, blocks, joints, float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
+            engine.link_index[engine.mech.ground], engine.tol.as_array())
+    per = {"L": len(engine.links), "J": len(joints.drawn)}
     row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
                     for name, kind, comp in FIELDS])
     m_max = max([1] + [bp.m for bp in engine.blocks])
-    sizes = (len(steps_i), len(cuts_i), per["L"], len(var_scale), m_max)
-    return _Plan(args, row, sizes, [])
-
-
-def _blocks(engine) -> tuple:
-    """The engine's `BlockPlan`s flattened. Steps (S, 6) int: kind (0 R, 1 P), parent, child,
-    relative, unknown (global index, −1 for an input), input (−1 for an unknown); (S, 6) float: sign,
-    s0 (2), u0 (2), +1/−1 (parent is the carrier). Cuts (C, 3) int: kind, links a, b; (C, 4) float:
-    s0, n0. Blocks (K, 8): first step, end step, first cut, end cut, first unknown, number of unknowns,
-    first and end anchor. Then every block's row and unknown scales, concatenated (M,), and its anchors:
-    the links it reads but does not place (earlier blocks' links, the ground), concatenated."""
-    idx = engine.link_index
-    steps_i, steps_f, cuts_i, cuts_f, blocks, rows, vars_, anchors = [], [], [], [], [], [], [], []
-    var0 = 0
-    for bp in engine.blocks:
-        placed = {idx[st.child] for st in bp.steps}
-        read = {idx[st.parent] for st in bp.steps} | {idx[n] for law in bp.cuts for n in law.links[:2]}
-        mine = sorted(read - placed)
-        blocks.append((len(steps_i), len(steps_i) + len(bp.steps), len(cuts_i), len(cuts_i) + len(bp.cuts), var0,
-                       bp.m, len(anchors), len(anchors) + len(mine)))
-        anchors += mine
-        for st in bp.steps:
-            law = st.law
-            prismatic = hasattr(law, "u0")
-            u0 = law.u0 if prismatic else (0.0, 0.0)
-            steps_i.append((int(prismatic), idx[st.parent], idx[st.child], int(st.relative),
-                            -1 if st.var is None else var0 + st.var, -1 if st.input is None else st.input))
-            carrier = 1.0 if not prismatic or st.parent == law.carrier else -1.0
-            steps_f.append((st.sign, law.s0[0], law.s0[1], u0[0], u0[1], carrier))
-        for law in bp.cuts:
-            n0 = law.n0 if hasattr(law, "u0") else (0.0, 0.0)
-            cuts_i.append((int(hasattr(law, "u0")), idx[law.links[0]], idx[law.links[1]]))
-            cuts_f.append((law.s0[0], law.s0[1], n0[0], n0[1]))
-        rows.extend(bp.row_scale)
-        vars_.extend(bp.var_scale)
-        var0 += bp.m
-    arr = lambda x, dt, w: np.array(x, dt).reshape(-1, w)  # noqa: E731
-    return (arr(steps_i, np.int64, 6), arr(steps_f, float, 6), arr(cuts_i, np.int64, 3), arr(cuts_f, float, 4),
-            arr(blocks, np.int64, 8), np.array(rows, float), np.array(vars_, float), np.array(anchors, np.int64))
-
-
-def _joints(t) -> tuple:
-    """Joints (J, 4) int: kind (0 R, 1 P), links a (carrier), b (slider), 0; (J, 5) float: drawn value,
-    at (2), u0 (2), from `kinematics._JointTable`."""
-    n_j = len(t.drawn)
-    joints_i, joints_f = np.zeros((n_j, 4), np.int64), np.zeros((n_j, 5))
-    joints_f[:, 0] = t.drawn
-    joints_i[t.r_col, 1], joints_i[t.r_col, 2] = t.r_a, t.r_b
-    joints_i[t.p_col, 0], joints_i[t.p_col, 1], joints_i[t.p_col, 2] = 1, t.p_c, t.p_s
-    joints_f[t.p_col, 1:3], joints_f[t.p_col, 3:5] = t.p_at, t.p_u0
-    return joints_i, joints_f
+    sizes = (len(steps.parent), len(cuts.a), per["L"], len(blocks.var_scale), m_max)
+    return _KernelPlan(args, row, sizes, [])
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
@@ -175,13 +126,13 @@ _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, in
 
 
 @_inline
-def _place(k, si, sf, q, q_in, ps, sc):
+def _place(k, steps, q, q_in, ps, sc):
     """Place the child of tree step k; caches rho_parent, rho_child (R) or u, q (P) in sc[k]."""
-    kind, parent, child, rel, var = si[k, 0], si[k, 1], si[k, 2], si[k, 3], si[k, 4]
-    value = q[var] if var >= 0 else sf[k, 0] * q_in
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
+    value = q[var] if var >= 0 else steps.sign[k] * q_in
     cp, sp = ps[1, parent], ps[2, parent]
-    if kind == 0:
-        s0x, s0y = sf[k, 1], sf[k, 2]
+    if not steps.prismatic[k]:
+        s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
         rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
         t = ps[0, parent] + value if rel else value
         cc, ss = np.cos(t), np.sin(t)
@@ -191,8 +142,8 @@ def _place(k, si, sf, q, q_in, ps, sc):
         ps[4, child] = ps[4, parent] + rpy - rcy
         sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
     else:
-        sign = sf[k, 5]
-        ux, uy = cp * sf[k, 3] - sp * sf[k, 4], sp * sf[k, 3] + cp * sf[k, 4]
+        sign = steps.carrier[k]
+        ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
         ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
         ps[3, child] = ps[3, parent] + (sign * value) * ux
         ps[4, child] = ps[4, parent] + (sign * value) * uy
@@ -200,18 +151,18 @@ def _place(k, si, sf, q, q_in, ps, sc):
 
 
 @_inline
-def _closure(k, ci, cf, ps, cc, res, row):
+def _closure(k, cuts, ps, cc, res, row):
     """Residual rows row, row + 1 of cut k; caches what its rates need in cc[k]."""
-    kind, a, b = ci[k, 0], ci[k, 1], ci[k, 2]
-    s0x, s0y = cf[k, 0], cf[k, 1]
+    a, b = cuts.a[k], cuts.b[k]
+    s0x, s0y = cuts.s0[k, 0], cuts.s0[k, 1]
     rax, ray = ps[1, a] * s0x - ps[2, a] * s0y, ps[2, a] * s0x + ps[1, a] * s0y
     rbx, rby = ps[1, b] * s0x - ps[2, b] * s0y, ps[2, b] * s0x + ps[1, b] * s0y
-    if kind == 0:
+    if not cuts.prismatic[k]:
         res[row] = ps[3, a] + rax - ps[3, b] - rbx
         res[row + 1] = ps[4, a] + ray - ps[4, b] - rby
     else:  # a carrier, b slider
-        nx = ps[1, a] * cf[k, 2] - ps[2, a] * cf[k, 3]
-        ny = ps[2, a] * cf[k, 2] + ps[1, a] * cf[k, 3]
+        nx = ps[1, a] * cuts.n0[k, 0] - ps[2, a] * cuts.n0[k, 1]
+        ny = ps[2, a] * cuts.n0[k, 0] + ps[1, a] * cuts.n0[k, 1]
         dx = ps[3, b] + rbx - ps[3, a] - rax
         dy = ps[4, b] + rby - ps[4, a] - ray
         res[row] = ps[0, b] - ps[0, a]
@@ -221,12 +172,12 @@ def _closure(k, ci, cf, ps, cc, res, row):
 
 
 @_inline
-def _step_rates(k, si, sf, sc, rt, slot, qd, vel, qv):
+def _step_rates(k, steps, sc, rt, slot, qd, vel, qv):
     """Rates in rt[slot] of step k's child from its parent's and the tree variable's rate qd; with
     vel >= 0 they are accelerations, rt[vel] holding the velocities and qv the variable's velocity."""
-    kind, parent, child, rel = si[k, 0], si[k, 1], si[k, 2], si[k, 3]
+    parent, child, rel = steps.parent[k], steps.child[k], steps.relative[k]
     wp, vpx, vpy = rt[slot, 0, parent], rt[slot, 1, parent], rt[slot, 2, parent]
-    if kind == 0:
+    if not steps.prismatic[k]:
         rpx, rpy, rcx, rcy = sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
         wc = qd + wp if rel else qd
         cx = vpx + wp * -rpy - wc * -rcy
@@ -237,7 +188,7 @@ def _step_rates(k, si, sf, sc, rt, slot, qd, vel, qv):
             cy = cy - (Wp * Wp) * rpy + (Wc * Wc) * rcy
         rt[slot, 0, child], rt[slot, 1, child], rt[slot, 2, child] = wc, cx, cy
     else:
-        sign, ux, uy, q = sf[k, 5], sc[k, 0], sc[k, 1], sc[k, 4]
+        sign, ux, uy, q = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 4]
         cx = vpx + sign * (qd * ux + (q * wp) * -uy)
         cy = vpy + sign * (qd * uy + (q * wp) * ux)
         if vel >= 0:
@@ -248,13 +199,13 @@ def _step_rates(k, si, sf, sc, rt, slot, qd, vel, qv):
 
 
 @_inline
-def _closure_rates(k, ci, cc, rt, slot, vel, out, row):
+def _closure_rates(k, cuts, cc, rt, slot, vel, out, row):
     """Rate rows of cut k from rt[slot] (its Jacobian column when the slot holds sensitivities); with
     vel >= 0 the centripetal and Coriolis terms from the velocities rt[vel]."""
-    kind, a, b = ci[k, 0], ci[k, 1], ci[k, 2]
+    a, b = cuts.a[k], cuts.b[k]
     rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
     wa, wb = rt[slot, 0, a], rt[slot, 0, b]
-    if kind == 0:
+    if not cuts.prismatic[k]:
         ox = rt[slot, 1, a] + wa * -ray - rt[slot, 1, b] - wb * -rby
         oy = rt[slot, 2, a] + wa * rax - rt[slot, 2, b] - wb * rbx
         if vel >= 0:
@@ -320,7 +271,7 @@ def _lu_solve(a, m, perm, b, x):
 
 
 @_inline
-def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, si, sf, ci, anchors, sc, cc, rt, jac, col):
+def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt, jac, col):
     """Closure Jacobian (m, m) of a block, and in rt[0 … m − 1] the sensitivities of its links' rates to
     each unknown (the links outside the block stay at 0)."""
     for j in range(m):
@@ -328,32 +279,33 @@ def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, si, sf, ci, anchors, sc, cc, rt, 
             for comp in range(3):
                 rt[j, comp, anchors[t]] = 0.0
         for k in range(k0, k1):
-            _step_rates(k, si, sf, sc, rt, j, 1.0 if si[k, 4] - var0 == j and si[k, 4] >= 0 else 0.0, -1, 0.0)
+            _step_rates(k, steps, sc, rt, j, 1.0 if steps.var[k] - var0 == j and steps.var[k] >= 0 else 0.0, -1,
+                        0.0)
         for k in range(c0, c1):
-            _closure_rates(k, ci, cc, rt, j, -1, col, 2 * (k - c0))
+            _closure_rates(k, cuts, cc, rt, j, -1, col, 2 * (k - c0))
         for i in range(m):
             jac[i, j] = col[i]
 
 
 @_inline
-def _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
+def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
                  q_in_vel, rhs, out):
     """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
     out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms)."""
     for k in range(k0, k1):
-        var, sign = si[k, 4], sf[k, 0]
+        var, sign = steps.var[k], steps.sign[k]
         qd = 0.0 if var >= 0 else sign * q_in_rate
         qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
-        _step_rates(k, si, sf, sc, rt, slot, qd, vel, qv)
+        _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
     if m == 0:
         return
     for k in range(c0, c1):
-        _closure_rates(k, ci, cc, rt, slot, vel, rhs, 2 * (k - c0))
+        _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
     for i in range(m):
         rhs[i] = -rhs[i]
     _lu_solve(lu, m, perm, rhs, out)
     for k in range(k0, k1):
-        link = si[k, 2]
+        link = steps.child[k]
         for j in range(m):
             for comp in range(3):
                 rt[slot, comp, link] += rt[j, comp, link] * out[j]
@@ -373,11 +325,14 @@ def _interval(grid, x):
 
 
 @_jit
-def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_drawn, ji, jf,
-           ground, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
+def _sweep(steps, cuts, blocks, joints, sense, phi_drawn, ground, tol, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
            res, step, qd_u, qdd_u):
-    """Solve and write every position; returns 0, or 1 when a position needs the numpy path."""
-    n_blocks, n_grid, m_all = len(blocks), len(grid), coef.shape[2]
+    """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
+    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
+    closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
+        tol[0], int(tol[1]), tol[2], tol[3], tol[4])
+    n_blocks, n_grid, m_all = len(blocks.m), len(grid), coef.shape[2]
+    row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
     ps[:, :] = 0.0
     ps[1, :] = 1.0
@@ -404,30 +359,30 @@ def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_dra
         rt[acc, :, :] = 0.0
         q_in = sense * (xb - phi_drawn)
         for bk in range(n_blocks):
-            k0, k1, c0, c1, var0, m = blocks[bk, 0], blocks[bk, 1], blocks[bk, 2], blocks[bk, 3], blocks[bk, 4], \
-                blocks[bk, 5]
+            k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
+            var0, m = blocks.var0[bk], blocks.m[bk]
             polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
-            for it in range(MAX_NEWTON + 1):
+            for it in range(max_newton + 1):
                 for k in range(k0, k1):
-                    _place(k, si, sf, q, q_in, ps, sc)
+                    _place(k, steps, q, q_in, ps, sc)
                 err = 0.0
                 for k in range(c0, c1):
-                    _closure(k, ci, cf, ps, cc, res, 2 * (k - c0))
+                    _closure(k, cuts, ps, cc, res, 2 * (k - c0))
                 for i in range(m):
                     err = max(err, abs(res[i]) * row_scale[var0 + i])
                 if m == 0:
                     ok = True
                     break
-                _jacobian(k0, k1, c0, c1, blocks[bk, 6], blocks[bk, 7], m, var0, si, sf, ci, anchors, sc, cc, rt, jac,
-                          step)
+                _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
+                          sc, cc, rt, jac, step)
                 det, ratio = _lu(jac, m, perm)
-                ok = err < TOL
+                ok = err < closure
                 if ok and not polished:
                     # near a singular position one more step, as solver.Engine._newton does
                     polished = True
-                    if ratio >= PIVOT_POLISH or ratio < PIVOT_CROSS * 1e3:
+                    if ratio >= pivot_polish or ratio < pivot_cross * 1e3:
                         break
-                elif ok or it == MAX_NEWTON:
+                elif ok or it == max_newton:
                     break
                 for i in range(m):
                     res[i] = -res[i]
@@ -441,21 +396,21 @@ def _sweep(si, sf, ci, cf, blocks, anchors, row_scale, var_scale, sense, phi_dra
                 if det == 0.0 or (det > 0) != (signs[near, bk] > 0):
                     return 1
                 for i in range(m):
-                    if abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] > MAX_CORRECTION:
+                    if abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] > max_correction:
                         return 1
             # velocity analogues, then acceleration analogues (input rate sense·1, acceleration 0)
-            _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, vel, -1, jac, perm, sense, qd_u,
+            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense, qd_u,
                          0.0, res, qd_u)
-            _block_rates(k0, k1, c0, c1, m, var0, si, sf, ci, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
+            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
                          sense, res, qdd_u)
-        _write(b, out, ps, rt, vel, acc, ji, jf)
+        _write(b, out, ps, rt, vel, acc, joints)
     return 0
 
 
 @_jit
-def _write(b, out, ps, rt, vel, acc, ji, jf):
+def _write(b, out, ps, rt, vel, acc, joints):
     """Every output of position b (in the order of FIELDS) from its link states (analogue rates)."""
-    n_l, n_j = ps.shape[1], len(ji)
+    n_l, n_j = ps.shape[1], len(joints.a)
     o_eq, o_th, o_cos, o_sin, o_r = n_l, 2 * n_l, 3 * n_l, 4 * n_l, 5 * n_l
     o_fv, o_fa, o_val = 7 * n_l, 9 * n_l, 11 * n_l
     o_rq, o_accq = o_val + n_j, o_val + 2 * n_j
@@ -466,12 +421,12 @@ def _write(b, out, ps, rt, vel, acc, ji, jf):
         out[b, o_fv + 2 * l], out[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
         out[b, o_fa + 2 * l], out[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
     for j in range(n_j):
-        la, lb = ji[j, 1], ji[j, 2]
+        la, lb = joints.a[j], joints.b[j]
         ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]
-        if ji[j, 0] == 0:
-            value, rq, aq = ps[0, lb] - ps[0, la] + jf[j, 0], ws - wc, es - ec
+        if not joints.prismatic[j]:
+            value, rq, aq = ps[0, lb] - ps[0, la] + joints.drawn[j], ws - wc, es - ec
         else:  # slider point minus carrier point, along the carrier's guide
-            atx, aty = jf[j, 1], jf[j, 2]
+            atx, aty = joints.at[j, 0], joints.at[j, 1]
             psx, psy = ps[1, lb] * atx - ps[2, lb] * aty, ps[2, lb] * atx + ps[1, lb] * aty
             pcx, pcy = ps[1, la] * atx - ps[2, la] * aty, ps[2, la] * atx + ps[1, la] * aty
             dx, dy = ps[3, lb] + psx - ps[3, la] - pcx, ps[4, lb] + psy - ps[4, la] - pcy
@@ -479,10 +434,10 @@ def _write(b, out, ps, rt, vel, acc, ji, jf):
             ddy = rt[vel, 2, lb] + ws * psx - rt[vel, 2, la] - wc * pcx
             dddx = (rt[acc, 1, lb] - es * psy - ws * ws * psx) - (rt[acc, 1, la] - ec * pcy - wc * wc * pcx)
             dddy = (rt[acc, 2, lb] + es * psx - ws * ws * psy) - (rt[acc, 2, la] + ec * pcx - wc * wc * pcy)
-            ux = ps[1, la] * jf[j, 3] - ps[2, la] * jf[j, 4]
-            uy = ps[2, la] * jf[j, 3] + ps[1, la] * jf[j, 4]
+            ux = ps[1, la] * joints.u0[j, 0] - ps[2, la] * joints.u0[j, 1]
+            uy = ps[2, la] * joints.u0[j, 0] + ps[1, la] * joints.u0[j, 1]
             pud, ud = -uy * dx + ux * dy, ux * dx + uy * dy
-            value = jf[j, 0] + ud
+            value = joints.drawn[j] + ud
             rq = wc * pud + ux * ddx + uy * ddy
             aq = ec * pud - wc * wc * ud + 2 * wc * (-uy * ddx + ux * ddy) + ux * dddx + uy * dddy
         out[b, o_val + j], out[b, o_rq + j], out[b, o_accq + j] = value, rq, aq

@@ -20,8 +20,9 @@ import numpy as np
 
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
+from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
-from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links, read_gravity, read_loads
+from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
 
@@ -30,7 +31,7 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 
 
 @dataclass
-class _Plan:
+class _KernelPlan:
     """The model's loads and the system's structure as arrays in `_kernel`'s order, built once per
     engine and row layout: `names`, `links` of the loads in the order numpy lists them; `guide_loads`,
     the rows whose size `guide_force_size` gives; `args`; `sizes` of the kernel's work arrays and
@@ -45,40 +46,33 @@ class _Plan:
 
 
 def _load_table(engine, inertia):
-    """Loads as (names, links, guide loads, int table (N, 3): link, guide row or −1 (−2 for an inertia
-    load), carrier; float table (N, 7): at (2), force (2) or (mass, inertia), moment, u0 (2))."""
+    """The loads as (names, links, guide loads, `LoadTables`), in the order numpy lists them: the model's
+    loads, gravity on the heavy links, and (with `inertia`) their d'Alembert loads."""
     mech = engine.mech
-    names, ints, floats, guides = [], [], [], []
-    for load in read_loads(mech):
+    names, rows, guides = [], [], []
+    for load in mech.loads:
         at, force, moment = constant_parts(mech, load)
         k = engine.link_index[load.link]
-        if force is None:
-            u0 = engine.laws[load.joint].u0
+        if force is None:  # along a guide: the kernel scales its direction by `guide_force_size`
             carrier = engine.link_index[mech.joints[load.joint].carrier]
-            ints.append((k, len(guides), carrier))
-            floats.append((at[0], at[1], 0.0, 0.0, moment, u0[0], u0[1]))
+            rows.append((LOAD_GUIDE, k, len(guides), carrier, at, (0.0, 0.0), moment, engine.laws[load.joint].u0))
             guides.append(load)
         else:
-            ints.append((k, -1, 0))
-            floats.append((at[0], at[1], force[0], force[1], moment, 0.0, 0.0))
+            rows.append((LOAD_FIXED, k, -1, 0, at, force, moment, (0.0, 0.0)))
         names.append(load.name)
     heavy = heavy_links(mech)
-    gravity = read_gravity(mech)
+    gravity = mech.gravity
     if gravity:
         for name, lk, at in heavy:
             if lk.mass:
-                force = lk.mass * gravity.vector
-                ints.append((engine.link_index[name], -1, 0))
-                floats.append((at[0], at[1], force[0], force[1], 0.0, 0.0, 0.0))
+                rows.append((LOAD_FIXED, engine.link_index[name], -1, 0, at, lk.mass * gravity.vector, 0.0,
+                             (0.0, 0.0)))
                 names.append(f"gravity on {name}")
     if inertia:
         for name, lk, at in heavy:
-            ints.append((engine.link_index[name], -2, 0))
-            floats.append((at[0], at[1], lk.mass, lk.inertia, 0.0, 0.0, 0.0))
+            rows.append((LOAD_INERTIA, engine.link_index[name], -1, 0, at, (lk.mass, lk.inertia), 0.0, (0.0, 0.0)))
             names.append(f"inertia of {name}")
-    links = [k for k, _, _ in ints]
-    return (names, links, guides, np.array(ints, np.int64).reshape(-1, 3),
-            np.array(floats, float).reshape(-1, 7))
+    return names, [r[1] for r in rows], guides, load_tables(rows)
 
 
 def _block_tables(blocks):
@@ -120,14 +114,14 @@ def _zeros(blk) -> list:
     return sorted(read - entries)
 
 
-def _plan(engine, ks_plan, motion, inertia) -> _Plan:
+def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key in cache:
         return cache[key]
     mech, lay = engine.mech, ks_plan.lay
-    names, links, guides, load_i, load_f = _load_table(engine, inertia)
+    names, links, guides, loads = _load_table(engine, inertia)
     offsets = np.array([row_dtype.fields[name][1] // 8 for name in _READS], np.int64)
     link_row = np.full(len(engine.links), -1, np.int64)
     for k, row in lay.rows.items():
@@ -141,11 +135,11 @@ def _plan(engine, ks_plan, motion, inertia) -> _Plan:
     in_joint = np.array([list(mech.joints).index(inp.joint) for inp in engine.inputs], np.int64)
     blocks = _block_tables(ks_plan.blocks)
     args = (offsets, len(engine.links), p_link.astype(np.int64), np.ascontiguousarray(p_at, float), link_row,
-            np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, load_i,
-            load_f, *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint)
+            np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, loads,
+            *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
     sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
              1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
-    plan = cache[key] = _Plan(names, links, guides, args, sizes, [])
+    plan = cache[key] = _KernelPlan(names, links, guides, args, sizes, [])
     return plan
 
 
@@ -261,15 +255,17 @@ def _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, p
 
 @_jit
 def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, centre, size, jpoint, guide_i, guide_f,
-            p_inputs, load_i, load_f, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c,
-            zero, scale, in_cols, in_joint, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol, bvec, feat):
+            p_inputs, loads, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c,
+            zero, scale, in_cols, in_joint, min_measure, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol,
+            bvec, feat):
     """Every position b: features, loads (stored in loads_out[b]: fx, fy, x, y, moment), the blocks into
-    x_out[b] (scaled back, NaN where singular), and the relative virtual-power residual."""
+    x_out[b] (scaled back, NaN where a block's measure is not above min_measure, `Tolerances.singular`),
+    and the relative virtual-power residual."""
     o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_rq = (
         offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7])
     cx, cy = centre[0], centre[1]
     inv_size = 1.0 / size
-    n_j, n_g, n_loads, n = len(jpoint), len(guide_i), len(load_i), len(scale)
+    n_j, n_g, n_loads, n = len(jpoint), len(guide_i), len(loads.link), len(scale)
     base = 1 + 2 * n_j
     for b in range(len(row)):
         om, ep = omega[b], epsilon[b]
@@ -295,12 +291,12 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
         for i in range(n):
             bvec[i] = 0.0
         for ld in range(n_loads):
-            k, g = load_i[ld, 0], load_i[ld, 1]
+            k, g = loads.link[ld], loads.guide[ld]
             c, s = row[b, o_cos + k], row[b, o_sin + k]
-            rx = c * load_f[ld, 0] - s * load_f[ld, 1]
-            ry = s * load_f[ld, 0] + c * load_f[ld, 1]
+            rx = c * loads.at[ld, 0] - s * loads.at[ld, 1]
+            ry = s * loads.at[ld, 0] + c * loads.at[ld, 1]
             px, py = row[b, o_r + 2 * k] + rx, row[b, o_r + 2 * k + 1] + ry
-            if g == -2:  # d'Alembert: −m·a at the centre, −I·ε
+            if loads.inertia[ld]:  # d'Alembert: −m·a at the centre, −I·ε
                 wq = row[b, o_wq + k]
                 wr, er = wq * om, row[b, o_eq + k] * om2 + wq * ep  # real ω, ε (Motion.w, Motion.e)
                 ax = row[b, o_fa + 2 * k] * om2 + row[b, o_fv + 2 * k] * ep
@@ -309,14 +305,14 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
                 ay += er * rx
                 ax -= (wr * wr) * rx
                 ay -= (wr * wr) * ry
-                fx, fy, mz = -load_f[ld, 2] * ax, -load_f[ld, 2] * ay, -load_f[ld, 3] * er
+                fx, fy, mz = -loads.mass[ld] * ax, -loads.mass[ld] * ay, -loads.moment_of_inertia[ld] * er
             elif g >= 0:  # along the guide of the carrier
-                c, s = row[b, o_cos + load_i[ld, 2]], row[b, o_sin + load_i[ld, 2]]
-                ux = c * load_f[ld, 5] - s * load_f[ld, 6]
-                uy = s * load_f[ld, 5] + c * load_f[ld, 6]
-                fx, fy, mz = sizes[b, g] * ux, sizes[b, g] * uy, load_f[ld, 4]
+                c, s = row[b, o_cos + loads.carrier[ld]], row[b, o_sin + loads.carrier[ld]]
+                ux = c * loads.u0[ld, 0] - s * loads.u0[ld, 1]
+                uy = s * loads.u0[ld, 0] + c * loads.u0[ld, 1]
+                fx, fy, mz = sizes[b, g] * ux, sizes[b, g] * uy, loads.moment[ld]
             else:
-                fx, fy, mz = load_f[ld, 2], load_f[ld, 3], load_f[ld, 4]
+                fx, fy, mz = loads.force[ld, 0], loads.force[ld, 1], loads.moment[ld]
             loads_out[b, ld, 0], loads_out[b, ld, 1], loads_out[b, ld, 2] = fx, fy, px
             loads_out[b, ld, 3], loads_out[b, ld, 4] = py, mz
             r = link_row[k]
@@ -330,7 +326,7 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
         for bk in range(len(blocks)):
             measure = _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r,
                                    rest_c, zero, feat, bvec, xb, A, rl, M, rr, perm, sol)
-            bad = bad or not measure > 1e-12
+            bad = bad or not measure > min_measure
         for i in range(n):
             xb[i] *= scale[i]
             bad = bad or not np.isfinite(xb[i])
@@ -351,7 +347,7 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
             wscale = max(wscale, abs(row[b, o_wq + k]))
         total, bound = 0.0, 0.0
         for ld in range(n_loads):
-            k = load_i[ld, 0]
+            k = loads.link[ld]
             fx, fy, px, py, mz = (loads_out[b, ld, 0], loads_out[b, ld, 1], loads_out[b, ld, 2],
                                   loads_out[b, ld, 3], loads_out[b, ld, 4])
             wk = row[b, o_wq + k]

@@ -7,5 +7,6 @@ atlas) and singular positions.
 """
 
 from ._solver import Crossing, Engine, Limit, Solution
+from ._tolerances import Tolerances
 
-__all__ = ["Engine", "Solution", "Limit", "Crossing"]
+__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing"]

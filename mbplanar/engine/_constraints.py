@@ -87,7 +87,10 @@ class Rates:
 
 
 class JointLaw:
-    """The hooks each joint type fills in (tree placement, loop closure, and their rates)."""
+    """The hooks each joint type fills in (tree placement, loop closure, and their rates); `kind` is the
+    joint's type, "R" or "P" (as `Joint.kind`)."""
+
+    kind = ""
 
     def __init__(self, joint: Joint):
         self.name = joint.name
@@ -109,6 +112,8 @@ class JointLaw:
 
 class Revolute(JointLaw):
     """Revolute pair: one point shared by both links."""
+
+    kind = "R"
 
     def place(self, pose, parent, child, q, relative):
         rho_p = pose.rot(parent, self.s0)
@@ -146,6 +151,8 @@ class Revolute(JointLaw):
 
 class Prismatic(JointLaw):
     """Prismatic pair: the slider keeps its drawn angle to the carrier, its point stays on the guide."""
+
+    kind = "P"
 
     def __init__(self, joint: Joint):
         super().__init__(joint)

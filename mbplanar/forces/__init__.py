@@ -9,7 +9,7 @@ modules here.
 """
 
 from ._dynamics import (Dynamics, DynamicsSpec, FlywheelSpec, Reduced, Simulation, flywheel_sizes,
-                        machine_dynamics, reduce, simulate)
+                        machine_dynamics, reduce, simulate, true_motion)
 from ._friction import FrictionResult, FrictionSpec, PairFriction, friction_kinetostatics, read_friction
 from ._kinetostatics import Kinetostatics, Reaction, inertia_loads, kinetostatics
 from ._loads import Gravity, Load, LoadValue, evaluate_loads, has_force_data, load_power
@@ -18,8 +18,8 @@ from ._simulation import SimulateSpec, Trajectory, read_simulate, simulate_motio
 
 __all__ = ["Load", "Gravity", "LoadValue", "evaluate_loads", "load_power", "has_force_data",
            "Kinetostatics", "Reaction", "kinetostatics", "inertia_loads",
-           "Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "machine_dynamics", "reduce",
-           "simulate", "flywheel_sizes",
+           "Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "machine_dynamics", "true_motion",
+           "reduce", "simulate", "flywheel_sizes",
            "PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
            "Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
            "SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"]

@@ -38,86 +38,36 @@ a disc D = 0.366·(J·ρ₀/ρ)^(1/5), b = 0.2·D, m = 1230·(ρ/ρ₀)·D³.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..errors import ModelError, MotionError
 from ..kinematics._motion import analyse, material_points
-from ._loads import centre_of, evaluate_loads, load_power, read_loads
-from ..model._table import Row
+from ._loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
+from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
+from ..model._table import crank_input
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
-           "reduce", "machine_dynamics", "simulate", "flywheel_sizes", "summary"]
+           "reduce", "machine_dynamics", "true_motion", "simulate", "flywheel_sizes", "summary"]
 
-RHO_STEEL = 7800.0
 _RIM = (0.437, 6123.0)    # D₂ = c·J^(1/5), m = k·(D₂² − D₁²)·b at ρ₀ (course-book constants)
 _DISC = (0.366, 1230.0)   # D = c·J^(1/5), m = k·D³ at ρ₀
 
 
-# -- the model's [dynamics] section -----------------------------------------------------------------
-@dataclass(frozen=True)
-class FlywheelSpec:
-    """Where the flywheel goes and what is already there: inertia on the crank shaft (kg·m²), the motor
-    shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia."""
-
-    shaft_inertia: float = 0.0
-    motor_rpm: float | None = None
-    motor_inertia: float = 0.0
-    density: float = RHO_STEEL
-
-
-@dataclass(frozen=True)
-class DynamicsSpec:
-    """The machine's dynamics data: δ, ω_m (rad/s), the driving moment (None: balance the cycle) and
-    the slope of the motor characteristic (N·m·s/rad)."""
-
-    delta: float
-    omega_mean: float
-    driving_moment: float | None = None
-    motor_slope: float = 0.0
-    flywheel: FlywheelSpec = field(default_factory=FlywheelSpec)
-
-
 def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
-    """The `[dynamics]` section of a model as a `DynamicsSpec` (None when there is none and no
-    `delta` is given); `delta` overrides the model's."""
-    raw = mech.extras.get("dynamics")
-    if raw is None and delta is None:
-        return None
-    raw = {} if raw is None else raw
-    where = f"{mech.source}: dynamics"
-    row = Row(raw, where)
-    if len(mech.inputs) != 1:
-        raise ModelError(f"{where}: machine dynamics needs a model with one input, this one has "
-                         f"{len(mech.inputs)}")
-    inp = mech.inputs[0]
-    if mech.joints[inp.joint].kind != "R" or mech.ground not in mech.joints[inp.joint].links:
-        raise ModelError(f"{where}: machine dynamics needs a crank (a revolute input joint with the "
-                         f"ground); input '{inp.joint}' is not one")
+    """The model's dynamics data (`Mechanism.dynamics`, read with the table), None when there is none
+    and no `delta` is given; `delta` overrides the model's δ (a model without `[dynamics]` then runs at
+    the input's ω)."""
+    spec = mech.dynamics
     if delta is None:
-        delta = row.number("delta", required=True, positive=True)
-    row.used.add("delta")
-    if not 0 < delta < 1:
-        row.fail(f"'delta' = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)")
-    omega = row.number("omega_mean", inp.omega, positive=True)
-    if not omega > 0:
-        row.fail(f"the mean speed (the input's omega = {omega}) must be positive")
-    driving = row.number("driving_moment")
-    slope = row.number("motor_slope", 0.0)
-    if slope < 0:
-        row.fail("'motor_slope' must be >= 0 (a motor gives less moment when faster)")
-    fly = Row(raw.get("flywheel", {}), f"{where}.flywheel")
-    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0),
-                            motor_rpm=fly.number("motor_rpm", positive=True),
-                            motor_inertia=fly.number("motor_inertia", 0.0),
-                            density=fly.number("density", RHO_STEEL, positive=True))
-    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
-        fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")
-    row.used.add("flywheel")
-    row.check_unknown_keys()
-    fly.check_unknown_keys()
-    return DynamicsSpec(delta, omega, driving, slope, flywheel)
+        return spec
+    if not (math.isfinite(delta) and 0 < delta < 1):
+        raise ModelError(f"delta = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)",
+                         source=mech.source, where="dynamics")
+    if spec is None:
+        return DynamicsSpec(delta, crank_input(mech).omega)
+    return replace(spec, delta=delta)
 
 
 # -- reduction to the crank -------------------------------------------------------------------------
@@ -158,13 +108,14 @@ def reduce(engine, phi, omega: float = 1.0) -> Reduced:
     phi = np.asarray(phi, float).reshape(-1)
     motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
     if not motion.success:
-        raise MotionError(f"{engine.mech.source}: machine dynamics needs every position of the cycle: "
-                          f"{motion.message}")
+        raise MotionError("machine dynamics needs every position of the cycle: "
+                          f"{motion.message}", source=engine.mech.source)
     J_II, dJ_II, J_input = _reduced_inertia(engine, motion)
-    dampers = any(ld.kind == "damper" for ld in read_loads(engine.mech))
+    warn_idle_resistances(engine, motion)
+    dampers = any(ld.kind == "damper" for ld in engine.mech.loads)
     at_speed = analyse(engine, phi, omega=omega, epsilon=0.0) if dampers and omega != 1.0 else motion
     loads = evaluate_loads(engine, at_speed)
-    kinds = {ld.name: ld.kind for ld in read_loads(engine.mech)}  # LoadValue names are the rows' names
+    kinds = {ld.name: ld.kind for ld in engine.mech.loads}  # LoadValue names are the rows' names
     moments, kind_of = {}, {}
     w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
     for ld in loads:
@@ -340,6 +291,16 @@ class Dynamics:
     def delta_simulated(self) -> float | None:
         return None if self.simulation is None else self.simulation.delta
 
+    def to_frame(self):
+        """A pandas DataFrame of the cycle, one row per grid position, with the columns of
+        `mbplanar dynamics -o` (``phi[rad]``, ``J_II[kg*m2]``, ``omega[rad/s]``, ...). Needs pandas."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
+
 
 def cycle_grid(steps: int) -> np.ndarray:
     """φ = 0 … 2π in `steps` equal intervals, both ends included (N = steps + 1)."""
@@ -354,7 +315,7 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     the exact steady-state motion with the flywheel found). `spec` defaults to the model's section."""
     spec = spec or read_dynamics(engine.mech)
     if spec is None:
-        raise ModelError(f"{engine.mech.source}: the model has no [dynamics] section (at least delta = ...)")
+        raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)
     phi = cycle_grid(steps)
     red = reduce(engine, phi, spec.omega_mean)
     A_c = _cumulative_trapezoid(red.M_red, phi)
@@ -365,8 +326,8 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     phi_min, dT_min = _parabola_peak(phi, dT, i_min)
     J_I = (dT_max - dT_min) / (spec.omega_mean ** 2 * spec.delta)
     if not J_I > 0:
-        raise MotionError(f"{engine.mech.source}: the kinetic energy does not vary over the cycle "
-                          f"(no loads and no inertia?): nothing for a flywheel to even out")
+        raise MotionError("the kinetic energy does not vary over the cycle "
+                          "(no loads and no inertia?): nothing for a flywheel to even out", source=engine.mech.source)
     dyn = Dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min)
     dyn.flywheel = flywheel_sizes(dyn)
     if simulate_motion:
@@ -452,6 +413,14 @@ def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
         ("  rim D2, D1, b", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, {rim['width']:.5g}",
          f"m; mass {rim['mass']:.5g} kg"),
         ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
+
+
+def true_motion(engine, phi):
+    """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
+    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
+    dyn = machine_dynamics(engine, simulate_motion=False)
+    state = dyn.state_at(engine, phi)
+    return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
 
 
 # -- the exact equation of motion -------------------------------------------------------------------

@@ -24,8 +24,8 @@ The `[friction]` section of a model::
 
     [friction]
     mu = 0.1              # coefficient of every pair (default 0: none)
-    pin_radius = 0.01     # m, pin radius of every revolute pair with friction
-    block_length = 0.08   # m, length of every slider (default: none, friction μ·|N|)
+    pin_radius = 0.01     # pin radius of every revolute pair with friction (the table's length_unit)
+    block_length = 0.08   # length of every slider (default: none, friction μ·|N|)
     tolerance = 1e-12     # of the fixed-point iteration
     max_iterations = 100
     pairs = [{ joint = "Bp", mu = 0.15, block_length = 0.1 }, { joint = "O", mu = 0.0 }]
@@ -74,8 +74,10 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
         return None
     where = f"{mech.source}: friction"
     row = Row({} if raw is None else raw, where)
+    scale = mech.units.length_scale  # lengths in the table's length_unit
+    block = row.number("block_length", None, positive=True)
     default = PairFriction("", row.number("mu", 0.0) if mu is None else float(mu),
-                           row.number("pin_radius", 0.0), row.number("block_length", None, positive=True))
+                           row.number("pin_radius", 0.0) * scale, None if block is None else block * scale)
     tolerance = row.number("tolerance", 1e-12, positive=True)
     max_iter = row.number("max_iterations", 100, positive=True)
     given = {}
@@ -91,8 +93,10 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
             pr.fail(f"'{joint}' is not a joint of the model")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
-        given[joint] = PairFriction(joint, pr.number("mu", default.mu), pr.number("pin_radius", default.radius),
-                                    pr.number("block_length", default.block_length, positive=True))
+        radius, block = pr.number("pin_radius"), pr.number("block_length", positive=True)
+        given[joint] = PairFriction(joint, pr.number("mu", default.mu),
+                                    default.radius if radius is None else radius * scale,
+                                    default.block_length if block is None else block * scale)
         pr.check_unknown_keys()
     pairs = []
     for name, j in mech.joints.items():

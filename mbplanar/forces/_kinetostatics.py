@@ -31,9 +31,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
-from ..kinematics._motion import material_points
+from ..kinematics._motion import Motion, material_points
 from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, real_frames,
                      world_points)
 
@@ -70,7 +71,7 @@ class Kinetostatics:
     virtual_power_residual (B,): relative residual of the virtual-power balance; loads: what acted.
     """
 
-    motion: object
+    motion: Motion
     reactions: dict
     balancing: dict
     virtual_power_residual: np.ndarray
@@ -94,6 +95,16 @@ class Kinetostatics:
 
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]
+
+    def to_frame(self):
+        """A pandas DataFrame, one row per position: the input, then the force columns of `mbplanar sweep`
+        (``A.fx[N]``, ``O.balancing[N*m]``, ``virtual_power_residual``). Needs pandas."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
@@ -440,13 +451,13 @@ def _features(engine, motion, plan):
     return out
 
 
-def _solve_blocks(plan, features, b):
+def _solve_blocks(plan, features, b, threshold: float):
     """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
-    singular positions (B,)."""
+    singular positions (B,): where a block's |det| / Π‖row‖ is not above `threshold`."""
     x = np.zeros(b.shape)
     singular = np.zeros(b.shape[1], bool)
     for blk in plan.blocks:
-        singular |= ~(_solve_block(blk, features, b, x) > 1e-12)
+        singular |= ~(_solve_block(blk, features, b, x) > threshold)
     return x, singular
 
 
@@ -511,9 +522,21 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     loads: evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
     inertia: include the d'Alembert loads of the links (and J_I).
     The engine's compiled backend takes the batch where it can (`engine._backend.dispatch`); numpy, the
-    reference, does the rest.
+    reference, does the rest. Raises `ModelError` for an `input_inertia` that is not finite and >= 0.
     """
+    _check_input_inertia(engine, input_inertia)
     return dispatch(engine, "kinetostatics", _reference, motion, input_inertia, loads, inertia)
+
+
+def _check_input_inertia(engine, input_inertia):
+    try:
+        values = np.asarray(input_inertia, float)
+    except (TypeError, ValueError):
+        values = np.array([np.nan])
+    if not np.all(np.isfinite(values) & (values >= 0)) or values.ndim > 1 or values.size not in (1, len(engine.inputs)):
+        raise ModelError(f"input_inertia must be a finite number >= 0 (kg·m², or kg for a prismatic input), "
+                         f"one or one per input, got {input_inertia!r}", source=engine.mech.source,
+                         where="kinetostatics")
 
 
 def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
@@ -526,7 +549,7 @@ def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
         loads += inertia_loads(engine, motion, input_inertia)
     b = _right_side(lay, loads, plan.centre, engine.size, batch)
     if batch:
-        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b)
+        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b, engine.tol.singular)
         x *= lay.scale[:, None]
         singular |= ~np.all(np.isfinite(x), axis=0)
         x[:, singular] = np.nan

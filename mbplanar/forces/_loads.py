@@ -1,4 +1,7 @@
-"""External loads on the links, read as data from a model's `[gravity]` section and `loads` rows.
+"""External loads on the links: their evaluation over a batch of positions.
+
+The table reader (`mbplanar.table`) reads the `loads` rows and `[gravity]` once, into
+`Mechanism.loads` (`Load` records) and `Mechanism.gravity` (SI units); this module only evaluates them.
 
 Every load law is plain data (numbers, names, tables), never an expression that gets evaluated. A load
 evaluated over a batch of positions (`evaluate_loads(engine, motion)`) is a `LoadValue`: the link it acts
@@ -15,21 +18,19 @@ Laws (one TOML row each in `loads = [...]`, `type` selects the law):
   (`s = [...]`, `force = [...]`, optionally `stroke` multiplying `s`, `zero_at` the input value where
   s = 0), acting only `when = "forward"` (joint rate ≥ 0), `"backward"` (rate ≤ 0) or `"always"`;
 - `friction`: a constant force `force = F` along the guide opposing the slider's velocity;
-- `spring`: a spring between two points `at = [P, Q]` (on the links `links = [a, b]`, which a point
-  names itself): tension T = `preload` + `stiffness`·(l − `free_length`) (N, N/m, m; free length
-  default: the drawn distance), or T(l) piecewise linear from `length = [...]`, `force = [...]`; it
-  pulls P towards Q and Q towards P while T > 0;
-- `damper`: a linear damper between two points (`at`, `links` as for a spring), tension c·dl/dt
-  (`damping` c in N·s/m); or, with `joint = J` (a revolute pair), a rotational damper: moment
-  −c·(ω_b − ω_a) on the pair's second link b and the opposite on a (c in N·m·s/rad);
-- `torque`: a moment `moment = M` (N·m) on the second link of `links = [a, b]` and −M on the first.
+- `spring`: a spring between two points (on links a, b): tension T = `preload` + `stiffness`·(l −
+  `free_length`) (free length default: the exact drawn distance), or T(l) from a table; it pulls the
+  ends together while T > 0;
+- `damper`: a linear damper between two points, tension c·dl/dt; or a rotational damper in a revolute
+  pair: −c·(ω_b − ω_a) on its second link b, the opposite on a;
+- `torque`: a moment M on the second of two links and −M on the first.
 
-Any row can be switched on the sign of a velocity: `switch = J` (a joint: its rate) or `switch = P` (a
-point: its velocity along `switch_direction`, degrees, default 0), with `when = "forward"` (active while
-that velocity is ≥ 0) or `"backward"` (≤ 0).
+Any row can be switched on the sign of a velocity (`switch`: a joint's rate or a point's velocity along a
+direction, `when` "forward" or "backward").
 
-`at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` of a material
-point of the link in the exact drawn pose (for a sketched model prefer a named point); it defaults to the link's centre (or, for guide forces, the joint's slider point).
+`at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` (in the
+table's `length_unit`) of a material point of the link in the exact drawn pose (for a sketched model
+prefer a named point); it defaults to the link's centre (or, for guide forces, the joint's slider point).
 `[gravity]` (`g` in m/s², `direction` in degrees, default −90) adds m·g at the centre of every link with a
 mass. Gravity is not a `LoadValue` row of the table: `evaluate_loads` appends one per heavy link.
 """
@@ -37,63 +38,17 @@ mass. Gravity is not a `LoadValue` row of the table: `evaluate_loads` appends on
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError, MotionError
+from ..errors import ModelError, ModelWarning, MotionError
+from ..model._model import ELEMENT_TYPES, LOAD_TYPES, Gravity, Load
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
-           "has_force_data", "real_frames", "point_motion", "spring_energy", "needs_numpy",
-           "LOAD_TYPES"]
-
-LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction", "spring", "damper", "torque")
-ELEMENT_TYPES = ("spring", "damper", "torque")  # act between two links
-_WHEN = ("forward", "backward", "always")
-
-
-@dataclass(frozen=True)
-class Gravity:
-    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2)."""
-
-    g: float = 9.81
-    direction: float = -math.pi / 2
-
-    @property
-    def vector(self) -> np.ndarray:
-        return self.g * np.array([math.cos(self.direction), math.sin(self.direction)])
-
-
-@dataclass(frozen=True)
-class Load:
-    """One row of `loads`, checked. `at` is drawn coordinates on `link` (None: see the law)."""
-
-    index: int
-    kind: str
-    link: str
-    at: tuple[float, float] | None = None
-    force: tuple[float, float] = (0.0, 0.0)
-    moment: float = 0.0
-    magnitude: float = 0.0
-    joint: str | None = None
-    s: tuple[float, ...] = ()
-    table: tuple[float, ...] = ()
-    when: str = "always"
-    zero_at: float | None = None
-    label: str | None = None
-    other: str | None = None                     # spring, damper, torque: the second link
-    other_at: tuple[float, float] | None = None  # ... and the drawn point on it
-    stiffness: float = 0.0
-    free_length: float = 0.0
-    preload: float = 0.0
-    damping: float = 0.0
-    switch: str | None = None                    # joint or point whose velocity sign switches the row
-    switch_direction: float = 0.0                # rad, for a point
-
-    @property
-    def name(self) -> str:
-        """The row's `name`, else its place in the table, loads[i]."""
-        return self.label or f"loads[{self.index}]"
+           "has_force_data", "warn_idle_resistances", "real_frames", "point_motion", "spring_tension",
+           "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES"]
 
 
 @dataclass
@@ -108,282 +63,32 @@ class LoadValue:
     moment: np.ndarray
 
 
-# -- reading ----------------------------------------------------------------------------------------
 def has_force_data(mech) -> bool:
     """True when the model has loads, gravity or mass data (otherwise every reaction is zero)."""
-    return bool(mech.extras.get("loads") or mech.extras.get("gravity")
-                or any(lk.mass or lk.inertia for lk in mech.links.values()))
-
-
-def read_gravity(mech) -> Gravity | None:
-    """The `[gravity]` section, or None."""
-    raw = mech.extras.get("gravity")
-    if raw is None:
-        return None
-    where = f"{mech.source}: gravity"
-    if not isinstance(raw, dict):
-        raise ModelError(f"{where}: expected a table with g (and direction)")
-    unknown = set(raw) - {"g", "direction"}
-    if unknown:
-        raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-    g = _number(raw.get("g", 9.81), f"{where}: 'g'")
-    direction = _number(raw.get("direction", -90.0), f"{where}: 'direction'")
-    return Gravity(g, math.radians(direction))
+    return bool(mech.loads or mech.gravity or any(lk.mass or lk.inertia for lk in mech.links.values()))
 
 
 def read_loads(mech) -> list[Load]:
-    """Check the `loads` rows of an (assembled) mechanism and return them as `Load`s."""
-    rows = mech.extras.get("loads", [])
-    if not isinstance(rows, list):
-        raise ModelError(f"{mech.source}: 'loads' must be a list of rows")
-    loads = [_read_load(mech, i, raw) for i, raw in enumerate(rows)]
-    seen = {}
-    for ld in loads:
-        if ld.name in seen or ld.name.startswith("gravity on "):
-            why = f"is also loads[{seen[ld.name]}]'s" if ld.name in seen else "is kept for gravity"
-            raise ModelError(f"{mech.source}: loads[{ld.index}]: the name '{ld.name}' {why}")
-        seen[ld.name] = ld.index
-    return loads
+    """The model's loads (read and checked with the table: `Mechanism.loads`)."""
+    return list(mech.loads)
 
 
-_KEYS = {
-    "force": {"link", "at", "force"},
-    "weight": {"link", "at", "weight"},
-    "moment": {"link", "moment"},
-    "resistance": {"joint", "link", "at", "force", "s", "stroke", "when", "zero_at"},
-    "friction": {"joint", "link", "at", "force"},
-    "spring": {"links", "at", "stiffness", "free_length", "preload", "length", "force"},
-    "damper": {"links", "at", "damping", "joint"},
-    "torque": {"links", "moment"},
-}
-_SWITCH_KEYS = {"switch", "switch_direction", "when"}
+def read_gravity(mech) -> Gravity | None:
+    """The model's gravity (`Mechanism.gravity`), or None."""
+    return mech.gravity
 
 
-def _read_load(mech, i: int, raw) -> Load:
-    where = f"{mech.source}: loads[{i}]"
-    if not isinstance(raw, dict):
-        raise ModelError(f"{where}: expected a table {{type = ..., ...}}")
-    label = raw.get("name")
-    if label is not None and (not isinstance(label, str) or not label.strip()):
-        raise ModelError(f"{where}: 'name' must be a non-empty text, got {label!r}")
-    load = replace(_read_load_row(mech, i, raw, where), label=label)
-    if "switch" in raw:
-        load = _read_switch(mech, raw, load, f"{where} ({load.kind})")
-    return load
-
-
-def _read_switch(mech, raw, load: Load, where) -> Load:
-    """`switch` (a joint or point name), `switch_direction` (deg, points) and `when` of any row."""
-    name = str(raw["switch"])
-    if name not in mech.joints and name not in mech.points:
-        raise ModelError(f"{where}: 'switch' = '{name}' is neither a joint nor a point of the model")
-    if "switch_direction" in raw and name not in mech.points:
-        raise ModelError(f"{where}: 'switch_direction' applies to a point; '{name}' is a joint")
-    direction = math.radians(_number(raw.get("switch_direction", 0.0), f"{where}: 'switch_direction'"))
-    when = raw.get("when")
-    if when not in ("forward", "backward"):
-        raise ModelError(f"{where}: a switched row needs 'when' = \"forward\" (active while the velocity is "
-                         f">= 0) or \"backward\" (<= 0), got {when!r}")
-    return replace(load, switch=name, switch_direction=direction, when=when)
-
-
-def _read_load_row(mech, i: int, raw, where) -> Load:
-    kind = raw.get("type")
-    if kind not in LOAD_TYPES:
-        raise ModelError(f"{where}: 'type' must be one of {', '.join(LOAD_TYPES)}, got {kind!r}")
-    where = f"{where} ({kind})"
-    switch_keys = _SWITCH_KEYS if "switch" in raw else set()
-    unknown = set(raw) - _KEYS[kind] - {"type", "name"} - switch_keys
-    if unknown:
-        raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-    if kind in ("resistance", "friction"):
-        if switch_keys:
-            raise ModelError(f"{where}: a guide force is switched by its own joint ('when'); no 'switch'")
-        return _read_guide_load(mech, i, raw, kind, where)
-    if kind in ELEMENT_TYPES:
-        return _read_element(mech, i, raw, kind, where)
-    link = _link(mech, raw, where)
-    at = _point(mech, link, raw.get("at"), where)
-    if kind == "force":
-        force = _pair(raw.get("force"), f"{where}: 'force'")
-        return Load(i, kind, link, at, force=force)
-    if kind == "weight":
-        return Load(i, kind, link, at, magnitude=_number(_need(raw, "weight", where), f"{where}: 'weight'"))
-    return Load(i, kind, link, moment=_number(_need(raw, "moment", where), f"{where}: 'moment'"))
-
-
-def _read_guide_load(mech, i, raw, kind, where) -> Load:
-    joint = str(_need(raw, "joint", where))
-    j = mech.joints.get(joint)
-    if j is None or j.kind != "P":
-        raise ModelError(f"{where}: joint '{joint}' is not a prismatic joint of the model")
-    link = str(raw.get("link", j.slider))
-    if link not in j.links or link == mech.ground:
-        raise ModelError(f"{where}: link '{link}' must be the moving link of joint '{joint}' the force acts on")
-    at = _point(mech, link, raw.get("at"), where)
-    if kind == "friction":
-        return Load(i, kind, link, at, joint=joint,
-                    magnitude=_number(_need(raw, "force", where), f"{where}: 'force'"), when="always")
-    when = raw.get("when", "always")
-    if when not in _WHEN:
-        raise ModelError(f"{where}: 'when' must be one of {', '.join(_WHEN)}, got {when!r}")
-    force = _need(raw, "force", where)
-    zero_at = raw.get("zero_at")
-    if zero_at is not None:
-        zero_at = _number(zero_at, f"{where}: 'zero_at'")
-    if not isinstance(force, list):
-        if "s" in raw:
-            raise ModelError(f"{where}: with 's' the 'force' must be a list of the same length")
-        return Load(i, kind, link, at, joint=joint, magnitude=_number(force, f"{where}: 'force'"), when=when)
-    s = _numbers(_need(raw, "s", where), f"{where}: 's'")
-    table = _numbers(force, f"{where}: 'force'")
-    if len(s) != len(table) or len(s) < 2:
-        raise ModelError(f"{where}: 's' and 'force' must be lists of equal length (at least 2), "
-                         f"got {len(s)} and {len(table)}")
-    stroke = _number(raw.get("stroke", 1.0), f"{where}: 'stroke'")
-    s = tuple(x * stroke for x in s)
-    if any(b <= a for a, b in zip(s, s[1:])):
-        raise ModelError(f"{where}: 's' must increase strictly")
-    return Load(i, kind, link, at, joint=joint, s=s, table=table, when=when, zero_at=zero_at)
-
-
-def _read_element(mech, i, raw, kind, where) -> Load:
-    """A spring, damper or torque between two links."""
-    if kind == "damper" and "joint" in raw:
-        return _read_rotary_damper(mech, i, raw, where)
-    if kind == "torque":
-        a, b = _two_links(mech, raw.get("links"), where, required=True)
-        return Load(i, kind, b, None, moment=_number(_need(raw, "moment", where), f"{where}: 'moment'"),
-                    other=a)
-    ends = _need(raw, "at", where)
-    if not isinstance(ends, list) or len(ends) != 2:
-        raise ModelError(f"{where}: 'at' must be [P, Q], two points (names or [x, y]), got {ends!r}")
-    links = _end_links(mech, ends, raw.get("links"), where)
-    (pa, pb) = (_point(mech, link, end, where) for link, end in zip(links, ends))
-    drawn = math.dist(pa, pb)
-    if kind == "damper":
-        c = _number(_need(raw, "damping", where), f"{where}: 'damping'")
-        if c < 0:
-            raise ModelError(f"{where}: 'damping' must be >= 0, got {c}")
-        return Load(i, kind, links[1], pb, other=links[0], other_at=pa, damping=c)
-    if drawn == 0:
-        raise ModelError(f"{where}: the spring's ends coincide in the drawn pose")
-    if "length" in raw or isinstance(raw.get("force"), list):
-        if {"stiffness", "free_length", "preload"} & set(raw):
-            raise ModelError(f"{where}: give either a table (length, force) or stiffness/free_length/preload")
-        ls = _numbers(_need(raw, "length", where), f"{where}: 'length'")
-        fs = _numbers(_need(raw, "force", where), f"{where}: 'force'")
-        if len(ls) != len(fs) or len(ls) < 2 or any(b <= a for a, b in zip(ls, ls[1:])) or ls[0] < 0:
-            raise ModelError(f"{where}: 'length' (increasing, >= 0) and 'force' must be lists of equal length "
-                             f"(at least 2), got {len(ls)} and {len(fs)}")
-        return Load(i, kind, links[1], pb, other=links[0], other_at=pa, s=ls, table=fs)
-    k = _number(_need(raw, "stiffness", where), f"{where}: 'stiffness'")
-    free = _number(raw.get("free_length", drawn), f"{where}: 'free_length'")
-    if k < 0 or free < 0:
-        raise ModelError(f"{where}: 'stiffness' and 'free_length' must be >= 0")
-    return Load(i, kind, links[1], pb, other=links[0], other_at=pa, stiffness=k, free_length=free,
-                preload=_number(raw.get("preload", 0.0), f"{where}: 'preload'"))
-
-
-def _read_rotary_damper(mech, i, raw, where) -> Load:
-    if "at" in raw or "links" in raw:
-        raise ModelError(f"{where}: a rotational damper takes 'joint' only (no 'at' or 'links')")
-    joint = str(raw["joint"])
-    j = mech.joints.get(joint)
-    if j is None or j.kind != "R":
-        raise ModelError(f"{where}: joint '{joint}' is not a revolute joint of the model")
-    c = _number(_need(raw, "damping", where), f"{where}: 'damping'")
-    if c < 0:
-        raise ModelError(f"{where}: 'damping' must be >= 0, got {c}")
-    return Load(i, "damper", j.links[1], None, joint=joint, other=j.links[0], damping=c)
-
-
-def _two_links(mech, value, where, required=False):
-    if value is None and not required:
-        return None
-    if not isinstance(value, list) or len(value) != 2 or value[0] == value[1]:
-        raise ModelError(f"{where}: 'links' must be two different links [a, b], got {value!r}")
-    for name in value:
-        if str(name) not in mech.links and str(name) != mech.ground:
-            raise ModelError(f"{where}: '{name}' in 'links' is not a link of the model")
-    return str(value[0]), str(value[1])
-
-
-def _end_links(mech, ends, links, where) -> tuple[str, str]:
-    """The links of a two-point element's ends: `links` if given, else each point's own link."""
-    given = _two_links(mech, links, where)
-    if given is not None:
-        return given
-    out = []
-    for end in ends:
-        if isinstance(end, str) and end in mech.points:
-            out.append(mech.points[end].link)
-        else:
-            raise ModelError(f"{where}: say on which links the ends lie ('links = [a, b]'): {end!r} is "
-                             "not a named point of one link")
-    if out[0] == out[1]:
-        raise ModelError(f"{where}: both ends are on link '{out[0]}'")
-    return out[0], out[1]
-
-
-def _need(raw, key, where):
-    if key not in raw:
-        raise ModelError(f"{where}: missing '{key}'")
-    return raw[key]
-
-
-def _number(value, where) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ModelError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
-
-
-def _numbers(value, where) -> tuple[float, ...]:
-    if not isinstance(value, list):
-        raise ModelError(f"{where} must be a list of numbers, got {value!r}")
-    return tuple(_number(v, f"{where}[{k}]") for k, v in enumerate(value))
-
-
-def _pair(value, where) -> tuple[float, float]:
-    if not isinstance(value, list) or len(value) != 2:
-        raise ModelError(f"{where} must be [x, y], got {value!r}")
-    return _numbers(value, where)
-
-
-def _link(mech, raw, where) -> str:
-    link = str(_need(raw, "link", where))
-    if link not in mech.links or link == mech.ground:
-        raise ModelError(f"{where}: '{link}' is not a moving link of the model")
-    return link
-
-
-def _point(mech, link: str, at, where) -> tuple[float, float] | None:
-    """Drawn coordinates of `at` (a name or [x, y]) on `link`; None when not given."""
-    if at is None:
-        return None
-    if isinstance(at, list):
-        return _pair(at, f"{where}: 'at'")
-    if not isinstance(at, str):
-        raise ModelError(f"{where}: 'at' must be a point's name or [x, y], got {at!r}")
-    name = at
-    if name in mech.points:
-        if mech.points[name].link != link:
-            raise ModelError(f"{where}: point '{name}' is on link '{mech.points[name].link}', not '{link}'")
-        return tuple(mech.points[name].at)
-    if name in mech.joints:
-        if link not in mech.joints[name].links:
-            raise ModelError(f"{where}: joint '{name}' does not belong to link '{link}'")
-        return tuple(mech.joints[name].at)
-    raise ModelError(f"{where}: 'at' = '{name}' is neither a point nor a joint of the model")
+def named_point(mech, name: str) -> tuple[float, float]:
+    """Drawn coordinates of a point of interest or joint `name` (exact once assembled)."""
+    return tuple(mech.points[name].at if name in mech.points else mech.joints[name].at)
 
 
 def centre_of(mech, link: str, why: str = "a link with mass needs a 'centre' point") -> tuple[float, float]:
     """Drawn coordinates of a link's centre of mass (ModelError `why` if the link has none)."""
     lk = mech.links[link]
     if lk.centre is None:
-        raise ModelError(f"{mech.source}: links '{link}': {why}")
-    name = lk.centre
-    return tuple(mech.points[name].at if name in mech.points else mech.joints[name].at)
+        raise ModelError(why, source=mech.source, where=f"link '{link}'")
+    return named_point(mech, lk.centre)
 
 
 # -- evaluating -------------------------------------------------------------------------------------
@@ -443,9 +148,9 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
     """Every load (the model's rows unless `loads` is given, plus gravity on heavy links unless
     `gravity` is False) over the batch of `motion`."""
     mech = engine.mech
-    loads = read_loads(mech) if loads is None else loads
+    loads = mech.loads if loads is None else loads
     if gravity is True:
-        gravity = read_gravity(mech)
+        gravity = mech.gravity
     out = [value for load in loads for value in _evaluate_switched(engine, motion, load)]
     if gravity:
         for name, lk, centre in heavy_links(mech):
@@ -514,16 +219,29 @@ def _switch_speed(engine, motion, load: Load) -> np.ndarray:
 def _element_ends(engine, motion, load: Load):
     """Both ends of a two-point element: link indices, positions and real velocities (B, 2)."""
     ka, kb = engine.link_index[load.other], engine.link_index[load.link]
-    pa, va = point_motion(engine, motion, ka, np.asarray(load.other_at, float))
-    pb, vb = point_motion(engine, motion, kb, np.asarray(load.at, float))
+    pa, va = point_motion(engine, motion, ka, np.asarray(drawn_end(engine.mech, load, 0), float))
+    pb, vb = point_motion(engine, motion, kb, np.asarray(drawn_end(engine.mech, load, 1), float))
     return ka, kb, pa, va, pb, vb
 
 
-def spring_tension(load: Load, length: np.ndarray) -> np.ndarray:
+def drawn_end(mech, load: Load, end: int) -> tuple[float, float]:
+    """Drawn coordinates (exact pose) of an element's end on `other` (0) or on `link` (1)."""
+    at, point = (load.other_at, load.other_point) if end == 0 else (load.at, load.point)
+    return at if at is not None else named_point(mech, point)
+
+
+def free_length(mech, load: Load) -> float:
+    """A linear spring's free length: given, or its ends' distance in the (exact) drawn pose."""
+    if load.free_length is not None:
+        return load.free_length
+    return math.dist(drawn_end(mech, load, 0), drawn_end(mech, load, 1))
+
+
+def spring_tension(mech, load: Load, length: np.ndarray) -> np.ndarray:
     """Tension (B,) of a spring row at `length` (B,) (N, pulling its ends together when positive)."""
     if load.table:
         return np.interp(length, load.s, load.table)
-    return load.preload + load.stiffness * (length - load.free_length)
+    return load.preload + load.stiffness * (length - free_length(mech, load))
 
 
 def spring_energy(engine, motion, load: Load) -> np.ndarray:
@@ -532,7 +250,7 @@ def spring_energy(engine, motion, load: Load) -> np.ndarray:
     _, _, pa, _, pb, _ = _element_ends(engine, motion, load)
     length = np.hypot(*(pb - pa).T)
     if not load.table:
-        x = length - load.free_length
+        x = length - free_length(engine.mech, load)
         return load.preload * x + 0.5 * load.stiffness * x * x
     ls, fs = np.asarray(load.s), np.asarray(load.table)
     nodes = np.concatenate([[0.0], np.cumsum(np.diff(ls) * (fs[1:] + fs[:-1]) / 2)])
@@ -562,7 +280,7 @@ def _evaluate_element(engine, motion, load: Load) -> list[LoadValue]:
     with np.errstate(invalid="ignore", divide="ignore"):
         u = d / length[:, None]
     if load.kind == "spring":
-        tension = spring_tension(load, length)
+        tension = spring_tension(engine.mech, load, length)
     else:
         tension = load.damping * np.einsum("bi,bi->b", u, vb - va)
     force = tension[:, None] * u  # on a, towards b
@@ -584,25 +302,15 @@ def _evaluate(engine, motion, load: Load) -> LoadValue:
 def constant_parts(mech, load: Load) -> tuple[tuple[float, float], np.ndarray | None, float]:
     """What does not vary with the position: the drawn point `at` the load acts at, its force (2,)
     (None for a guide force, `guide_force_size` along `guide_direction`) and its moment."""
-    at = load.at if load.at is not None else _default_point(mech, load)
+    at = load.at if load.at is not None else named_point(mech, load.point)
     if load.kind == "force":
         return at, np.asarray(load.force, float), 0.0
     if load.kind == "weight":
-        g = read_gravity(mech) or Gravity()
+        g = mech.gravity or Gravity()
         return at, load.magnitude * np.array([math.cos(g.direction), math.sin(g.direction)]), 0.0
     if load.kind == "moment":
         return at, np.zeros(2), float(load.moment)
     return at, None, 0.0
-
-
-def _default_point(mech, load: Load):
-    """Where a load without `at` acts: the joint's slider point (guide forces), else the link's centre,
-    else its first joint (for a pure moment the point does not matter)."""
-    if load.joint:
-        return mech.joints[load.joint].at
-    if mech.links[load.link].centre is not None or load.kind != "moment":
-        return centre_of(mech, load.link, f"{load.name} has no 'at' and the link has no 'centre'")
-    return mech.joints_of(load.link)[0].at
 
 
 def guide_force_size(engine, motion, load: Load) -> np.ndarray:
@@ -626,6 +334,30 @@ def guide_force_size(engine, motion, load: Load) -> np.ndarray:
     return along * size
 
 
+def warn_idle_resistances(engine, motion):
+    """A `ModelWarning` for each resistance with an `s` diagram that is zero at every position of
+    `motion` while it acts (e.g. `when = "backward"` with a diagram on s > 0 while the slider moves
+    back over s < 0): it does no work there, which is rarely what the table meant."""
+    units = engine.mech.units
+    for load in engine.mech.loads:
+        if load.kind != "resistance" or not load.table or len(motion.phi) < 2:
+            continue
+        size = guide_force_size(engine, motion, load)
+        if np.any(size != 0):
+            continue
+        s = motion.value[:, motion.joint(load.joint)] - _displacement_zero(engine, load)
+        rate = joint_rate_sign(motion, load.joint)
+        active = {"forward": rate >= 0, "backward": rate <= 0}.get(load.when, np.ones(len(s), bool))
+        k = units.length_scale
+        span = (f"s = {s[active].min() / k:.4g} … {s[active].max() / k:.4g} {units.length}" if active.any()
+                else "no position")
+        warnings.warn(ModelWarning(
+            f"{engine.mech.source}: {load.name}: the resistance does no work over the {len(s)} positions: "
+            f"it acts ({load.when}) over {span}, where its diagram (s = {load.s[0] / k:.4g} … "
+            f"{load.s[-1] / k:.4g} {units.length}) gives 0 N; check the sign of 's', 'zero_at' or 'when'"),
+            stacklevel=2)
+
+
 def _displacement_zero(engine, load: Load) -> float:
     """The joint's value at the input value `zero_at` (the diagram's s = 0), or 0 (drawn pose)."""
     if load.zero_at is None:
@@ -639,11 +371,11 @@ def _displacement_zero(engine, load: Load) -> float:
 
 def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
-        raise ModelError(f"{engine.mech.source}: {load.name}: 'zero_at' needs a model with one input")
+        raise ModelError("'zero_at' needs a model with one input", source=engine.mech.source, where=load.name)
     from ..kinematics._motion import analyse
     inp = engine.inputs[0]
     m = analyse(engine, np.array([inp.to_si(load.zero_at)]))
     if not m.success:
-        raise MotionError(f"{engine.mech.source}: {load.name}: zero_at = {load.zero_at} cannot be reached: "
-                          f"{m.message}")
+        raise MotionError(f"zero_at = {load.zero_at} {inp.unit} cannot be reached: {m.message}",
+                          source=engine.mech.source, where=load.name)
     return float(m.value[0, m.joint(load.joint)])

@@ -149,7 +149,7 @@ def _reference_joint(mech, link: str):
     else its first joint."""
     joints = mech.joints_of(link)
     if not joints:
-        raise ModelError(f"{mech.source}: link '{link}' has no joints")
+        raise ModelError(f"link '{link}' has no joints", source=mech.source)
     return next((j for j in joints if mech.ground in j.links), joints[0])
 
 
@@ -180,17 +180,17 @@ def balance(engine, links, radius=None, steps: int = 360) -> Balancing:
     turning about a frame pivot (default: its first two joints' distance)."""
     mech = engine.mech
     if len(engine.inputs) != 1:
-        raise ModelError(f"{mech.source}: balancing turns one input through a cycle; the model has "
-                         f"{len(engine.inputs)}")
+        raise ModelError(f"balancing turns one input through a cycle; the model has {len(engine.inputs)}",
+                         source=mech.source)
     links = [str(n) for n in links]
     for name in links:
         if name not in mech.links or name == mech.ground:
-            raise ModelError(f"{mech.source}: '{name}' is not a moving link of the model")
+            raise ModelError(f"'{name}' is not a moving link of the model", source=mech.source, where="balance")
     radii = list(np.broadcast_to(np.asarray(radius if radius is not None else np.nan, float), (len(links),)))
     phi = np.linspace(0.0, 2 * math.pi, steps, endpoint=False) + engine.phi_drawn[0]
     motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
     if not motion.success:
-        raise MotionError(f"{mech.source}: balancing needs a full turn of the input: {motion.message}")
+        raise MotionError(f"balancing needs a full turn of the input: {motion.message}", source=mech.source)
     before = inertia_shaking_force(engine, motion)
     cols, refs = zip(*[_columns(engine, motion, name) for name in links])
     A = np.concatenate(cols, axis=2).reshape(-1, 3 * len(links))
@@ -218,7 +218,7 @@ def _link_size(mech, link: str) -> float:
     pts = [j.at for j in mech.joints_of(link)]
     size = max((math.dist(a, b) for a in pts for b in pts), default=0.0)
     if size == 0:
-        raise ModelError(f"{mech.source}: link '{link}': give the counterweight's radius")
+        raise ModelError("give the counterweight's radius", source=mech.source, where=f"link '{link}'")
     return size
 
 

@@ -22,14 +22,14 @@ The `[simulate]` section of a model (all keys optional)::
 
     [simulate]
     t = 0.03              # s, the end time (the command's --t overrides it)
-    torque = 0.033        # N·m (N for a prismatic input) along each input; a list for several
-    motor_slope = 0.0     # N·m·s/rad: drive = torque − motor_slope·q̇
+    torque = 0.033        # N·m (N for a prismatic input; the table's moment_unit) along each input
+    motor_slope = 0.0     # N·m·s/rad (moment_unit): drive = torque − motor_slope·q̇
     omega = 0.0           # initial speed(s) q̇₀ (default: 0); the start position is the drawn one
     rtol = 1e-10          # solve_ivp's tolerances and method
     atol = 1e-12
     method = "DOP853"
     steps = 100           # output intervals
-    input_inertia = 0.0   # kg·m² (kg) on each input link besides the links' own: shafts, a flywheel
+    input_inertia = 0.0   # kg·m² (the table's inertia_unit) on each input link besides the links' own
     max_evaluations = 50000    # a motion that chatters at a switched load (a stalled press) stops here
 """
 
@@ -85,6 +85,10 @@ def read_simulate(mech, **override) -> SimulateSpec:
     values = {"t": row.number("t", None, positive=True)}
     for key, default in (("torque", 0.0), ("motor_slope", 0.0), ("omega", None), ("input_inertia", 0.0)):
         values[key] = _per_input(row, key, default, n)
+    units = mech.units  # the section is in the table's units; the overrides are SI
+    for key, scale in (("torque", units.moment_scale), ("motor_slope", units.moment_scale),
+                       ("input_inertia", units.inertia_scale)):
+        values[key] = tuple(v * scale for v in values[key])
     values["rtol"] = row.number("rtol", 1e-10, positive=True)
     values["atol"] = row.number("atol", 1e-12, positive=True)
     values["method"] = row.text("method", "DOP853")
@@ -155,7 +159,7 @@ def _columns(engine, q, qd) -> _Columns:
         _cover(engine, float(q[0]))
     m = analyse(engine, q[None, :], omega=qd[None, :], epsilon=np.zeros((1, n)))
     if not m.success:
-        raise MotionError(f"{engine.mech.source}: the motion reaches a position it cannot pass: {m.message}")
+        raise MotionError(f"the motion reaches a position it cannot pass: {m.message}", source=engine.mech.source)
     f = m.frames
     if n == 1 and "v" in f:
         om = qd[0]
@@ -184,7 +188,6 @@ def _cover(engine, x: float):
 
 def _mass_and_forces(engine, c: _Columns, qd, spec: SimulateSpec, input_inertia):
     """M (n, n) and the right-hand side (n,) of M·q̈ = rhs, and the drive (n,)."""
-    n = len(engine.inputs)
     m = c.motion
     heavy = heavy_links(engine.mech)
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
@@ -228,8 +231,8 @@ def _solve_mass(engine, M, rhs):
     except np.linalg.LinAlgError:
         out = np.full(len(rhs), np.nan)
     if not np.all(np.isfinite(out)):
-        raise MotionError(f"{engine.mech.source}: the generalised mass matrix is singular (a link without "
-                          "mass or inertia moves while every massive link stands still?)")
+        raise MotionError("the generalised mass matrix is singular (a link without mass or inertia moves while "
+                          "every massive link stands still?)", source=engine.mech.source)
     return out
 
 
@@ -264,7 +267,7 @@ def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None
     mech = engine.mech
     spec = spec or read_simulate(mech)
     if spec.t is None:
-        raise ModelError(f"{mech.source}: no end time: give --t or t = ... in [simulate]")
+        raise ModelError("no end time: give --t or t = ... in [simulate]", source=mech.source)
     n = len(engine.inputs)
     q0 = np.array(spec.phi if spec.phi is not None else engine.phi_drawn, float)
     qd0 = np.array(spec.omega if spec.omega is not None else (0.0,) * n, float)
@@ -276,8 +279,8 @@ def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None
     def rhs(t, y):
         calls[0] += 1
         if calls[0] > spec.max_evaluations:
-            raise MotionError(f"{mech.source}: {spec.max_evaluations} evaluations reached at t = {t:.9g} s: the "
-                              "motion chatters (a switched load at a stall?) or needs a looser rtol")
+            raise MotionError(f"{spec.max_evaluations} evaluations reached at t = {t:.9g} s: the motion chatters "
+                              "(a switched load at a stall?) or needs a looser rtol", source=mech.source)
         q, qd = y[:n], y[n:2 * n]
         M, b, drive, _ = _mass_and_forces(engine, _columns(engine, q, qd), qd, spec, J_in)
         qdd = _solve_mass(engine, M, b)
@@ -288,7 +291,8 @@ def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None
         sol = solve_ivp(rhs, (0.0, spec.t), np.concatenate([q0, qd0, [0.0]]), method=spec.method,
                         t_eval=grid, rtol=spec.rtol, atol=spec.atol)
     except MotionError as exc:
-        raise MotionError(f"{exc} (simulating from t = 0 to {spec.t} s)") from None
+        raise MotionError(f"{exc.message} (simulating from t = 0 to {spec.t} s)", source=exc.source,
+                          where=exc.where) from None
     y = sol.y.T
     phi, omega, work = y[:, :n], y[:, n:2 * n], y[:, 2 * n]
     eps = np.array([accelerations(engine, q, qd, spec, J_in) for q, qd in zip(phi, omega)]).reshape(-1, n)

@@ -1,4 +1,9 @@
-"""Presentation of results as data: JSON documents, CSV tables and text summaries, shared by the command
-line and the report."""
+"""Results as data for people and files: JSON documents (`document`) and CSV tables (`table`), in SI or
+in the model's units, shared by the command line, the report and `to_frame()`."""
 
-__all__: list[str] = []
+from ._export import (document, dynamics_document, forces_document, info_document, plain, solve_document, table,
+                      write_csv)
+from ._tables import dynamics_table, forces_columns, forces_table, sweep_table
+
+__all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_document", "forces_document",
+           "dynamics_document", "sweep_table", "forces_table", "forces_columns", "dynamics_table"]

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp
 from ..engine._solver import Crossing, Engine, Limit
@@ -95,6 +96,16 @@ class Motion:
 
     def joint(self, name: str) -> int:
         return self.joint_names.index(name)
+
+    def to_frame(self):
+        """A pandas DataFrame of the positions, one row each, with the columns of `mbplanar sweep`
+        (``phi[deg]``, ``3.angle[deg]``, ``B.vx[m/s]``, ...). Needs pandas (``pip install mbplanar[pandas]``)."""
+        from ..model._views import view
+        return view("frame", self)
+
+    def _repr_html_(self) -> str:
+        from ..model._views import view
+        return view("html", self)
 
 
 DERIVED = ("xy", "vq", "aq", "angle", "w", "e", "v", "a", "rate", "accel", "ic")  # follow from the frames
@@ -225,14 +236,12 @@ def material_points(th, r, w, v, e, a, links, at):
     return tuple(_first(x) for x in out)
 
 
-def _last(x):
-    """(B, L, 2) → (2, L, B) view."""
+def _flip(x):
+    """(B, L, 2) ↔ (2, L, B) view: batch first at the surface, batch last inside."""
     return x.transpose(2, 1, 0)
 
 
-def _first(x):
-    """(2, L, B) → (B, L, 2) view."""
-    return x.transpose(2, 1, 0)
+_last = _first = _flip  # named for where the batch axis goes
 
 
 def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
@@ -305,8 +314,38 @@ CHUNK = 25_000  # positions solved at once: bounds the working memory of very lo
 def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
     hold no solution, are dropped before anything is returned). The engine's compiled backend takes the
-    batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest."""
-    return dispatch(engine, "kinematics", _reference, np.asarray(phi, float), omega, epsilon)
+    batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest.
+
+    Raises `ModelError` for input values that are not finite, and for a speed `omega` or acceleration
+    `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``, ``|ε| ≤ 1e200`` (their squares and products must
+    stay finite).
+    """
+    phi = np.asarray(phi, float)
+    if not np.all(np.isfinite(phi)):
+        raise ModelError("the input values phi must be finite", source=engine.mech.source, where="analyse")
+    omega = _checked_rate("omega", omega, MAX_OMEGA, engine)
+    epsilon = _checked_rate("epsilon", epsilon, MAX_EPSILON, engine)
+    return dispatch(engine, "kinematics", _reference, phi, omega, epsilon)
+
+
+MAX_OMEGA = 1e100      # |ω|: ω² and ω²·(model size) stay far from overflow
+MAX_EPSILON = 1e200
+
+
+def _checked_rate(name: str, value, bound: float, engine):
+    """`value` (None, a number or an array) unchanged when finite and within ±bound, else ModelError."""
+    if value is None:
+        return None
+    try:
+        arr = np.asarray(value, float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{name} must be a number or an array of numbers, got {value!r}",
+                         source=engine.mech.source, where="analyse") from None
+    if not np.all(np.isfinite(arr)) or np.any(np.abs(arr) > bound):
+        bad = arr[~(np.isfinite(arr) & (np.abs(arr) <= bound))].flat[0]
+        raise ModelError(f"{name} must be finite and at most {bound:g} in size, got {bad:g}",
+                         source=engine.mech.source, where="analyse")
+    return value
 
 
 def _reference(engine: Engine, phi: np.ndarray, omega, epsilon) -> Motion:

@@ -12,14 +12,15 @@ assembly mode (branch). The result is a `Mechanism` with `exact=True` whose coor
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 
 import numpy as np
 
-from ..errors import ModelError, MotionError
+from ..errors import ModelError, ModelWarning, MotionError
 from ._model import Joint, Link, Mechanism, Point
 
-__all__ = ["assemble", "reference_points"]
+__all__ = ["assemble", "reference_points", "input_reference"]
 
 
 def _unit(deg):
@@ -47,20 +48,22 @@ def reference_points(mech: Mechanism, link: str) -> tuple[str, str] | None:
 
 
 def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str, float]]:
-    where = f"{mech.source}: links '{link.name}'"
+    where = f"links '{link.name}'"
     out = []
     for p, q, value in link.lengths:
         if p == "" and q == "":
             revolute = [j.name for j in mech.joints_of(link.name) if j.kind == "R"]
             if len(revolute) != 2:
-                raise ModelError(f"{where}: 'length' needs exactly two revolute joints on the link "
-                                 f"(it has {len(revolute)}); use lengths = [[P, Q, value], ...]")
+                raise ModelError("'length' needs exactly two revolute joints on the link "
+                                 f"(it has {len(revolute)}); use lengths = [[P, Q, value], ...]",
+                                 source=mech.source, where=where)
             p, q = revolute
         for name in (p, q):
             if name not in names:
-                raise ModelError(f"{where}: length {p}-{q}: '{name}' is not a joint or point of this link")
+                raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link",
+                                 source=mech.source, where=where)
         if p == q:
-            raise ModelError(f"{where}: length {p}-{q} joins a point to itself")
+            raise ModelError(f"length {p}-{q} joins a point to itself", source=mech.source, where=where)
         out.append((p, q, value))
     return out
 
@@ -68,32 +71,33 @@ def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str,
 def _check_references(mech: Mechanism):
     for link in mech.links.values():
         names = _link_point_names(mech, link.name)
-        where = f"{mech.source}: links '{link.name}'"
+        where = f"links '{link.name}'"
         if link.angle is not None:
             for name in link.angle:
                 if name not in names:
-                    raise ModelError(f"{where}: angle point '{name}' is not on this link")
+                    raise ModelError(f"angle point '{name}' is not on this link", source=mech.source, where=where)
         if link.centre is not None and link.centre not in names and link.centre not in mech.points:
-            raise ModelError(f"{where}: centre '{link.centre}' is not a point of this link")
+            raise ModelError(f"centre '{link.centre}' is not a point of this link", source=mech.source, where=where)
         if link.centre is not None and link.centre in mech.points and mech.points[link.centre].link != link.name:
-            raise ModelError(f"{where}: centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'")
+            raise ModelError(f"centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'",
+                             source=mech.source, where=where)
     for j in mech.joints.values():
         if j.kind == "P" and j.guide_points is not None:
             names = _link_point_names(mech, j.carrier)
             for name in j.guide_points:
                 if name not in names:
-                    raise ModelError(f"{mech.source}: joints '{j.name}': guide point '{name}' is not on "
-                                     f"its carrier link '{j.carrier}'")
+                    raise ModelError(f"joints '{j.name}': guide point '{name}' is not on "
+                                     f"its carrier link '{j.carrier}'", source=mech.source)
             a, b = (names[n] for n in j.guide_points)
             if math.dist(a, b) == 0:
-                raise ModelError(f"{mech.source}: joints '{j.name}': guide points coincide")
+                raise ModelError(f"joints '{j.name}': guide points coincide", source=mech.source)
     for p in mech.points.values():
         if p.along is not None:
             names = _link_point_names(mech, p.link)
             for name in p.along:
                 if name not in names:
-                    raise ModelError(f"{mech.source}: points '{p.name}': '{name}' is not a joint or "
-                                     f"point (with 'at') of link '{p.link}'")
+                    raise ModelError(f"points '{p.name}': '{name}' is not a joint or "
+                                     f"point (with 'at') of link '{p.link}'", source=mech.source)
 
 
 def _coincident(names: dict, tol: float) -> dict[str, str]:
@@ -254,6 +258,61 @@ def _construct_along(p: Point, a, b) -> tuple[float, float]:
     return (float(xy[0]), float(xy[1]))
 
 
+LENGTH_MISMATCH = 0.10        # a length more than 10 % off the sketch's distance is flagged
+INPUT_MISMATCH_DEG = 1.0      # a drawn_at more than 1° off the sketch's angle is flagged
+
+
+def _warn_disagreements(mech: Mechanism, sketch: _Sketch):
+    """A `ModelWarning` for a length that contradicts the drawn coordinates by more than 10 %, and for a
+    revolute input's `drawn_at` more than 1° from the angle the sketch is drawn at (radians typed for
+    degrees, a wrong `zero`): the assembly would move the drawing far, silently."""
+    units = mech.units
+    k = units.length_scale
+    for link, p, q, value in sketch.lengths:
+        drawn = math.dist(sketch.local[link][p], sketch.local[link][q])
+        if abs(drawn - value) > LENGTH_MISMATCH * value:
+            _warn(mech, f"links '{link}'", f"length {p}-{q} = {value / k:.6g} {units.length}, but the sketch "
+                  f"draws {drawn / k:.6g} {units.length} ({100 * (drawn - value) / value:+.1f} %)")
+    x = sketch.initial()
+    for i, inp in enumerate(mech.inputs):
+        j = mech.joints[inp.joint]
+        if inp.drawn_at is None or j.kind != "R":
+            continue
+        measured = sketch.link_angle(x, j.links[1]) - sketch.link_angle(x, j.links[0])
+        drawn = inp.drawn_at * inp.scale + math.remainder(measured - inp.joint_value(inp.to_si(inp.drawn_at)),
+                                                           2 * math.pi) * inp.sense
+        if abs(math.degrees(drawn - inp.drawn_at * inp.scale)) > INPUT_MISMATCH_DEG:
+            _warn(mech, f"inputs[{i}] (joint '{inp.joint}')",
+                  f"drawn_at = {inp.drawn_at:g} {inp.unit}, but the sketch is drawn at "
+                  f"{inp.from_si(drawn):.6g} {inp.unit} ({math.degrees(abs(drawn - inp.drawn_at * inp.scale)):.3g}° "
+                  f"apart); the assembly moves the drawing to drawn_at. {input_reference(mech, inp)}")
+
+
+def _line(mech: Mechanism, link: str) -> str:
+    """The line a link's angle is measured along, in words."""
+    if link == mech.ground:
+        ref = reference_points(mech, link) if link in mech.links else None
+        return "the x axis" if ref is None else f"line {ref[0]}→{ref[1]} of the ground"
+    ref = reference_points(mech, link)
+    if ref is not None:
+        return f"line {ref[0]}→{ref[1]} of link '{link}'"
+    guide = next((j for j in mech.joints_of(link) if j.kind == "P"), None)
+    return f"the guide of joint '{guide.name}' on link '{link}'" if guide else f"link '{link}' as drawn"
+
+
+def input_reference(mech: Mechanism, inp) -> str:
+    """How a revolute input's value is measured, in words: which line of which link, the sense, the
+    zero and the unit."""
+    a, b = mech.joints[inp.joint].links
+    sense = "counter-clockwise (sense = 1)" if inp.sense > 0 else "clockwise (sense = -1)"
+    return (f"The input {inp.name} [{inp.unit}] is the angle from {_line(mech, a)} to {_line(mech, b)}, "
+            f"{sense}, less zero = {inp.zero:g} {inp.unit}.")
+
+
+def _warn(mech, where, message):
+    warnings.warn(ModelWarning(str(ModelError(message, source=mech.source, where=where))), stacklevel=4)
+
+
 def assemble(mech: Mechanism) -> Mechanism:
     """Return the exact drawn pose of `mech` (a new `Mechanism` with `exact=True`).
 
@@ -264,12 +323,16 @@ def assemble(mech: Mechanism) -> Mechanism:
         return mech
     _check_references(mech)
     sketch = _Sketch(mech)
+    _warn_disagreements(mech, sketch)
     x, res, what, ok = _gauss_newton(sketch)
     if not ok:
         worst = int(np.argmax(np.abs(res)))
-        raise MotionError(f"{mech.source}: the drawn pose cannot be assembled with the given dimensions "
-                          f"and input: {what[worst]} misses by {abs(res[worst]) * sketch.scale:.3g} "
-                          f"(check the lengths and the sketch)")
+        inp = next((i for i in mech.inputs if what[worst].startswith(f"input '{i.joint}'")), None)
+        miss = (f"{math.degrees(abs(res[worst])):.3g}°" if inp is not None
+                else f"{abs(res[worst]) * sketch.scale / mech.units.length_scale:.3g} {mech.units.length}")
+        hint = input_reference(mech, inp) if inp is not None else "Check the lengths and the sketch."
+        raise MotionError("the drawn pose cannot be assembled with the given dimensions and input: "
+                          f"{what[worst]} misses by {miss}. {hint}", source=mech.source)
     joints = {}
     for j in mech.joints.values():
         at = sketch.world(x, j.slider if j.kind == "P" else j.links[0], j.name)
@@ -292,6 +355,4 @@ def assemble(mech: Mechanism) -> Mechanism:
             exact_at[p.name] = np.array(points[p.name].at)
     links = {name: replace(link, lengths=()) for name, link in mech.links.items()}
     correction = max((math.dist(joints[n].at, j.at) for n, j in mech.joints.items()), default=0.0)
-    extras = dict(mech.extras)
-    extras["_assembly_correction"] = correction
-    return replace(mech, links=links, joints=joints, points=points, exact=True, extras=extras)
+    return replace(mech, links=links, joints=joints, points=points, exact=True, assembly_correction=correction)

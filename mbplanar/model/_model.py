@@ -11,9 +11,46 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..errors import ModelError
 
-__all__ = ["Link", "Joint", "Point", "Input", "Mechanism"]
+__all__ = ["Units", "Link", "Joint", "Point", "Input", "Load", "Gravity", "FlywheelSpec", "DynamicsSpec",
+           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
+
+LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6}
+MOMENT_UNITS = {"N*m": 1.0, "N*cm": 1e-2, "N*mm": 1e-3}
+
+
+@dataclass(frozen=True)
+class Units:
+    """The units a model was written in (its table's `length_unit`, `inertia_unit`, `moment_unit`).
+
+    Inside, everything is SI; these only convert at the edges: the table reader multiplies by the
+    scales, and output in model units (`--units model`) divides by them. `length` applies to every
+    length of the table; `inertia` to link and flywheel inertias (kg·m² unless the table says
+    otherwise); `moment` to moments (N·m unless the table says otherwise). Masses are kg, forces N.
+    """
+
+    length: str = "m"
+    inertia: str = "kg*m^2"
+    moment: str = "N*m"
+
+    @property
+    def length_scale(self) -> float:
+        """Metres per model length unit."""
+        return LENGTH_UNITS[self.length]
+
+    @property
+    def inertia_scale(self) -> float:
+        """kg·m² per model inertia unit."""
+        return INERTIA_UNITS[self.inertia]
+
+    @property
+    def moment_scale(self) -> float:
+        """N·m per model moment unit."""
+        return MOMENT_UNITS[self.moment]
 
 
 @dataclass(frozen=True)
@@ -87,8 +124,8 @@ class Point:
 class Input:
     """A generalized coordinate driving one joint: joint value = zero + sense·φ.
 
-    `unit` is how φ is written at the edges ("deg" or "rad" for a revolute joint, "m" or "mm" for a
-    prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
+    `unit` is how φ is written at the edges ("deg" or "rad" for a revolute joint, "m", "cm" or "mm" for
+    a prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
     "deg"/"rad" inputs when `zero_deg` is set). Inside, φ is in rad or m. `omega`, `epsilon`: the
     default speed dφ/dt and acceleration d²φ/dt². `drawn_at`: φ in the drawn pose (measured if None).
     `sweep`: default range of φ (in `unit`); `steps`: its default number of intervals.
@@ -107,8 +144,8 @@ class Input:
 
     @property
     def scale(self) -> float:
-        """SI value of one unit of φ (rad per degree, m per mm, 1 otherwise)."""
-        return {"deg": math.pi / 180.0, "mm": 1e-3}.get(self.unit, 1.0)
+        """SI value of one unit of φ (rad per degree, m per mm or cm, 1 otherwise)."""
+        return {"deg": math.pi / 180.0, "mm": 1e-3, "cm": 1e-2}.get(self.unit, 1.0)
 
     def to_si(self, value):
         return value * self.scale
@@ -126,12 +163,107 @@ class Input:
         if self.unit in ("deg", "rad"):
             full = 360.0 if self.unit == "deg" else 2 * math.pi
             return (0.0, full)
-        raise ModelError(f"input '{self.joint}': a prismatic input needs a sweep range (sweep = [from, to])")
+        raise ModelError("a prismatic input needs a sweep range (sweep = [from, to])",
+                         where=f"input '{self.joint}'")
+
+
+LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction", "spring", "damper", "torque")
+ELEMENT_TYPES = ("spring", "damper", "torque")  # act between two links
+RHO_STEEL = 7800.0
+
+
+@dataclass(frozen=True)
+class Load:
+    """One external load (a `loads` row), checked, in SI units.
+
+    `kind` is one of `LOAD_TYPES`. It acts on `link` at the drawn coordinates `at` (m) of a material
+    point of the link, or at the named point or joint `point` (its exact drawn position); one of the
+    two is set. `force` (N, force loads), `magnitude` (N: a weight, or a guide force's constant size),
+    `moment` (N·m). Guide forces (`resistance`, `friction`) act along prismatic joint `joint`: a
+    resistance's size follows the diagram `s` (m, increasing) → `table` (N) when given, `when` it acts
+    ("forward", "backward", "always"), `zero_at` the input value (input unit) where s = 0.
+    Elements (`ELEMENT_TYPES`) act between `other` (a) and `link` (b): a spring or linear damper between
+    its end on a (`other_at` or `other_point`) and its end on b (`at` or `point`), with `stiffness`,
+    `free_length`, `preload` or a tension table `s` (lengths, m) → `table` (N), or `damping`; a
+    rotational damper in revolute `joint`; a torque `moment` on b (−moment on a). Any row may be
+    switched: active while the rate of joint `switch` (or the velocity of point `switch` along
+    `switch_direction`) is ≥ 0 (`when` "forward") or ≤ 0 ("backward").
+    """
+
+    index: int
+    kind: str
+    link: str
+    at: tuple[float, float] | None = None
+    force: tuple[float, float] = (0.0, 0.0)
+    moment: float = 0.0
+    magnitude: float = 0.0
+    joint: str | None = None
+    s: tuple[float, ...] = ()
+    table: tuple[float, ...] = ()
+    when: str = "always"
+    zero_at: float | None = None
+    label: str | None = None
+    point: str | None = None
+    other: str | None = None                     # spring, damper, torque: the first link (a)
+    other_at: tuple[float, float] | None = None  # ... and its end on it: drawn coordinates (m)
+    other_point: str | None = None               # ... or a named point or joint
+    stiffness: float = 0.0                       # N/m
+    free_length: float | None = None             # m; None: the ends' exact drawn distance
+    preload: float = 0.0                         # N
+    damping: float = 0.0                         # N·s/m, or N·m·s/rad in a revolute joint
+    switch: str | None = None                    # joint or point whose velocity's sign switches the row
+    switch_direction: float = 0.0                # rad, for a point
+
+    @property
+    def name(self) -> str:
+        """The row's `name`, else its place in the table, loads[i]."""
+        return self.label or f"loads[{self.index}]"
+
+
+@dataclass(frozen=True)
+class Gravity:
+    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2)."""
+
+    g: float = 9.81
+    direction: float = -math.pi / 2
+
+    @property
+    def vector(self) -> np.ndarray:
+        """The acceleration vector (2,), m/s²."""
+        return self.g * np.array([math.cos(self.direction), math.sin(self.direction)])
+
+
+@dataclass(frozen=True)
+class FlywheelSpec:
+    """Where the flywheel goes and what is already there: inertia on the crank shaft (kg·m²), the motor
+    shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia
+    (kg·m²), the flywheel's density (kg/m³)."""
+
+    shaft_inertia: float = 0.0
+    motor_rpm: float | None = None
+    motor_inertia: float = 0.0
+    density: float = RHO_STEEL
+
+
+@dataclass(frozen=True)
+class DynamicsSpec:
+    """The machine's dynamics data: δ, ω_m (rad/s), the driving moment (N·m, None: balance the cycle)
+    and the slope of the motor characteristic (N·m·s/rad)."""
+
+    delta: float
+    omega_mean: float
+    driving_moment: float | None = None
+    motor_slope: float = 0.0
+    flywheel: FlywheelSpec = field(default_factory=FlywheelSpec)
 
 
 @dataclass
 class Mechanism:
-    """A planar mechanism: ground, links, joints, points of interest, inputs (and, later, loads).
+    """A planar mechanism: ground, links, joints, points of interest, inputs; loads, gravity and
+    dynamics data (SI units; `units` records what the table was written in).
+
+    `extras` keeps the table's free sections (`plot`, `description`) raw. `assembly_correction` (m) is
+    how far `assemble` moved the farthest joint from the sketch to the exact drawn pose.
 
     Build it from a TOML table (`mbplanar.read_model`) or in Python::
 
@@ -152,12 +284,17 @@ class Mechanism:
     source: str = "<python>"
     exact: bool = False
     extras: dict = field(default_factory=dict)
+    units: Units = field(default_factory=Units)
+    loads: tuple[Load, ...] = ()
+    gravity: Gravity | None = None
+    dynamics: DynamicsSpec | None = None
+    assembly_correction: float = 0.0
 
     # -- building -------------------------------------------------------------------------------
     def add_link(self, name: str, **kw) -> Link:
         name = str(name)
         if name in self.links or name == self.ground:
-            raise ModelError(f"{self.source}: link '{name}' is defined twice")
+            raise ModelError(f"link '{name}' is defined twice", source=self.source)
         if "length" in kw:
             kw = dict(kw)
             kw["lengths"] = (("", "", float(kw.pop("length"))),)
@@ -168,7 +305,7 @@ class Mechanism:
     def add_joint(self, name, kind, a, b, at, guide=None, guide_points=None) -> Joint:
         name, a, b = str(name), str(a), str(b)
         if name in self.joints:
-            raise ModelError(f"{self.source}: joint '{name}' is defined twice")
+            raise ModelError(f"joint '{name}' is defined twice", source=self.source)
         kind = str(kind).upper()
         joint = Joint(name, kind, (a, b), (float(at[0]), float(at[1])),
                       None if guide is None else float(guide),
@@ -179,7 +316,7 @@ class Mechanism:
     def add_point(self, name, link, at=None, **kw) -> Point:
         name = str(name)
         if name in self.points or name in self.joints:
-            raise ModelError(f"{self.source}: point '{name}' is defined twice (or is a joint's name)")
+            raise ModelError(f"point '{name}' is defined twice (or is a joint's name)", source=self.source)
         point = Point(name, str(link), None if at is None else (float(at[0]), float(at[1])), **kw)
         self.points[name] = point
         return point
@@ -188,6 +325,34 @@ class Mechanism:
         inp = Input(str(joint), **kw)
         self.inputs.append(inp)
         return inp
+
+    def add_load(self, type: str, **row) -> Load:
+        """Add an external load, given as a `loads` row of the table (same keys, checked the same way),
+        in the mechanism's `units` (SI for a mechanism built in Python).
+
+        Examples
+        --------
+        ``m.add_load("force", link="2", at="B", force=[0.0, -100.0])``,
+        ``m.add_load("resistance", joint="Bp", force=300.0, when="forward")``.
+        """
+        from ._table import read_load_row
+        load = read_load_row(self, len(self.loads), dict(row, type=type), self.units)
+        self.loads = self.loads + (load,)
+        return load
+
+    def set_gravity(self, g: float = 9.81, direction: float = -90.0) -> Gravity:
+        """Uniform gravity `g` (m/s²) along `direction` (degrees), as the table's `[gravity]`."""
+        from ._table import read_gravity_section
+        self.gravity = read_gravity_section(self, {"g": g, "direction": direction})
+        return self.gravity
+
+    def set_dynamics(self, **section) -> DynamicsSpec:
+        """Machine dynamics data, with the keys of the table's `[dynamics]` section (`delta`,
+        `omega_mean` or `rpm_mean`, `driving_moment`, `motor_slope`, `flywheel` = {...}), in the
+        mechanism's `units`."""
+        from ._table import read_dynamics_section
+        self.dynamics = read_dynamics_section(self, section)
+        return self.dynamics
 
     # -- queries --------------------------------------------------------------------------------
     @property
@@ -204,3 +369,8 @@ class Mechanism:
 
     def input_for(self, joint: str) -> Input | None:
         return next((i for i in self.inputs if i.joint == joint), None)
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the table's summary and, when it assembles, the diagram in the drawn pose."""
+        from ._views import view
+        return view("html", self)

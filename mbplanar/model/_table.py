@@ -10,14 +10,15 @@ from __future__ import annotations
 
 import math
 import tomllib
+import warnings
 from pathlib import Path
 
-from ..errors import ModelError
-from ._model import Input, Mechanism
+from ..errors import ModelError, ModelWarning
+from ._model import (ELEMENT_TYPES, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
+                     FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
 
-__all__ = ["read_model", "read_model_text", "parse_model"]
-
-_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
+__all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
+           "crank_input", "read_gravity_section", "read_dynamics_section"]
 
 
 def read_model(path) -> Mechanism:
@@ -26,9 +27,10 @@ def read_model(path) -> Mechanism:
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise ModelError(f"{path}: cannot read the model file ({exc.strerror or exc})") from None
+        raise ModelError(f"cannot read the model file ({exc.strerror or exc})", source=str(path)) from None
     except UnicodeDecodeError as exc:
-        raise ModelError(f"{path}: the model file is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+        raise ModelError(f"the model file is not UTF-8 text ({exc.reason} at byte {exc.start})",
+                         source=str(path)) from None
     return read_model_text(text, source=str(path))
 
 
@@ -37,7 +39,7 @@ def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"{source}: TOML syntax error: {exc}") from None
+        raise ModelError(f"TOML syntax error: {exc}", source=source) from None
     return parse_model(data, source=source)
 
 
@@ -45,16 +47,21 @@ _MISSING = object()
 
 
 class Row:
-    """Typed access to one table row, with errors that name the file and row."""
+    """Typed access to one table row, with errors that name the file (`source`) and row (`where`)."""
 
-    def __init__(self, data, where: str):
+    def __init__(self, data, where: str, source: str | None = None):
+        self.source, self.where = source, where
         if not isinstance(data, dict):
-            raise ModelError(f"{where}: expected a table {{...}}, got {type(data).__name__}")
-        self.data, self.where = data, where
+            self.fail(f"expected a table {{...}}, got {type(data).__name__}")
+        self.data = data
         self.used: set[str] = set()
 
     def fail(self, msg: str):
-        raise ModelError(f"{self.where}: {msg}")
+        raise ModelError(msg, source=self.source, where=self.where)
+
+    def warn(self, msg: str):
+        """A `ModelWarning` naming the file and row."""
+        warnings.warn(ModelWarning(str(ModelError(msg, source=self.source, where=self.where))), stacklevel=3)
 
     def has(self, key) -> bool:
         return key in self.data
@@ -100,6 +107,15 @@ class Row:
             self.fail(f"'{key}' must be [x, y], got {value!r}")
         return (self._check_number(key, value[0]), self._check_number(key, value[1]))
 
+    def numbers(self, key, required=False) -> tuple[float, ...] | None:
+        """A list of finite numbers."""
+        value = self._value(key, required)
+        if value is _MISSING:
+            return None
+        if not isinstance(value, list):
+            self.fail(f"'{key}' must be a list of numbers, got {value!r}")
+        return tuple(self._check_number(f"{key}[{k}]", v) for k, v in enumerate(value))
+
     def names(self, key, count=2, required=False) -> tuple[str, ...] | None:
         value = self._value(key, required)
         if value is _MISSING:
@@ -120,26 +136,37 @@ def _rows(data, key, source) -> list:
     if isinstance(rows, dict):  # [links.1] style tables: name = key
         rows = [dict(v, name=k) if isinstance(v, dict) else v for k, v in rows.items()]
     if not isinstance(rows, list):
-        raise ModelError(f"{source}: '{key}' must be a list of rows")
+        raise ModelError(f"'{key}' must be a list of rows", source=source)
     return rows
 
 
 def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
-    """Build a `Mechanism` from the parsed TOML document `data`, or from TOML text."""
+    """Build a `Mechanism` from the parsed TOML document `data`, or from TOML text.
+
+    Every section is read and checked here, once: links, joints, points, inputs, then `loads`,
+    `[gravity]` and `[dynamics]` into `Mechanism.loads`, `.gravity` and `.dynamics` (SI units).
+    """
     if isinstance(data, str):
         return read_model_text(data, source)
-    top = Row(data, source)
-    unit_name = top.text("length_unit", "m")
-    if unit_name not in _LENGTH_UNITS:
-        top.fail(f"length_unit must be one of {', '.join(_LENGTH_UNITS)}, got '{unit_name}'")
-    unit = _LENGTH_UNITS[unit_name]
+    if isinstance(data, dict) and _has_parameters(data):
+        from ._parameters import Template  # named dimensions and polar placements, bound to their values
+        data = Template(data, source).bind()
+    top = Row(data, None, source)
+    units = _read_units(top)
+    unit = units.length_scale
     mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.text("ground", "0"),
-                     title=top.text("title", ""), source=source)
-    _read_links(mech, _rows(data, "links", source), unit)
+                     title=top.text("title", ""), source=source, units=units)
+    link_rows = _read_links(mech, _rows(data, "links", source), unit)
     _read_joints(mech, _rows(data, "joints", source), unit)
     _read_points(mech, _rows(data, "points", source), unit)
+    _check_links(mech, link_rows)
     _read_inputs(mech, data, source, unit)
-    top.used |= {"links", "joints", "points", "input", "inputs"}
+    mech.loads = _read_loads(mech, data.get("loads", []))
+    if "gravity" in data:
+        mech.gravity = read_gravity_section(mech, data["gravity"])
+    if "dynamics" in data:
+        mech.dynamics = read_dynamics_section(mech, data["dynamics"])
+    top.used |= {"links", "joints", "points", "input", "inputs", "loads", "gravity", "dynamics"}
     mech.extras = {k: data[k] for k in data if k not in top.used}
     for key in mech.extras:
         if key not in _EXTRA_SECTIONS:
@@ -147,15 +174,38 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     return mech
 
 
-# Sections read by later stages (loads, dynamics); kept raw in `Mechanism.extras`.
-_EXTRA_SECTIONS = {"loads", "gravity", "dynamics", "simulate", "friction", "plot", "description"}
+def _has_parameters(data: dict) -> bool:
+    """Whether the table declares [parameters] or places a joint by a length and an angle."""
+    joints = data.get("joints")
+    rows = joints.values() if isinstance(joints, dict) else joints if isinstance(joints, list) else []
+    return "parameters" in data or any(isinstance(r, dict) and isinstance(r.get("at"), dict) for r in rows)
 
 
-def _read_links(mech: Mechanism, rows, unit):
+def _read_units(top: Row) -> Units:
+    """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`)."""
+    chosen = []
+    for key, allowed, default in (("length_unit", LENGTH_UNITS, "m"), ("inertia_unit", INERTIA_UNITS, "kg*m^2"),
+                                  ("moment_unit", MOMENT_UNITS, "N*m")):
+        name = top.text(key, default)
+        if name not in allowed:
+            top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
+        chosen.append(name)
+    return Units(*chosen)
+
+
+# Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, friction and simulate
+# (mbplanar.cam, mbplanar.forces.read_friction and read_simulate read and check theirs).
+_EXTRA_SECTIONS = {"plot", "description", "cam", "friction", "simulate"}
+
+
+def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
+    """Add the links; return each link's row label (for later checks)."""
+    labels = {}
     for i, raw in enumerate(rows):
-        row = Row(raw, f"{mech.source}: links[{i}]")
+        row = Row(raw, f"links[{i}]", mech.source)
         name = row.text("name", required=True)
-        row.where = f"{mech.source}: links[{i}] '{name}'"
+        row.where = f"links[{i}] '{name}'"
+        labels[name] = row.where
         lengths = []
         if row.has("length"):
             lengths.append(("", "", row.number("length", positive=True) * unit))
@@ -168,6 +218,8 @@ def _read_links(mech: Mechanism, rows, unit):
             p, q, value = item
             if not all(isinstance(v, (str, int)) and not isinstance(v, bool) for v in (p, q)):
                 row.fail(f"lengths[{k}] must be [P, Q, length] with P, Q point names, got {item!r}")
+            if str(p) == str(q):
+                row.fail(f"lengths[{k}] joins point '{p}' to itself")
             length = row._check_number(f"lengths[{k}]", value, positive=True) * unit
             lengths.append((str(p), str(q), length))
         row.used.add("lengths")
@@ -185,11 +237,41 @@ def _read_links(mech: Mechanism, rows, unit):
             continue
         try:
             mech.add_link(name, lengths=tuple(lengths), angle=angle, mass=mass,
-                          inertia=inertia * unit * unit, centre=centre, angle_offset=angle_offset)
+                          inertia=inertia * mech.units.inertia_scale, centre=centre, angle_offset=angle_offset)
             if centre_at is not None:
                 mech.add_point(centre, name, at=centre_at)
         except ModelError as exc:
-            row.fail(str(exc).split(": ", 1)[-1])
+            row.fail(exc.message)
+    return labels
+
+
+def _check_links(mech: Mechanism, labels: dict[str, str]):
+    """Each link's centre is one of its points, a link with mass has one, and a link whose revolute
+    joints all sit at one drawn point (a zero-length link) is refused."""
+    for name, link in mech.links.items():
+        where = labels.get(name, f"link '{name}'")
+        own = {j.name for j in mech.joints_of(name)} | {p.name for p in mech.points.values() if p.link == name}
+        if link.centre is not None and link.centre not in own:
+            raise ModelError(f"centre '{link.centre}' is not a joint or point of this link",
+                             source=mech.source, where=where)
+        if link.mass and link.centre is None:
+            raise ModelError(f"a link with mass ({link.mass:g} kg) needs a 'centre' point",
+                             source=mech.source, where=where)
+        _check_extent(mech, name, where)
+
+
+def _check_extent(mech: Mechanism, name: str, where: str):
+    """A link with two or more revolute joints, no guide and no other point, all drawn at one place,
+    has zero length: its angle is undefined."""
+    joints = mech.joints_of(name)
+    revolute = [j for j in joints if j.kind == "R"]
+    if len(revolute) < 2 or len(revolute) < len(joints):
+        return
+    spots = [j.at for j in revolute] + [p.at for p in mech.points.values() if p.link == name and p.at]
+    size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
+    if size <= 1e-12 * max(1.0, max(abs(c) for xy in spots for c in xy)):
+        raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
+                         f"the same point", source=mech.source, where=where)
 
 
 def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, float] | None]:
@@ -204,11 +286,11 @@ def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, 
 
 def _read_joints(mech: Mechanism, rows, unit):
     if not rows:
-        raise ModelError(f"{mech.source}: no joints (a 'joints' list of pairs is required)")
+        raise ModelError("no joints (a 'joints' list of pairs is required)", source=mech.source)
     for i, raw in enumerate(rows):
-        row = Row(raw, f"{mech.source}: joints[{i}]")
+        row = Row(raw, f"joints[{i}]", mech.source)
         name = row.text("name", required=True)
-        row.where = f"{mech.source}: joints[{i}] '{name}'"
+        row.where = f"joints[{i}] '{name}'"
         kind = (row.text("type", required=True) or "").upper()
         if kind not in ("R", "P"):
             row.fail(f"type must be 'R' (revolute) or 'P' (prismatic), got '{kind}'")
@@ -242,14 +324,14 @@ def _read_joints(mech: Mechanism, rows, unit):
         try:
             mech.add_joint(name, kind, links[0], links[1], (x * unit, y * unit), guide, guide_points)
         except ModelError as exc:
-            row.fail(str(exc).split(": ", 1)[-1])
+            row.fail(exc.message)
 
 
 def _read_points(mech: Mechanism, rows, unit):
     for i, raw in enumerate(rows):
-        row = Row(raw, f"{mech.source}: points[{i}]")
+        row = Row(raw, f"points[{i}]", mech.source)
         name = row.text("name", required=True)
-        row.where = f"{mech.source}: points[{i}] '{name}'"
+        row.where = f"points[{i}] '{name}'"
         link = row.text("link", required=True)
         if link != mech.ground and link not in mech.links:
             row.fail(f"link '{link}' is not in the links list")
@@ -269,7 +351,7 @@ def _read_points(mech: Mechanism, rows, unit):
                            distance=None if distance is None else distance * unit,
                            offset=offset * unit)
         except ModelError as exc:
-            row.fail(str(exc).split(": ", 1)[-1])
+            row.fail(exc.message)
 
 
 def _steps(row: Row) -> int | None:
@@ -279,28 +361,43 @@ def _steps(row: Row) -> int | None:
     return None if steps is None else int(steps)
 
 
+def rpm_or_omega(row: Row, omega_key: str, rpm_key: str, default: float | None) -> float | None:
+    """A speed given as `omega_key` (rad/s) or `rpm_key` (rev/min), never both; in rad/s."""
+    if row.has(omega_key) and row.has(rpm_key):
+        row.fail(f"give either '{omega_key}' (rad/s) or '{rpm_key}' (rev/min), not both")
+    rpm = row.number(rpm_key)
+    return row.number(omega_key, default) if rpm is None else rpm * math.pi / 30.0
+
+
+def _speed(row: Row, kind: str) -> float:
+    """The input's default speed dφ/dt: `omega` (rad/s, or m/s for a prismatic input) or `rpm`."""
+    if kind == "P" and row.has("rpm"):
+        row.fail("'rpm' is a revolute input's speed; a prismatic input takes 'omega' in m/s")
+    return rpm_or_omega(row, "omega", "rpm", 1.0)
+
+
 def _read_inputs(mech: Mechanism, data, source, unit):
     rows = data.get("inputs")
     if rows is None:
         rows = [data["input"]] if "input" in data else []
     elif "input" in data:
-        raise ModelError(f"{source}: give either [input] or an 'inputs' list, not both")
+        raise ModelError("give either [input] or an 'inputs' list, not both", source=source)
     if not isinstance(rows, list):
-        raise ModelError(f"{source}: 'inputs' must be a list of tables")
+        raise ModelError("'inputs' must be a list of tables", source=source)
     if not rows:
-        raise ModelError(f"{source}: no input: add an [input] table naming the driving joint")
+        raise ModelError("no input: add an [input] table naming the driving joint", source=source)
     for i, raw in enumerate(rows):
-        row = Row(raw, f"{source}: inputs[{i}]")
+        row = Row(raw, f"inputs[{i}]", source)
         joint_name = row.text("joint", required=True)
-        row.where = f"{source}: inputs[{i}] (joint '{joint_name}')"
+        row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
         if joint is None:
             row.fail(f"'{joint_name}' is not a joint of the table")
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
-        default_unit = "deg" if joint.kind == "R" else "m"
+        default_unit = "deg" if joint.kind == "R" else mech.units.length
         in_unit = row.text("unit", default_unit)
-        allowed = ("deg", "rad") if joint.kind == "R" else ("m", "mm")
+        allowed = ("deg", "rad") if joint.kind == "R" else tuple(LENGTH_UNITS)
         if in_unit not in allowed:
             row.fail(f"unit of a {'revolute' if joint.kind == 'R' else 'prismatic'} input must be "
                      f"one of {', '.join(allowed)}, got '{in_unit}'")
@@ -320,7 +417,315 @@ def _read_inputs(mech: Mechanism, data, source, unit):
                 row.fail("sweep range is empty")
         inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
                     zero=row.number("zero", 0.0), sense=float(sense),
-                    omega=row.number("omega", 1.0), epsilon=row.number("epsilon", 0.0),
+                    omega=_speed(row, joint.kind), epsilon=row.number("epsilon", 0.0),
                     drawn_at=row.number("drawn_at"), sweep=sweep, steps=_steps(row))
         row.check_unknown_keys({"comment"})
         mech.inputs.append(inp)
+
+
+# -- loads ------------------------------------------------------------------------------------------
+_LOAD_KEYS = {
+    "force": {"link", "at", "force"},
+    "weight": {"link", "at", "weight"},
+    "moment": {"link", "moment"},
+    "resistance": {"joint", "link", "at", "force", "s", "stroke", "when", "zero_at"},
+    "friction": {"joint", "link", "at", "force"},
+    "spring": {"links", "at", "stiffness", "free_length", "preload", "length", "force"},
+    "damper": {"links", "at", "damping", "joint"},
+    "torque": {"links", "moment"},
+}
+_WHEN = ("forward", "backward", "always")
+_SWITCH_KEYS = {"switch", "switch_direction", "when"}
+
+
+def _read_loads(mech: Mechanism, rows) -> tuple[Load, ...]:
+    """The `loads` rows as `Load`s (SI), names unique."""
+    if not isinstance(rows, list):
+        raise ModelError("'loads' must be a list of rows", source=mech.source)
+    loads = tuple(read_load_row(mech, i, raw, mech.units) for i, raw in enumerate(rows))
+    seen = {}
+    for ld in loads:
+        if ld.name in seen or ld.name.startswith("gravity on "):
+            why = f"is also loads[{seen[ld.name]}]'s" if ld.name in seen else "is kept for gravity"
+            raise ModelError(f"the name '{ld.name}' {why}", source=mech.source, where=f"loads[{ld.index}]")
+        seen[ld.name] = ld.index
+    return loads
+
+
+def read_load_row(mech: Mechanism, i: int, raw, units: Units) -> Load:
+    """One `loads` row (index `i`) of `mech`, its numbers in `units`, as a checked `Load` in SI."""
+    row = Row(raw, f"loads[{i}]", mech.source)
+    kind = row.data.get("type")
+    if kind not in LOAD_TYPES:
+        row.fail(f"'type' must be one of {', '.join(LOAD_TYPES)}, got {kind!r}")
+    label = row.data.get("name")
+    if label is not None and (not isinstance(label, str) or not label.strip()):
+        row.fail(f"'name' must be a non-empty text, got {label!r}")
+    row.where = f"loads[{i}] '{label}'" if label else f"loads[{i}] ({kind})"
+    switched = row.has("switch")
+    unknown = set(row.data) - _LOAD_KEYS[kind] - {"type", "name", "comment"} - (_SWITCH_KEYS if switched else set())
+    if unknown:
+        row.fail(f"unknown key(s) {', '.join(sorted(unknown))}")
+    if kind in ("resistance", "friction"):
+        if switched:
+            row.fail("a guide force is switched by its own joint ('when'); no 'switch'")
+        load = _guide_load(mech, i, row, kind, units)
+    elif kind in ELEMENT_TYPES:
+        load = _element_load(mech, i, row, kind, units)
+    else:
+        load = _link_load(mech, i, row, kind, units)
+    if switched:
+        load.update(_switch(mech, row))
+    return Load(**{**load, "label": label})
+
+
+def _switch(mech, row: Row) -> dict:
+    """`switch` (a joint or point), `switch_direction` (degrees, points) and `when` of any row."""
+    name = row.text("switch")
+    if name not in mech.joints and name not in mech.points:
+        row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model")
+    if row.has("switch_direction") and name not in mech.points:
+        row.fail(f"'switch_direction' applies to a point; '{name}' is a joint")
+    direction = math.radians(row.number("switch_direction", 0.0))
+    when = row.text("when")
+    if when not in ("forward", "backward"):
+        row.fail(f'a switched row needs \'when\' = "forward" (active while the velocity is >= 0) or '
+                 f'"backward" (<= 0), got {when!r}')
+    return {"switch": name, "switch_direction": direction, "when": when}
+
+
+def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
+    """A spring, damper or torque between two links (lengths in the table's unit, moments in its
+    moment unit, stiffness N/m, damping N·s/m or, in a joint, N·m·s/rad in the moment unit)."""
+    if kind == "damper" and row.has("joint"):
+        if row.has("at") or row.has("links"):
+            row.fail("a rotational damper takes 'joint' only (no 'at' or 'links')")
+        joint = row.text("joint")
+        j = mech.joints.get(joint)
+        if j is None or j.kind != "R":
+            row.fail(f"joint '{joint}' is not a revolute joint of the model")
+        c = row.number("damping", required=True)
+        if c < 0:
+            row.fail(f"'damping' must be >= 0, got {c}")
+        return dict(index=i, kind=kind, link=j.links[1], other=j.links[0], joint=joint,
+                    damping=c * units.moment_scale)
+    if kind == "torque":
+        a, b = _two_links(mech, row, required=True)
+        return dict(index=i, kind=kind, link=b, other=a, moment=row.number("moment", required=True) * units.moment_scale)
+    ends = row.data.get("at")
+    row.used.add("at")
+    if not isinstance(ends, list) or len(ends) != 2:
+        row.fail(f"'at' must be [P, Q], two points (names or [x, y]), got {ends!r}")
+    a, b = _end_links(mech, row, ends)
+    fields = dict(index=i, kind=kind, link=b, other=a, **_end(mech, row, b, ends[1], units),
+                  **{f"other_{k}": v for k, v in _end(mech, row, a, ends[0], units).items()})
+    if kind == "damper":
+        c = row.number("damping", required=True)
+        if c < 0:
+            row.fail(f"'damping' must be >= 0, got {c}")
+        return dict(fields, damping=c)
+    if row.has("length") or isinstance(row.data.get("force"), list):
+        if {"stiffness", "free_length", "preload"} & set(row.data):
+            row.fail("give either a table (length, force) or stiffness/free_length/preload")
+        ls = tuple(x * units.length_scale for x in row.numbers("length", required=True))
+        fs = row.numbers("force", required=True)
+        if len(ls) != len(fs) or len(ls) < 2 or any(q <= p for p, q in zip(ls, ls[1:])) or ls[0] < 0:
+            row.fail(f"'length' (increasing, >= 0) and 'force' must be lists of equal length (at least 2), "
+                     f"got {len(ls)} and {len(fs)}")
+        return dict(fields, s=ls, table=fs)
+    k = row.number("stiffness", required=True)
+    free = row.number("free_length")
+    if k < 0 or (free is not None and free < 0):
+        row.fail("'stiffness' and 'free_length' must be >= 0")
+    return dict(fields, stiffness=k, free_length=None if free is None else free * units.length_scale,
+                preload=row.number("preload", 0.0))
+
+
+def _two_links(mech, row: Row, required=False) -> tuple[str, str] | None:
+    value = row.data.get("links")
+    row.used.add("links")
+    if value is None and not required:
+        return None
+    if not isinstance(value, list) or len(value) != 2 or str(value[0]) == str(value[1]):
+        row.fail(f"'links' must be two different links [a, b], got {value!r}")
+    for name in value:
+        if str(name) not in mech.links and str(name) != mech.ground:
+            row.fail(f"'{name}' in 'links' is not a link of the model")
+    return str(value[0]), str(value[1])
+
+
+def _end_links(mech, row: Row, ends) -> tuple[str, str]:
+    """The links of a two-point element's ends: `links` if given, else each named point's own link."""
+    given = _two_links(mech, row)
+    if given is not None:
+        return given
+    out = []
+    for end in ends:
+        if not (isinstance(end, str) and end in mech.points):
+            row.fail(f"say on which links the ends lie ('links = [a, b]'): {end!r} is not a named point of "
+                     "one link")
+        out.append(mech.points[end].link)
+    if out[0] == out[1]:
+        row.fail(f"both ends are on link '{out[0]}'")
+    return out[0], out[1]
+
+
+def _end(mech, row: Row, link: str, end, units: Units) -> dict:
+    """One end of an element on `link`: {"at": drawn coordinates (m)} or {"point": a point or joint}."""
+    if isinstance(end, list):
+        if len(end) != 2:
+            row.fail(f"an end in 'at' must be a name or [x, y], got {end!r}")
+        x, y = (row._check_number("at", v) for v in end)
+        return {"at": (x * units.length_scale, y * units.length_scale)}
+    if not isinstance(end, str):
+        row.fail(f"an end in 'at' must be a name or [x, y], got {end!r}")
+    if end in mech.points:
+        if mech.points[end].link != link:
+            row.fail(f"point '{end}' is on link '{mech.points[end].link}', not '{link}'")
+    elif end in mech.joints:
+        if link not in mech.joints[end].links:
+            row.fail(f"joint '{end}' does not belong to link '{link}'")
+    else:
+        row.fail(f"'{end}' in 'at' is neither a point nor a joint of the model")
+    return {"point": end}
+
+
+def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
+    link = row.text("link", required=True)
+    if link not in mech.links:
+        row.fail(f"'{link}' is not a moving link of the model")
+    fields = dict(index=i, kind=kind, link=link)
+    if kind == "force":
+        fields["force"] = row.pair("force", required=True)
+    elif kind == "weight":
+        fields["magnitude"] = row.number("weight", required=True)
+    else:
+        fields["moment"] = row.number("moment", required=True) * units.moment_scale
+    return dict(fields, **_where_on(mech, row, link, units, kind))
+
+
+def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
+    joint = row.text("joint", required=True)
+    j = mech.joints.get(joint)
+    if j is None or j.kind != "P":
+        row.fail(f"joint '{joint}' is not a prismatic joint of the model")
+    link = row.text("link", j.slider)
+    if link not in j.links or link == mech.ground:
+        row.fail(f"link '{link}' must be the moving link of joint '{joint}' the force acts on")
+    fields = dict(index=i, kind=kind, link=link, joint=joint, **_where_on(mech, row, link, units, kind, joint))
+    if kind == "friction":
+        return dict(fields, magnitude=row.number("force", required=True), when="always")
+    when = row.text("when", "always")
+    if when not in _WHEN:
+        row.fail(f"'when' must be one of {', '.join(_WHEN)}, got {when!r}")
+    fields.update(when=when, zero_at=row.number("zero_at"))
+    if fields["zero_at"] is not None and len(mech.inputs) != 1:
+        row.fail("'zero_at' (an input value) needs a model with one input")
+    if not isinstance(row.data.get("force"), list):
+        if row.has("s") or row.has("stroke"):
+            row.fail("with 's' the 'force' must be a list of the same length")
+        return dict(fields, magnitude=row.number("force", required=True))
+    table = row.numbers("force", required=True)
+    s = row.numbers("s", required=True)
+    if len(s) != len(table) or len(s) < 2:
+        row.fail(f"'s' and 'force' must be lists of equal length (at least 2), got {len(s)} and {len(table)}")
+    stroke = row.number("stroke", 1.0, nonzero=True)
+    s = tuple(x * stroke * units.length_scale for x in s)
+    if any(b <= a for a, b in zip(s, s[1:])):
+        row.fail("'s' (times 'stroke') must increase strictly")
+    _check_diagram_scale(mech, row, s, units)
+    return dict(fields, s=s, table=table)
+
+
+def _check_diagram_scale(mech, row: Row, s, units: Units):
+    """Warn when a resistance diagram spans less than 1 % or more than 100 times the drawing: a stroke
+    written in metres in a mm table, or the reverse."""
+    spots = [j.at for j in mech.joints.values()]
+    size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
+    span = s[-1] - s[0]
+    if size > 0 and not 1e-2 <= span / size <= 1e2:
+        unit = units.length_scale
+        row.warn(f"the s diagram spans {span / unit:.4g} {units.length} (s × stroke, in the table's "
+                 f"length_unit '{units.length}') while the drawing spans {size / unit:.4g} {units.length}: "
+                 f"is 's' or 'stroke' in another unit?")
+
+
+def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | None = None) -> dict:
+    """Where a load acts: `at` = [x, y] (length unit) or a point or joint name on `link`; by default
+    the joint's slider point (guide loads), else the link's centre, else (a moment) its first joint."""
+    if isinstance(row.data.get("at"), list):
+        x, y = row.pair("at")
+        return {"at": (x * units.length_scale, y * units.length_scale)}
+    name = row.text("at")
+    if name is None:
+        if joint is not None:
+            return {"point": joint}
+        centre = mech.links[link].centre
+        if centre is None and kind != "moment":
+            row.fail(f"no 'at' and link '{link}' has no 'centre'")
+        if centre is None and not mech.joints_of(link):
+            row.fail(f"link '{link}' has no joint to put the moment on")
+        return {"point": centre if centre is not None else mech.joints_of(link)[0].name}
+    if name in mech.points:
+        if mech.points[name].link != link:
+            row.fail(f"point '{name}' is on link '{mech.points[name].link}', not '{link}'")
+    elif name in mech.joints:
+        if link not in mech.joints[name].links:
+            row.fail(f"joint '{name}' does not belong to link '{link}'")
+    else:
+        row.fail(f"'at' = '{name}' is neither a point nor a joint of the model")
+    return {"point": name}
+
+
+# -- gravity and dynamics ----------------------------------------------------------------------------
+def read_gravity_section(mech: Mechanism, raw) -> Gravity:
+    """`[gravity]`: g (m/s², ≥ 0) and its direction (degrees, default −90)."""
+    row = Row(raw, "gravity", mech.source)
+    g = row.number("g", 9.81)
+    if g < 0:
+        row.fail(f"'g' must be >= 0 (turn 'direction' instead), got {g:g}")
+    direction = row.number("direction", -90.0)
+    row.check_unknown_keys({"comment"})
+    return Gravity(g, math.radians(direction))
+
+
+def crank_input(mech: Mechanism, where: str = "dynamics") -> Input:
+    """The one input of a machine driven by a crank (a revolute input joint with the ground), else a
+    `ModelError`."""
+    if len(mech.inputs) != 1:
+        raise ModelError(f"machine dynamics needs a model with one input, this one has {len(mech.inputs)}",
+                         source=mech.source, where=where)
+    inp = mech.inputs[0]
+    if mech.joints[inp.joint].kind != "R" or mech.ground not in mech.joints[inp.joint].links:
+        raise ModelError(f"machine dynamics needs a crank (a revolute input joint with the ground); "
+                         f"input '{inp.joint}' is not one", source=mech.source, where=where)
+    return inp
+
+
+def read_dynamics_section(mech: Mechanism, raw) -> DynamicsSpec:
+    """`[dynamics]` (and `[dynamics.flywheel]`) as a `DynamicsSpec` in SI units."""
+    row = Row(raw, "dynamics", mech.source)
+    inp = crank_input(mech)
+    delta = row.number("delta", required=True, positive=True)
+    if not 0 < delta < 1:
+        row.fail(f"'delta' = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)")
+    omega = rpm_or_omega(row, "omega_mean", "rpm_mean", inp.omega)
+    if not omega > 0:
+        row.fail(f"the mean speed (ω_m = {omega:g} rad/s) must be positive")
+    units = mech.units
+    driving = row.number("driving_moment")
+    driving = None if driving is None else driving * units.moment_scale
+    slope = row.number("motor_slope", 0.0) * units.moment_scale
+    if slope < 0:
+        row.fail("'motor_slope' must be >= 0 (a motor gives less moment when faster)")
+    fly = Row(raw.get("flywheel", {}), "dynamics.flywheel", mech.source)
+    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0) * units.inertia_scale,
+                            motor_rpm=fly.number("motor_rpm", positive=True),
+                            motor_inertia=fly.number("motor_inertia", 0.0) * units.inertia_scale,
+                            density=fly.number("density", RHO_STEEL, positive=True))
+    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
+        fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")
+    row.used.add("flywheel")
+    row.check_unknown_keys({"comment"})
+    fly.check_unknown_keys({"comment"})
+    return DynamicsSpec(delta, omega, driving, slope, flywheel)

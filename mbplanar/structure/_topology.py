@@ -17,7 +17,7 @@ import networkx as nx
 from ..errors import ModelError
 from ..model._model import Mechanism
 
-__all__ = ["TreeJoint", "Block", "Topology", "analyse_topology"]
+__all__ = ["TreeJoint", "Block", "Topology", "analyse_topology", "check_mobility"]
 
 
 @dataclass(frozen=True)
@@ -77,20 +77,30 @@ def _check_connected(mech: Mechanism, g: nx.Graph):
     reached = nx.node_connected_component(g, ("L", mech.ground))
     lost = [link for link in mech.moving_links if ("L", link) not in reached]
     if lost:
-        raise ModelError(f"{mech.source}: link(s) {', '.join(lost)} not connected to the ground "
-                         f"'{mech.ground}' through any joint")
+        raise ModelError(f"link(s) {', '.join(lost)} not connected to the ground '{mech.ground}' through any "
+                         "joint", source=mech.source)
 
 
 def _check_dof(mech: Mechanism, dof: int):
     n, p = len(mech.moving_links), len(mech.joints)
     if dof != len(mech.inputs):
-        why = (f"DOF = 3·n − 2·p = 3·{n} − 2·{p} = {dof} (n moving links, p pairs), but the table has "
-               f"{len(mech.inputs)} input(s)")
+        why = (f"DOF = {dof} (structural count 3·n − 2·p = 3·{n} − 2·{p}, n moving links, p pairs), but the "
+               f"table has {len(mech.inputs)} input(s)")
         if dof <= 0:
             why += ": the chain is rigid or over-constrained (a missing link, or a joint too many?)"
         else:
             why += ": give one input per degree of freedom (or a missing joint?)"
-        raise ModelError(f"{mech.source}: {why}")
+        raise ModelError(why, source=mech.source)
+
+
+def check_mobility(mech: Mechanism) -> int:
+    """The structural DOF of `mech` once its links are all connected to the ground and it has one input
+    per degree of freedom, else a `ModelError` that says so. Run before the assembly, so that a rigid
+    chain is reported as "DOF = 0", not as a drawn pose that misses."""
+    _check_connected(mech, link_joint_graph(mech))
+    dof = mobility(mech)
+    _check_dof(mech, dof)
+    return dof
 
 
 def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
@@ -120,8 +130,8 @@ def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
         a, b = find(j.links[0]), find(j.links[1])
         if a == b:
             if j.name in input_index:
-                raise ModelError(f"{mech.source}: driving joint '{j.name}' closes a loop of links whose "
-                                 f"motion is already fixed: the inputs are redundant")
+                raise ModelError(f"driving joint '{j.name}' closes a loop of links whose "
+                                 "motion is already fixed: the inputs are redundant", source=mech.source)
             cuts.append(j.name)
         else:
             tree_edges.append(j)
@@ -145,8 +155,8 @@ def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
             break
     unplaced = [link for link in links if link not in placed]
     if unplaced:
-        raise ModelError(f"{mech.source}: link(s) {', '.join(unplaced)} cannot be reached from the ground "
-                         f"through the joints")
+        raise ModelError(f"link(s) {', '.join(unplaced)} cannot be reached from the ground "
+                         "through the joints", source=mech.source)
     return Block(tuple(links), tuple(tree), tuple(cuts), group)
 
 
@@ -194,10 +204,7 @@ def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
     `grouped=True` uses the Assur groups when the structure module can decompose the mechanism,
     else (or with `grouped=False`) one global block after the input links.
     """
-    g = link_joint_graph(mech)
-    _check_connected(mech, g)
-    dof = mobility(mech)
-    _check_dof(mech, dof)
+    dof = check_mobility(mech)
     loops = independent_loops(mech)
     structure = None
     try:
@@ -214,6 +221,7 @@ def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
     for block in blocks:
         equations, unknowns = 2 * len(block.cuts), len(block.unknowns)
         if equations != unknowns:
-            raise ModelError(f"{mech.source}: links {', '.join(block.links)} give {equations} closure "
-                             f"equations for {unknowns} unknowns: the chain is over- or under-constrained")
+            raise ModelError(f"links {', '.join(block.links)} give {equations} closure "
+                             f"equations for {unknowns} unknowns: the chain is over- or under-constrained",
+                             source=mech.source)
     return Topology(dof, loops, blocks, structure)

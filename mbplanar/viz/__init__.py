@@ -1,5 +1,6 @@
 """Pictures: the scene (links and joints placed for drawing), matplotlib figures (`make_figure`,
-`register_figure`), force pictures, the SVG/HTML animation and the HTML report (`write_report`,
+`register_figure`), force pictures, the SVG/HTML animation (`Animation` plays inline in Jupyter), what
+Jupyter shows for each result (`_notebook`) and the HTML report (`write_report`,
 `register_section`).
 
 matplotlib is imported only when a picture is drawn. ``mbplanar.scene``, ``mbplanar.plotting``,
@@ -7,11 +8,11 @@ matplotlib is imported only when a picture is drawn. ``mbplanar.scene``, ``mbpla
 modules here.
 """
 
-from ._animation import html_animation, svg_animation, write_html_animation
+from ._animation import Animation, html_animation, svg_animation, write_html_animation
 from ._plotting import FIGURES, PlotUnavailable, figure_bytes, make_figure, register_figure, save_figure, write_gif
 from ._report import SECTIONS, Section, register_section, report_html, write_report
 from ._scene import Scene, build_scene
 
 __all__ = ["Scene", "build_scene", "FIGURES", "PlotUnavailable", "register_figure", "make_figure", "save_figure",
-           "figure_bytes", "write_gif", "svg_animation", "html_animation", "write_html_animation", "Section",
-           "SECTIONS", "register_section", "report_html", "write_report"]
+           "figure_bytes", "write_gif", "Animation", "svg_animation", "html_animation", "write_html_animation",
+           "Section", "SECTIONS", "register_section", "report_html", "write_report"]

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._scene import build_scene
 
-__all__ = ["svg_animation", "html_animation", "write_html_animation"]
+__all__ = ["svg_animation", "html_animation", "write_html_animation", "Animation"]
 
 _SCRIPT = """
 (function(){
@@ -62,10 +62,13 @@ def _hatch(a, b, normal, step, depth):
 
 
 def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str = "mbanim", trajectories=True,
-                  width: int = 640) -> str:
-    """An inline SVG (with its player: play/pause, a position slider) animating `frames` positions."""
+                  width: int = 640, motion=None, controls: bool = True) -> str:
+    """An inline SVG (with its player: play/pause, a position slider, a frame counter) animating `frames`
+    positions of the cycle, or the positions of `motion` when given. The shapes are drawn at the first
+    position, so the picture shows without its script; `controls=False` leaves out the player and the
+    script: a still diagram of the first position."""
     from ._plotting import cycle_motion  # matplotlib-free part of plotting
-    motion = cycle_motion(engine, frames)
+    motion = cycle_motion(engine, frames) if motion is None else motion
     sc = build_scene(engine, motion, motion)
     size = sc.size
     x0, x1, y0, y1 = sc.extent()
@@ -76,7 +79,15 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
         k = f"s{len(shapes)}"
         shapes.append(k)
         xy.append(_flat(arr) if tag != "circle" else [[_num(v) for v in f] for f in np.asarray(arr)])
-        moving.append(f'<{tag} data-k="{k}" {attrs}/>' if tag != "text" else f'<text data-k="{k}" {attrs}</text>')
+        first = np.asarray(arr)[0]
+        if tag == "circle":
+            at = f'cx="{_num(first[0])}" cy="{_num(first[1])}" '
+        elif tag == "text":
+            at = f'x="{_num(first[0])}" y="{_num(-first[1])}" '
+        else:
+            at = f'points="{_pts(first)}" '
+        moving.append(f'<{tag} data-k="{k}" {at}{attrs}/>' if tag != "text" else
+                      f'<text data-k="{k}" {at}{attrs}</text>')
 
     if trajectories:
         from ._plotting import COLORS, _point_xy, moving_points
@@ -129,14 +140,18 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
     texts = [m for m in moving if m.startswith("<text")]
     shapes_svg = [m for m in moving if not m.startswith("<text")]
     height = int(width * (y1 - y0) / (x1 - x0))
-    return (f'<div class="mbanim"><svg id="{element_id}" width="{width}" '
-            f'height="{height}" viewBox="{_num(x0)} {_num(-y1)} {_num(x1 - x0)} {_num(y1 - y0)}">'
-            f'<script type="application/json">{json.dumps(data, separators=(",", ":"))}</script>'
-            f'<g transform="scale(1,-1)" stroke="#1a1a1a" fill="none" stroke-width="{lw * 0.3:.4g}">'
-            + "".join(static) + "".join(shapes_svg) + "</g>"
-            f'<g font-family="sans-serif" font-size="{0.045 * size:.4g}" fill="#1a1a1a">' + "".join(texts)
-            + "</g></svg><div><button type=\"button\">pause</button> "
-            f'<input type="range" min="0" max="{sc.batch - 1}" value="0" style="width:60%"> <output></output>'
+    table = f'<script type="application/json">{json.dumps(data, separators=(",", ":"))}</script>' if controls else ""
+    svg = (f'<svg id="{element_id}" width="{width}" '
+           f'height="{height}" viewBox="{_num(x0)} {_num(-y1)} {_num(x1 - x0)} {_num(y1 - y0)}">' + table +
+           f'<g transform="scale(1,-1)" stroke="#1a1a1a" fill="none" stroke-width="{lw * 0.3:.4g}">'
+           + "".join(static) + "".join(shapes_svg) + "</g>"
+           f'<g font-family="sans-serif" font-size="{0.045 * size:.4g}" fill="#1a1a1a">' + "".join(texts)
+           + "</g></svg>")
+    if not controls:
+        return f'<div class="mbdiagram">{svg}</div>'
+    return (f'<div class="mbanim">{svg}<div><button type="button">pause</button> '
+            f'<input type="range" min="0" max="{sc.batch - 1}" value="0" style="width:60%"> '
+            f'<output>{html.escape(data["phi"][0])}</output>'
             f"</div><script>{_SCRIPT % {'id': element_id}}</script></div>")
 
 
@@ -151,3 +166,28 @@ def html_animation(engine, frames: int = 72, **kw) -> str:
 def write_html_animation(engine, path, frames: int = 72, **kw):
     with open(path, "w", encoding="utf-8") as f:
         f.write(html_animation(engine, frames, **kw))
+
+
+class Animation:
+    """The cycle's animation for Jupyter: shown as the last expression of a cell, it plays inline (an SVG with
+    its player: play/pause, a position slider and a frame counter), offline, as `mbplanar animate` does.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism to animate.
+    frames : int
+        Positions over the cycle (up to a motion limit, if the mechanism meets one).
+    **options
+        Passed to `svg_animation` (``fps``, ``trajectories``, ``width``).
+    """
+
+    _ids = 0
+
+    def __init__(self, engine, frames: int = 72, **options):
+        self.engine, self.frames, self.options = engine, frames, options
+
+    def _repr_html_(self) -> str:
+        Animation._ids += 1
+        return svg_animation(self.engine, self.frames, element_id=f"mbplanar-animation-{Animation._ids}",
+                             **self.options)

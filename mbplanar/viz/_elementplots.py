@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..forces._loads import ELEMENT_TYPES, evaluate_loads, read_loads, world_points
-from ._plotting import (COLORS, INK, _coordinate, _figure, _plot_lines, _xstep, cycle_motion, include_points,
+from ..forces._loads import ELEMENT_TYPES, drawn_end, evaluate_loads, read_loads, world_points
+from ._plotting import (COLORS, _coordinate, _figure, _plot_lines, _xstep, cycle_motion, include_points,
                        input_speed, lean_ticks, require_matplotlib)
 
 __all__ = ["spring_path", "draw_elements", "draw_loads", "shaking_figure", "efficiency_figure",
@@ -83,8 +83,8 @@ def draw_elements(ax, engine, motion, b: int, size: float) -> int:
                  np.sign(load.moment) or 1.0)
             count += 1
             continue
-        pa = world_points(motion, engine.link_index[load.other], np.asarray(load.other_at, float))[b]
-        pb = world_points(motion, engine.link_index[load.link], np.asarray(load.at, float))[b]
+        pa = world_points(motion, engine.link_index[load.other], np.asarray(drawn_end(engine.mech, load, 0)))[b]
+        pb = world_points(motion, engine.link_index[load.link], np.asarray(drawn_end(engine.mech, load, 1)))[b]
         if load.kind == "spring":
             ax.plot(*spring_path(pa, pb).T, color=SPRING_COLOR, lw=1.3, zorder=6, gid=gid)
         else:

@@ -19,7 +19,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import MbplanarError, ModelError, MotionError
+from ..errors import ModelError, MotionError, PlotUnavailable
 from ..kinematics._motion import describe_limit
 from ._scene import build_scene
 
@@ -27,7 +27,8 @@ __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure"
            "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
-           "forces_figure", "transmission_angles", "pressure_angles", "moving_points", "write_gif",
+           "forces_figure", "transmission_series", "pressure_series", "transmission_angles", "pressure_angles",
+           "moving_points", "write_gif",
            "figure_bytes", "SHOW", "show_options", "input_speed"]
 
 INK = "#1a1a1a"
@@ -35,12 +36,6 @@ LINK_FILL = "#cfe0f3"
 BLOCK_FILL = "#f3e3c3"
 COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
           "#7f7f7f", "#bcbd22"]
-
-
-class PlotUnavailable(MbplanarError):
-    """matplotlib / Pillow are not installed."""
-
-    exit_code = 2
 
 
 def require_matplotlib():
@@ -64,7 +59,7 @@ def _full_turn(engine) -> bool:
 def cycle_values(engine, count: int = 72) -> np.ndarray:
     """`count` input values (SI) over the model's sweep; a full turn leaves out its repeated end."""
     if len(engine.inputs) != 1:
-        raise ModelError(f"{engine.mech.source}: pictures drive one input; this model has several")
+        raise ModelError("pictures drive one input; this model has several", source=engine.mech.source)
     if count < 1:
         raise ModelError("the number of positions must be at least 1")
     inp = engine.inputs[0]
@@ -84,7 +79,7 @@ def cycle_motion(engine, count: int = 72):
     if motion.success:
         return motion
     if len(motion.phi) == 0:
-        raise MotionError(f"{engine.mech.source}: no position of the sweep can be reached: {motion.message}")
+        raise MotionError(f"no position of the sweep can be reached: {motion.message}", source=engine.mech.source)
     lo, hi = float(motion.phi[0, 0]), float(motion.phi[-1, 0])
     fine = analyse(engine, np.linspace(lo, hi, count))
     fine.limits = motion.limits
@@ -99,7 +94,8 @@ def position_motion(engine, at=None):
     motion = analyse(engine, np.array([phi]))
     if not motion.success:
         where = inp.from_si(phi)
-        raise MotionError(f"{engine.mech.source}: cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}")
+        raise MotionError(f"cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}",
+                          source=engine.mech.source)
     return motion
 
 
@@ -384,8 +380,8 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
     known = whole.joint_names + whole.point_names
     for name in points or ():
         if name not in known:
-            raise ModelError(f"{engine.mech.source}: no point or pair '{name}' to trace; the model has: "
-                             f"{', '.join(known)}")
+            raise ModelError(f"no point or pair '{name}' to trace; the model has: "
+                             f"{', '.join(known)}", source=engine.mech.source)
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
@@ -463,7 +459,7 @@ def _panels_figure(engine, real, count, figsize):
     plt = require_matplotlib()
     motion = cycle_motion(engine, count)
     if not real and motion.wq is None:
-        raise ModelError(f"{engine.mech.source}: analogues need a single input")
+        raise ModelError("analogues need a single input", source=engine.mech.source)
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
     axes = fig.subplots(3, 2, sharex=True)
@@ -486,7 +482,7 @@ def analogues_figure(engine, at=None, *, count=181, figsize=(10, 10)):
     return _panels_figure(engine, False, count, figsize)
 
 
-def transmission_angles(engine, motion) -> dict:
+def transmission_series(engine, motion) -> dict:
     """Transmission angle μ (°, 0…180, not folded) at every revolute pair P–J–Q inside an Assur group
     (the pairs `mbplanar check` judges): the angle at J between the lines to P and Q.
     {'μ at B (A–B–C)': (B,) array}."""
@@ -501,13 +497,17 @@ def transmission_angles(engine, motion) -> dict:
     return out
 
 
-def pressure_angles(engine, motion) -> dict:
+def pressure_series(engine, motion) -> dict:
     """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
     {'ϑ at Bp (A–B)': (B,) array}."""
     from ..analysis._check import pressure_angles as angles
     pairs, values = angles(engine, motion)
     return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
             for k, (a, b, s) in enumerate(pairs)}
+
+
+# the names these had (`mbplanar.analysis` has functions of those names returning labels and radians)
+transmission_angles, pressure_angles = transmission_series, pressure_series
 
 
 def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
@@ -518,7 +518,7 @@ def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
     top, bottom = fig.subplots(2, 1, sharex=True)
-    angles, pressure = transmission_angles(engine, motion), pressure_angles(engine, motion)
+    angles, pressure = transmission_series(engine, motion), pressure_series(engine, motion)
     _plot_lines(top, x, list(angles.values()), list(angles), "μ [°]", None, "Transmission angles (90° ideal)",
                 _xstep(engine, x))
     top.axhspan(40, 140, color="#2ca02c", alpha=0.07)

@@ -141,12 +141,12 @@ def _limits(engine, motion):
 
 
 def _plots_section(engine, ctx):
-    from ._plotting import (analogues_figure, kinematics_figure, pressure_angles, trajectories_figure,
-                           transmission_angles, transmission_figure)
+    from ._plotting import (analogues_figure, kinematics_figure, pressure_series, trajectories_figure,
+                           transmission_figure, transmission_series)
     out = ctx.figure(trajectories_figure(engine), "trajectories")
     out += ctx.figure(kinematics_figure(engine, count=121), "real velocities and accelerations")
     out += ctx.figure(analogues_figure(engine, count=121), "analogues")
-    if transmission_angles(engine, ctx.table) or pressure_angles(engine, ctx.table):
+    if transmission_series(engine, ctx.table) or pressure_series(engine, ctx.table):
         out += ctx.figure(transmission_figure(engine, count=121), "transmission and pressure angles")
     return out
 
@@ -218,7 +218,7 @@ def _animation_section(engine, ctx):
 def _flywheel_section(engine, ctx):
     from ..forces._dynamics import machine_dynamics, summary
     from ._plotting import dynamics_figure
-    if engine.mech.extras.get("dynamics") is None:
+    if engine.mech.dynamics is None:
         return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
     d = machine_dynamics(engine)
     inp = engine.inputs[0]

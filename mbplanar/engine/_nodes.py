@@ -1,0 +1,70 @@
+"""Solved positions on the branch with their derivatives (`Node`), and the quintic Hermite interpolant
+between two of them: what the continuation (`_atlas`) walks with and the singular-position solvers
+(`_singular`) start from."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._blocks import BlockSolver
+
+__all__ = ["HERMITE5", "Node", "node_at", "hermite_between"]
+
+
+# coefficients of t⁰ … t⁵ (rows) of the quintic Hermite interpolant on t ∈ [0, 1] from the end values
+# (q0, q1, h·q0', h·q1', h²·q0'', h²·q1'') (columns)
+HERMITE5 = np.array([
+    [1, 0, 0, 0, 0, 0],
+    [0, 0, 1, 0, 0, 0],
+    [0, 0, 0, 0, 0.5, 0],
+    [-10, 10, -6, -4, -1.5, 0.5],
+    [15, -15, 8, 7, 1.5, -1],
+    [-6, 6, -3, -3, -0.5, 0.5]], float)
+
+
+@dataclass
+class Node:
+    """A solved position on the branch with the derivatives of its unknowns along `direction`."""
+
+    phi: np.ndarray
+    direction: np.ndarray
+    q: list
+    qd: list
+    qdd: list
+    dets: np.ndarray
+    pivot: float = 1.0
+
+    @property
+    def signs(self) -> np.ndarray:
+        return np.sign(self.dets)
+
+    def per_input(self, k: int = 0) -> tuple[list, list]:
+        """q' and q'' of every block with respect to input k (the walk's are per unit s, dφ/ds =
+        direction)."""
+        d = self.direction[k]
+        return [qd / d for qd in self.qd], [qdd / (d * d) for qdd in self.qdd]
+
+
+def node_at(solver: BlockSolver, phi: np.ndarray, direction: np.ndarray, guesses) -> Node | None:
+    sol = solver.solve_batch(phi[None, :], guesses)
+    if not sol.valid[0]:
+        return None
+    solver.rates(sol, direction[None, :], np.zeros((1, len(solver.inputs))))
+    return Node(phi.copy(), direction, [s.q[:, 0] for s in sol.blocks], [s.qd[:, 0] for s in sol.blocks],
+                 [s.qdd[:, 0] for s in sol.blocks], solver.dets(sol)[0], float(solver.pivots(sol)[0]))
+
+
+
+def hermite_between(a: Node, b: Node, phi: np.ndarray) -> list:
+    """Every block's unknowns (m, 1) at φ between two nodes of a walk, by the quintic Hermite
+    interpolant of their q, q', q'' along the segment from a to b."""
+    k = int(np.argmax(np.abs(b.phi - a.phi)))
+    h = float(b.phi[k] - a.phi[k])
+    t = float((phi[k] - a.phi[k]) / h)
+    basis = np.array([t ** n for n in range(6)]) @ HERMITE5
+    (qda, qdda), (qdb, qddb) = a.per_input(k), b.per_input(k)
+    return [(basis @ np.stack([q0, q1, h * d0, h * d1, h * h * dd0, h * h * dd1]))[:, None]
+            for q0, q1, d0, d1, dd0, dd1 in zip(a.q, b.q, qda, qdb, qdda, qddb)]
+

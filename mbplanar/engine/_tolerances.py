@@ -1,0 +1,117 @@
+"""The engine's tuning constants as data: tolerances, step sizes and thresholds of the block Newton, the
+continuation, the singular-position solvers and the kinetostatic solve (`Tolerances`; lengths relative
+to the mechanism's size, angles in rad).
+
+An engine carries one `Tolerances` (``Engine(mech, tol=Tolerances(closure=1e-12))``) and hands the values
+to the numpy code and, as arguments, to the compiled kernels: numba freezes module globals into its
+on-disk cache, so a constant read by a kernel would leave the two backends on different values after
+an edit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+__all__ = ["Tolerances", "KERNEL_FIELDS"]
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Tolerances and thresholds of an `Engine` (the defaults are the validated ones).
+
+    Attributes
+    ----------
+    closure : float
+        Closure residual that ends Newton (lengths relative to the mechanism's size).
+    polish : float
+        While some position of a batch still needs a step, the others below `closure` are polished to this.
+    max_newton : int
+        Newton iterations per solve.
+    h_start, h_max, h_min : float
+        First, largest and smallest continuation step (relative to the input's scale: rad, or the size).
+        A step that cannot be made smaller than `h_min` marks a motion limit.
+    h_dense : float
+        Widest atlas interval the predictor interpolates over.
+    max_correction : float
+        Largest accepted corrector distance (rad, or lengths / size).
+    rate_jump : float
+        Largest accepted change of the unknowns' derivatives against their prediction, relative to
+        1 + ``|q'|``: a larger one means the corrector found another branch.
+    h_cross : float
+        Widest step across a change point; the nodes that bracket it are half of it away, where the
+        Jacobian is still well enough conditioned for rates to ~1e-12.
+    cross_dist : float
+        Largest corrector distance of a step across a change point.
+    pivot_polish : float
+        Below this pivot ratio a converged position gets one more Newton step.
+    pivot_cross : float
+        Nodes on either side of a change point must be at least this far from singular.
+    fold_iterations : int
+        Newton iterations of the fold location (0: limits stay the middle of the walk's bracket).
+    fold_delta : float
+        Central-difference step of the fold system's Jacobian (scaled unknowns, s).
+    fold_step : float
+        The fold location has converged when a step moves nothing by more than this.
+    fold_sqrt_law : float
+        Largest relative departure from the square-root law between a node and its fold.
+    singular : float
+        Kinetostatics: a block whose ``|det| / Π‖row‖`` is not above this is singular (NaN reactions).
+    """
+
+    closure: float = 1e-13
+    polish: float = 1e-14
+    max_newton: int = 14
+    h_start: float = math.radians(6.0)
+    h_max: float = math.radians(15.0)
+    h_min: float = 1e-10
+    h_dense: float = math.radians(1.0)
+    max_correction: float = 0.05
+    rate_jump: float = 0.25
+    h_cross: float = 2e-2
+    cross_dist: float = 1e-6
+    pivot_polish: float = 0.05
+    pivot_cross: float = 1e-9
+    fold_iterations: int = 8
+    fold_delta: float = 1e-6
+    fold_step: float = 1e-14
+    fold_sqrt_law: float = 0.1
+    singular: float = 1e-12
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.type == "int":
+                if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < 0:
+                    raise ValueError(f"Tolerances.{f.name} must be a non-negative integer, not {value!r}")
+            elif (isinstance(value, bool) or not isinstance(value, (int, float, np.floating))
+                  or not math.isfinite(value) or value <= 0):
+                raise ValueError(f"Tolerances.{f.name} must be a positive finite number, not {value!r}")
+        if self.polish > self.closure:
+            raise ValueError(f"Tolerances.polish ({self.polish}) must not exceed closure ({self.closure})")
+        if not self.h_min <= self.h_start <= self.h_max:
+            raise ValueError(f"Tolerances: need h_min <= h_start <= h_max, not {self.h_min}, {self.h_start}, "
+                             f"{self.h_max}")
+
+    def as_array(self) -> np.ndarray:
+        """The values the compiled kinematics kernel reads, in the order of `KERNEL_FIELDS` (float64)."""
+        return np.array([getattr(self, name) for name in KERNEL_FIELDS], float)
+
+
+#: what `Tolerances.as_array` holds, in order (the kernel unpacks it in this order)
+KERNEL_FIELDS = ("closure", "max_newton", "pivot_polish", "pivot_cross", "max_correction")
+
+# the module constants these replace, still readable (through the deprecated ``mbplanar.solver``)
+_OLD_NAMES = {"TOL": "closure", "TOL_FINE": "polish", "MAX_NEWTON": "max_newton", "H_START": "h_start",
+              "H_MAX": "h_max", "H_MIN": "h_min", "H_DENSE": "h_dense", "MAX_CORRECTION": "max_correction",
+              "RATE_JUMP": "rate_jump", "H_CROSS": "h_cross", "CROSS_DIST": "cross_dist",
+              "PIVOT_POLISH": "pivot_polish", "PIVOT_CROSS": "pivot_cross", "FOLD_ITERATIONS": "fold_iterations",
+              "FOLD_DELTA": "fold_delta", "FOLD_STEP": "fold_step", "FOLD_SQRT_LAW": "fold_sqrt_law"}
+
+
+def __getattr__(name: str):
+    if name in _OLD_NAMES:
+        return getattr(Tolerances(), _OLD_NAMES[name])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

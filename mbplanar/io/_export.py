@@ -1,0 +1,251 @@
+"""Results as data for people and files: JSON-ready documents, CSV tables, shared by the command line
+and the report.
+
+`document(result)` and `table(result)` pick the builder for the result's type (an `Engine`: the model;
+a `Motion`: one position, or the sweep table; a `Kinetostatics`; a `Dynamics`; a `CheckReport`); the
+builders are public too, for their options. Documents hold plain floats (non-finite → None), ready for
+`json.dumps`; tables are (header, columns (B, k)), written by `write_csv`.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import math
+import sys
+
+import numpy as np
+
+from ..analysis import CheckReport
+from ..engine import Engine
+from ..forces import Dynamics, Kinetostatics
+from ..kinematics import Motion
+from ._tables import dynamics_table, forces_columns, sweep_table
+from ._units import (convert_check, convert_dynamics, convert_forces, convert_info, convert_solution,
+                     convert_table, display_units)
+
+__all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_document", "forces_document",
+           "dynamics_document"]
+
+
+@functools.singledispatch
+def document(result, **options) -> dict:
+    """The JSON-ready document of a result (the CLI's ``--json``); `options` go to its builder, and
+    ``units="si"`` or ``"model"`` converts it as ``--units`` does (adding its "units" object)."""
+    raise TypeError(f"no document for a {type(result).__name__}")
+
+
+def _in_units(convert, engine, doc: dict, units: str | None) -> dict:
+    return doc if units is None else convert(engine, doc, display_units(engine.mech, units))
+
+
+@document.register
+def _(result: Engine, units: str | None = None) -> dict:
+    return _in_units(convert_info, result, info_document(result), units)
+
+
+@document.register
+def _(result: Motion, row: int = 0, values=None, units: str | None = None) -> dict:
+    return _in_units(convert_solution, result.engine, solve_document(result.engine, result, row, values), units)
+
+
+@document.register
+def _(result: Kinetostatics, row: int = 0, values=None, units: str | None = None) -> dict:
+    engine = result.motion.engine
+    return _in_units(convert_forces, engine, forces_document(engine, result.motion, result, row, values), units)
+
+
+@document.register
+def _(result: Dynamics, engine=None, at=None, units: str | None = None) -> dict:
+    if engine is None:
+        raise TypeError("the document of a Dynamics needs its engine: document(dyn, engine=engine)")
+    return _in_units(convert_dynamics, engine, dynamics_document(engine, result, at), units)
+
+
+@document.register
+def _(result: CheckReport, engine=None, units: str | None = None) -> dict:
+    doc = plain(result.as_dict())
+    if units is not None and engine is None:
+        raise TypeError("a check document in units needs its engine: document(report, engine=engine, units=...)")
+    return _in_units(convert_check, engine, doc, units)
+
+
+@functools.singledispatch
+def table(result, **options):
+    """(header, columns (B, k)) of a result over its batch (the CLI's CSV); `options` go to its builder,
+    and ``units=`` converts the columns as ``--units`` does (`mech`: the model, for a Dynamics)."""
+    raise TypeError(f"no table for a {type(result).__name__}")
+
+
+def _table_in_units(header, cols, mech, units):
+    return (header, cols) if units is None else convert_table(header, cols, display_units(mech, units))
+
+
+@table.register
+def _(result: Motion, angle_unit: str = "deg", units: str | None = None):
+    return _table_in_units(*sweep_table(result.engine, result, angle_unit), result.engine.mech, units)
+
+
+@table.register
+def _(result: Kinetostatics, units: str | None = None):
+    engine = result.motion.engine
+    return _table_in_units(*forces_columns(engine, result), engine.mech, units)
+
+
+@table.register
+def _(result: Dynamics, mech=None, units: str | None = None):
+    if units is not None and mech is None:
+        raise TypeError("a dynamics table in units needs its model: table(dyn, mech=engine.mech, units=...)")
+    return _table_in_units(*dynamics_table(result), mech, units)
+
+
+def _finite(x):
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def plain(obj):
+    """numpy scalars → float, non-finite → None, for JSON."""
+    if isinstance(obj, dict):
+        return {k: plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [plain(v) for v in obj.tolist()]
+    if isinstance(obj, (float, np.floating)):
+        return _finite(obj)
+    if isinstance(obj, np.integer):
+        return int(obj)
+    return obj
+
+
+def write_csv(path, header, rows):
+    """A table as CSV to `path` (standard output when None); non-finite cells are left empty."""
+    out = open(path, "w", newline="", encoding="utf-8") if path else sys.stdout
+    try:
+        writer = csv.writer(out)
+        writer.writerow(header)
+        for row in rows:
+            writer.writerow(["" if not math.isfinite(x) else f"{x:.12g}" for x in row])
+    finally:
+        if path:
+            out.close()
+
+
+# -- the model ---------------------------------------------------------------------------------------
+def info_document(engine) -> dict:
+    """The model as `mbplanar info --json` prints it: links, joints, points, inputs, DOF, loops, Assur groups."""
+    mech, topo = engine.mech, engine.topology
+    doc = {
+        "model": mech.name, "title": mech.title,
+        "links": [mech.ground] + mech.moving_links,
+        "joints": {j.name: {"type": j.kind, "links": list(j.links), "at": list(j.at),
+                            **({"guide_deg": j.guide_deg} if j.kind == "P" else {})}
+                   for j in mech.joints.values()},
+        "points": {p.name: {"link": p.link, "at": list(p.at)} for p in mech.points.values()},
+        "inputs": [{"joint": i.joint, "name": i.name, "unit": i.unit} for i in mech.inputs],
+        "dof": topo.dof,
+        "loops": len(topo.loops),
+        "loop_joints": [list(loop) for loop in topo.loops],
+    }
+    s = topo.structure
+    if s is not None:
+        doc["groups"] = [{"class": g.group_class, "order": g.order, "kind": g.kind, "links": list(g.links),
+                          "joints": list(g.joints), "external": list(g.external)} for g in s.groups]
+        doc["mechanism_class"] = s.mechanism_class
+        doc["formula"] = s.formula
+    return doc
+
+
+# -- kinematics --------------------------------------------------------------------------------------
+def _input_documents(engine, motion, row, values=None) -> list[dict]:
+    """Each input at `row`: its value in the model's unit (as requested, when given, so that 30° is not
+    printed back as 29.999999999999996), in SI, and its speed and acceleration."""
+    values = values or [inp.from_si(float(motion.phi[row, k])) for k, inp in enumerate(engine.inputs)]
+    return [{"name": inp.name, "joint": inp.joint, "unit": inp.unit, "value": float(values[k]),
+             "value_si": float(motion.phi[row, k]), "omega": float(motion.omega[row, k]),
+             "epsilon": float(motion.epsilon[row, k])} for k, inp in enumerate(engine.inputs)]
+
+
+def solve_document(engine, motion: Motion, row: int = 0, values=None) -> dict:
+    """One position of a motion as `mbplanar solve --json` prints it (`values`: the inputs as requested,
+    model units)."""
+    inputs = _input_documents(engine, motion, row, values)
+    doc = {"model": engine.mech.name, "input": inputs[0], "inputs": inputs,
+           "points": {}, "links": {}, "joints": {}, "instant_centres": {}}
+    for k, name in enumerate(motion.point_names):
+        (x, y), (vx, vy), (ax, ay) = motion.xy[row, k], motion.v[row, k], motion.a[row, k]
+        doc["points"][name] = {"x": x, "y": y, "vx": vx, "vy": vy, "ax": ax, "ay": ay}
+    for k, name in enumerate(motion.link_names):
+        doc["links"][name] = {"angle": motion.angle[row, k], "omega": motion.w[row, k],
+                              "epsilon": motion.e[row, k]}
+        ic = motion.ic[row, k]
+        doc["instant_centres"][name] = None if not np.all(np.isfinite(ic)) else [ic[0], ic[1]]
+    for k, name in enumerate(motion.joint_names):
+        doc["joints"][name] = {"type": engine.mech.joints[name].kind, "value": motion.value[row, k],
+                               "rate": motion.rate[row, k], "accel": motion.accel[row, k]}
+    if motion.vq is not None:
+        doc["analogues"] = {
+            "points": {n: {"vx": motion.vq[row, k, 0], "vy": motion.vq[row, k, 1],
+                           "ax": motion.aq[row, k, 0], "ay": motion.aq[row, k, 1]}
+                       for k, n in enumerate(motion.point_names)},
+            "links": {n: {"omega": motion.wq[row, k], "epsilon": motion.eq[row, k]}
+                      for k, n in enumerate(motion.link_names)},
+        }
+    return plain(doc)
+
+
+# -- forces ------------------------------------------------------------------------------------------
+def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0, values=None) -> dict:
+    """One position of a kinetostatic result as `mbplanar forces --json` prints it."""
+    reactions = {}
+    for name, r in result.reactions.items():
+        fx, fy = float(r.fx[row]), float(r.fy[row])
+        reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
+                           "fx": fx, "fy": fy, "moment": float(r.moment[row]),
+                           "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
+    doc = {"model": engine.mech.name,
+           "input": _input_documents(engine, motion, row, values)[0],
+           "reactions": reactions,
+           "balancing": {name: float(q[row]) for name, q in result.balancing.items()},
+           "virtual_power_residual": float(result.virtual_power_residual[row]),
+           "loads": [{"name": ld.name, "link": motion.link_names[ld.link], "fx": ld.force[row, 0],
+                      "fy": ld.force[row, 1], "x": ld.point[row, 0], "y": ld.point[row, 1],
+                      "moment": ld.moment[row]} for ld in result.loads]}
+    return plain(doc)
+
+
+# -- machine dynamics --------------------------------------------------------------------------------
+def dynamics_document(engine, dyn, at=None) -> dict:
+    """The JSON document of `mbplanar dynamics` (values at input values `at`, SI, when given)."""
+    inp = engine.inputs[0]
+    sim = dyn.simulation
+    doc = {"model": engine.mech.name,
+           "input": {"name": inp.name, "joint": inp.joint, "unit": inp.unit},
+           "steps": len(dyn.phi) - 1,
+           "delta_target": dyn.spec.delta,
+           "omega_mean": dyn.omega_mean,
+           "driving_moment": dyn.driving_moment,
+           "resistance_work": dyn.resistance_work,
+           "work_by_kind": dyn.work_by_kind(),
+           "inertia_first_group": dyn.inertia_first_group,
+           "input_link_inertia": dyn.input_link_inertia,
+           "dT_I_max": dyn.dT_I_max, "dT_I_max_at": inp.from_si(dyn.phi_dT_max),
+           "dT_I_min": dyn.dT_I_min, "dT_I_min_at": inp.from_si(dyn.phi_dT_min),
+           "omega_min": dyn.omega_min, "omega_max": dyn.omega_max,
+           "epsilon_min": dyn.epsilon_min, "epsilon_max": dyn.epsilon_max,
+           "delta_simulated": dyn.delta_simulated,
+           "simulation": None if sim is None else {
+               "omega_min": sim.omega_min, "omega_max": sim.omega_max, "omega_time_mean": sim.omega_time_mean,
+               "period": sim.period, "success": sim.success, "message": sim.message},
+           "flywheel": dyn.flywheel}
+    if at is not None:
+        state = dyn.state_at(engine, at)
+        doc["at"] = [{"value": inp.from_si(float(p)), "J_II": state["J_II"][k], "dJ_II": state["dJ_II"][k],
+                      "M_red": state["M_red"][k],
+                      "M_red_by_load": {name: m[k] for name, m in state["moments"].items()},
+                      "A_c": state["A_c"][k], "dT_I": state["dT_I"][k],
+                      "omega": state["omega"][k], "epsilon": state["epsilon"][k]}
+                     for k, p in enumerate(state["phi"])]
+    return plain(doc)
+

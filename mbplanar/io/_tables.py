@@ -1,0 +1,79 @@
+"""Results as tables: the columns of the CSV files the command line writes (`mbplanar sweep`, `mbplanar dynamics
+-o`), named ``quantity[unit]``, shared by the command line and `to_frame()`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["sweep_table", "forces_table", "forces_columns", "dynamics_table"]
+
+
+def sweep_table(engine, motion, angle_unit):
+    """Header (quantity[unit]) and rows of a sweep."""
+    inp = engine.inputs[0]
+    to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
+    au = "deg" if angle_unit == "deg" else "rad"
+    header = [f"{inp.name}[{inp.unit}]"]
+    cols = [inp.from_si(motion.phi[:, 0])]
+    for k, name in enumerate(motion.link_names[1:], start=1):
+        header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
+        cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]
+    for k, name in enumerate(motion.point_names):
+        header += [f"{name}.{q}" for q in ("x[m]", "y[m]", "vx[m/s]", "vy[m/s]", "ax[m/s^2]", "ay[m/s^2]")]
+        cols += [motion.xy[:, k, 0], motion.xy[:, k, 1], motion.v[:, k, 0], motion.v[:, k, 1],
+                 motion.a[:, k, 0], motion.a[:, k, 1]]
+    for k, name in enumerate(motion.joint_names):
+        if engine.mech.joints[name].kind == "R":
+            header += [f"{name}.value[{au}]", f"{name}.rate[rad/s]", f"{name}.accel[rad/s^2]"]
+            cols += [to_angle(motion.value[:, k]), motion.rate[:, k], motion.accel[:, k]]
+        else:
+            header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
+            cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
+    from ..analysis._check import pressure_angles, transmission_angles
+    labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
+    header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
+    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
+    labels, angles = pressure_angles(engine, motion)              # slider S driven by rod A-B: S.A-B
+    header += [f"pressure.{s}.{a}-{b}[{au}]" if a != b else f"pressure.{s}.normal-{a}[{au}]" for a, b, s in labels]
+    cols += [to_angle(angles[:, k]) for k in range(len(labels))]
+    return header, np.column_stack(cols) if cols else np.zeros((0, 0))
+
+
+def forces_table(engine, motion, input_inertia=0.0):
+    """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
+    from ..forces._kinetostatics import kinetostatics
+    result = kinetostatics(engine, motion, input_inertia or 0.0)
+    header, cols = forces_columns(engine, result)
+    return header, cols, (None if result.success else result.message)
+
+
+def forces_columns(engine, result):
+    """Header and columns (B, k) of a `Kinetostatics`: reactions, balancing loads, virtual-power residual."""
+    header, cols = [], []
+    for name, r in result.reactions.items():
+        header += [f"{name}.fx[N]", f"{name}.fy[N]"]
+        cols += [r.fx, r.fy]
+        if engine.mech.joints[name].kind == "P":
+            header.append(f"{name}.moment[N*m]")
+            cols.append(r.moment)
+    for name, q in result.balancing.items():
+        unit = "N*m" if engine.mech.joints[name].kind == "R" else "N"
+        header.append(f"{name}.balancing[{unit}]")
+        cols.append(q)
+    header.append("virtual_power_residual")
+    cols.append(result.virtual_power_residual)
+    return header, np.column_stack(cols)
+
+
+def dynamics_table(dyn):
+    """Header and columns (N, k) of the cycle table: φ, J_II, dJ_II, M_red per load and in total, A_c,
+    A_total, T_II, ΔT_I, ω, ε (energy–mass method) and the simulated ω, ε."""
+    red = dyn.reduced
+    header = ["phi[rad]", "J_II[kg*m2]", "dJ_II[kg*m2]"] + [f"M_red.{n}[N*m]" for n in red.moments] + \
+        ["M_red[N*m]", "A_c[J]", "A_total[J]", "T_II[J]", "dT_I[J]", "omega[rad/s]", "epsilon[rad/s2]"]
+    cols = [dyn.phi, dyn.J_II, dyn.dJ_II, *red.moments.values(), dyn.M_red, dyn.A_c, dyn.A_total,
+            dyn.T_II, dyn.dT_I, dyn.omega, dyn.epsilon]
+    if dyn.simulation is not None:
+        header += ["omega_sim[rad/s]", "epsilon_sim[rad/s2]"]
+        cols += [dyn.simulation.omega, dyn.simulation.epsilon]
+    return header, np.column_stack(cols)

@@ -1,0 +1,276 @@
+"""Design parameters of a model: named dimensions that the table refers to, and polar placements.
+
+A model may declare a `[parameters]` table of named numbers, each a plain number (in the unit of the
+field that uses it) or ``{ value = ..., unit = "..." }`` with a unit among ``m``, ``mm``, ``cm`` (a
+length), ``deg``, ``rad`` (an angle)::
+
+    [parameters]
+    l2 = 1.0                                   # metres (the model's length unit)
+    phi20 = { value = 0.5, unit = "rad" }      # converted to degrees where an angle is expected
+
+Wherever the table expects one of these numbers, it may give a parameter's name instead:
+
+- ``links[].length``, the third item of ``links[].lengths`` entries, ``links[].mass``, ``inertia``;
+- ``joints[].at`` items (the coordinates of ground pivots and of every drawn joint) and ``guide``;
+- ``points[].at`` items, ``fraction``, ``distance``, ``offset``;
+- ``input.zero``, ``input.drawn_at``, ``input.omega``.
+
+A joint's ``at`` may also be a polar placement relative to another joint,
+``at = { from = "A", length = "l2", angle = "phi20" }``: the point ``from + length·(cos a, sin a)``,
+the angle ``a`` measured from +x, in degrees (or a parameter, converted from its unit). Placements may
+chain; a cycle is an error. Nothing is evaluated as an expression: a value is a number or a name.
+
+`Template` holds the raw table; `Template.bind(values)` gives the plain table (numbers only) for one
+design, and `Template.geometry(values)` the drawn coordinates of every joint for arrays of values (one
+per design), with the same arithmetic, so that a design batch and one-by-one binding agree exactly.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+
+__all__ = ["Parameter", "Template", "split_parameters"]
+
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
+ANGLE_UNITS = ("deg", "rad")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named design dimension: its default `value` in `unit` (None: the unit of the field using it)."""
+
+    name: str
+    value: float
+    unit: str | None = None
+
+
+def _number(value, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ModelError(f"{where}: must be a finite number, got {value!r}")
+    return float(value)
+
+
+def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter]]:
+    """The table without its `[parameters]` section, and the parameters it declares."""
+    raw = data.get("parameters", {})
+    if not isinstance(raw, dict):
+        raise ModelError(f"{source}: [parameters] must be a table of name = value")
+    params = {}
+    for name, spec in raw.items():
+        where = f"{source}: parameters.{name}"
+        unit = None
+        if isinstance(spec, dict):
+            unknown = set(spec) - {"value", "unit", "comment"}
+            if unknown:
+                raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
+            if "value" not in spec:
+                raise ModelError(f"{where}: missing 'value'")
+            unit = spec.get("unit")
+            if unit is not None and unit not in LENGTH_UNITS and unit not in ANGLE_UNITS:
+                raise ModelError(f"{where}: unit must be one of m, mm, cm, deg, rad, got {unit!r}")
+            spec = spec["value"]
+        params[name] = Parameter(name, _number(spec, where), unit)
+    rest = {k: v for k, v in data.items() if k != "parameters"}
+    return rest, params
+
+
+# the numeric fields a parameter may stand for, with the kind of number they hold
+_LINK_FIELDS = {"length": "length", "mass": "plain", "inertia": "plain"}
+_POINT_FIELDS = {"fraction": "plain", "distance": "length", "offset": "length"}
+_INPUT_FIELDS = {"zero": "input", "drawn_at": "input", "omega": "plain"}
+
+
+class Template:
+    """A model table with named parameters (see the module docstring).
+
+    Parameters
+    ----------
+    data : dict
+        The TOML document (as `tomllib` gives it), with or without a `[parameters]` table.
+    source : str
+        The file name, for error messages.
+    """
+
+    def __init__(self, data: dict, source: str = "<table>"):
+        self.source = source
+        self.raw = data
+        self.data, self.parameters = split_parameters(data, source)
+        for key in ("links", "joints", "points"):  # [links.1] style tables as rows with a name
+            if isinstance(self.data.get(key), dict):
+                self.data[key] = _row_list(self.data, key)
+        self.length_unit = LENGTH_UNITS.get(self.data.get("length_unit", "m"), 1.0)
+        self.names = tuple(self.parameters)
+        self.used: set[str] = set()
+        self.bind(self.defaults())  # every reference checked once, and `used` filled in
+
+    def defaults(self) -> dict[str, float]:
+        """The declared value of every parameter, in its own unit."""
+        return {name: p.value for name, p in self.parameters.items()}
+
+    @property
+    def needs_assembly(self) -> bool:
+        """Whether a design's drawn pose is a sketch (dimensions or the input's drawn value given)."""
+        links = self.data.get("links", [])
+        rows = links.values() if isinstance(links, dict) else links
+        inputs = self.data.get("inputs", [self.data.get("input", {})])
+        return any(isinstance(r, dict) and ("length" in r or r.get("lengths")) for r in rows) or any(
+            isinstance(i, dict) and "drawn_at" in i for i in inputs)
+
+    # -- values ---------------------------------------------------------------------------------------
+    def _value(self, raw, kind: str, values: dict, where: str, input_unit: str | None = None):
+        """A field's number: `raw` itself, or the parameter it names converted to the field's unit."""
+        if not isinstance(raw, str):
+            return raw
+        if raw not in self.parameters:
+            known = ", ".join(self.names) or "none declared"
+            raise ModelError(f"{self.source}: {where}: '{raw}' is not a number nor a parameter "
+                             f"(parameters: {known})")
+        self.used.add(raw)
+        unit = self.parameters[raw].unit
+        value = values[raw]
+        if unit is None:
+            return value
+        if kind == "input":
+            kind = "angle_" + input_unit if input_unit in ANGLE_UNITS else "length"
+        if kind == "length" and unit in LENGTH_UNITS:
+            return value * (LENGTH_UNITS[unit] / self.length_unit)
+        if kind.startswith("angle") and unit in ANGLE_UNITS:
+            target = kind.split("_")[1] if "_" in kind else "deg"
+            if unit == target:
+                return value
+            return value * (180.0 / math.pi) if target == "deg" else value * (math.pi / 180.0)
+        raise ModelError(f"{self.source}: {where}: parameter '{raw}' is in {unit}, which does not fit "
+                         f"a {kind.split('_')[0]} here")
+
+    def _radians(self, raw, values: dict, where: str):
+        """An angle field written in degrees, in radians: a parameter in radians is taken as it is (no
+        round trip through degrees)."""
+        if isinstance(raw, str) and self.parameters.get(raw) is not None and self.parameters[raw].unit == "rad":
+            self.used.add(raw)
+            return values[raw]
+        return np.radians(self._value(raw, "angle", values, where))
+
+    def _check_values(self, values: dict) -> dict:
+        unknown = set(values) - set(self.parameters)
+        if unknown:
+            raise ModelError(f"{self.source}: unknown parameter(s) {', '.join(sorted(unknown))} "
+                             f"(parameters: {', '.join(self.names) or 'none declared'})")
+        return {**self.defaults(), **values}
+
+    # -- one design -----------------------------------------------------------------------------------
+    def bind(self, values: dict | None = None) -> dict:
+        """The plain table (numbers only, polar placements resolved) for parameter `values` (each a
+        number in its parameter's unit; missing ones take their declared value)."""
+        values = self._check_values(values or {})
+        data = copy.deepcopy(self.data)
+        self._bind_links(data, values)
+        joints = self._bind_joints(data, values)
+        for i, row in enumerate(_row_list(data, "points")):
+            if isinstance(row, dict):
+                self._bind_fields(row, _POINT_FIELDS, values, f"points[{i}]")
+                if isinstance(row.get("at"), list):
+                    row["at"] = [self._value(x, "length", values, f"points[{i}] at") for x in row["at"]]
+        for i, row in enumerate(_input_rows(data)):
+            if isinstance(row, dict):
+                unit = row.get("unit", "deg")
+                for key, kind in _INPUT_FIELDS.items():
+                    if key in row:
+                        row[key] = self._value(row[key], kind, values, f"inputs[{i}] {key}", unit)
+        for row, at in joints:
+            row["at"] = [float(at[0]), float(at[1])]
+        return data
+
+    def _bind_fields(self, row: dict, fields: dict, values: dict, where: str):
+        for key, kind in fields.items():
+            if key in row:
+                row[key] = self._value(row[key], kind, values, f"{where} {key}")
+
+    def _bind_links(self, data: dict, values: dict):
+        for i, row in enumerate(_row_list(data, "links")):
+            if not isinstance(row, dict):
+                continue
+            self._bind_fields(row, _LINK_FIELDS, values, f"links[{i}]")
+            for k, item in enumerate(row.get("lengths", []) if isinstance(row.get("lengths"), list) else []):
+                if isinstance(item, list) and len(item) == 3:
+                    item[2] = self._value(item[2], "length", values, f"links[{i}] lengths[{k}]")
+
+    def _bind_joints(self, data: dict, values: dict) -> list:
+        rows = [r for r in _row_list(data, "joints") if isinstance(r, dict)]
+        for i, row in enumerate(rows):
+            if isinstance(row.get("guide"), str):
+                row["guide"] = self._value(row["guide"], "angle", values, f"joints[{i}] guide")
+        at = self.positions(values, rows)
+        return [(row, at[row.get("name")]) for row in rows if row.get("name") in at]
+
+    # -- coordinates, for one design or a batch ------------------------------------------------------
+    def positions(self, values: dict, rows: list | None = None) -> dict:
+        """Drawn coordinates (x, y) of every joint, in the file's length unit, for parameter `values`
+        (numbers, or arrays with one value per design: the coordinates are then arrays too)."""
+        rows = rows if rows is not None else [r for r in _row_list(self.data, "joints") if isinstance(r, dict)]
+        specs = {str(r.get("name")): (i, r.get("at")) for i, r in enumerate(rows) if "name" in r}
+        out: dict = {}
+
+        def place(name: str, chain: tuple):
+            if name in out:
+                return out[name]
+            if name in chain:
+                raise ModelError(f"{self.source}: joints '{name}': polar placements form a cycle "
+                                 f"({' → '.join(chain + (name,))})")
+            if name not in specs:
+                raise ModelError(f"{self.source}: joints '{chain[-1]}': 'from' names no joint '{name}'")
+            i, at = specs[name]
+            where = f"joints[{i}] '{name}' at"
+            if isinstance(at, dict):
+                unknown = set(at) - {"from", "length", "angle"}
+                if unknown or not {"from", "length", "angle"} <= set(at):
+                    raise ModelError(f"{self.source}: {where}: a polar placement is "
+                                     "{ from = JOINT, length = L, angle = DEG }")
+                base = place(str(at["from"]), chain + (name,))
+                length = self._value(at["length"], "length", values, where + " length")
+                angle = self._radians(at["angle"], values, where + " angle")
+                out[name] = (base[0] + length * np.cos(angle), base[1] + length * np.sin(angle))
+            elif isinstance(at, list) and len(at) == 2:
+                out[name] = tuple(self._value(x, "length", values, where) for x in at)
+            else:
+                raise ModelError(f"{self.source}: {where}: must be [x, y] or "
+                                 "{ from = JOINT, length = L, angle = DEG }")
+            return out[name]
+
+        for name in specs:
+            place(name, ())
+        return out
+
+    def guides(self, values: dict) -> dict:
+        """Guide angle (degrees) of every prismatic joint given by an angle, for `values` (numbers or
+        arrays, as `positions`)."""
+        out = {}
+        for i, row in enumerate(r for r in _row_list(self.data, "joints") if isinstance(r, dict)):
+            guide = row.get("guide")
+            if guide is not None and not isinstance(guide, list):
+                out[str(row.get("name"))] = self._value(guide, "angle", values, f"joints[{i}] guide")
+        return out
+
+    def input_zero(self, values: dict) -> list:
+        """Each input's `zero` (in its unit) for `values` (numbers or arrays)."""
+        return [self._value(row.get("zero", 0.0), "input", values, f"inputs[{i}] zero", row.get("unit", "deg"))
+                for i, row in enumerate(_input_rows(self.data)) if isinstance(row, dict)]
+
+
+def _row_list(data: dict, key: str) -> list:
+    rows = data.get(key, [])
+    if isinstance(rows, dict):
+        return [dict(v, name=k) if isinstance(v, dict) else v for k, v in rows.items()]
+    return rows if isinstance(rows, list) else []
+
+
+def _input_rows(data: dict) -> list:
+    rows = data.get("inputs")
+    if rows is None:
+        rows = [data["input"]] if isinstance(data.get("input"), dict) else []
+    return rows if isinstance(rows, list) else []

@@ -1,0 +1,525 @@
+"""A design batch: the kinematics of D designs × N input values in one call, the design axis
+vectorised like the batch axis of a sweep.
+
+The joint laws' constants (joint points in the link frames, guide directions) and the input's drawn
+value become arrays with one entry per batch element, so the engine's block Newton and rate passes run
+unchanged over a flat batch of (design, position) pairs. Each design keeps the branch it was drawn in:
+
+1. March (`_march`): from every design's drawn pose the input is walked up and down with the engine's
+   own continuation rules (second-order predictor, Newton corrector, steps accepted when converged,
+   close to the prediction in positions and derivatives, with no change of sign of a block's
+   determinant; halved otherwise), all designs at once, each with its own step. A design whose step
+   falls below `H_MIN` has met a motion limit there.
+2. Every requested position is predicted by the quintic Hermite interpolant of its design's march nodes
+   and corrected by one batched Newton over all (design, position) pairs, then checked.
+
+Designs that cannot be assembled, are drawn at a singular position, or cannot be followed (a change
+point, a position the batched corrector cannot vouch for) are reported with a reason; with
+`fallback=True` the last kind is solved by the design's own engine (`with_dimensions`), one by one.
+Motion limits are located by the engine's bordered Newton on the fold (`exact_limits`), one locking
+design at a time, to the rounding floor, as a single-model sweep locates them.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..engine._atlas import Atlas
+from ..engine._blocks import BlockSolver
+from ..engine._constraints import perp
+from ..engine._nodes import HERMITE5, Node
+from ..engine._singular import limit_after
+from ..kinematics import analyse
+from .dimensions import with_dimensions
+from .geometry import DesignGeometry, mechanism_of
+
+__all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch"]
+
+CHUNK = 25_000  # (design, position) pairs corrected at once
+
+
+@dataclass
+class DesignLimit:
+    """A motion limit of design `design`: input value φ (SI), direction (+1 up, −1 down), the block's
+    links and joints, its kind (as `Engine` words it) and, when located, the configuration there."""
+
+    design: int
+    phi: float
+    direction: int
+    links: tuple = ()
+    joints: tuple = ()
+    kind: str = ""
+    limit: object = None  # the engine's `Limit` when located by the fold Newton
+
+
+@dataclass
+class DesignMotion:
+    """Kinematics of D designs at N input values each (batch first: design, then position).
+
+    phi (D, N) SI; valid (D, N): solved on the drawn branch; ok (D,): the design could be analysed,
+    else reasons[d] says why. Links (engine.links order): angle, wq (D, N, L) (rad, rad/rad); eq (D, N, L).
+    Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²). limits: [DesignLimit] met
+    inside the requested range, per design in `limits_of(d)`.
+    """
+
+    phi: np.ndarray
+    valid: np.ndarray
+    ok: np.ndarray
+    reasons: list
+    links: list
+    points: list
+    angle: np.ndarray
+    wq: np.ndarray
+    eq: np.ndarray
+    xy: np.ndarray
+    vq: np.ndarray
+    aq: np.ndarray
+    limits: list = field(default_factory=list)
+    th: np.ndarray | None = None
+
+    def limits_of(self, design: int) -> list:
+        return [lim for lim in self.limits if lim.design == design]
+
+    def point(self, name: str) -> int:
+        return self.points.index(name)
+
+    def link(self, name: str) -> int:
+        return self.links.index(name)
+
+
+class _Nodes:
+    """March nodes of many designs: design index, φ, per block q, dq/dφ, d²q/dφ² and the signs."""
+
+    def __init__(self, blocks: int):
+        self.parts = []
+        self.blocks = blocks
+
+    def add(self, design, phi, q, qd, qdd, dets):
+        self.parts.append((design, phi, q, qd, qdd, dets))
+
+    def arrays(self):
+        """Sorted by (design, φ): design (K,), φ (K,), per block (q, qd, qdd) (m, K), dets (K, n_b)."""
+        design = np.concatenate([p[0] for p in self.parts])
+        phi = np.concatenate([p[1] for p in self.parts])
+        order = np.lexsort((phi, design))
+        per_block = [tuple(np.concatenate([p[i][b] for p in self.parts], axis=1)[:, order] for i in (2, 3, 4))
+                     for b in range(self.blocks)]
+        dets = np.concatenate([p[5] for p in self.parts])[order]
+        return design[order], phi[order], per_block, dets
+
+
+class DesignBatch:
+    """D designs of one model, ready to solve: a reference engine and the designs' constants.
+
+    Parameters
+    ----------
+    engine : Engine
+        The reference design's engine (its structure serves every design). One input.
+    geometry : DesignGeometry
+        The designs' drawn coordinates (`design_geometry`).
+    """
+
+    def __init__(self, engine, geometry: DesignGeometry):
+        self.engine = engine
+        self.geometry = geometry
+        self.count = geometry.count
+        self.reasons = list(geometry.reasons)
+        mech = engine.mech
+        self.points = list(mech.joints) + list(mech.points)
+        self.point_link = [engine.link_index[j.slider if j.kind == "P" else j.links[0]] for j in mech.joints.values()]
+        self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
+        self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
+        self._engines = {}
+        self.nodes = None
+        self.motion = None
+
+    # -- engines over batches of designs --------------------------------------------------------------
+    def bound(self, index: np.ndarray) -> BlockSolver:
+        """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
+        per batch element: its Newton and rate passes then solve batches of exactly those designs."""
+        base, g = self.engine, self.geometry
+        laws = {}
+        for name, j in base.mech.joints.items():
+            law = copy.copy(base.laws[name])
+            law.s0 = g.at[name][:, index]
+            if j.kind == "P":
+                law.u0 = g.guide[name][:, index]
+                law.n0 = perp(law.u0)
+            laws[name] = law
+        return BlockSolver(base.mech, laws, base.topology.blocks, base.links, base.size, g.phi0[index][:, None],
+                           base.tol)
+
+    def engine_of(self, design: int):
+        """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
+        if design not in self._engines:
+            mech = mechanism_of(self.engine.mech, self.geometry, design)
+            self._engines[design] = with_dimensions(self.engine, mech)
+        return self._engines[design]
+
+    def seeded_engine(self, design: int):
+        """Design `design`'s own engine with the branch atlas its march built (the nodes, densified as
+        the engine does, and the located limits), so that `check` and `analyse` on it walk no further
+        than the batch did. Call after `solve` (with exact limits); a design the batch left to its own
+        engine gets that engine as it is."""
+        eng = self.engine_of(design)
+        if eng._atlas is not None or self.nodes is None:
+            return eng
+        d, phi, per_block, dets = self.nodes
+        rows = np.flatnonzero(d == design)
+        limits = self.motion.limits_of(design)
+        if not len(rows) or any(lim.limit is None for lim in limits) or self.scale != 1.0:
+            return eng
+        one = np.ones(1)
+        atlas = Atlas.__new__(Atlas)
+        atlas.solver, atlas.crossings, atlas._arrays = eng.solver, [], None
+        atlas.nodes = [Node(phi[i:i + 1].copy(), one, [b[0][:, i].copy() for b in per_block],
+                                     [b[1][:, i].copy() for b in per_block], [b[2][:, i].copy() for b in per_block],
+                                     dets[i].copy()) for i in rows]
+        atlas.limits = {+1: None, -1: None}
+        for lim in limits:
+            atlas.limits[lim.direction] = lim.limit
+        atlas._densify()
+        eng._atlas = atlas
+        return eng
+
+    # -- 1. the march -----------------------------------------------------------------------------------
+    def _solve_nodes(self, designs, phi, guesses, rate):
+        """Solve designs (B,) at φ (B,) from guesses; rates along s (dφ/ds = `rate` (B,))."""
+        eng = self.bound(designs)
+        with np.errstate(all="ignore"):
+            sol = eng.solve_batch(phi[:, None], guesses)
+            eng.rates(sol, rate[:, None], np.zeros((len(designs), 1)))
+        return eng, sol
+
+    def _origin(self, designs):
+        """Every design's drawn pose (q = 0 there) with its derivatives along +φ; designs drawn at a
+        singular position or not closing get their reason."""
+        g = self.geometry
+        zeros = [np.zeros((bp.m, len(designs))) for bp in self.engine.blocks]
+        eng, sol = self._solve_nodes(designs, g.phi0[designs], zeros, np.ones(len(designs)))
+        pivots, dets = eng.pivots(sol), eng.dets(sol)
+        singular = sol.valid & ~(pivots >= self.engine.tol.pivot_cross)
+        for k in np.flatnonzero(~sol.valid):
+            self.reasons[designs[k]] = "the drawn pose does not close: it cannot be assembled"
+        for k in np.flatnonzero(singular):
+            self.reasons[designs[k]] = ("the drawn pose is a singular position (links in line: a dead point "
+                                        "or a change point)")
+        return sol, dets
+
+    def _march(self, designs, origin, dets, target, direction: int, nodes: _Nodes, limits: list):
+        """Walk every design from its drawn pose towards target (B,) (all on the same side), adding the
+        accepted nodes; a design stops at its target, at a motion limit (added to `limits`) or at a
+        change point (its reason set)."""
+        S = self.engine.tol
+        g, blocks = self.geometry, self.engine.blocks
+        count = len(designs)
+        phi0 = g.phi0[designs]
+        span = np.abs(target - phi0) / self.scale
+        rate = np.full(count, direction * self.scale)
+        q = [st.q.copy() for st in origin.blocks]
+        qd = [st.qd * direction * self.scale for st in origin.blocks]  # per unit s
+        qdd = [st.qdd * self.scale ** 2 for st in origin.blocks]
+        signs = np.sign(dets)
+        s, h = np.zeros(count), np.full(count, S.h_start)
+        active = span > 0
+        while active.any():
+            a = np.flatnonzero(active)
+            h_try = np.minimum(h[a], span[a] - s[a])
+            end = s[a] + h_try >= span[a]
+            phi = np.where(end, target[a], phi0[a] + direction * self.scale * (s[a] + h_try))
+            guesses = [qk[:, a] + qdk[:, a] * h_try + 0.5 * qddk[:, a] * h_try * h_try
+                       for qk, qdk, qddk in zip(q, qd, qdd)]
+            eng, sol = self._solve_nodes(designs[a], phi, guesses, rate[a])
+            new_dets = eng.dets(sol)
+            with np.errstate(all="ignore"):
+                dist = np.zeros(len(a))
+                jump = np.zeros(len(a))
+                for k, (bp, st, gk) in enumerate(zip(blocks, sol.blocks, guesses)):
+                    if not bp.m:
+                        continue
+                    vs = bp.var_scale[:, None]
+                    dist = np.maximum(dist, np.max(np.abs(st.q - gk) * vs, axis=0))
+                    err = np.abs(st.qd - qd[k][:, a] - qdd[k][:, a] * h_try) * vs / (1.0 + np.abs(qd[k][:, a]) * vs)
+                    jump = np.maximum(jump, np.where(np.all(np.isfinite(err), axis=0), np.max(err, axis=0), np.inf))
+            good = (sol.valid & (eng.pivots(sol) >= S.pivot_cross) & (dist <= S.max_correction)
+                    & (jump <= S.rate_jump))
+            same = np.all(np.sign(new_dets) == signs[a], axis=1)
+            ok = good & same
+            cross = good & ~same & (h_try <= S.h_cross) & (dist <= S.cross_dist)
+            if ok.any():
+                acc = a[ok]
+                for k, st in enumerate(sol.blocks):
+                    q[k][:, acc], qd[k][:, acc], qdd[k][:, acc] = st.q[:, ok], st.qd[:, ok], st.qdd[:, ok]
+                signs[acc] = np.sign(new_dets[ok])
+                s[acc] += h_try[ok]
+                grow = dist[ok] < 0.1 * S.max_correction
+                h[acc] = np.where(grow, np.minimum(h_try[ok] * 1.6, S.h_max), h[acc])
+                nodes.add(designs[acc], phi[ok], [st.q[:, ok] for st in sol.blocks],
+                          [st.qd[:, ok] / (direction * self.scale) for st in sol.blocks],
+                          [st.qdd[:, ok] / self.scale ** 2 for st in sol.blocks], new_dets[ok])
+            for k in np.flatnonzero(cross):
+                d = designs[a[k]]
+                self.reasons[d] = self.reasons[d] or "passes a change point (the batch leaves it to its own engine)"
+                active[a[k]] = False
+            rejected = ~ok & ~cross
+            h[a[rejected]] = h_try[rejected] / 2
+            stop = a[rejected][h[a[rejected]] < S.h_min]
+            for i in stop:
+                d = designs[i]
+                state = [(qk[:, i].copy(), qdk[:, i].copy(), qddk[:, i].copy()) for qk, qdk, qddk in zip(q, qd, qdd)]
+                phi_node = phi0[i] + direction * self.scale * s[i]
+                limits.append((d, direction, phi_node, 2 * h[i], state, signs[i].copy()))
+                active[i] = False
+            active &= s < span
+
+    # -- 2. the requested positions -----------------------------------------------------------------
+    def solve(self, phi, exact_limits: bool = True, fallback: bool = True) -> DesignMotion:
+        """Kinematics (positions, analogues) of every design at input values `phi` (SI): (N,) the same
+        for every design, or (D, N) one row per design.
+
+        Parameters
+        ----------
+        phi : array_like
+            Input values, SI (rad or m).
+        exact_limits : bool
+            Locate each design's motion limits by the engine's fold Newton (one locking design at a time).
+        fallback : bool
+            Solve designs the batch cannot follow (change points, positions it cannot vouch for) with their
+            own engines, one by one.
+
+        Returns
+        -------
+        DesignMotion
+        """
+        D = self.count
+        phi = np.asarray(phi, float)
+        phi = np.broadcast_to(phi, (D, phi.shape[-1])) if phi.ndim == 1 else phi
+        if phi.shape[0] != D:
+            raise ValueError(f"phi must have one row per design ({D}), not {phi.shape[0]}")
+        if not np.all(np.isfinite(phi)):
+            raise ValueError("input values must be finite")
+        designs = np.flatnonzero(self.geometry.ok)
+        limits, nodes = [], _Nodes(len(self.engine.blocks))
+        if len(designs):
+            origin, dets = self._origin(designs)
+            good = np.array([self.reasons[d] is None for d in designs], bool)
+            designs = designs[good]
+            origin = _take_solution(origin, good)
+            dets = dets[good]
+            if len(designs):
+                nodes.add(designs, self.geometry.phi0[designs], [st.q for st in origin.blocks],
+                          [st.qd for st in origin.blocks], [st.qdd for st in origin.blocks], dets)
+                for direction in (+1, -1):
+                    lo, hi = phi[designs].min(axis=1), phi[designs].max(axis=1)
+                    target = hi if direction > 0 else lo
+                    side = (target - self.geometry.phi0[designs]) * direction > 0
+                    if side.any():
+                        self._march(designs[side], _take_solution(origin, side), dets[side], target[side],
+                                    direction, nodes, limits)
+        self.nodes = nodes.arrays() if nodes.parts else None
+        motion = self._positions(phi, nodes, designs)
+        motion.limits = self._limits(limits, exact_limits)
+        self._past_limits(motion)
+        if fallback:
+            self._fall_back(motion, phi)
+        motion.ok = np.array([r is None for r in self.reasons], bool)
+        self.motion = motion
+        motion.reasons = [None if motion.ok[d] else self.reasons[d] for d in range(D)]
+        return motion
+
+    def _positions(self, phi, nodes: _Nodes, designs) -> DesignMotion:
+        """Predict every (design, position) from its design's nodes, correct in one batch, check."""
+        D, N = phi.shape
+        eng0 = self.engine
+        L, P = len(eng0.links), len(self.points)
+        out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, list(eng0.links),
+                           self.points, np.full((D, N, L), np.nan), np.full((D, N, L), np.nan),
+                           np.full((D, N, L), np.nan), np.full((D, N, P, 2), np.nan),
+                           np.full((D, N, P, 2), np.nan), np.full((D, N, P, 2), np.nan))
+        if not len(designs) or not nodes.parts:
+            return out
+        rows = np.repeat(designs, N)
+        x = phi[designs].reshape(-1)
+        arrays = self.nodes
+        step = max(N, CHUNK // N * N)  # whole designs per chunk: the working arrays stay in cache
+        for start in range(0, len(x), step):
+            part = slice(start, start + step)
+            self._correct(out, arrays, rows[part], x[part], N)
+        out.ok[designs] = True
+        return out
+
+    def _correct(self, out: DesignMotion, arrays, rows, x, N):
+        """Correct one chunk of (design, position) pairs (whole designs) and copy it into `out`; pairs
+        outside their design's march (past a limit) are left out of the Newton batch."""
+        guesses, inside, node_signs = _interpolate(arrays, rows, x)
+        take = np.flatnonzero(inside)
+        good = np.zeros(len(x), bool)
+        if not len(take):
+            return
+        eng = self.bound(rows[take])
+        with np.errstate(all="ignore"):
+            sol = eng.solve_batch(x[take, None], [g[:, take] for g in guesses])
+            ok = sol.valid & np.all(eng.signs(sol) == node_signs[take], axis=1)
+            for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
+                if bp.m:
+                    ok &= np.max(np.abs(st.q - gk[:, take]) * bp.var_scale[:, None], axis=0) <= self.engine.tol.max_correction
+            eng.rates(sol, np.ones((len(take), 1)), np.zeros((len(take), 1)))
+        good[take] = ok
+        for d in np.unique(rows[take[~ok]]):
+            self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
+        self._fill(out, rows, take, eng, sol, good)
+
+    def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
+        """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
+        pose, links = sol.pose, self.engine.links
+        th = np.stack([pose.th[n] for n in links])  # (L, T)
+        c, s = np.cos(th), np.sin(th)
+        r = np.stack([pose.r[n] for n in links], axis=1)  # (2, L, T)
+        where = rows[take]
+        reference = np.stack([self.geometry.reference[n][where] for n in links])
+        wq, eqq = sol.w.T, sol.e.T  # (L, T)
+        vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
+        at = np.stack([self.geometry.at[n][:, where] for n in self.points], axis=1)  # (2, P, T)
+        li = np.array(self.point_link)
+        cp, sp = c[li], s[li]
+        rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
+        w, e = wq[li], eqq[li]
+        turned = np.stack([-rho[1], rho[0]])
+        xy = r[:, li] + rho
+        vq = vf[:, li] + w * turned
+        aq = af[:, li] + e * turned - (w * w) * rho
+        d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
+        ok = good[take]
+        out.valid[d_idx, n_idx] = ok
+        bad = ~ok
+        for target, value in ((out.angle, th + reference), (out.wq, wq), (out.eq, eqq)):
+            v = value.T.copy()
+            v[bad] = np.nan
+            target[d_idx, n_idx] = v
+        for target, value in ((out.xy, xy), (out.vq, vq), (out.aq, aq)):
+            v = np.moveaxis(value, 0, -1).transpose(1, 0, 2).copy()  # (T, P, 2)
+            v[bad] = np.nan
+            target[d_idx, n_idx] = v
+
+    def _limits(self, found, exact: bool) -> list:
+        """The motion limits the march met, located by the engine's fold Newton when `exact`."""
+        out = []
+        for d, direction, phi_node, h, state, signs in found:
+            lim = DesignLimit(int(d), float(phi_node + direction * self.scale * h / 2), direction)
+            if exact:
+                eng = self.engine_of(int(d))
+                q, qd, qdd = ([s[i] for s in state] for i in range(3))
+                dirs = np.array([direction * self.scale])
+                node = Node(np.array([phi_node]), dirs, q, qd, qdd, signs, 1.0)
+                with np.errstate(all="ignore"):
+                    located = limit_after(eng.solver, node, dirs, h)
+                lim.phi, lim.links, lim.joints, lim.kind, lim.limit = (float(located.phi[0]), located.links,
+                                                                     located.joints, located.kind, located)
+            out.append(lim)
+        return out
+
+    def _past_limits(self, motion: DesignMotion):
+        """Positions beyond a design's limit are not on its branch: invalid."""
+        for lim in motion.limits:
+            past = (motion.phi[lim.design] - lim.phi) * lim.direction > 0
+            motion.valid[lim.design] &= ~past
+
+    def _fall_back(self, motion: DesignMotion, phi):
+        """Designs the batch left to their own engines: solved one by one (`analyse`)."""
+        for d in range(self.count):
+            reason = self.reasons[d]
+            if reason is None or not reason.endswith("own engine)") or not self.geometry.ok[d]:
+                continue
+            eng = self.engine_of(d)
+            m = analyse(eng, phi[d])
+            hit = np.isin(phi[d], m.phi[:, 0])
+            idx = np.flatnonzero(hit)
+            motion.valid[d] = hit
+            for name in ("angle", "wq", "eq"):
+                getattr(motion, name)[d] = np.nan
+                getattr(motion, name)[d, idx] = getattr(m, name)
+            for name in ("xy", "vq", "aq"):
+                getattr(motion, name)[d] = np.nan
+                getattr(motion, name)[d, idx] = getattr(m, name)[:, [m.point(p) for p in self.points]]
+            motion.limits = [lim for lim in motion.limits if lim.design != d]
+            motion.limits += [DesignLimit(d, float(lim.phi[0]), lim.direction, lim.links, lim.joints, lim.kind, lim)
+                              for lim in m.limits]
+            self.reasons[d] = None
+            motion.ok[d] = True
+
+
+def _take_solution(sol, mask):
+    """The rows `mask` of a solved batch's block states (for the march's start)."""
+    out = copy.copy(sol)
+    out.blocks = [copy.copy(st) for st in sol.blocks]
+    for st in out.blocks:
+        st.q, st.qd, st.qdd = st.q[:, mask], st.qd[:, mask], st.qdd[:, mask]
+    return out
+
+
+def _interpolate(arrays, rows, x):
+    """Guesses (per block (m, B)) for designs `rows` (B,) at x (B,) from their nodes: the quintic
+    Hermite interpolant between the two nodes around x. Also whether x lies within the design's nodes
+    and the signs of the node below it."""
+    design, phi, per_block, dets = arrays
+    first = np.searchsorted(design, rows, "left")
+    last = np.searchsorted(design, rows, "right") - 1
+    lo_phi, hi_phi = phi[first], phi[np.maximum(last, first)]
+    inside = (last >= first) & (x >= lo_phi) & (x <= hi_phi)
+    # the interval of x within its design's nodes: a search in the (design, φ) order by offsetting φ
+    span = float(phi.max() - phi.min()) + 1.0
+    key = design * (2 * span) + (phi - phi.min())
+    lo = np.searchsorted(key, rows * (2 * span) + (x - phi.min()), "right") - 1
+    lo = np.clip(lo, first, np.maximum(last - 1, first))
+    hi = np.minimum(lo + 1, last)
+    width = phi[hi] - phi[lo]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.where(width > 0, (x - phi[lo]) / np.where(width > 0, width, 1.0), 0.0)
+    guesses = []
+    for q, qd, qdd in per_block:
+        ends = np.stack([q[:, lo], q[:, hi], width * qd[:, lo], width * qd[:, hi],
+                         width * width * qdd[:, lo], width * width * qdd[:, hi]])  # (6, m, B)
+        coef = np.einsum("ce,emb->cmb", HERMITE5, ends)
+        inner = coef[5]
+        for k in range(4, -1, -1):
+            inner = inner * t + coef[k]
+        guesses.append(inner)
+    near = np.where(np.abs(x - phi[lo]) <= np.abs(x - phi[hi]), lo, hi)
+    return guesses, inside, np.sign(dets[near])
+
+
+def design_batch(model, variants, engine=None) -> DesignBatch:
+    """A `DesignBatch` of the variants of a model with parameters.
+
+    Parameters
+    ----------
+    model : str, Path, dict or Template
+        The model (see `mbplanar.model._parameters`).
+    variants : Variants, dict or str
+        The designs: a `Variants`, a dict of parameter arrays (D,) each, or a CSV variant table's path.
+    engine : Engine, optional
+        The reference design's engine (default: compiled from the model's declared parameter values).
+
+    Returns
+    -------
+    DesignBatch
+    """
+    from ..engine import Engine
+    from ..model import parse_model
+    from .geometry import design_geometry
+    from .run import load_template
+    from .variants import Variants, read_variants, variants_from
+
+    template = load_template(model)
+    if isinstance(variants, dict):
+        variants = variants_from(template, variants)
+    elif not isinstance(variants, Variants):
+        variants = read_variants(variants, template)
+    if engine is None:
+        engine = Engine(parse_model(template.bind(), source=template.source))
+    if len(engine.inputs) != 1:
+        raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
+    return DesignBatch(engine, design_geometry(template, variants, engine.mech))

@@ -1,0 +1,96 @@
+"""`mbplanar study MODEL --variants TABLE.csv [--json] [-o SUMMARY.csv] [--workers N | --scheduler ADDR]`:
+the command-line side of a design study (parsing, printing; the work is `run_study`)."""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+
+__all__ = ["add_parser", "cmd_study"]
+
+
+def _positive(text) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}")
+    return value
+
+
+def add_parser(sub):
+    """Register the `study` command on the CLI's sub-parsers."""
+    s = sub.add_parser("study", help="a table of design variants: full turn, motion limits, strokes, "
+                                     "transmission angles per variant")
+    s.add_argument("model", help="a model with [parameters]")
+    s.add_argument("--variants", required=True, help="CSV: one row per variant, columns named after parameters")
+    s.add_argument("--points", help="coupler-curve samples of these joints or points (comma list)")
+    s.add_argument("--samples", type=_positive, default=36, help="samples per design over its range (default 36)")
+    s.add_argument("--json", action="store_true", help="the whole study as JSON")
+    s.add_argument("-o", "--output", help="summary CSV file (one row per variant)")
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=_positive, help="run on a Dask LocalCluster of N worker processes")
+    g.add_argument("--scheduler", help="run on the Dask cluster of this scheduler (e.g. tcp://host:8786)")
+    s.add_argument("--chunk", type=_positive, default=None, help="designs per task (default 64)")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    s.set_defaults(func=cmd_study)
+    return s
+
+
+def cmd_study(args) -> int:
+    """Run the study the arguments describe and print or write its summary."""
+    from .cluster import close, connect, local_client, progress_bar
+    from .report import format_study, study_document, study_table
+    from .run import CHUNK, run_study
+
+    points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else []
+    client = local_client(args.workers) if args.workers else connect(args.scheduler) if args.scheduler else None
+    bar = None if args.no_progress else _ProgressOnce(progress_bar)
+    try:
+        study = run_study(args.model, args.variants, points=points, samples=args.samples, client=client,
+                          chunk=args.chunk or CHUNK, progress=bar)
+    finally:
+        if bar is not None:
+            bar.close()
+        if client is not None:
+            close(client)
+    if args.output:
+        header, rows = study_table(study)
+        with open(args.output, "w", newline="", encoding="utf-8") as f:
+            csv.writer(f).writerows([header] + rows)
+    if args.json:
+        print(json.dumps(_plain(study_document(study)), indent=2, ensure_ascii=False))
+    elif not args.output:
+        print(format_study(study))
+    return 0
+
+
+def _plain(obj):
+    """JSON-safe copy: numpy scalars as floats, non-finite numbers as null."""
+    if isinstance(obj, dict):
+        return {k: _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, (bool, str, int)) or obj is None:
+        return obj
+    value = float(obj)
+    return value if math.isfinite(value) else None
+
+
+class _ProgressOnce:
+    """A progress callback that opens the bar at its first report (the total is known then)."""
+
+    def __init__(self, factory):
+        self.factory, self.bar = factory, None
+
+    def __call__(self, done, total):
+        if self.bar is None:
+            self.bar = self.factory(total)
+        self.bar[0](done, total)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar[1]()

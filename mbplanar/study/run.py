@@ -1,0 +1,253 @@
+"""Running a design study: every variant of a table summarised, in chunks of designs that run one
+after the other here, or one task each on a Dask cluster (`client`). The chunks are the same either
+way, and each is computed by the same function from the same data, so a study on a cluster equals the
+serial run bit for bit."""
+
+from __future__ import annotations
+
+import sys
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MbplanarError, ModelError
+from ..model import parse_model
+from ..model._parameters import Template
+from .summary import SAMPLES, DesignSummary, failed_design, summarise, summarise_design
+from .variants import Variants, read_variants
+
+__all__ = ["Study", "run_study", "solve_designs", "load_template", "join_motions", "CHUNK"]
+
+CHUNK = 64  # designs per task
+FULL_TURN = 2 * np.pi
+
+
+@dataclass
+class Study:
+    """The summaries of a study's designs (in table order) and what they were computed for."""
+
+    model: str
+    source: str
+    input: str
+    unit: str
+    parameters: tuple
+    designs: list[DesignSummary]
+
+    @property
+    def counts(self) -> dict:
+        """How many designs: in all, assembled, turning fully, stopping at a motion limit."""
+        ok = [d for d in self.designs if d.assembles]
+        return {"designs": len(self.designs), "assembled": len(ok),
+                "full_turn": sum(bool(d.full_turn) for d in ok),
+                "locking": sum(bool(d.limits) and not d.full_turn for d in ok)}
+
+
+def load_template(model) -> Template:
+    """A `Template` from a model file path, TOML text or a parsed dict (or a Template as it is)."""
+    if isinstance(model, Template):
+        return model
+    if isinstance(model, dict):
+        return Template(model)
+    path = Path(model)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ModelError(f"{path}: cannot read the model file ({exc})") from None
+    try:
+        return Template(tomllib.loads(text), str(path))
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"{path}: TOML syntax error: {exc}") from None
+
+
+def _base_engine(template: Template):
+    from ..engine import Engine
+
+    return Engine(parse_model(template.bind(), source=template.source))
+
+
+def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: int = SAMPLES,
+              forces=None, method: str = "batch") -> list[DesignSummary]:
+    """Summaries of a chunk of designs (one Dask task).
+
+    method "serial": the reference engine is re-dimensioned for each design, which then walks its own
+    branch (`summarise_design`). "batch": a `DesignBatch` marches every design's branch at once, over a
+    whole turn either way from the drawn pose, and locates their limits; each design's summary then reads
+    the atlas its march built (`DesignBatch.seeded_engine`), so it walks no further itself.
+    """
+    template = Template(data, source)
+    base = _base_engine(template)
+    values = [{**template.defaults(), **variants.row(k)} for k in range(len(variants))]
+    if method == "serial" or base.mech.joints[base.inputs[0].joint].kind != "R":
+        return [summarise_design(base, template, variants.names[k], values[k], points, samples, forces)
+                for k in range(len(variants))]
+    from .batch import DesignBatch
+    from .geometry import design_geometry
+
+    batch = DesignBatch(base, design_geometry(template, variants, base.mech))
+    phi0 = batch.geometry.phi0
+    with np.errstate(invalid="ignore"):
+        batch.solve(np.stack([phi0 - FULL_TURN, phi0 + FULL_TURN], axis=1))
+    out = []
+    for k in range(len(variants)):
+        name = variants.names[k]
+        if batch.reasons[k] is not None:
+            out.append(failed_design(name, values[k], batch.reasons[k]))
+            continue
+        try:
+            out.append(summarise(batch.seeded_engine(k), name, values[k], points, samples, forces))
+        except MbplanarError as exc:
+            out.append(failed_design(name, values[k], str(exc)))
+    return out
+
+
+def _chunks(count: int, size: int) -> list[slice]:
+    return [slice(start, min(start + size, count)) for start in range(0, count, size)]
+
+
+def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None, client=None,
+              chunk: int = CHUNK, progress=None, method: str = "batch") -> Study:
+    """Summarise every design of a variant table.
+
+    Parameters
+    ----------
+    model : str, Path, dict or Template
+        The model with its `[parameters]`.
+    variants : Variants or str or Path
+        The designs (a `Variants`, or the path of a CSV variant table).
+    points : sequence of str
+        Points whose coupler curves are sampled.
+    samples : int
+        Samples per design over its range of motion.
+    forces : bool, optional
+        Reactions and balancing moment (default: when the model has loads or masses).
+    client : dask.distributed.Client, optional
+        Run the chunks as tasks on this client's cluster; default: here, one after the other.
+    chunk : int
+        Designs per chunk (per task).
+    progress : callable, optional
+        Called as progress(done, total) after each chunk (designs done so far).
+    method : {"batch", "serial"}
+        "batch" marches the designs of a chunk together (`run_chunk`); "serial" is the reference, one
+        engine per design through the public API.
+
+    Returns
+    -------
+    Study
+    """
+    template = load_template(model)
+    if not isinstance(variants, Variants):
+        variants = read_variants(variants, template)
+    if chunk < 1:
+        raise ValueError(f"chunk must be a positive number of designs, not {chunk}")
+    if method not in ("batch", "serial"):
+        raise ValueError(f"method must be 'batch' or 'serial', not {method!r}")
+    base = _base_engine(template)
+    if len(base.inputs) != 1:
+        raise ModelError(f"{template.source}: a design study drives one input; this model has {len(base.inputs)}")
+    for p in points:
+        if p not in base.mech.joints and p not in base.mech.points:
+            raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model")
+    parts = [variants.take(s) for s in _chunks(len(variants), chunk)]
+    args = (tuple(points), samples, forces, method)
+    if client is None:
+        results, done = [], 0
+        for part in parts:
+            results.append(run_chunk(template.raw, template.source, part, *args))
+            done += len(part)
+            if progress is not None:
+                progress(done, len(variants))
+    else:
+        from .cluster import run_on_client
+
+        results = run_on_client(client, run_chunk, template.raw, template.source, parts, args, progress)
+    inp = base.inputs[0]
+    designs = [d for part in results for d in part]
+    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs)
+
+
+def stderr_progress(done: int, total: int):
+    """A plain progress counter on stderr."""
+    print(f"\r{done}/{total} designs", end="\n" if done == total else "", file=sys.stderr, flush=True)
+
+
+def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,
+                fallback: bool = True):
+    """The kinematics of a chunk of designs (one Dask task): a `DesignBatch` solved at `phi`."""
+    from .batch import design_batch
+
+    return design_batch(Template(data, source), variants).solve(phi, exact_limits, fallback)
+
+
+def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: bool = True, client=None,
+                  chunk: int = 2000, progress=None):
+    """The kinematics of every design of a variant table at input values `phi` (SI): a design batch,
+    here or, with `client`, one Dask task per chunk of designs.
+
+    Parameters
+    ----------
+    model : str, Path, dict or Template
+        The model with its `[parameters]`.
+    variants : Variants, dict or str
+        The designs (a `Variants`, parameter arrays (D,), or a CSV variant table's path).
+    phi : array_like
+        (N,) input values for every design, or (D, N) one row per design (SI).
+    exact_limits, fallback : bool
+        See `DesignBatch.solve`.
+    client : dask.distributed.Client, optional
+        Run the chunks on this client's cluster.
+    chunk : int
+        Designs per chunk (per task).
+    progress : callable, optional
+        progress(done, total) after each chunk.
+
+    Returns
+    -------
+    DesignMotion
+        The chunks joined in table order (limits renumbered to the table's designs).
+    """
+    from .variants import variants_from
+
+    template = load_template(model)
+    if isinstance(variants, dict):
+        variants = variants_from(template, variants)
+    elif not isinstance(variants, Variants):
+        variants = read_variants(variants, template)
+    if chunk < 1:
+        raise ValueError(f"chunk must be a positive number of designs, not {chunk}")
+    phi = np.asarray(phi, float)
+    slices = _chunks(len(variants), chunk)
+    parts = [variants.take(s) for s in slices]
+    rows = [phi if phi.ndim == 1 else phi[s] for s in slices]
+    if client is None:
+        results, done = [], 0
+        for part, x in zip(parts, rows):
+            results.append(solve_chunk(template.raw, template.source, part, x, exact_limits, fallback))
+            done += len(part)
+            if progress is not None:
+                progress(done, len(variants))
+    else:
+        from .cluster import run_on_client
+
+        tasks = [(part, x) for part, x in zip(parts, rows)]
+        results = run_on_client(client, _solve_task, template.raw, template.source, tasks,
+                                (exact_limits, fallback), progress)
+    return join_motions(results, [s.start for s in slices])
+
+
+def _solve_task(data, source, task, exact_limits, fallback):
+    part, phi = task
+    return solve_chunk(data, source, part, phi, exact_limits, fallback)
+
+
+def join_motions(parts: list, offsets: list):
+    """One `DesignMotion` of chunks of designs, in order (`offsets`: each chunk's first design)."""
+    from dataclasses import replace
+
+    first = parts[0]
+    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in
+              ("phi", "valid", "ok", "angle", "wq", "eq", "xy", "vq", "aq")}
+    limits = [replace(lim, design=lim.design + off) for p, off in zip(parts, offsets) for lim in p.limits]
+    reasons = [r for p in parts for r in p.reasons]
+    return replace(first, **arrays, limits=limits, reasons=reasons)

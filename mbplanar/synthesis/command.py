@@ -1,0 +1,413 @@
+"""`mbplanar synth seed001|function|motion`: inputs from TOML or CSV, the model file, the JSON summary,
+the picture. The CLI only registers the command and calls `add_arguments` and `run`."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ModelError, PlotUnavailable
+
+__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion"]
+
+
+def add_arguments(parser) -> None:
+    """The `synth` sub-commands and their options."""
+    sub = parser.add_subparsers(dest="problem", required=True)
+    s = sub.add_parser("seed001", help="seed 001's guiding crank-slider for a D-shaped foot path")
+    s.add_argument("input", nargs="?", help="TOML with [chain], [target], [method] (default: the documented "
+                                            "target on the seed's chain)")
+    s.add_argument("--form", choices=("a", "b", "c"), help="(b) scan k, (a) scan γ, (c) four nodes (default b)")
+    s.add_argument("--support-nodes", type=int, help="nodes on the support segment (default 2; 3 for form c)")
+    s.add_argument("--spacing", choices=("chebyshev", "uniform"))
+    s.add_argument("--fit", choices=("exact", "lsq", "minimax"), help="form (b) over more than 3 nodes")
+    s.add_argument("--k-step", type=float, help="step of the scan over the guide's angle atan k (degrees)")
+    s.add_argument("--gamma-step", type=float, help="step of the scan over γ for form (a) (degrees)")
+    _common(s)
+    s = sub.add_parser("function", help="four-bar function generator (Freudenstein)")
+    s.add_argument("input", help="TOML with [function], or CSV of angle pairs phi_deg, psi_deg")
+    s.add_argument("--points", type=int, help="precision points (3 exact, more: least squares)")
+    s.add_argument("--spacing", choices=("chebyshev", "uniform"))
+    _common(s)
+    s = sub.add_parser("motion", help="four-bar motion generator through 2-5 poses (Burmester)")
+    s.add_argument("input", help="TOML with poses = [[x, y, angle_deg], ...] (and dyad choices), or CSV of "
+                                 "x, y, angle_deg")
+    s.add_argument("--full-turn", action="store_true", help="require a crank that turns fully")
+    s.add_argument("--curve", help="4 poses: write the centre- and circle-point curves to this CSV")
+    _common(s)
+
+
+def _common(s):
+    s.add_argument("-o", "--output", help="the synthesised model (TOML)")
+    s.add_argument("--json", action="store_true", help="print the JSON summary")
+    s.add_argument("--plot", help="picture of the target against the achieved motion (PNG, SVG, PDF)")
+
+
+def run(args) -> int:
+    problem = {"seed001": _seed001, "function": _function, "motion": _motion}[args.problem]
+    summary, result, picture = problem(args)
+    if args.output:
+        Path(args.output).write_text(result.toml, encoding="utf-8")
+        summary["model"] = str(args.output)
+    if args.plot:
+        picture(result, args.plot)
+        summary["plot"] = str(args.plot)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        _print_text(summary)
+    return 0
+
+
+def _print_text(summary: dict) -> None:
+    print(f"synth {summary['problem']}: defect-free design found in {summary['seconds']:.2f} s "
+          f"({summary['evaluations']} candidate designs scored)")
+    for key, value in summary["design"].items():
+        print(f"  {key} = {value}")
+    unit = summary["error_unit"]
+    print(f"  error over the {len(summary['errors'])} target points: max {summary['max_error']:.3e} {unit}, "
+          f"RMS {summary['rms_error']:.3e} {unit}")
+    for key in ("delta1", "delta2", "delta"):
+        if key in summary:
+            print(f"  {key} = {summary[key]:.6g}")
+    for k, b in enumerate(summary.get("burmester_points", [])):
+        print(f"  Burmester point {k + 1}: centre {b['centre']}, circle point {b['circle']}")
+    if "structural_error" in summary:
+        se = summary["structural_error"]
+        print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
+    print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
+    if summary.get("model"):
+        print(f"  model written to {summary['model']}")
+
+
+# -- inputs -------------------------------------------------------------------------------------------
+def _toml(path) -> dict:
+    try:
+        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ModelError(f"cannot read ({exc.strerror or exc})", source=str(path)) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"TOML syntax error: {exc}", source=str(path)) from None
+
+
+def _csv_rows(path, columns: int) -> np.ndarray:
+    """Numeric rows of a CSV file (a header line of names is skipped), `columns` values each."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ModelError(f"cannot read ({exc.strerror or exc})", source=str(path)) from None
+    rows = []
+    for n, row in enumerate(csv.reader(text.splitlines()), 1):
+        if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
+            continue
+        try:
+            values = [float(v) for v in row]
+        except ValueError:
+            if not rows and n == 1:
+                continue                      # header
+            raise ModelError(f"not numbers: {row}", source=str(path), where=f"row {n}") from None
+        if len(values) != columns or not all(math.isfinite(v) for v in values):
+            raise ModelError(f"needs {columns} finite numbers, got {row}", source=str(path), where=f"row {n}")
+        rows.append(values)
+    if not rows:
+        raise ModelError("no data rows", source=str(path))
+    return np.array(rows)
+
+
+def _known(table, keys, where: str) -> dict:
+    """`table` itself after checking it is a table whose keys are all in `keys` (a typo is an error)."""
+    if not isinstance(table, dict):
+        raise ModelError(f"{where} must be a table")
+    unknown = sorted(set(table) - set(keys))
+    if unknown:
+        raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} (known: {', '.join(sorted(keys))})")
+    return table
+
+
+def _number(table: dict, key: str, where: str, default=None):
+    value = table.get(key, default)
+    if value is None:
+        raise ModelError(f"{where}: '{key}' is required")
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ModelError(f"{where}: '{key}' must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _pairs(table: dict, key: str, where: str, width: int, required: bool = True):
+    value = table.get(key)
+    if value is None:
+        if required:
+            raise ModelError(f"{where}: '{key}' is required")
+        return None
+    try:
+        arr = np.array(value, float)
+    except (TypeError, ValueError):
+        arr = np.zeros((0,))
+    if arr.ndim != 2 or arr.shape[1] != width or not np.all(np.isfinite(arr)):
+        raise ModelError(f"{where}: '{key}' must be a list of [{', '.join(['number'] * width)}] rows")
+    return arr
+
+
+def _errors(values) -> tuple[list, float, float]:
+    v = np.abs(np.asarray(values, float))
+    return [float(x) for x in v], float(v.max()), float(np.sqrt(np.mean(v * v)))
+
+
+# -- seed 001 -------------------------------------------------------------------------------------------
+def _seed001(args):
+    from .guiding import SEED001_CHAIN, Chain, WalkingTarget
+    from .seed001 import synthesise_seed001
+    data = _toml(args.input) if args.input else {}
+    src = args.input or "<default target>"
+    _known(data, ("chain", "target", "method"), src)
+    chain_t = _known(data.get("chain", {}), ("a", "b", "pivot"), f"{src}: [chain]")
+    pivot = _pairs({"p": [chain_t.get("pivot", list(SEED001_CHAIN.pivot))]}, "p", f"{src}: [chain] pivot", 2)[0]
+    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a),
+                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b), (float(pivot[0]), float(pivot[1])))
+    if chain.a <= 0 or chain.b <= 0:
+        raise ModelError(f"{src}: [chain] a and b must be positive")
+    where = f"{src}: [target]"
+    t = _known(data.get("target", {}), ("x_start", "y0", "length", "height", "direction", "top_x"), where)
+    direction = int(_number(t, "direction", where, -1))
+    if direction not in (1, -1):
+        raise ModelError(f"{where}: 'direction' must be 1 or -1")
+    target = WalkingTarget(_number(t, "x_start", where, DEFAULT_TARGET["x_start"]),
+                           _number(t, "y0", where, DEFAULT_TARGET["y0"]),
+                           _number(t, "length", where, DEFAULT_TARGET["length"]),
+                           _number(t, "height", where, DEFAULT_TARGET["height"]), direction,
+                           None if "top_x" not in t else _number(t, "top_x", where))
+    method = _known(data.get("method", {}), ("form", "support_nodes", "spacing", "fit", "k_step_deg",
+                                             "gamma_step_deg"), f"{src}: [method]")
+    form = args.form or method.get("form", "b")
+    step_k = args.k_step or method.get("k_step_deg", 1.0)
+    step_g = args.gamma_step or method.get("gamma_step_deg", 1.0)
+    if not (step_k > 0 and step_g > 0):
+        raise ModelError("the scan steps must be positive")
+    result = synthesise_seed001(target, chain, form, args.support_nodes or method.get("support_nodes"),
+                                args.spacing or method.get("spacing", "chebyshev"),
+                                args.fit or method.get("fit", "exact"), (0.0, 180.0, step_k), (0.0, 360.0, step_g))
+    return summary_seed001(result, form), result, _plot_seed001
+
+
+DEFAULT_TARGET = {"x_start": 0.0, "y0": -2.6, "length": 1.0, "height": 0.2}
+"""The documented D-shaped walking-foot target (docs/synthesis.md) on the seed's chain."""
+
+
+def summary_seed001(r, form: str) -> dict:
+    per, mx, rms = _errors(r.node_errors)
+    t = r.target
+    return {"problem": "seed001", "form": form, "model": None,
+            "target": {"x_start": t.x_start, "y0": t.y0, "length": t.length, "height": t.height,
+                       "direction": t.direction, "nodes": r.nodes.tolist()},
+            "design": r.design, "error_unit": "m",
+            "errors": per, "max_error": mx, "rms_error": rms,
+            "delta1": r.delta1, "delta2": r.delta2, "delta": r.delta,
+            "node_phi_deg": [math.degrees(p) for p in r.node_phi],
+            "defects": {"checked": ["circuit", "branch", "order", "full_turn"], **r.defects.as_dict(),
+                        "rejected": r.rejected},
+            "evaluations": r.candidates, "checked_by_mbplanar": r.checked, "seconds": r.seconds}
+
+
+def _plot_seed001(r, path):
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    t = r.target
+    ax.plot([t.x_start, t.x_start + t.length], [t.y0, t.y0], "k-", lw=3, alpha=0.3, label="target support")
+    ax.plot(*t.top, "k^", ms=8, alpha=0.5, label="target height")
+    p = np.vstack([r.path, r.path[:1]])
+    ax.plot(p[:, 0], p[:, 1], "C0-", label="achieved foot path (mbplanar)")
+    ax.plot(r.nodes[:, 0], r.nodes[:, 1], "C3o", mfc="none", label="interpolation nodes")
+    ax.set_title(f"seed 001 synthesis: Δ1 = {r.delta1:.4g}, Δ2 = {r.delta2:.4g}")
+    _finish(fig, ax, path)
+
+
+# -- function generation ----------------------------------------------------------------------------------
+def _function(args):
+    from .freudenstein import FunctionTask, synthesise_angle_pairs, synthesise_function
+    src = args.input
+    if str(src).lower().endswith(".csv"):
+        rows = _csv_rows(src, 2)
+        result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]))
+        return summary_function(result, None), result, _plot_function
+    data = _known(_toml(src), ("function",), src)
+    where = f"{src}: [function]"
+    if "function" not in data:
+        raise ModelError(f"{src}: a [function] table is required")
+    f = _known(data["function"], ("expression", "x", "phi_deg", "psi_deg", "points", "spacing", "ground",
+                                  "pairs_deg"), where)
+    ground = _number(f, "ground", where, 1.0)
+    if ground <= 0:
+        raise ModelError(f"{where}: 'ground' must be positive")
+    if "pairs_deg" in f:
+        rows = _pairs(f, "pairs_deg", where, 2)
+        result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]), ground)
+        return summary_function(result, None), result, _plot_function
+    ranges = {key: _pairs({key: [f.get(key)]}, key, where, 2)[0] for key in ("x", "phi_deg", "psi_deg")}
+    if not isinstance(f.get("expression"), str):
+        raise ModelError(f"{where}: 'expression' (a formula in x, e.g. \"log10(x)\") is required")
+    points = args.points or int(_number(f, "points", where, 3))
+    task = FunctionTask(f["expression"], tuple(ranges["x"]), tuple(ranges["phi_deg"]), tuple(ranges["psi_deg"]),
+                        points, args.spacing or f.get("spacing", "chebyshev"))
+    result = synthesise_function(task, ground)
+    return summary_function(result, task), result, _plot_function
+
+
+def summary_function(r, task) -> dict:
+    per, mx, rms = _errors(r.point_errors_deg)
+    e = np.abs(r.range_error_deg)
+    se = {"max_deg": float(e.max()), "rms_deg": float(np.sqrt(np.mean(e * e)))}
+    if r.range_error_y is not None:
+        ey = np.abs(r.range_error_y)
+        se |= {"max_y": float(ey.max()), "rms_y": float(np.sqrt(np.mean(ey * ey)))}
+    out = {"problem": "function", "model": None, "design": r.design, "error_unit": "deg",
+           "precision_points_deg": [[math.degrees(a), math.degrees(b)] for a, b in zip(r.phi, r.psi_target)],
+           "errors": per, "max_error": mx, "rms_error": rms, "structural_error": se,
+           "defects": {"checked": ["circuit", "branch", "order"], **r.defects.as_dict()},
+           "evaluations": 1, "seconds": r.seconds}
+    if task is not None:
+        out["function"] = {"expression": task.expression, "x": list(task.x_range), "phi_deg": list(task.phi_deg),
+                           "psi_deg": list(task.psi_deg), "points": task.points, "spacing": task.spacing}
+    return out
+
+
+def _plot_function(r, path):
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(np.degrees(r.range_phi), r.range_error_deg, "C0-", label="structural error ψ achieved − wanted (mbplanar)")
+    ax.plot(np.degrees(r.phi), r.point_errors_deg, "C3o", label="precision points")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("crank angle φ [deg]")
+    ax.set_ylabel("error [deg]")
+    ax.set_title("Function generator (Freudenstein)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+# -- motion generation ----------------------------------------------------------------------------------
+def _motion(args):
+    from .burmester import centre_point_curve, synthesise_motion
+    src = args.input
+    circle = centre = slider = None
+    full_turn = args.full_turn
+    if str(src).lower().endswith(".csv"):
+        rows = _csv_rows(src, 3)
+    else:
+        data = _known(_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn"), src)
+        rows = _pairs(data, "poses", src, 3)
+        circle = _pairs(data, "circle_points", src, 2, required=False)
+        centre = _pairs(data, "centre_points", src, 2, required=False)
+        slider = _pairs(data, "slider_points", src, 2, required=False)
+        full_turn = full_turn or bool(data.get("full_turn", False))
+    poses = np.column_stack([rows[:, :2], np.radians(rows[:, 2])])
+    result = synthesise_motion(poses, circle, centre, slider, full_turn)
+    summary = summary_motion(result)
+    if args.curve:
+        if len(poses) != 4:
+            raise ModelError("--curve needs exactly 4 poses")
+        curve = centre_point_curve(poses)
+        with open(args.curve, "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh)
+            w.writerow(["branch", "alpha_deg", "centre_x", "centre_y", "circle_x", "circle_y"])
+            for b in range(2):
+                for k, a in enumerate(curve["alpha"]):
+                    c, z = curve["centre"][b, k], curve["circle"][b, k]
+                    if np.isfinite(c).all() and np.isfinite(z).all():
+                        w.writerow([b] + [repr(float(v)) for v in (math.degrees(a), c[0], c[1], z[0], z[1])])
+        summary["curve"] = str(args.curve)
+    return summary, result, _plot_motion
+
+
+def summary_motion(r) -> dict:
+    from .burmester import SliderDyad
+    per, mx, rms = _errors(r.pose_errors)
+    d1, d2 = r.dyads
+    design = {"crank_pivot": d1.centre.tolist(), "crank_joint": d1.circle.tolist(),
+              "crank": float(np.hypot(*(d1.circle - d1.centre)))}
+    if isinstance(d2, SliderDyad):
+        design |= {"slider_joint": d2.point.tolist(), "guide_deg": math.degrees(math.atan2(*d2.direction[::-1])),
+                   "coupler": float(np.hypot(*(d2.point - d1.circle)))}
+    else:
+        design |= {"rocker_joint": d2.circle.tolist(), "rocker_pivot": d2.centre.tolist(),
+                   "coupler": float(np.hypot(*(d2.circle - d1.circle))),
+                   "rocker": float(np.hypot(*(d2.circle - d2.centre))),
+                   "ground": float(np.hypot(*(d2.centre - d1.centre)))}
+    return {"problem": "motion", "model": None, "design": design,
+            "poses": [[float(x), float(y), math.degrees(t)] for x, y, t in r.poses],
+            "crank_phi_deg": [math.degrees(p) for p in r.crank_phi],
+            "error_unit": "m", "errors": per, "max_error": mx, "rms_error": rms,
+            "angle_errors_deg": [float(v) for v in r.angle_errors_deg],
+            "max_angle_error_deg": float(np.max(r.angle_errors_deg)),
+            "defects": {"checked": ["circuit", "branch", "order"], **r.defects.as_dict(),
+                        "rejected": r.alternatives[:20]},
+            "burmester_points": [{"centre": m.tolist(), "circle": z.tolist()} for m, z in r.burmester],
+            "evaluations": len(r.alternatives) + 1, "seconds": r.seconds}
+
+
+def _plot_motion(r, path):
+    from ..kinematics import analyse
+    from ..engine import Engine
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.5, 5.5))
+    engine = Engine(r.mechanism)
+    lo, hi = float(min(r.crank_phi)), float(max(r.crank_phi))
+    m = analyse(engine, np.linspace(lo - 0.1 * (hi - lo), hi + 0.1 * (hi - lo), 400))
+    p = m.xy[:, m.point("P")]
+    ax.plot(p[:, 0], p[:, 1], "C0-", label="coupler point path (mbplanar)")
+    size = np.ptp(r.poses[:, :2], axis=0).max() * 0.15 or 0.1
+    for k, (x, y, t) in enumerate(r.poses):
+        ax.annotate("", (x + size * math.cos(t), y + size * math.sin(t)), (x, y),
+                    arrowprops={"arrowstyle": "->", "color": "C3"})
+        ax.text(x, y, f" {k + 1}", color="C3")
+    d1, d2 = r.dyads
+    if hasattr(d2, "direction"):
+        ax.plot(*np.array([d1.centre, d1.circle, d2.point]).T, "k-o", ms=4, label="crank and slider at pose 1")
+        ends = d2.point + np.outer([-1.0, 1.0], d2.direction) * 2 * size
+        ax.plot(*ends.T, "k--", lw=0.8)
+    else:
+        ax.plot(*np.array([d1.centre, d1.circle, d2.circle, d2.centre]).T, "k-o", ms=4, label="four-bar at pose 1")
+    frame = np.vstack([p, r.poses[:, :2], *(np.atleast_2d(v) for d in r.dyads for v in vars(d).values()
+                                            if np.shape(v) == (2,))])
+    lo, hi = frame.min(axis=0), frame.max(axis=0)
+    pad = 0.5 * (hi - lo).max()
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    if len(r.poses) == 4:
+        from .burmester import centre_point_curve
+        curve = centre_point_curve(r.poses, 7200)
+        for b in range(2):
+            for key, colour in (("centre", "C2."), ("circle", "C1.")):
+                pts = curve[key][b]
+                inside = np.all((pts >= lo - pad) & (pts <= hi + pad), axis=1)
+                ax.plot(*pts[inside].T, colour, ms=1)
+        ax.plot([], [], "C2.", label="centre-point curve")
+        ax.plot([], [], "C1.", label="circle-point curve")
+    ax.set_title("Motion generator (Burmester)")
+    _finish(fig, ax, path)
+
+
+def _pyplot():
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise PlotUnavailable("--plot needs matplotlib (pip install 'mbplanar[plot]')") from None
+    return plt
+
+
+def _finish(fig, ax, path):
+    ax.set_aspect("equal", adjustable="box" if ax.get_autoscale_on() is False else "datalim")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    fig.clf()
+    import matplotlib.pyplot as plt
+    plt.close(fig)

@@ -1,0 +1,68 @@
+"""Results as data (`mbplanar.io`): `document` and `table` pick the builder by the result's type, and the
+command line prints exactly what they build."""
+
+import csv
+import io
+import json
+import pathlib
+
+import numpy as np
+import pytest
+
+import mbplanar
+from mbplanar.cli import main
+from mbplanar.io import document, forces_columns, info_document, solve_document, sweep_table, table
+
+MODELS = pathlib.Path(__file__).resolve().parent.parent / "models"
+
+
+@pytest.fixture(scope="module")
+def shaper():
+    return mbplanar.Engine(mbplanar.read_model(MODELS / "shaper.toml"))
+
+
+def test_document_of_an_engine_is_the_info_document(shaper, capsys):
+    assert document(shaper) == info_document(shaper)
+    assert main(["info", str(MODELS / "shaper.toml"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == json.loads(json.dumps(document(shaper, units="si")))
+
+
+def test_document_of_a_motion_is_what_solve_prints(shaper, capsys):
+    inp = shaper.inputs[0]
+    motion = mbplanar.analyse(shaper, [inp.to_si(30.0)], omega=1.0, epsilon=0.0)  # the CLI's default
+    doc = document(motion, values=[30.0])
+    assert doc == solve_document(shaper, motion, 0, [30.0])
+    assert main(["solve", str(MODELS / "shaper.toml"), "--at", "30", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == json.loads(json.dumps(document(motion, values=[30.0], units="si")))
+    assert "units" in document(motion, units="model") and "units" not in doc
+
+
+def test_table_of_a_motion_and_of_its_forces_are_the_sweep_columns(shaper, tmp_path):
+    inp = shaper.inputs[0]
+    values = np.linspace(0.0, 360.0, 13)
+    motion = mbplanar.analyse(shaper, inp.to_si(values), omega=1.0, epsilon=0.0)  # the CLI's default
+    header, cols = table(motion)
+    assert (header, cols.tolist()) == (sweep_table(shaper, motion, "deg")[0], sweep_table(shaper, motion, "deg")[1].tolist())
+    result = mbplanar.kinetostatics(shaper, motion)
+    f_header, f_cols = table(result)
+    assert f_header == forces_columns(shaper, result)[0] and f_header[-1] == "virtual_power_residual"
+    assert f_cols.shape == (len(motion.phi), len(f_header))
+    out = tmp_path / "sweep.csv"
+    assert main(["sweep", str(MODELS / "shaper.toml"), "--steps", "12", "--forces", "yes", "-o", str(out)]) == 0
+    with open(out, newline="") as f:
+        written = list(csv.reader(f))
+    assert written[0] == header + f_header and len(written) == 14
+    np.testing.assert_allclose([float(x) for x in written[5][:len(header)]], cols[4], rtol=1e-11, atol=1e-12)
+
+
+def test_results_without_a_builder_are_refused(shaper):
+    with pytest.raises(TypeError, match="no document for a str"):
+        document("motion")
+    with pytest.raises(TypeError, match="no table for a Engine"):
+        table(shaper)
+
+
+def test_true_motion_lives_beside_machine_dynamics():
+    from mbplanar.forces import machine_dynamics, true_motion
+    assert true_motion.__module__ == machine_dynamics.__module__
+    assert io  # (the standard library's io is not shadowed by mbplanar.io)
