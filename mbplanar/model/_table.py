@@ -579,15 +579,20 @@ def _end(mech, row: Row, link: str, end, units: Units) -> dict:
         return {"at": (x * units.length_scale, y * units.length_scale)}
     if not isinstance(end, str):
         row.fail(f"an end in 'at' must be a name or [x, y], got {end!r}")
-    if end in mech.points:
-        if mech.points[end].link != link:
-            row.fail(f"point '{end}' is on link '{mech.points[end].link}', not '{link}'")
-    elif end in mech.joints:
-        if link not in mech.joints[end].links:
-            row.fail(f"joint '{end}' does not belong to link '{link}'")
+    return {"point": _named_on(mech, row, link, end, f"'{end}' in 'at'")}
+
+
+def _named_on(mech, row: Row, link: str, name: str, what: str) -> str:
+    """`name`, checked to be a point of `link` or a joint of it (`what` names it in the error)."""
+    if name in mech.points:
+        if mech.points[name].link != link:
+            row.fail(f"point '{name}' is on link '{mech.points[name].link}', not '{link}'")
+    elif name in mech.joints:
+        if link not in mech.joints[name].links:
+            row.fail(f"joint '{name}' does not belong to link '{link}'")
     else:
-        row.fail(f"'{end}' in 'at' is neither a point nor a joint of the model")
-    return {"point": end}
+        row.fail(f"{what} is neither a point nor a joint of the model")
+    return name
 
 
 def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
@@ -666,15 +671,7 @@ def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | N
         if centre is None and not mech.joints_of(link):
             row.fail(f"link '{link}' has no joint to put the moment on")
         return {"point": centre if centre is not None else mech.joints_of(link)[0].name}
-    if name in mech.points:
-        if mech.points[name].link != link:
-            row.fail(f"point '{name}' is on link '{mech.points[name].link}', not '{link}'")
-    elif name in mech.joints:
-        if link not in mech.joints[name].links:
-            row.fail(f"joint '{name}' does not belong to link '{link}'")
-    else:
-        row.fail(f"'at' = '{name}' is neither a point nor a joint of the model")
-    return {"point": name}
+    return {"point": _named_on(mech, row, link, name, f"'at' = '{name}'")}
 
 
 # -- gravity and dynamics ----------------------------------------------------------------------------
