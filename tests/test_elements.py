@@ -161,3 +161,30 @@ def test_guide_loads_oppose_the_motion_running_backwards():
         v = motion.v[:, motion.point("B"), 0]
         for value in evaluate_loads(engine, motion, gravity=False):
             assert np.all(value.force[:, 0] * v < 0)
+
+
+def test_element_rows_follow_the_length_unit():
+    """The same mechanism and elements written in mm (and N·mm) give the same reactions as in m."""
+    def model(scale, moment_scale):
+        d = tomllib.loads((MODELS / "fourbar.toml").read_text())
+        for link in d["links"]:
+            link["length"] *= scale
+        for j in d["joints"]:
+            j["at"] = [x * scale for x in j["at"]]
+        d["points"][0]["offset"] *= scale
+        d["links"][1].update(mass=3.0, inertia=0.03, centre="M")
+        d["points"].append({"name": "K", "link": "0", "at": [0.1 * scale, 0.35 * scale]})
+        d["loads"] = [{"type": "spring", "at": ["K", "M"], "stiffness": 2000.0, "free_length": 0.1 * scale,
+                       "preload": 5.0},
+                      {"type": "spring", "name": "t", "at": [[0.0, 0.3 * scale], "M"], "links": ["0", "2"],
+                       "length": [0.0, 0.5 * scale], "force": [0.0, 100.0]},
+                      {"type": "torque", "links": ["1", "3"], "moment": 2.0 * moment_scale},
+                      {"type": "damper", "joint": "B", "damping": 0.5 * moment_scale}]
+        if scale != 1:
+            d.update(length_unit="mm", moment_unit="N*mm")
+        return mbplanar.Engine(mbplanar.parse_model(d))
+    phi = np.radians([20.0, 200.0])
+    a, b = (mbplanar.kinetostatics(e, mbplanar.analyse(e, phi, omega=3.0)) for e in (model(1, 1), model(1000, 1000)))
+    for j, r in a.reactions.items():
+        assert np.allclose(b.reactions[j].fx, r.fx, rtol=1e-9, atol=1e-9)
+    assert np.allclose(b.balancing["O"], a.balancing["O"], rtol=1e-9)
