@@ -82,6 +82,17 @@ def _at_values(text) -> list[float]:
     return values
 
 
+def _numbers_of(text, option) -> list[float]:
+    """The finite numbers of a comma-separated option's value."""
+    try:
+        values = [float(v) for v in str(text).split(",")]
+    except ValueError:
+        values = [math.nan]
+    if not all(math.isfinite(v) for v in values):
+        raise ModelError(f"{option} needs finite value(s) separated by commas")
+    return values
+
+
 def _input_si(engine, value):
     inp = engine.inputs[0]
     return inp.to_si(value)
@@ -519,12 +530,26 @@ def cmd_forces(args):
     if not motion.success:
         raise _unreachable(engine, args.at, motion)
     inertia = inertia or 0.0
-    result = kinetostatics(engine, motion, inertia)
+    from .forces._friction import friction_kinetostatics, read_friction
+    if args.mu is not None and not (math.isfinite(args.mu) and args.mu >= 0):
+        raise ModelError("--mu must be a finite number >= 0")
+    spec = read_friction(engine.mech, args.mu)
+    fr = None if spec is None else friction_kinetostatics(engine, motion, spec, inertia)
+    result = kinetostatics(engine, motion, inertia) if fr is None else fr.kinetostatics
     if not result.success:
         raise MotionError(f"{result.message}", source=engine.mech.source)
     doc = forces_document(engine, motion, result, values=values)
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
+    if fr is not None:
+        doc["friction"] = plain({"iterations": fr.iterations, "residual": float(fr.residual[0]),
+                                  "converged": fr.converged, "losses": float(fr.losses[0]),
+                                  "efficiency": float(fr.efficiency[0]),
+                                  "balancing_without_friction": {n: float(q[0]) for n, q in
+                                                                 fr.ideal.balancing.items()}})
+        if not fr.converged:
+            raise MotionError(f"the friction iteration did not converge in {fr.iterations} iterations "
+                              f"(residual {fr.residual[0]:.3g}): self-locking?", source=engine.mech.source)
     display = display_units(engine.mech, args.units)
     doc = convert_forces(engine, doc, display)
     if args.json:
@@ -549,6 +574,10 @@ def cmd_forces(args):
         q = _clean(q, tiny * (engine.size / display.scale("moment") if revolute else 1.0))
         print(f"balancing {'moment' if revolute else 'force'} at {name}: {q:.6g} {unit}")
     print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
+    if "friction" in doc:
+        f = doc["friction"]
+        print(f"friction: {f['iterations']} iterations, residual {f['residual']:.3g}; power lost "
+              f"{-f['losses']:.6g} W; instantaneous efficiency {f['efficiency']}")
     return 0
 
 
@@ -595,6 +624,134 @@ def _print_dynamics(engine, dyn, doc, display):
               f"ΔT_I = {at['dT_I']:.6g} J, ω = {at['omega']:.6g} rad/s, ε = {at['epsilon']:.6g} rad/s²")
         for name, m in at["M_red_by_load"].items():
             print(f"    M_red of {name}: {m:.6g} {moment}")
+
+
+# -- motion under given forces ---------------------------------------------------------------------
+def simulate_document(engine, tr) -> dict:
+    """The simulated motion: per time, the inputs' φ, ω, ε, every link's angle, ω, ε, every joint's
+    value, rate, acceleration and reaction (on `on` from `from`), the balancing load at each input (it
+    equals the drive), the energies; and the solver's settings and statistics."""
+    m, ks, spec = tr.motion, tr.kinetostatics, tr.spec
+    doc = {"model": engine.mech.name, "t": tr.t,
+           "solver": {"method": spec.method, "rtol": spec.rtol, "atol": spec.atol, "evaluations": tr.nfev,
+                      "success": tr.success, "message": tr.message},
+           "inputs": {inp.name: {"joint": inp.joint, "phi": tr.phi[:, k], "omega": tr.omega[:, k],
+                                 "epsilon": tr.epsilon[:, k], "drive": tr.drive[:, k],
+                                 "balancing": ks.balancing[inp.joint]}
+                      for k, inp in enumerate(engine.inputs)},
+           "links": {name: {"angle": m.angle[:, k], "omega": m.w[:, k], "epsilon": m.e[:, k]}
+                     for k, name in enumerate(m.link_names) if name != engine.mech.ground},
+           "joints": {}, "energy": tr.energy}
+    for k, name in enumerate(m.joint_names):
+        r = ks.reactions[name]
+        doc["joints"][name] = {"value": m.value[:, k], "rate": m.rate[:, k], "accel": m.accel[:, k],
+                               "on": r.on, "from": r.source, "fx": r.fx, "fy": r.fy, "moment": r.moment}
+    return plain(doc)
+
+
+def simulate_table(doc) -> tuple[list, np.ndarray]:
+    """Header and columns (N, k) of the simulated motion for CSV."""
+    header, cols = ["t[s]"], [doc["t"]]
+    for name, d in doc["inputs"].items():
+        header += [f"{name}", f"{name}.omega", f"{name}.epsilon", f"{name}.drive"]
+        cols += [d["phi"], d["omega"], d["epsilon"], d["drive"]]
+    for name, d in doc["links"].items():
+        header += [f"angle.{name}[rad]", f"omega.{name}[rad/s]", f"epsilon.{name}[rad/s2]"]
+        cols += [d["angle"], d["omega"], d["epsilon"]]
+    for name, d in doc["joints"].items():
+        header += [f"{name}.value", f"F{name}.x[N]", f"F{name}.y[N]"]
+        cols += [d["value"], d["fx"], d["fy"]]
+    header += ["kinetic[J]", "potential[J]", "drive_work[J]"]
+    cols += [doc["energy"]["kinetic"], doc["energy"]["potential"], doc["energy"]["drive_work"]]
+    return header, np.column_stack([np.asarray(c, float) for c in cols])
+
+
+def _from_state(path, engine) -> tuple[list, list]:
+    """φ and ω of every input at the last time of a previous `simulate --json` output."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+        ins = [doc["inputs"][inp.name] for inp in engine.inputs]
+        return [float(d["phi"][-1]) for d in ins], [float(d["omega"][-1]) for d in ins]
+    except (KeyError, IndexError, TypeError, json.JSONDecodeError) as exc:
+        raise ModelError(f"{path}: not the JSON output of 'mbplanar simulate' for this model ({exc})") from None
+
+
+def cmd_simulate(args):
+    from .forces._simulation import read_simulate, simulate_motion
+    engine = _load(args)
+    over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
+    for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega),
+                      ("input_inertia", args.input_inertia)):
+        over[key] = None if text is None else _numbers_of(text, "--" + key.replace("_", "-"))
+    if args.start is not None:
+        over["phi"], over["omega"] = _from_state(args.start, engine)
+    spec = read_simulate(engine.mech, **over)
+    tr = simulate_motion(engine, spec)
+    doc = simulate_document(engine, tr)
+    if args.output:
+        write_csv(args.output, *simulate_table(doc))
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0 if tr.success else 1
+    last = -1
+    print(f"{doc['model']}: motion under the given forces from t = 0 to {tr.t[-1]:g} s "
+          f"({spec.method}, rtol {spec.rtol:g}, {tr.nfev} evaluations): {tr.message}")
+    for name, d in doc["inputs"].items():
+        print(f"  {name}: {d['phi'][last]:.12g}, speed {d['omega'][last]:.12g}, acceleration "
+              f"{d['epsilon'][last]:.12g}; drive {d['drive'][last]:.6g}, balancing {d['balancing'][last]:.6g}")
+    e = doc["energy"]
+    print(f"  energy: kinetic {e['kinetic'][last]:.9g} J, potential {e['potential'][last]:.9g} J, "
+          f"work of the drive {e['drive_work'][last]:.9g} J")
+    return 0 if tr.success else 1
+
+
+def balance_document(engine, bal, count: int = 360) -> dict:
+    """Counterweights, and before/after at the model's speed over a turn: the RMS and largest shaking
+    force, the largest reaction in every pair, the largest balancing moment (or force)."""
+    from .forces._shaking import shaking
+    from .engine._solver import Engine
+    from .forces._kinetostatics import kinetostatics
+    from .kinematics._motion import analyse
+    doc = {"model": engine.mech.name, "counterweights": [vars(cw) for cw in bal.counterweights],
+           "rms_unit_speed": {"before": bal.rms_before, "after": bal.rms_after}}
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, count, endpoint=False)
+    balanced = Engine(bal.mechanism, backend=engine.backend, threads=engine.threads)
+    for when, eng in (("before", engine), ("after", balanced)):
+        ks = kinetostatics(eng, analyse(eng, phi))
+        sh = shaking(eng, ks)
+        doc[when] = {"shaking_force_max": float(np.max(sh.magnitude)),
+                     "shaking_force_rms": float(np.sqrt(np.mean(sh.magnitude ** 2))),
+                     "shaking_moment_max": float(np.max(np.abs(sh.moment))),
+                     "reaction_max": {n: float(np.max(r.magnitude)) for n, r in ks.reactions.items()},
+                     "balancing_max": {n: float(np.max(np.abs(q))) for n, q in ks.balancing.items()}}
+    return plain(doc)
+
+
+def cmd_balance(args):
+    from .forces._shaking import balance
+    engine = _load(args)
+    links = [n.strip() for n in args.links.split(",") if n.strip()]
+    radius = None if args.radius is None else _numbers_of(args.radius, "--radius")
+    if radius is not None and not all(r > 0 for r in radius):
+        raise ModelError("--radius must be positive")
+    bal = balance(engine, links, radius)
+    doc = balance_document(engine, bal)
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0
+    print(f"{doc['model']}: counterweights on {', '.join(links)} (shaking force RMS at 1 rad/s: "
+          f"{bal.rms_before:.6g} -> {bal.rms_after:.3g} N)")
+    for cw in bal.counterweights:
+        print(f"  link {cw.link}: {cw.mass:.6g} kg at ({cw.at[0]:.6g}, {cw.at[1]:.6g}) m, first moment "
+              f"{cw.first_moment:.6g} kg·m about {cw.about} at {cw.angle_deg:.4f}° to the link's line")
+    for when in ("before", "after"):
+        d = doc[when]
+        print(f"  {when}: shaking force max {d['shaking_force_max']:.6g} N, RMS {d['shaking_force_rms']:.6g} N, "
+              f"shaking moment max {d['shaking_moment_max']:.6g} N·m; balancing max "
+              + ", ".join(f"{n} {q:.6g}" for n, q in d["balancing_max"].items()))
+        print("    largest reactions: " + ", ".join(f"{n} {f:.6g} N" for n, f in d["reaction_max"].items()))
+    return 0
 
 
 # -- pictures ---------------------------------------------------------------------------------------
@@ -767,6 +924,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--omega", type=float, help="input speed dφ/dt (default: the model's omega)")
     s.add_argument("--epsilon", type=float, help="input acceleration (default: the model's, else 0)")
     s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
+    s.add_argument("--mu", type=float, help="friction coefficient of every pair (overrides [friction] mu)")
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_forces)
@@ -781,6 +939,29 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_dynamics)
+
+    s = sub.add_parser("simulate", help="motion under given forces: integrate the equations of motion in time")
+    s.add_argument("model")
+    s.add_argument("--t", type=float, help="end time in s (default: the model's [simulate] t)")
+    s.add_argument("--torque", help="drive on each input along its coordinate, N·m or N (comma list; default: the model's, else 0)")
+    s.add_argument("--motor-slope", help="motor characteristic: drive = torque − slope·speed (N·m·s/rad)")
+    s.add_argument("--omega", help="start speed of each input (default 0)")
+    s.add_argument("--input-inertia", help="kg·m² (kg) on each input link besides the links' own (default 0)")
+    s.add_argument("--from", dest="start", help="start from the last state of a previous --json output")
+    s.add_argument("--rtol", type=float, help="relative tolerance of solve_ivp (default 1e-10)")
+    s.add_argument("--atol", type=float, help="absolute tolerance (default 1e-12)")
+    s.add_argument("--method", help="solve_ivp method (default DOP853)")
+    s.add_argument("--steps", type=int, help="output intervals (default 100)")
+    s.add_argument("-o", "--output", help="CSV file of the motion")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_simulate)
+
+    s = sub.add_parser("balance", help="counterweights that cancel the shaking force (or minimise its RMS)")
+    s.add_argument("model")
+    s.add_argument("--links", required=True, help="comma list of the links that get a counterweight")
+    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot, m (one or per link)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_balance)
 
     s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, "
                                     "transmission, forces, ...")

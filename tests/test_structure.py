@@ -441,6 +441,11 @@ MODEL_STRUCTURES = {
     # seed 004: contour D–E–K–G of links 2, 3, 5, 4; rods 6, 7 to the ground pivots B, C
     "class4_group": (1, 3, 4, "I(0,1) → IV(2,3,4,5,6,7)", [
         (4, 3, None, ["2", "3", "4", "5", "6", "7"], ["D", "G", "E", "K", "F", "L"], ["A", "B", "C"])]),
+    # Andrews' squeezer: three RRR dyads, each hung on rod 2's point E (three pairs at one place) and the frame
+    "squeezer": (1, 3, 2, "I(0,1) → II(2,3) → II(4,5) → II(6,7)", [
+        (2, 2, "RRR", ["2", "3"], ["E23"], ["F", "B"]),
+        (2, 2, "RRR", ["4", "5"], ["G"], ["A5", "E24"]),
+        (2, 2, "RRR", ["6", "7"], ["H"], ["A7", "E26"])]),
 }
 
 

@@ -75,6 +75,8 @@ def rescale(doc: dict, unit: str) -> dict:
         link["lengths"] = [[p, q, length(v)] for p, q, v in link.get("lengths", [])]
         if "inertia" in link:
             link["inertia"] *= ki
+        if isinstance(link.get("centre"), list):
+            link["centre"] = _scaled_pair(link["centre"], k)
     for joint in _rows(doc, "joints"):
         joint["at"] = length(joint["at"])
     for point in _rows(doc, "points"):
@@ -94,6 +96,9 @@ def rescale(doc: dict, unit: str) -> dict:
             if "sweep" in inp:
                 inp["sweep"] = _scaled_pair(inp["sweep"], k)
     for load in doc.get("loads", []):
+        if load.get("type") in ("spring", "damper", "torque"):  # elements between two links
+            _rescale_element(load, k, km)
+            continue
         if isinstance(load.get("at"), list):
             load["at"] = _scaled_pair(load["at"], k)
         if "stroke" in load:
@@ -113,6 +118,21 @@ def rescale(doc: dict, unit: str) -> dict:
             if key in dyn.get("flywheel", {}):
                 dyn["flywheel"][key] *= ki
     return doc
+
+
+def _rescale_element(load: dict, k: float, km: float):
+    """A spring's or damper's ends and lengths in the new length unit; a torque's and a rotational
+    damper's moments in the new moment unit (stiffness and linear damping stay SI)."""
+    if isinstance(load.get("at"), list):
+        load["at"] = [_scaled_pair(end, k) if isinstance(end, list) else end for end in load["at"]]
+    for key in ("free_length",):
+        if key in load:
+            load[key] *= k
+    if isinstance(load.get("length"), list):
+        load["length"] = _scaled_pair(load["length"], k)
+    if load["type"] == "torque" or (load["type"] == "damper" and "joint" in load):
+        key = "moment" if load["type"] == "torque" else "damping"
+        load[key] *= km
 
 
 def _rows(doc, key):

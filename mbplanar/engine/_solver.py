@@ -105,12 +105,13 @@ class Engine:
         """Direction of the link's reference line in the drawn pose (rad)."""
         if link == self.mech.ground:
             return 0.0
+        offset = self.mech.links[link].angle_offset
         ref = reference_points(self.mech, link)
         if ref is not None:
             p, q = (self._drawn_point(link, n) for n in ref)
-            return math.atan2(q[1] - p[1], q[0] - p[0])
+            return math.atan2(q[1] - p[1], q[0] - p[0]) + offset
         guide = next((j for j in self.mech.joints_of(link) if j.kind == "P"), None)
-        return math.radians(guide.guide_deg) if guide is not None else 0.0
+        return (math.radians(guide.guide_deg) if guide is not None else 0.0) + offset
 
     def _drawn_point(self, link: str, name: str):
         if name in self.mech.joints:

@@ -110,6 +110,8 @@ def plain(obj):
         return {k: plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [plain(v) for v in obj.tolist()]
     if isinstance(obj, (float, np.floating)):
         return _finite(obj)
     if isinstance(obj, np.integer):

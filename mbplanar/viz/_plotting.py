@@ -350,14 +350,15 @@ def _figure(plt, figsize):
     return plt.figure(figsize=figsize, layout="constrained")
 
 
-SHOW = {"velocities": "v", "accelerations": "a", "reactions": "reactions", "centres": "centres"}
+SHOW = {"velocities": "v", "accelerations": "a", "reactions": "reactions", "centres": "centres", "loads": "loads"}
 
 
-def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=False, cycle=None, count=72,
-                   figsize=(7.5, 6.5)):
-    """Kinematic diagram at one position, at the model's input speed; `vectors` ⊂ {'v', 'a'} adds
-    velocity/acceleration vectors, `centres` the instantaneous centres, `reactions` the reaction arrows
-    (kinetostatics). `count` positions of the cycle size the guides and the frame."""
+def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=False, loads=False, cycle=None,
+                   count=72, figsize=(7.5, 6.5)):
+    """Kinematic diagram at one position, at the model's input speed, with its springs, dampers and
+    torques between links; `vectors` ⊂ {'v', 'a'} adds velocity/acceleration vectors, `centres` the
+    instantaneous centres, `reactions` the reaction arrows (kinetostatics), `loads` the applied loads.
+    `count` positions of the cycle size the guides and the frame."""
     plt = require_matplotlib()
     motion = position_motion(engine, at)
     cycle = cycle_motion(engine, count) if cycle is None else cycle
@@ -367,6 +368,10 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=Fals
     draw_mechanism(ax, scene, 0)
     title = _title(engine, motion) + (f", {input_speed(engine)}" if vectors or reactions else "")
     _frame_axes(ax, build_scene(engine, cycle, cycle) if cycle is not None else scene, title)
+    from ._elementplots import draw_elements, draw_loads
+    draw_elements(ax, engine, motion, 0, scene.size)
+    if loads:
+        draw_loads(ax, engine, motion, 0, scene.size)
     for which in vectors:
         draw_vectors(ax, scene, motion, 0, which)
     if centres:
@@ -375,7 +380,7 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=Fals
         from ._forceplots import draw_reactions
         from ..forces._kinetostatics import kinetostatics
         draw_reactions(ax, engine, kinetostatics(engine, motion), 0, scene.size)
-    if vectors or reactions:
+    if (vectors or reactions or loads) and ax.get_legend_handles_labels()[1]:
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
     return fig
 
@@ -388,7 +393,7 @@ def show_options(text: str | None) -> dict:
     if bad:
         raise ModelError(f"unknown --show item '{bad[0]}'; choose from: {', '.join(SHOW)} (or all)")
     return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
-            "centres": "centres" in names, "reactions": "reactions" in names}
+            "centres": "centres" in names, "reactions": "reactions" in names, "loads": "loads" in names}
 
 
 def vectors_figure(engine, at=None, **kw):
@@ -626,7 +631,18 @@ FIGURES: dict[str, Figure] = {
     "transmission": Figure(transmission_figure, "transmission angles and pressure angles against the coordinate"),
     "forces": Figure(forces_figure, "reactions, their hodographs and the balancing moment against the coordinate"),
     "dynamics": Figure(dynamics_figure, "J_II, reduced moments, work, ΔT_I, true ω(φ) and ε(φ) (models with [dynamics])"),
+    "shaking": Figure(lambda engine, at=None, **kw: _elementplots().shaking_figure(engine, at, **kw),
+                      "shaking force on the frame (hodograph) and shaking moment over the cycle"),
+    "efficiency": Figure(lambda engine, at=None, **kw: _elementplots().efficiency_figure(engine, at, **kw),
+                         "instantaneous efficiency with friction in the pairs (models with [friction])"),
+    "simulation": Figure(lambda engine, at=None, **kw: _elementplots().simulation_figure(engine, at, **kw),
+                         "motion under the given forces against time and its energy balance ([simulate])"),
 }
+
+
+def _elementplots():
+    from . import _elementplots as module
+    return module
 
 
 def register_figure(name: str, function: Callable, help: str) -> None:
