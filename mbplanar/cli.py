@@ -19,7 +19,8 @@ import numpy as np
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError, PrecisionWarning
 from .forces._dynamics import true_motion
 from .forces._loads import has_force_data, warn_idle_resistances
-from .io import dynamics_document, forces_document, info_document, plain, solve_document, write_csv
+from .io import (dynamics_document, forces_document, info_document, partials_document, plain, solve_document,
+                 write_csv)
 from .io._tables import dynamics_table, forces_columns, sweep_table
 from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
                         convert_solution, convert_table, display_units)
@@ -213,41 +214,6 @@ def _inputs_at(engine, text) -> list[float]:
         raise ModelError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas "
                         f"({', '.join(i.name for i in engine.inputs)})")
     return values
-
-
-def partials_document(engine, phi) -> dict:
-    """First, second and mixed partial analogues at one position phi (1, n_in) (SI): ∂x/∂φ_k and
-    ∂²x/∂φ_k∂φ_l of every point (x, y), link angle and joint value. The second derivative along a
-    direction u is the acceleration for ω = u, ε = 0, a quadratic form in u, so the mixed partial is
-    (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing)."""
-    from .kinematics._motion import analyse
-    n_in = len(engine.inputs)
-    eye = np.eye(n_in)
-
-    def along(u):
-        m = analyse(engine, phi, omega=u[None, :], epsilon=np.zeros((1, n_in)))
-        return m, {"points": {n: np.array([m.v[0, k], m.a[0, k]]) for k, n in enumerate(m.point_names)},
-                   "links": {n: np.array([m.w[0, k], m.e[0, k]]) for k, n in enumerate(m.link_names)},
-                   "joints": {n: np.array([m.rate[0, k], m.accel[0, k]]) for k, n in enumerate(m.joint_names)}}
-
-    single = [along(eye[k])[1] for k in range(n_in)]
-    names = [i.name for i in engine.inputs]
-    doc = {"inputs": names, "first": {}, "second": {}}
-
-    def pack(table, which):
-        return {"points": {n: {"x": v[which][0], "y": v[which][1]} for n, v in table["points"].items()},
-                "links": {n: v[which] for n, v in table["links"].items()},
-                "joints": {n: v[which] for n, v in table["joints"].items()}}
-
-    for k in range(n_in):
-        doc["first"][names[k]] = pack(single[k], 0)
-        doc["second"][f"{names[k]},{names[k]}"] = pack(single[k], 1)
-        for j in range(k + 1, n_in):
-            both = along(eye[k] + eye[j])[1]
-            mixed = {part: {n: (both[part][n] - single[k][part][n] - single[j][part][n]) / 2
-                            for n in both[part]} for part in both}
-            doc["second"][f"{names[k]},{names[j]}"] = pack(mixed, 1)
-    return plain(doc)
 
 
 def cmd_solve(args):
