@@ -226,7 +226,7 @@ def cmd_solve(args):
         raise _unreachable(engine, args.at, motion)
     display = display_units(engine.mech, args.units)
     doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
-    if args.json:
+    if args.json and len(engine.inputs) > 1:  # (one input: the "analogues" are these partials)
         doc["partials"] = partials_document(engine, motion.phi)
     if args.json:
         print(json.dumps(doc, indent=2))

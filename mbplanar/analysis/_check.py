@@ -569,7 +569,7 @@ def _format_local(ext: Extreme, loc: dict, unit: str, lu: str = "m", k: float = 
 
 
 # -- two inputs: the reachable region and the singular curves ----------------------------------------
-REGION_SAMPLES = 37    # grid points per input (10° over a full turn)
+REGION_SAMPLES = 19    # grid points per input (20° over a full turn)
 
 
 @dataclass
