@@ -112,5 +112,5 @@ def test_friction_section_is_validated():
 
 def test_forces_command_reports_friction(capsys):
     from mbplanar.cli import main
-    assert main(["forces", str(MODELS / "slider_crank.toml"), "--at", "30", "--mu", "0.0"]) == 0
+    assert main(["forces", str(MODELS / "shaper.toml"), "--at", "30", "--mu", "0.0"]) == 0
     assert "friction: 0 iterations" in capsys.readouterr().out
