@@ -7,14 +7,16 @@ Exit status: 0 success, 1 a mechanism that cannot move as asked (lock, dead poin
 from __future__ import annotations
 
 import argparse
+import csv
 import json
 import math
+import os
 import sys
 import warnings
 
 import numpy as np
 
-from .errors import MbplanarError, ModelError, ModelWarning, MotionError
+from .errors import MbplanarError, ModelError, ModelWarning, MotionError, PrecisionWarning
 from .forces._dynamics import true_motion
 from .forces._loads import has_force_data, warn_idle_resistances
 from .io import dynamics_document, forces_document, info_document, plain, solve_document, write_csv
@@ -41,6 +43,34 @@ def _positive_int(text) -> int:
     return value
 
 
+def _finite_float(text) -> float:
+    """A finite number (argparse type): nan and ±inf are refused at the edge."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"a finite number, not {text!r}")
+    return value
+
+
+DPI_RANGE = (10, 1200)       # a picture of 8 × 6 in at 1200 dpi is ~70 Mpixel (~280 MB in memory)
+FRAMES_MAX = 3600
+
+
+def _bounded_int(lo, hi):
+    """An integer in [lo, hi] (argparse type)."""
+    def parse(text) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = lo - 1
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"an integer from {lo} to {hi}, not {text!r}")
+        return value
+    return parse
+
+
 def _at_values(text) -> list[float]:
     """The finite numbers of a comma-separated --at."""
     try:
@@ -52,9 +82,53 @@ def _at_values(text) -> list[float]:
     return values
 
 
+def _numbers_of(text, option) -> list[float]:
+    """The finite numbers of a comma-separated option's value."""
+    try:
+        values = [float(v) for v in str(text).split(",")]
+    except ValueError:
+        values = [math.nan]
+    if not all(math.isfinite(v) for v in values):
+        raise ModelError(f"{option} needs finite value(s) separated by commas")
+    return values
+
+
 def _input_si(engine, value):
     inp = engine.inputs[0]
     return inp.to_si(value)
+
+
+def _at_si(engine, values) -> np.ndarray:
+    """--at values (model units) as SI (1, n_in), reduced by whole periods where far (`_at_reduced`)."""
+    return np.array([[i.to_si(v) for i, v in zip(engine.inputs, _at_reduced(engine, values))]])
+
+
+def _at_reduced(engine, values) -> list[float]:
+    """--at values (model units), unchanged unless a single revolute input lies far from the drawn
+    pose on a periodic branch: then reduced by whole periods in the model's unit, exactly for degrees
+    (fmod is exact), with a note (the engine reduces SI values itself, to the float spacing of φ)."""
+    from .engine._atlas import FAR_TURNS, LOST_PRECISION
+    values = [float(v) for v in values]
+    if len(engine.inputs) != 1 or engine.mech.joints[engine.inputs[0].joint].kind != "R":
+        return values
+    inp, value = engine.inputs[0], values[0]
+    if abs(inp.to_si(value) - engine.phi_drawn[0]) <= 2 * math.pi * FAR_TURNS:
+        return values
+    period = engine.period()
+    if period is None:
+        return values  # the engine refuses it, naming the range, or stops at a limit
+    turns = round(period / (2 * math.pi))
+    in_unit = 360.0 * turns if inp.unit == "deg" else period
+    reduced = math.fmod(value, in_unit)
+    error = 0.0 if inp.unit == "deg" else abs(value / in_unit) * np.spacing(in_unit)
+    if error > LOST_PRECISION:
+        raise ModelError(f"--at {value:g} {inp.unit}: reducing it by whole turns leaves an uncertainty of "
+                         f"{error:.3g} rad; give the value reduced by whole turns", source=engine.mech.source)
+    note = f"; the reduction is good to {error:.2g} rad" if error > 1e-15 else ""
+    print(f"mbplanar: {engine.mech.source}: note: {inp.name} = {value:g} {inp.unit} lies "
+          f"{abs(value) / in_unit:.6g} period(s) from zero; the motion repeats every {turns} turn(s), so it is "
+          f"solved at the equivalent {reduced:.15g} {inp.unit}{note}", file=sys.stderr)
+    return [reduced]
 
 
 # -- info -------------------------------------------------------------------------------------------
@@ -85,14 +159,43 @@ def cmd_info(args):
 
 
 # -- solve ------------------------------------------------------------------------------------------
+def _unreachable(engine, at, motion) -> MotionError:
+    """The error of an --at the drawn branch cannot reach, with the range a single input can move
+    through when a motion limit stopped it."""
+    where = ""
+    if len(engine.inputs) == 1 and motion.limits:
+        inp = engine.inputs[0]
+        lo, hi = engine.reach()
+        where = f" (the input moves within {inp.from_si(lo):.10g} … {inp.from_si(hi):.10g} {inp.unit})"
+    return MotionError(f"{engine.mech.source}: cannot reach {at} on the drawn branch: {motion.message}{where}")
+
+
 def _motion(engine, values_si, omega=None, epsilon=None):
     from .kinematics._motion import analyse
-    return analyse(engine, values_si, omega, epsilon)
+    motion = analyse(engine, values_si, omega, epsilon)
+    _check_overflow(motion)
+    return motion
 
 
-def _speeds(engine, phi, args):
+def _check_overflow(motion):
+    """Refuse an input speed or acceleration whose real velocities or accelerations leave the
+    floating-point range (--omega 1e300 squares to infinity) while their analogues are finite."""
+    real = (motion.w, motion.e, motion.v, motion.a)
+    if all(np.all(np.isfinite(x)) for x in real):
+        return
+    analogues = (motion.wq, motion.eq, motion.vq, motion.aq)
+    if any(x is not None and not np.all(np.isfinite(x)) for x in analogues):
+        return  # a singular position: its rates are infinite whatever the speed
+    om, ep = np.max(np.abs(motion.omega)), np.max(np.abs(motion.epsilon))
+    raise ModelError(f"input speed {om:g} and acceleration {ep:g}: the velocities or accelerations leave "
+                    f"the floating-point range (above {np.finfo(float).max:.3g}); give a smaller --omega "
+                    "or --epsilon")
+
+
+def _speeds(engine, phi, args, cache=None, check_only=False):
     """ω, ε of the input for solve and sweep: --omega/--epsilon (default 1 and 0: the analogues), or the
-    true motion from the machine dynamics with --true-motion (then also the first group's J_I)."""
+    true motion from the machine dynamics with --true-motion (then also the first group's J_I). `cache`
+    keeps the machine dynamics between the chunks of a sweep; `check_only` only checks the options."""
     if not getattr(args, "true_motion", False):
         return (1.0 if args.omega is None else args.omega), (0.0 if args.epsilon is None else args.epsilon), None
     if args.omega is not None or args.epsilon is not None:
@@ -100,21 +203,65 @@ def _speeds(engine, phi, args):
     if len(engine.inputs) != 1 or engine.mech.dynamics is None:
         raise ModelError("--true-motion needs a model with one input and a [dynamics] section",
                          source=engine.mech.source)
-    return true_motion(engine, phi)
+    return None if check_only else true_motion(engine, phi, cache)
+
+
+def _inputs_at(engine, text) -> list[float]:
+    """The --at values, one per input of the model."""
+    values = _at_values(text)
+    if len(values) != len(engine.inputs):
+        raise ModelError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas "
+                        f"({', '.join(i.name for i in engine.inputs)})")
+    return values
+
+
+def partials_document(engine, phi) -> dict:
+    """First, second and mixed partial analogues at one position phi (1, n_in) (SI): ∂x/∂φ_k and
+    ∂²x/∂φ_k∂φ_l of every point (x, y), link angle and joint value. The second derivative along a
+    direction u is the acceleration for ω = u, ε = 0, a quadratic form in u, so the mixed partial is
+    (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing)."""
+    from .kinematics._motion import analyse
+    n_in = len(engine.inputs)
+    eye = np.eye(n_in)
+
+    def along(u):
+        m = analyse(engine, phi, omega=u[None, :], epsilon=np.zeros((1, n_in)))
+        return m, {"points": {n: np.array([m.v[0, k], m.a[0, k]]) for k, n in enumerate(m.point_names)},
+                   "links": {n: np.array([m.w[0, k], m.e[0, k]]) for k, n in enumerate(m.link_names)},
+                   "joints": {n: np.array([m.rate[0, k], m.accel[0, k]]) for k, n in enumerate(m.joint_names)}}
+
+    single = [along(eye[k])[1] for k in range(n_in)]
+    names = [i.name for i in engine.inputs]
+    doc = {"inputs": names, "first": {}, "second": {}}
+
+    def pack(table, which):
+        return {"points": {n: {"x": v[which][0], "y": v[which][1]} for n, v in table["points"].items()},
+                "links": {n: v[which] for n, v in table["links"].items()},
+                "joints": {n: v[which] for n, v in table["joints"].items()}}
+
+    for k in range(n_in):
+        doc["first"][names[k]] = pack(single[k], 0)
+        doc["second"][f"{names[k]},{names[k]}"] = pack(single[k], 1)
+        for j in range(k + 1, n_in):
+            both = along(eye[k] + eye[j])[1]
+            mixed = {part: {n: (both[part][n] - single[k][part][n] - single[j][part][n]) / 2
+                            for n in both[part]} for part in both}
+            doc["second"][f"{names[k]},{names[j]}"] = pack(mixed, 1)
+    return plain(doc)
 
 
 def cmd_solve(args):
     engine = _load(args)
-    values = _at_values(args.at)
-    if len(values) != len(engine.inputs):
-        raise ModelError(f"--at needs {len(engine.inputs)} finite value(s) separated by commas")
-    phi = np.array([[i.to_si(v) for i, v in zip(engine.inputs, values)]])
+    values = _inputs_at(engine, args.at)
+    phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
-        raise MotionError(f"cannot reach {args.at} on the drawn branch: {motion.message}", source=engine.mech.source)
+        raise _unreachable(engine, args.at, motion)
     display = display_units(engine.mech, args.units)
     doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
+    if args.json:
+        doc["partials"] = partials_document(engine, motion.phi)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
@@ -174,53 +321,192 @@ def _print_columns(head, rows):
 
 # -- sweep ------------------------------------------------------------------------------------------
 def sweep_values(engine, steps=None, step=None, start=None, stop=None):
-    """Input values (model units) of a sweep: `steps` intervals or a `step`, both ends included."""
-    inp = engine.inputs[0]
-    lo, hi = inp.default_sweep()
-    lo = lo if start is None else start
-    hi = hi if stop is None else stop
+    """Input values (model units) of a one-input sweep: `steps` intervals or a `step`, both ends
+    included (see `sweep_plan` for the lazy form the CLI streams)."""
+    count, values, _ = sweep_plan(engine, steps, step, None if start is None else [start],
+                                  None if stop is None else [stop])
+    return values(0, count)[:, 0]
+
+
+def sweep_plan(engine, steps=None, step=None, start=None, stop=None, grid=False):
+    """A sweep's positions, generated lazily so that a long one never sits in memory: the number of
+    rows, a function values(i, j) → input values (j − i, n_in) (model units) of rows i … j − 1, and the
+    grid's shape (or None).
+
+    One input: `steps` intervals or a `step` from `start` to `stop` (default: the model's sweep), both
+    ends included; equal ends give one row. Several inputs: `start` and `stop` (one value per input)
+    are the ends of a straight path in input space with `steps` intervals; with `grid` the box they
+    span, with `steps` intervals per input (one count for all, or one per input), the first input
+    varying slowest."""
+    n_in = len(engine.inputs)
+    if n_in == 1:
+        lo, hi = engine.inputs[0].default_sweep()
+        lo, hi = (lo if start is None else start[0]), (hi if stop is None else stop[0])
+        return _line_plan(lo, hi, steps or [getattr(engine.inputs[0], "steps", None) or 72], step)
+    if start is None or stop is None:
+        raise ModelError(f"a sweep of {n_in} inputs needs --from and --to with {n_in} values each "
+                        "(the ends of a path in input space, or the corners of a grid with --grid)")
+    if step is not None:
+        raise ModelError("--step applies to one input; give --steps for several")
+    lo, hi = np.array(start, float), np.array(stop, float)
+    counts = steps or [72]
+    if not grid:
+        if len(counts) != 1:
+            raise ModelError("--steps of a path is one number; several numbers need --grid")
+        n = 1 if np.all(lo == hi) else counts[0] + 1
+        return n, (lambda i, j: lo + (hi - lo) * (np.arange(i, j)[:, None] / max(n - 1, 1))), None
+    if len(counts) not in (1, n_in):
+        raise ModelError(f"--steps of a grid is one number or {n_in} numbers")
+    axes = [np.linspace(a, b, (1 if a == b else int(c) + 1)) for a, b, c in
+            zip(lo, hi, np.broadcast_to(counts, (n_in,)))]
+    shape = tuple(len(ax) for ax in axes)
+
+    def values(i, j):
+        idx = np.unravel_index(np.arange(i, j), shape)
+        return np.stack([ax[k] for ax, k in zip(axes, idx)], axis=1)
+    return int(np.prod(shape)), values, shape
+
+
+def _line_plan(lo, hi, steps, step):
+    """`sweep_plan` of one input from lo to hi."""
+    if hi == lo:
+        return 1, (lambda i, j: np.full((j - i, 1), float(lo))), None  # --from and --to equal
     if step is not None:
         if not step > 0:
             raise ModelError("--step must be positive")
-        count = int(math.floor(abs(hi - lo) / step + 1e-9))
-        return lo + math.copysign(step, hi - lo) * np.arange(count + 1)
-    steps = getattr(inp, "steps", None) if steps is None else steps
-    steps = 72 if steps is None else steps
-    if steps < 1:
-        raise ModelError("--steps must be at least 1")
-    return np.linspace(lo, hi, steps + 1)
+        count = int(math.floor(abs(hi - lo) / step + 1e-9)) + 1
+        signed = math.copysign(step, hi - lo)
+        return count, (lambda i, j: (lo + signed * np.arange(i, j))[:, None]), None
+    if len(steps) != 1:
+        raise ModelError("--steps of one input is one number")
+    n = int(steps[0])
+    width = (hi - lo) / n
+
+    def values(i, j):  # as np.linspace(lo, hi, n + 1): the last value is hi itself
+        k = np.arange(i, j)
+        return np.where(k == n, hi, lo + k * width)[:, None]
+    return n + 1, values, None
+
+
+SWEEP_CHUNK = 20_000  # positions solved and written at a time: memory stays bounded whatever --steps
+
+
+def _steps_list(text) -> list[int]:
+    """--steps: one positive count, or one per input of a grid (argparse type)."""
+    counts = [_positive_int(part) for part in str(text).split(",")]
+    return counts
+
+
+def _values_list(text) -> list[float]:
+    """--from / --to: one finite value per input, comma-separated (argparse type)."""
+    return [_finite_float(part) for part in str(text).split(",")]
+
+
+class _Output:
+    """A text output opened at its first write (so a command refused before it leaves no file), and
+    removed when the command fails with an error part way (a truncated table would pass for a whole
+    one); standard output when `path` is None."""
+
+    def __init__(self, path):
+        self.path, self.file = path, None
+
+    def write_rows(self, rows):
+        if self.file is None:
+            self.file = open(self.path, "w", newline="", encoding="utf-8") if self.path else sys.stdout
+            self.writer = csv.writer(self.file)
+        self.writer.writerows(rows)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if self.path and self.file is not None:
+            self.file.close()
+            if kind is not None and not issubclass(kind, BrokenPipeError):
+                os.remove(self.path)
+        elif self.file is not None:
+            self.file.flush()
+        return False
+
+
+def _forces_columns(engine, motion, inertia):
+    """Header, columns (B, k) and a failure message (or None) of a sweep's reactions and balancing loads."""
+    from .forces._kinetostatics import kinetostatics
+    result = kinetostatics(engine, motion, inertia or 0.0)
+    header, cols = forces_columns(engine, result)
+    return header, cols, (None if result.success else result.message)
+
+
+def _cells(rows):
+    """CSV cells of a table (k, n): 12 significant digits, non-finite cells left empty."""
+    return [["" if not math.isfinite(x) else f"{x:.12g}" for x in row] for row in rows.tolist()]
 
 
 def cmd_sweep(args):
     engine = _load(args)
-    if len(engine.inputs) != 1:
-        raise ModelError("sweep drives one input; this model has several (use the Python API)")
-    values = sweep_values(engine, args.steps, args.step, args.start, args.stop)
-    inp = engine.inputs[0]
-    omega, epsilon, inertia = _speeds(engine, inp.to_si(values), args)
-    if args.input_inertia is not None:
-        inertia = args.input_inertia
-    motion = _motion(engine, inp.to_si(values), omega, epsilon)
-    angle_unit = args.angles or ("rad" if inp.unit == "rad" else "deg")
-    header, rows = sweep_table(engine, motion, angle_unit)
-    forces_failed = None
-    if args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech)):
-        from .forces._kinetostatics import kinetostatics
-        warn_idle_resistances(engine, motion)
-        result = kinetostatics(engine, motion, inertia or 0.0)
-        (f_header, f_rows), forces_failed = forces_columns(engine, result), (None if result.success else result.message)
-        header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
-    write_csv(args.output, *convert_table(header, rows, display_units(engine.mech, args.units)))
-    if motion.crossings:
-        from .kinematics._motion import describe_crossing
-        for c in motion.crossings:
-            print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
+    n_in = len(engine.inputs)
+    start = None if args.start is None else args.start
+    stop = None if args.stop is None else args.stop
+    for name, given in (("--from", start), ("--to", stop)):
+        if given is not None and len(given) != n_in:
+            raise ModelError(f"{name} needs {n_in} value(s) separated by commas")
+    if args.grid and n_in == 1:
+        raise ModelError("--grid applies to several inputs")
+    count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
+    if args.true_motion or n_in == 1:
+        _speeds(engine, None, args, check_only=True)
+    with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))
+    angle_unit = args.angles or ("rad" if engine.inputs[0].unit == "rad" else "deg")
+    display = display_units(engine.mech, args.units)
+    cache, notes, written, missing, forces_failed, stopped = {}, [], 0, 0, None, None
+    with _Output(args.output) as out:
+        for i in range(0, count, SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])):
+            j = min(count, i + (SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])))
+            for a, b in ([(i, j)] if shape is None else [(k, k + shape[-1]) for k in range(i, j, shape[-1])]):
+                values = values_of(a, b)
+                phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(engine.inputs)])
+                omega, epsilon, inertia = _speeds(engine, phi[:, 0], args, cache=cache)
+                if args.input_inertia is not None:
+                    inertia = args.input_inertia
+                motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
+                header, rows = sweep_table(engine, motion, angle_unit)
+                if with_forces:
+                    if written == 0:
+                        warn_idle_resistances(engine, motion)
+                    f_header, f_rows, failed = _forces_columns(engine, motion, inertia)
+                    header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
+                    forces_failed = forces_failed or failed
+                header, rows = convert_table(header, rows, display, skip=n_in)
+                if written == 0:
+                    out.write_rows([header])
+                notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
+                reached = len(motion.phi)
+                if shape is not None and reached < len(values):  # a grid line: the rest left empty
+                    full = np.full((len(values), len(header)), np.nan)
+                    full[:reached] = rows.reshape(reached, len(header))
+                    full[reached:, :n_in] = values[reached:]
+                    rows, missing = full, missing + len(values) - reached
+                    stopped = stopped or motion.message
+                out.write_rows(_cells(rows))
+                written += len(rows)
+                if shape is None and not motion.success:
+                    stopped = motion
+                    break
+            if shape is None and stopped is not None:
+                break
+    from .kinematics._motion import describe_crossing
+    for c in notes:
+        print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
     if forces_failed:
         print(f"mbplanar: {engine.mech.source}: {forces_failed} (their force cells are empty)", file=sys.stderr)
         return 1
-    if not motion.success:
-        print(f"mbplanar: {engine.mech.source}: {motion.message}; wrote the {len(motion.phi)} of "
-              f"{motion.requested} positions before it", file=sys.stderr)
+    if shape is not None and missing:
+        print(f"mbplanar: {engine.mech.source}: {missing} of the {count} grid points cannot be reached from the "
+              f"drawn pose (their cells are empty), e.g.: {stopped}", file=sys.stderr)
+        return 1
+    if stopped is not None:
+        print(f"mbplanar: {engine.mech.source}: {stopped.message}; wrote the {written} of {count} positions "
+              "before it", file=sys.stderr)
         return 1
     return 0
 
@@ -229,37 +515,51 @@ def cmd_sweep(args):
 def cmd_forces(args):
     from .forces._kinetostatics import kinetostatics
     engine = _load(args)
-    if len(engine.inputs) != 1:
-        raise ModelError("forces drives one input; this model has several (use the Python API)")
-    value = float(args.at)
-    if not math.isfinite(value):
-        raise ModelError("--at must be a finite number")
-    phi = np.array([_input_si(engine, value)])
+    values = _inputs_at(engine, args.at)
+    if not has_force_data(engine.mech):
+        raise ModelError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
+                        "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
+    phi = _at_si(engine, values)
+    phi = phi[:, 0] if len(engine.inputs) == 1 else phi
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
-    if omega is None and epsilon is None and engine.mech.dynamics is not None:
+    if omega is None and epsilon is None and engine.mech.dynamics is not None \
+            and len(engine.inputs) == 1:
         omega, epsilon, dyn_inertia = true_motion(engine, phi)
         inertia, how = (dyn_inertia if inertia is None else inertia), "true motion from the machine dynamics"
     motion = _motion(engine, phi, omega, epsilon)
     if not motion.success:
-        raise MotionError(f"cannot reach {args.at} on the drawn branch: {motion.message}", source=engine.mech.source)
+        raise _unreachable(engine, args.at, motion)
     inertia = inertia or 0.0
-    result = kinetostatics(engine, motion, inertia)
+    from .forces._friction import friction_kinetostatics, read_friction
+    if args.mu is not None and not (math.isfinite(args.mu) and args.mu >= 0):
+        raise ModelError("--mu must be a finite number >= 0")
+    spec = read_friction(engine.mech, args.mu)
+    fr = None if spec is None else friction_kinetostatics(engine, motion, spec, inertia)
+    result = kinetostatics(engine, motion, inertia) if fr is None else fr.kinetostatics
     if not result.success:
         raise MotionError(f"{result.message}", source=engine.mech.source)
-    doc = forces_document(engine, motion, result, values=[value])
+    doc = forces_document(engine, motion, result, values=values)
     doc["input"]["motion"] = how
     doc["input"]["input_inertia"] = float(inertia)
+    if fr is not None:
+        doc["friction"] = plain({"iterations": fr.iterations, "residual": float(fr.residual[0]),
+                                  "converged": fr.converged, "losses": float(fr.losses[0]),
+                                  "efficiency": float(fr.efficiency[0]),
+                                  "balancing_without_friction": {n: float(q[0]) for n, q in
+                                                                 fr.ideal.balancing.items()}})
+        if not fr.converged:
+            raise MotionError(f"the friction iteration did not converge in {fr.iterations} iterations "
+                              f"(residual {fr.residual[0]:.3g}): self-locking?", source=engine.mech.source)
     display = display_units(engine.mech, args.units)
     doc = convert_forces(engine, doc, display)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
-    inp = doc["input"]
     rate, accel, inertia_kind = (_text_unit(display.name(k)) for k in input_kinds(engine))
     moment_unit = _text_unit(display.name("moment"))
-    print(f"{doc['model']}: {inp['name']} = {inp['value']:g} {inp['unit']}  "
-          f"(ω = {inp['omega']:g} {rate}, ε = {inp['epsilon']:g} {accel}, J_I = {inp['input_inertia']:g} "
-          f"{inertia_kind}; {how})")
+    print(f"{doc['model']}: " + "); ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
+                                            f"ε = {i['epsilon']:g} {accel}" for i in doc["inputs"])
+          + f", J_I = {doc['input']['input_inertia']:g} {inertia_kind}; {how})")
     tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
     rows = []
     for name, r in doc["reactions"].items():
@@ -274,6 +574,10 @@ def cmd_forces(args):
         q = _clean(q, tiny * (engine.size / display.scale("moment") if revolute else 1.0))
         print(f"balancing {'moment' if revolute else 'force'} at {name}: {q:.6g} {unit}")
     print(f"virtual-power residual: {doc['virtual_power_residual']:.3g}")
+    if "friction" in doc:
+        f = doc["friction"]
+        print(f"friction: {f['iterations']} iterations, residual {f['residual']:.3g}; power lost "
+              f"{-f['losses']:.6g} W; instantaneous efficiency {f['efficiency']}")
     return 0
 
 
@@ -322,6 +626,134 @@ def _print_dynamics(engine, dyn, doc, display):
             print(f"    M_red of {name}: {m:.6g} {moment}")
 
 
+# -- motion under given forces ---------------------------------------------------------------------
+def simulate_document(engine, tr) -> dict:
+    """The simulated motion: per time, the inputs' φ, ω, ε, every link's angle, ω, ε, every joint's
+    value, rate, acceleration and reaction (on `on` from `from`), the balancing load at each input (it
+    equals the drive), the energies; and the solver's settings and statistics."""
+    m, ks, spec = tr.motion, tr.kinetostatics, tr.spec
+    doc = {"model": engine.mech.name, "t": tr.t,
+           "solver": {"method": spec.method, "rtol": spec.rtol, "atol": spec.atol, "evaluations": tr.nfev,
+                      "success": tr.success, "message": tr.message},
+           "inputs": {inp.name: {"joint": inp.joint, "phi": tr.phi[:, k], "omega": tr.omega[:, k],
+                                 "epsilon": tr.epsilon[:, k], "drive": tr.drive[:, k],
+                                 "balancing": ks.balancing[inp.joint]}
+                      for k, inp in enumerate(engine.inputs)},
+           "links": {name: {"angle": m.angle[:, k], "omega": m.w[:, k], "epsilon": m.e[:, k]}
+                     for k, name in enumerate(m.link_names) if name != engine.mech.ground},
+           "joints": {}, "energy": tr.energy}
+    for k, name in enumerate(m.joint_names):
+        r = ks.reactions[name]
+        doc["joints"][name] = {"value": m.value[:, k], "rate": m.rate[:, k], "accel": m.accel[:, k],
+                               "on": r.on, "from": r.source, "fx": r.fx, "fy": r.fy, "moment": r.moment}
+    return plain(doc)
+
+
+def simulate_table(doc) -> tuple[list, np.ndarray]:
+    """Header and columns (N, k) of the simulated motion for CSV."""
+    header, cols = ["t[s]"], [doc["t"]]
+    for name, d in doc["inputs"].items():
+        header += [f"{name}", f"{name}.omega", f"{name}.epsilon", f"{name}.drive"]
+        cols += [d["phi"], d["omega"], d["epsilon"], d["drive"]]
+    for name, d in doc["links"].items():
+        header += [f"angle.{name}[rad]", f"omega.{name}[rad/s]", f"epsilon.{name}[rad/s2]"]
+        cols += [d["angle"], d["omega"], d["epsilon"]]
+    for name, d in doc["joints"].items():
+        header += [f"{name}.value", f"F{name}.x[N]", f"F{name}.y[N]"]
+        cols += [d["value"], d["fx"], d["fy"]]
+    header += ["kinetic[J]", "potential[J]", "drive_work[J]"]
+    cols += [doc["energy"]["kinetic"], doc["energy"]["potential"], doc["energy"]["drive_work"]]
+    return header, np.column_stack([np.asarray(c, float) for c in cols])
+
+
+def _from_state(path, engine) -> tuple[list, list]:
+    """φ and ω of every input at the last time of a previous `simulate --json` output."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+        ins = [doc["inputs"][inp.name] for inp in engine.inputs]
+        return [float(d["phi"][-1]) for d in ins], [float(d["omega"][-1]) for d in ins]
+    except (KeyError, IndexError, TypeError, json.JSONDecodeError) as exc:
+        raise ModelError(f"{path}: not the JSON output of 'mbplanar simulate' for this model ({exc})") from None
+
+
+def cmd_simulate(args):
+    from .forces._simulation import read_simulate, simulate_motion
+    engine = _load(args)
+    over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
+    for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega),
+                      ("input_inertia", args.input_inertia)):
+        over[key] = None if text is None else _numbers_of(text, "--" + key.replace("_", "-"))
+    if args.start is not None:
+        over["phi"], over["omega"] = _from_state(args.start, engine)
+    spec = read_simulate(engine.mech, **over)
+    tr = simulate_motion(engine, spec)
+    doc = simulate_document(engine, tr)
+    if args.output:
+        write_csv(args.output, *simulate_table(doc))
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0 if tr.success else 1
+    last = -1
+    print(f"{doc['model']}: motion under the given forces from t = 0 to {tr.t[-1]:g} s "
+          f"({spec.method}, rtol {spec.rtol:g}, {tr.nfev} evaluations): {tr.message}")
+    for name, d in doc["inputs"].items():
+        print(f"  {name}: {d['phi'][last]:.12g}, speed {d['omega'][last]:.12g}, acceleration "
+              f"{d['epsilon'][last]:.12g}; drive {d['drive'][last]:.6g}, balancing {d['balancing'][last]:.6g}")
+    e = doc["energy"]
+    print(f"  energy: kinetic {e['kinetic'][last]:.9g} J, potential {e['potential'][last]:.9g} J, "
+          f"work of the drive {e['drive_work'][last]:.9g} J")
+    return 0 if tr.success else 1
+
+
+def balance_document(engine, bal, count: int = 360) -> dict:
+    """Counterweights, and before/after at the model's speed over a turn: the RMS and largest shaking
+    force, the largest reaction in every pair, the largest balancing moment (or force)."""
+    from .forces._shaking import shaking
+    from .engine._solver import Engine
+    from .forces._kinetostatics import kinetostatics
+    from .kinematics._motion import analyse
+    doc = {"model": engine.mech.name, "counterweights": [vars(cw) for cw in bal.counterweights],
+           "rms_unit_speed": {"before": bal.rms_before, "after": bal.rms_after}}
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, count, endpoint=False)
+    balanced = Engine(bal.mechanism, backend=engine.backend, threads=engine.threads)
+    for when, eng in (("before", engine), ("after", balanced)):
+        ks = kinetostatics(eng, analyse(eng, phi))
+        sh = shaking(eng, ks)
+        doc[when] = {"shaking_force_max": float(np.max(sh.magnitude)),
+                     "shaking_force_rms": float(np.sqrt(np.mean(sh.magnitude ** 2))),
+                     "shaking_moment_max": float(np.max(np.abs(sh.moment))),
+                     "reaction_max": {n: float(np.max(r.magnitude)) for n, r in ks.reactions.items()},
+                     "balancing_max": {n: float(np.max(np.abs(q))) for n, q in ks.balancing.items()}}
+    return plain(doc)
+
+
+def cmd_balance(args):
+    from .forces._shaking import balance
+    engine = _load(args)
+    links = [n.strip() for n in args.links.split(",") if n.strip()]
+    radius = None if args.radius is None else _numbers_of(args.radius, "--radius")
+    if radius is not None and not all(r > 0 for r in radius):
+        raise ModelError("--radius must be positive")
+    bal = balance(engine, links, radius)
+    doc = balance_document(engine, bal)
+    if args.json:
+        print(json.dumps(doc, indent=2, ensure_ascii=False))
+        return 0
+    print(f"{doc['model']}: counterweights on {', '.join(links)} (shaking force RMS at 1 rad/s: "
+          f"{bal.rms_before:.6g} -> {bal.rms_after:.3g} N)")
+    for cw in bal.counterweights:
+        print(f"  link {cw.link}: {cw.mass:.6g} kg at ({cw.at[0]:.6g}, {cw.at[1]:.6g}) m, first moment "
+              f"{cw.first_moment:.6g} kg·m about {cw.about} at {cw.angle_deg:.4f}° to the link's line")
+    for when in ("before", "after"):
+        d = doc[when]
+        print(f"  {when}: shaking force max {d['shaking_force_max']:.6g} N, RMS {d['shaking_force_rms']:.6g} N, "
+              f"shaking moment max {d['shaking_moment_max']:.6g} N·m; balancing max "
+              + ", ".join(f"{n} {q:.6g}" for n, q in d["balancing_max"].items()))
+        print("    largest reactions: " + ", ".join(f"{n} {f:.6g} N" for n, f in d["reaction_max"].items()))
+    return 0
+
+
 # -- pictures ---------------------------------------------------------------------------------------
 def _suffix(path, allowed):
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
@@ -339,8 +771,6 @@ def cmd_plot(args):
         raise ModelError(f"--show applies to the diagram, not to '{args.what}'")
     if args.points is not None and args.what != "trajectories":
         raise ModelError(f"--points applies to the trajectories, not to '{args.what}'")
-    if args.at is not None and not math.isfinite(args.at):
-        raise ModelError("--at must be a finite number")
     options = plotting.show_options(args.show) if args.what == "diagram" else {}
     if args.points is not None:
         options["points"] = [n.strip() for n in args.points.split(",") if n.strip()]
@@ -348,7 +778,11 @@ def cmd_plot(args):
             raise ModelError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args)
-    plotting.save_figure(plotting.make_figure(engine, args.what, args.at, **options), args.output, dpi=args.dpi)
+    at = None
+    if args.at is not None:
+        at = _at_reduced(engine, _inputs_at(engine, args.at))
+        at = at[0] if len(at) == 1 else at
+    plotting.save_figure(plotting.make_figure(engine, args.what, at, **options), args.output, dpi=args.dpi)
     return 0
 
 
@@ -368,7 +802,7 @@ def cmd_animate(args):
         motion = plotting.cycle_motion(engine, args.frames)
     if motion.limits:
         from .kinematics._motion import describe_limit
-        print(f"mbplanar: {engine.mech.source}: the animation stops at the motion limit: "
+        print(f"mbplanar: {engine.mech.source}: the animation turns back at the motion limits: "
               + "; ".join(describe_limit(engine, lim) for lim in motion.limits), file=sys.stderr)
     return 0
 
@@ -385,8 +819,15 @@ def cmd_report(args):
 
 # -- check ------------------------------------------------------------------------------------------
 def cmd_check(args):
-    from .analysis._check import check, format_report
+    from .analysis._check import check, check_region, format_region, format_report
     engine = _load(args)
+    if len(engine.inputs) == 2:
+        region = check_region(engine)
+        if args.json:
+            print(json.dumps(plain(region.as_dict()), indent=2, ensure_ascii=False))
+        else:
+            print(format_region(region))
+        return 0
     report = check(engine)
     display = display_units(engine.mech, args.units)
     if args.json:
@@ -460,10 +901,14 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("sweep", help="the whole cycle as a CSV table")
     s.add_argument("model")
     g = s.add_mutually_exclusive_group()
-    g.add_argument("--steps", type=int, help="number of equal intervals (both ends included)")
-    g.add_argument("--step", type=float, help="spacing in the model's unit")
-    s.add_argument("--from", dest="start", type=float, help="first value (default: the model's sweep)")
-    s.add_argument("--to", dest="stop", type=float, help="last value")
+    g.add_argument("--steps", type=_steps_list, help="number of equal intervals (both ends included); with "
+                   "--grid one per input (e.g. 20,30) or one for all")
+    g.add_argument("--step", type=_finite_float, help="spacing in the model's unit")
+    s.add_argument("--from", dest="start", type=_values_list,
+                   help="first value (default: the model's sweep); one per input, comma-separated")
+    s.add_argument("--to", dest="stop", type=_values_list, help="last value (one per input)")
+    s.add_argument("--grid", action="store_true",
+                   help="several inputs: every combination over the box from --from to --to, not a path")
     _speed_options(s)
     s.add_argument("--angles", choices=("deg", "rad"), help="unit of angles in the table")
     s.add_argument("-o", "--output", help="CSV file (default: standard output)")
@@ -479,6 +924,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--omega", type=float, help="input speed dφ/dt (default: the model's omega)")
     s.add_argument("--epsilon", type=float, help="input acceleration (default: the model's, else 0)")
     s.add_argument("--input-inertia", type=float, help="reduced inertia J_I on the input link (kg·m²)")
+    s.add_argument("--mu", type=float, help="friction coefficient of every pair (overrides [friction] mu)")
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_forces)
@@ -486,35 +932,61 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("dynamics", help="reduced inertia and moments, flywheel, true ω(φ) and ε(φ)")
     s.add_argument("model")
     s.add_argument("--at", help="also the values at these input values (model's unit, comma-separated)")
-    s.add_argument("--steps", type=int, default=3600, help="intervals over the cycle (default 3600)")
+    s.add_argument("--steps", type=_bounded_int(36, 10 ** 6), default=3600,
+                   help="intervals over the cycle (36 to 10⁶, default 3600)")
     s.add_argument("--delta", type=float, help="coefficient of speed fluctuation (default: the model's)")
     s.add_argument("-o", "--output", help="CSV file of the cycle table")
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_dynamics)
 
+    s = sub.add_parser("simulate", help="motion under given forces: integrate the equations of motion in time")
+    s.add_argument("model")
+    s.add_argument("--t", type=float, help="end time in s (default: the model's [simulate] t)")
+    s.add_argument("--torque", help="drive on each input along its coordinate, N·m or N (comma list; default: the model's, else 0)")
+    s.add_argument("--motor-slope", help="motor characteristic: drive = torque − slope·speed (N·m·s/rad)")
+    s.add_argument("--omega", help="start speed of each input (default 0)")
+    s.add_argument("--input-inertia", help="kg·m² (kg) on each input link besides the links' own (default 0)")
+    s.add_argument("--from", dest="start", help="start from the last state of a previous --json output")
+    s.add_argument("--rtol", type=float, help="relative tolerance of solve_ivp (default 1e-10)")
+    s.add_argument("--atol", type=float, help="absolute tolerance (default 1e-12)")
+    s.add_argument("--method", help="solve_ivp method (default DOP853)")
+    s.add_argument("--steps", type=int, help="output intervals (default 100)")
+    s.add_argument("-o", "--output", help="CSV file of the motion")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_simulate)
+
+    s = sub.add_parser("balance", help="counterweights that cancel the shaking force (or minimise its RMS)")
+    s.add_argument("model")
+    s.add_argument("--links", required=True, help="comma list of the links that get a counterweight")
+    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot, m (one or per link)")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_balance)
+
     s = sub.add_parser("plot", help="a picture: diagram, vectors, trajectories, kinematics, analogues, "
                                     "transmission, forces, ...")
     s.add_argument("model")
     s.add_argument("what", help="diagram, vectors, trajectories, kinematics, analogues, transmission, forces, ...")
-    s.add_argument("--at", type=float, help="generalized coordinate in the model's unit (default: drawn pose)")
+    s.add_argument("--at", help="generalized coordinate(s) in the model's unit, one per input, comma-separated "
+                               "(default: the drawn pose)")
     s.add_argument("--show", help="on the diagram: a comma list of velocities, accelerations, reactions, "
                                   "centres (or all)")
     s.add_argument("--points", help="trajectories of these pairs or points only (comma list, e.g. B,S3)")
-    s.add_argument("--dpi", type=int, default=120)
+    s.add_argument("--dpi", type=_bounded_int(*DPI_RANGE), default=120, help="resolution (10 to 1200)")
     s.add_argument("-o", "--output", required=True, help="FILE.png, .svg or .pdf")
     s.set_defaults(func=cmd_plot)
 
     s = sub.add_parser("animate", help="animation of a cycle: GIF or a browser page (SVG)")
     s.add_argument("model")
-    s.add_argument("--frames", type=int, default=36)
-    s.add_argument("--dpi", type=int, default=80)
+    s.add_argument("--frames", type=_bounded_int(2, FRAMES_MAX), default=36)
+    s.add_argument("--dpi", type=_bounded_int(*DPI_RANGE), default=80, help="resolution (10 to 1200)")
     s.add_argument("-o", "--output", required=True, help="FILE.gif or FILE.html")
     s.set_defaults(func=cmd_animate)
 
     s = sub.add_parser("report", help="one self-contained HTML report of the model")
     s.add_argument("model")
-    s.add_argument("--frames", type=int, default=36, help="frames of the animation in the report")
+    s.add_argument("--frames", type=_bounded_int(2, FRAMES_MAX), default=36,
+                   help="frames of the animation in the report")
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
@@ -542,13 +1014,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)
+        return exc.code if isinstance(exc.code, int) else 2
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ModelWarning)
+        warnings.simplefilter("always", PrecisionWarning)
         code, message = _run(args)
     notes = [str(w.message) for w in caught if issubclass(w.category, ModelWarning)]
     for w in caught:
-        if not issubclass(w.category, ModelWarning):
+        if issubclass(w.category, PrecisionWarning):
+            print(f"mbplanar: note: {w.message}", file=sys.stderr)
+        elif not issubclass(w.category, ModelWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     if message is None:                 # success: each warning on its own line
         for note in notes:
@@ -560,9 +1038,12 @@ def main(argv=None) -> int:
 
 def _run(args) -> tuple[int, str | None]:
     """Run the command: its exit status, and the error's one-line message (None on success). mbplanar's
-    errors map to their exit status (2 bad input, 1 cannot move)."""
+    errors map to their exit status (2 bad input, 1 cannot move); a closed standard output (a pipe into
+    `head`) ends quietly with status 0."""
     try:
         return args.func(args), None
+    except BrokenPipeError:
+        return _quiet_broken_pipe(), None
     except MbplanarError as exc:
         if args.debug:
             raise
@@ -571,6 +1052,17 @@ def _run(args) -> tuple[int, str | None]:
         if args.debug:
             raise
         return 2, " ".join(str(exc).split())
+
+
+def _quiet_broken_pipe() -> int:
+    """The reader of our standard output went away (`mbplanar sweep ... | head`): stop quietly, as a
+    filter does, with no message and no error at the interpreter's final flush."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    return 0
 
 
 if __name__ == "__main__":

@@ -9,7 +9,8 @@ what the author meant (a drawn input value far from the sketch, a length that co
 coordinates, a load diagram out of scale); the CLI prints it on stderr.
 """
 
-__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "ModelWarning"]
+__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "ModelWarning",
+           "PrecisionWarning"]
 
 
 class MbplanarError(Exception):
@@ -62,3 +63,8 @@ class PlotUnavailable(MbplanarError):
 
 class ModelWarning(UserWarning):
     """Valid input that is probably not what was meant; the message gives the numbers."""
+
+
+class PrecisionWarning(UserWarning):
+    """An answer is given with fewer correct digits than usual (e.g. an input value far out, reduced
+    by whole periods of the motion)."""

@@ -152,6 +152,10 @@ def test_cli_text_and_errors(tmp_path, capsys):
                    '{ kind = "return", angle = 250, law = "cycloidal" }]\n')
     assert main(["cam", str(bad)]) == 2
     assert "add up to 350" in capsys.readouterr().err
+    assert main(["cam", str(SHAPER_CAM), "--plot", "cam"]) == 2
+    assert "--plot-output" in capsys.readouterr().err
+    assert main(["cam", str(MODELS / "fourbar.toml")]) == 2
+    assert "no [cam] section" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("phases, message", [

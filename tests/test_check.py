@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import mbplanar
 from mbplanar.analysis import check, transmission_angles
@@ -149,3 +150,94 @@ def test_limits_are_only_those_the_request_ran_into():
     assert inside.success and inside.limits == []
     across = mbplanar.analyse(engine, np.linspace(1.7, 1.9, 5))
     assert not across.success and len(across.limits) == 1
+
+
+DATA = ROOT / "tests" / "data"
+
+
+def test_extreme_on_a_sample_is_found():
+    """An inclined slider-crank (guide at 45° through the crank pivot) drawn at 90°: the rod's extremes
+    fall exactly on samples (135°, 315°), where the sampled rate is exactly 0. Closed form: the rod
+    swings 45° ± asin(r / l)."""
+    report = check(mbplanar.Engine(mbplanar.read_model(DATA / "incl_slider.toml")))
+    rod = next(e for e in report.extremes if e.name == "2")
+    swing = math.degrees(math.asin(0.04 / 0.14))
+    assert abs(math.degrees(rod.minimum) - (45 - swing)) < 1e-9
+    assert abs(math.degrees(rod.maximum) - (45 + swing)) < 1e-9
+    assert sorted(x % 360 for x in (rod.at_min, rod.at_max)) == pytest.approx([135.0, 315.0], abs=1e-7)
+    assert [loc["kind"] for loc in rod.local] in (["min", "max"], ["max", "min"])
+
+
+def test_every_local_extreme_is_a_zero_of_the_rate():
+    """Every interior local extreme listed (shaper: the block on the lever has two minima and two
+    maxima per turn) has a rate of zero, and its neighbours lie on the right side of it."""
+    engine = _engine("shaper.toml")
+    report = check(engine)
+    dp = next(e for e in report.extremes if e.name == "Dp")
+    assert len(dp.local) == 4 and [loc["kind"] for loc in dp.local].count("max") == 2
+    inp = engine.inputs[0]
+    for loc in dp.local:
+        phi = inp.to_si(loc["at"]) + np.array([-1e-3, 0.0, 1e-3])
+        m = mbplanar.analyse(engine, phi)
+        k = m.joint("Dp")
+        assert abs(m.rate_q[1, k]) < 1e-10
+        assert abs(m.value[1, k] - loc["value"]) < 1e-12
+        side = m.value[[0, 2], k] - m.value[1, k]
+        assert np.all(side < 0) if loc["kind"] == "max" else np.all(side > 0)
+
+
+def test_double_rocker_interior_and_end_extremes():
+    report = check(mbplanar.Engine(mbplanar.read_model(DATA / "double_rocker.toml")))
+    out = next(e for e in report.extremes if e.name == "3")
+    assert [loc["kind"] for loc in out.local] == ["max", "min", "max"]
+    assert [loc["end"] for loc in out.local] == [True, False, True]
+    # the interior minimum: the output stands still where v_B = 0, i.e. where O, A and B are in line
+    engine = mbplanar.Engine(mbplanar.read_model(DATA / "double_rocker.toml"))
+    m = mbplanar.analyse(engine, [math.radians(out.local[1]["at"])])
+    a, b = m.xy[0, m.point("A")], m.xy[0, m.point("B")]
+    assert abs(a[0] * b[1] - a[1] * b[0]) < 1e-12 * 0.4 * 0.6
+    # the ends are the configurations at the input's dead points: AB and O4B stretched in line
+    assert out.local[0]["value"] == pytest.approx(-out.local[2]["value"], abs=1e-9)
+
+
+@pytest.mark.parametrize("lengths, drawn_crossed, kind", [
+    ((0.1, 0.3, 0.1, 0.3), False, "parallelogram (change point)"),
+    ((0.1, 0.3, 0.1, 0.3), True, "anti-parallelogram (change point)"),
+    ((0.2, 0.2, 0.3, 0.3), False, "deltoid (kite; change point)"),
+    ((0.2, 0.2, 0.2, 0.2), False, "rhombus (change point)"),
+    ((0.1, 0.35, 0.25, 0.2), False, "change-point crank-rocker"),
+    ((0.1, 0.3, 0.2, 0.35), False, "crank-rocker"),
+    ((0.35, 0.3, 0.25, 0.1), False, "double crank"),
+    ((0.3, 0.1, 0.35, 0.25), False, "double rocker"),
+])
+def test_grashof_names(lengths, drawn_crossed, kind):
+    """Input OA, coupler AB, output BC, ground OC; the equality cases get their own names."""
+    r1, r2, r3, r0 = lengths
+    m = mbplanar.Mechanism("g")
+    for name in "123":
+        m.add_link(name)
+    a = np.array([r1 * math.cos(1.0), r1 * math.sin(1.0)])
+    c = np.array([r0, 0.0])
+    d = np.linalg.norm(c - a)
+    x = (r2 ** 2 - r3 ** 2 + d * d) / (2 * d)
+    u = (c - a) / d
+    h = math.sqrt(r2 ** 2 - x * x) * (-1 if drawn_crossed else 1)
+    b = a + x * u + h * np.array([-u[1], u[0]])
+    if kind.startswith("parallelogram"):
+        b = a + c  # the uncrossed assembly of equal opposite links
+    m.add_joint("O", "R", "0", "1", at=(0, 0))
+    m.add_joint("A", "R", "1", "2", at=tuple(a))
+    m.add_joint("B", "R", "2", "3", at=tuple(b))
+    m.add_joint("C", "R", "3", "0", at=tuple(c))
+    m.add_input("O", unit="deg")
+    g = mbplanar.Engine(m)
+    from mbplanar.analysis import grashof
+    assert grashof(g)["kind"] == kind
+
+
+def test_parallelogram_is_not_a_crank_rocker():
+    report = check(mbplanar.Engine(mbplanar.read_model(DATA / "parallelogram.toml")))
+    g = report.grashof
+    assert g["kind"] == "parallelogram (change point)" and g["change_point"]
+    assert g["input_turns"] and g["output_turns"] and report.full_turn
+    assert next(e for e in report.extremes if e.name == "3").turns

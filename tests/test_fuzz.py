@@ -7,7 +7,9 @@ solved at its drawn pose and two nearby positions.
 """
 
 import copy
+import json
 import math
+import os
 import tomllib
 from pathlib import Path
 
@@ -155,3 +157,116 @@ def test_text_mutants_fail_cleanly(text):
 @pytest.mark.parametrize("name", sorted(DOCS))
 def test_unmutated_models_solve(name):
     _exercise(mbplanar.parse_model(copy.deepcopy(DOCS[name]), source=name))
+
+
+# -- careless command lines: a table of cases, each with the exit status and what the message names ----
+from mbplanar.cli import main  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = ROOT / "tests" / "data"
+FOURBAR, SHAPER, FIVE = (str(ROOT / "models" / n) for n in ("fourbar.toml", "shaper.toml", "five_bar.toml"))
+ROCKER = str(DATA / "double_rocker.toml")
+
+CLI_CASES = [
+    # (argv, exit status, text the one-line message contains)
+    (["solve", FOURBAR, "--at", "30", "--omega", "nan"], 2, "omega must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--omega", "inf"], 2, "omega must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--omega=-inf"], 2, "omega must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--epsilon", "nan"], 2, "epsilon must be finite"),
+    (["solve", FOURBAR, "--at", "30", "--omega", "1e300"], 2, "omega must be finite and at most"),
+    (["solve", FOURBAR, "--at", "30", "--epsilon", "1e308"], 2, "epsilon must be finite and at most"),
+    (["solve", FOURBAR, "--at", "nan"], 2, "finite"),
+    (["solve", FOURBAR, "--at", "30,40"], 2, "needs 1 finite value"),
+    (["solve", ROCKER, "--at", "1e20"], 1, "moves within -91.79078466 … 91.79078466 deg"),
+    (["solve", ROCKER, "--at", "120"], 1, "motion limit"),
+    (["forces", FOURBAR, "--at", "180"], 2, "no loads"),
+    (["forces", SHAPER, "--at", "30", "--input-inertia", "-1"], 2, "input_inertia must be a finite number >= 0"),
+    (["sweep", FOURBAR, "--steps", "0"], 2, "positive integer"),
+    (["sweep", FOURBAR, "--steps", "-5"], 2, "positive integer"),
+    (["sweep", FOURBAR, "--step", "0"], 2, "--step must be positive"),
+    (["sweep", FOURBAR, "--step", "nan"], 2, "finite number"),
+    (["sweep", FOURBAR, "--from", "inf"], 2, "finite number"),
+    (["sweep", SHAPER, "--true-motion", "--omega", "3"], 2, "--true-motion"),
+    (["sweep", FIVE], 2, "needs --from and --to"),
+    (["sweep", FIVE, "--from", "60,100", "--to", "90"], 2, "--to needs 2 value"),
+    (["sweep", FOURBAR, "--grid"], 2, "--grid applies to several inputs"),
+    (["solve", FIVE, "--at", "70"], 2, "phi1, phi2"),
+    (["plot", FOURBAR, "diagram", "--dpi", "20000"], 2, "from 10 to 1200"),
+    (["plot", FOURBAR, "diagram", "--dpi", "0"], 2, "from 10 to 1200"),
+    (["plot", FIVE, "diagram", "--at", "70"], 2, "phi1, phi2"),
+    (["plot", FOURBAR, "diagram", "--at", "inf"], 2, "finite"),
+    (["animate", FOURBAR, "--frames", "1"], 2, "from 2 to 3600"),
+    (["animate", FOURBAR, "--frames", "100000000"], 2, "from 2 to 3600"),
+    (["report", FOURBAR, "--frames", "0"], 2, "from 2 to 3600"),
+    (["dynamics", SHAPER, "--steps", "10"], 2, "from 36 to"),
+    (["dynamics", SHAPER, "--steps", "1000000000"], 2, "from 36 to"),
+    (["dynamics", SHAPER, "--delta", "nan"], 2, "--delta must be a number between 0 and 1"),
+    (["sweep", SHAPER, "--omega", "nan"], 2, "omega must be finite"),
+]
+
+
+@pytest.mark.parametrize("argv, status, says", CLI_CASES, ids=lambda v: " ".join(v) if isinstance(v, list) else None)
+def test_careless_command_lines(argv, status, says, tmp_path, capsys):
+    """Exit 2 for bad input, 1 for a motion that cannot be made, with one line that says what is wrong;
+    never a traceback, never a 0-byte output file."""
+    out = tmp_path / ("out.png" if argv[0] == "plot" else "out.html" if argv[0] in ("animate", "report")
+                      else "out.csv")
+    extra = ["-o", str(out)] if argv[0] in ("plot", "animate", "report", "sweep") else []
+    assert main(argv + extra) == status
+    err = capsys.readouterr().err
+    assert says in err and "Traceback" not in err
+    lines = [line for line in err.strip().splitlines() if not line.startswith(("usage:", " "))]
+    assert len(lines) == 1, err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("argv, rows", [
+    (["sweep", FOURBAR, "--from", "10", "--to", "10"], 1),            # one position, not 73 equal rows
+    (["sweep", FOURBAR, "--steps", "4", "--from", "350", "--to", "10"], 5),
+    (["sweep", FIVE, "--from", "70,110", "--to", "70,110"], 1),
+])
+def test_sweep_row_counts(argv, rows, capsys):
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == rows + 1
+    assert all(cell for line in lines[1:] for cell in line.split(",")[:40])  # no empty number
+
+
+def test_far_input_values_answer_like_near_ones(capsys):
+    """Periodic: --at 36000 and --at 1e20 (10²⁰ mod 360 = 280) answer as --at 0 and --at 280."""
+    for far, near in (("36000", "0"), ("1e20", "280"), ("-7200", "0")):
+        assert main(["solve", FOURBAR, "--at", far, "--json"]) == 0
+        a = json.loads(capsys.readouterr().out)
+        assert main(["solve", FOURBAR, "--at", near, "--json"]) == 0
+        b = json.loads(capsys.readouterr().out)
+        for name, p in b["points"].items():
+            assert all(abs(a["points"][name][k] - v) <= 1e-13 for k, v in p.items()), (far, name)
+
+
+def test_forces_on_a_model_without_loads_writes_no_zeros(capsys):
+    assert main(["forces", FOURBAR, "--at", "180", "--json"]) == 2
+    assert capsys.readouterr().out == ""
+
+
+def test_streamed_sweep_equals_one_batch(tmp_path, monkeypatch):
+    """A sweep written in chunks (here of 7 positions) is the sweep of one batch, row for row."""
+    import mbplanar.cli as cli
+    whole, parts = tmp_path / "whole.csv", tmp_path / "parts.csv"
+    assert main(["sweep", SHAPER, "--steps", "40", "-o", str(whole)]) == 0
+    monkeypatch.setattr(cli, "SWEEP_CHUNK", 7)
+    assert main(["sweep", SHAPER, "--steps", "40", "-o", str(parts)]) == 0
+    a, b = (np.genfromtxt(p, delimiter=",", skip_header=1) for p in (whole, parts))
+    assert parts.read_text().splitlines()[0] == whole.read_text().splitlines()[0]
+    assert a.shape == b.shape == (41, a.shape[1])
+    assert np.all(np.abs(a - b) <= 1e-12 * (1 + np.abs(a).max(axis=0)))  # (round-off of Newton, forces in N)
+    count, values, _ = cli.sweep_plan(mbplanar.Engine(mbplanar.read_model(FOURBAR)), [10 ** 8])
+    assert count == 10 ** 8 + 1 and values(count - 2, count)[:, 0].tolist() == [360 - 3.6e-6, 360.0]
+
+
+def test_sweep_into_a_closed_pipe_exits_quietly():
+    import subprocess
+    import sys
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    proc = subprocess.run(f"'{sys.executable}' -m mbplanar sweep '{FOURBAR}' --steps 3000 | head -n 2",
+                          shell=True, capture_output=True, text=True, env=env, timeout=120)
+    assert proc.stdout.count("\n") == 2 and proc.stderr == ""

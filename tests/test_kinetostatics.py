@@ -240,12 +240,12 @@ def test_cli_forces_default_omega_and_table(capsys, tmp_path):
     model.write_text(text[:text.index("[dynamics]")], encoding="utf-8")
     assert main(["forces", str(model), "--at", "140.769"]) == 0
     out = capsys.readouterr().out
-    assert "ω = 7.64454" in out and "ε = 0," in out and "balancing moment at O" in out
+    assert "ω = 7.64454 rad/s" in out and "ε = 0 rad/s²," in out and "balancing moment at O" in out
 
 
 def test_cli_forces_bad_input(capsys):
     assert main(["forces", SHAPER, "--at", "140", "--input-inertia", "-1"]) == 2
-    assert "--input-inertia" in capsys.readouterr().err
+    assert "input_inertia must be a finite number >= 0" in capsys.readouterr().err
 
 
 def test_cli_sweep_force_columns(tmp_path, capsys):

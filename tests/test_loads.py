@@ -131,7 +131,7 @@ def test_backward_stroke_pushes_the_other_way():
 
 
 @pytest.mark.parametrize("row,words", [
-    ({"type": "spring", "link": "2"}, "'type' must be one of"),
+    ({"type": "rocket", "link": "2"}, "'type' must be one of"),
     ({"type": "force", "link": "9", "force": [1, 0]}, "'9' is not a moving link"),
     ({"type": "force", "link": "2", "force": [1]}, "'force' must be [x, y]"),
     ({"type": "force", "link": "2", "force": [1, 0], "colour": 3}, "unknown key(s) colour"),

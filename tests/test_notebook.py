@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import mbplanar
+import mbplanar.errors
 from mbplanar.viz import Animation
 from mbplanar.cli import main
 
@@ -111,7 +112,8 @@ def test_dynamics_and_check_show_their_results():
 
 def test_a_mechanism_that_cannot_be_assembled_says_why():
     mech = mbplanar.parse_model(LOADED.read_text().replace("length = 0.30, mass", "length = 0.01, mass"))
-    page = mech._repr_html_()
+    with pytest.warns(mbplanar.errors.ModelWarning, match="length A-B = 0.01 m"):   # the sketch's warning
+        page = mech._repr_html_()
     assert "cannot be assembled" in page and "<svg" not in page
 
 

@@ -55,6 +55,10 @@ def test_every_model_renders_every_picture(model, tmp_path):
             with pytest.raises(mbplanar.ModelError, match=r"no \[dynamics\] section"):
                 plotting.make_figure(eng, what, count=13)
             continue
+        if what == "analogues" and len(eng.inputs) > 1:  # d/dφ of one input: see solve --json partials
+            with pytest.raises(mbplanar.ModelError, match="analogues need a single input"):
+                plotting.make_figure(eng, what, count=13)
+            continue
         options = plotting.show_options("all") if what == "diagram" else {}  # every arrow and centre
         fig = plotting.make_figure(eng, what, count=13, **options)
         fig.set_dpi(30)
@@ -427,3 +431,19 @@ def test_dynamics_figure_draws_the_computed_curves():
     np.testing.assert_allclose(by_label[(4, "energy–mass method")].get_xdata(), np.degrees(d.phi))
     marks = [line for line in axes[0].get_lines() if np.allclose(line.get_xdata(), 99.1)]
     assert marks   # --at marks the position
+
+
+def test_rocking_input_swings_between_its_dead_points_and_back():
+    """A non-Grashof four-bar driven by a rocker (limits at ±91.79°): the pictures' cycle covers the
+    whole range, up and back, so the trajectory's closing segment is one step, not a chord."""
+    cycle_motion = plotting.cycle_motion
+    data = Path(__file__).resolve().parent / "data" / "double_rocker.toml"
+    engine = mbplanar.Engine(mbplanar.read_model(data))
+    motion = cycle_motion(engine, 36)
+    phi = np.degrees(motion.phi[:, 0])
+    assert len(phi) == 36 and len(motion.limits) == 2
+    assert phi.min() == pytest.approx(-91.79078466, abs=1e-6) and phi.max() == pytest.approx(91.79078466, abs=1e-6)
+    assert np.argmax(phi) == 18 and np.all(np.diff(phi[:19]) > 0) and np.all(np.diff(phi[18:]) < 0)
+    b = motion.xy[:, motion.point("B")]
+    steps = np.linalg.norm(np.diff(np.vstack([b, b[:1]]), axis=0), axis=1)
+    assert steps[-1] <= 1.01 * steps[:-1].max()

@@ -5,8 +5,8 @@ transmission and pressure angles, Grashof), `transmission_angles`, `pressure_ang
 the function stays.
 """
 
-from ._check import (AngleRange, CheckReport, Extreme, check, format_report, grashof, pressure_angles,
-                     transmission_angles)
+from ._check import (AngleRange, CheckReport, Extreme, RegionReport, check, check_region, format_region,
+                     format_report, grashof, pressure_angles, transmission_angles)
 
 __all__ = ["check", "CheckReport", "Extreme", "AngleRange", "grashof", "transmission_angles", "pressure_angles",
-           "format_report"]
+           "format_report", "check_region", "RegionReport", "format_region"]

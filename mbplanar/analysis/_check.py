@@ -23,8 +23,8 @@ from ..errors import ModelError
 from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
 from ..engine._atlas import met_along
 
-__all__ = ["Extreme", "AngleRange", "CheckReport", "check", "grashof", "transmission_angles",
-           "pressure_angles", "format_report"]
+__all__ = ["Extreme", "AngleRange", "CheckReport", "RegionReport", "check", "check_region", "format_region",
+           "grashof", "transmission_angles", "pressure_angles", "format_report"]
 
 SAMPLES = 721          # sweep resolution of a full turn (0.5°)
 FULL_TURN = 2 * math.pi
@@ -42,6 +42,9 @@ class Extreme:
     maximum: float | None
     at_max: float | None
     turns: bool = False
+    # every local extreme, sorted by input value: {"kind": "min" | "max", "value", "at", "end"}; `end`
+    # marks an end of the input's range (a motion limit), where the output reverses with the input
+    local: list = field(default_factory=list)
 
 
 @dataclass
@@ -77,6 +80,8 @@ class CheckReport:
             if ext["kind"] == "link":
                 for key in ("minimum", "maximum"):
                     ext[key] = None if ext[key] is None else math.degrees(ext[key])
+                for loc in ext["local"]:
+                    loc["value"] = math.degrees(loc["value"])
         for key in ("transmission", "pressure"):
             for ang in doc[key]:
                 ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
@@ -91,8 +96,13 @@ class CheckReport:
 def grashof(engine) -> dict | None:
     """Grashof verdict for a four-bar (four links, four revolute pairs), else None.
 
-    s + l ≤ p + q: the shortest link turns fully relative to the others. The input (a link on the
-    ground) turns fully when the condition holds and the shortest link is the input link or the ground.
+    s + l < p + q: the shortest link turns fully relative to the others (crank-rocker, double crank,
+    rocker-crank or Grashof double rocker by where the shortest link is); s + l > p + q: no link turns
+    fully (triple rocker); s + l = p + q: a change-point mechanism (links can line up all at once), named
+    by its equal links: parallelogram (opposite links equal, drawn uncrossed), anti-parallelogram
+    (drawn crossed), deltoid (adjacent links equal in two pairs), rhombus (all equal), else change-point
+    crank-rocker, double crank, rocker-crank or double rocker. Equality is relative to the mechanism's
+    size (1e-9). With ties for the shortest link every one of them counts.
     """
     mech = engine.mech
     joints = list(mech.joints.values())
@@ -109,20 +119,63 @@ def grashof(engine) -> dict | None:
     if mech.ground not in driver.links:
         return None
     input_link = driver.other(mech.ground)
-    s, p, q, l_ = sorted(lengths.values())
-    shortest = min(lengths, key=lengths.get)
-    holds = s + l_ <= p + q + 1e-12 * engine.size
-    turns = holds and shortest in (input_link, mech.ground)
     output_link = next(j.other(mech.ground) for j in joints
                        if mech.ground in j.links and j.name != driver.name)
-    kind = ("non-Grashof (triple rocker)" if not holds else
-            "double crank" if shortest == mech.ground else
-            "crank-rocker" if shortest == input_link else
-            "rocker-crank (the input rocks, the output turns)" if shortest == output_link else
-            "double rocker")
+    coupler = next(n for n in mech.moving_links if n not in (input_link, output_link))
+    tol = 1e-9 * engine.size
+    s, p, q, l_ = sorted(lengths.values())
+    shortest = min(lengths, key=lengths.get)
+    ties = {n for n, v in lengths.items() if v - s <= tol}
+    change_point = abs(s + l_ - p - q) <= tol
+    holds = s + l_ <= p + q + tol
+    turns = holds and bool(ties & {input_link, mech.ground})
+    output_turns = holds and bool(ties & {output_link, mech.ground})
+    kind = _grashof_kind(mech, lengths, holds, change_point, ties, input_link, output_link, coupler, tol)
     return {"lengths": lengths, "s_plus_l": s + l_, "p_plus_q": p + q, "grashof": bool(holds),
-            "change_point": bool(abs(s + l_ - p - q) <= 1e-9 * engine.size),
-            "shortest": shortest, "input_link": input_link, "kind": kind, "input_turns": bool(turns)}
+            "change_point": bool(change_point), "shortest": shortest, "input_link": input_link,
+            "output_link": output_link, "kind": kind, "input_turns": bool(turns),
+            "output_turns": bool(output_turns)}
+
+
+def _grashof_kind(mech, lengths, holds, change_point, ties, input_link, output_link, coupler, tol) -> str:
+    """The name of a four-bar's Grashof class (see `grashof`)."""
+    if not holds:
+        return "non-Grashof (triple rocker)"
+    ground = mech.ground
+
+    def equal(a, b):
+        return abs(lengths[a] - lengths[b]) <= tol
+
+    if change_point:
+        if all(equal(ground, n) for n in (input_link, output_link, coupler)):
+            return "rhombus (change point)"
+        if equal(ground, coupler) and equal(input_link, output_link):
+            return ("parallelogram (change point)" if _uncrossed(mech, input_link, output_link)
+                    else "anti-parallelogram (change point)")
+        if (equal(ground, input_link) and equal(coupler, output_link)) or \
+                (equal(ground, output_link) and equal(coupler, input_link)):
+            return "deltoid (kite; change point)"
+        prefix = "change-point "
+    else:
+        prefix = ""
+    if ground in ties:
+        return prefix + "double crank"
+    if input_link in ties:
+        return prefix + "crank-rocker"
+    if output_link in ties:
+        return prefix + "rocker-crank (the input rocks, the output turns)"
+    return prefix + "double rocker"
+
+
+def _uncrossed(mech, input_link, output_link) -> bool:
+    """Whether the drawn four-bar with equal cranks is a parallelogram: the two links on the ground
+    are the same vector (else it is drawn crossed, an anti-parallelogram)."""
+    g = [j for j in mech.joints.values() if mech.ground in j.links]
+    (a0, a1), (b0, b1) = ((j.at, next(o for o in mech.joints_of(j.other(mech.ground)) if o is not j).at)
+                          for j in g)
+    u = (a1[0] - a0[0], a1[1] - a0[1])
+    v = (b1[0] - b0[0], b1[1] - b0[1])
+    return math.dist(u, v) <= 1e-6 * math.hypot(*u)
 
 
 # -- transmission and pressure angles ---------------------------------------------------------------
@@ -281,23 +334,6 @@ def _quantities(engine, motion):
     return names, kinds, np.stack(q, 1), np.stack(dq, 1), np.stack(ddq, 1)
 
 
-def _refine(engine, phi_guess, which, newton_steps=2):
-    """Newton on the analogue (dq/dφ = 0) from `phi_guess` (N,) for quantity indices `which` (N,)."""
-    phi = np.asarray(phi_guess, float)
-    for _ in range(newton_steps + 1):
-        motion = analyse(engine, phi)
-        if not motion.success:
-            return None
-        _, _, q, dq, ddq = _quantities(engine, motion)
-        rows = np.arange(len(phi))
-        d1, d2 = dq[rows, which], ddq[rows, which]
-        step = np.where(np.abs(d2) > 0, -d1 / np.where(d2 == 0, 1, d2), 0.0)
-        if np.all(np.abs(step) < 1e-12):
-            break
-        phi = phi + np.clip(step, -0.01, 0.01)
-    return phi, q[rows, which]
-
-
 def _ends(engine, motion, at_limits, kinds, q):
     """Input values (2,) and quantities (2, K) at the two ends of the sweep: the end samples, replaced at
     a located motion limit by the exact configuration there (`at_limits`, rows in the order of its
@@ -315,26 +351,99 @@ def _ends(engine, motion, at_limits, kinds, q):
     return phi, values
 
 
+def _stationary(engine, phi, dq, q, full_turn):
+    """Candidate local extremes from the sampled analogue dq (N, K): brackets (a, b) of the input
+    around each interior stationary point of quantity k, with its kind, from strict sign changes of the
+    rate between samples and from exact zeros on a sample (an extreme that falls on a sample, where the
+    rate is exactly 0 and no product of neighbours is negative). For a full turn the samples wrap
+    around (the last sample is the first turned once). Returns (a, b, k, is_max) arrays."""
+    sign = np.sign(dq)
+    n = len(phi)
+    a, b, k, top = [], [], [], []
+    i, kk = np.nonzero(sign[:-1] * sign[1:] < 0)                 # strictly between samples
+    a.append(phi[i]), b.append(phi[i + 1]), k.append(kk), top.append(sign[i, kk] > 0)
+    if full_turn:  # samples 0 … n − 2 cyclic; sample n − 1 is sample 0 turned once
+        idx = np.arange(n - 1)
+        prev, nxt = (idx - 1) % (n - 1), idx + 1
+    else:
+        idx = np.arange(1, n - 1)
+        prev, nxt = idx - 1, idx + 1
+    zi, zk = np.nonzero(sign[idx] == 0)
+    before, after = sign[prev[zi], zk], sign[nxt[zi], zk]
+    turn = before * after < 0                                    # a zero with a sign change: an extreme
+    zi, zk, before = zi[turn], zk[turn], before[turn]
+    a.append(phi[idx[zi]]), b.append(phi[idx[zi]]), k.append(zk), top.append(before > 0)
+    return (np.concatenate(a), np.concatenate(b), np.concatenate(k).astype(int),
+            np.concatenate(top).astype(bool))
+
+
+ROOT_ITERATIONS = 40
+
+
+def _root(engine, a, b, which):
+    """The input values (N,) in [a, b] where quantity `which` is stationary (dq/dφ = 0), by Newton on
+    the continuation's analogues (ddq) safeguarded by bisection of the bracket, all candidates in one
+    batch per iteration; a == b is a zero found on a sample. Returns (φ, q) or None when a position
+    cannot be solved."""
+    a, b = np.asarray(a, float).copy(), np.asarray(b, float).copy()
+    x = 0.5 * (a + b)
+    rows = np.arange(len(x))
+    for _ in range(ROOT_ITERATIONS):
+        motion = analyse(engine, x)
+        if not motion.success:
+            return None
+        _, _, q, dq, ddq = _quantities(engine, motion)
+        d1, d2 = dq[rows, which], ddq[rows, which]
+        fa = _rate_at(engine, a, which)
+        if fa is None:
+            return None
+        left = np.sign(d1) == np.sign(fa)
+        a, b = np.where(left & (d1 != 0), x, a), np.where(~left & (d1 != 0), x, b)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = x - d1 / d2
+        ok = np.isfinite(newton) & (newton > np.minimum(a, b)) & (newton < np.maximum(a, b))
+        nxt = np.where(d1 == 0, x, np.where(ok, newton, 0.5 * (a + b)))
+        done = np.abs(nxt - x) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(x))
+        x = nxt
+        if done.all():
+            break
+    motion = analyse(engine, x)
+    if not motion.success:
+        return None
+    return x, _quantities(engine, motion)[2][rows, which]
+
+
+def _rate_at(engine, x, which):
+    motion = analyse(engine, x)
+    if not motion.success:
+        return None
+    return _quantities(engine, motion)[3][np.arange(len(x)), which]
+
+
+def _local(kind, value, at, end=False):
+    return {"kind": kind, "value": float(value), "at": float(at), "end": bool(end)}
+
+
 def _extremes(engine, motion, full_turn, at_limits=None):
-    """Extreme positions of every output quantity: refined stationary points inside the sweep, and its
-    ends (exact at located motion limits, see `_ends`)."""
+    """Extreme positions of every output quantity: every local extreme (a dead centre of the output:
+    its rate is zero, found by sign changes and exact zeros of the sampled rate and refined by
+    `_root`), and the ends of the range at motion limits (exact at located limits, see `_ends`); the
+    global minimum and maximum among them."""
     inp = engine.inputs[0]
     names, kinds, q, dq, _ = _quantities(engine, motion)
     phi = motion.phi[:, 0]
     q = np.where(np.array(kinds) == "link", np.unwrap(q, axis=0), q)
     end_phi, end_q = _ends(engine, motion, at_limits, kinds, q)
-    # candidates: sign changes of the analogue between samples (interior), and the ends of the range
-    i, k = np.nonzero(dq[:-1] * dq[1:] < 0)
-    guess = phi[i] - dq[i, k] * (phi[i + 1] - phi[i]) / (dq[i + 1, k] - dq[i, k])
-    refined = _refine(engine, guess, k) if len(k) else None
-    if refined is not None:
-        guess, values = refined
-        # the unwrapped branch of a link angle: shift the refined value next to its neighbour sample
-        values = np.where(np.array(kinds)[k] == "link",
-                          values + FULL_TURN * np.round((q[i, k] - values) / FULL_TURN), values)
-    else:
-        values = q[i, k]
-        guess = phi[i]
+    a, b, k, top = _stationary(engine, phi, dq, q, full_turn)
+    found = _root(engine, a, b, k) if len(k) else None
+    if found is not None:
+        at, values = found
+    else:  # cannot happen on a solved sweep; fall back to the nearer sample
+        at, values = a, q[np.searchsorted(phi, a), k]
+    # the unwrapped branch of a link angle: shift the refined value next to its neighbour sample
+    near = np.clip(np.searchsorted(phi, at), 0, len(phi) - 1)
+    values = np.where(np.array(kinds)[k] == "link",
+                      values + FULL_TURN * np.round((q[near, k] - values) / FULL_TURN), values)
     out = []
     for n, (name, kind) in enumerate(zip(names, kinds)):
         span = q[:, n].max() - q[:, n].min()
@@ -343,15 +452,23 @@ def _extremes(engine, motion, full_turn, at_limits=None):
             continue
         if span <= 1e-12 * max(1.0, engine.size):
             continue  # does not move (a block that only translates, say)
-        cand_phi = np.concatenate([guess[k == n], end_phi])
-        cand_val = np.concatenate([values[k == n], end_q[:, n]])
-        lo, hi = int(np.argmin(cand_val)), int(np.argmax(cand_val))
-        vmin, vmax = float(cand_val[lo]), float(cand_val[hi])
+        local = [(float(at[m]), float(values[m]), "max" if top[m] else "min") for m in np.flatnonzero(k == n)]
+        if not full_turn:
+            for e, other in ((0, 1), (1, -2)):
+                value = end_q[e, n]
+                local.append((float(end_phi[e]), float(value), "max" if value > q[other, n] else "min", True))
+        local.sort(key=lambda c: c[0])
+        values_n = np.array([c[1] for c in local]) if local else q[[0, -1], n]
+        ats_n = np.array([c[0] for c in local]) if local else end_phi
+        lo, hi = int(np.argmin(values_n)), int(np.argmax(values_n))
+        vmin, vmax = float(values_n[lo]), float(values_n[hi])
+        shift = 0.0
         if kind == "link":  # report angles in (−π, π] around the minimum
             shift = FULL_TURN * math.floor((vmin + math.pi) / FULL_TURN)
             vmin, vmax = vmin - shift, vmax - shift
-        out.append(Extreme(name, kind, vmin, float(inp.from_si(cand_phi[lo])), vmax,
-                           float(inp.from_si(cand_phi[hi]))))
+        ext = Extreme(name, kind, vmin, float(inp.from_si(ats_n[lo])), vmax, float(inp.from_si(ats_n[hi])))
+        ext.local = [_local(c[2], c[1] - shift, inp.from_si(c[0]), len(c) > 3) for c in local]
+        out.append(ext)
     return out
 
 
@@ -435,8 +552,123 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
         else:
             lines.append(f"  slider {e.name}: {e.minimum / k:.9g} {lu} at {e.at_min:.8g} {u} … {e.maximum / k:.9g} "
                          f"{lu} at {e.at_max:.8g} {u} (stroke {(e.maximum - e.minimum) / k:.9g} {lu})")
+        if e.local:
+            lines.append("    local extremes: " + "; ".join(_format_local(e, loc, u, lu, k) for loc in e.local))
     for title, items in (("transmission angle", report.transmission), ("pressure angle", report.pressure)):
         for a in items:
             lines.append(f"  {title} {a.name}: min {math.degrees(a.minimum):.4f}° at {a.at_min:.8g} {u}, "
                          f"max {math.degrees(a.maximum):.4f}° at {a.at_max:.8g} {u}")
     return "\n".join(lines)
+
+
+def _format_local(ext: Extreme, loc: dict, unit: str, lu: str = "m", k: float = 1.0) -> str:
+    """One local extreme: 'max 61.601550° at 315 deg' (an end of the range marked '(limit)'); lengths
+    in `lu`, k metres each."""
+    value = f"{math.degrees(loc['value']):.6f}°" if ext.kind == "link" else f"{loc['value'] / k:.9g} {lu}"
+    return f"{loc['kind']} {value} at {loc['at']:.8g} {unit}" + (" (limit)" if loc["end"] else "")
+
+
+# -- two inputs: the reachable region and the singular curves ----------------------------------------
+REGION_SAMPLES = 37    # grid points per input (10° over a full turn)
+
+
+@dataclass
+class RegionReport:
+    """What a two-input mechanism can reach: a grid over both inputs' sweeps (model units), which grid
+    points the drawn branch reaches, the range each input reaches, and the points of the singular
+    curves (a block's Jacobian determinant changes sign between neighbouring reached grid points:
+    there the branch folds, the links line up)."""
+
+    model: str
+    inputs: list            # names
+    units: list
+    grid: list              # per input the grid values (n_k,)
+    reachable: np.ndarray   # (n_1, n_2) bool
+    ranges: list            # per input (lo, hi) over the reached grid points
+    singular: list          # [{"at": [a, b], "links": [...], "joints": [...], "kind": str}]: the motion
+                            # limits the walks ran into (the edge of the region) and sign changes inside
+
+    def as_dict(self) -> dict:
+        return {"model": self.model, "inputs": self.inputs, "units": self.units,
+                "grid": [list(map(float, g)) for g in self.grid],
+                "reachable": self.reachable.tolist(), "reached": int(self.reachable.sum()),
+                "ranges": [list(r) if r is not None else None for r in self.ranges],
+                "singular": self.singular}
+
+
+def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
+    """The region of a two-input mechanism: every grid line (first input fixed) is walked on the drawn
+    branch from the drawn pose, first along the first input, then along the second up and down from
+    its drawn value, so a grid point counts as reached when the branch gets there without crossing a
+    motion limit. Sign changes of a block's Jacobian determinant between neighbours on a line or
+    across lines mark the singular curves (located by linear interpolation of the determinant)."""
+    if len(engine.inputs) != 2:
+        raise ModelError(f"{engine.mech.source}: the region check drives two inputs; this model has "
+                         f"{len(engine.inputs)}")
+    inputs = engine.inputs
+    grid = [np.linspace(*inp.default_sweep(), samples) for inp in inputs]
+    drawn = [inp.from_si(float(p)) for inp, p in zip(inputs, engine.phi_drawn)]
+    n1, n2 = len(grid[0]), len(grid[1])
+    reach = np.zeros((n1, n2), bool)
+    dets = np.full((n1, n2, len(engine.blocks)), np.nan)
+    folds = []
+    up = grid[1] >= drawn[1]
+    for i, a in enumerate(grid[0]):
+        for part in (np.flatnonzero(up), np.flatnonzero(~up)[::-1]):
+            values = np.column_stack([np.full(len(part) + 1, a), np.append(drawn[1], grid[1][part])])
+            phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(inputs)])
+            sol = engine.solve(phi)
+            ok = sol.valid[1:]
+            reach[i, part] = ok
+            dets[i, part] = np.where(ok[:, None], engine.dets(sol)[1:], np.nan)
+            folds += [{"at": [float(inp.from_si(p)) for inp, p in zip(inputs, lim.phi)], "links": list(lim.links),
+                       "joints": list(lim.joints), "kind": lim.kind} for lim in sol.limits]
+    ranges = []
+    for axis in (0, 1):
+        hit = np.flatnonzero(reach.any(axis=1 - axis))
+        ranges.append((float(grid[axis][hit[0]]), float(grid[axis][hit[-1]])) if len(hit) else None)
+    return RegionReport(engine.mech.name, [i.name for i in inputs], [i.unit for i in inputs], grid, reach,
+                        ranges, sorted(_singular_points(engine, grid, dets) + folds, key=lambda s: s["at"]))
+
+
+def _singular_points(engine, grid, dets) -> list:
+    """Where a block's determinant changes sign between reached neighbours along either input."""
+    out = []
+    for axis in (0, 1):
+        d0 = dets[:-1] if axis == 0 else dets[:, :-1]
+        d1 = dets[1:] if axis == 0 else dets[:, 1:]
+        i, j, k = np.nonzero(d0 * d1 < 0)
+        for a, b, blk in zip(i, j, k):
+            t = d0[a, b, blk] / (d0[a, b, blk] - d1[a, b, blk])
+            p = [grid[0][a], grid[1][b]]
+            nxt = grid[axis][(a if axis == 0 else b) + 1]
+            p[axis] = p[axis] + t * (nxt - p[axis])
+            bp = engine.blocks[blk]
+            out.append({"at": [float(p[0]), float(p[1])], "links": list(bp.links), "joints": list(bp.joints),
+                        "kind": "change of assembly sign between grid points"})
+    return out
+
+
+def format_region(report: RegionReport) -> str:
+    """Plain-text summary of a `RegionReport`."""
+    names = ", ".join(f"{n} [{u}]" for n, u in zip(report.inputs, report.units))
+    total = report.reachable.size
+    lines = [f"{report.model}: inputs {names}; {int(report.reachable.sum())} of {total} grid points "
+             f"({len(report.grid[0])} × {len(report.grid[1])}) reached on the drawn branch"]
+    for name, unit, r in zip(report.inputs, report.units, report.ranges):
+        lines.append(f"  {name} reaches {r[0]:.6g} … {r[1]:.6g} {unit} (on the grid)" if r else
+                     f"  {name}: no grid point reached")
+    for row in _region_map(report):
+        lines.append("    " + row)
+    if report.singular:
+        lines.append(f"  singular curves ({len(report.singular)} points, links in line):")
+        for s in report.singular:
+            lines.append(f"    {report.inputs[0]} = {s['at'][0]:.8g}, {report.inputs[1]} = {s['at'][1]:.8g}: "
+                         f"links {', '.join(s['links'])} — {s['kind']}")
+    return "\n".join(lines)
+
+
+def _region_map(report: RegionReport) -> list[str]:
+    """The reached grid as text: one row per value of the second input (top: the largest), '#' reached."""
+    return ["".join("#" if r else "." for r in report.reachable[:, j]) + f"  {report.grid[1][j]:g}"
+            for j in range(report.reachable.shape[1] - 1, -1, -1)]

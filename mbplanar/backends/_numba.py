@@ -8,6 +8,7 @@ import numpy as np
 
 from ..engine._atlas import met_along
 from ..forces._kinetostatics import plan_of, result
+from ..forces._loads import needs_numpy
 from ..kinematics._motion import Motion, _per_position, _tables
 from . import _numba_kinematics, _numba_kinetostatics
 
@@ -28,10 +29,11 @@ class NumbaBackend:
 
     def kinetostatics(self, engine, motion, input_inertia, loads, inertia):
         """`kinetostatics` of a compiled Motion (its rows in step with its arrays) of one input with the
-        model's own loads and no input inertia, or None."""
+        model's own loads (no springs, dampers, torques or switched rows) and no input inertia, or None."""
         rows = motion.rows
         if not (rows is not None and len(rows) == len(motion.phi) > 0 and np.may_share_memory(rows, motion.wq)
-                and loads is None and len(engine.inputs) == 1 and not np.any(input_inertia)):
+                and loads is None and len(engine.inputs) == 1 and not np.any(input_inertia)
+                and not needs_numpy(engine.mech)):
             return None
         plan = plan_of(engine)
         x, singular, residual, values = _numba_kinetostatics.solve(engine, motion, plan, inertia)
@@ -50,6 +52,8 @@ def _motion(engine, phi, omega, epsilon) -> Motion | None:
     ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1).reshape(-1))
     tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
+    if not engine.within_walk(lo, hi):
+        return None  # far values: the numpy path reduces them by the period
     got = _numba_kinematics.sweep(engine, x, lo, hi, tables[1])
     if got is None:
         return None

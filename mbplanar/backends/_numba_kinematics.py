@@ -4,8 +4,9 @@ same pass.
 
 It is the same engine, not a second one: the branch atlas, its nodes and interpolant, the joint laws'
 formulas, the tolerances (the engine's `Tolerances`, passed as an argument) and the acceptance checks
-are the engine's; only the loop order differs (per position instead of per operation over the batch). It takes the common case only: every position
-between two atlas nodes or past a located limit, corrected on the branch at the first try. Anything
+are the engine's; only the loop order differs (per position instead of per operation over the batch).
+It takes the common case only: every position between two atlas nodes or past a located limit,
+corrected on the branch at the first try. Anything
 else (a change point's bracket, a position the batch corrector would hand to `_repair`, an atlas of
 one node) returns None and the numpy path does the whole batch. Tests hold both paths equal to
 rounding on every model.
@@ -325,8 +326,8 @@ def _interval(grid, x):
 
 
 @_jit
-def _sweep(steps, cuts, blocks, joints, sense, phi_drawn, ground, tol, grid, coef, signs, limits, x, out, valid, ps, rt, sc, cc, q, guess, jac, perm,
-           res, step, qd_u, qdd_u):
+def _sweep(steps, cuts, blocks, joints, sense, phi_drawn, ground, tol, grid, coef, signs, limits, x, out, valid,
+           ps, rt, sc, cc, q, guess, jac, perm, res, step, qd_u, qdd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
     engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
     closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _threads
 from ._numba_kinematics import _lu, _lu_solve
-from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
+from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, ForceBlockTables, load_tables
 from ..kinematics._motion import _tables
 from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
@@ -101,8 +101,10 @@ def _block_tables(blocks):
         rest_r += blk.rest_rows
         rest_c += blk.rest_cols
     ints = lambda x, w=None: np.array(x, np.int64).reshape((-1, w) if w else -1)  # noqa: E731
-    return (ints(table, 12), ints(rows), ints(own), ints(ent_i, 3), np.array(ent_c, float), ints(lat_i, 3),
-            np.array(lat_c, float), ints(piv, 6), ints(aff), ints(pcol), ints(rest_r), ints(rest_c), ints(zero, 2))
+    table = ints(table, 12)
+    return ForceBlockTables(*(np.ascontiguousarray(table[:, c]) for c in range(12)), ints(rows), ints(own),
+                            ints(ent_i, 3), np.array(ent_c, float), ints(lat_i, 3), np.array(lat_c, float),
+                            ints(piv, 6), ints(aff), ints(pcol), ints(rest_r), ints(rest_c), ints(zero, 2))
 
 
 def _zeros(blk) -> list:
@@ -136,7 +138,7 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     blocks = _block_tables(ks_plan.blocks)
     args = (offsets, len(engine.links), p_link.astype(np.int64), np.ascontiguousarray(p_at, float), link_row,
             np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, loads,
-            *blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
+            blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
     sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
              1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
     plan = cache[key] = _KernelPlan(names, links, guides, args, sizes, [])
@@ -202,62 +204,60 @@ def _dense_solve(M, n, perm, rhs, sol):
 
 
 @_inline
-def _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c, zero, feat,
-                 bvec, x, A, rl, M, rr, perm, sol):
+def _solve_block(bk, fb, feat, bvec, x, A, rl, M, rr, perm, sol):
     """One block of `kinetostatics._solve_block` at one position, into x (scaled unknowns); returns
     its singularity measure |det| / Π‖row‖."""
-    n, r0 = blocks[bk, 0], blocks[bk, 1]
+    n, r0 = fb.size[bk], fb.row0[bk]
     for i in range(n):
-        rl[i] = bvec[brow[r0 + i]]
+        rl[i] = bvec[fb.rows[r0 + i]]
         rr[i] = 0.0  # Σ of the row's squares
-    for z in range(blocks[bk, 10], blocks[bk, 11]):
-        A[zero[z, 0], zero[z, 1]] = 0.0
-    for e in range(blocks[bk, 2], blocks[bk, 3]):
-        f, i = ent_i[e, 2], ent_i[e, 0]
-        v = ent_c[e] if f == 0 else ent_c[e] * feat[f]
-        A[i, ent_i[e, 1]] = v
+    for z in range(fb.zero0[bk], fb.zero1[bk]):
+        A[fb.zeros[z, 0], fb.zeros[z, 1]] = 0.0
+    for e in range(fb.entry0[bk], fb.entry1[bk]):
+        f, i = fb.entry[e, 2], fb.entry[e, 0]
+        v = fb.entry_coef[e] if f == 0 else fb.entry_coef[e] * feat[f]
+        A[i, fb.entry[e, 1]] = v
         rr[i] += v * v
     norm2 = 1.0
     for i in range(n):
         norm2 *= rr[i]
-    for e in range(blocks[bk, 4], blocks[bk, 5]):
-        f = lat_i[e, 2]
-        rl[lat_i[e, 0]] -= (lat_c[e] if f == 0 else lat_c[e] * feat[f]) * x[lat_i[e, 1]]
+    for e in range(fb.later0[bk], fb.later1[bk]):
+        f = fb.later[e, 2]
+        rl[fb.later[e, 0]] -= (fb.later_coef[e] if f == 0 else fb.later_coef[e] * feat[f]) * x[fb.later[e, 1]]
     det = 1.0
-    for p in range(blocks[bk, 6], blocks[bk, 7]):
-        i, j = piv[p, 0], piv[p, 1]
+    for p in range(fb.pivot0[bk], fb.pivot1[bk]):
+        i, j = fb.pivots[p, 0], fb.pivots[p, 1]
         pivot = A[i, j]
-        for t in range(piv[p, 2], piv[p, 3]):
-            k = aff[t]
+        for t in range(fb.pivots[p, 2], fb.pivots[p, 3]):
+            k = fb.affected[t]
             m = A[k, j] / pivot
-            for u in range(piv[p, 4], piv[p, 5]):
-                A[k, pcol[u]] -= m * A[i, pcol[u]]
+            for u in range(fb.pivots[p, 4], fb.pivots[p, 5]):
+                A[k, fb.pivot_cols[u]] -= m * A[i, fb.pivot_cols[u]]
             rl[k] -= m * rl[i]
         det *= pivot
-    s0, s1 = blocks[bk, 8], blocks[bk, 9]
+    s0, s1 = fb.rest0[bk], fb.rest1[bk]
     if s1 > s0:
         nr = s1 - s0
         for p in range(nr):
             for q in range(nr):
-                M[p, q] = A[rest_r[s0 + p], rest_c[s0 + q]]
-            rr[p] = rl[rest_r[s0 + p]]  # rr, free again, takes the rest's right side
+                M[p, q] = A[fb.rest_rows[s0 + p], fb.rest_cols[s0 + q]]
+            rr[p] = rl[fb.rest_rows[s0 + p]]  # rr, free again, takes the rest's right side
         det *= _dense_solve(M, nr, perm, rr, sol)
         for q in range(nr):
-            x[bown[r0 + rest_c[s0 + q]]] = sol[q]
-    for p in range(blocks[bk, 7] - 1, blocks[bk, 6] - 1, -1):
-        i, j = piv[p, 0], piv[p, 1]
+            x[fb.own[r0 + fb.rest_cols[s0 + q]]] = sol[q]
+    for p in range(fb.pivot1[bk] - 1, fb.pivot0[bk] - 1, -1):
+        i, j = fb.pivots[p, 0], fb.pivots[p, 1]
         acc = rl[i]
-        for u in range(piv[p, 4], piv[p, 5]):
-            acc -= A[i, pcol[u]] * x[bown[r0 + pcol[u]]]
-        x[bown[r0 + j]] = acc / A[i, j]
+        for u in range(fb.pivots[p, 4], fb.pivots[p, 5]):
+            acc -= A[i, fb.pivot_cols[u]] * x[fb.own[r0 + fb.pivot_cols[u]]]
+        x[fb.own[r0 + j]] = acc / A[i, j]
     return abs(det) / np.sqrt(norm2)
 
 
 @_jit
 def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, centre, size, jpoint, guide_i, guide_f,
-            p_inputs, loads, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c,
-            zero, scale, in_cols, in_joint, min_measure, x_out, singular, residual, loads_out, A, rl, M, rr, perm, sol,
-            bvec, feat):
+            p_inputs, loads, fb, scale, in_cols, in_joint, min_measure, x_out, singular, residual, loads_out, A, rl, M,
+            rr, perm, sol, bvec, feat):
     """Every position b: features, loads (stored in loads_out[b]: fx, fy, x, y, moment), the blocks into
     x_out[b] (scaled back, NaN where a block's measure is not above min_measure, `Tolerances.singular`),
     and the relative virtual-power residual."""
@@ -323,9 +323,8 @@ def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, ce
         # the blocks, last group first (kinetostatics._solve_blocks)
         xb = x_out[b]
         bad = False
-        for bk in range(len(blocks)):
-            measure = _solve_block(bk, blocks, brow, bown, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r,
-                                   rest_c, zero, feat, bvec, xb, A, rl, M, rr, perm, sol)
+        for bk in range(len(fb.size)):
+            measure = _solve_block(bk, fb, feat, bvec, xb, A, rl, M, rr, perm, sol)
             bad = bad or not measure > min_measure
         for i in range(n):
             xb[i] *= scale[i]

@@ -59,7 +59,25 @@ class CamDesign:
 
 
 def design(spec: CamSpec) -> CamDesign:
-    """Design the cam `spec` describes (see the package's docstring)."""
+    """Design the cam `spec` describes.
+
+    Parameters
+    ----------
+    spec : CamSpec
+        from `read_cam` or `parse_cam`.
+
+    Returns
+    -------
+    CamDesign
+        timing, program, follower (given or sized), geometry on `spec.samples` angles, self-check,
+        pressure-angle extremes, ρ_min, forces (with `[cam.dynamics]`) and warnings.
+
+    Raises
+    ------
+    ModelError
+        bad phases (sum ≠ 360°, negative stroke, unknown law or name), a follower that cannot exist, or
+        limits no size can meet.
+    """
     engine = _linkage(spec)
     events = _events(spec, engine)
     names = {k: r.value for k, r in events.items()}

@@ -40,7 +40,18 @@ class CamForces:
 
 
 def cam_forces(geometry: CamGeometry, spec) -> CamForces:
-    """Contact force and driving torque for `spec` (a `spec.DynamicsSpec`) on `geometry`."""
+    """Contact force and driving torque over the cycle.
+
+    Parameters
+    ----------
+    geometry : CamGeometry
+    spec : DynamicsSpec
+        cam speed, follower inertia, spring rate, preload, constant load.
+
+    Returns
+    -------
+    CamForces
+    """
     g, f = geometry, geometry.follower
     w2 = spec.speed ** 2
     if f.motion == "translating":

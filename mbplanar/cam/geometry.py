@@ -98,7 +98,18 @@ class CamGeometry:
 
 
 def cam_geometry(follower: Follower, phi, s, v, a) -> CamGeometry:
-    """The cam that drives `follower` by the lift s(φ) with analogues v, a (arrays (N,))."""
+    """The cam that drives `follower` by the lift s(φ).
+
+    Parameters
+    ----------
+    follower : Follower
+    phi : (N,) cam angles, rad
+    s, v, a : (N,) lift (m) and its analogues ds/dφ (m/rad), d²s/dφ² (m/rad²)
+
+    Returns
+    -------
+    CamGeometry
+    """
     phi, s, v, a = (np.asarray(x, float) for x in (phi, s, v, a))
     sigma = follower.rotation
     turn = -sigma * phi

@@ -161,6 +161,8 @@ def run_command(args) -> int:
 
     from .design import design
     from .spec import read_cam
+    if getattr(args, "plot", None) and not args.plot_output:
+        raise ModelError("--plot needs --plot-output FILE (.png, .svg, .pdf, or .gif for 'animation')")
     spec = read_cam(args.file)
     if args.size:
         spec = replace(spec, size=True)
@@ -174,8 +176,6 @@ def run_command(args) -> int:
         export.write_svg(d.geometry, args.svg, spec.title or "cam")
     if getattr(args, "plot", None):
         from .plots import save_figure
-        if not args.plot_output:
-            raise ModelError("--plot needs --plot-output FILE (.png, .svg, .pdf, or .gif for 'animation')")
         save_figure(d, args.plot, args.plot_output, at=args.at)
     if args.json:
         print(json.dumps(_plain(document(d)), indent=2, ensure_ascii=False))

@@ -56,7 +56,20 @@ def _perp(v):
 
 
 def self_check(geometry: CamGeometry, program, max_iter: int = 60) -> SelfCheck:
-    """Solve the follower's position on `geometry`'s profile at the midpoints of its samples."""
+    """Solve the follower's position on `geometry`'s profile at the midpoints of its samples.
+
+    Parameters
+    ----------
+    geometry : CamGeometry
+        its angles must include the program's breakpoints (`Program.grid` does).
+    program : laws.Program
+        used for its breakpoints and, after solving, for the comparison only.
+    max_iter : Newton iterations at most.
+
+    Returns
+    -------
+    SelfCheck
+    """
     f, g = geometry.follower, geometry
     sigma = f.rotation
     knots = np.append(g.phi, g.phi[0] + 2 * np.pi)

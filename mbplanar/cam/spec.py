@@ -129,7 +129,21 @@ class _Table:
 
 
 def read_cam(path) -> CamSpec:
-    """Read a cam file, or a model file with a `[cam]` section."""
+    """Read a cam file, or a model file with a `[cam]` section.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    CamSpec
+
+    Raises
+    ------
+    ModelError
+        unreadable file, TOML syntax, unknown or mistyped keys (naming the file, table and row).
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -155,7 +169,8 @@ def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
         if unknown:
             raise ModelError(f"{source}: unknown key(s) {', '.join(sorted(unknown))} in a cam file")
     t = _Table(data["cam"], f"{source}: [cam]")
-    unit_name = t.get("length_unit", "m", str)
+    # a model's [cam] measures in the model's length_unit unless it says otherwise
+    unit_name = t.get("length_unit", data.get("length_unit", "m") if linkage is not None else "m", str)
     if unit_name not in _UNITS:
         t.fail(f"length_unit must be one of {', '.join(_UNITS)}, got '{unit_name}'")
     unit = _UNITS[unit_name]

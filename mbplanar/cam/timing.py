@@ -136,7 +136,22 @@ def _roots(fun, grid, values) -> list[Root]:
 
 def solve_event(engine, name: str, point: str, coordinate: str = "x", fraction: float | None = None,
                 measure: str = "fraction", direction: str | None = None) -> EventResult:
-    """One event of a `[cam]` timing table (see the module)."""
+    """One event of a `[cam]` timing table (see the module).
+
+    Parameters
+    ----------
+    engine : Engine of a one-input linkage whose input turns
+    name : the event's name (for messages)
+    point, coordinate : the point (pair or point name) and "x" or "y"
+    fraction : for measure "fraction": fraction of the stroke past the start of the forward stroke
+    measure : "fraction" or "forward_angle"
+    direction : "rising", "falling" or None (then exactly one root must exist)
+
+    Returns
+    -------
+    EventResult
+        every root with its direction, the chosen value (model's input unit) and the point's stroke.
+    """
     if measure == "forward_angle":
         stroke = point_stroke(engine, point, coordinate)
         return EventResult(name, (), stroke.forward_angle, stroke)

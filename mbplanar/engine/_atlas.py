@@ -7,16 +7,26 @@ predicts every requested position from the atlas' quintic Hermite interpolant an
 from __future__ import annotations
 
 import math
+import warnings
+from dataclasses import replace
 
 import numpy as np
 
-from ..errors import MotionError
+from ..errors import ModelError, MotionError, PrecisionWarning
 
 from ._blocks import BlockSolver, Solution
 from ._nodes import HERMITE5, Node, hermite_between, node_at
 from ._singular import Crossing, limit_after, limit_kind, locate_crossing
 
-__all__ = ["Atlas", "solve_along", "solve_sequence", "met_along"]
+__all__ = ["Atlas", "solve_along", "solve_sequence", "met_along", "far_span", "FAR_TURNS", "FAR_SIZES",
+           "LOST_PRECISION"]
+
+FAR_TURNS = 2          # a revolute input is walked at most this many turns from the drawn pose: farther
+                       # values are reduced by the branch's period (one or two turns), or refused
+FAR_SIZES = 100.0      # a prismatic input is walked at most this many sizes of the mechanism
+LOST_PRECISION = 1e-6  # refuse input values whose floating-point spacing (SI) exceeds this
+MAX_REPEATED = 1000    # change points reported per change point of the period, over a span of many turns
+PERIOD_TOL = 1e-8      # largest scaled difference of the unknowns one period apart (besides whole turns)
 
 
 class Atlas:
@@ -27,6 +37,40 @@ class Atlas:
         self.nodes = [_origin(solver, np.ones(1))]
         self.limits = {+1: None, -1: None}
         self.crossings = []
+
+    _period = ()  # not looked for yet
+
+    def period(self):
+        """(T, shift) of the branch along a revolute input: the period T (rad, one or two turns) and
+        per block the change of its unknowns over one period (whole turns of relative angles, see
+        `_period_shift`); None when there is none within `FAR_TURNS` turns (a limit, or no return)."""
+        if self._period != ():
+            return self._period
+        self._period = None
+        solver = self.solver
+        if solver.mech.joints[solver.inputs[0].joint].kind != "R":
+            return None
+        phi0 = float(solver.phi_drawn[0])
+        origin = next(n for n in self.nodes if n.phi[0] == phi0)
+        for turns in range(1, FAR_TURNS + 1):
+            end = phi0 + 2 * math.pi * turns
+            self.cover(phi0, end)
+            if self.limits[+1] is not None and self.arrays()[0][-1] < end:
+                return None
+            q_end = self._solve_at(end)
+            shift = None if q_end is None else _period_shift(solver, origin.q, q_end)
+            if shift is not None:
+                self._period = (2 * math.pi * turns, shift)
+                break
+        return self._period
+
+    def _solve_at(self, x: float):
+        """Every block's unknowns (m,) at input x inside the atlas, or None."""
+        grid, per_block, _ = self.arrays()
+        xs = np.array([x])
+        guesses = _interpolate(grid, per_block, xs, _nearest(grid, xs), np.ones(1, bool))
+        sol = self.solver.solve_batch(xs[:, None], guesses)
+        return [s.q[:, 0] for s in sol.blocks] if sol.valid[0] else None
 
     def cover(self, lo: float, hi: float):
         """Extend the atlas to cover [lo, hi], or up to a motion limit."""
@@ -247,9 +291,99 @@ def _bracket(solver: BlockSolver, start: Node, node: Node, new: Node, direction:
 
 
 
+def far_span(solver: BlockSolver) -> float:
+    """How far (SI) from the drawn pose the walk goes along a single input before a period is needed."""
+    return 2 * math.pi * FAR_TURNS if solver.mech.joints[solver.inputs[0].joint].kind == "R" else \
+        FAR_SIZES * solver.size
+
+
+def _period_shift(solver: BlockSolver, q0: list, q1: list) -> list | None:
+    """Per block the change q1 − q0 of its unknowns when it is whole turns of the relative angles and
+    nothing else (within `PERIOD_TOL`, scaled), else None."""
+    out = []
+    for bp, a, b in zip(solver.blocks, q0, q1):
+        angle = np.array([solver.mech.joints[st.law.name].kind == "R" for st in bp.steps if st.var is not None],
+                         bool)
+        d = b - a
+        whole = np.where(angle, 2 * math.pi * np.round(d / (2 * math.pi)), 0.0)
+        if np.any(np.abs(d - whole) * bp.var_scale > PERIOD_TOL):
+            return None
+        out.append(whole)
+    return out
+
+
+def _periods_away(atlas: Atlas, x: np.ndarray):
+    """Whole periods n (B,) to take off x for the walk, or None when every row is within reach
+    (`far_span`) or past a motion limit found within it. Rows beyond reach on a side without a limit
+    need a period; a mechanism without one gets a `MotionError` naming the range walked, a value whose
+    float spacing exceeds `LOST_PRECISION` a `ModelError`."""
+    solver = atlas.solver
+    phi0, span = float(solver.phi_drawn[0]), far_span(solver)
+    far = np.abs(x - phi0) > span
+    if not far.any():
+        return None
+    atlas.cover(max(float(x.min()), phi0 - span), min(float(x.max()), phi0 + span))
+    open_side = (far & (x > phi0) & (atlas.limits[+1] is None)) | (far & (x < phi0) & (atlas.limits[-1] is None))
+    if not open_side.any():
+        return None  # far rows lie past a limit: the walk stops there
+    inp = solver.inputs[0]
+    spacing = float(np.spacing(np.abs(x[far])).max())
+    if spacing > LOST_PRECISION:
+        raise ModelError(f"{inp.name} = {inp.from_si(float(np.abs(x).max())):g} {inp.unit}: at this size "
+                         f"floating-point numbers are {spacing:.3g} (SI) apart, so the position within a turn "
+                         "is lost; give the value reduced by whole turns", source=solver.mech.source)
+    found = atlas.period()
+    if found is None:
+        lo = float(atlas.limits[-1].phi[0]) if atlas.limits[-1] is not None else phi0 - span
+        hi = float(atlas.limits[+1].phi[0]) if atlas.limits[+1] is not None else phi0 + span
+        raise MotionError(f"{inp.name} = {inp.from_si(float(x[open_side][0])):g} {inp.unit} is beyond the range "
+                          f"the analysis walks from the drawn pose ({inp.from_si(lo):g} … {inp.from_si(hi):g} "
+                          f"{inp.unit}), and the motion does not repeat within {FAR_TURNS} turns",
+                          source=solver.mech.source)
+    n = np.floor((x - phi0) / found[0])
+    error = spacing + float(np.abs(n).max()) * np.spacing(found[0])
+    if error > 1e-12:
+        warnings.warn(f"{solver.mech.source}: input values as large as {float(np.abs(x).max()):.6g} rad are "
+                      f"reduced by whole periods with an uncertainty of {error:.2g} rad", PrecisionWarning,
+                      stacklevel=5)
+    return n
+
+
+def _solve_periodic(atlas: Atlas, phi: np.ndarray, n: np.ndarray) -> Solution:
+    """Rows far along a periodic branch: solved n periods back, near the drawn pose, then moved on by
+    n periods (whole turns of the relative angles) and confirmed at the values asked."""
+    period, shift = atlas.period()
+    near = solve_along(atlas, (phi[:, 0] - n * period)[:, None])
+    guesses = [s.q + d[:, None] * n[None, :] for s, d in zip(near.blocks, shift)]
+    sol = atlas.solver.solve_batch(phi, guesses)
+    sol.valid &= near.valid
+    sol.limits, sol.given_rates = near.limits, near.given_rates
+    sol.crossings = _crossings_over(atlas, float(phi[:, 0].min()), float(phi[:, 0].max()), period)
+    return sol
+
+
+def _crossings_over(atlas: Atlas, lo: float, hi: float, period: float) -> list:
+    """The change points of a periodic branch between lo and hi: those of the atlas' first period
+    from the drawn pose, repeated every period."""
+    phi0 = float(atlas.solver.phi_drawn[0])
+    out = []
+    for c in atlas.crossings:
+        if not phi0 <= c.phi[0] < phi0 + period:
+            continue
+        first, last = math.ceil((lo - c.phi[0]) / period), math.floor((hi - c.phi[0]) / period)
+        last = min(last, first + MAX_REPEATED - 1)  # a span of many turns: the first ones only
+        out += [replace(c, phi=c.phi + k * period, bracket=(c.bracket[0] + k * period, c.bracket[1] + k * period))
+                for k in range(first, last + 1)]
+    return sorted(out, key=lambda c: c.phi[0])
+
+
 def solve_along(atlas: Atlas, phi: np.ndarray) -> Solution:
     """Batch solve of one input's values phi (B, 1) on the drawn branch: predict from the atlas,
-    correct, check, walk the rest."""
+    correct, check, walk the rest. Values beyond `far_span` are reduced by the branch's period
+    (`_periods_away`)."""
+    n = _periods_away(atlas, phi[:, 0])
+    if n is not None:
+        return _solve_periodic(atlas, phi, n)
     solver = atlas.solver
     x = phi[:, 0]
     atlas.cover(float(x.min()), float(x.max()))

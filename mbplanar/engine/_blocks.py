@@ -18,7 +18,7 @@ from ._constraints import Pose, Rates
 from ._linalg import factor
 from ._tolerances import Tolerances
 
-__all__ = ["Step", "BlockPlan", "BlockState", "Solution", "BlockSolver"]
+__all__ = ["Step", "BlockPlan", "BlockState", "Solution", "BlockSolver", "ScaledLU", "factor_scaled"]
 
 
 @dataclass
@@ -48,6 +48,32 @@ class BlockPlan:
     def joints(self) -> tuple:
         """Names of the block's joints: tree joints, then cuts."""
         return tuple(st.law.name for st in self.steps) + tuple(law.name for law in self.cuts)
+
+
+class ScaledLU:
+    """The factors of a block's Jacobian J (m, m, B) made dimensionless, J_s = R·J·V⁻¹ (R the rows'
+    scale, V the unknowns', see `BlockPlan`): the pivot ratio and the determinant's sign do not depend
+    on the mechanism's size or units, and J·x = b is solved as x = V⁻¹·J_s⁻¹·R·b. `det` is J_s's."""
+
+    def __init__(self, lu, row_scale: np.ndarray, var_scale: np.ndarray):
+        self.lu, self.row_scale, self.var_scale = lu, row_scale[:, None], var_scale[:, None]
+
+    @property
+    def det(self) -> np.ndarray:
+        return self.lu.det
+
+    @property
+    def pivot_ratio(self) -> np.ndarray:
+        return self.lu.pivot_ratio
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.lu.solve(b * self.row_scale) / self.var_scale
+
+
+def factor_scaled(bp: BlockPlan, jac: np.ndarray) -> ScaledLU:
+    """`ScaledLU` of a block's Jacobian (m, m, B)."""
+    return ScaledLU(factor(jac * bp.row_scale[:, None, None] / bp.var_scale[None, :, None]),
+                    bp.row_scale, bp.var_scale)
 
 
 @dataclass
@@ -169,7 +195,7 @@ class BlockSolver:
             with np.errstate(invalid="ignore"):
                 err = np.max(np.abs(res) * bp.row_scale[:, None], axis=0)
             jac, sens = self.block_jacobian(bp, caches, cut_caches, batch)
-            lu = factor(jac)
+            lu = factor_scaled(bp, jac)
             ok = err < self.tol.closure
             fine = err < self.tol.polish
             if ok.all() and not polished:

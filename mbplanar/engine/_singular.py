@@ -9,9 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._blocks import BlockPlan, BlockSolver, Solution
+from ._blocks import BlockPlan, BlockSolver, Solution, factor_scaled
 from ._constraints import Pose
-from ._linalg import factor
 from ._nodes import Node, hermite_between
 from ._tolerances import Tolerances
 
@@ -58,7 +57,7 @@ def _det_at(solver: BlockSolver, k: int, phi: np.ndarray, guesses) -> float:
     for bp, q in zip(solver.blocks[:k + 1], guesses):
         caches, cut_caches, _ = solver.block_pose(bp, pose, q, q_in)
     jac, _ = solver.block_jacobian(solver.blocks[k], caches, cut_caches, 1)
-    return float(factor(jac).det[0])
+    return float(factor_scaled(solver.blocks[k], jac).det[0])
 
 
 def locate_crossing(solver: BlockSolver, k: int, a: Node, b: Node, iterations: int = 6) -> np.ndarray:

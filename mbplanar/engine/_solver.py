@@ -38,7 +38,7 @@ import math
 
 import numpy as np
 
-from ._atlas import Atlas, solve_along, solve_sequence
+from ._atlas import Atlas, far_span, solve_along, solve_sequence
 from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
 from ._constraints import make_law
@@ -82,8 +82,8 @@ class Engine:
         self.links = mech.all_links
         self.link_index = {name: k for k, name in enumerate(self.links)}
         self.laws = {name: make_law(j) for name, j in mech.joints.items()}
-        self.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
-                                  for b in mech.joints.values()])
+        self.size = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
+                        + [0.0]) or 1.0  # (no floor: every tolerance is relative to it)
         self.inputs = mech.inputs
         self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
         self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
@@ -105,12 +105,13 @@ class Engine:
         """Direction of the link's reference line in the drawn pose (rad)."""
         if link == self.mech.ground:
             return 0.0
+        offset = self.mech.links[link].angle_offset
         ref = reference_points(self.mech, link)
         if ref is not None:
             p, q = (self._drawn_point(link, n) for n in ref)
-            return math.atan2(q[1] - p[1], q[0] - p[0])
+            return math.atan2(q[1] - p[1], q[0] - p[0]) + offset
         guide = next((j for j in self.mech.joints_of(link) if j.kind == "P"), None)
-        return math.radians(guide.guide_deg) if guide is not None else 0.0
+        return (math.radians(guide.guide_deg) if guide is not None else 0.0) + offset
 
     def _drawn_point(self, link: str, name: str):
         if name in self.mech.joints:
@@ -181,6 +182,31 @@ class Engine:
         if len(self.inputs) != 1:
             return solve_sequence(self.solver, phi)
         return solve_along(self.atlas(), phi)
+
+    def period(self) -> float | None:
+        """The period (rad) of the drawn branch along a single revolute input: one or two turns when
+        the mechanism returns to its configuration (relative angles up to whole turns), else None (a
+        rocker, a lock, a prismatic input). Walks up to `FAR_TURNS` turns once, then is cached."""
+        if len(self.inputs) != 1:
+            return None
+        found = self.atlas().period()
+        return None if found is None else found[0]
+
+    def within_walk(self, lo: float, hi: float) -> bool:
+        """Whether input values lo … hi (SI) of a single input lie within the walk's reach from the
+        drawn pose, where no period is needed (`FAR_TURNS`, `FAR_SIZES`)."""
+        phi0 = float(self.phi_drawn[0])
+        return max(abs(lo - phi0), abs(hi - phi0)) <= far_span(self.solver)
+
+    def reach(self) -> tuple[float, float]:
+        """The input range (SI) the walk from the drawn pose can vouch for without a period: up to the
+        motion limits, or `FAR_TURNS` turns (`FAR_SIZES` sizes for a slider) either way."""
+        phi0, span = float(self.phi_drawn[0]), far_span(self.solver)
+        atlas = self.atlas()
+        atlas.cover(phi0 - span, phi0 + span)
+        ends = {d: float(atlas.limits[d].phi[0]) if atlas.limits[d] is not None else phi0 + d * span
+                for d in (-1, +1)}
+        return ends[-1], ends[+1]
 
     def solve_limits(self, limits: list) -> Solution:
         """The configurations at the located motion limits among `limits` (those with `Limit.q`), one

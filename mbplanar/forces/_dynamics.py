@@ -101,9 +101,10 @@ class Reduced:
         return out
 
 
-def reduce(engine, phi) -> Reduced:
+def reduce(engine, phi, omega: float = 1.0) -> Reduced:
     """Reduced inertia (and its derivative) and reduced moments of the loads at the input values `phi`
-    (SI, (B,)); MotionError if a position cannot be reached on the drawn branch."""
+    (SI, (B,)); MotionError if a position cannot be reached on the drawn branch. Loads that depend on
+    the speed (dampers) are evaluated at the input speed `omega` (rad/s)."""
     phi = np.asarray(phi, float).reshape(-1)
     motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
     if not motion.success:
@@ -111,12 +112,14 @@ def reduce(engine, phi) -> Reduced:
                           f"{motion.message}", source=engine.mech.source)
     J_II, dJ_II, J_input = _reduced_inertia(engine, motion)
     warn_idle_resistances(engine, motion)
-    loads = evaluate_loads(engine, motion)
+    dampers = any(ld.kind == "damper" for ld in engine.mech.loads)
+    at_speed = analyse(engine, phi, omega=omega, epsilon=0.0) if dampers and omega != 1.0 else motion
+    loads = evaluate_loads(engine, at_speed)
     kinds = {ld.name: ld.kind for ld in engine.mech.loads}  # LoadValue names are the rows' names
     moments, kind_of = {}, {}
     w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
     for ld in loads:
-        moments[ld.name] = load_power(ld, w, v, r)
+        moments[ld.name] = moments.get(ld.name, 0.0) + load_power(ld, w, v, r)  # a spring: both ends
         kind = kinds.get(ld.name, "gravity")
         kind_of[ld.name] = "gravity" if kind == "weight" else kind
     return Reduced(phi, J_II, dJ_II, J_input, moments, kind_of, motion)
@@ -274,7 +277,7 @@ class Dynamics:
         exactly as on the grid up to the grid node below and by the trapezoid rule from there."""
         phi = np.asarray(phi, float).reshape(-1)
         cyc = np.mod(phi, 2 * math.pi)
-        red = reduce(engine, phi)
+        red = reduce(engine, phi, self.omega_mean)
         k = np.clip(np.searchsorted(self.phi, cyc, side="right") - 1, 0, len(self.phi) - 2)
         M = red.M_red
         A_c = self.A_c[k] + (cyc - self.phi[k]) * (self.M_red[k] + M) / 2
@@ -314,7 +317,7 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     if spec is None:
         raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)
     phi = cycle_grid(steps)
-    red = reduce(engine, phi)
+    red = reduce(engine, phi, spec.omega_mean)
     A_c = _cumulative_trapezoid(red.M_red, phi)
     M_dr = -A_c[-1] / (2 * math.pi) if spec.driving_moment is None else spec.driving_moment
     dT = _energy_change(A_c, M_dr, phi, red.J_II, spec.omega_mean)
@@ -412,10 +415,12 @@ def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
         ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
 
 
-def true_motion(engine, phi):
+def true_motion(engine, phi, cache: dict | None = None):
     """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
-    input link's own inertia (the constant inertia the force analysis adds on the input link)."""
-    dyn = machine_dynamics(engine, simulate_motion=False)
+    input link's own inertia (the constant inertia the force analysis adds on the input link); `cache`
+    (a dict) keeps the machine dynamics for later calls (the chunks of a streamed sweep)."""
+    cache = {} if cache is None else cache
+    dyn = cache.get("dynamics") or cache.setdefault("dynamics", machine_dynamics(engine, simulate_motion=False))
     state = dyn.state_at(engine, phi)
     return state["omega"], state["epsilon"], dyn.inertia_first_group - dyn.input_link_inertia
 

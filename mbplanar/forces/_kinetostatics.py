@@ -35,7 +35,8 @@ from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
 from ..kinematics._motion import Motion, material_points
-from ._loads import LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, world_points
+from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, real_frames,
+                     world_points)
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -107,24 +108,11 @@ class Kinetostatics:
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
-def _real_frames(engine, motion, links=slice(None)):
-    """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
-    f = motion.frames
-    if "v" in f and motion.wq is not None:
-        om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
-        v, a = f["v"][:, links], f["a"][:, links]
-        real_a = a * om[..., None] ** 2 + v * ep[..., None]
-        return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
-    sol = engine.solve(motion.phi)
-    engine.rates(sol, motion.omega, motion.epsilon)
-    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
-
-
 def _virtual_frames(engine, motion):
     """Virtual velocities (w, v) of every link frame: the analogues with one input, else real."""
     if "v" in motion.frames and motion.wq is not None:
         return motion.wq, motion.frames["v"]
-    w, v, _, _ = _real_frames(engine, motion)
+    w, v, _, _ = real_frames(engine, motion)
     return w, v
 
 
@@ -144,7 +132,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     out = []
     batch = len(motion.phi)
     if heavy:
-        w, v, e, a = _real_frames(engine, motion, ks)
+        w, v, e, a = real_frames(engine, motion, ks)
         at = np.array([centre for _, _, centre in heavy], float)
         th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
         xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)

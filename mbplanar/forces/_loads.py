@@ -17,7 +17,16 @@ Laws (one TOML row each in `loads = [...]`, `type` selects the law):
   relative to the carrier, of constant size `force = F` or piecewise linear in the slider's displacement
   (`s = [...]`, `force = [...]`, optionally `stroke` multiplying `s`, `zero_at` the input value where
   s = 0), acting only `when = "forward"` (joint rate ≥ 0), `"backward"` (rate ≤ 0) or `"always"`;
-- `friction`: a constant force `force = F` along the guide opposing the slider's velocity.
+- `friction`: a constant force `force = F` along the guide opposing the slider's velocity;
+- `spring`: a spring between two points (on links a, b): tension T = `preload` + `stiffness`·(l −
+  `free_length`) (free length default: the exact drawn distance), or T(l) from a table; it pulls the
+  ends together while T > 0;
+- `damper`: a linear damper between two points, tension c·dl/dt; or a rotational damper in a revolute
+  pair: −c·(ω_b − ω_a) on its second link b, the opposite on a;
+- `torque`: a moment M on the second of two links and −M on the first.
+
+Any row can be switched on the sign of a velocity (`switch`: a joint's rate or a point's velocity along a
+direction, `when` "forward" or "backward").
 
 `at` is a point name (a joint or point of interest of the link) or coordinates `[x, y]` (in the
 table's `length_unit`) of a material point of the link in the exact drawn pose (for a sketched model
@@ -35,10 +44,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, MotionError
-from ..model._model import LOAD_TYPES, Gravity, Load
+from ..model._model import ELEMENT_TYPES, LOAD_TYPES, Gravity, Load
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
-           "has_force_data", "warn_idle_resistances", "LOAD_TYPES"]
+           "has_force_data", "warn_idle_resistances", "real_frames", "point_motion", "spring_tension",
+           "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES"]
 
 
 @dataclass
@@ -115,9 +125,14 @@ def guide_direction(engine, motion, joint: str) -> np.ndarray:
 
 
 def joint_rate_sign(motion, joint: str) -> np.ndarray:
-    """Rate of a joint (B,): its analogue (d/dφ) with one input, its real rate otherwise."""
+    """A joint's rate (B,) for the sign of the motion: its analogue (d/dφ) with one input, with the sign of
+    the input's speed (so a load opposing the motion still opposes it when the input runs backwards),
+    its real rate otherwise."""
     k = motion.joint(joint)
-    return (motion.rate_q if motion.rate_q is not None else motion.rate)[:, k]
+    if motion.rate_q is None:
+        return motion.rate[:, k]
+    # the analogue's sign, turned round where the input runs backwards (at rest: the motion along +φ)
+    return motion.rate_q[:, k] * np.where(motion.omega[:, 0] < 0, -1.0, 1.0)
 
 
 def heavy_links(mech) -> list[tuple[str, object, tuple[float, float]]]:
@@ -136,7 +151,7 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
     loads = mech.loads if loads is None else loads
     if gravity is True:
         gravity = mech.gravity
-    out = [_evaluate(engine, motion, load) for load in loads]
+    out = [value for load in loads for value in _evaluate_switched(engine, motion, load)]
     if gravity:
         for name, lk, centre in heavy_links(mech):
             if lk.mass:
@@ -145,6 +160,131 @@ def evaluate_loads(engine, motion, loads: list[Load] | None = None,
                 force = np.broadcast_to(lk.mass * gravity.vector, point.shape).copy()
                 out.append(LoadValue(f"gravity on {name}", k, force, point, np.zeros(len(point))))
     return out
+
+
+def needs_numpy(mech) -> bool:
+    """True when a model has rows that only the numpy kinetostatics evaluates (springs, dampers,
+    torques between links, switched rows)."""
+    return any(ld.kind in ELEMENT_TYPES or ld.switch for ld in read_loads(mech))
+
+
+def real_frames(engine, motion, links=slice(None)):
+    """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
+    f = motion.frames
+    if "v" in f and motion.wq is not None:
+        om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
+        v, a = f["v"][:, links], f["a"][:, links]
+        real_a = a * om[..., None] ** 2 + v * ep[..., None]
+        return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
+    sol = engine.solve(motion.phi)
+    engine.rates(sol, motion.omega, motion.epsilon)
+    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
+
+
+def point_motion(engine, motion, link: int, at) -> tuple[np.ndarray, np.ndarray]:
+    """Position and real velocity (B, 2) each of the material point drawn at `at` (2,) on link `link`."""
+    xy = world_points(motion, link, at)
+    w, v, _, _ = real_frames(engine, motion, [link])
+    r = motion.frames["r"][:, link]
+    vel = v[:, 0].copy()
+    vel[:, 0] -= w[:, 0] * (xy[:, 1] - r[:, 1])
+    vel[:, 1] += w[:, 0] * (xy[:, 0] - r[:, 0])
+    return xy, vel
+
+
+def _evaluate_switched(engine, motion, load: Load) -> list[LoadValue]:
+    """The load's values, zero where its switch is off."""
+    out = _evaluate_element(engine, motion, load) if load.kind in ELEMENT_TYPES else [_evaluate(engine, motion, load)]
+    if load.switch is None:
+        return out
+    speed = _switch_speed(engine, motion, load)
+    on = (speed >= 0) if load.when == "forward" else (speed <= 0)
+    for value in out:
+        value.force = np.where(on[:, None], value.force, 0.0)
+        value.moment = np.where(on, value.moment, 0.0)
+    return out
+
+
+def _switch_speed(engine, motion, load: Load) -> np.ndarray:
+    """The velocity (B,) whose sign switches a row: a joint's rate, or a point's velocity along the
+    row's direction (fixed to the frame)."""
+    mech = engine.mech
+    if load.switch in mech.joints:
+        return motion.rate[:, motion.joint(load.switch)]
+    k = motion.point(load.switch)
+    d = load.switch_direction
+    return motion.v[:, k, 0] * math.cos(d) + motion.v[:, k, 1] * math.sin(d)
+
+
+def _element_ends(engine, motion, load: Load):
+    """Both ends of a two-point element: link indices, positions and real velocities (B, 2)."""
+    ka, kb = engine.link_index[load.other], engine.link_index[load.link]
+    pa, va = point_motion(engine, motion, ka, np.asarray(drawn_end(engine.mech, load, 0), float))
+    pb, vb = point_motion(engine, motion, kb, np.asarray(drawn_end(engine.mech, load, 1), float))
+    return ka, kb, pa, va, pb, vb
+
+
+def drawn_end(mech, load: Load, end: int) -> tuple[float, float]:
+    """Drawn coordinates (exact pose) of an element's end on `other` (0) or on `link` (1)."""
+    at, point = (load.other_at, load.other_point) if end == 0 else (load.at, load.point)
+    return at if at is not None else named_point(mech, point)
+
+
+def free_length(mech, load: Load) -> float:
+    """A linear spring's free length: given, or its ends' distance in the (exact) drawn pose."""
+    if load.free_length is not None:
+        return load.free_length
+    return math.dist(drawn_end(mech, load, 0), drawn_end(mech, load, 1))
+
+
+def spring_tension(mech, load: Load, length: np.ndarray) -> np.ndarray:
+    """Tension (B,) of a spring row at `length` (B,) (N, pulling its ends together when positive)."""
+    if load.table:
+        return np.interp(length, load.s, load.table)
+    return load.preload + load.stiffness * (length - free_length(mech, load))
+
+
+def spring_energy(engine, motion, load: Load) -> np.ndarray:
+    """Potential energy (B,) of a spring row (J): ∫T dl from the free length (linear), or from the
+    table's first length (a table), so that only its changes matter."""
+    _, _, pa, _, pb, _ = _element_ends(engine, motion, load)
+    length = np.hypot(*(pb - pa).T)
+    if not load.table:
+        x = length - free_length(engine.mech, load)
+        return load.preload * x + 0.5 * load.stiffness * x * x
+    ls, fs = np.asarray(load.s), np.asarray(load.table)
+    nodes = np.concatenate([[0.0], np.cumsum(np.diff(ls) * (fs[1:] + fs[:-1]) / 2)])
+    k = np.clip(np.searchsorted(ls, length, side="right") - 1, 0, len(ls) - 2)
+    slope = (fs[k + 1] - fs[k]) / (ls[k + 1] - ls[k])
+    x = length - ls[k]
+    return nodes[k] + fs[k] * x + 0.5 * slope * x * x
+
+
+def _evaluate_element(engine, motion, load: Load) -> list[LoadValue]:
+    """A spring, damper or torque: equal and opposite loads on its two links."""
+    batch = len(motion.phi)
+    zero2, zero = np.zeros((batch, 2)), np.zeros(batch)
+    if load.kind == "torque" or load.joint:
+        ka, kb = engine.link_index[load.other], engine.link_index[load.link]
+        if load.kind == "torque":
+            m = np.full(batch, load.moment)
+        else:
+            w, _, _, _ = real_frames(engine, motion, [ka, kb])
+            m = -load.damping * (w[:, 1] - w[:, 0])
+        origin = motion.frames["r"]
+        return [LoadValue(load.name, kb, zero2, origin[:, kb].copy(), m),
+                LoadValue(load.name, ka, zero2.copy(), origin[:, ka].copy(), -m)]
+    ka, kb, pa, va, pb, vb = _element_ends(engine, motion, load)
+    d = pb - pa
+    length = np.hypot(d[:, 0], d[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = d / length[:, None]
+    if load.kind == "spring":
+        tension = spring_tension(engine.mech, load, length)
+    else:
+        tension = load.damping * np.einsum("bi,bi->b", u, vb - va)
+    force = tension[:, None] * u  # on a, towards b
+    return [LoadValue(load.name, kb, -force, pb, zero), LoadValue(load.name, ka, force, pa, zero.copy())]
 
 
 def _evaluate(engine, motion, load: Load) -> LoadValue:

@@ -110,6 +110,8 @@ def plain(obj):
         return {k: plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [plain(v) for v in obj.tolist()]
     if isinstance(obj, (float, np.floating)):
         return _finite(obj)
     if isinstance(obj, np.integer):
@@ -202,8 +204,9 @@ def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0,
         reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
                            "fx": fx, "fy": fy, "moment": float(r.moment[row]),
                            "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
+    inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name,
-           "input": _input_documents(engine, motion, row, values)[0],
+           "input": inputs[0], "inputs": inputs,           # one balancing load per input
            "reactions": reactions,
            "balancing": {name: float(q[row]) for name, q in result.balancing.items()},
            "virtual_power_residual": float(result.virtual_power_residual[row]),

@@ -10,11 +10,10 @@ __all__ = ["sweep_table", "forces_table", "forces_columns", "dynamics_table"]
 
 def sweep_table(engine, motion, angle_unit):
     """Header (quantity[unit]) and rows of a sweep."""
-    inp = engine.inputs[0]
     to_angle = (lambda x: np.degrees(x)) if angle_unit == "deg" else (lambda x: x)
     au = "deg" if angle_unit == "deg" else "rad"
-    header = [f"{inp.name}[{inp.unit}]"]
-    cols = [inp.from_si(motion.phi[:, 0])]
+    header = [f"{inp.name}[{inp.unit}]" for inp in engine.inputs]  # every input, in its own unit
+    cols = [inp.from_si(motion.phi[:, k]) for k, inp in enumerate(engine.inputs)]
     for k, name in enumerate(motion.link_names[1:], start=1):
         header += [f"{name}.angle[{au}]", f"{name}.omega[rad/s]", f"{name}.epsilon[rad/s^2]"]
         cols += [to_angle(motion.angle[:, k]), motion.w[:, k], motion.e[:, k]]

@@ -119,8 +119,8 @@ class _Sketch:
     def __init__(self, mech: Mechanism):
         self.mech = mech
         self.moving = mech.moving_links
-        self.scale = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values()
-                                   for b in mech.joints.values()])
+        self.scale = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
+                         + [0.0]) or 1.0  # (no absolute floor: the tolerances below are relative to it)
         self.local: dict[str, dict[str, np.ndarray]] = {}
         self.centroid: dict[str, np.ndarray] = {}
         self.alias: dict[str, dict[str, str]] = {}
@@ -322,14 +322,47 @@ def assemble(mech: Mechanism) -> Mechanism:
     if mech.exact:
         return mech
     _check_references(mech)
+    _warn_disagreements(mech, _Sketch(mech))  # at the model's own scale: its numbers are the model's
+    size = max((math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()), default=0.0)
+    if size and not SIZE_RANGE[0] <= size <= SIZE_RANGE[1]:
+        raise ModelError(f"scale out of range: the joints are up to {size:.3g} m apart; mbplanar works with "
+                         f"mechanisms from {SIZE_RANGE[0]:g} to {SIZE_RANGE[1]:g} m (squares of lengths must stay "
+                         "within floating point)", source=mech.source)
+    if not size:
+        return _assemble(mech)
+    # assembled at unit size, scaled by a power of two (exact both ways): every tolerance is relative
+    k = 2.0 ** -round(math.log2(size))
+    return scaled(_assemble(scaled(mech, k), 1.0 / k), 1.0 / k)
+
+
+SIZE_RANGE = (1e-100, 1e100)  # sizes (m) whose squares, products and their ratios stay well inside floating point
+
+
+def scaled(mech: Mechanism, k: float) -> Mechanism:
+    """`mech` with every length multiplied by k: joints, points (coordinates, distances, offsets) and
+    link lengths (the loads, in `extras`, are not touched)."""
+    def xy(at):
+        return None if at is None else (at[0] * k, at[1] * k)
+    joints = {n: replace(j, at=xy(j.at)) for n, j in mech.joints.items()}
+    points = {n: replace(p, at=xy(p.at), distance=None if p.distance is None else p.distance * k,
+                         offset=p.offset * k) for n, p in mech.points.items()}
+    links = {n: replace(lk, lengths=tuple((a, b, v * k) for a, b, v in lk.lengths)) for n, lk in mech.links.items()}
+    extras = dict(mech.extras)
+    if "_assembly_correction" in extras:
+        extras["_assembly_correction"] *= k
+    return replace(mech, joints=joints, points=points, links=links, extras=extras)
+
+
+def _assemble(mech: Mechanism, metres: float = 1.0) -> Mechanism:
+    """`assemble` at the mechanism's own scale (`metres`: one of its length units in metres, for the
+    messages)."""
     sketch = _Sketch(mech)
-    _warn_disagreements(mech, sketch)
     x, res, what, ok = _gauss_newton(sketch)
     if not ok:
         worst = int(np.argmax(np.abs(res)))
         inp = next((i for i in mech.inputs if what[worst].startswith(f"input '{i.joint}'")), None)
         miss = (f"{math.degrees(abs(res[worst])):.3g}°" if inp is not None
-                else f"{abs(res[worst]) * sketch.scale / mech.units.length_scale:.3g} {mech.units.length}")
+                else f"{abs(res[worst]) * sketch.scale * metres / mech.units.length_scale:.3g} {mech.units.length}")
         hint = input_reference(mech, inp) if inp is not None else "Check the lengths and the sketch."
         raise MotionError("the drawn pose cannot be assembled with the given dimensions and input: "
                           f"{what[worst]} misses by {miss}. {hint}", source=mech.source)

@@ -16,7 +16,7 @@ import numpy as np
 from ..errors import ModelError
 
 __all__ = ["Units", "Link", "Joint", "Point", "Input", "Load", "Gravity", "FlywheelSpec", "DynamicsSpec",
-           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "RHO_STEEL"]
+           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
 
 LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
 INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6}
@@ -59,8 +59,10 @@ class Link:
 
     `lengths`: exact distances ((P, Q, metres), ...) between points of this link (joints or points of
     interest); `length` is the shortcut for a link with two revolute joints. `angle`: the two points whose
-    direction is reported as the link's angle (default: its first two revolute joints). Mass data are
-    used by kinetostatics and dynamics: `mass` (kg), `inertia` (kg·m² about the centre), `centre` (a point).
+    direction is reported as the link's angle (default: its first two revolute joints), plus
+    `angle_offset` (rad), so that the reported angle can follow any convention (a body axis at +90° to
+    P→Q). Mass data are used by kinetostatics and dynamics: `mass` (kg), `inertia` (kg·m² about the
+    centre), `centre` (a point).
     """
 
     name: str
@@ -69,6 +71,7 @@ class Link:
     mass: float = 0.0
     inertia: float = 0.0
     centre: str | None = None
+    angle_offset: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -164,7 +167,8 @@ class Input:
                          where=f"input '{self.joint}'")
 
 
-LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction")
+LOAD_TYPES = ("force", "weight", "moment", "resistance", "friction", "spring", "damper", "torque")
+ELEMENT_TYPES = ("spring", "damper", "torque")  # act between two links
 RHO_STEEL = 7800.0
 
 
@@ -178,6 +182,12 @@ class Load:
     `moment` (N·m). Guide forces (`resistance`, `friction`) act along prismatic joint `joint`: a
     resistance's size follows the diagram `s` (m, increasing) → `table` (N) when given, `when` it acts
     ("forward", "backward", "always"), `zero_at` the input value (input unit) where s = 0.
+    Elements (`ELEMENT_TYPES`) act between `other` (a) and `link` (b): a spring or linear damper between
+    its end on a (`other_at` or `other_point`) and its end on b (`at` or `point`), with `stiffness`,
+    `free_length`, `preload` or a tension table `s` (lengths, m) → `table` (N), or `damping`; a
+    rotational damper in revolute `joint`; a torque `moment` on b (−moment on a). Any row may be
+    switched: active while the rate of joint `switch` (or the velocity of point `switch` along
+    `switch_direction`) is ≥ 0 (`when` "forward") or ≤ 0 ("backward").
     """
 
     index: int
@@ -194,6 +204,15 @@ class Load:
     zero_at: float | None = None
     label: str | None = None
     point: str | None = None
+    other: str | None = None                     # spring, damper, torque: the first link (a)
+    other_at: tuple[float, float] | None = None  # ... and its end on it: drawn coordinates (m)
+    other_point: str | None = None               # ... or a named point or joint
+    stiffness: float = 0.0                       # N/m
+    free_length: float | None = None             # m; None: the ends' exact drawn distance
+    preload: float = 0.0                         # N
+    damping: float = 0.0                         # N·s/m, or N·m·s/rad in a revolute joint
+    switch: str | None = None                    # joint or point whose velocity's sign switches the row
+    switch_direction: float = 0.0                # rad, for a point
 
     @property
     def name(self) -> str:

@@ -126,6 +126,8 @@ class Template:
     def _value(self, raw, kind: str, values: dict, where: str, input_unit: str | None = None):
         """A field's number: `raw` itself, or the parameter it names converted to the field's unit."""
         if not isinstance(raw, str):
+            if isinstance(raw, bool) or not isinstance(raw, (int, float, np.ndarray)):
+                raise ModelError(f"{self.source}: {where}: {raw!r} is not a number nor a parameter's name")
             return raw
         if raw not in self.parameters:
             known = ", ".join(self.names) or "none declared"
@@ -183,7 +185,10 @@ class Template:
                     if key in row:
                         row[key] = self._value(row[key], kind, values, f"inputs[{i}] {key}", unit)
         for row, at in joints:
-            row["at"] = [float(at[0]), float(at[1])]
+            try:
+                row["at"] = [float(at[0]), float(at[1])]
+            except (TypeError, ValueError, IndexError):
+                pass  # not a pair of numbers: the table reader refuses the row, naming it
         return data
 
     def _bind_fields(self, row: dict, fields: dict, values: dict, where: str):
@@ -206,7 +211,7 @@ class Template:
             if isinstance(row.get("guide"), str):
                 row["guide"] = self._value(row["guide"], "angle", values, f"joints[{i}] guide")
         at = self.positions(values, rows)
-        return [(row, at[row.get("name")]) for row in rows if row.get("name") in at]
+        return [(row, at[row["name"]]) for row in rows if isinstance(row.get("name"), str) and row["name"] in at]
 
     # -- coordinates, for one design or a batch ------------------------------------------------------
     def positions(self, values: dict, rows: list | None = None) -> dict:

@@ -14,7 +14,7 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning
-from ._model import (INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
+from ._model import (ELEMENT_TYPES, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
                      FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
 
 __all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
@@ -193,9 +193,9 @@ def _read_units(top: Row) -> Units:
     return Units(*chosen)
 
 
-# Sections kept raw in `Mechanism.extras` for the pictures, the report and the cam (mbplanar.cam reads
-# and checks `[cam]` itself).
-_EXTRA_SECTIONS = {"plot", "description", "cam"}
+# Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, friction and simulate
+# (mbplanar.cam, mbplanar.forces.read_friction and read_simulate read and check theirs).
+_EXTRA_SECTIONS = {"plot", "description", "cam", "friction", "simulate"}
 
 
 def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
@@ -224,11 +224,12 @@ def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
             lengths.append((str(p), str(q), length))
         row.used.add("lengths")
         angle = row.names("angle")
+        angle_offset = math.radians(row.number("angle_offset", 0.0))
         mass = row.number("mass", 0.0)
         inertia = row.number("inertia", 0.0)
         if mass < 0 or inertia < 0:
             row.fail("mass and inertia must not be negative")
-        centre = row.text("centre")
+        centre, centre_at = _centre(row, name, unit)
         row.check_unknown_keys({"comment"})
         if name == mech.ground:
             if lengths:
@@ -236,7 +237,9 @@ def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
             continue
         try:
             mech.add_link(name, lengths=tuple(lengths), angle=angle, mass=mass,
-                          inertia=inertia * mech.units.inertia_scale, centre=centre)
+                          inertia=inertia * mech.units.inertia_scale, centre=centre, angle_offset=angle_offset)
+            if centre_at is not None:
+                mech.add_point(centre, name, at=centre_at)
         except ModelError as exc:
             row.fail(exc.message)
     return labels
@@ -269,6 +272,16 @@ def _check_extent(mech: Mechanism, name: str, where: str):
     if size <= 1e-12 * max(1.0, max(abs(c) for xy in spots for c in xy)):
         raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
                          f"the same point", source=mech.source, where=where)
+
+
+def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, float] | None]:
+    """A link's `centre`: a point's name, or coordinates [x, y] in the drawn pose, which make a point
+    of the link named `<link>:centre` (its drawn coordinates in metres)."""
+    value = row.data.get("centre")
+    if not isinstance(value, list):
+        return row.text("centre"), None
+    x, y = row.pair("centre")
+    return f"{link}:centre", (x * unit, y * unit)
 
 
 def _read_joints(mech: Mechanism, rows, unit):
@@ -402,9 +415,13 @@ def _read_inputs(mech: Mechanism, data, source, unit):
             sweep = (row._check_number("sweep", sweep[0]), row._check_number("sweep", sweep[1]))
             if sweep[0] == sweep[1]:
                 row.fail("sweep range is empty")
+        omega, epsilon = _speed(row, joint.kind), row.number("epsilon", 0.0)
+        for key, value, bound in (("omega", omega, 1e100), ("epsilon", epsilon, 1e200)):
+            if abs(value) > bound:  # (as analyse's own check: squares and products must stay finite)
+                row.fail(f"{key} must be at most {bound:g} in size, got {value:g}")
         inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
                     zero=row.number("zero", 0.0), sense=float(sense),
-                    omega=_speed(row, joint.kind), epsilon=row.number("epsilon", 0.0),
+                    omega=omega, epsilon=epsilon,
                     drawn_at=row.number("drawn_at"), sweep=sweep, steps=_steps(row))
         row.check_unknown_keys({"comment"})
         mech.inputs.append(inp)
@@ -417,8 +434,12 @@ _LOAD_KEYS = {
     "moment": {"link", "moment"},
     "resistance": {"joint", "link", "at", "force", "s", "stroke", "when", "zero_at"},
     "friction": {"joint", "link", "at", "force"},
+    "spring": {"links", "at", "stiffness", "free_length", "preload", "length", "force"},
+    "damper": {"links", "at", "damping", "joint"},
+    "torque": {"links", "moment"},
 }
 _WHEN = ("forward", "backward", "always")
+_SWITCH_KEYS = {"switch", "switch_direction", "when"}
 
 
 def _read_loads(mech: Mechanism, rows) -> tuple[Load, ...]:
@@ -445,14 +466,137 @@ def read_load_row(mech: Mechanism, i: int, raw, units: Units) -> Load:
     if label is not None and (not isinstance(label, str) or not label.strip()):
         row.fail(f"'name' must be a non-empty text, got {label!r}")
     row.where = f"loads[{i}] '{label}'" if label else f"loads[{i}] ({kind})"
-    unknown = set(row.data) - _LOAD_KEYS[kind] - {"type", "name", "comment"}
+    switched = row.has("switch")
+    unknown = set(row.data) - _LOAD_KEYS[kind] - {"type", "name", "comment"} - (_SWITCH_KEYS if switched else set())
     if unknown:
         row.fail(f"unknown key(s) {', '.join(sorted(unknown))}")
     if kind in ("resistance", "friction"):
+        if switched:
+            row.fail("a guide force is switched by its own joint ('when'); no 'switch'")
         load = _guide_load(mech, i, row, kind, units)
+    elif kind in ELEMENT_TYPES:
+        load = _element_load(mech, i, row, kind, units)
     else:
         load = _link_load(mech, i, row, kind, units)
+    if switched:
+        load.update(_switch(mech, row))
     return Load(**{**load, "label": label})
+
+
+def _switch(mech, row: Row) -> dict:
+    """`switch` (a joint or point), `switch_direction` (degrees, points) and `when` of any row."""
+    name = row.text("switch")
+    if name not in mech.joints and name not in mech.points:
+        row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model")
+    if row.has("switch_direction") and name not in mech.points:
+        row.fail(f"'switch_direction' applies to a point; '{name}' is a joint")
+    direction = math.radians(row.number("switch_direction", 0.0))
+    when = row.text("when")
+    if when not in ("forward", "backward"):
+        row.fail(f'a switched row needs \'when\' = "forward" (active while the velocity is >= 0) or '
+                 f'"backward" (<= 0), got {when!r}')
+    return {"switch": name, "switch_direction": direction, "when": when}
+
+
+def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
+    """A spring, damper or torque between two links (lengths in the table's unit, moments in its
+    moment unit, stiffness N/m, damping N·s/m or, in a joint, N·m·s/rad in the moment unit)."""
+    if kind == "damper" and row.has("joint"):
+        if row.has("at") or row.has("links"):
+            row.fail("a rotational damper takes 'joint' only (no 'at' or 'links')")
+        joint = row.text("joint")
+        j = mech.joints.get(joint)
+        if j is None or j.kind != "R":
+            row.fail(f"joint '{joint}' is not a revolute joint of the model")
+        c = row.number("damping", required=True)
+        if c < 0:
+            row.fail(f"'damping' must be >= 0, got {c}")
+        return dict(index=i, kind=kind, link=j.links[1], other=j.links[0], joint=joint,
+                    damping=c * units.moment_scale)
+    if kind == "torque":
+        a, b = _two_links(mech, row, required=True)
+        return dict(index=i, kind=kind, link=b, other=a, moment=row.number("moment", required=True) * units.moment_scale)
+    ends = row.data.get("at")
+    row.used.add("at")
+    if not isinstance(ends, list) or len(ends) != 2:
+        row.fail(f"'at' must be [P, Q], two points (names or [x, y]), got {ends!r}")
+    a, b = _end_links(mech, row, ends)
+    fields = dict(index=i, kind=kind, link=b, other=a, **_end(mech, row, b, ends[1], units),
+                  **{f"other_{k}": v for k, v in _end(mech, row, a, ends[0], units).items()})
+    if kind == "damper":
+        c = row.number("damping", required=True)
+        if c < 0:
+            row.fail(f"'damping' must be >= 0, got {c}")
+        return dict(fields, damping=c)
+    if row.has("length") or isinstance(row.data.get("force"), list):
+        if {"stiffness", "free_length", "preload"} & set(row.data):
+            row.fail("give either a table (length, force) or stiffness/free_length/preload")
+        ls = tuple(x * units.length_scale for x in row.numbers("length", required=True))
+        fs = row.numbers("force", required=True)
+        if len(ls) != len(fs) or len(ls) < 2 or any(q <= p for p, q in zip(ls, ls[1:])) or ls[0] < 0:
+            row.fail(f"'length' (increasing, >= 0) and 'force' must be lists of equal length (at least 2), "
+                     f"got {len(ls)} and {len(fs)}")
+        return dict(fields, s=ls, table=fs)
+    k = row.number("stiffness", required=True)
+    free = row.number("free_length")
+    if k < 0 or (free is not None and free < 0):
+        row.fail("'stiffness' and 'free_length' must be >= 0")
+    return dict(fields, stiffness=k, free_length=None if free is None else free * units.length_scale,
+                preload=row.number("preload", 0.0))
+
+
+def _two_links(mech, row: Row, required=False) -> tuple[str, str] | None:
+    value = row.data.get("links")
+    row.used.add("links")
+    if value is None and not required:
+        return None
+    if not isinstance(value, list) or len(value) != 2 or str(value[0]) == str(value[1]):
+        row.fail(f"'links' must be two different links [a, b], got {value!r}")
+    for name in value:
+        if str(name) not in mech.links and str(name) != mech.ground:
+            row.fail(f"'{name}' in 'links' is not a link of the model")
+    return str(value[0]), str(value[1])
+
+
+def _end_links(mech, row: Row, ends) -> tuple[str, str]:
+    """The links of a two-point element's ends: `links` if given, else each named point's own link."""
+    given = _two_links(mech, row)
+    if given is not None:
+        return given
+    out = []
+    for end in ends:
+        if not (isinstance(end, str) and end in mech.points):
+            row.fail(f"say on which links the ends lie ('links = [a, b]'): {end!r} is not a named point of "
+                     "one link")
+        out.append(mech.points[end].link)
+    if out[0] == out[1]:
+        row.fail(f"both ends are on link '{out[0]}'")
+    return out[0], out[1]
+
+
+def _end(mech, row: Row, link: str, end, units: Units) -> dict:
+    """One end of an element on `link`: {"at": drawn coordinates (m)} or {"point": a point or joint}."""
+    if isinstance(end, list):
+        if len(end) != 2:
+            row.fail(f"an end in 'at' must be a name or [x, y], got {end!r}")
+        x, y = (row._check_number("at", v) for v in end)
+        return {"at": (x * units.length_scale, y * units.length_scale)}
+    if not isinstance(end, str):
+        row.fail(f"an end in 'at' must be a name or [x, y], got {end!r}")
+    return {"point": _named_on(mech, row, link, end, f"'{end}' in 'at'")}
+
+
+def _named_on(mech, row: Row, link: str, name: str, what: str) -> str:
+    """`name`, checked to be a point of `link` or a joint of it (`what` names it in the error)."""
+    if name in mech.points:
+        if mech.points[name].link != link:
+            row.fail(f"point '{name}' is on link '{mech.points[name].link}', not '{link}'")
+    elif name in mech.joints:
+        if link not in mech.joints[name].links:
+            row.fail(f"joint '{name}' does not belong to link '{link}'")
+    else:
+        row.fail(f"{what} is neither a point nor a joint of the model")
+    return name
 
 
 def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
@@ -531,15 +675,7 @@ def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | N
         if centre is None and not mech.joints_of(link):
             row.fail(f"link '{link}' has no joint to put the moment on")
         return {"point": centre if centre is not None else mech.joints_of(link)[0].name}
-    if name in mech.points:
-        if mech.points[name].link != link:
-            row.fail(f"point '{name}' is on link '{mech.points[name].link}', not '{link}'")
-    elif name in mech.joints:
-        if link not in mech.joints[name].links:
-            row.fail(f"joint '{name}' does not belong to link '{link}'")
-    else:
-        row.fail(f"'at' = '{name}' is neither a point nor a joint of the model")
-    return {"point": name}
+    return {"point": _named_on(mech, row, link, name, f"'at' = '{name}'")}
 
 
 # -- gravity and dynamics ----------------------------------------------------------------------------

@@ -134,9 +134,9 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
         if np.all(np.isfinite(link.label)):
             dyn("text", link.label, f'font-weight="bold" fill="#1f4e8c" text-anchor="middle" '
                 f'dominant-baseline="middle">{html.escape(link.name)}')
-    inp = engine.inputs[0]
+    from ._plotting import input_label
     data = {"shapes": shapes, "xy": xy, "frames": sc.batch, "fps": fps,
-            "phi": [f"{inp.name} = {inp.from_si(p):.2f} {inp.unit}" for p in motion.phi[:, 0]]}
+            "phi": [input_label(engine, row, ".2f") for row in motion.phi]}
     texts = [m for m in moving if m.startswith("<text")]
     shapes_svg = [m for m in moving if not m.startswith("<text")]
     height = int(width * (y1 - y0) / (x1 - x0))

@@ -24,7 +24,7 @@ from ..kinematics._motion import describe_limit
 from ._scene import build_scene
 
 __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure",
-           "save_figure", "cycle_values", "cycle_motion", "position_motion", "draw_mechanism",
+           "save_figure", "cycle_values", "cycle_motion", "swing_values", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
            "forces_figure", "transmission_series", "pressure_series", "transmission_angles", "pressure_angles",
@@ -58,13 +58,18 @@ def _full_turn(engine) -> bool:
 
 def cycle_values(engine, count: int = 72) -> np.ndarray:
     """`count` input values (SI) over the model's sweep; a full turn leaves out its repeated end."""
-    if len(engine.inputs) != 1:
-        raise ModelError("pictures drive one input; this model has several", source=engine.mech.source)
     if count < 1:
         raise ModelError("the number of positions must be at least 1")
-    inp = engine.inputs[0]
+    if len(engine.inputs) != 1:  # a straight path in input space: every input over its sweep at once
+        return np.stack([_input_cycle(inp, count) for inp in engine.inputs], axis=1)
+    return _input_cycle(engine.inputs[0], count)
+
+
+def _input_cycle(inp, count: int) -> np.ndarray:
+    """`count` values (SI) of one input over its sweep; a full turn leaves out its repeated end."""
     lo, hi = inp.default_sweep()
-    return inp.to_si(np.linspace(lo, hi, count, endpoint=not _full_turn(engine) or count == 1))
+    full = inp.unit in ("deg", "rad") and abs(inp.to_si(hi - lo)) >= 2 * math.pi - 1e-9
+    return inp.to_si(np.linspace(lo, hi, count, endpoint=not full or count == 1))
 
 
 def cycle_motion(engine, count: int = 72):
@@ -80,22 +85,44 @@ def cycle_motion(engine, count: int = 72):
         return motion
     if len(motion.phi) == 0:
         raise MotionError(f"no position of the sweep can be reached: {motion.message}", source=engine.mech.source)
-    lo, hi = float(motion.phi[0, 0]), float(motion.phi[-1, 0])
-    fine = analyse(engine, np.linspace(lo, hi, count))
+    several = len(engine.inputs) != 1
+    swing = swing_values(engine, count) if not several and engine.inputs[0].sweep is None else None
+    if swing is not None:
+        fine = analyse(engine, swing)
+        fine.limits = [lim for lim in engine.atlas().limits.values() if lim is not None]
+        return fine
+    lo, hi = motion.phi[0], motion.phi[-1]
+    fine = analyse(engine, np.linspace(lo, hi, count) if several else np.linspace(lo[0], hi[0], count))
     fine.limits = motion.limits
     return fine
+
+
+def swing_values(engine, count: int = 72) -> np.ndarray | None:
+    """`count` input values (SI) of a rocking input's whole cycle: from the dead point below the drawn
+    pose to the one above and back (a triangle wave, so an animation loops without a jump and a
+    trajectory retraces itself instead of closing with a chord), ending at the walk's last solvable
+    positions next to the limits; None unless the input is stopped by a motion limit both ways."""
+    engine.reach()
+    atlas = engine.atlas()
+    if atlas.limits[-1] is None or atlas.limits[+1] is None:
+        return None
+    grid = atlas.arrays()[0]
+    t = np.arange(count) / max(count, 1)
+    return grid[0] + (grid[-1] - grid[0]) * (1.0 - np.abs(1.0 - 2.0 * t))
 
 
 def position_motion(engine, at=None):
     """Kinematics at one position: `at` in the model's unit, default the drawn pose."""
     from ..kinematics._motion import analyse
-    inp = engine.inputs[0]
-    phi = engine.phi_drawn[0] if at is None else inp.to_si(float(at))
-    motion = analyse(engine, np.array([phi]))
+    values = [inp.from_si(p) for inp, p in zip(engine.inputs, engine.phi_drawn)] if at is None else \
+        list(np.atleast_1d(np.asarray(at, float)))
+    if len(values) != len(engine.inputs):
+        raise ModelError(f"a position needs {len(engine.inputs)} input value(s)", source=engine.mech.source)
+    phi = np.array([[inp.to_si(v) for inp, v in zip(engine.inputs, values)]])
+    motion = analyse(engine, phi if len(values) > 1 else phi[:, 0])
     if not motion.success:
-        where = inp.from_si(phi)
-        raise MotionError(f"cannot reach {inp.name} = {where:g} {inp.unit}: {motion.message}",
-                          source=engine.mech.source)
+        where = ", ".join(f"{inp.name} = {v:g} {inp.unit}" for inp, v in zip(engine.inputs, values))
+        raise MotionError(f"cannot reach {where}: {motion.message}", source=engine.mech.source)
     return motion
 
 
@@ -310,24 +337,28 @@ def input_speed(engine) -> str:
     return f"v = {inp.omega:g} m/s, a = {inp.epsilon:g} m/s²"
 
 
+def input_label(engine, phi_row, fmt=".4g") -> str:
+    """'phi = 30 deg' of a position's input values (SI, (n_in,)), every input, comma-separated."""
+    return ", ".join(f"{inp.name} = {inp.from_si(float(p)):{fmt}} {inp.unit}" for inp, p in zip(engine.inputs, phi_row))
+
+
 def _title(engine, motion, b=0):
-    inp = engine.inputs[0]
-    value = inp.from_si(float(motion.phi[b, 0]))
-    return f"{engine.mech.title or engine.mech.name}\n{inp.name} = {value:.4g} {inp.unit}"
+    return f"{engine.mech.title or engine.mech.name}\n{input_label(engine, motion.phi[b])}"
 
 
 def _figure(plt, figsize):
     return plt.figure(figsize=figsize, layout="constrained")
 
 
-SHOW = {"velocities": "v", "accelerations": "a", "reactions": "reactions", "centres": "centres"}
+SHOW = {"velocities": "v", "accelerations": "a", "reactions": "reactions", "centres": "centres", "loads": "loads"}
 
 
-def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=False, cycle=None, count=72,
-                   figsize=(7.5, 6.5)):
-    """Kinematic diagram at one position, at the model's input speed; `vectors` ⊂ {'v', 'a'} adds
-    velocity/acceleration vectors, `centres` the instantaneous centres, `reactions` the reaction arrows
-    (kinetostatics). `count` positions of the cycle size the guides and the frame."""
+def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=False, loads=False, cycle=None,
+                   count=72, figsize=(7.5, 6.5)):
+    """Kinematic diagram at one position, at the model's input speed, with its springs, dampers and
+    torques between links; `vectors` ⊂ {'v', 'a'} adds velocity/acceleration vectors, `centres` the
+    instantaneous centres, `reactions` the reaction arrows (kinetostatics), `loads` the applied loads.
+    `count` positions of the cycle size the guides and the frame."""
     plt = require_matplotlib()
     motion = position_motion(engine, at)
     cycle = cycle_motion(engine, count) if cycle is None else cycle
@@ -337,6 +368,10 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=Fals
     draw_mechanism(ax, scene, 0)
     title = _title(engine, motion) + (f", {input_speed(engine)}" if vectors or reactions else "")
     _frame_axes(ax, build_scene(engine, cycle, cycle) if cycle is not None else scene, title)
+    from ._elementplots import draw_elements, draw_loads
+    draw_elements(ax, engine, motion, 0, scene.size)
+    if loads:
+        draw_loads(ax, engine, motion, 0, scene.size)
     for which in vectors:
         draw_vectors(ax, scene, motion, 0, which)
     if centres:
@@ -345,7 +380,7 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=Fals
         from ._forceplots import draw_reactions
         from ..forces._kinetostatics import kinetostatics
         draw_reactions(ax, engine, kinetostatics(engine, motion), 0, scene.size)
-    if vectors or reactions:
+    if (vectors or reactions or loads) and ax.get_legend_handles_labels()[1]:
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
     return fig
 
@@ -358,7 +393,7 @@ def show_options(text: str | None) -> dict:
     if bad:
         raise ModelError(f"unknown --show item '{bad[0]}'; choose from: {', '.join(SHOW)} (or all)")
     return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
-            "centres": "centres" in names, "reactions": "reactions" in names}
+            "centres": "centres" in names, "reactions": "reactions" in names, "loads": "loads" in names}
 
 
 def vectors_figure(engine, at=None, **kw):
@@ -596,7 +631,18 @@ FIGURES: dict[str, Figure] = {
     "transmission": Figure(transmission_figure, "transmission angles and pressure angles against the coordinate"),
     "forces": Figure(forces_figure, "reactions, their hodographs and the balancing moment against the coordinate"),
     "dynamics": Figure(dynamics_figure, "J_II, reduced moments, work, ΔT_I, true ω(φ) and ε(φ) (models with [dynamics])"),
+    "shaking": Figure(lambda engine, at=None, **kw: _elementplots().shaking_figure(engine, at, **kw),
+                      "shaking force on the frame (hodograph) and shaking moment over the cycle"),
+    "efficiency": Figure(lambda engine, at=None, **kw: _elementplots().efficiency_figure(engine, at, **kw),
+                         "instantaneous efficiency with friction in the pairs (models with [friction])"),
+    "simulation": Figure(lambda engine, at=None, **kw: _elementplots().simulation_figure(engine, at, **kw),
+                         "motion under the given forces against time and its energy balance ([simulate])"),
 }
+
+
+def _elementplots():
+    from . import _elementplots as module
+    return module
 
 
 def register_figure(name: str, function: Callable, help: str) -> None:
@@ -647,16 +693,14 @@ def write_gif(engine, path, frames=36, *, dpi=80, fps=12, figsize=(6.4, 5.6), tr
     fig = plt.figure(figsize=figsize, dpi=dpi)
     ax = fig.add_axes((0.02, 0.02, 0.96, 0.88))
     images = []
-    inp = engine.inputs[0]
     for b in range(scene.batch):
         ax.clear()
         if trajectories:
             draw_trajectories(ax, scene, lw=0.7)
         draw_mechanism(ax, scene, b)
         _frame_axes(ax, scene)
-        fig.suptitle(f"{engine.mech.title or engine.mech.name}\n{inp.name} = "
-                     f"{inp.from_si(float(motion.phi[b, 0])):7.2f} {inp.unit}   frame {b + 1}/{scene.batch}",
-                     fontsize=10)
+        fig.suptitle(f"{engine.mech.title or engine.mech.name}\n{input_label(engine, motion.phi[b], '7.2f')}"
+                     f"   frame {b + 1}/{scene.batch}", fontsize=10)
         fig.canvas.draw()
         rgba = np.asarray(fig.canvas.buffer_rgba())
         images.append(Image.fromarray(rgba[..., :3].copy()).convert("P", palette=Image.ADAPTIVE, colors=64))

@@ -210,6 +210,26 @@ def _reactions_section(engine, ctx):
     return out
 
 
+def _shaking_section(engine, ctx):
+    """The shaking force and moment on the frame over the cycle (models with masses or loads)."""
+    from ..forces._loads import has_force_data
+    if not has_force_data(engine.mech):
+        return "<p>The model has no masses or loads: nothing shakes the frame.</p>"
+    from ._elementplots import shaking_figure
+    return ("<p>The forces the mechanism puts on its frame: through the pairs with the frame, the drive's "
+            "stator and the loads anchored on it; the hodograph is the tip of the shaking force over the "
+            "cycle, the shaking moment is about the origin.</p>"
+            + ctx.figure(shaking_figure(engine), "shaking force and moment on the frame"))
+
+
+def _friction_section(engine, ctx):
+    """The efficiency with the model's friction in the pairs (models with [friction])."""
+    if "friction" not in engine.mech.extras:
+        return "<p>The model has no <code>[friction]</code> section: its pairs are ideal.</p>"
+    from ._elementplots import efficiency_figure
+    return ctx.figure(efficiency_figure(engine), "instantaneous efficiency with friction in the pairs")
+
+
 def _animation_section(engine, ctx):
     from ._animation import svg_animation
     return svg_animation(engine, ctx.frames, element_id="report-animation", width=560)
@@ -243,6 +263,8 @@ SECTIONS: dict[str, Section] = {
     "animation": Section("Animation", _animation_section),
     "reactions": Section("Joint reactions and balancing moment", _reactions_section),
     "flywheel": Section("Machine dynamics and flywheel", _flywheel_section),
+    "shaking": Section("Shaking force on the frame", _shaking_section),
+    "friction": Section("Friction in the pairs and efficiency", _friction_section),
 }
 
 

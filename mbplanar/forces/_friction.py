@@ -1,0 +1,237 @@
+"""Friction in the kinematic pairs, and the efficiency it leaves.
+
+A revolute pair with friction has a friction circle: a pin of radius r and coefficient μ, so the pair
+transmits besides its force F a moment of size μ·r·|F| opposing the relative rotation of its links (on
+the second link b, −μ·r·|F|·sign(ω_b − ω_a); on a the opposite). A prismatic pair with friction pushes
+its slider back along the guide with a force μ·|N| against the sliding, N the pair's normal force; with
+the block's length b given, the pair's moment M is carried by two normal forces at the block's ends,
+N/2 ∓ M/b, and the friction is μ·(|N/2 − M/b| + |N/2 + M/b|) = μ·max(|N|, 2|M|/b).
+
+The reactions depend on the friction and the friction on the reactions: the kinetostatics becomes
+nonlinear. It is solved by fixed-point iteration over the whole batch at once: reactions without
+friction, then friction loads from the reactions, reactions with those loads, ... until the reactions
+of two iterations agree to `tolerance` (relative to the largest reaction at that position). The number
+of iterations and the residual (the last change, per position) are reported; the iteration converges
+when the friction moments are small against the levers (μ·r much smaller than the links), and a
+mechanism near self-locking shows itself by not converging.
+
+Efficiency: the instantaneous efficiency is the drive's power without friction over its power with
+friction at the same motion, η = Σ Q₀·q̇ / Σ Q·q̇ (while the drive gives power), and the cycle efficiency
+the same ratio of the drive's work over the batch (one input: ∫Q·dq over φ) — the useful work over the
+driving work, the friction's work being the difference.
+
+The `[friction]` section of a model::
+
+    [friction]
+    mu = 0.1              # coefficient of every pair (default 0: none)
+    pin_radius = 0.01     # pin radius of every revolute pair with friction (the table's length_unit)
+    block_length = 0.08   # length of every slider (default: none, friction μ·|N|)
+    tolerance = 1e-12     # of the fixed-point iteration
+    max_iterations = 100
+    pairs = [{ joint = "Bp", mu = 0.15, block_length = 0.1 }, { joint = "O", mu = 0.0 }]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+from ._kinetostatics import Kinetostatics, kinetostatics
+from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
+from ..model._table import Row
+
+__all__ = ["PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
+           "friction_loads"]
+
+
+@dataclass(frozen=True)
+class PairFriction:
+    """Friction of one pair: coefficient `mu`, pin `radius` (m, revolute), `block_length` (m, prismatic;
+    None: the pair's moment does not add to the normal force)."""
+
+    joint: str
+    mu: float
+    radius: float = 0.0
+    block_length: float | None = None
+
+
+@dataclass(frozen=True)
+class FrictionSpec:
+    """The pairs with friction and the iteration's `tolerance` and `max_iterations`."""
+
+    pairs: tuple[PairFriction, ...] = ()
+    tolerance: float = 1e-12
+    max_iterations: int = 100
+
+
+def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
+    """The model's `[friction]` section (None when there is none and no `mu` is given); `mu` overrides
+    the model's default coefficient."""
+    raw = mech.extras.get("friction")
+    if raw is None and mu is None:
+        return None
+    where = f"{mech.source}: friction"
+    row = Row({} if raw is None else raw, where)
+    scale = mech.units.length_scale  # lengths in the table's length_unit
+    block = row.number("block_length", None, positive=True)
+    default = PairFriction("", row.number("mu", 0.0) if mu is None else float(mu),
+                           row.number("pin_radius", 0.0) * scale, None if block is None else block * scale)
+    tolerance = row.number("tolerance", 1e-12, positive=True)
+    max_iter = row.number("max_iterations", 100, positive=True)
+    given = {}
+    rows = row.data.get("pairs", [])
+    row.used.add("pairs")
+    row.check_unknown_keys()
+    if not isinstance(rows, list):
+        row.fail("'pairs' must be a list of rows {joint = ..., mu = ...}")
+    for k, raw_pair in enumerate(rows):
+        pr = Row(raw_pair, f"{where}: pairs[{k}]")
+        joint = pr.text("joint", required=True)
+        if joint not in mech.joints:
+            pr.fail(f"'{joint}' is not a joint of the model")
+        if joint in given:
+            pr.fail(f"joint '{joint}' is listed twice")
+        radius, block = pr.number("pin_radius"), pr.number("block_length", positive=True)
+        given[joint] = PairFriction(joint, pr.number("mu", default.mu),
+                                    default.radius if radius is None else radius * scale,
+                                    default.block_length if block is None else block * scale)
+        pr.check_unknown_keys()
+    pairs = []
+    for name, j in mech.joints.items():
+        p = given.get(name, PairFriction(name, default.mu, default.radius, default.block_length))
+        if p.mu < 0 or p.radius < 0:
+            raise ModelError(f"{where}: joint '{name}': mu and pin_radius must be >= 0")
+        if p.mu > 0 and j.kind == "R" and p.radius == 0:
+            raise ModelError(f"{where}: joint '{name}' is revolute with mu = {p.mu}: give its pin_radius")
+        if p.mu > 0:
+            pairs.append(p)
+    if int(max_iter) != max_iter:
+        row.fail(f"'max_iterations' must be a whole number, got {max_iter}")
+    return FrictionSpec(tuple(pairs), tolerance, int(max_iter))
+
+
+@dataclass
+class FrictionResult:
+    """Kinetostatics with friction: `kinetostatics` (reactions and balancing loads with friction),
+    `ideal` (without), `iterations` (fixed-point iterations made), `residual` (B,) (the last relative
+    change of the reactions), `converged`, `losses` (B,) (the friction's power, ≤ 0, W),
+    `efficiency` (B,) (NaN where the drive takes power) and `cycle_efficiency` (one input)."""
+
+    kinetostatics: Kinetostatics
+    ideal: Kinetostatics
+    iterations: int
+    residual: np.ndarray
+    converged: bool
+    losses: np.ndarray
+    efficiency: np.ndarray
+    cycle_efficiency: float | None
+
+
+def friction_loads(engine, motion, spec: FrictionSpec, reactions: dict) -> list[LoadValue]:
+    """The friction loads (two per pair: on each of its links) for the given reactions."""
+    out = []
+    batch = len(motion.phi)
+    zero2 = np.zeros((batch, 2))
+    mech = engine.mech
+    for p in spec.pairs:
+        j = mech.joints[p.joint]
+        r = reactions[p.joint]
+        ka, kb = (engine.link_index[n] for n in j.links)
+        rate = motion.rate[:, motion.joint(p.joint)]
+        if j.kind == "R":
+            point = world_points(motion, kb, np.asarray(j.at, float))
+            m = -p.mu * p.radius * np.hypot(r.fx, r.fy) * np.sign(rate)  # on b; rate = ω_b − ω_a
+            out += [LoadValue(f"friction in {p.joint}", kb, zero2, point, m),
+                    LoadValue(f"friction in {p.joint}", ka, zero2.copy(), point.copy(), -m)]
+            continue
+        u = guide_direction(engine, motion, p.joint)
+        normal = np.abs(r.fx * -u[:, 1] + r.fy * u[:, 0])
+        if p.block_length:
+            normal = np.maximum(normal, 2 * np.abs(r.moment) / p.block_length)
+        size = -p.mu * normal * np.sign(rate)  # along the guide, on the slider
+        ks = engine.link_index[j.slider]
+        point = world_points(motion, ks, np.asarray(j.at, float))
+        force = size[:, None] * u
+        kc = engine.link_index[j.carrier]
+        out += [LoadValue(f"friction in {p.joint}", ks, force, point, np.zeros(batch)),
+                LoadValue(f"friction in {p.joint}", kc, -force, point.copy(), np.zeros(batch))]
+    return out
+
+
+def _change(old: dict, new: dict, names) -> np.ndarray:
+    """Largest change of the pairs' reactions (B,), relative to the largest reaction at each position."""
+    scale = np.zeros(len(next(iter(new.values())).fx))
+    diff = np.zeros_like(scale)
+    for name in names:
+        a, b = old[name], new[name]
+        scale = np.maximum(scale, np.hypot(b.fx, b.fy))
+        diff = np.maximum(diff, np.hypot(b.fx - a.fx, b.fy - a.fy))
+    return diff / np.where(scale > 0, scale, 1.0)
+
+
+def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
+                           input_inertia=0.0) -> FrictionResult:
+    """Reactions and balancing loads with friction in the pairs over the batch of `motion` (the model's
+    loads, gravity and inertia), by fixed-point iteration; and the efficiency."""
+    spec = spec if spec is not None else (read_friction(engine.mech) or FrictionSpec())
+    base = evaluate_loads(engine, motion)
+    ideal = kinetostatics(engine, motion, input_inertia, loads=base)
+    ks, iterations = ideal, 0
+    residual = np.zeros(len(motion.phi))
+    names = list(engine.mech.joints)
+    while spec.pairs and iterations < spec.max_iterations:
+        iterations += 1
+        new = kinetostatics(engine, motion, input_inertia,
+                            loads=base + friction_loads(engine, motion, spec, ks.reactions))
+        residual = _change(ks.reactions, new.reactions, names)
+        ks = new
+        if not np.any(residual > spec.tolerance):
+            break
+    converged = bool(np.all(residual <= spec.tolerance))
+    losses = _losses(engine, motion, spec, ks)
+    power, power0 = _drive_power(engine, motion, ks), _drive_power(engine, motion, ideal)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        eta = np.where(power > 0, power0 / power, np.nan)
+    return FrictionResult(ks, ideal, iterations, residual, converged, losses, eta,
+                          _cycle_efficiency(engine, motion, ks, ideal))
+
+
+def _losses(engine, motion, spec, ks) -> np.ndarray:
+    """The friction's power (B,) (W, ≤ 0) at the reactions `ks`: −μ·r·|F|·|ω_rel| and −(friction)·|v_rel|."""
+    w, v, _, _ = real_frames(engine, motion)
+    r = motion.frames["r"]
+    return sum((load_power(ld, w, v, r) for ld in friction_loads(engine, motion, spec, ks.reactions)),
+               np.zeros(len(motion.phi)))
+
+
+def _on_input_link(engine, inp) -> float:
+    """+1 when the input link (the one the balancing load acts on) is the joint's second link, else −1:
+    the input link's rate is that times the joint's rate."""
+    j = engine.mech.joints[inp.joint]
+    return 1.0 if j.links[1] != engine.mech.ground else -1.0
+
+
+def _drive_power(engine, motion, ks) -> np.ndarray:
+    """Σ over the inputs of the balancing load times its link's rate (B,) (W)."""
+    out = np.zeros(len(motion.phi))
+    for inp in engine.inputs:
+        out += ks.balancing[inp.joint] * _on_input_link(engine, inp) * motion.rate[:, motion.joint(inp.joint)]
+    return out
+
+
+def _cycle_efficiency(engine, motion, ks, ideal) -> float | None:
+    """Work of the drive without friction over its work with friction along the batch (one input:
+    ∫Q·dq over the input), None with several inputs or fewer than two positions."""
+    if len(engine.inputs) != 1 or len(motion.phi) < 2:
+        return None
+    inp = engine.inputs[0]
+    x = motion.phi[:, 0]
+
+    def work(q):
+        y = q * inp.sense * _on_input_link(engine, inp)
+        return float(np.sum((y[1:] + y[:-1]) * np.diff(x)) / 2)
+
+    total = work(ks.balancing[inp.joint])
+    return work(ideal.balancing[inp.joint]) / total if total else None

@@ -1,0 +1,251 @@
+"""Shaking force and moment on the frame, and force balancing by counterweights.
+
+The shaking force is what the mechanism does to its frame: the sum of the forces on the frame from the
+pairs with the ground, from the drive (its stator), and from loads with an end on the frame (a spring
+anchored there). The shaking moment is their moment about a point (default: the origin). By d'Alembert,
+the moving links are in equilibrium under every load, their inertia loads and those frame forces, so the
+same sums follow from the loads alone: force = Σ F (every load and d'Alembert load, on any link) and
+moment = Σ (p × F + M). `shaking` computes the first, `shaking_from_loads` the second (a check).
+
+Balancing. The inertia shaking force at unit crank speed, F(φ) = −Σ m·a_qS(φ), is linear in the
+counterweights: a point mass m_c on link k at ρ_c from a point P of the link (its first joint; ρ_c
+turning with the link) adds −m_c·a_qP − (ε_q·perp − ω_q²)·(m_c·ρ_c). With unknowns m_c and the first
+moment u_c = m_c·ρ_c of every counterweight, minimising Σ|F(φ_j)|² over the cycle is a linear least
+squares problem: its minimum is zero where the mechanism can be fully force-balanced (a four-bar with
+counterweights on the crank and the rocker, the classic two-counterweight static balance), otherwise
+the counterweights minimise the RMS of the shaking force (a slider-crank balanced on its crank alone:
+the rotating mass and half the reciprocating one). On a link turning about a frame pivot P, m_c itself
+does not shake anything: only u_c counts, and m_c = |u_c|/`radius` for the radius chosen (default: the
+distance between the link's first two joints).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..errors import ModelError, MotionError
+from ..kinematics._motion import analyse, material_points
+from ._loads import guide_direction, heavy_links, real_frames, world_points
+from ..model._model import Point
+
+__all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
+           "inertia_shaking_force"]
+
+
+@dataclass
+class Shaking:
+    """Force (B, 2) (N) and moment (B,) (N·m, about `about`) on the frame."""
+
+    force: np.ndarray
+    moment: np.ndarray
+    about: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        return np.hypot(self.force[:, 0], self.force[:, 1])
+
+
+def _cross(p, f):
+    return p[:, 0] * f[:, 1] - p[:, 1] * f[:, 0]
+
+
+def shaking(engine, ks, about=(0.0, 0.0)) -> Shaking:
+    """Shaking force and moment from a `Kinetostatics` `ks`: the pairs with the ground (their force at the
+    joint, a prismatic pair's moment too), the drive at inputs with the ground, and loads on the frame."""
+    mech, motion = engine.mech, ks.motion
+    batch = len(motion.phi)
+    force, moment = np.zeros((batch, 2)), np.zeros(batch)
+    c = np.asarray(about, float)
+    ground = engine.link_index[mech.ground]
+    for name, r in ks.reactions.items():
+        j = mech.joints[name]
+        if mech.ground not in j.links:
+            continue
+        sign = -1.0 if r.on != mech.ground else 1.0  # the force on the frame
+        moving = j.other(mech.ground)
+        point = world_points(motion, engine.link_index[moving], np.asarray(j.at, float))
+        f = sign * np.stack([r.fx, r.fy], axis=1)
+        force += f
+        moment += _cross(point - c, f) + sign * r.moment
+    for inp in engine.inputs:
+        j = mech.joints[inp.joint]
+        if mech.ground not in j.links:
+            continue
+        q = ks.balancing[inp.joint]  # on the input link; the frame takes −q
+        if j.kind == "R":
+            moment -= q
+        else:
+            u = guide_direction(engine, motion, inp.joint)
+            point = world_points(motion, engine.link_index[j.slider], np.asarray(j.at, float))
+            f = -q[:, None] * u
+            force += f
+            moment += _cross(point - c, f)
+    for ld in ks.loads:
+        if ld.link == ground:
+            force += ld.force
+            moment += _cross(ld.point - c, ld.force) + ld.moment
+    return Shaking(force, moment, tuple(c))
+
+
+def shaking_from_loads(ks, about=(0.0, 0.0)) -> Shaking:
+    """The same from d'Alembert: the sums of every load (inertia loads included) and their moments."""
+    batch = len(ks.motion.phi)
+    c = np.asarray(about, float)
+    force, moment = np.zeros((batch, 2)), np.zeros(batch)
+    for ld in ks.loads:
+        force += ld.force
+        moment += _cross(ld.point - c, ld.force) + ld.moment
+    return Shaking(force, moment, tuple(c))
+
+
+# -- balancing --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Counterweight:
+    """A point mass `mass` (kg) on `link` at drawn coordinates `at` (m): `first_moment` (kg·m) about the
+    link's point `about` (a joint), at `angle_deg` from the link's reference line."""
+
+    link: str
+    mass: float
+    at: tuple[float, float]
+    about: str
+    first_moment: float
+    angle_deg: float
+
+
+@dataclass
+class Balancing:
+    """Counterweights found, the balanced `mechanism` (the counterweights added to the links' mass,
+    centre and inertia), and the RMS of the inertia shaking force at unit speed (N per (rad/s)²) before
+    and after, over the grid `phi`."""
+
+    counterweights: list
+    mechanism: object
+    phi: np.ndarray
+    rms_before: float
+    rms_after: float
+
+
+def inertia_shaking_force(engine, motion) -> np.ndarray:
+    """Shaking force (B, 2) of the links' inertia alone at the motion's speed: Σ −m·a_S."""
+    heavy = [h for h in heavy_links(engine.mech) if h[1].mass]
+    out = np.zeros((len(motion.phi), 2))
+    if not heavy:
+        return out
+    ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
+    w, v, e, a = real_frames(engine, motion, ks)
+    at = np.array([c for _, _, c in heavy], float)
+    _, _, acc = material_points(motion.frames["th"][:, ks], motion.frames["r"][:, ks], w, v, e, a,
+                                np.arange(len(ks)), at)
+    for i, (_, lk, _) in enumerate(heavy):
+        out -= lk.mass * acc[:, i]
+    return out
+
+
+def _reference_joint(mech, link: str):
+    """The point a counterweight's first moment is taken about: the link's first pair with the frame,
+    else its first joint."""
+    joints = mech.joints_of(link)
+    if not joints:
+        raise ModelError(f"link '{link}' has no joints", source=mech.source)
+    return next((j for j in joints if mech.ground in j.links), joints[0])
+
+
+def _columns(engine, motion, link: str):
+    """Shaking force (B, 2) per unit of each unknown (m_c, u_x, u_y) of a counterweight on `link`, at
+    unit speed: three columns (B, 2, 3)."""
+    mech = engine.mech
+    k = engine.link_index[link]
+    j = _reference_joint(mech, link)
+    f = motion.frames
+    _, _, acc = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], np.array([k]),
+                                np.array([j.at], float))
+    th, w, e = f["th"][:, k], f["w"][:, k], f["e"][:, k]
+    c, s = np.cos(th), np.sin(th)
+    out = np.empty((len(th), 2, 3))
+    out[:, :, 0] = -acc[:, 0]
+    # −(ε·perp − ω²)·R(θ)·u for u = (1, 0) and (0, 1)
+    for col, (ux, uy) in ((1, (1.0, 0.0)), (2, (0.0, 1.0))):
+        rx, ry = c * ux - s * uy, s * ux + c * uy
+        out[:, 0, col] = -(-e * ry - w * w * rx)
+        out[:, 1, col] = -(e * rx - w * w * ry)
+    return out, j
+
+
+def balance(engine, links, radius=None, steps: int = 360) -> Balancing:
+    """Counterweights on `links` (names) that cancel the inertia shaking force over a full turn of the
+    input, or minimise its RMS. `radius` (m, one or per link) sets the counterweight's distance on a link
+    turning about a frame pivot (default: its first two joints' distance)."""
+    mech = engine.mech
+    if len(engine.inputs) != 1:
+        raise ModelError(f"balancing turns one input through a cycle; the model has {len(engine.inputs)}",
+                         source=mech.source)
+    links = [str(n) for n in links]
+    for name in links:
+        if name not in mech.links or name == mech.ground:
+            raise ModelError(f"'{name}' is not a moving link of the model", source=mech.source, where="balance")
+    radii = list(np.broadcast_to(np.asarray(radius if radius is not None else np.nan, float), (len(links),)))
+    phi = np.linspace(0.0, 2 * math.pi, steps, endpoint=False) + engine.phi_drawn[0]
+    motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
+    if not motion.success:
+        raise MotionError(f"balancing needs a full turn of the input: {motion.message}", source=mech.source)
+    before = inertia_shaking_force(engine, motion)
+    cols, refs = zip(*[_columns(engine, motion, name) for name in links])
+    A = np.concatenate(cols, axis=2).reshape(-1, 3 * len(links))
+    scale = np.maximum(np.linalg.norm(A, axis=0), 1e-300)
+    x, *_ = np.linalg.lstsq(A / scale, -before.reshape(-1), rcond=1e-12)
+    x /= scale
+    weights = []
+    for i, (name, j, rho) in enumerate(zip(links, refs, radii)):
+        m_c, u = x[3 * i], x[3 * i + 1:3 * i + 3]
+        pivot = mech.ground in j.links
+        if pivot:  # the mass does not matter: put it at the radius chosen
+            if not math.isfinite(rho):
+                rho = _link_size(mech, name)
+            m_c = float(np.hypot(*u)) / rho
+        at = tuple(np.asarray(j.at) + (u / m_c if m_c else np.zeros(2)))
+        weights.append(Counterweight(name, float(m_c), (float(at[0]), float(at[1])), j.name,
+                                     float(np.hypot(*u)), _angle_to_link(engine, name, u)))
+    balanced = with_counterweights(mech, weights)
+    after = before + (A @ x).reshape(-1, 2)
+    rms = lambda f: float(np.sqrt(np.mean(np.sum(f * f, axis=1))))  # noqa: E731
+    return Balancing(weights, balanced, phi, rms(before), rms(after))
+
+
+def _link_size(mech, link: str) -> float:
+    pts = [j.at for j in mech.joints_of(link)]
+    size = max((math.dist(a, b) for a in pts for b in pts), default=0.0)
+    if size == 0:
+        raise ModelError("give the counterweight's radius", source=mech.source, where=f"link '{link}'")
+    return size
+
+
+def _angle_to_link(engine, link: str, u) -> float:
+    """Direction of the vector u (drawn pose) from the link's reference line, degrees."""
+    return math.degrees(math.atan2(u[1], u[0]) - engine.reference_angle[link]) % 360.0
+
+
+def with_counterweights(mech, weights) -> object:
+    """A copy of `mech` with point masses added to its links: new mass, centre (a new point
+    `<link>:balanced`) and inertia about it (parallel axes)."""
+    out = replace(mech, links=dict(mech.links), points=dict(mech.points))
+    for cw in weights:
+        lk = out.links[cw.link]
+        s = np.array(_centre_at(out, cw.link), float)
+        m = lk.mass + cw.mass
+        c = (lk.mass * s + cw.mass * np.asarray(cw.at)) / m if m else s
+        inertia = (lk.inertia + lk.mass * float(np.sum((s - c) ** 2))
+                   + cw.mass * float(np.sum((np.asarray(cw.at) - c) ** 2)))
+        name = f"{cw.link}:balanced"
+        out.points[name] = Point(name, cw.link, (float(c[0]), float(c[1])))
+        out.links[cw.link] = replace(lk, mass=m, inertia=inertia, centre=name)
+    return out
+
+
+def _centre_at(mech, link: str):
+    lk = mech.links[link]
+    if lk.centre is None:
+        return mech.joints_of(link)[0].at
+    return mech.points[lk.centre].at if lk.centre in mech.points else mech.joints[lk.centre].at

@@ -1,0 +1,340 @@
+"""Motion under given forces: the equations of motion of a mechanism of any number of degrees of
+freedom in its generalised coordinates (the inputs φ), integrated in time with scipy's `solve_ivp`.
+
+For inputs q (n,) the velocity of every link frame and centre of mass is linear in q̇: v_S = J_S·q̇,
+ω = J_ω·q̇, with the Jacobians J taken from the kinematics (the velocity analogues with one input, the
+velocities for unit input rates with several); the accelerations are J·q̈ + a₀, a₀ the convective part
+(the accelerations for q̈ = 0). Lagrange's equations (d'Alembert's principle in the allowed velocities):
+
+    M(q)·q̈ = Q(q, q̇, t) − Σ (m·J_Sᵀ·a₀S + I_S·J_ωᵀ·ε₀),   M(q) = Σ (m·J_SᵀJ_S + I_S·J_ωᵀJ_ω) + J_in,
+
+Q the generalised forces of the model's loads (their power per unit of each q̇: springs, dampers,
+torques, gravity, forces) plus the drive Q_in = `torque` − `motor_slope`·q̇ on each input. With one
+input this is the reduced form J(φ)·φ̈ + ½·J′(φ)·φ̇² = M(φ, φ̇, t), since Σ(m·v_qS·a_qS + I_S·ω_q·ε_q)
+= ½·dJ/dφ. The state (q, q̇) needs no projection: the positions are solved from q at every evaluation,
+so the constraints hold to the Newton tolerance along the whole motion. The initial values are
+consistent by construction: any position q₀ (on the drawn branch) and speed q̇₀; q̈₀ follows.
+
+Along the computed motion, `kinetostatics` gives every joint reaction (the Lagrange multipliers of a
+formulation in absolute coordinates), and the balancing moment at each input equals the drive.
+
+The `[simulate]` section of a model (all keys optional)::
+
+    [simulate]
+    t = 0.03              # s, the end time (the command's --t overrides it)
+    torque = 0.033        # N·m (N for a prismatic input; the table's moment_unit) along each input
+    motor_slope = 0.0     # N·m·s/rad (moment_unit): drive = torque − motor_slope·q̇
+    omega = 0.0           # initial speed(s) q̇₀ (default: 0); the start position is the drawn one
+    rtol = 1e-10          # solve_ivp's tolerances and method
+    atol = 1e-12
+    method = "DOP853"
+    steps = 100           # output intervals
+    input_inertia = 0.0   # kg·m² (the table's inertia_unit) on each input link besides the links' own
+    max_evaluations = 50000    # a motion that chatters at a switched load (a stalled press) stops here
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelError, MotionError
+from ..kinematics._motion import analyse, material_points
+from ._kinetostatics import kinetostatics
+from ._loads import (evaluate_loads, heavy_links, load_power, read_gravity, read_loads, real_frames,
+                     spring_energy, world_points)
+from ..model._table import Row
+
+__all__ = ["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "accelerations"]
+
+METHODS = ("DOP853", "RK45", "Radau", "BDF", "LSODA", "RK23")
+
+
+@dataclass(frozen=True)
+class SimulateSpec:
+    """What drives the motion and how it is integrated: the drive `torque` (N·m or N) and `motor_slope`
+    (N·m·s/rad) per input, the start speed `omega` (rad/s or m/s) per input (None: 0), the start
+    position `phi` (SI, None: the drawn pose), the end time `t` (s), solve_ivp's `rtol`, `atol`,
+    `method`, the output `steps`, the `input_inertia` (kg·m² or kg) per input link besides the links' own,
+    and the most right-hand-side evaluations `max_evaluations`."""
+
+    t: float | None = None
+    torque: tuple[float, ...] = (0.0,)
+    motor_slope: tuple[float, ...] = (0.0,)
+    omega: tuple[float, ...] | None = None
+    phi: tuple[float, ...] | None = None
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    method: str = "DOP853"
+    steps: int = 100
+    input_inertia: tuple[float, ...] | None = None
+    max_evaluations: int = 50000
+
+
+def read_simulate(mech, **override) -> SimulateSpec:
+    """The model's `[simulate]` section as a `SimulateSpec`; keyword arguments that are not None
+    override it (same names, SI)."""
+    raw = mech.extras.get("simulate", {})
+    where = f"{mech.source}: simulate"
+    if not isinstance(raw, dict):
+        raise ModelError(f"{where}: expected a table")
+    row = Row(raw, where)
+    n = len(mech.inputs)
+    values = {"t": row.number("t", None, positive=True)}
+    for key, default in (("torque", 0.0), ("motor_slope", 0.0), ("omega", None), ("input_inertia", 0.0)):
+        values[key] = _per_input(row, key, default, n)
+    units = mech.units  # the section is in the table's units; the overrides are SI
+    for key, scale in (("torque", units.moment_scale), ("motor_slope", units.moment_scale),
+                       ("input_inertia", units.inertia_scale)):
+        values[key] = tuple(v * scale for v in values[key])
+    values["rtol"] = row.number("rtol", 1e-10, positive=True)
+    values["atol"] = row.number("atol", 1e-12, positive=True)
+    values["method"] = row.text("method", "DOP853")
+    values["steps"] = row.number("steps", 100, positive=True)
+    values["max_evaluations"] = row.number("max_evaluations", 50000, positive=True)
+    row.check_unknown_keys()
+    values.update({k: v for k, v in override.items() if v is not None})
+    for key in ("torque", "motor_slope", "omega", "phi", "input_inertia"):
+        if values.get(key) is not None:
+            values[key] = _tuple(values[key], n, f"{where}: '{key}'")
+    spec = SimulateSpec(**values)
+    _check(spec, where)
+    return spec
+
+
+def _per_input(row: Row, key, default, n):
+    value = row.data.get(key)
+    row.used.add(key)
+    if value is None:
+        return None if default is None else (default,) * n
+    values = value if isinstance(value, list) else [value]
+    return tuple(row._check_number(key, v) for v in values)
+
+
+def _tuple(value, n, where) -> tuple[float, ...]:
+    values = tuple(float(v) for v in np.atleast_1d(np.asarray(value, float)))
+    if len(values) == 1 and n > 1:
+        values *= n
+    if len(values) != n:
+        raise ModelError(f"{where}: expected {n} value(s), one per input, got {len(values)}")
+    if not all(math.isfinite(v) for v in values):
+        raise ModelError(f"{where}: values must be finite, got {values}")
+    return values
+
+
+def _check(spec: SimulateSpec, where):
+    if spec.method not in METHODS:
+        raise ModelError(f"{where}: 'method' must be one of {', '.join(METHODS)}, got {spec.method!r}")
+    if spec.t is not None and not (math.isfinite(spec.t) and spec.t > 0):
+        raise ModelError(f"{where}: the end time t must be a positive number of seconds, got {spec.t}")
+    if not (0 < spec.rtol < 1 and 0 < spec.atol):
+        raise ModelError(f"{where}: rtol must be in (0, 1) and atol positive, got {spec.rtol}, {spec.atol}")
+    if int(spec.steps) != spec.steps or spec.steps < 1:
+        raise ModelError(f"{where}: 'steps' must be a positive whole number, got {spec.steps}")
+    if any(s < 0 for s in spec.motor_slope):
+        raise ModelError(f"{where}: 'motor_slope' must be >= 0 (a motor gives less when faster)")
+    if spec.input_inertia is not None and any(j < 0 for j in spec.input_inertia):
+        raise ModelError(f"{where}: 'input_inertia' must be >= 0")
+    if int(spec.max_evaluations) != spec.max_evaluations:
+        raise ModelError(f"{where}: 'max_evaluations' must be a whole number, got {spec.max_evaluations}")
+
+
+# -- the equations of motion ------------------------------------------------------------------------
+@dataclass
+class _Columns:
+    """The kinematics of one state: the Motion (real velocities, q̈ = 0), and per input k the link
+    frames' velocities for q̇ = e_k (w (1, L), v (1, L, 2)), plus the convective accelerations."""
+
+    motion: object
+    cols: list
+    e0: np.ndarray
+    a0: np.ndarray
+
+
+def _columns(engine, q, qd) -> _Columns:
+    n = len(engine.inputs)
+    if n == 1:
+        _cover(engine, float(q[0]))
+    m = analyse(engine, q[None, :], omega=qd[None, :], epsilon=np.zeros((1, n)))
+    if not m.success:
+        raise MotionError(f"the motion reaches a position it cannot pass: {m.message}", source=engine.mech.source)
+    f = m.frames
+    if n == 1 and "v" in f:
+        om = qd[0]
+        return _Columns(m, [(f["w"], f["v"])], f["e"] * om * om, f["a"] * om * om)
+    sol = engine.solve(q[None, :])
+    cols = []
+    for k in range(n):
+        unit = np.zeros((1, n))
+        unit[0, k] = 1.0
+        engine.rates(sol, unit, np.zeros((1, n)))
+        cols.append((sol.w.copy(), sol.v.copy()))
+    engine.rates(sol, qd[None, :], np.zeros((1, n)))
+    return _Columns(m, cols, sol.e.copy(), sol.a.copy())
+
+
+def _cover(engine, x: float):
+    """Extend the drawn branch's atlas past x by a turn (a revolute input) or by the model's size, so
+    that a motion running on does not grow the atlas a little at every step."""
+    atlas = engine.atlas()
+    lo, hi = atlas.nodes[0].phi[0], atlas.nodes[-1].phi[0]
+    if lo <= x <= hi:
+        return
+    span = 2 * math.pi if engine.mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
+    atlas.cover(min(lo, x - span), max(hi, x + span))
+
+
+def _mass_and_forces(engine, c: _Columns, qd, spec: SimulateSpec, input_inertia):
+    """M (n, n) and the right-hand side (n,) of M·q̈ = rhs, and the drive (n,)."""
+    m = c.motion
+    heavy = heavy_links(engine.mech)
+    ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
+    at = np.array([centre for _, _, centre in heavy], float).reshape(-1, 2)
+    th, r = m.frames["th"], m.frames["r"]
+    mass = np.array([lk.mass for _, lk, _ in heavy])
+    inertia = np.array([lk.inertia for _, lk, _ in heavy])
+    zero_w, zero_v = np.zeros_like(c.cols[0][0]), np.zeros_like(c.cols[0][1])
+    jv, jw = [], []
+    for w, v in c.cols:
+        _, vel, _ = material_points(th, r, w, v, zero_w, zero_v, ks, at)
+        jv.append(vel[0])        # (H, 2)
+        jw.append(w[0, ks])      # (H,)
+    # the convective acceleration of a centre: its link's ε₀, a₀ and the real ω (centripetal part)
+    w_real = sum(w * qd[k] for k, (w, _) in enumerate(c.cols))
+    v_real = sum(v * qd[k] for k, (_, v) in enumerate(c.cols))
+    _, _, acc0 = material_points(th, r, w_real, v_real, c.e0, c.a0, ks, at)
+    acc0, e0 = acc0[0], c.e0[0, ks]
+    jv, jw = np.array(jv), np.array(jw)  # (n, H, 2), (n, H)
+    M = (np.einsum("h,khi,lhi->kl", mass, jv, jv) + np.einsum("h,kh,lh->kl", inertia, jw, jw)
+         + np.diag(input_inertia))
+    rhs = -(np.einsum("h,khi,hi->k", mass, jv, acc0) + np.einsum("h,kh,h->k", inertia, jw, e0))
+    loads = evaluate_loads(engine, m)
+    for k, (w, v) in enumerate(c.cols):
+        rhs[k] += sum(float(load_power(ld, w, v, r)[0]) for ld in loads)
+    drive = np.asarray(spec.torque) - np.asarray(spec.motor_slope) * qd
+    return M, rhs + drive, drive, loads
+
+
+def accelerations(engine, q, qd, spec: SimulateSpec, input_inertia=None) -> np.ndarray:
+    """q̈ (n,) at the state (q, q̇) (SI) from the equations of motion."""
+    q, qd = np.asarray(q, float).reshape(-1), np.asarray(qd, float).reshape(-1)
+    J_in = np.zeros(len(q)) if input_inertia is None else np.asarray(input_inertia, float)
+    M, rhs, _, _ = _mass_and_forces(engine, _columns(engine, q, qd), qd, spec, J_in)
+    return _solve_mass(engine, M, rhs)
+
+
+def _solve_mass(engine, M, rhs):
+    try:
+        out = np.linalg.solve(M, rhs)
+    except np.linalg.LinAlgError:
+        out = np.full(len(rhs), np.nan)
+    if not np.all(np.isfinite(out)):
+        raise MotionError("the generalised mass matrix is singular (a link without mass or inertia moves while "
+                          "every massive link stands still?)", source=engine.mech.source)
+    return out
+
+
+# -- integration ------------------------------------------------------------------------------------
+@dataclass
+class Trajectory:
+    """The motion over time: t (N,), phi, omega, epsilon (N, n) of the inputs; `motion` (a Motion with
+    the real rates at every t), `kinetostatics` (the reactions along it, the balancing loads equal to
+    `drive`), `drive` (N, n), `energy` (kinetic, potential, drive_work, (N,) each, J), and the solver's
+    success, message and number of evaluations."""
+
+    t: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    drive: np.ndarray
+    motion: object
+    kinetostatics: object
+    energy: dict
+    success: bool
+    message: str
+    nfev: int
+    spec: SimulateSpec = field(default_factory=SimulateSpec)
+
+
+def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None) -> Trajectory:
+    """Integrate the equations of motion from the start state of `spec` (default: the model's
+    `[simulate]` section) to its end time, with solve_ivp; the reactions along the motion follow.
+    `input_inertia` (default: the spec's) is added on each input link."""
+    from scipy.integrate import solve_ivp
+
+    mech = engine.mech
+    spec = spec or read_simulate(mech)
+    if spec.t is None:
+        raise ModelError("no end time: give --t or t = ... in [simulate]", source=mech.source)
+    n = len(engine.inputs)
+    q0 = np.array(spec.phi if spec.phi is not None else engine.phi_drawn, float)
+    qd0 = np.array(spec.omega if spec.omega is not None else (0.0,) * n, float)
+    if input_inertia is None:
+        input_inertia = spec.input_inertia if spec.input_inertia is not None else 0.0
+    J_in = np.broadcast_to(np.asarray(input_inertia, float), (n,))
+    calls = [0]
+
+    def rhs(t, y):
+        calls[0] += 1
+        if calls[0] > spec.max_evaluations:
+            raise MotionError(f"{spec.max_evaluations} evaluations reached at t = {t:.9g} s: the motion chatters "
+                              "(a switched load at a stall?) or needs a looser rtol", source=mech.source)
+        q, qd = y[:n], y[n:2 * n]
+        M, b, drive, _ = _mass_and_forces(engine, _columns(engine, q, qd), qd, spec, J_in)
+        qdd = _solve_mass(engine, M, b)
+        return np.concatenate([qd, qdd, [float(drive @ qd)]])
+
+    grid = np.linspace(0.0, spec.t, int(spec.steps) + 1)
+    try:
+        sol = solve_ivp(rhs, (0.0, spec.t), np.concatenate([q0, qd0, [0.0]]), method=spec.method,
+                        t_eval=grid, rtol=spec.rtol, atol=spec.atol)
+    except MotionError as exc:
+        raise MotionError(f"{exc.message} (simulating from t = 0 to {spec.t} s)", source=exc.source,
+                          where=exc.where) from None
+    y = sol.y.T
+    phi, omega, work = y[:, :n], y[:, n:2 * n], y[:, 2 * n]
+    eps = np.array([accelerations(engine, q, qd, spec, J_in) for q, qd in zip(phi, omega)]).reshape(-1, n)
+    drive = np.asarray(spec.torque)[None, :] - np.asarray(spec.motor_slope)[None, :] * omega
+    motion = analyse(engine, phi, omega=omega, epsilon=eps)
+    ks = kinetostatics(engine, motion, input_inertia=J_in)
+    energy = {"kinetic": _kinetic(engine, motion, omega, J_in), "potential": _potential(engine, motion),
+              "drive_work": work}
+    return Trajectory(sol.t, phi, omega, eps, drive, motion, ks, energy, bool(sol.success), sol.message,
+                      int(sol.nfev), spec)
+
+
+def _kinetic(engine, motion, omega, J_in) -> np.ndarray:
+    """Kinetic energy (B,) of every heavy link and the input inertias (J)."""
+    heavy = heavy_links(engine.mech)
+    out = 0.5 * np.sum(J_in[None, :] * omega * omega, axis=1)
+    if not heavy:
+        return out
+    ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
+    at = np.array([centre for _, _, centre in heavy], float)
+    f = motion.frames
+    w = motion.w
+    if "v" in f and motion.wq is not None:
+        v = f["v"] * motion.omega[:, :1, None]
+    else:
+        w, v, _, _ = real_frames(engine, motion)
+    _, vel, _ = material_points(f["th"], f["r"], w, v, np.zeros_like(w), np.zeros_like(v), ks, at)
+    for i, (_, lk, _) in enumerate(heavy):
+        out += 0.5 * (lk.mass * np.einsum("bi,bi->b", vel[:, i], vel[:, i]) + lk.inertia * w[:, ks[i]] ** 2)
+    return out
+
+
+def _potential(engine, motion) -> np.ndarray:
+    """Potential energy (B,) of the springs and of gravity (J)."""
+    out = np.zeros(len(motion.phi))
+    for load in read_loads(engine.mech):
+        if load.kind == "spring":
+            out += spring_energy(engine, motion, load)
+    g = read_gravity(engine.mech)
+    if g is not None:
+        for name, lk, centre in heavy_links(engine.mech):
+            if lk.mass:
+                xy = world_points(motion, engine.link_index[name], np.asarray(centre, float))
+                out -= lk.mass * (xy @ g.vector)
+    return out
