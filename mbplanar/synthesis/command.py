@@ -40,6 +40,14 @@ def add_arguments(parser) -> None:
     s.add_argument("--full-turn", action="store_true", help="require a crank that turns fully")
     s.add_argument("--curve", help="4 poses: write the centre- and circle-point curves to this CSV")
     _common(s)
+    s = sub.add_parser("path", help="four-bar coupler curve through untimed target points (global search + "
+                                    "least squares)")
+    s.add_argument("input", help="CSV of target points x, y in their order along the curve")
+    s.add_argument("--seed", type=int, default=0, help="random seed of the global search (default 0)")
+    s.add_argument("--time-limit", type=float, default=40.0, help="seconds for the global stage (default 40)")
+    s.add_argument("--popsize", type=int, default=20, help="differential evolution's population factor")
+    s.add_argument("--maxiter", type=int, default=1000, help="largest number of generations")
+    _common(s)
 
 
 def _common(s):
@@ -49,7 +57,7 @@ def _common(s):
 
 
 def run(args) -> int:
-    problem = {"seed001": _seed001, "function": _function, "motion": _motion}[args.problem]
+    problem = {"seed001": _seed001, "function": _function, "motion": _motion, "path": _path}[args.problem]
     summary, result, picture = problem(args)
     if args.output:
         Path(args.output).write_text(result.toml, encoding="utf-8")
@@ -108,8 +116,8 @@ def _csv_rows(path, columns: int) -> np.ndarray:
         try:
             values = [float(v) for v in row]
         except ValueError:
-            if not rows and n == 1:
-                continue                      # header
+            if not rows:
+                continue                      # a header line before the data
             raise ModelError(f"not numbers: {row}", source=str(path), where=f"row {n}") from None
         if len(values) != columns or not all(math.isfinite(v) for v in values):
             raise ModelError(f"needs {columns} finite numbers, got {row}", source=str(path), where=f"row {n}")
@@ -389,6 +397,38 @@ def _plot_motion(r, path):
         ax.plot([], [], "C2.", label="centre-point curve")
         ax.plot([], [], "C1.", label="circle-point curve")
     ax.set_title("Motion generator (Burmester)")
+    _finish(fig, ax, path)
+
+
+def _path(args):
+    from .path import synthesise_path
+    if not (args.time_limit > 0 and args.popsize >= 5 and args.maxiter >= 1):
+        raise ModelError("--time-limit must be positive, --popsize at least 5, --maxiter at least 1")
+    targets = _csv_rows(args.input, 2)
+    r = synthesise_path(targets, seed=args.seed, popsize=args.popsize, maxiter=args.maxiter,
+                        time_limit=args.time_limit)
+    per, mx, rms = _errors(r.errors)
+    names = ("a0x", "a0y", "b0x", "b0y", "crank", "coupler", "rocker", "u", "v", "mode")
+    design = {k: float(v) for k, v in zip(names, r.design)}
+    summary = {"problem": "path", "model": None, "design": design, "targets": r.targets.tolist(),
+               "target_phi_deg": [math.degrees(p) for p in r.phi], "error_unit": "m", "errors": per,
+               "max_error": mx, "rms_error": rms,
+               "defects": {"checked": ["circuit", "branch", "order", "full_turn"], **r.defects.as_dict()},
+               "evaluations": r.evaluations, "seed": r.seed, "seconds": r.seconds}
+    return summary, r, _plot_path
+
+
+def _plot_path(r, path):
+    from ..engine import Engine
+    from ..kinematics import analyse
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.5, 5.5))
+    engine = Engine(r.mechanism)
+    m = analyse(engine, r.phi[0] + np.linspace(0.0, 2 * math.pi, 721))
+    p = m.xy[:, m.point("P")]
+    ax.plot(p[:, 0], p[:, 1], "C0-", label="coupler curve, full crank turn (mbplanar)")
+    ax.plot(r.targets[:, 0], r.targets[:, 1], "C3o", mfc="none", label="target points")
+    ax.set_title(f"Path generation: RMS {r.rms:.4g}, max {r.max:.4g}")
     _finish(fig, ax, path)
 
 
