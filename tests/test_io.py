@@ -11,7 +11,7 @@ import pytest
 
 import mbplanar
 from mbplanar.cli import main
-from mbplanar.io import (document, forces_columns, info_document, partials_document, solve_document, sweep_table,
+from mbplanar.io import (document, forces_columns, info_document, solve_document, sweep_table,
                          table)
 
 MODELS = pathlib.Path(__file__).resolve().parent.parent / "models"
