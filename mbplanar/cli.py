@@ -226,7 +226,7 @@ def cmd_solve(args):
         raise _unreachable(engine, args.at, motion)
     display = display_units(engine.mech, args.units)
     doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
-    if args.json and len(engine.inputs) > 1:  # (one input: the "analogues" are these partials)
+    if args.json:  # (with one input, "first" and "second" repeat the analogues, by name)
         doc["partials"] = partials_document(engine, motion.phi)
     if args.json:
         print(json.dumps(doc, indent=2))
