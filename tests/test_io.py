@@ -11,7 +11,7 @@ import pytest
 
 import mbplanar
 from mbplanar.cli import main
-from mbplanar.io import (document, forces_columns, info_document, solve_document, sweep_table,
+from mbplanar.io import (document, forces_columns, info_document, partials_document, solve_document, sweep_table,
                          table)
 
 MODELS = pathlib.Path(__file__).resolve().parent.parent / "models"
@@ -34,7 +34,7 @@ def test_document_of_a_motion_is_what_solve_prints(shaper, capsys):
     doc = document(motion, values=[30.0])
     assert doc == solve_document(shaper, motion, 0, [30.0])
     assert main(["solve", str(MODELS / "shaper.toml"), "--at", "30", "--json"]) == 0
-    expected = document(motion, values=[30.0], units="si")          # one input: its analogues, no partials
+    expected = dict(document(motion, values=[30.0], units="si"), partials=partials_document(shaper, motion.phi))
     assert json.loads(capsys.readouterr().out) == json.loads(json.dumps(expected))
     assert "units" in document(motion, units="model") and "units" not in doc
 
