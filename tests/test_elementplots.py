@@ -65,5 +65,6 @@ def test_shaking_and_efficiency_figures(tmp_path):
     fig = plotting.make_figure(mbplanar.Engine(crank), "efficiency", count=37)
     (eta,) = _gids(fig, "efficiency")
     y = eta.get_ydata()
-    assert np.all(np.isfinite(y)) and np.all((y > 0.8) & (y <= 1.0)) and np.min(y) < 0.99
+    y = y[np.isfinite(y)]  # not at the dead points, where the drive gives no power
+    assert len(y) >= 30 and np.all((y > 0.8) & (y <= 1.0)) and np.min(y) < 0.99
     assert main(["plot", str(MODELS / "slider_crank.toml"), "efficiency", "-o", str(tmp_path / "e.png")]) == 0

@@ -117,7 +117,7 @@ class FrictionResult:
     """Kinetostatics with friction: `kinetostatics` (reactions and balancing loads with friction),
     `ideal` (without), `iterations` (fixed-point iterations made), `residual` (B,) (the last relative
     change of the reactions), `converged`, `losses` (B,) (the friction's power, ≤ 0, W),
-    `efficiency` (B,) (NaN where the drive takes power) and `cycle_efficiency` (one input)."""
+    `efficiency` (B,) (NaN where the drive takes power, or gives almost none: a dead point's 0/0) and `cycle_efficiency` (one input)."""
 
     kinetostatics: Kinetostatics
     ideal: Kinetostatics
@@ -192,8 +192,8 @@ def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
     converged = bool(np.all(residual <= spec.tolerance))
     losses = _losses(engine, motion, spec, ks)
     power, power0 = _drive_power(engine, motion, ks), _drive_power(engine, motion, ideal)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        eta = np.where(power > 0, power0 / power, np.nan)
+    with np.errstate(invalid="ignore", divide="ignore"):  # NaN where the drive takes power or gives ~none
+        eta = np.where(power > 1e-9 * np.max(np.abs(power), initial=0.0), power0 / power, np.nan)
     return FrictionResult(ks, ideal, iterations, residual, converged, losses, eta,
                           _cycle_efficiency(engine, motion, ks, ideal))
 
