@@ -93,6 +93,14 @@ class Engine:
         self.blocks = self.solver.blocks
         self._atlas = None
 
+    def prepare(self, name: str, make):
+        """The engine's table called `name`, made by `make()` on first use and kept (the output tables,
+        the kinetostatic plan, a backend's kernel tables, ...)."""
+        table = self.prepared.get(name)
+        if table is None:
+            table = self.prepared[name] = make()
+        return table
+
     @property
     def compiled(self):
         """The compiled backend (None: numpy alone), loaded when a batch first reaches it, so that a
@@ -112,14 +120,6 @@ class Engine:
         state = dict(self.__dict__)
         state.pop("_compiled", None)
         return state
-
-    def prepare(self, name: str, make):
-        """The engine's table called `name`, made by `make()` on first use and kept (the output tables,
-        the kinetostatic plan, a backend's kernel tables, ...)."""
-        table = self.prepared.get(name)
-        if table is None:
-            table = self.prepared[name] = make()
-        return table
 
     # -- compile --------------------------------------------------------------------------------
     def _drawn_link_angle(self, link: str) -> float:
