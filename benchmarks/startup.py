@@ -97,8 +97,9 @@ def main(argv=None) -> int:
         floor = figures[(which, "import numpy")]
         for (where, name), got in figures.items():
             if where == which:
-                print(f"{which:8s} {name:30s} wall {got['wall_s']:.3f} s (numpy + {got['wall_s'] - floor['wall_s']:.3f})"
-                      f"   cpu {got['cpu_s']:.3f} s (numpy + {got['cpu_s'] - floor['cpu_s']:.3f})")
+                print(f"{which:8s} {name:30s} wall {got['wall_s']:.3f} s "
+                      f"(numpy + {got['wall_s'] - floor['wall_s']:.3f})   cpu {got['cpu_s']:.3f} s "
+                      f"(numpy + {got['cpu_s'] - floor['cpu_s']:.3f})")
     if args.json:
         document = {"runs": args.runs, "checkouts": {k: str(v) for k, v in checkouts.items()},
                     "cases": [{"checkout": which, "case": name, **got} for (which, name), got in figures.items()]}

@@ -51,6 +51,18 @@ def test_the_compiled_backend_is_imported_when_a_batch_reaches_it():
     assert "numba" not in loaded and "networkx" in loaded
 
 
+def test_a_backend_whose_package_is_missing_is_refused_when_the_engine_is_made(monkeypatch):
+    import mbplanar
+    from mbplanar.engine._backend import BACKENDS
+    from mbplanar.errors import MbplanarError
+    monkeypatch.setitem(BACKENDS, "fortran", ("mbplanar.backends._fortran", "no_such_package_here", "fortran"))
+    mech = mbplanar.read_model(ROOT / "models" / "fourbar.toml")
+    with pytest.raises(MbplanarError, match=r"'fortran' needs no_such_package_here: pip install 'mbplanar\[fortran\]'"):
+        mbplanar.Engine(mech, backend="fortran")
+    with pytest.raises(ValueError, match="backend must be one of"):
+        mbplanar.Engine(mech, backend="cobol")
+
+
 @pytest.mark.parametrize("argv, command", [
     (["solve", "m.toml", "--at", "30"], ""),
     (["--backend", "numba", "--threads", "2", "sweep", "m.toml"], ""),

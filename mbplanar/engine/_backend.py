@@ -66,7 +66,7 @@ def load(name: str) -> Backend | None:
     spec = BACKENDS[name]
     if spec is None:
         return None
-    module, package, extra = spec
+    module, package, _ = spec
     try:
         importlib.import_module(package)
     except ImportError:

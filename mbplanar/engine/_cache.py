@@ -10,8 +10,9 @@ An entry is a pickle written by this module, one file per model path, in the use
 (``MBPLANAR_CACHE_DIR``, else ``$XDG_CACHE_HOME/mbplanar``, else ``~/.cache/mbplanar``). It is used only
 when its key matches: the model file's bytes, the path as given (error messages name it), the backend,
 the tolerances, and the code that built it (the size and modification time of every module of the
-package, which a new version or any edit changes, and Python's and numpy's versions). Anything else (another key, a truncated or unreadable file, a
-directory other users can write) means the engine is built again, silently, and the entry rewritten.
+package, which a new version or any edit changes, and Python's and numpy's versions). Anything else
+(another key, a truncated or unreadable file, a directory other users can write) means the engine is
+built again, silently, and the entry rewritten.
 The warnings the build gave (a sketch that disagrees with a length, ...) are kept and given again.
 ``MBPLANAR_NO_CACHE=1`` or ``mbplanar --no-cache`` turns the cache off.
 """
@@ -104,8 +105,9 @@ def _code_stamp() -> str:
         dirs[:] = sorted(d for d in dirs if d != "__pycache__")
         for name in sorted(files):
             if name.endswith(".py"):
-                info = os.stat(os.path.join(folder, name))
-                stamps.append(f"{os.path.relpath(os.path.join(folder, name), PACKAGE)}:{info.st_size}:{info.st_mtime_ns}")
+                path = os.path.join(folder, name)
+                info = os.stat(path)
+                stamps.append(f"{os.path.relpath(path, PACKAGE)}:{info.st_size}:{info.st_mtime_ns}")
     return "\n".join(stamps)
 
 
