@@ -6,9 +6,9 @@ the structure analysis; a command such as ``mbplanar solve`` then spends about h
 cache stores the engine as built, before it solves anything (its atlas is made on first use), so a
 cached engine gives bit for bit the answers of a new one.
 
-An entry is a pickle written by this module, one file per model path, in the user's cache directory
-(``MBPLANAR_CACHE_DIR``, else ``$XDG_CACHE_HOME/mbplanar``, else ``~/.cache/mbplanar``). It is used only
-when its key matches: the model file's bytes, the path as given (error messages name it), the backend,
+An entry is a pickle written by this module, one file per model path and copy of mbplanar, in the
+user's cache directory (``MBPLANAR_CACHE_DIR``, else ``$XDG_CACHE_HOME/mbplanar``, else
+``~/.cache/mbplanar``). It is used only when its key matches: the model file's bytes, the path as given (error messages name it), the backend,
 the tolerances, and the code that built it (the size and modification time of every module of the
 package, which a new version or any edit changes, and Python's and numpy's versions). Anything else
 (another key, a truncated or unreadable file, a directory other users can write) means the engine is
@@ -56,7 +56,7 @@ def load_engine(path, backend: str = "numpy", threads: int | None = None, use_ca
     if not (use_cache and cache_enabled()):
         return _build(text, str(path), backend, threads)[0]
     key = _key(text, str(path), backend)
-    entry = cache_dir() / f"{_digest(os.path.abspath(path), str(path), backend)[:32]}.pickle"
+    entry = cache_dir() / f"{_digest(PACKAGE, os.path.abspath(path), str(path), backend)[:32]}.pickle"
     cached = _read_entry(entry, key)
     if cached is not None:
         engine, caught = cached
