@@ -8,12 +8,12 @@ cached engine gives bit for bit the answers of a new one.
 
 An entry is a pickle written by this module, one file per model path and copy of mbplanar, in the
 user's cache directory (``MBPLANAR_CACHE_DIR``, else ``$XDG_CACHE_HOME/mbplanar``, else
-``~/.cache/mbplanar``). It is used only when its key matches: the model file's bytes, the path as given (error messages name it), the backend,
-the tolerances, and the code that built it (the size and modification time of every module of the
-package, which a new version or any edit changes, and Python's and numpy's versions). Anything else
-(another key, a truncated or unreadable file, a directory other users can write) means the engine is
-built again, silently, and the entry rewritten.
-The warnings the build gave (a sketch that disagrees with a length, ...) are kept and given again.
+``~/.cache/mbplanar``). It is used only when its key matches: the model file's bytes, the path as given
+(error messages name it), the backend, the tolerances, and the code that built it (the size and
+modification time of every module of the package, which a new version or any edit changes, and Python's
+and numpy's versions). Anything else (another key, a truncated or unreadable file, a directory other
+users can write) means the engine is built again, silently, and the entry rewritten. The warnings the
+build gave (a sketch that disagrees with a length, ...) are kept and given again.
 ``MBPLANAR_NO_CACHE=1`` or ``mbplanar --no-cache`` turns the cache off.
 """
 
