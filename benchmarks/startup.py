@@ -12,7 +12,8 @@ main | tar -x -C DIR`) in the same rounds, so that a load from other processes f
 case the baseline cannot run (an option it lacks) is left out for it.
 
 Cases: `import numpy` (the floor), `import mbplanar`, `mbplanar solve models/fourbar.toml --at 30` with
-the engine cache and without it (`--no-cache`), and the same with `--backend numba`.
+the engine cache and without it (`--no-cache`), the same with `--backend numba`, and numba's own floor: a
+process that calls a cached one-line kernel once (what any use of numba costs, mbplanar or not).
 """
 
 from __future__ import annotations
@@ -37,14 +38,26 @@ CASES = {
     "solve (numpy, --no-cache)": ["-m", "mbplanar", "--no-cache", *SOLVE],
     "solve (numba, cached engine)": ["-m", "mbplanar", "--backend", "numba", *SOLVE],
     "solve (numba, --no-cache)": ["-m", "mbplanar", "--no-cache", "--backend", "numba", *SOLVE],
+    "numba's floor (a one-line kernel)": ["-c", "import numpy, startup_floor; startup_floor.total(numpy.ones(3))"],
 }
+#: numba's own start in a new process, whatever the package: a cached one-line kernel called once
+FLOOR_KERNEL = """import numba
+
+
+@numba.njit(cache=True)
+def total(x):
+    s = 0.0
+    for v in x:
+        s += v
+    return s
+"""
 
 
 def environment(cache_dir: str, package: Path) -> dict[str, str]:
     """A child's environment: the checkout `package` first, byte-code written, a private engine cache."""
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)
-    env["PYTHONPATH"] = str(package)
+    env["PYTHONPATH"] = os.pathsep.join([str(package), cache_dir])  # (startup_floor.py is in cache_dir)
     env["MBPLANAR_CACHE_DIR"] = cache_dir
     return env
 
@@ -52,7 +65,7 @@ def environment(cache_dir: str, package: Path) -> dict[str, str]:
 def run_once(args: list[str], env: dict[str, str]) -> tuple[float, float]:
     """Wall and CPU seconds (user + system) of one process `python args`; RuntimeError on a failure."""
     start = time.perf_counter()
-    child = subprocess.Popen([sys.executable, *args], cwd=env["PYTHONPATH"], env=env,
+    child = subprocess.Popen([sys.executable, *args], cwd=env["PYTHONPATH"].split(os.pathsep)[0], env=env,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     _, status, usage = os.wait4(child.pid, 0)
     wall = time.perf_counter() - start
@@ -90,14 +103,18 @@ def main(argv=None) -> int:
              if not args.only or name == "import numpy" or any(part in name for part in args.only)}
     checkouts = {"this": ROOT, **({"baseline": args.baseline.resolve()} if args.baseline else {})}
     with tempfile.TemporaryDirectory() as cache_dir:
+        for which in checkouts:
+            os.makedirs(os.path.join(cache_dir, which))
+            Path(cache_dir, which, "startup_floor.py").write_text(FLOOR_KERNEL)
         runs = {(which, name): (case, environment(os.path.join(cache_dir, which), package))
-                for which, package in checkouts.items() for name, case in cases.items()}
+                for which, package in checkouts.items() for name, case in cases.items()
+                if which == "this" or "floor" not in name}
         figures = measure(runs, args.runs)
     for which in checkouts:
         floor = figures[(which, "import numpy")]
         for (where, name), got in figures.items():
             if where == which:
-                print(f"{which:8s} {name:30s} wall {got['wall_s']:.3f} s "
+                print(f"{which:8s} {name:34s} wall {got['wall_s']:.3f} s "
                       f"(numpy + {got['wall_s'] - floor['wall_s']:.3f})   cpu {got['cpu_s']:.3f} s "
                       f"(numpy + {got['cpu_s'] - floor['cpu_s']:.3f})")
     if args.json:
