@@ -140,7 +140,9 @@ def _entry(kernel, args):
 
 
 # -- kernel -----------------------------------------------------------------------------------------
-@_inline
+# (`_solve_blocks` and `_outputs` are compiled functions of their own, not inlined: inlining the joint laws'
+# building blocks once each keeps numba's first compile short)
+@_jit
 def _solve_blocks(xb, check, rates, near, steps, cuts, blocks, sense, phi_drawn, tol, signs, ps, rt, sc, cc, q,
                   guess, jac, perm, res, step, qd_u, qdd_u):
     """Newton on every block at input value xb from the unknowns q, as the sweep kernel; with `check`, the
@@ -242,15 +244,16 @@ def _position(x, omega, epsilon, out, steps, cuts, blocks, joints, sense, phi_dr
     vel, acc = len(rt) - 2, len(rt) - 1
     rt[vel, :, :] = 0.0
     rt[acc, :, :] = 0.0
-    if reduced:
-        if _solve_blocks(near_x, True, False, near, steps, cuts, blocks, sense, phi_drawn, tol, signs, ps, rt, sc,
-                         cc, q, guess, jac, perm, res, step, qd_u, qdd_u):
+    # a value reduced by whole periods: solved at near_x, moved on by the periods, corrected at x (the
+    # numpy path checks the branch at near_x only); else solved and checked at x
+    for stage in range(2 if reduced else 1):
+        last = stage == 1 or not reduced
+        if stage == 1:
+            for i in range(m_all):
+                q[i] = q[i] + shift[i] * periods
+        if _solve_blocks(x if last else near_x, not reduced or not last, last, near, steps, cuts, blocks, sense,
+                         phi_drawn, tol, signs, ps, rt, sc, cc, q, guess, jac, perm, res, step, qd_u, qdd_u):
             return 1
-        for i in range(m_all):
-            q[i] = q[i] + shift[i] * periods
-    if _solve_blocks(x, not reduced, True, near, steps, cuts, blocks, sense, phi_drawn, tol, signs, ps, rt, sc, cc,
-                     q, guess, jac, perm, res, step, qd_u, qdd_u):
-        return 1
     _write(0, row, ps, rt, vel, acc, joints)
     _outputs(x, omega, epsilon, out, off, row, row_off, len(joints.a), ps, rt, vel, acc, point_link, point_at,
              alpha)
