@@ -184,3 +184,41 @@ def test_compiled_equals_numpy(x, om, ep):
     ref = mbplanar.analyse(_engine("six_bar_press", "numpy"), [x], om, ep)
     _assert_row(fast, ref, tol=1e-10)
     assert set(ANALOGUES) <= {name for name, _, _ in FIELDS}
+
+
+def test_document_of_a_position_is_that_of_its_motion():
+    from mbplanar.io import document, partials_document
+    engine = _engine("shaper", "numpy")
+    x = engine.inputs[0].to_si(30.0)
+    pos, motion = mbplanar.position(engine, x, 1.0, 0.0), mbplanar.analyse(engine, [x], 1.0, 0.0)
+    assert document(pos, values=[30.0], units="model") == document(motion, values=[30.0], units="model")
+    assert partials_document(engine, motion.phi, pos) == partials_document(engine, motion.phi)
+
+
+def test_solve_command_on_the_compiled_backend(capsys):
+    """`solve --backend numba` goes through the compiled lean path and prints numpy's document (to the
+    backends' agreement), with the same keys."""
+    import json
+
+    from mbplanar.cli import main
+    pytest.importorskip("numba")
+    docs = []
+    for backend in ("numpy", "numba"):
+        assert main(["--backend", backend, "solve", str(MODELS / "six_bar_press.toml"), "--at", "1000",
+                     "--omega", "3", "--json"]) == 0
+        docs.append(json.loads(capsys.readouterr().out))
+
+    def flat(doc, path=""):
+        if isinstance(doc, dict):
+            return {k: v for key, sub in doc.items() for k, v in flat(sub, f"{path}/{key}").items()}
+        if isinstance(doc, list):
+            return {k: v for i, sub in enumerate(doc) for k, v in flat(sub, f"{path}/{i}").items()}
+        return {path: doc}
+
+    ref, fast = flat(docs[0]), flat(docs[1])
+    assert ref.keys() == fast.keys()
+    for key, value in ref.items():
+        if isinstance(value, float):
+            assert fast[key] == pytest.approx(value, rel=1e-9, abs=1e-9), key
+        else:
+            assert fast[key] == value, key

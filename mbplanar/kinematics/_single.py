@@ -45,6 +45,7 @@ class Layout:
     """What the positions of one engine look like: the names (the indices of `Motion`), the record's dtype
     (`FIELDS`) and each field's offset in float64 units (for a kernel that writes the flat buffer)."""
 
+    engine: object
     link_names: list
     point_names: list
     joint_names: list
@@ -68,7 +69,7 @@ def _make_layout(engine) -> Layout:
     count = {"I": len(engine.inputs), "L": len(engine.links), "P": len(point_names), "J": len(engine.mech.joints)}
     dtype = np.dtype([(name, float, (count[kind], comp) if comp > 1 else (count[kind],))
                       for name, kind, comp in FIELDS])
-    return Layout(list(engine.links), list(point_names), list(engine.mech.joints), dtype,
+    return Layout(engine, list(engine.links), list(point_names), list(engine.mech.joints), dtype,
                   {name: dtype.fields[name][1] // 8 for name, _, _ in FIELDS}, len(engine.inputs) == 1)
 
 
@@ -115,6 +116,10 @@ class Position:
     aq = _field("aq", True)
     rate_q = _field("rate_q", True)
     accel_q = _field("accel_q", True)
+
+    @property
+    def engine(self):
+        return self.layout.engine
 
     @property
     def link_names(self) -> list:
