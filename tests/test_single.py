@@ -66,43 +66,59 @@ def _values(engine, rng, count):
     return values
 
 
+def _twins(name: str, backend: str):
+    """The engine of `backend` and a numpy engine of the same model, both with the period looked for (so
+    that their atlases grow alike: the same walks, the same nodes)."""
+    engine, twin = _engine(name, backend), _engine(name, "numpy")
+    for e in (engine, twin):
+        if len(e.inputs) == 1:
+            e.period()
+    return engine, twin
+
+
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("name", NAMES)
 def test_every_model_gives_the_row_of_analyse(name, backend):
-    engine = _engine(name, backend)
+    """To 1e-12 of the reference (numpy's batch path on an engine with the same atlas); the compiled
+    path also to its own backend's `analyse`, to the two backends' agreement (1e-10)."""
+    engine, twin = _twins(name, backend)
     rng = np.random.default_rng(17)
     if len(engine.inputs) != 1:  # several inputs: near the drawn pose, one value each
         for _ in range(2):
             phi = engine.phi_drawn + 0.02 * rng.standard_normal(len(engine.inputs))
             pos = mbplanar.position(engine, phi, omega=1.5, epsilon=-0.5)
-            _assert_row(pos, mbplanar.analyse(engine, phi[None, :], 1.5, -0.5))
+            _assert_row(pos, mbplanar.analyse(twin, phi[None, :], 1.5, -0.5))
             assert pos.vq is None and pos.phi.shape == (len(engine.inputs),)
         return
     solved = 0
     for x in _values(engine, rng, 6):
         om, ep = rng.uniform(-3, 3, 2)
-        motion = mbplanar.analyse(engine, [x], om, ep)
+        motion = mbplanar.analyse(twin, [x], om, ep)
         if not motion.success:
             with pytest.raises(MotionError, match="cannot reach"):
                 mbplanar.position(engine, x, om, ep)
             continue
-        _assert_row(mbplanar.position(engine, x, om, ep), motion)
+        pos = mbplanar.position(engine, x, om, ep)
+        _assert_row(pos, motion)
+        if engine is not twin:
+            _assert_row(pos, mbplanar.analyse(engine, [x], om, ep), tol=1e-10)
         solved += 1
     assert solved >= 6
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_near_a_motion_limit_and_past_it(backend):
-    """A hair before the located limit the answer is analyse's (rates ~1e3 there); past it a MotionError
-    names the limit and the range the input moves through."""
-    engine = _engine("crank_slider_rocker_locking", backend)
+    """A hair before the located limit (rates ~1e5 there) the answer is the reference's to 1e-12; past it
+    a MotionError names the limit and the range the input moves through."""
+    engine, twin = _twins("crank_slider_rocker_locking", backend)
     inp = engine.inputs[0]
-    mbplanar.analyse(engine, [inp.to_si(v) for v in np.linspace(0, 360, 73)])  # walks to the limits
+    for e in (engine, twin):
+        mbplanar.analyse(e, [inp.to_si(v) for v in np.linspace(0, 360, 73)])  # walks to the limits
     atlas = engine.atlas()
     limit = atlas.limits[+1] if atlas.limits[+1] is not None else atlas.limits[-1]
     last = atlas.arrays()[0][-1 if limit is atlas.limits[+1] else 0]
     for x in (last, last - limit.direction * 1e-6, last - limit.direction * 1e-3):
-        _assert_row(mbplanar.position(engine, float(x), 2.0, 0.3), mbplanar.analyse(engine, [x], 2.0, 0.3))
+        _assert_row(mbplanar.position(engine, float(x), 2.0, 0.3), mbplanar.analyse(twin, [x], 2.0, 0.3))
     with pytest.raises(MotionError, match="motion limit.*moves within"):
         mbplanar.position(engine, float(limit.phi[0]) + limit.direction * 1e-3)
 
