@@ -81,7 +81,7 @@ def _field(name: str, analogue: bool):
     return property(get)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Position:
     """Kinematics of one position (SI), with the names and indices of `Motion` but no batch axis.
 
@@ -135,6 +135,10 @@ class Position:
 
     def point(self, name: str) -> int:
         return self.layout.point_names.index(name)
+
+    def __repr__(self) -> str:
+        return (f"Position(phi={self.phi.tolist()}, omega={self.omega.tolist()}, epsilon={self.epsilon.tolist()}, "
+                f"{len(self.link_names)} links, {len(self.point_names)} points)")
 
     def link(self, name: str) -> int:
         return self.layout.link_names.index(name)
