@@ -179,6 +179,21 @@ def _motion(engine, values_si, omega=None, epsilon=None):
     return motion
 
 
+def _one_position(engine, phi, omega, epsilon, at):
+    """The position phi (1, n_in) by the lean path (`mbplanar.position`); where the drawn branch does not
+    reach it, the batch path says why, with the range the input moves through."""
+    from .kinematics._single import position
+    try:
+        result = position(engine, phi[0], omega, epsilon)
+    except MotionError:
+        motion = _motion(engine, phi, omega, epsilon)
+        if motion.success:
+            raise
+        raise _unreachable(engine, at, motion) from None
+    _check_overflow(result)
+    return result
+
+
 def _check_overflow(motion):
     """Refuse an input speed or acceleration whose real velocities or accelerations leave the
     floating-point range (--omega 1e300 squares to infinity) while their analogues are finite."""
@@ -222,13 +237,11 @@ def cmd_solve(args):
     values = _inputs_at(engine, args.at)
     phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
-    motion = _motion(engine, phi, omega, epsilon)
-    if not motion.success:
-        raise _unreachable(engine, args.at, motion)
+    result = _one_position(engine, phi, omega, epsilon, args.at)
     display = display_units(engine.mech, args.units)
-    doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
+    doc = convert_solution(engine, solve_document(engine, result, values=values), display)
     if args.json:  # (with one input, "first" and "second" repeat the analogues, by name)
-        doc["partials"] = partials_document(engine, motion.phi)
+        doc["partials"] = partials_document(engine, phi, result)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0

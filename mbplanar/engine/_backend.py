@@ -39,6 +39,9 @@ class Backend(Protocol):
     def kinetostatics(self, engine, motion: Motion, input_inertia, loads, inertia: bool) -> Kinetostatics | None:
         """`kinetostatics` of a motion."""
 
+    # optional: ``single(engine)`` → a solver ``(phi, omega, epsilon) → Position`` of one position, made
+    # once per engine (`mbplanar.kinematics.position`), or None; numpy's is used where there is none
+
 
 #: name → (module defining ``BACKEND``, the package it needs, the extra that installs it);
 #: None for numpy, the reference, which needs no module
