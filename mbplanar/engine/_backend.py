@@ -32,8 +32,9 @@ class Backend(Protocol):
 
     name: str
 
-    def kinematics(self, engine, phi: np.ndarray, omega, epsilon) -> Motion | None:
-        """`analyse` of input values phi (as given, float)."""
+    def kinematics(self, engine, phi: np.ndarray, omega, epsilon, points, rates: bool) -> Motion | None:
+        """`analyse` of input values phi (as given, float), of the points `points` (a
+        `kinematics.PointSelection`), with or without the rates."""
 
     def kinetostatics(self, engine, motion: Motion, input_inertia, loads, inertia: bool) -> Kinetostatics | None:
         """`kinetostatics` of a motion."""
