@@ -274,6 +274,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
             # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
             # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
             phase, it, polished, err, finite = 0, 0, False, 0.0, True
+            det, ratio, inverted = 1.0, 1.0, False
             while True:
                 if phase == 0:
                     for k in range(k0, k1):  # place the child of tree step k (Revolute/Prismatic.place)
@@ -324,86 +325,89 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                             r = abs(res[i]) * row_scale[var0 + i]
                             finite = finite and np.isfinite(r)
                             err = max(err, r)
-                # the rate passes: the sensitivities to each unknown (slots 0 … m − 1, the Jacobian's
-                # columns), or the velocities, or the accelerations (with the velocities' terms)
+                # the rate passes, step by step: the sensitivities to each unknown (slots 0 … m − 1, the
+                # Jacobian's columns), or the velocities, or the accelerations (with the velocities' terms)
                 s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
                 s_hi = m if phase == 0 else s_lo + 1
-                for sl in range(s_lo, s_hi):
-                    if phase == 0:
-                        for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed: at rest
-                            for comp in range(3):
-                                rt[sl, comp, blocks.anchors[t_]] = 0.0
-                    for k in range(k0, k1):  # (Revolute/Prismatic.place_rates)
-                        parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
-                        if phase == 0:
-                            qd, qv = (1.0 if var - var0 == sl else 0.0) if var >= 0 else 0.0, 0.0
-                        elif var >= 0:
-                            qd, qv = 0.0, qd_u[var - var0]
-                        else:
-                            qd, qv = steps.sign[k] * (sense if phase == 1 else 0.0), steps.sign[k] * sense
+                if phase == 0:
+                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed: at rest
+                        link = blocks.anchors[t_]
+                        for sl in range(m):
+                            rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
+                for k in range(k0, k1):  # (Revolute/Prismatic.place_rates)
+                    parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
+                    if var >= 0:
+                        qd, qv = 0.0, (qd_u[var - var0] if phase == 2 else 0.0)
+                    else:
+                        qd, qv = steps.sign[k] * (sense if phase == 1 else 0.0), steps.sign[k] * sense
+                    sign, rpx, rpy, rcx, rcy = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
+                    qq = sc[k, 4]  # (prismatic: the guide's direction in rpx, rpy, the displacement in qq)
+                    prismatic, relative = steps.prismatic[k], steps.relative[k]
+                    wvp = rt[vel, 0, parent]
+                    wvc = rt[vel, 0, child]
+                    for sl in range(s_lo, s_hi):
+                        if phase == 0 and var >= 0:
+                            qd = 1.0 if var - var0 == sl else 0.0
                         wp, vpx, vpy = rt[sl, 0, parent], rt[sl, 1, parent], rt[sl, 2, parent]
-                        if not steps.prismatic[k]:
-                            rpx, rpy, rcx, rcy = sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
-                            wc = qd + wp if steps.relative[k] else qd
+                        if not prismatic:
+                            wc = qd + wp if relative else qd
                             cx = vpx + wp * -rpy - wc * -rcy
                             cy = vpy + wp * rpx - wc * rcx
                             if phase == 2:
-                                wvp, wvc = rt[vel, 0, parent], rt[vel, 0, child]
                                 cx = cx - (wvp * wvp) * rpx + (wvc * wvc) * rcx
                                 cy = cy - (wvp * wvp) * rpy + (wvc * wvc) * rcy
-                            rt[sl, 0, child], rt[sl, 1, child], rt[sl, 2, child] = wc, cx, cy
                         else:
-                            sign, ux, uy, qq = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 4]
-                            cx = vpx + sign * (qd * ux + (qq * wp) * -uy)
-                            cy = vpy + sign * (qd * uy + (qq * wp) * ux)
+                            wc = wp
+                            cx = vpx + sign * (qd * rpx + (qq * wp) * -rpy)
+                            cy = vpy + sign * (qd * rpy + (qq * wp) * rpx)
                             if phase == 2:
-                                wvp = rt[vel, 0, parent]
-                                cx = cx + sign * ((2 * qv * wvp) * -uy - (qq * wvp * wvp) * ux)
-                                cy = cy + sign * ((2 * qv * wvp) * ux - (qq * wvp * wvp) * uy)
-                            rt[sl, 0, child], rt[sl, 1, child], rt[sl, 2, child] = wp, cx, cy
-                    for k in range(c0, c1):  # the closure's rates (Revolute/Prismatic.closure_rates)
-                        row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
-                        rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
+                                cx = cx + sign * ((2 * qv * wvp) * -rpy - (qq * wvp * wvp) * rpx)
+                                cy = cy + sign * ((2 * qv * wvp) * rpx - (qq * wvp * wvp) * rpy)
+                        rt[sl, 0, child], rt[sl, 1, child], rt[sl, 2, child] = wc, cx, cy
+                for k in range(c0, c1):  # the closure's rates (Revolute/Prismatic.closure_rates)
+                    row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
+                    rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
+                    nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
+                    prismatic = cuts.prismatic[k]
+                    wva, wvb = rt[vel, 0, a], rt[vel, 0, bb]
+                    for sl in range(s_lo, s_hi):
                         wa, wb = rt[sl, 0, a], rt[sl, 0, bb]
-                        if not cuts.prismatic[k]:
+                        if not prismatic:
                             ox = rt[sl, 1, a] + wa * -ray - rt[sl, 1, bb] - wb * -rby
                             oy = rt[sl, 2, a] + wa * rax - rt[sl, 2, bb] - wb * rbx
                             if phase == 2:
-                                wva, wvb = rt[vel, 0, a], rt[vel, 0, bb]
                                 ox = ox - (wva * wva) * rax + (wvb * wvb) * rbx
                                 oy = oy - (wva * wva) * ray + (wvb * wvb) * rby
-                            col[row], col[row + 1] = ox, oy
                         else:  # a carrier, bb slider
-                            nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
                             drx = rt[sl, 1, bb] + wb * -rby - rt[sl, 1, a] - wa * -ray
                             dry = rt[sl, 2, bb] + wb * rbx - rt[sl, 2, a] - wa * rax
-                            o1 = drx * nx + dry * ny + wa * pnd
+                            ox, oy = wb - wa, drx * nx + dry * ny + wa * pnd
                             if phase == 2:
-                                ws, wcr = rt[vel, 0, bb], rt[vel, 0, a]
-                                dvx = rt[vel, 1, bb] + ws * -rby - rt[vel, 1, a] - wcr * -ray
-                                dvy = rt[vel, 2, bb] + ws * rbx - rt[vel, 2, a] - wcr * rax
-                                bx = -(ws * ws) * rbx + (wcr * wcr) * rax
-                                by = -(ws * ws) * rby + (wcr * wcr) * ray
-                                o1 += -(wcr * wcr) * (nx * dx + ny * dy) + 2 * wcr * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
-                            col[row], col[row + 1] = wb - wa, o1
-                    if phase == 0:
-                        for i in range(m):
-                            jac[i, sl] = col[i]
+                                dvx = rt[vel, 1, bb] + wvb * -rby - rt[vel, 1, a] - wva * -ray
+                                dvy = rt[vel, 2, bb] + wvb * rbx - rt[vel, 2, a] - wva * rax
+                                bx = -(wvb * wvb) * rbx + (wva * wva) * rax
+                                by = -(wvb * wvb) * rby + (wva * wva) * ray
+                                oy += -(wva * wva) * (nx * dx + ny * dy) + 2 * wva * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
+                        if phase == 0:
+                            jac[row, sl], jac[row + 1, sl] = ox, oy
+                        else:
+                            col[row], col[row + 1] = ox, oy
                 if phase == 0:
-                    # the Jacobian made dimensionless (BlockSolver's ScaledLU), factored as _linalg.factor:
-                    # explicit inverse up to 2 × 2, else LU; det and pivot ratio of the scaled matrix
+                    # the Jacobian made dimensionless (BlockSolver's ScaledLU); its determinant and pivot
+                    # ratio as _linalg.factor has them: explicit inverse up to 2 × 2 (made when a solve
+                    # needs it), else LU
                     for i in range(m):
                         for j in range(m):
-                            jac[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
+                            jac[i, j] = jac[i, j] * row_scale[var0 + i]
+                            if var_scale[var0 + j] != 1.0:
+                                jac[i, j] = jac[i, j] / var_scale[var0 + j]
+                    inverted = False
                     if m == 1:
                         det = jac[0, 0]
-                        jac[0, 0] = 1.0 / det
                         ratio = abs(det) / max(abs(det), 1e-300)
                     elif m == 2:
-                        a00, a01, a10, a11 = jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1]
-                        det = a00 * a11 - a01 * a10
-                        jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1] = a11 / det, -a01 / det, -a10 / det, a00 / det
-                        first = max(abs(a00), abs(a10))
+                        det = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
+                        first = max(abs(jac[0, 0]), abs(jac[1, 0]))
                         p0, p1 = abs(first), abs(det / first)
                         ratio = min(p0, p1) / max(max(p0, p1), 1e-300)
                     else:
@@ -437,6 +441,13 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 else:
                     rhs = col
                 # sol = J⁻¹ (−rhs): the Newton step, or the unknowns' rates (ScaledLU.solve)
+                if m <= 2 and not inverted:
+                    inverted = True
+                    if m == 1:
+                        jac[0, 0] = 1.0 / det
+                    else:
+                        a00, a01, a10, a11 = jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1]
+                        jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1] = a11 / det, -a01 / det, -a10 / det, a00 / det
                 for i in range(m):
                     rhs[i] = -rhs[i] * row_scale[var0 + i]
                 if m == 1:
@@ -447,7 +458,8 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 else:
                     _lu_solve(jac, m, perm, rhs, sol)
                 for i in range(m):
-                    sol[i] = sol[i] / var_scale[var0 + i]
+                    if var_scale[var0 + i] != 1.0:
+                        sol[i] = sol[i] / var_scale[var0 + i]
                 if phase == 0:
                     for i in range(m):
                         if np.isfinite(sol[i]):
