@@ -10,9 +10,25 @@ from ..engine._atlas import met_along
 from ..forces._kinetostatics import plan_of, result
 from ..forces._loads import needs_numpy
 from ..kinematics._motion import Motion, _per_position, _tables, point_selection
-from . import _numba_kinematics, _numba_kinetostatics
 
-__all__ = ["BACKEND", "NumbaBackend"]
+__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM"]
+
+#: positions from which a new process gains by loading the compiled kernels: importing numba and loading
+#: the kernels from its cache costs about 0.6 s per process (numba's own start included), the kernels
+#: save about 1 µs per position
+PAYS_FROM = 500_000
+
+
+def _kernels():
+    """The kernel modules, imported (with numba) on first use."""
+    if not _loaded:
+        from . import _numba_kinematics, _numba_kinetostatics, _numba_notice
+        _numba_notice.install()
+        _loaded.extend((_numba_kinematics, _numba_kinetostatics))
+    return _loaded
+
+
+_loaded: list = []
 
 
 class NumbaBackend:
@@ -20,11 +36,17 @@ class NumbaBackend:
 
     name = "numba"
 
+    def pays(self, positions: int) -> bool:
+        """Whether a process that has not loaded the kernels yet gains by loading them for a batch of
+        `positions` (the command line runs one batch per process: it takes numpy below `PAYS_FROM`)."""
+        import sys
+        return positions >= PAYS_FROM or "mbplanar.backends._numba_kinematics" in sys.modules
+
     def kinematics(self, engine, phi, omega, epsilon, points=None, rates=True) -> Motion | None:
         """`analyse` of one input's values (of the points `points`, a `PointSelection` or None for every
         point; with or without `rates`), or None: several inputs, no positions, a non-finite value, or a
         position the kernel hands back (a change point's bracket, one the corrector would repair)."""
-        if len(engine.inputs) != 1 or not phi.size or not np.isfinite(phi).all():
+        if len(engine.inputs) != 1 or not phi.size:  # (analyse has checked that phi is finite)
             return None
         return _motion(engine, phi.reshape(-1, 1), omega, epsilon, points, rates)
 
@@ -38,7 +60,7 @@ class NumbaBackend:
                 and not needs_numpy(engine.mech)):
             return None
         plan = plan_of(engine)
-        x, singular, residual, values = _numba_kinetostatics.solve(engine, motion, plan, inertia)
+        x, singular, residual, values = _kernels()[1].solve(engine, motion, plan, inertia)
         return result(engine, motion, plan.lay, x, singular, residual, values)
 
 
@@ -57,20 +79,22 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
     if not engine.within_walk(lo, hi):
         return None  # far values: the numpy path reduces them by the period
     sel = points if points is not None else point_selection(engine)
-    got = _numba_kinematics.sweep(engine, x, lo, hi, _tables(engine)[1], om, ep, sel.links, sel.at, rates)
+    got = _kernels()[0].sweep(engine, x, lo, hi, _tables(engine)[1], om, ep, sel.links, sel.at, rates)
     if got is None:
         return None
     keep = slice(None) if got.valid.all() else np.flatnonzero(got.valid)
     rows = got.rows
+    field = rows.__getitem__
     limits, crossings = met_along(engine.atlas(), lo, hi)
-    frames = {"th": rows["th"], "r": rows["r"]}
+    frames = {"th": field("th"), "r": field("r")}
     arrays = dict(w=None, e=None, v=None, a=None, wq=None, eq=None, rate_q=None, accel_q=None)
     if rates:
-        frames.update(w=rows["wq"], v=rows["fv"], e=rows["eq"], a=rows["fa"])
-        arrays.update(w=got.w, e=got.e, v=got.v, a=got.a, wq=rows["wq"], eq=rows["eq"], rate_q=rows["rate_q"],
-                      accel_q=rows["accel_q"])
+        wq, eq = field("wq"), field("eq")
+        frames.update(w=wq, v=field("fv"), e=eq, a=field("fa"))
+        arrays.update(w=got.w, e=got.e, v=got.v, a=got.a, wq=wq, eq=eq, rate_q=field("rate_q"),
+                      accel_q=field("accel_q"))
     return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
                   link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
-                  joint_names=list(engine.mech.joints), value=rows["value"], rate=None, accel=None, ic=None,
+                  joint_names=list(engine.mech.joints), value=field("value"), rate=None, accel=None, ic=None,
                   vq=None, aq=None, requested=batch, limits=limits, crossings=crossings, frames=frames, rows=rows,
                   has_rates=bool(rates), **arrays)

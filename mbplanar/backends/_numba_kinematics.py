@@ -58,6 +58,7 @@ class Outputs:
     valid: np.ndarray
 
 
+
 @dataclass
 class _KernelPlan:
     """An engine compiled for the kernel, built once: `args`, the engine's blocks, joints and reference
@@ -69,6 +70,7 @@ class _KernelPlan:
     rows: dict
     sizes: tuple
     scratch: list
+    entry: object = None  # the compiled `_sweep` for these argument types, once known (`_run`)
 
 
 def _plan(engine, joint_table) -> _KernelPlan:
@@ -147,11 +149,12 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Output
     ep_any = bool(rates) and bool(np.any(ep))
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    r = slice(None)
+    rates = bool(rates)
+    every = slice(None)
     status = _threads.run([
-        lambda p=p, wk=wk, r=(p if rates else r): _sweep(
-            *plan.args, grid, coef, signs, limits, x[p], om[p], ep[p], ep_any, bool(rates), p_link, p_at, offsets,
-            angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk)
+        lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
+            *plan.args, grid, coef, signs, limits, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
+            angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
         for p, wk in zip(parts, work)])
     if any(status):
         return None
@@ -163,6 +166,20 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Output
             if getattr(out, name) is not None:
                 setattr(out, name, getattr(out, name)[keep])
     return out
+
+
+def _run(plan: _KernelPlan, args: tuple) -> int:
+    """`_sweep(*args)`. The first call goes through numba's dispatcher, which types every argument
+    (some 10 µs for the named tables) and compiles or loads the kernel; later calls with the same plan
+    pass the same types (the plan's tables, and arrays made here as C-contiguous float64, int64 and
+    bool arrays of fixed dimensions), so they call the compiled function it chose directly."""
+    if plan.entry is not None:
+        return plan.entry(*args)
+    status = _sweep(*args)
+    found = _sweep.overloads.get(tuple(numba.typeof(a) for a in args))
+    if found is not None:
+        plan.entry = found.entry_point
+    return status
 
 
 # -- kernel -----------------------------------------------------------------------------------------

@@ -12,6 +12,7 @@ the engine layer because the functions that dispatch (kinematics, forces) sit be
 from __future__ import annotations
 
 import importlib
+import importlib.util
 from typing import TYPE_CHECKING, Callable, Protocol
 
 from ..errors import MbplanarError
@@ -58,10 +59,12 @@ def load(name: str) -> Backend | None:
         return None
     module, package, extra = spec
     try:
-        importlib.import_module(package)
-    except ImportError:
-        raise MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'") from None
-    return importlib.import_module(module).BACKEND
+        found = importlib.util.find_spec(package) is not None
+    except (ImportError, ValueError):
+        found = False
+    if not found:
+        raise MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'")
+    return importlib.import_module(module).BACKEND  # (the package itself is imported when first used)
 
 
 def dispatch(engine, job: str, reference: Callable, *args):
