@@ -433,6 +433,8 @@ def cmd_sweep(args):
     if args.grid and n_in == 1:
         raise ModelError("--grid applies to several inputs")
     count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
+    if not getattr(engine.compiled, "pays", lambda n: True)(count):
+        engine.compiled = None  # a short sweep: loading the compiled kernels would cost more than they save
     if args.true_motion or n_in == 1:
         _speeds(engine, None, args, check_only=True)
     with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))

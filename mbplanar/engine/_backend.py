@@ -33,8 +33,9 @@ class Backend(Protocol):
 
     name: str
 
-    def kinematics(self, engine, phi: np.ndarray, omega, epsilon) -> Motion | None:
-        """`analyse` of input values phi (as given, float)."""
+    def kinematics(self, engine, phi: np.ndarray, omega, epsilon, points, rates: bool) -> Motion | None:
+        """`analyse` of input values phi (as given, float), of the points `points` (a
+        `kinematics.PointSelection`), with or without the rates."""
 
     def kinetostatics(self, engine, motion: Motion, input_inertia, loads, inertia: bool) -> Kinetostatics | None:
         """`kinetostatics` of a motion."""
@@ -69,12 +70,7 @@ def load(name: str) -> Backend | None:
     spec = BACKENDS[name]
     if spec is None:
         return None
-    module, package, _ = spec
-    try:
-        importlib.import_module(package)
-    except ImportError:
-        raise _missing(name, spec) from None
-    return importlib.import_module(module).BACKEND
+    return importlib.import_module(spec[0]).BACKEND  # (numba itself is imported when first used)
 
 
 def _missing(name: str, spec: tuple[str, str, str]) -> MbplanarError:
