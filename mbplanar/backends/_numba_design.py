@@ -127,7 +127,7 @@ class DesignResult:
 def _march_tolerances(tol) -> np.ndarray:
     """The tolerances the kernel reads, in its order."""
     return np.array([tol.closure, tol.max_newton, tol.pivot_polish, tol.pivot_cross, tol.max_correction,
-                     tol.h_start, tol.h_max, tol.h_min, tol.rate_jump, tol.h_cross, tol.cross_dist], float)
+                     tol.h_start, tol.h_max, tol.h_min, tol.rate_jump, tol.h_cross, tol.cross_dist, tol.polish], float)
 
 
 def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
@@ -196,9 +196,11 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
     store = engine.prepared.setdefault("numba design scratch", {}).setdefault(sizes, [])
     work = _threads.work_arrays(store, lambda: _scratch(tables.steps, tables.cuts, *sizes), len(parts))
     t = tables
+    uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1])) and bool(np.all(bp.var_scale == bp.var_scale[:1]))
+                        for bp in engine.blocks], np.bool_)
 
     def call(p, w):
-        return _designs(w[0], w[1], t.blocks, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
+        return _designs(w[0], w[1], t.blocks, uniform, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
                         t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, x[p],
                         lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
                         xy[p], vq[p], aq[p] if accelerations else aq, limit[p], limit_phi[p], limit_h[p], limit_q[p],
@@ -220,12 +222,12 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 # array passed by the caller. q, qd, qdd (M,) hold every block's unknowns and their derivatives.
 
 @_jit
-def _solve(steps, cuts, blocks, tol, sense, ground, q_in, rate, accelerations, q, qd, qdd, dets, ps, rt, sc, cc,
+def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, q, qd, qdd, dets, ps, rt, sc, cc,
            jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
     """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
     input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
     with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio)."""
-    closure, max_newton, pivot_polish, pivot_cross = tol[0], int(tol[1]), tol[2], tol[3]
+    closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
     n_blocks = len(blocks.m)
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
@@ -239,7 +241,10 @@ def _solve(steps, cuts, blocks, tol, sense, ground, q_in, rate, accelerations, q
         polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
         for it in range(max_newton + 1):
             for k in range(k0, k1):
-                _place(k, steps, q, q_in, ps, sc)
+                if it == 1 and not steps.prismatic[k]:
+                    _turn(k, steps, q, q_in, ps, sc)
+                else:
+                    _place(k, steps, q, q_in, ps, sc)
             err = 0.0
             for k in range(c0, c1):
                 _closure(k, cuts, ps, cc, res, 2 * (k - c0))
@@ -250,17 +255,21 @@ def _solve(steps, cuts, blocks, tol, sense, ground, q_in, rate, accelerations, q
                 break
             _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
                       sc, cc, rt, jac, step)
-            for i in range(m):  # the dimensionless Jacobian R·J·V⁻¹: its pivots and sign, as numpy's
-                for j in range(m):
-                    jac_s[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
-            det, ratio = _lu(jac_s, m, perm_s)
-            _lu(jac, m, perm)
+            if uniform[bk]:  # R·J·V⁻¹ a multiple of J: the same pivot ratio and sign
+                det, ratio = _lu(jac, m, perm)
+            else:  # the dimensionless Jacobian R·J·V⁻¹: its pivots and sign, as numpy's
+                for i in range(m):
+                    for j in range(m):
+                        jac_s[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
+                det, ratio = _lu(jac_s, m, perm_s)
+                _lu(jac, m, perm)
             ok = err < closure
-            if ok and not polished:
-                polished = True
-                if ratio >= pivot_polish or ratio < pivot_cross * 1e3:
+            if ok:  # converged: polished to `polish` (as in a batch whose other positions still step), and
+                # near a singular position one more step, as `BlockSolver.newton` does
+                if polished or (err < polish and not pivot_cross * 1e3 <= ratio < pivot_polish):
                     break
-            elif ok or it == max_newton:
+                polished = True
+            if it == max_newton:
                 break
             for i in range(m):
                 res[i] = -res[i]
@@ -282,6 +291,32 @@ def _solve(steps, cuts, blocks, tol, sense, ground, q_in, rate, accelerations, q
             for i in range(m):
                 qdd[var0 + i] = qdd_u[i]
     return True, smallest
+
+
+@_inline
+def _turn(k, steps, q, q_in, ps, sc):
+    """`_place` of a revolute step k whose child was placed at the previous Newton iterate: cos and sin
+    of the new angle from the old ones by the angle-addition formulas (the correction δ is small, its
+    cos and sin series exact to rounding), the rest as `_place`. A large δ is placed afresh."""
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
+    value = q[var] if var >= 0 else steps.sign[k] * q_in
+    t = ps[0, parent] + value if rel else value
+    delta = t - ps[0, child]
+    if not abs(delta) < 1e-4:
+        _place(k, steps, q, q_in, ps, sc)
+        return
+    d2 = delta * delta
+    cd, sd = 1.0 - 0.5 * d2 * (1.0 - d2 / 12.0), delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0))
+    c0, s0 = ps[1, child], ps[2, child]
+    cc, ss = c0 * cd - s0 * sd, s0 * cd + c0 * sd
+    cp, sp = ps[1, parent], ps[2, parent]
+    s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
+    rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
+    ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
+    rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
+    ps[3, child] = ps[3, parent] + rpx - rcx
+    ps[4, child] = ps[4, parent] + rpy - rcy
+    sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
 
 
 @_jit
@@ -331,7 +366,7 @@ def _sign(v):
 
 
 @_jit
-def _march(steps, cuts, blocks, tol, sense, ground, scale, phi0, target, direction, q0, qd0, qdd0, dets0,
+def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target, direction, q0, qd0, qdd0, dets0,
            node_phi, node_q, node_sign, start, limit, limit_phi, limit_h, limit_q, limit_qd, limit_qdd, limit_signs,
            side, q, qd, qdd, dets, qc, qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u,
            qdd_u):
@@ -356,7 +391,7 @@ def _march(steps, cuts, blocks, tol, sense, ground, scale, phi0, target, directi
         phi = target if end else phi0 + rate * (s + h_try)
         for i in range(m_all):
             q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
-        converged, ratio = _solve(steps, cuts, blocks, tol, sense, ground, sense * (phi - phi0), rate, True, q, qd,
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True, q, qd,
                                   qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
         dist, jump = 0.0, 0.0
         for i in range(m_all):
@@ -401,7 +436,7 @@ def _march(steps, cuts, blocks, tol, sense, ground, scale, phi0, target, directi
 
 
 @_jit
-def _designs(steps, cuts, blocks, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
+def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
              reference, point_at, point_link, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
              limit_h, limit_q, limit_qd, limit_qdd, limit_signs, hermite, ps, rt, sc, cc, q, guess, jac, jac_s, perm,
              perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
@@ -428,7 +463,7 @@ def _designs(steps, cuts, blocks, sense, ground, tol, scale, accelerations, step
         # 1. the drawn pose
         for i in range(m_all):
             q0[i] = 0.0
-        converged, ratio = _solve(steps, cuts, blocks, tol, sense, ground, 0.0, 1.0, True, q0, qd0, qdd0, dets0, ps,
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, q0, qd0, qdd0, dets0, ps,
                                   rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
         if not converged:
             status[d] = 1
@@ -439,7 +474,7 @@ def _designs(steps, cuts, blocks, sense, ground, tol, scale, accelerations, step
         # 2. the march down (stored reversed), the drawn pose, the march up
         total, state = 0, 0
         if lo[d] < phi0[d]:
-            total, state = _march(steps, cuts, blocks, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
+            total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
                                   qdd0, dets0, node_phi, node_q, node_sign, 0, limit[d], limit_phi[d], limit_h[d],
                                   limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 1, q, qd, qdd, dets, qc,
                                   qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
@@ -457,7 +492,7 @@ def _designs(steps, cuts, blocks, sense, ground, tol, scale, accelerations, step
             node_sign[total, b] = _sign(dets0[b])
         total += 1
         if hi[d] > phi0[d]:
-            added, state = _march(steps, cuts, blocks, tol, sense, ground, scale, phi0[d], hi[d], 1.0, q0, qd0,
+            added, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], hi[d], 1.0, q0, qd0,
                                   qdd0, dets0, node_phi, node_q, node_sign, total, limit[d], limit_phi[d], limit_h[d],
                                   limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 0, q, qd, qdd, dets, qc,
                                   qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
@@ -498,7 +533,7 @@ def _designs(steps, cuts, blocks, sense, ground, tol, scale, accelerations, step
                     value = node_q[0, 0, i]
                 q[i] = value
                 guess[i] = value
-            converged, ratio = _solve(steps, cuts, blocks, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
+            converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
                                       accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res,
                                       step, qd_u, qdd_u)
             ok = converged
