@@ -266,6 +266,12 @@ def test_with_dimensions_equals_a_new_engine():
     variant = mbplanar.read_model("models/crank_slider_rocker_locking.toml")
     new = with_dimensions(base, variant)
     assert mbplanar.check(new).as_dict() == mbplanar.check(mbplanar.Engine(variant)).as_dict()
+    again = base.with_dimensions(variant)  # the Engine method, the same function
+    assert again.topology is base.topology and again.mech.joints["B"].at == new.mech.joints["B"].at
+    phi = np.linspace(0.0, 1.5, 7)
+    assert np.array_equal(mbplanar.analyse(again, phi).xy, mbplanar.analyse(mbplanar.Engine(variant), phi).xy)
+    with pytest.raises(mbplanar.errors.ModelError, match="re-dimensioning keeps the structure"):
+        base.with_dimensions(mbplanar.read_model("models/fourbar.toml"))
 
 
 def test_dask_two_workers_equal_the_serial_run(tmp_path, capsys):
