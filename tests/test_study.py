@@ -337,3 +337,57 @@ def test_forces_in_the_summary_balance_over_a_turn(tmp_path):
 
 def study_template(path):
     return mbplanar.study.load_template(path)
+
+
+LOADED = HEAVY.replace("[gravity]", '''loads = [
+  { name = "resistance", type = "moment", link = "3", moment = -5.0 },
+  { name = "push", type = "force", link = "2", force = [3.0, -2.0], at = "M" },
+]
+
+[gravity]''').replace('mass = 1.5, inertia = 0.008', 'mass = 1.5, inertia = "i3"').replace(
+    "m2 = 1.0", "m2 = 1.0\ni3 = 0.008")
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_design_kinetostatics_equals_each_designs_own(tmp_path, backend):
+    """Reactions and balancing moments of a design batch (all pairs in one solve; masses, inertias
+    and dimensions per design) against each design's own engine's `kinetostatics`, to 1e-12 relative
+    to the largest reaction."""
+    from mbplanar.study.forces import design_kinetostatics
+    from mbplanar.study.variants import variants_from
+
+    model = tmp_path / "loaded.toml"
+    model.write_text(LOADED)
+    template = study_template(model)
+    vals = {"a": [0.08, 0.1, 0.09], "m2": [0.5, 2.0, 1.0], "i3": [0.002, 0.01, 0.008], "h": [0.0, 0.03, -0.02]}
+    variants = variants_from(template, vals)
+    batch = design_batch(template, variants, backend=backend)
+    phi = np.radians(np.arange(0.0, 360.0, 15.0))
+    motion = batch.solve(phi)
+    got = design_kinetostatics(batch, motion, template, variants)
+    base = mbplanar.Engine(mbplanar.read_model(model))
+    for d in range(3):
+        engine = base.with_dimensions(mbplanar.parse_model(template.bind(variants.row(d))))
+        ref = mbplanar.kinetostatics(engine, mbplanar.analyse(engine, phi))
+        scale = max(np.abs(r.magnitude).max() for r in ref.reactions.values())
+        for k, j in enumerate(got.joints):
+            r = ref.reactions[j]
+            assert np.abs(got.reactions[d, :, k, 0] - r.fx).max() < 1e-12 * scale
+            assert np.abs(got.reactions[d, :, k, 1] - r.fy).max() < 1e-12 * scale
+        assert np.abs(got.balancing[d] - ref.balancing["O"]).max() < 1e-12 * scale
+    largest, where = got.largest()
+    assert where[0] in "OABC" and largest[1] > largest[0] > 0
+    assert np.allclose(got.mean_balancing(), np.nanmean(got.balancing, axis=1), rtol=0, atol=1e-12)
+
+
+def test_study_forces_through_the_batch_equal_the_serial_reference(tmp_path):
+    """A study's largest reaction and mean balancing moment, all designs in one kinetostatic solve,
+    equal the serial reference's (each design's own `kinetostatics`)."""
+    model = tmp_path / "loaded.toml"
+    model.write_text(LOADED)
+    table = tmp_path / "v.csv"
+    table.write_text("variant,m2,a,i3\nA,0.5,0.08,0.002\nB,2.0,0.1,0.01\nC,1.0,0.12,0.005\n")
+    batch, serial = (run_study(model, table, samples=24, method=m) for m in ("batch", "serial"))
+    for x, y in zip(batch.designs, serial.designs):
+        assert x.max_reaction_joint == y.max_reaction_joint and abs(x.max_reaction / y.max_reaction - 1) < 1e-12
+        assert abs(x.mean_balancing - y.mean_balancing) < 1e-12 * y.max_reaction

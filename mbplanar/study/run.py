@@ -15,7 +15,9 @@ import numpy as np
 from ..errors import MbplanarError, ModelError
 from ..model import parse_model
 from ..model._parameters import Template
-from .summary import SAMPLES, DesignSummary, failed_design, summarise, summarise_design
+from ..forces import has_force_data
+from ..kinematics import analyse
+from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design
 from .variants import Variants, read_variants
 
 __all__ = ["Study", "run_study", "solve_designs", "load_template", "join_motions", "CHUNK"]
@@ -96,10 +98,43 @@ def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: i
             out.append(failed_design(name, values[k], batch.reasons[k]))
             continue
         try:
-            out.append(summarise(batch.seeded_engine(k), name, values[k], points, samples, forces))
+            out.append(summarise(batch.seeded_engine(k), name, values[k], points, samples, False))
         except MbplanarError as exc:
             out.append(failed_design(name, values[k], str(exc)))
+    if has_force_data(base.mech) if forces is None else forces:
+        _batch_forces(batch, template, variants, out)
     return out
+
+
+def _batch_forces(batch, template: Template, variants: Variants, out: list):
+    """The largest reaction and the mean balancing load over each summary's samples, all designs'
+    samples in one design batch and one kinetostatic solve (`design_kinetostatics`); where the model has
+    loads that solve declines, each design's own `kinetostatics`."""
+    from .batch import DesignBatch, _take_geometry
+    from .forces import design_kinetostatics
+
+    idx = np.array([k for k, d in enumerate(out) if d.assembles and d.samples_phi is not None
+                    and len(d.samples_phi)], int)
+    if not len(idx):
+        return
+    inp = batch.engine.inputs[0]
+    phi = np.stack([inp.to_si(np.asarray(out[k].samples_phi, float)) for k in idx])
+    sub = DesignBatch(batch.engine, _take_geometry(batch.geometry, idx))
+    with np.errstate(invalid="ignore"):
+        motion = sub.solve(phi)
+        got = design_kinetostatics(sub, motion, template, variants.take(idx))
+    if got is None:
+        for k in idx:
+            engine = batch.seeded_engine(int(k))
+            out[k].max_reaction, out[k].max_reaction_joint, out[k].mean_balancing = _forces(
+                engine, analyse(engine, inp.to_si(np.asarray(out[k].samples_phi, float))))
+        return
+    largest, joints = got.largest()
+    mean = got.mean_balancing()
+    for i, k in enumerate(idx):
+        out[k].max_reaction = None if joints[i] is None else float(largest[i])
+        out[k].max_reaction_joint = joints[i]
+        out[k].mean_balancing = None if not np.isfinite(mean[i]) else float(mean[i])
 
 
 def _chunks(count: int, size: int) -> list[slice]:
