@@ -391,3 +391,14 @@ def test_study_forces_through_the_batch_equal_the_serial_reference(tmp_path):
     for x, y in zip(batch.designs, serial.designs):
         assert x.max_reaction_joint == y.max_reaction_joint and abs(x.max_reaction / y.max_reaction - 1) < 1e-12
         assert abs(x.mean_balancing - y.mean_balancing) < 1e-12 * y.max_reaction
+
+
+def test_progress_bar_only_when_asked_or_on_a_terminal(tmp_path, capsys):
+    """stderr is not a terminal under pytest: no bar by default; `--progress` shows one (tqdm's, or a
+    counter), with the number of designs."""
+    table = tmp_path / "v.csv"
+    table.write_text("variant,l3\nA,1.2\nB,1.1\nC,1.0\n")
+    assert main(["study", SEED002, "--variants", str(table), "--chunk", "1"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["study", SEED002, "--variants", str(table), "--chunk", "1", "--progress"]) == 0
+    assert "3/3" in capsys.readouterr().err
