@@ -293,6 +293,11 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     return True, smallest
 
 
+#: `_solve` inlined where it runs per requested position (a call passes every table and work array,
+#: a few hundred words, which costs as much as the arithmetic of a small block)
+_solve_inline = _inline(_solve.py_func)
+
+
 @_inline
 def _turn(k, steps, q, q_in, ps, sc):
     """`_place` of a revolute step k whose child was placed at the previous Newton iterate: cos and sin
@@ -533,7 +538,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                     value = node_q[0, 0, i]
                 q[i] = value
                 guess[i] = value
-            converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
+            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
                                       accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res,
                                       step, qd_u, qdd_u)
             ok = converged

@@ -208,15 +208,17 @@ def stderr_progress(done: int, total: int):
 
 
 def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,
-                fallback: bool = True):
+                fallback: bool = True, backend: str = "numpy", points=None, accelerations: bool = True):
     """The kinematics of a chunk of designs (one Dask task): a `DesignBatch` solved at `phi`."""
     from .batch import design_batch
 
-    return design_batch(Template(data, source), variants).solve(phi, exact_limits, fallback)
+    return design_batch(Template(data, source), variants, backend=backend).solve(phi, exact_limits, fallback, points,
+                                                                                accelerations)
 
 
 def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: bool = True, client=None,
-                  chunk: int = 2000, progress=None):
+                  chunk: int = 2000, progress=None, backend: str = "numpy", points=None,
+                  accelerations: bool = True):
     """The kinematics of every design of a variant table at input values `phi` (SI): a design batch,
     here or, with `client`, one Dask task per chunk of designs.
 
@@ -236,6 +238,10 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
         Designs per chunk (per task).
     progress : callable, optional
         progress(done, total) after each chunk.
+    backend : {"numpy", "numba"}
+        The design batch's loops (`design_batch`).
+    points, accelerations
+        What each design's motion holds (`DesignBatch.solve`).
 
     Returns
     -------
@@ -258,7 +264,8 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
     if client is None:
         results, done = [], 0
         for part, x in zip(parts, rows):
-            results.append(solve_chunk(template.raw, template.source, part, x, exact_limits, fallback))
+            results.append(solve_chunk(template.raw, template.source, part, x, exact_limits, fallback, backend,
+                                       points, accelerations))
             done += len(part)
             if progress is not None:
                 progress(done, len(variants))
@@ -267,13 +274,13 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
 
         tasks = [(part, x) for part, x in zip(parts, rows)]
         results = run_on_client(client, _solve_task, template.raw, template.source, tasks,
-                                (exact_limits, fallback), progress)
+                                (exact_limits, fallback, backend, points, accelerations), progress)
     return join_motions(results, [s.start for s in slices])
 
 
-def _solve_task(data, source, task, exact_limits, fallback):
+def _solve_task(data, source, task, exact_limits, fallback, backend="numpy", points=None, accelerations=True):
     part, phi = task
-    return solve_chunk(data, source, part, phi, exact_limits, fallback)
+    return solve_chunk(data, source, part, phi, exact_limits, fallback, backend, points, accelerations)
 
 
 def join_motions(parts: list, offsets: list):
@@ -281,8 +288,8 @@ def join_motions(parts: list, offsets: list):
     from dataclasses import replace
 
     first = parts[0]
-    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in
-              ("phi", "valid", "ok", "angle", "wq", "eq", "xy", "vq", "aq")}
+    arrays = {name: None if getattr(first, name) is None else np.concatenate([getattr(p, name) for p in parts])
+              for name in ("phi", "valid", "ok", "angle", "wq", "eq", "xy", "vq", "aq")}
     limits = [replace(lim, design=lim.design + off) for p, off in zip(parts, offsets) for lim in p.limits]
     reasons = [r for p in parts for r in p.reasons]
     return replace(first, **arrays, limits=limits, reasons=reasons)
