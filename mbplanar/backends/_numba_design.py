@@ -232,8 +232,11 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
     ps[0, ground], ps[1, ground], ps[2, ground], ps[3, ground], ps[4, ground] = 0.0, 1.0, 0.0, 0.0, 0.0
-    rt[vel, :, :] = 0.0
-    rt[acc, :, :] = 0.0
+    for comp in range(3):
+        for link in range(rt.shape[2]):
+            rt[vel, comp, link] = 0.0
+            if accelerations:
+                rt[acc, comp, link] = 0.0
     smallest = 1.0
     for bk in range(n_blocks):
         k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
