@@ -93,6 +93,15 @@ class Engine:
         self.blocks = self.solver.blocks
         self._atlas = None
 
+    def with_dimensions(self, mechanism: Mechanism) -> "Engine":
+        """This engine re-dimensioned for `mechanism`, a variant of its model (same links, joints,
+        points and inputs; other coordinates, lengths, guides or input zero): the topology and Assur
+        groups are kept, the drawn pose, joint laws and solving plans rebuilt (a fraction of a new
+        `Engine`'s cost). See `mbplanar.engine._dimensions.with_dimensions`."""
+        from ._dimensions import with_dimensions
+
+        return with_dimensions(self, mechanism)
+
     def prepare(self, name: str, make):
         """The engine's table called `name`, made by `make()` on first use and kept (the output tables,
         the kinetostatic plan, a backend's kernel tables, ...)."""
