@@ -301,9 +301,9 @@ def sweep_cases(n, rounds, burst, plk=None):
         closed = closed_form(name, found["numpy"])
         if closed is not None and work != "reactions":
             only = work == "positions"
-            ref = closed(phi, only)
+            ref, request = closed(phi, only), positions_request() if only else {}
             for e in found.values():
-                check_equal_work(mbplanar.analyse(e, phi), ref, rates=not only)
+                check_equal_work(mbplanar.analyse(e, phi, **request), ref, rates=not only)
             columns["closed_form_us"] = lambda closed=closed, phi=phi, only=only: cf.read(closed(phi, only))
         if name == "fourbar" and plk is not None and work in ("positions", "kinematics"):
             columns["pylinkage_us"] = plk[0] if work == "positions" else plk[1]
@@ -337,6 +337,9 @@ def one_position_cases(rounds, burst, plk_one=None):
     phi = float(found["numpy"].phi_drawn[0]) + 0.3
     columns = {f"{b}_us": (lambda e=e: read_motion(mbplanar.analyse(e, phi))) for b, e in found.items()
                if b != "numba_2t"}
+    ref = closed_form("fourbar", found["numpy"])(np.array([phi]), False)
+    for e in found.values():
+        check_equal_work(mbplanar.analyse(e, phi), ref, rates=True)
     if plk_one is not None:
         columns["pylinkage_us"] = plk_one
     for call in columns.values():
