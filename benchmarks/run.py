@@ -188,11 +188,17 @@ def check_equal_work(motion, ref, rates):
     assert sorted(ref["xy"]) == sorted(motion.point_names), (sorted(ref["xy"]), motion.point_names)
     assert sorted(ref["angle"]) == sorted(motion.link_names), (sorted(ref["angle"]), motion.link_names)
     for key in ("xy", "v", "a") if rates else ("xy",):
-        values = getattr(motion, key)
+        values = batched(getattr(motion, key), 3)
         for point, x in ref[key].items():
             same(f"{key} of {point}", values[:, motion.point(point)], x)
     for link, th in ref["angle"].items():
-        same(f"angle of link {link}", motion.angle[:, motion.link(link)], th)
+        same(f"angle of link {link}", batched(motion.angle, 2)[:, motion.link(link)], th)
+
+
+def batched(x, ndim):
+    """`x` with a batch axis of one in front if it has none (a one-position result)."""
+    x = np.asarray(x)
+    return x if x.ndim == ndim else x[None]
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -320,19 +326,20 @@ def sweep_cases(n, rounds, burst, plk=None):
     return rows, builds
 
 
-def finish(row):
-    """The headline figure (the compiled backend on one core, else numpy) and the ratios of a case."""
+def finish(row, headline=None):
+    """The headline figure of a case (`headline`, by default the compiled backend on one core, else
+    numpy) and its ratios to the baselines."""
     row["backend"] = BEST
-    row["mbplanar_us"] = row.get(f"{BEST}_us")
-    for base in ("closed_form", "pylinkage"):
+    row["mbplanar_us"] = row.get(f"{BEST}_us") if headline is None else headline
+    for base, key in (("closed_form", "ratio"), ("pylinkage", "pylinkage_ratio")):
         b = row.get(f"{base}_us")
-        row[f"{'ratio' if base == 'closed_form' else 'pylinkage_ratio'}"] = \
-            row["mbplanar_us"] / b if b and row["mbplanar_us"] else None
+        row[key] = row["mbplanar_us"] / b if b and row["mbplanar_us"] else None
 
 
 def one_position_cases(rounds, burst, plk_one=None):
     """One position of the four-bar with velocities and accelerations of every point, µs per call,
-    through the public API on each backend (and pylinkage's one step where installed)."""
+    through the public API on each backend: `analyse` with a scalar, and the lean `mbplanar.position`
+    where this version has it (and pylinkage's one step where installed)."""
     found = engines_of("fourbar")
     phi = float(found["numpy"].phi_drawn[0]) + 0.3
     columns = {f"{b}_us": (lambda e=e: read_motion(mbplanar.analyse(e, phi))) for b, e in found.items()
@@ -340,6 +347,12 @@ def one_position_cases(rounds, burst, plk_one=None):
     ref = closed_form("fourbar", found["numpy"])(np.array([phi]), False)
     for e in found.values():
         check_equal_work(mbplanar.analyse(e, phi), ref, rates=True)
+    lean = getattr(mbplanar, "position", None)  # the lean one-position API, where this version has it
+    if lean is not None:
+        for b, e in found.items():
+            if b != "numba_2t":
+                check_equal_work(lean(e, phi), ref, rates=True)
+                columns[f"position_{b}_us"] = lambda e=e: read_motion(lean(e, phi))
     if plk_one is not None:
         columns["pylinkage_us"] = plk_one
     for call in columns.values():
@@ -347,9 +360,8 @@ def one_position_cases(rounds, burst, plk_one=None):
     row = dict(name="fourbar", work="one position", n=1)
     for column, t in zip(columns, median_of_rounds(list(columns.values()), rounds, burst)):
         row[column] = 1e6 * t
-    finish(row)
     # the target is met through the public API's fastest path
-    row["mbplanar_us"] = min(v for k, v in row.items() if k in ("numpy_us", "numba_us", "lean_us"))
+    finish(row, min(v for k, v in row.items() if k.endswith("_us") and k != "pylinkage_us"))
     return row
 
 
