@@ -172,13 +172,12 @@ def closed_form(name, engine):
     return None
 
 
-def same(label, got, want, rel=1e-9):
-    """Assert that two arrays agree to `rel` of the larger magnitude (angles: modulo a turn)."""
+def same(label, got, want, rel=1e-9, angle=False):
+    """Assert that two arrays agree to `rel` of the larger of 1 and the baseline's magnitude (angles:
+    modulo a turn)."""
     got, want = np.asarray(got, float), np.asarray(want, float)
     scale = max(1.0, float(np.abs(want).max()))
-    diff = np.abs(got - want)
-    if label.startswith("angle"):
-        diff = np.abs(np.angle(np.exp(1j * (got - want))))
+    diff = np.abs(np.angle(np.exp(1j * (got - want)))) if angle else np.abs(got - want)
     worst = float(diff.max()) / scale
     assert worst <= rel, f"{label}: differs by {worst:.3g} (relative) from the baseline"
 
@@ -192,7 +191,7 @@ def check_equal_work(motion, ref, rates):
         for point, x in ref[key].items():
             same(f"{key} of {point}", values[:, motion.point(point)], x)
     for link, th in ref["angle"].items():
-        same(f"angle of link {link}", batched(motion.angle, 2)[:, motion.link(link)], th)
+        same(f"angle of link {link}", batched(motion.angle, 2)[:, motion.link(link)], th, angle=True)
 
 
 def batched(x, ndim):
