@@ -105,6 +105,13 @@ def _print_text(summary: dict) -> None:
     if "structural_error" in summary:
         se = summary["structural_error"]
         print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
+    c = summary.get("constraints")
+    if c:
+        ratio = f", link ratio {c['ratio']:.4g}" if c.get("ratio") is not None else ""
+        mu = c.get("transmission_deg")
+        if mu is not None and math.isfinite(mu):
+            print(f"  smallest transmission angle {mu:.4g}°{ratio} (seed {summary['seed']}, "
+                  f"{summary['starts']} start{'s' if summary['starts'] != 1 else ''})")
     print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
     if summary.get("model"):
         print(f"  model written to {summary['model']}")
@@ -425,7 +432,8 @@ def _path(args):
     summary = {"problem": "path", "model": None, "design": problem.design(r), "targets": r.targets.tolist(),
                "target_phi_deg": [math.degrees(p) for p in r.phi], "timed": r.timed, "error_unit": "m",
                "errors": per, "max_error": mx, "rms_error": rms,
-               "constraints": {**r.constraints.as_dict(), "transmission_deg": r.transmission_deg,
+               "constraints": {**r.constraints.as_dict(),
+                               "transmission_deg": r.transmission_deg if math.isfinite(r.transmission_deg) else None,
                                "ratio": getattr(r, "ratio", None)},
                "defects": {"checked": ["circuit", "branch", "order"] + (["full_turn"] if r.constraints.full_turn
                                                                          else []), **r.defects.as_dict()},
