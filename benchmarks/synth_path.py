@@ -33,7 +33,7 @@ def main():
     ap.add_argument("-o", "--output", default="benchmarks/synth_path.json")
     args = ap.parse_args()
     out = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "cpus": os.cpu_count(),
-           "settings": "synthesise_path defaults (6 starts × differential evolution 150 generations of 150 "
+           "settings": "synthesise_path defaults (8 starts × differential evolution 200 generations of 150 "
                        "designs, 60 crank positions per curve, 3 polishes per start)", "runs": {}}
     for name, (points, ref_rms, ref_max) in TARGETS.items():
         runs, load = [], [os.getloadavg()[0]]

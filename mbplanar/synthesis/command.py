@@ -56,7 +56,7 @@ def add_arguments(parser) -> None:
     s.add_argument("--pivot", action="append", default=[], metavar="NAME=XMIN,YMIN,XMAX,YMAX",
                    help="a box for a fixed pivot (four-bar: A0 crank, B0 rocker); repeat for each")
     s.add_argument("--seed", type=int, help="random seed (default 0): the same seed gives the same design")
-    s.add_argument("--starts", type=int, help="independent starts (default 6; 2 for a model)")
+    s.add_argument("--starts", type=int, help="independent starts (default 8; 2 for a model)")
     s.add_argument("--generations", type=int, help="differential evolution's generations per start")
     s.add_argument("--popsize", type=int, help="differential evolution's population factor")
     g = s.add_mutually_exclusive_group()

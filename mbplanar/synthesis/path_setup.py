@@ -45,7 +45,7 @@ class PathProblem:
         """Synthesise (serially or on Dask, with the progress bar when asked)."""
         from ..study.cluster import close, connect, local_client, progress_bar
         client = local_client(self.workers) if self.workers else connect(self.scheduler) if self.scheduler else None
-        update, done = progress_bar(self.search.get("starts", 6 if self.model is None else 2)) if self.progress \
+        update, done = progress_bar(self.search.get("starts", 8 if self.model is None else 2)) if self.progress \
             else (None, lambda: None)
         try:
             if self.model is None:
