@@ -1009,6 +1009,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         from .synthesis.command import add_arguments
         add_arguments(s)
     s.set_defaults(func=cmd_synth)
+    from .synthesis.report import register as register_synthesis_section
+    register_synthesis_section()
 
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
