@@ -402,3 +402,20 @@ def test_progress_bar_only_when_asked_or_on_a_terminal(tmp_path, capsys):
     assert capsys.readouterr().err == ""
     assert main(["study", SEED002, "--variants", str(table), "--chunk", "1", "--progress"]) == 0
     assert "3/3" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_batch_computes_only_the_points_asked_for(backend):
+    """`points=` and `accelerations=False` leave the rest out and change nothing in what is computed;
+    an unknown point is refused."""
+    vals = {"a": [0.08, 0.1, 0.12], "h": [0.0, 0.02, -0.03]}
+    phi = np.radians(np.arange(0.0, 360.0, 10.0))
+    full = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi)
+    some = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(
+        phi, points=["M", "B"], accelerations=False)
+    assert some.points == ["M", "B"] and some.eq is None and some.aq is None
+    cols = [full.point("M"), full.point("B")]
+    assert np.array_equal(some.xy, full.xy[:, :, cols]) and np.array_equal(some.vq, full.vq[:, :, cols])
+    assert np.array_equal(some.angle, full.angle) and np.array_equal(some.valid, full.valid)
+    with pytest.raises(ValueError, match="Q: neither a joint nor a point"):
+        design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, points=["Q"])
