@@ -40,9 +40,6 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from run import best_time  # noqa: E402
 
 import mbplanar  # noqa: E402
 from mbplanar.study import design_batch, solve_designs  # noqa: E402
