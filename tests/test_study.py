@@ -386,8 +386,10 @@ def test_study_forces_through_the_batch_equal_the_serial_reference(tmp_path):
     model = tmp_path / "loaded.toml"
     model.write_text(LOADED)
     table = tmp_path / "v.csv"
-    table.write_text("variant,m2,a,i3\nA,0.5,0.08,0.002\nB,2.0,0.1,0.01\nC,1.0,0.12,0.005\n")
+    # D locks (a crank longer than Grashof allows): its samples stop at its limits
+    table.write_text("variant,m2,a,i3\nA,0.5,0.08,0.002\nB,2.0,0.1,0.01\nC,1.0,0.12,0.005\nD,1.0,0.25,0.004\n")
     batch, serial = (run_study(model, table, samples=24, method=m) for m in ("batch", "serial"))
+    assert [d.full_turn for d in batch.designs] == [True, True, True, False]
     for x, y in zip(batch.designs, serial.designs):
         assert x.max_reaction_joint == y.max_reaction_joint and abs(x.max_reaction / y.max_reaction - 1) < 1e-12
         assert abs(x.mean_balancing - y.mean_balancing) < 1e-12 * y.max_reaction
