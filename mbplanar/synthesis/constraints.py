@@ -118,18 +118,21 @@ def _grashof(d, margin: float) -> np.ndarray:
     return np.maximum(s + l - (1.0 - margin) * pq, 0.0) + np.maximum(links[:, 0] - links[:, 1:].min(axis=1), 0.0)
 
 
-def fourbar_violations(c: PathConstraints, d, a, b, ok, size: float, margin: float = 0.01) -> np.ndarray:
+def fourbar_violations(c: PathConstraints, d, a, b, ok, size: float, margin: float = 0.01,
+                       closure: bool = True) -> np.ndarray:
     """How far designs d (D, 10) are from meeting `c`, in lengths (D, 4) (columns: full turn or
     assembly over the travel, link ratio, transmission angle (rad × size), pivot regions): zero when met.
 
-    a, b (D, P, 2) are the joints A, B over the travel and ok (D, P) where the loop closes; `margin`
+    a, b (D, P, 2) are the joints A, B over the travel and ok (D, P) where the loop closes (`closure`
+    False: a part of the travel may not close, as for untimed targets without a full turn); `margin`
     keeps the penalised designs a little inside the constraints, so that a polished design meets them
     exactly.
     """
     out = np.zeros((len(d), 4))
     if c.full_turn:
         out[:, 0] = _grashof(d, margin)
-    out[:, 0] += size * np.mean(~ok, axis=1)
+    if closure:
+        out[:, 0] += size * np.mean(~ok, axis=1)
     ground = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
     links = np.stack([np.abs(d[:, 4]), np.abs(d[:, 5]), np.abs(d[:, 6]), ground], axis=1)
     if c.max_ratio is not None:
