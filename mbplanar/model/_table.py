@@ -9,7 +9,6 @@ the file and the row ("joints[3] 'Ap'") at fault. Lengths are converted to metre
 from __future__ import annotations
 
 import math
-import tomllib
 import warnings
 from pathlib import Path
 
@@ -36,6 +35,7 @@ def read_model(path) -> Mechanism:
 
 def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     """Parse the TOML `text` of a model; a syntax error names the line and column."""
+    import tomllib  # (here: an engine read from the cache needs no parser)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
