@@ -26,14 +26,21 @@ PIVOTS = ("A0", "B0")
 class PathConstraints:
     """What a path generator must satisfy besides the targets.
 
-    full_turn : the input crank turns fully (Grashof, the crank the shortest link) on one branch;
-        False: the targets need only lie on one branch between two motion limits.
-    min_transmission_deg : smallest transmission angle μ (deviation of the angle between coupler and
-        rocker from 0 and 180°) over the travel, degrees; None: no bound.
-    max_ratio : largest ratio longest / shortest of the links (the ground included); None: no bound.
-    pivots : {"A0" or "B0" (or a generic model's joint): ((x_min, y_min), (x_max, y_max))} boxes.
-    transmission_joints : (J1, J2, J3) joints of a generic model whose angle at J2 is the transmission
-        angle (the four-bar's is at B between A and B0).
+    Attributes
+    ----------
+    full_turn : bool
+        The input crank turns fully (Grashof, the crank the shortest link) on one branch; False: the
+        targets need only lie on one branch between two motion limits.
+    min_transmission_deg : float or None
+        Smallest transmission angle μ (deviation of the angle between coupler and rocker from 0 and
+        180°) over the travel, degrees.
+    max_ratio : float or None
+        Largest ratio longest / shortest of the links (the ground included).
+    pivots : dict
+        {"A0" or "B0" (or a generic model's ground joint): ((x_min, y_min), (x_max, y_max))} boxes.
+    transmission_joints : tuple or None
+        (J1, J2, J3) joints of a generic model whose angle at J2 is the transmission angle (the
+        four-bar's is at B between A and B0).
     """
 
     full_turn: bool = True
