@@ -791,9 +791,11 @@ def cmd_animate(args):
 
 def cmd_report(args):
     from .cam.present import register as register_cam_section
+    from .synthesis.report import register as register_synthesis_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
     register_cam_section()
+    register_synthesis_section()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -1009,8 +1011,6 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         from .synthesis.command import add_arguments
         add_arguments(s)
     s.set_defaults(func=cmd_synth)
-    from .synthesis.report import register as register_synthesis_section
-    register_synthesis_section()
 
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
