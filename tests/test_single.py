@@ -238,3 +238,13 @@ def test_solve_command_on_the_compiled_backend(capsys):
             assert fast[key] == pytest.approx(value, rel=1e-9, abs=1e-9), key
         else:
             assert fast[key] == value, key
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_an_engine_that_solved_positions_still_pickles(backend):
+    """(an engine goes to another process, a Dask worker, with the tables it has made)"""
+    import pickle
+    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "slider_crank.toml"), backend=backend, threads=1)
+    first = mbplanar.position(engine, 1.0, 2.0)
+    again = pickle.loads(pickle.dumps(engine))
+    assert mbplanar.position(again, 1.0, 2.0).record.tobytes() == first.record.tobytes()

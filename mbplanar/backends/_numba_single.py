@@ -32,7 +32,8 @@ import numpy as np
 
 from ..engine._atlas import LOST_PRECISION, far_span
 from ..kinematics._motion import _tables
-from ..kinematics._single import (FIELDS, Position, checked_speeds, finite_input, layout_of, reference)
+from ..kinematics._single import (FIELDS, PendingSolver, Position, checked_speeds, finite_input, layout_of,
+                                  reference)
 from ._numba_kinematics import _atlas_tables, _lu, _lu_solve, _scratch
 from ._tables import kinematics_tables
 
@@ -78,6 +79,10 @@ class _Solver:
         m_max = max([1] + [bp.m for bp in engine.blocks])
         self.work = _scratch(len(steps.parent), len(cuts.a), len(engine.links), len(self.shift), m_max)
         self._bind()
+
+    def __reduce__(self):
+        """Pickled as its engine (an engine sent to another process): made again there on first use."""
+        return PendingSolver, (self.engine,)
 
     def _bind(self):
         """The kernel's arguments from the atlas as it is now, and the compiled entry point for them."""
