@@ -29,9 +29,10 @@ __all__ = ["main"]
 
 
 def _load(args):
-    from .engine._solver import Engine
-    from .model._table import read_model
-    return Engine(read_model(args.model), backend=args.backend, threads=args.threads)
+    """The engine of the command's model file, from the engine cache unless --no-cache (`engine._cache`)."""
+    from .engine._cache import load_engine
+    return load_engine(args.model, backend=args.backend, threads=args.threads,
+                       use_cache=not getattr(args, "no_cache", False))
 
 
 def _positive_int(text) -> int:
@@ -432,6 +433,8 @@ def cmd_sweep(args):
     if args.grid and n_in == 1:
         raise ModelError("--grid applies to several inputs")
     count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
+    if not getattr(engine.compiled, "pays", lambda n: True)(count):
+        engine.compiled = None  # a short sweep: loading the compiled kernels would cost more than they save
     if args.true_motion or n_in == 1:
         _speeds(engine, None, args, check_only=True)
     with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))
@@ -787,8 +790,10 @@ def cmd_animate(args):
 
 
 def cmd_report(args):
+    from .cam.present import register as register_cam_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
+    register_cam_section()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -851,7 +856,34 @@ def _units_option(s):
                         "length_unit, moment_unit, inertia_unit)")
 
 
-def build_parser() -> argparse.ArgumentParser:
+#: commands whose options live in a package of their own, with their line in `mbplanar --help`: their
+#: package is imported only when the command runs (or shows its help), so that `mbplanar solve` does not
+#: load the synthesis, cam and study code
+OWN_MODULE = {
+    "synth": "synthesis: seed 001's guiding mechanism, function and motion generation",
+    "cam": "design a cam: motion law, size for a pressure-angle limit, exact profile",
+    "study": "a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
+}
+CORE_COMMANDS = ("info", "solve", "sweep", "forces", "dynamics", "simulate", "balance", "plot", "animate", "report",
+                 "check")  # the commands of this module
+GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
+
+
+def command_in(argv) -> str | None:
+    """The command `argv` runs, if it is one of `OWN_MODULE` (the first word that is neither a global
+    option nor its value), else "" for another command and None when it cannot tell (all are then built)."""
+    words = iter(argv)
+    for word in words:
+        if word in GLOBAL_VALUED:
+            next(words, None)
+        elif not word.startswith("-"):
+            return word if word in OWN_MODULE else ("" if word in CORE_COMMANDS else None)
+    return None
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser. `command` (see `command_in`): the options of the `OWN_MODULE` commands are
+    added only for that command ("": none of them), all of them with None."""
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
     p.add_argument("--backend", choices=("numpy", "numba"), default="numpy",
@@ -861,6 +893,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--threads", type=_positive_int, default=None, metavar="N",
                    help="cores the numba backend splits a long sweep over (default: all available, or "
                         "MBPLANAR_THREADS)")
+    p.add_argument("--no-cache", action="store_true",
+                   help="build the engine from the model file instead of reading the engine cache "
+                        "(also MBPLANAR_NO_CACHE=1; the cache lives in MBPLANAR_CACHE_DIR, else ~/.cache/mbplanar)")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("info", help="links, joints, DOF, loops, Assur groups")
@@ -969,10 +1004,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
-    s = sub.add_parser("synth", help="synthesis: seed 001's guiding mechanism, function and motion generation")
-    from .synthesis.command import add_arguments
-    add_arguments(s)
+    s = sub.add_parser("synth", help=OWN_MODULE["synth"])
+    if command in ("synth", None):
+        from .synthesis.command import add_arguments
+        add_arguments(s)
     s.set_defaults(func=cmd_synth)
+    from .synthesis.report import register as register_synthesis_section
+    register_synthesis_section()
 
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
@@ -980,19 +1018,22 @@ def build_parser() -> argparse.ArgumentParser:
     _units_option(s)
     s.set_defaults(func=cmd_check)
 
-    from .cam import present as cam_present
-    s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
-    cam_present.add_arguments(s)
+    s = sub.add_parser("cam", help=OWN_MODULE["cam"])
+    if command in ("cam", None):
+        from .cam.present import add_arguments as add_cam_arguments
+        add_cam_arguments(s)
     s.set_defaults(func=cmd_cam)
-    cam_present.register()
 
-    from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
-    add_study_parser(sub)
+    if command in ("study", None):
+        from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
+        add_study_parser(sub)
+    else:
+        sub.add_parser("study", help=OWN_MODULE["study"])
     return p
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    parser = build_parser(command_in(sys.argv[1:] if argv is None else argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)

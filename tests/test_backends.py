@@ -20,7 +20,7 @@ class _Spy:
     def __init__(self, answer=None):
         self.answer, self.calls = answer, []
 
-    def kinematics(self, engine, phi, omega, epsilon):
+    def kinematics(self, engine, phi, omega, epsilon, points, rates):
         self.calls.append(("kinematics", phi.shape))
         return self.answer
 

@@ -9,10 +9,26 @@ import numpy as np
 from ..engine._atlas import met_along
 from ..forces._kinetostatics import plan_of, result
 from ..forces._loads import needs_numpy
-from ..kinematics._motion import Motion, _per_position, _tables
-from . import _numba_kinematics, _numba_kinetostatics
+from ..kinematics._motion import Motion, _per_position, _tables, point_selection
 
-__all__ = ["BACKEND", "NumbaBackend"]
+__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM"]
+
+#: positions from which a new process gains by loading the compiled kernels: importing numba and loading
+#: the kernels from its cache costs about 0.6 s per process (numba's own start included), the kernels
+#: save about 1 µs per position
+PAYS_FROM = 500_000
+
+
+def _kernels():
+    """The kernel modules, imported (with numba) on first use."""
+    if not _loaded:
+        from . import _numba_kinematics, _numba_kinetostatics, _numba_notice
+        _numba_notice.install()
+        _loaded.extend((_numba_kinematics, _numba_kinetostatics))
+    return _loaded
+
+
+_loaded: list = []
 
 
 class NumbaBackend:
@@ -20,23 +36,31 @@ class NumbaBackend:
 
     name = "numba"
 
-    def kinematics(self, engine, phi, omega, epsilon) -> Motion | None:
-        """`analyse` of one input's values, or None: several inputs, no positions, a non-finite value,
-        or a position the kernel hands back (a change point's bracket, one the corrector would repair)."""
-        if len(engine.inputs) != 1 or not phi.size or not np.isfinite(phi).all():
+    def pays(self, positions: int) -> bool:
+        """Whether a process that has not loaded the kernels yet gains by loading them for a batch of
+        `positions` (the command line runs one batch per process: it takes numpy below `PAYS_FROM`)."""
+        import sys
+        return positions >= PAYS_FROM or "mbplanar.backends._numba_kinematics" in sys.modules
+
+    def kinematics(self, engine, phi, omega, epsilon, points=None, rates=True) -> Motion | None:
+        """`analyse` of one input's values (of the points `points`, a `PointSelection` or None for every
+        point; with or without `rates`), or None: several inputs, no positions, a non-finite value, or a
+        position the kernel hands back (a change point's bracket, one the corrector would repair)."""
+        if len(engine.inputs) != 1 or not phi.size:  # (analyse has checked that phi is finite)
             return None
-        return _motion(engine, phi.reshape(-1, 1), omega, epsilon)
+        return _motion(engine, phi.reshape(-1, 1), omega, epsilon, points, rates)
 
     def kinetostatics(self, engine, motion, input_inertia, loads, inertia):
         """`kinetostatics` of a compiled Motion (its rows in step with its arrays) of one input with the
         model's own loads (no springs, dampers, torques or switched rows) and no input inertia, or None."""
         rows = motion.rows
-        if not (rows is not None and len(rows) == len(motion.phi) > 0 and np.may_share_memory(rows, motion.wq)
+        if not (rows is not None and motion.has_rates and len(rows) == len(motion.phi) > 0
+                and np.may_share_memory(rows, motion.wq)
                 and loads is None and len(engine.inputs) == 1 and not np.any(input_inertia)
                 and not needs_numpy(engine.mech)):
             return None
         plan = plan_of(engine)
-        x, singular, residual, values = _numba_kinetostatics.solve(engine, motion, plan, inertia)
+        x, singular, residual, values = _kernels()[1].solve(engine, motion, plan, inertia)
         return result(engine, motion, plan.lay, x, singular, residual, values)
 
     def single(self, engine):
@@ -48,29 +72,34 @@ class NumbaBackend:
 BACKEND = NumbaBackend()
 
 
-def _motion(engine, phi, omega, epsilon) -> Motion | None:
-    """The `Motion` of one input's values phi (B, 1) from the compiled rows: the frames, analogues and
-    joint values are views of them, the rest `Motion` derives when first read."""
+def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
+    """The `Motion` of one input's values phi (B, 1) as the kernel wrote it: the angles, the points and
+    the real rates are its arrays, the frames, analogues and joint values views of its records; the rest
+    `Motion` derives when first read."""
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
     om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1).reshape(-1))
     ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1).reshape(-1))
-    tables = _tables(engine)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
     if not engine.within_walk(lo, hi):
         return None  # far values: the numpy path reduces them by the period
-    got = _numba_kinematics.sweep(engine, x, lo, hi, tables[1])
+    sel = points if points is not None else point_selection(engine)
+    got = _kernels()[0].sweep(engine, x, lo, hi, _tables(engine)[1], om, ep, sel.links, sel.at, rates)
     if got is None:
         return None
-    rows, valid = got
-    keep = slice(None) if valid.all() else np.flatnonzero(valid)
-    rows = rows[keep]
+    keep = slice(None) if got.valid.all() else np.flatnonzero(got.valid)
+    rows = got.rows
+    field = rows.__getitem__
     limits, crossings = met_along(engine.atlas(), lo, hi)
+    frames = {"th": field("th"), "r": field("r")}
+    arrays = dict(w=None, e=None, v=None, a=None, wq=None, eq=None, rate_q=None, accel_q=None)
+    if rates:
+        wq, eq = field("wq"), field("eq")
+        frames.update(w=wq, v=field("fv"), e=eq, a=field("fa"))
+        arrays.update(w=got.w, e=got.e, v=got.v, a=got.a, wq=wq, eq=eq, rate_q=field("rate_q"),
+                      accel_q=field("accel_q"))
     return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
-                  link_names=list(engine.links), angle=None, w=None, e=None,
-                  point_names=tables[0][0], xy=None, v=None, a=None,
-                  joint_names=list(engine.mech.joints), value=rows["value"], rate=None,
-                  accel=None, ic=None, wq=rows["wq"], eq=rows["eq"], vq=None, aq=None,
-                  rate_q=rows["rate_q"], accel_q=rows["accel_q"], requested=batch, limits=limits,
-                  crossings=crossings, frames={"th": rows["th"], "r": rows["r"], "w": rows["wq"], "v": rows["fv"],
-                                               "e": rows["eq"], "a": rows["fa"]}, rows=rows)
+                  link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
+                  joint_names=list(engine.mech.joints), value=field("value"), rate=None, accel=None, ic=None,
+                  vq=None, aq=None, requested=batch, limits=limits, crossings=crossings, frames=frames, rows=rows,
+                  has_rates=bool(rates), **arrays)

@@ -1,15 +1,21 @@
 """Compiled kinematics of a one-input sweep (optional, needs numba): the engine's corrector, checks and
-rate passes run position by position as scalar loops, and every output of `Motion` is written in the
-same pass.
+rate passes run position by position as scalar loops, and the outputs of `Motion` the caller asked for
+are written in the same pass, straight into the arrays `Motion` returns (batch first, no copies).
 
 It is the same engine, not a second one: the branch atlas, its nodes and interpolant, the joint laws'
-formulas, the tolerances (the engine's `Tolerances`, passed as an argument) and the acceptance checks
-are the engine's; only the loop order differs (per position instead of per operation over the batch).
-It takes the common case only: every position between two atlas nodes or past a located limit,
-corrected on the branch at the first try. Anything
-else (a change point's bracket, a position the batch corrector would hand to `_repair`, an atlas of
-one node) returns None and the numpy path does the whole batch. Tests hold both paths equal to
-rounding on every model.
+formulas, the tolerances (the engine's `Tolerances`, passed as an argument), the scaled block Jacobians
+(explicit inverse up to 2 × 2, else LU with partial pivoting, as `engine._linalg.factor`) and the
+acceptance checks are the engine's; only the loop order differs (per position instead of per operation
+over the batch). It takes the common case only: every position between two atlas nodes or past a
+located limit, corrected on the branch at the first try. Anything else (a change point's bracket, a
+position the batch corrector would hand to `_repair`, an atlas of one node) returns None and the numpy
+path does the whole batch. Tests hold both paths equal to rounding on every model.
+
+Per position the kernel writes: the link angles (B, L); the requested points' positions (B, P, 2);
+with rates their real velocities and accelerations (B, P, 2) and the links' ω, ε (B, L); and a record
+of the link frames and joint values (`FIELDS`, `RATE_FIELDS` with rates) from which `Motion` derives
+the rest (the analogues of the points, the joints' real rates, the instantaneous centres) when first
+read, and which the compiled kinetostatics reads.
 
 The plan is the engine's `BlockPlan`s as named tables of arrays (`_tables`), built once per engine.
 """
@@ -25,47 +31,70 @@ from . import _threads
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
-__all__ = ["FIELDS", "sweep"]
+__all__ = ["FIELDS", "RATE_FIELDS", "Outputs", "sweep"]
 
-# what the kernel writes per position, in this order: (name, per link / point / joint, components)
-# (the link frames and the joints only: `Motion` derives the points, the real rates, the angles and the
-# instantaneous centres from them when first read, so that the memory written per position, which
-# bounds the speed, is smaller)
-FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1),
-          ("r", "L", 2), ("fv", "L", 2), ("fa", "L", 2), ("value", "J", 1), ("rate_q", "J", 1), ("accel_q", "J", 1))
-
+# the record of a position, in this order: (name, per link / joint, components); `RATE_FIELDS` only
+# with rates. The kinetostatics kernel reads it by offset.
+FIELDS = (("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1), ("r", "L", 2), ("value", "J", 1))
+RATE_FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("fv", "L", 2), ("fa", "L", 2), ("rate_q", "J", 1),
+               ("accel_q", "J", 1))
+_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_q", "accel_q")  # offsets' order
 
 _LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi in (False, True)}
 
 
 @dataclass
+class Outputs:
+    """What `sweep` wrote for the valid positions: angle (B, L), xy (B, P, 2), and with rates w, e
+    (B, L), v, a (B, P, 2) (else None); rows (B,) structured records (`FIELDS`, `RATE_FIELDS`)."""
+
+    angle: np.ndarray
+    xy: np.ndarray
+    w: np.ndarray | None
+    e: np.ndarray | None
+    v: np.ndarray | None
+    a: np.ndarray | None
+    rows: np.ndarray
+    valid: np.ndarray
+
+
+
+@dataclass
 class _KernelPlan:
-    """An engine compiled for the kernel, built once: `args`, the engine's blocks and output tables as
-    arrays in `_sweep`'s order; `row`, the structured dtype of one position's output (FIELDS);
-    `sizes` of the kernel's work arrays, `scratch` one set of them per thread (so that an engine is
-    not for several callers at once)."""
+    """An engine compiled for the kernel, built once: `args`, the engine's blocks, joints and reference
+    angles as arrays in `_sweep`'s order; `rows` the record dtypes (without, with rates) and their
+    offsets; `sizes` of the kernel's work arrays, `scratch` one set of them per thread (so that an
+    engine is not for several callers at once)."""
 
     args: tuple
-    row: np.dtype
+    rows: dict
     sizes: tuple
     scratch: list
+    entry: object = None  # the compiled `_sweep` for these argument types, once known (`_run`)
 
 
 def _plan(engine, joint_table) -> _KernelPlan:
     return engine.prepare("numba kinematics", lambda: _make_plan(engine, joint_table))
 
 
+def _record(per: dict, fields) -> tuple:
+    """The structured dtype of `fields` and the offsets (in float64s) of `_ORDER` in it (−1: absent)."""
+    dtype = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],)) for name, kind, comp in fields])
+    offsets = np.array([dtype.fields[n][1] // 8 if n in dtype.names else -1 for n in _ORDER], np.int64)
+    return dtype, offsets
+
+
 def _make_plan(engine, joint_table) -> _KernelPlan:
     """The engine's blocks and output tables as the kernel's arguments (`_tables.kinematics_tables`)."""
     steps, cuts, blocks, joints = kinematics_tables(engine, joint_table)
-    args = (steps, cuts, blocks, joints, float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
+    alpha = np.array([engine.reference_angle[n] for n in engine.links], float)
+    args = (steps, cuts, blocks, joints, alpha, float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
             engine.link_index[engine.mech.ground], engine.tol.as_array())
     per = {"L": len(engine.links), "J": len(joints.drawn)}
-    row = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
-                    for name, kind, comp in FIELDS])
+    rows = {False: _record(per, FIELDS), True: _record(per, FIELDS + RATE_FIELDS)}
     m_max = max([1] + [bp.m for bp in engine.blocks])
     sizes = (len(steps.parent), len(cuts.a), per["L"], len(blocks.var_scale), m_max)
-    return _KernelPlan(args, row, sizes, [])
+    return _KernelPlan(args, rows, sizes, [])
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
@@ -74,7 +103,7 @@ def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) ->
     vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
     return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
             np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))
+            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))  # res, col, sol, qd_u
 
 
 def _atlas_tables(engine, atlas):
@@ -93,10 +122,10 @@ def _atlas_tables(engine, atlas):
     return tables
 
 
-def sweep(engine, x, lo, hi, joint_table):
-    """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi): one structured
-    row per position (FIELDS) and `valid` (B,) (False past a located limit); None where the numpy path
-    must take the batch."""
+def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Outputs | None:
+    """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi) with input speed
+    om and acceleration ep (B,), for the points on links p_link (P,) drawn at p_at (P, 2); with `rates`
+    the velocities and accelerations too. None where the numpy path must take the batch."""
     atlas = engine.atlas()
     atlas.cover(lo, hi)
     grid, coef, signs = _atlas_tables(engine, atlas)
@@ -105,131 +134,69 @@ def sweep(engine, x, lo, hi, joint_table):
     if atlas.crossings and _in_brackets(atlas.crossings, x).any():
         return None
     plan = _plan(engine, joint_table)
-    rows = np.empty(len(x), plan.row)
-    valid = np.empty(len(x), np.bool_)
+    batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
+    dtype, offsets = plan.rows[bool(rates)]
+    rows = np.empty(batch, dtype)
+    flat = rows.view(np.float64).reshape(batch, -1)
+    angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
+    if rates:
+        w, e, v, a = np.empty((batch, n_l)), np.empty((batch, n_l)), np.empty((batch, n_p, 2)), np.empty((batch, n_p, 2))
+    else:
+        w = e = np.empty((0, n_l))
+        v = a = np.empty((0, n_p, 2))
+    valid = np.empty(batch, np.bool_)
     limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
-    out = rows.view(np.float64).reshape(len(x), -1)
-    parts = _threads.chunks(len(x), engine.threads)
+    ep_any = bool(rates) and bool(np.any(ep))
+    parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    status = _threads.run([lambda p=p, w=w: _sweep(*plan.args, grid, coef, signs, limits, x[p], out[p], valid[p], *w)
-                           for p, w in zip(parts, work)])
-    return None if any(status) else (rows, valid)
+    rates = bool(rates)
+    every = slice(None)
+    status = _threads.run([
+        lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
+            *plan.args, grid, coef, signs, limits, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
+            angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
+        for p, wk in zip(parts, work)])
+    if any(status):
+        return None
+    out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
+                  a if rates else None, rows, valid)
+    if not valid.all():
+        keep = np.flatnonzero(valid)
+        for name in ("angle", "xy", "w", "e", "v", "a", "rows"):
+            if getattr(out, name) is not None:
+                setattr(out, name, getattr(out, name)[keep])
+    return out
 
 
-# -- kernels ----------------------------------------------------------------------------------------
+def _run(plan: _KernelPlan, args: tuple) -> int:
+    """`_sweep(*args)`. The first call goes through numba's dispatcher, which types every argument
+    (some 10 µs for the named tables) and compiles or loads the kernel; later calls with the same plan
+    pass the same types (the plan's tables, and arrays made here as C-contiguous float64, int64 and
+    bool arrays of fixed dimensions), so they call the compiled function it chose directly."""
+    if plan.entry is not None:
+        return plan.entry(*args)
+    status = _sweep(*args)
+    found = _sweep.overloads.get(tuple(numba.typeof(a) for a in args))
+    if found is not None:
+        plan.entry = found.entry_point
+    return status
+
+
+# -- kernel -----------------------------------------------------------------------------------------
+# One function, each piece of the engine written once (numba compiles a helper again at every call site
+# it inlines, and a helper it does not inline pays for its many arguments at every call): per position
+# the atlas' predictor, then per block a loop in three phases: Newton (place, closure, the Jacobian's
+# columns by rate passes with unit unknown rates, factor, step), the velocity pass and the acceleration
+# pass (a rate pass, the closure's rates, the solve, the correction by the sensitivities).
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
-# atomic increments on every array passed or aliased would cost more than the arithmetic): so nothing
-# is allocated here, the caller passes every work array (`_scratch`).
+# atomic increments on every array passed or aliased would cost more than the arithmetic): nothing is
+# allocated here, the caller passes every work array (`_scratch`).
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
 _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
 
 
-@_inline
-def _place(k, steps, q, q_in, ps, sc):
-    """Place the child of tree step k; caches rho_parent, rho_child (R) or u, q (P) in sc[k]."""
-    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
-    value = q[var] if var >= 0 else steps.sign[k] * q_in
-    cp, sp = ps[1, parent], ps[2, parent]
-    if not steps.prismatic[k]:
-        s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
-        rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
-        t = ps[0, parent] + value if rel else value
-        cc, ss = np.cos(t), np.sin(t)
-        ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
-        rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
-        ps[3, child] = ps[3, parent] + rpx - rcx
-        ps[4, child] = ps[4, parent] + rpy - rcy
-        sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
-    else:
-        sign = steps.carrier[k]
-        ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
-        ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
-        ps[3, child] = ps[3, parent] + (sign * value) * ux
-        ps[4, child] = ps[4, parent] + (sign * value) * uy
-        sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
-
-
-@_inline
-def _closure(k, cuts, ps, cc, res, row):
-    """Residual rows row, row + 1 of cut k; caches what its rates need in cc[k]."""
-    a, b = cuts.a[k], cuts.b[k]
-    s0x, s0y = cuts.s0[k, 0], cuts.s0[k, 1]
-    rax, ray = ps[1, a] * s0x - ps[2, a] * s0y, ps[2, a] * s0x + ps[1, a] * s0y
-    rbx, rby = ps[1, b] * s0x - ps[2, b] * s0y, ps[2, b] * s0x + ps[1, b] * s0y
-    if not cuts.prismatic[k]:
-        res[row] = ps[3, a] + rax - ps[3, b] - rbx
-        res[row + 1] = ps[4, a] + ray - ps[4, b] - rby
-    else:  # a carrier, b slider
-        nx = ps[1, a] * cuts.n0[k, 0] - ps[2, a] * cuts.n0[k, 1]
-        ny = ps[2, a] * cuts.n0[k, 0] + ps[1, a] * cuts.n0[k, 1]
-        dx = ps[3, b] + rbx - ps[3, a] - rax
-        dy = ps[4, b] + rby - ps[4, a] - ray
-        res[row] = ps[0, b] - ps[0, a]
-        res[row + 1] = nx * dx + ny * dy
-        cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8] = nx, ny, dx, dy, -ny * dx + nx * dy
-    cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3] = rax, ray, rbx, rby
-
-
-@_inline
-def _step_rates(k, steps, sc, rt, slot, qd, vel, qv):
-    """Rates in rt[slot] of step k's child from its parent's and the tree variable's rate qd; with
-    vel >= 0 they are accelerations, rt[vel] holding the velocities and qv the variable's velocity."""
-    parent, child, rel = steps.parent[k], steps.child[k], steps.relative[k]
-    wp, vpx, vpy = rt[slot, 0, parent], rt[slot, 1, parent], rt[slot, 2, parent]
-    if not steps.prismatic[k]:
-        rpx, rpy, rcx, rcy = sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
-        wc = qd + wp if rel else qd
-        cx = vpx + wp * -rpy - wc * -rcy
-        cy = vpy + wp * rpx - wc * rcx
-        if vel >= 0:
-            Wp, Wc = rt[vel, 0, parent], rt[vel, 0, child]
-            cx = cx - (Wp * Wp) * rpx + (Wc * Wc) * rcx
-            cy = cy - (Wp * Wp) * rpy + (Wc * Wc) * rcy
-        rt[slot, 0, child], rt[slot, 1, child], rt[slot, 2, child] = wc, cx, cy
-    else:
-        sign, ux, uy, q = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 4]
-        cx = vpx + sign * (qd * ux + (q * wp) * -uy)
-        cy = vpy + sign * (qd * uy + (q * wp) * ux)
-        if vel >= 0:
-            Wp = rt[vel, 0, parent]
-            cx = cx + sign * ((2 * qv * Wp) * -uy - (q * Wp * Wp) * ux)
-            cy = cy + sign * ((2 * qv * Wp) * ux - (q * Wp * Wp) * uy)
-        rt[slot, 0, child], rt[slot, 1, child], rt[slot, 2, child] = wp, cx, cy
-
-
-@_inline
-def _closure_rates(k, cuts, cc, rt, slot, vel, out, row):
-    """Rate rows of cut k from rt[slot] (its Jacobian column when the slot holds sensitivities); with
-    vel >= 0 the centripetal and Coriolis terms from the velocities rt[vel]."""
-    a, b = cuts.a[k], cuts.b[k]
-    rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
-    wa, wb = rt[slot, 0, a], rt[slot, 0, b]
-    if not cuts.prismatic[k]:
-        ox = rt[slot, 1, a] + wa * -ray - rt[slot, 1, b] - wb * -rby
-        oy = rt[slot, 2, a] + wa * rax - rt[slot, 2, b] - wb * rbx
-        if vel >= 0:
-            Wa, Wb = rt[vel, 0, a], rt[vel, 0, b]
-            ox = ox - (Wa * Wa) * rax + (Wb * Wb) * rbx
-            oy = oy - (Wa * Wa) * ray + (Wb * Wb) * rby
-        out[row], out[row + 1] = ox, oy
-    else:  # a carrier, b slider
-        nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
-        drx = rt[slot, 1, b] + wb * -rby - rt[slot, 1, a] - wa * -ray
-        dry = rt[slot, 2, b] + wb * rbx - rt[slot, 2, a] - wa * rax
-        o1 = drx * nx + dry * ny + wa * pnd
-        if vel >= 0:
-            Ws, Wc = rt[vel, 0, b], rt[vel, 0, a]
-            dvx = rt[vel, 1, b] + Ws * -rby - rt[vel, 1, a] - Wc * -ray
-            dvy = rt[vel, 2, b] + Ws * rbx - rt[vel, 2, a] - Wc * rax
-            bx = -(Ws * Ws) * rbx + (Wc * Wc) * rax
-            by = -(Ws * Ws) * rby + (Wc * Wc) * ray
-            o1 += -(Wc * Wc) * (nx * dx + ny * dy) + 2 * Wc * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
-        out[row], out[row + 1] = wb - wa, o1
-
-
-@_inline
+@_jit
 def _lu(a, m, perm):
     """LU with partial pivoting of a[:m, :m] in place (first largest pivot, as numpy's argmax);
     returns (det, min |pivot| / max |pivot|)."""
@@ -257,7 +224,7 @@ def _lu(a, m, perm):
     return det, lo / max(hi, 1e-300)
 
 
-@_inline
+@_jit
 def _lu_solve(a, m, perm, b, x):
     """x = A⁻¹ b from the factors of `_lu` (b is left as it was)."""
     for i in range(m):
@@ -271,72 +238,21 @@ def _lu_solve(a, m, perm, b, x):
         x[i] /= a[i, i]
 
 
-@_inline
-def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt, jac, col):
-    """Closure Jacobian (m, m) of a block, and in rt[0 … m − 1] the sensitivities of its links' rates to
-    each unknown (the links outside the block stay at 0)."""
-    for j in range(m):
-        for t in range(a0, a1):  # the links the block reads but does not place are at rest
-            for comp in range(3):
-                rt[j, comp, anchors[t]] = 0.0
-        for k in range(k0, k1):
-            _step_rates(k, steps, sc, rt, j, 1.0 if steps.var[k] - var0 == j and steps.var[k] >= 0 else 0.0, -1,
-                        0.0)
-        for k in range(c0, c1):
-            _closure_rates(k, cuts, cc, rt, j, -1, col, 2 * (k - c0))
-        for i in range(m):
-            jac[i, j] = col[i]
-
-
-@_inline
-def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
-                 q_in_vel, rhs, out):
-    """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
-    out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms)."""
-    for k in range(k0, k1):
-        var, sign = steps.var[k], steps.sign[k]
-        qd = 0.0 if var >= 0 else sign * q_in_rate
-        qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
-        _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
-    if m == 0:
-        return
-    for k in range(c0, c1):
-        _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
-    for i in range(m):
-        rhs[i] = -rhs[i]
-    _lu_solve(lu, m, perm, rhs, out)
-    for k in range(k0, k1):
-        link = steps.child[k]
-        for j in range(m):
-            for comp in range(3):
-                rt[slot, comp, link] += rt[j, comp, link] * out[j]
-
-
-@_inline
-def _interval(grid, x):
-    """i with grid[i] <= x <= grid[i + 1] (bisection), clipped to the grid's intervals."""
-    lo, hi = 0, len(grid) - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if grid[mid] < x:
-            lo = mid
-        else:
-            hi = mid
-    return lo
-
-
 @_jit
-def _sweep(steps, cuts, blocks, joints, sense, phi_drawn, ground, tol, grid, coef, signs, limits, x, out, valid,
-           ps, rt, sc, cc, q, guess, jac, perm, res, step, qd_u, qdd_u):
+def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, grid, coef, signs, limits, x, om, ep,
+           ep_any, rates, p_link, p_at, offsets, angle, xy, w_out, e_out, v_out, a_out, rows, valid,
+           ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
     engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
     closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
         tol[0], int(tol[1]), tol[2], tol[3], tol[4])
-    n_blocks, n_grid, m_all = len(blocks.m), len(grid), coef.shape[2]
+    n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
     ps[:, :] = 0.0
     ps[1, :] = 1.0
+    rt[:, :, :] = 0.0  # the ground stays at rest; every other link is placed at every position
+    lo = 0
     for b in range(len(x)):
         xb = x[b]
         if (limits[0] and xb < grid[0]) or (limits[1] and xb > grid[n_grid - 1]):
@@ -345,100 +261,304 @@ def _sweep(steps, cuts, blocks, joints, sense, phi_drawn, ground, tol, grid, coe
         if xb < grid[0] or xb > grid[n_grid - 1]:
             return 1
         valid[b] = True
+        # the interval around x (numpy's searchsorted − 1, clipped): the last one or the next, else bisection
+        last = n_grid - 2
+        if not ((lo == 0 or grid[lo] < xb) and (lo == last or xb <= grid[lo + 1])):
+            if lo < last and grid[lo + 1] < xb and (lo + 1 == last or xb <= grid[lo + 2]):
+                lo += 1
+            else:
+                lo, hi = 0, last + 1
+                while hi - lo > 1:
+                    mid = (lo + hi) // 2
+                    if grid[mid] < xb:
+                        lo = mid
+                    else:
+                        hi = mid
         # the quintic Hermite interpolant between the two nodes around x, and the nearest node
-        lo = _interval(grid, xb)
-        t = (xb - grid[lo]) / (grid[lo + 1] - grid[lo])
-        near = lo if abs(xb - grid[lo]) <= abs(xb - grid[lo + 1]) else lo + 1
+        left, right = grid[lo], grid[lo + 1]
+        t = (xb - left) / (right - left)
+        near = lo if abs(xb - left) <= abs(xb - right) else lo + 1
         for i in range(m_all):
             value = coef[lo, 5, i]
             for p in range(4, -1, -1):
                 value = value * t + coef[lo, p, i]
             q[i] = value
             guess[i] = value
-        ps[0, ground], ps[1, ground], ps[2, ground], ps[3, ground], ps[4, ground] = 0.0, 1.0, 0.0, 0.0, 0.0
-        rt[vel, :, :] = 0.0
-        rt[acc, :, :] = 0.0
         q_in = sense * (xb - phi_drawn)
         for bk in range(n_blocks):
             k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
             var0, m = blocks.var0[bk], blocks.m[bk]
-            polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
-            for it in range(max_newton + 1):
-                for k in range(k0, k1):
-                    _place(k, steps, q, q_in, ps, sc)
-                err = 0.0
-                for k in range(c0, c1):
-                    _closure(k, cuts, ps, cc, res, 2 * (k - c0))
-                for i in range(m):
-                    err = max(err, abs(res[i]) * row_scale[var0 + i])
-                if m == 0:
-                    ok = True
-                    break
-                _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
-                          sc, cc, rt, jac, step)
-                det, ratio = _lu(jac, m, perm)
-                ok = err < closure
-                if ok and not polished:
-                    # near a singular position one more step, as solver.Engine._newton does
-                    polished = True
-                    if ratio >= pivot_polish or ratio < pivot_cross * 1e3:
+            # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
+            # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
+            phase, it, polished, err, finite = 0, 0, False, 0.0, True
+            det, ratio, inverted = 1.0, 1.0, False
+            while True:
+                if phase == 0:
+                    for k in range(k0, k1):  # place the child of tree step k (Revolute/Prismatic.place)
+                        parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
+                        value = q[var] if var >= 0 else steps.sign[k] * q_in
+                        cp, sp = ps[1, parent], ps[2, parent]
+                        if not steps.prismatic[k]:
+                            s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
+                            rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
+                            th = ps[0, parent] + value if steps.relative[k] else value
+                            cc_, ss = np.cos(th), np.sin(th)
+                            ps[0, child], ps[1, child], ps[2, child] = th, cc_, ss
+                            rcx, rcy = cc_ * s0x - ss * s0y, ss * s0x + cc_ * s0y
+                            ps[3, child] = ps[3, parent] + rpx - rcx
+                            ps[4, child] = ps[4, parent] + rpy - rcy
+                            sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
+                        else:
+                            sign = steps.carrier[k]
+                            ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
+                            ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
+                            ps[3, child] = ps[3, parent] + (sign * value) * ux
+                            ps[4, child] = ps[4, parent] + (sign * value) * uy
+                            sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
+                    if m == 0:
+                        if not rates:
+                            break
+                        phase = 1
+                    else:
+                        err, finite = 0.0, True
+                        for k in range(c0, c1):  # closure rows of cut k (Revolute/Prismatic.closure)
+                            row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
+                            s0x, s0y = cuts.s0[k, 0], cuts.s0[k, 1]
+                            rax, ray = ps[1, a] * s0x - ps[2, a] * s0y, ps[2, a] * s0x + ps[1, a] * s0y
+                            rbx, rby = ps[1, bb] * s0x - ps[2, bb] * s0y, ps[2, bb] * s0x + ps[1, bb] * s0y
+                            if not cuts.prismatic[k]:
+                                res[row] = ps[3, a] + rax - ps[3, bb] - rbx
+                                res[row + 1] = ps[4, a] + ray - ps[4, bb] - rby
+                            else:  # a carrier, bb slider
+                                nx = ps[1, a] * cuts.n0[k, 0] - ps[2, a] * cuts.n0[k, 1]
+                                ny = ps[2, a] * cuts.n0[k, 0] + ps[1, a] * cuts.n0[k, 1]
+                                dx = ps[3, bb] + rbx - ps[3, a] - rax
+                                dy = ps[4, bb] + rby - ps[4, a] - ray
+                                res[row] = ps[0, bb] - ps[0, a]
+                                res[row + 1] = nx * dx + ny * dy
+                                cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8] = nx, ny, dx, dy, -ny * dx + nx * dy
+                            cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3] = rax, ray, rbx, rby
+                        for i in range(m):
+                            r = abs(res[i]) * row_scale[var0 + i]
+                            finite = finite and np.isfinite(r)
+                            err = max(err, r)
+                # the rate passes, step by step: the sensitivities to each unknown (slots 0 … m − 1, the
+                # Jacobian's columns), or the velocities, or the accelerations (with the velocities' terms)
+                s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
+                s_hi = m if phase == 0 else s_lo + 1
+                if phase == 0:
+                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed: at rest
+                        link = blocks.anchors[t_]
+                        for sl in range(m):
+                            rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
+                for k in range(k0, k1):  # (Revolute/Prismatic.place_rates)
+                    parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
+                    if var >= 0:
+                        qd, qv = 0.0, (qd_u[var - var0] if phase == 2 else 0.0)
+                    else:
+                        qd, qv = steps.sign[k] * (sense if phase == 1 else 0.0), steps.sign[k] * sense
+                    sign, rpx, rpy, rcx, rcy = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
+                    qq = sc[k, 4]  # (prismatic: the guide's direction in rpx, rpy, the displacement in qq)
+                    prismatic, relative = steps.prismatic[k], steps.relative[k]
+                    wvp = rt[vel, 0, parent]
+                    wvc = rt[vel, 0, child]
+                    for sl in range(s_lo, s_hi):
+                        if phase == 0 and var >= 0:
+                            qd = 1.0 if var - var0 == sl else 0.0
+                        wp, vpx, vpy = rt[sl, 0, parent], rt[sl, 1, parent], rt[sl, 2, parent]
+                        if not prismatic:
+                            wc = qd + wp if relative else qd
+                            cx = vpx + wp * -rpy - wc * -rcy
+                            cy = vpy + wp * rpx - wc * rcx
+                            if phase == 2:
+                                cx = cx - (wvp * wvp) * rpx + (wvc * wvc) * rcx
+                                cy = cy - (wvp * wvp) * rpy + (wvc * wvc) * rcy
+                        else:
+                            wc = wp
+                            cx = vpx + sign * (qd * rpx + (qq * wp) * -rpy)
+                            cy = vpy + sign * (qd * rpy + (qq * wp) * rpx)
+                            if phase == 2:
+                                cx = cx + sign * ((2 * qv * wvp) * -rpy - (qq * wvp * wvp) * rpx)
+                                cy = cy + sign * ((2 * qv * wvp) * rpx - (qq * wvp * wvp) * rpy)
+                        rt[sl, 0, child], rt[sl, 1, child], rt[sl, 2, child] = wc, cx, cy
+                for k in range(c0, c1):  # the closure's rates (Revolute/Prismatic.closure_rates)
+                    row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
+                    rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
+                    nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
+                    prismatic = cuts.prismatic[k]
+                    wva, wvb = rt[vel, 0, a], rt[vel, 0, bb]
+                    for sl in range(s_lo, s_hi):
+                        wa, wb = rt[sl, 0, a], rt[sl, 0, bb]
+                        if not prismatic:
+                            ox = rt[sl, 1, a] + wa * -ray - rt[sl, 1, bb] - wb * -rby
+                            oy = rt[sl, 2, a] + wa * rax - rt[sl, 2, bb] - wb * rbx
+                            if phase == 2:
+                                ox = ox - (wva * wva) * rax + (wvb * wvb) * rbx
+                                oy = oy - (wva * wva) * ray + (wvb * wvb) * rby
+                        else:  # a carrier, bb slider
+                            drx = rt[sl, 1, bb] + wb * -rby - rt[sl, 1, a] - wa * -ray
+                            dry = rt[sl, 2, bb] + wb * rbx - rt[sl, 2, a] - wa * rax
+                            ox, oy = wb - wa, drx * nx + dry * ny + wa * pnd
+                            if phase == 2:
+                                dvx = rt[vel, 1, bb] + wvb * -rby - rt[vel, 1, a] - wva * -ray
+                                dvy = rt[vel, 2, bb] + wvb * rbx - rt[vel, 2, a] - wva * rax
+                                bx = -(wvb * wvb) * rbx + (wva * wva) * rax
+                                by = -(wvb * wvb) * rby + (wva * wva) * ray
+                                oy += -(wva * wva) * (nx * dx + ny * dy) + 2 * wva * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
+                        if phase == 0:
+                            jac[row, sl], jac[row + 1, sl] = ox, oy
+                        else:
+                            col[row], col[row + 1] = ox, oy
+                if phase == 0:
+                    # the Jacobian made dimensionless (BlockSolver's ScaledLU); its determinant and pivot
+                    # ratio as _linalg.factor has them: explicit inverse up to 2 × 2 (made when a solve
+                    # needs it), else LU
+                    for i in range(m):
+                        for j in range(m):
+                            jac[i, j] = jac[i, j] * row_scale[var0 + i]
+                            if var_scale[var0 + j] != 1.0:
+                                jac[i, j] = jac[i, j] / var_scale[var0 + j]
+                    inverted = False
+                    if m == 1:
+                        det = jac[0, 0]
+                        ratio = abs(det) / max(abs(det), 1e-300)
+                    elif m == 2:
+                        det = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
+                        first = max(abs(jac[0, 0]), abs(jac[1, 0]))
+                        p0, p1 = abs(first), abs(det / first)
+                        ratio = min(p0, p1) / max(max(p0, p1), 1e-300)
+                    else:
+                        det, ratio = _lu(jac, m, perm)
+                    ok = err < closure and finite
+                    done = False
+                    if ok and not polished:
+                        # near a singular position one more step, as BlockSolver.newton does
+                        polished = True
+                        done = ratio >= pivot_polish or ratio < pivot_cross * 1e3
+                    elif ok or it == max_newton:
+                        done = True
+                    if done:  # the checks of atlas.solve_along; a position failing one goes to numpy
+                        if not ok:
+                            return 1
+                        if not (det != 0.0 and np.isfinite(det)) or (det > 0) != (signs[near, bk] > 0):
+                            return 1
+                        for i in range(m):
+                            if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
+                                return 1
+                        if not rates:
+                            break
+                        phase = 1
+                        continue
+                    rhs = res
+                elif m == 0:
+                    phase += 1
+                    if phase == 3:
                         break
-                elif ok or it == max_newton:
+                    continue
+                else:
+                    rhs = col
+                # sol = J⁻¹ (−rhs): the Newton step, or the unknowns' rates (ScaledLU.solve)
+                if m <= 2 and not inverted:
+                    inverted = True
+                    if m == 1:
+                        jac[0, 0] = 1.0 / det
+                    else:
+                        a00, a01, a10, a11 = jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1]
+                        jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1] = a11 / det, -a01 / det, -a10 / det, a00 / det
+                for i in range(m):
+                    rhs[i] = -rhs[i] * row_scale[var0 + i]
+                if m == 1:
+                    sol[0] = jac[0, 0] * rhs[0]
+                elif m == 2:
+                    sol[0] = jac[0, 0] * rhs[0] + jac[0, 1] * rhs[1]
+                    sol[1] = jac[1, 0] * rhs[0] + jac[1, 1] * rhs[1]
+                else:
+                    _lu_solve(jac, m, perm, rhs, sol)
+                for i in range(m):
+                    if var_scale[var0 + i] != 1.0:
+                        sol[i] = sol[i] / var_scale[var0 + i]
+                if phase == 0:
+                    for i in range(m):
+                        if np.isfinite(sol[i]):
+                            q[var0 + i] += sol[i]
+                    it += 1
+                    continue
+                slot = vel if phase == 1 else acc
+                for k in range(k0, k1):  # the block's links corrected by the sensitivities
+                    link = steps.child[k]
+                    for comp in range(3):
+                        total = rt[0, comp, link] * sol[0]
+                        for j in range(1, m):
+                            total += rt[j, comp, link] * sol[j]
+                        rt[slot, comp, link] += total
+                if phase == 1:
+                    for i in range(m):
+                        qd_u[i] = sol[i]
+                phase += 1
+                if phase == 3:
                     break
-                for i in range(m):
-                    res[i] = -res[i]
-                _lu_solve(jac, m, perm, res, step)
-                for i in range(m):
-                    if np.isfinite(step[i]):
-                        q[var0 + i] += step[i]
-            if not (ok and np.isfinite(err)):
-                return 1
-            if m:
-                if det == 0.0 or (det > 0) != (signs[near, bk] > 0):
-                    return 1
-                for i in range(m):
-                    if abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] > max_correction:
-                        return 1
-            # velocity analogues, then acceleration analogues (input rate sense·1, acceleration 0)
-            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense, qd_u,
-                         0.0, res, qd_u)
-            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
-                         sense, res, qdd_u)
-        _write(b, out, ps, rt, vel, acc, joints)
-    return 0
-
-
-@_jit
-def _write(b, out, ps, rt, vel, acc, joints):
-    """Every output of position b (in the order of FIELDS) from its link states (analogue rates)."""
-    n_l, n_j = ps.shape[1], len(joints.a)
-    o_eq, o_th, o_cos, o_sin, o_r = n_l, 2 * n_l, 3 * n_l, 4 * n_l, 5 * n_l
-    o_fv, o_fa, o_val = 7 * n_l, 9 * n_l, 11 * n_l
-    o_rq, o_accq = o_val + n_j, o_val + 2 * n_j
-    for l in range(n_l):  # noqa: E741
-        out[b, l], out[b, o_eq + l], out[b, o_th + l] = rt[vel, 0, l], rt[acc, 0, l], ps[0, l]
-        out[b, o_cos + l], out[b, o_sin + l] = ps[1, l], ps[2, l]
-        out[b, o_r + 2 * l], out[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
-        out[b, o_fv + 2 * l], out[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
-        out[b, o_fa + 2 * l], out[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
-    for j in range(n_j):
-        la, lb = joints.a[j], joints.b[j]
-        ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]
-        if not joints.prismatic[j]:
-            value, rq, aq = ps[0, lb] - ps[0, la] + joints.drawn[j], ws - wc, es - ec
-        else:  # slider point minus carrier point, along the carrier's guide
+        # the outputs: angles, points, real rates (x' = x_q ω, x'' = x_qq ω² + x_q ε, as kinematics._real)
+        omb, epb = om[b], ep[b]
+        om2 = omb * omb
+        for l in range(n_l):  # noqa: E741
+            angle[b, l] = ps[0, l] + alpha[l]
+        if rates:
+            for l in range(n_l):  # noqa: E741
+                wq, eq = rt[vel, 0, l], rt[acc, 0, l]
+                w_out[b, l] = wq * omb
+                e_out[b, l] = eq * om2 + wq * epb if ep_any else eq * om2
+        for p in range(len(p_link)):
+            k = p_link[p]
+            c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+            rx, ry = c * atx - s * aty, s * atx + c * aty
+            xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
+            if rates:  # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
+                wl, el = rt[vel, 0, k], rt[acc, 0, k]
+                w2 = wl * wl
+                vx, vy = rt[vel, 1, k] - wl * ry, rt[vel, 2, k] + wl * rx
+                ax, ay = rt[acc, 1, k] - el * ry - w2 * rx, rt[acc, 2, k] + el * rx - w2 * ry
+                v_out[b, p, 0], v_out[b, p, 1] = vx * omb, vy * omb
+                if ep_any:
+                    a_out[b, p, 0], a_out[b, p, 1] = ax * om2 + vx * epb, ay * om2 + vy * epb
+                else:
+                    a_out[b, p, 0], a_out[b, p, 1] = ax * om2, ay * om2
+        if rows.shape[1] == 0:
+            continue
+        # the record: frames and joints (offsets in _ORDER)
+        o_th, o_cos, o_sin, o_r, o_val = offsets[0], offsets[1], offsets[2], offsets[3], offsets[4]
+        for l in range(n_l):  # noqa: E741
+            rows[b, o_th + l], rows[b, o_cos + l], rows[b, o_sin + l] = ps[0, l], ps[1, l], ps[2, l]
+            rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
+        if rates:
+            o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
+            for l in range(n_l):  # noqa: E741
+                rows[b, o_wq + l], rows[b, o_eq + l] = rt[vel, 0, l], rt[acc, 0, l]
+                rows[b, o_fv + 2 * l], rows[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
+                rows[b, o_fa + 2 * l], rows[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
+        o_rq, o_aq = offsets[9], offsets[10]
+        for j in range(len(joints.a)):
+            la, lb = joints.a[j], joints.b[j]
+            if not joints.prismatic[j]:
+                rows[b, o_val + j] = ps[0, lb] - ps[0, la] + joints.drawn[j]
+                if rates:
+                    rows[b, o_rq + j] = rt[vel, 0, lb] - rt[vel, 0, la]
+                    rows[b, o_aq + j] = rt[acc, 0, lb] - rt[acc, 0, la]
+                continue
+            # slider point minus carrier point, along the carrier's guide (kinematics._joint_values)
             atx, aty = joints.at[j, 0], joints.at[j, 1]
             psx, psy = ps[1, lb] * atx - ps[2, lb] * aty, ps[2, lb] * atx + ps[1, lb] * aty
             pcx, pcy = ps[1, la] * atx - ps[2, la] * aty, ps[2, la] * atx + ps[1, la] * aty
             dx, dy = ps[3, lb] + psx - ps[3, la] - pcx, ps[4, lb] + psy - ps[4, la] - pcy
-            ddx = rt[vel, 1, lb] - ws * psy - rt[vel, 1, la] + wc * pcy
-            ddy = rt[vel, 2, lb] + ws * psx - rt[vel, 2, la] - wc * pcx
-            dddx = (rt[acc, 1, lb] - es * psy - ws * ws * psx) - (rt[acc, 1, la] - ec * pcy - wc * wc * pcx)
-            dddy = (rt[acc, 2, lb] + es * psx - ws * ws * psy) - (rt[acc, 2, la] + ec * pcx - wc * wc * pcy)
             ux = ps[1, la] * joints.u0[j, 0] - ps[2, la] * joints.u0[j, 1]
             uy = ps[2, la] * joints.u0[j, 0] + ps[1, la] * joints.u0[j, 1]
             pud, ud = -uy * dx + ux * dy, ux * dx + uy * dy
-            value = joints.drawn[j] + ud
-            rq = wc * pud + ux * ddx + uy * ddy
-            aq = ec * pud - wc * wc * ud + 2 * wc * (-uy * ddx + ux * ddy) + ux * dddx + uy * dddy
-        out[b, o_val + j], out[b, o_rq + j], out[b, o_accq + j] = value, rq, aq
+            rows[b, o_val + j] = joints.drawn[j] + ud
+            if rates:
+                ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]
+                ddx = rt[vel, 1, lb] - ws * psy - rt[vel, 1, la] + wc * pcy
+                ddy = rt[vel, 2, lb] + ws * psx - rt[vel, 2, la] - wc * pcx
+                dddx = (rt[acc, 1, lb] - es * psy - ws * ws * psx) - (rt[acc, 1, la] - ec * pcy - wc * wc * pcx)
+                dddy = (rt[acc, 2, lb] + es * psx - ws * ws * psy) - (rt[acc, 2, la] + ec * pcx - wc * wc * pcy)
+                rows[b, o_rq + j] = wc * pud + ux * ddx + uy * ddy
+                rows[b, o_aq + j] = ec * pud - wc * wc * ud + 2 * wc * (-uy * ddx + ux * ddy) + ux * dddx + uy * dddy
+    return 0

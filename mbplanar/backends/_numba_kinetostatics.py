@@ -128,9 +128,9 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     link_row = np.full(len(engine.links), -1, np.int64)
     for k, row in lay.rows.items():
         link_row[k] = row
-    point_of = {name: k for k, name in enumerate(motion.point_names)}
+    p_names, p_link, p_at = _tables(engine)[0]  # every point: the kernel places them from the frames
+    point_of = {name: k for k, name in enumerate(p_names)}
     jpoint = np.array([point_of[name] for name in ks_plan.joints], np.int64)
-    _, p_link, p_at = _tables(engine)[0]
     guide_i = np.array([engine.link_index[mech.joints[n].carrier] for n in ks_plan.guides], np.int64)
     guide_f = np.array([engine.laws[n].u0 for n in ks_plan.guides], float).reshape(-1, 2)
     p_inputs = np.array(ks_plan.p_inputs, np.int64).reshape(-1, 2)

@@ -12,6 +12,7 @@ the engine layer because the functions that dispatch (kinematics, forces) sit be
 from __future__ import annotations
 
 import importlib
+import importlib.util
 from typing import TYPE_CHECKING, Callable, Protocol
 
 from ..errors import MbplanarError
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
     from ..forces import Kinetostatics
     from ..kinematics import Motion
 
-__all__ = ["Backend", "BACKENDS", "load", "dispatch"]
+__all__ = ["Backend", "BACKENDS", "check", "load", "dispatch"]
 
 
 class Backend(Protocol):
@@ -32,8 +33,9 @@ class Backend(Protocol):
 
     name: str
 
-    def kinematics(self, engine, phi: np.ndarray, omega, epsilon) -> Motion | None:
-        """`analyse` of input values phi (as given, float)."""
+    def kinematics(self, engine, phi: np.ndarray, omega, epsilon, points, rates: bool) -> Motion | None:
+        """`analyse` of input values phi (as given, float), of the points `points` (a
+        `kinematics.PointSelection`), with or without the rates."""
 
     def kinetostatics(self, engine, motion: Motion, input_inertia, loads, inertia: bool) -> Kinetostatics | None:
         """`kinetostatics` of a motion."""
@@ -50,20 +52,30 @@ BACKENDS: dict[str, tuple[str, str, str] | None] = {
 }
 
 
-def load(name: str) -> Backend | None:
-    """The backend called `name` (None for numpy). ValueError for an unknown name, `MbplanarError`
-    naming the extra to install when its package is missing."""
+def check(name: str) -> None:
+    """Refuse what `load` would refuse, without importing the backend's package (numba takes ~0.4 s):
+    ValueError for an unknown name, `MbplanarError` naming the extra to install when the package is not
+    installed."""
     if name not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, not {name!r}")
     spec = BACKENDS[name]
+    if spec is not None and importlib.util.find_spec(spec[1]) is None:
+        raise _missing(name, spec)
+
+
+def load(name: str) -> Backend | None:
+    """The backend called `name` (None for numpy). ValueError for an unknown name, `MbplanarError`
+    naming the extra to install when its package is missing."""
+    check(name)
+    spec = BACKENDS[name]
     if spec is None:
         return None
-    module, package, extra = spec
-    try:
-        importlib.import_module(package)
-    except ImportError:
-        raise MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'") from None
-    return importlib.import_module(module).BACKEND
+    return importlib.import_module(spec[0]).BACKEND  # (numba itself is imported when first used)
+
+
+def _missing(name: str, spec: tuple[str, str, str]) -> MbplanarError:
+    _, package, extra = spec
+    return MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'")
 
 
 def dispatch(engine, job: str, reference: Callable, *args):

@@ -3,20 +3,23 @@ velocities and accelerations, instantaneous centres of velocity.
 
 `analyse(engine, phi, omega, epsilon)` solves a batch and returns a `Motion`: arrays with the batch
 first, in SI units (m, rad, s). Real values follow the analogues: v = v_q·ω, a = a_q·ω² + v_q·ε.
+``points=[...]`` asks for some points only, ``rates=False`` for positions only (the link angles are
+always there).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from dataclasses import fields as dataclass_fields
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MbplanarError, ModelError
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp
 from ..engine._solver import Crossing, Engine, Limit
 
-__all__ = ["Motion", "analyse", "positions_at_limits"]
+__all__ = ["Motion", "RatesNotComputed", "analyse", "positions_at_limits", "point_selection"]
 
 
 @dataclass
@@ -26,9 +29,12 @@ class Motion:
     phi (B, n_in): input values (SI); omega, epsilon (B, n_in): input speed and acceleration.
     Links: angle, w, e (B, L) real; wq, eq analogues. Points: xy, v, a (B, P, 2); vq, aq analogues.
     Joints: value, rate, accel (B, J); rate_q, accel_q analogues. Analogues are None with several inputs.
-    The compiled backend passes None for the arrays of `DERIVED`: the points from the link frames, the
-    real values from the analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...), computed when first read, and
-    kept.
+    `point_names` are the points asked for (`analyse(..., points=)`, default every joint and point).
+    Without rates (`has_rates` False, `analyse(..., rates=False)`) the arrays of `RATE_NAMES` were not
+    computed: reading one raises `RatesNotComputed`.
+    The compiled backend passes None for the arrays of `DERIVED`: the points' analogues from the link
+    frames, the joints' real rates from their analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...), computed
+    when first read, and kept.
     """
 
     engine: Engine
@@ -62,6 +68,7 @@ class Motion:
     # are views of it, the arrays of DERIVED are computed from it; None from the numpy path (the
     # compiled kinetostatics reads it a position at a time)
     rows: np.ndarray | None = field(default=None, repr=False)
+    has_rates: bool = True  # False: positions only, the arrays of RATE_NAMES were not computed
 
     @property
     def success(self) -> bool:
@@ -75,18 +82,24 @@ class Motion:
             f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
 
     def __post_init__(self):
-        if self.rows is None:
-            return
-        for name in DERIVED:
+        absent = (RATE_NAMES if not self.has_rates else ()) + (DERIVED if self.rows is not None else ())
+        for name in absent:
             if self.__dict__.get(name, 0) is None:
                 del self.__dict__[name]  # so that reading it reaches __getattr__
 
     def __getattr__(self, name):
+        if name in RATE_NAMES and not self.__dict__.get("has_rates", True):
+            raise RatesNotComputed(f"Motion.{name}: this motion holds positions only (analyse(..., rates=False)); "
+                                   "ask analyse(..., rates=True) for velocities and accelerations")
         if name not in DERIVED or self.__dict__.get("rows") is None:
             raise AttributeError(f"'Motion' object has no attribute '{name}'")
         value = _derived(self, name)
         setattr(self, name, value)
         return value
+
+    def fields(self) -> dict:
+        """Every field's value as stored (None for an array not computed or not derived yet)."""
+        return {f.name: self.__dict__.get(f.name) for f in dataclass_fields(self)}
 
     def point(self, name: str) -> int:
         return self.point_names.index(name)
@@ -108,31 +121,29 @@ class Motion:
         return view("html", self)
 
 
-DERIVED = ("xy", "vq", "aq", "angle", "w", "e", "v", "a", "rate", "accel", "ic")  # follow from the frames
+DERIVED = ("vq", "aq", "rate", "accel", "ic")  # follow from the compiled frames and joint analogues
+RATE_NAMES = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "rate", "accel", "rate_q", "accel_q", "ic")
+
+
+class RatesNotComputed(AttributeError, MbplanarError):
+    """A velocity or acceleration read from a `Motion` analysed with ``rates=False``."""
 
 
 def _derived(m: Motion, name: str) -> np.ndarray:
     """An array of `DERIVED` of a one-input Motion from its link frames (analogues) and the input's
     ω, ε (B, 1)."""
     om, ep = m.omega, m.epsilon
-    if name in ("xy", "vq", "aq"):  # (the compiled records hold cos θ, sin θ)
-        _, links, at = _tables(m.engine)[0]
+    if name in ("vq", "aq"):  # (the compiled records hold cos θ, sin θ)
+        sel = point_selection(m.engine, m.point_names)
         r = m.rows
-        points = _moving_points(r["cos"].T, r["sin"].T, _last(r["r"]), r["wq"].T, _last(r["fv"]), r["eq"].T,
-                                _last(r["fa"]), links, at)
-        m.xy, m.vq, m.aq = (_first(x) for x in points)
+        _, m.vq, m.aq = (None if x is None else _first(x) for x in _moving_points(
+            r["cos"].T, r["sin"].T, _last(r["r"]), r["wq"].T, _last(r["fv"]), r["eq"].T, _last(r["fa"]), sel.links,
+            sel.at, position=False))
         return getattr(m, name)
-    if name == "angle":
-        return m.frames["th"] + np.array([m.engine.reference_angle[n] for n in m.link_names])
     if name == "ic":  # r + perp(v)/ω of every link frame; NaN where the link does not turn
         return _first(_instant_centres(_last(m.frames["r"]), _last(m.frames["v"] * om[..., None]), m.w.T))
-    pair = {"w": ("wq", "eq"), "e": ("wq", "eq"), "v": ("vq", "aq"), "a": ("vq", "aq"),
-            "rate": ("rate_q", "accel_q"), "accel": ("rate_q", "accel_q")}[name]
-    xq, xqq = (getattr(m, n) for n in pair)
-    if xq.ndim == 3:  # points (B, P, 2)
-        om, ep = om[..., None], ep[..., None]
-    real = _real(xq, xqq, om, ep)
-    return real[0] if name in ("w", "v", "rate") else real[1]
+    rate, accel = _real(m.rate_q, m.accel_q, om, ep)  # "rate", "accel"
+    return rate if name == "rate" else accel
 
 
 def describe_limit(engine: Engine, lim: Limit) -> str:
@@ -203,12 +214,48 @@ def _tables(engine: Engine):
     return engine.prepare("output tables", lambda: (_point_table(engine), _joint_table(engine)))
 
 
+@dataclass(frozen=True)
+class PointSelection:
+    """The points a caller asked for: `names` (P,), each on link `links` (P,) drawn at `at` (P, 2)."""
+
+    names: list
+    links: np.ndarray
+    at: np.ndarray
+
+
+def point_selection(engine: Engine, points=None) -> PointSelection:
+    """The points `points` (names, in the order given; None: every joint and point of the model).
+    `ModelError` for a name the model does not have, or one asked twice."""
+    names, links, at = _tables(engine)[0]
+    if points is None:
+        return engine.prepare("every point", lambda: PointSelection(list(names), links, at))
+    if isinstance(points, str):
+        points = [points]
+    asked = list(points)
+    index = {n: k for k, n in enumerate(names)}
+    for k, name in enumerate(asked):
+        if name not in index:
+            raise ModelError(f"analyse: points: no joint or point named {name!r} (the model has "
+                             f"{', '.join(names)})", source=engine.mech.source, where="analyse")
+        if name in asked[:k]:
+            raise ModelError(f"analyse: points: {name!r} is asked twice", source=engine.mech.source,
+                             where="analyse")
+    rows = np.array([index[n] for n in asked], int)
+    return PointSelection(asked, links[rows], at[rows].reshape(-1, 2))
+
+
 def _rotated(c, s, at):
     """R(θ)·at for cos, sin (P, B) and drawn vectors at (P, 2) → (2, P, B)."""
     out = np.empty((2,) + c.shape)
     out[0] = c * at[:, 0, None] - s * at[:, 1, None]
     out[1] = s * at[:, 0, None] + c * at[:, 1, None]
     return out
+
+
+def _placed_points(c, s, r, links, at):
+    """Positions (2, P, B) of points drawn at `at` (P, 2) on links `links` (P,), from the links' cos,
+    sin (L, B) and frame origins r (2, L, B)."""
+    return r.take(links, 1) + _rotated(c.take(links, 0), s.take(links, 0), at)
 
 
 def _moving_points(c, s, r, w, v, e, a, links, at, position=True):
@@ -246,10 +293,18 @@ _last = _first = _flip  # named for where the batch axis goes
 
 def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
     """value (if asked), rate, accel (J, B) of every joint from the link states (batch last): relative
-    angle of a revolute joint, displacement of the slider point along the guide for a prismatic joint."""
+    angle of a revolute joint, displacement of the slider point along the guide for a prismatic joint.
+    Without rates (w None) the value only, and None for the rates."""
     batch, n = th.shape[1], len(table.drawn)
-    out_v, out_r, out_a = (np.empty((n, batch)) for _ in range(3))
     t = table
+    if w is None:
+        out_v = np.empty((n, batch))
+        out_v[t.r_col] = th[t.r_b] - th[t.r_a] + t.drawn[t.r_col, None]
+        if len(t.p_col):
+            d = _placed_points(c, s, r, t.p_s, t.p_at) - _placed_points(c, s, r, t.p_c, t.p_at)
+            out_v[t.p_col] = t.drawn[t.p_col, None] + dot(_rotated(c[t.p_c], s[t.p_c], t.p_u0), d)
+        return out_v, None, None
+    out_v, out_r, out_a = (np.empty((n, batch)) for _ in range(3))
     if len(t.r_col):
         if value:
             out_v[t.r_col] = th[t.r_b] - th[t.r_a] + t.drawn[t.r_col, None]
@@ -311,21 +366,36 @@ def _per_position(value, default, batch, n_in):
 CHUNK = 25_000  # positions solved at once: bounds the working memory of very long sweeps
 
 
-def analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
+def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates: bool = True) -> Motion:
     """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
     hold no solution, are dropped before anything is returned). The engine's compiled backend takes the
     batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest.
 
-    Raises `ModelError` for input values that are not finite, and for a speed `omega` or acceleration
-    `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``, ``|ε| ≤ 1e200`` (their squares and products must
-    stay finite).
+    Parameters
+    ----------
+    engine : Engine
+    phi : array_like
+        Input values (SI): (B,) for one input, (B, n_in) for several.
+    omega, epsilon : float or array_like, optional
+        Input speed and acceleration, one value or one per position (default: the model's).
+    points : list of str, optional
+        The joints and points whose positions (and rates) to compute, in this order
+        (`Motion.point_names`); default every joint and point. Points not asked for cost nothing.
+    rates : bool
+        False: positions only (link angles, points, joint values); the velocities and accelerations
+        are not computed and reading one raises `RatesNotComputed`.
+
+    Raises `ModelError` for input values that are not finite, for a point the model does not have, and
+    for a speed `omega` or acceleration `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``,
+    ``|ε| ≤ 1e200`` (their squares and products must stay finite).
     """
     phi = np.asarray(phi, float)
     if not np.all(np.isfinite(phi)):
         raise ModelError("the input values phi must be finite", source=engine.mech.source, where="analyse")
     omega = _checked_rate("omega", omega, MAX_OMEGA, engine)
     epsilon = _checked_rate("epsilon", epsilon, MAX_EPSILON, engine)
-    return dispatch(engine, "kinematics", _reference, phi, omega, epsilon)
+    return dispatch(engine, "kinematics", _reference, phi, omega, epsilon, point_selection(engine, points),
+                    bool(rates))
 
 
 MAX_OMEGA = 1e100      # |ω|: ω² and ω²·(model size) stay far from overflow
@@ -348,15 +418,15 @@ def _checked_rate(name: str, value, bound: float, engine):
     return value
 
 
-def _reference(engine: Engine, phi: np.ndarray, omega, epsilon) -> Motion:
+def _reference(engine: Engine, phi: np.ndarray, omega, epsilon, points=None, rates=True) -> Motion:
     """`analyse` by numpy: one batch, or chunks of a long sweep of one input."""
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         if len(engine.inputs) != 1 or phi.size <= CHUNK:
-            return _analyse(engine, phi, omega, epsilon)
-        return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon)
+            return _analyse(engine, phi, omega, epsilon, points, rates)
+        return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon, points, rates)
 
 
-def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
+def _analyse_chunks(engine: Engine, phi, omega, epsilon, points, rates) -> Motion:
     """A long sweep of one input in chunks of `CHUNK` positions, copied into arrays allocated once, so
     that the peak memory is the result plus one chunk's work. Same answers as one batch: every position
     is predicted from the same atlas and corrected on its own."""
@@ -366,7 +436,7 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
     out, frames, fill, limits, crossings, first = {}, {}, 0, [], [], None
     for start in range(0, batch, CHUNK):
         part = slice(start, start + CHUNK)
-        m = _analyse(engine, phi[part], omega[part], epsilon[part])
+        m = _analyse(engine, phi[part], omega[part], epsilon[part], points, rates)
         if first is None:
             first = m
             for name, value in vars(m).items():
@@ -387,10 +457,11 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon) -> Motion:
         del m
     fields = {name: arr[:fill] for name, arr in out.items()}
     frames = {name: (fields[aliases[name]] if aliases[name] else frames[name][:fill]) for name in aliases}
-    return replace(first, **fields, requested=batch, limits=limits, frames=frames, crossings=crossings)
+    return Motion(**{**first.fields(), **fields, "requested": batch, "limits": limits, "frames": frames,
+                     "crossings": crossings})
 
 
-def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
+def _analyse(engine: Engine, phi, omega=None, epsilon=None, points=None, rates=True) -> Motion:
     """Solve `phi` (SI; (B,) or (B, n_in)) and return the kinematics of the positions reached.
 
     omega, epsilon: input speed and acceleration, scalars or per position (default: the model's).
@@ -400,7 +471,7 @@ def _analyse(engine: Engine, phi, omega=None, epsilon=None) -> Motion:
     n_in = len(engine.inputs)
     phi = np.asarray(phi, float)
     phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
-    return _motion(engine, engine.solve(phi), omega, epsilon)
+    return _motion(engine, engine.solve(phi), omega, epsilon, points, rates)
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:
@@ -416,8 +487,9 @@ def positions_at_limits(engine: Engine, limits: list) -> Motion:
     return m
 
 
-def _motion(engine: Engine, sol, omega, epsilon) -> Motion:
-    """The kinematics of a solved batch (only its valid rows)."""
+def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Motion:
+    """The kinematics of a solved batch (only its valid rows), of the points `points` (a
+    `PointSelection`, or None for every point), with or without the rates."""
     n_in = len(engine.inputs)
     phi = sol.phi
     batch = len(phi)
@@ -425,7 +497,18 @@ def _motion(engine: Engine, sol, omega, epsilon) -> Motion:
     omega = _per_position(omega, [i.omega for i in engine.inputs], batch, n_in)
     epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, n_in)
     th, c, s, r = _link_states(engine, sol)
-    (names, links, at), joints = _tables(engine)
+    sel = points if points is not None else point_selection(engine)
+    links, at = sel.links, sel.at
+    joints = _tables(engine)[1]
+    alpha = np.array([engine.reference_angle[n] for n in engine.links])
+    common = dict(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep], link_names=list(engine.links),
+                  angle=(th.T + alpha)[keep], point_names=list(sel.names), joint_names=list(engine.mech.joints),
+                  requested=batch, limits=sol.limits, crossings=sol.crossings)
+    if not rates:
+        value = _joint_values(joints, th, c, s, r, None, None, None, None)[0]
+        return Motion(**common, w=None, e=None, xy=_first(_placed_points(c, s, r, links, at))[keep], v=None, a=None,
+                      value=value.T[keep], rate=None, accel=None, ic=None, vq=None, aq=None,
+                      frames={"th": th.T[keep], "r": _first(r)[keep]}, has_rates=False)
     analog = n_in == 1
     if analog:
         engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
@@ -443,13 +526,9 @@ def _motion(engine: Engine, sol, omega, epsilon) -> Motion:
         w, v, e, a = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
         xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
         value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
-    alpha = np.array([engine.reference_angle[n] for n in engine.links])
-    m = Motion(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep],
-               link_names=list(engine.links), angle=(th.T + alpha)[keep], w=w.T[keep], e=e.T[keep],
-               point_names=names, xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep], vq=None, aq=None,
-               joint_names=list(engine.mech.joints), value=value.T[keep], rate=rate.T[keep],
-               accel=accel.T[keep], ic=_first(_instant_centres(r, v, w))[keep], requested=batch,
-               limits=sol.limits, frames={"th": th.T[keep], "r": _first(r)[keep]}, crossings=sol.crossings)
+    m = Motion(**common, w=w.T[keep], e=e.T[keep], xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
+               vq=None, aq=None, value=value.T[keep], rate=rate.T[keep], accel=accel.T[keep],
+               ic=_first(_instant_centres(r, v, w))[keep], frames={"th": th.T[keep], "r": _first(r)[keep]})
     if analog:
         m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
         m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]
