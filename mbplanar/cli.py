@@ -234,6 +234,8 @@ def _inputs_at(engine, text) -> list[float]:
 
 def cmd_solve(args):
     engine = _load(args)
+    if not getattr(engine.compiled, "pays", lambda n: True)(1):
+        engine.compiled = None  # one position: loading the compiled kernels would cost more than they save
     values = _inputs_at(engine, args.at)
     phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
