@@ -201,14 +201,8 @@ def _position(x, omega, epsilon, out, steps, cuts, blocks, joints, alpha, sense,
                   ones, zeros, False, False, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt,
                   sc, cc, q, guess, jac, perm, res, col, sol, qd_u) or not valid[0]:
             return 1
-        lo, hi = 0, n_grid - 1  # the atlas node nearest near_x: its determinants' signs
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if grid[mid] < near_x:
-                lo = mid
-            else:
-                hi = mid
-        near = lo if abs(near_x - grid[lo]) <= abs(near_x - grid[lo + 1]) else lo + 1
+        lo = min(max(np.searchsorted(grid, near_x) - 1, 0), n_grid - 2)  # (as `atlas._interpolate`)
+        near = lo if abs(near_x - grid[lo]) <= abs(near_x - grid[lo + 1]) else lo + 1  # its determinants' signs
         one_grid[0], one_grid[1] = x - 1.0, x + 1.0
         one_coef[:, :, :] = 0.0
         for i in range(m_all):
