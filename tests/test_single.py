@@ -212,12 +212,13 @@ def test_document_of_a_position_is_that_of_its_motion():
 
 
 def test_solve_command_on_the_compiled_backend(capsys):
-    """`solve --backend numba` goes through the compiled lean path and prints numpy's document (to the
-    backends' agreement), with the same keys."""
+    """`solve --backend numba` in a process that has the compiled kernels loaded goes through the compiled
+    lean path and prints numpy's document (to the backends' agreement), with the same keys."""
     import json
 
     from mbplanar.cli import main
     pytest.importorskip("numba")
+    import mbplanar.backends._numba_kinematics  # noqa: F401  (loaded: one position pays, `NumbaBackend.pays`)
     docs = []
     for backend in ("numpy", "numba"):
         assert main(["--backend", backend, "solve", str(MODELS / "six_bar_press.toml"), "--at", "1000",
