@@ -66,7 +66,8 @@ def run(models, rounds: int) -> list[dict]:
                 row["position_far_us"], _ = _time(_lean(engine, far), rounds)
             row["analyse_us"], row["analyse_wall_min_us"] = _time(_batch_of_one(engine, x), rounds)
             cases.append(row)
-            print(f"{name:14s} {backend:6s} position {row['position_us']:8.2f} µs (wall min {row['position_wall_min_us']:.2f})"
+            print(f"{name:14s} {backend:6s} position {row['position_us']:8.2f} µs "
+                  f"(wall min {row['position_wall_min_us']:.2f})"
                   + (f", 100 turns away {row['position_far_us']:8.2f} µs" if far is not None else "")
                   + f"; analyse([phi]) {row['analyse_us']:8.1f} µs", flush=True)
     return cases
