@@ -132,3 +132,61 @@ def test_outputs_written_by_the_kernel_and_the_rest_derived_when_read():
     np.testing.assert_array_equal(m.rate, m.rate_q * 2.0)
     with pytest.raises(AttributeError, match="no attribute 'speed'"):
         m.speed  # noqa: B018
+
+
+# the compiled answers on what a caller asks for: some points, positions only. Positions to 1e-11 of
+# the size: numpy's own batch corrector moves a position by up to ~2e-12 depending on the other positions
+# of its batch (it steps the converged ones while others have not converged; the compiled kernel is
+# numpy solving one position: see test_differences_are_numpys_batch_coupling)
+@pytest.mark.parametrize("name", sorted(p.stem for p in linkage_models()))
+def test_asked_points_and_positions_only_same_as_numpy(name):
+    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / f"{name}.toml"))
+    if len(ref_engine.inputs) != 1:
+        pytest.skip("several inputs: the numpy path only")
+    inp = ref_engine.inputs[0]
+    lo, hi = (inp.to_si(v) for v in inp.default_sweep()[:2])
+    phi = np.linspace(lo, hi, 181)
+    every = mbplanar.analyse(ref_engine, phi[:1]).point_names
+    asked = every[::-2]  # every other point, in another order
+    for kw in (dict(points=asked), dict(rates=False), dict(points=asked[:1], rates=False)):
+        ref, fast = mbplanar.analyse(ref_engine, phi, 1.5, 0.4, **kw), mbplanar.analyse(fast_engine, phi, 1.5, 0.4, **kw)
+        assert fast.rows is not None, "the compiled path took the batch"
+        assert fast.point_names == ref.point_names == kw.get("points", every)
+        assert fast.has_rates == ref.has_rates == kw.get("rates", True)
+        for field in POSITIONS:
+            np.testing.assert_allclose(getattr(fast, field), getattr(ref, field), rtol=0,
+                                       atol=1e-11 * ref_engine.size, err_msg=f"{kw}: {field}")
+        if fast.has_rates:
+            _assert_same(ref, fast, ref_engine.size, rate_tol=1e-6 if ref.limits else 1e-8)
+        else:
+            for field in ("v", "wq", "rate"):
+                with pytest.raises(mbplanar.kinematics.RatesNotComputed):
+                    getattr(fast, field)
+
+
+def test_differences_are_numpys_batch_coupling():
+    """Where the compiled kernel and numpy's batch differ (jansen: ~1e-12), the kernel gives exactly what
+    numpy gives for that position alone."""
+    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / "jansen.toml"))
+    phi = ref_engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 361)
+    ref, fast = mbplanar.analyse(ref_engine, phi, rates=False), mbplanar.analyse(fast_engine, phi, rates=False)
+    worst = np.argsort(np.abs(ref.angle - fast.angle).max(axis=1))[-3:]
+    for row in worst:
+        alone = mbplanar.analyse(ref_engine, phi[row:row + 1], rates=False)
+        np.testing.assert_array_equal(fast.angle[row], alone.angle[0])
+        np.testing.assert_array_equal(fast.xy[row], alone.xy[0])
+
+
+@settings(max_examples=8, deadline=None)
+@given(mechanisms(), st.floats(-math.pi, math.pi))
+def test_random_mechanisms_positions_only_same_as_numpy(mech_kind, start):
+    mech, _ = mech_kind
+    mech.add_input("O", unit="rad")
+    ref_engine, fast_engine = _pair(mech)
+    phi = ref_engine.phi_drawn[0] + start + np.linspace(0.0, 2 * math.pi, 200)
+    ref, fast = mbplanar.analyse(ref_engine, phi, rates=False), mbplanar.analyse(fast_engine, phi, rates=False)
+    assert len(fast.phi) == len(ref.phi) and fast.rows is not None
+    assert [lim.phi[0] for lim in fast.limits] == [lim.phi[0] for lim in ref.limits]
+    for field in POSITIONS:
+        np.testing.assert_allclose(getattr(fast, field), getattr(ref, field), rtol=0, atol=1e-11 * ref_engine.size,
+                                   err_msg=field)

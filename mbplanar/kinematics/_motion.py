@@ -101,8 +101,19 @@ class Motion:
         """Every field's value as stored (None for an array not computed or not derived yet)."""
         return {f.name: self.__dict__.get(f.name) for f in dataclass_fields(self)}
 
+    def __repr__(self) -> str:
+        shown = ", ".join(f"{k}={'array' + str(v.shape) if isinstance(v, np.ndarray) else v!r}"
+                          for k, v in self.fields().items() if k not in ("engine", "rows", "frames"))
+        return f"Motion({shown})"
+
     def point(self, name: str) -> int:
-        return self.point_names.index(name)
+        """Index of the joint or point `name` in `point_names`; `KeyError` naming the points this motion
+        holds when it was not asked for (`analyse(..., points=)`)."""
+        try:
+            return self.point_names.index(name)
+        except ValueError:
+            raise KeyError(f"this motion holds the points {', '.join(self.point_names) or '(none)'}, not {name!r}: "
+                           "ask analyse(..., points=None) for every point") from None
 
     def link(self, name: str) -> int:
         return self.link_names.index(name)
@@ -119,6 +130,24 @@ class Motion:
     def _repr_html_(self) -> str:
         from ..model._views import view
         return view("html", self)
+
+
+class _Absent:
+    """The class-level default of a field that may be missing from an instance (the analogues wq, eq,
+    rate_q, accel_q, None by default): reading it where the instance has none goes to
+    `Motion.__getattr__` (positions only: `RatesNotComputed`), as for the fields without a default."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return None
+        return obj.__getattr__(self.name)
+
+
+for _name in ("wq", "eq", "rate_q", "accel_q"):  # after @dataclass has taken their default None
+    setattr(Motion, _name, _Absent(_name))
 
 
 DERIVED = ("vq", "aq", "rate", "accel", "ic")  # follow from the compiled frames and joint analogues
