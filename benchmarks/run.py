@@ -1,28 +1,39 @@
-"""Benchmark suite of mbplanar: sweeps, single-position latency, scaling with N and with mechanism size,
-against a vectorised numpy closed form and scipy.optimize.fsolve per position on the same work.
+"""Benchmark of mbplanar on equal work: every timed case produces and reads what its baseline produces.
 
-    python benchmarks/run.py [--quick] [--json out.json]
+    python benchmarks/run.py [--quick] [--json [FILE]] [--docs]
 
-Every time is the minimum over several repeats (wall clock, time.perf_counter) with a warm engine;
-µs per position. The sweeps and the single positions are timed in rounds (each round times every case
-a few times in a row), so that each minimum is taken over the whole run, not over one spell of the
-shared machine.
-The engine build (assembly + structure + branch atlas) is timed separately. Both backends are timed
-when numba is installed: `mbplanar_us` is the compiled one (`backend`), `numpy_us` the reference; the
-targets of issue 7 are checked at the end (`targets`).
+Sweeps of N positions over a turn: every point's x, y (and vx, vy, ax, ay where velocities and
+accelerations are timed) and every link's angle, read (summed) inside the timed call, so that work the
+compiled backend leaves for the first read (`kinematics.DERIVED`) is timed. Baselines of the same run:
+the vectorised numpy closed forms of `closed_forms.py` (the same arrays, read the same way), and
+pylinkage+numba where it is installed (`pip install -e ".[bench]"`; its `step_fast` and
+`step_fast_with_kinematics` on the four-bar of models/fourbar.toml, checked to give the same points).
+
+Timing: the cases are timed in turn, in rounds; each round calls every case a few times in a row and
+keeps the fastest call; the figure is the median over the rounds (µs per position, or per call). Ratios
+are to the closed form of the same run. The compiled backend runs on one core for the headline
+(`Engine(threads=1)`, the baselines use one core) and on two as a second column. Process-level figures
+(`mbplanar solve`, `import mbplanar`, numba's cold and warm start) are medians of subprocess runs.
+
+`--json FILE` writes the run ('-': stdout), `--docs` rewrites the table in docs/speed.md from
+benchmarks/latest.json, `--study` runs the design-study cases (benchmarks/study.py).
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
+import inspect
 import json
 import math
 import os
 import platform
+import statistics
 import subprocess
 import sys
+import tempfile
+import textwrap
 import time
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -34,38 +45,231 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import closed_forms as cf  # noqa: E402
 from chains import class4_chain, dyad_chain  # noqa: E402
 import mbplanar  # noqa: E402
-from mbplanar.model import Mechanism  # noqa: E402
 
-MODELS = ["fourbar", "slider_crank", "shaper", "six_bar_press", "class4_group"]
 try:
     import numba  # noqa: F401
     BACKENDS = ["numpy", "numba"]
 except ImportError:
     BACKENDS = ["numpy"]
 BEST = BACKENDS[-1]
-CLOSED = {"fourbar": (cf.fourbar, cf.fourbar_fsolve), "slider_crank": (cf.slider_crank, cf.slider_crank_fsolve)}
+SKIPPED = 'not installed, skipped (pip install -e ".[bench]")'
+LATEST = ROOT / "benchmarks" / "latest.json"
+SPEED_DOC = ROOT / "docs" / "speed.md"
+
+WORK = {"positions": "positions", "kinematics": "positions + velocities + accelerations",
+        "reactions": "with reactions"}
+# (model, work) of the sweeps; the closed forms and pylinkage apply where they are named
+SWEEPS = [("fourbar", "positions"), ("slider_crank", "positions"), ("six_bar_press", "positions"),
+          ("fourbar", "kinematics"), ("slider_crank", "kinematics"), ("six_bar_press", "kinematics"),
+          ("class4_group", "kinematics"), ("six_bar_press", "reactions"), ("class4_group", "reactions"),
+          ("shaper", "reactions")]
+TARGETS = [  # (label, case name, work, column, limit)
+    ("four-bar positions, × closed form", "fourbar", "positions", "ratio", 1.5),
+    ("four-bar positions + velocities + accelerations, × closed form", "fourbar", "kinematics", "ratio", 2.0),
+    ("slider-crank positions + velocities + accelerations, × closed form", "slider_crank", "kinematics",
+     "ratio", 3.0),
+    ("six-bar positions + velocities + accelerations, µs/position", "six_bar_press", "kinematics",
+     "mbplanar_us", 1.0),
+    ("six-bar with reactions, µs/position", "six_bar_press", "reactions", "mbplanar_us", 1.2),
+    ("class IV group with reactions, µs/position", "class4_group", "reactions", "mbplanar_us", 2.5),
+    ("one position with velocities and accelerations, µs", "fourbar", "one position", "mbplanar_us", 10.0),
+    ("mbplanar solve end to end, s", "fourbar", "mbplanar solve", "seconds", 0.25),
+    ("numba cold start over numpy, s", "fourbar_loaded", "numba cold start", "seconds", 5.0),
+    ("numba warm start over numpy, s", "fourbar_loaded", "numba warm start", "seconds", 0.3),
+    ("import mbplanar, s", "mbplanar", "import", "seconds", 0.2),
+    ("four-bar positions, × pylinkage+numba", "fourbar", "positions", "pylinkage_ratio", 1.0),
+    ("four-bar positions + velocities + accelerations, × pylinkage+numba", "fourbar", "kinematics",
+     "pylinkage_ratio", 1.0),
+]
 
 
-def best_time(fn, repeats):
-    """Minimum wall time of `repeats` calls (s)."""
+# ---------------------------------------------------------------------------------------------------
+# timing
+
+
+def fastest(call, burst):
+    """The shortest wall time (s) of `burst` calls in a row."""
     best = math.inf
-    for _ in range(repeats):
+    for _ in range(burst):
         t = time.perf_counter()
-        fn()
+        call()
         best = min(best, time.perf_counter() - t)
     return best
 
 
-def in_rounds(cases, rounds, burst):
-    """Minimum wall times (s) of the calls of every case (a list of lists of callables): each round
-    times every call `burst` times in a row (a warm cache, as a user's repeated calls have), and the
-    rounds spread each call's repeats over the whole run."""
-    best = [[math.inf] * len(calls) for calls in cases]
+def median_of_rounds(calls, rounds, burst):
+    """Per callable, the median over `rounds` rounds of its fastest of `burst` calls (s). Every round
+    times every callable in turn, so that a slow spell of a shared machine falls on all of them."""
+    times = [[] for _ in calls]
     for _ in range(rounds):
-        for calls, times in zip(cases, best):
-            for k, call in enumerate(calls):
-                times[k] = min(times[k], best_time(call, burst))
-    return best
+        for call, seen in zip(calls, times):
+            seen.append(fastest(call, burst))
+    return [statistics.median(seen) for seen in times]
+
+
+def median_run(cmd, runs, env=None):
+    """Median wall time (s) of `runs` runs of the command `cmd` (a subprocess each)."""
+    times = []
+    for _ in range(runs):
+        t = time.perf_counter()
+        subprocess.run(cmd, check=True, capture_output=True, env=env, cwd=ROOT)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+# ---------------------------------------------------------------------------------------------------
+# the equal work: what a case produces and reads
+
+
+def read_motion(motion, rates=True) -> float:
+    """Touch every point's position (and velocity, acceleration) and every link's angle of a Motion:
+    the compiled backend computes these on first read, so reading them is part of the work."""
+    total = float(motion.xy.sum()) + float(motion.angle.sum())
+    if rates:
+        total += float(motion.v.sum()) + float(motion.a.sum())
+    return total
+
+
+def read_reactions(result) -> float:
+    """Touch every reaction (fx, fy, moment) and balancing load of a Kinetostatics, and its Motion."""
+    total = read_motion(result.motion)
+    for r in result.reactions.values():
+        total += float(r.fx.sum()) + float(r.fy.sum()) + float(r.moment.sum())
+    return total + sum(float(b.sum()) for b in result.balancing.values())
+
+
+def positions_request() -> dict:
+    """Keyword arguments of `analyse` that ask for positions only, where this version has them."""
+    return {"rates": False} if "rates" in inspect.signature(mbplanar.analyse).parameters else {}
+
+
+def mbplanar_call(engine, phi, work):
+    """The timed call of a case: solve `phi` on `engine` and read the work's outputs."""
+    if work == "positions":
+        request = positions_request()
+        return lambda: read_motion(mbplanar.analyse(engine, phi, **request), rates=False)
+    if work == "kinematics":
+        return lambda: read_motion(mbplanar.analyse(engine, phi))
+    return lambda: read_reactions(mbplanar.kinetostatics(engine, mbplanar.analyse(engine, phi)))
+
+
+def closed_form(name, engine):
+    """The closed form of a model as f(phi, positions_only) with the model's input speed, or None."""
+    inp = engine.inputs[0]
+    omega, epsilon = float(inp.omega), float(inp.epsilon)
+    if name == "fourbar":
+        return lambda phi, only: cf.fourbar(phi, omega, epsilon, positions_only=only)
+    if name == "slider_crank":
+        return lambda phi, only: cf.slider_crank(phi, omega, epsilon, positions_only=only)
+    if name == "six_bar_press":
+        joints = engine.mech.joints  # the rocker's D as assembled (B the middle of CD to 1e-7 m)
+        B, C, D = (np.array(joints[n].at) for n in "BCD")
+        r, d = B - C, D - C
+        rocker = (float(r @ d / (r @ r)), float((r[0] * d[1] - r[1] * d[0]) / (r @ r)))
+        zero = math.radians(inp.zero) if inp.unit == "deg" else inp.zero
+        return lambda phi, only: cf.six_bar_press(phi, omega, epsilon, positions_only=only, rocker=rocker,
+                                                  zero=zero, sense=inp.sense)
+    return None
+
+
+def same(label, got, want, rel=1e-9, angle=False):
+    """Assert that two arrays agree to `rel` of the larger of 1 and the baseline's magnitude (angles:
+    modulo a turn)."""
+    got, want = np.asarray(got, float), np.asarray(want, float)
+    scale = max(1.0, float(np.abs(want).max()))
+    diff = np.abs(np.angle(np.exp(1j * (got - want)))) if angle else np.abs(got - want)
+    worst = float(diff.max()) / scale
+    assert worst <= rel, f"{label}: differs by {worst:.3g} (relative) from the baseline"
+
+
+def check_equal_work(motion, ref, rates):
+    """The closed form's result `ref` holds the same points and links as `motion`, with the same values."""
+    assert sorted(ref["xy"]) == sorted(motion.point_names), (sorted(ref["xy"]), motion.point_names)
+    assert sorted(ref["angle"]) == sorted(motion.link_names), (sorted(ref["angle"]), motion.link_names)
+    for key in ("xy", "v", "a") if rates else ("xy",):
+        values = batched(getattr(motion, key), 3)
+        for point, x in ref[key].items():
+            same(f"{key} of {point}", values[:, motion.point(point)], x)
+    for link, th in ref["angle"].items():
+        same(f"angle of link {link}", batched(motion.angle, 2)[:, motion.link(link)], th, angle=True)
+
+
+def batched(x, ndim):
+    """`x` with a batch axis of one in front if it has none (a one-position result)."""
+    x = np.asarray(x)
+    return x if x.ndim == ndim else x[None]
+
+
+# ---------------------------------------------------------------------------------------------------
+# pylinkage+numba
+
+
+def pylinkage_fourbar(engine, steps):
+    """pylinkage's four-bar of models/fourbar.toml (crank O-A, dyad A-B-C, coupler point M fixed to A, B),
+    turning a whole turn in `steps` steps from the drawn pose, at ω = 1 rad/s, and the names of its points
+    in the order of its outputs; None without pylinkage."""
+    try:
+        import pylinkage as pl
+    except ImportError:
+        return None
+    at = {name: np.array(j.at) for name, j in engine.mech.joints.items()}
+    at.update({name: np.array(p.at) for name, p in engine.mech.points.items()})
+    O, C = pl.Ground(*at["O"], name="O"), pl.Ground(*at["C"], name="C")
+    a, b, c = (math.dist(at[p], at[q]) for p, q in ("OA", "AB", "BC"))
+    crank = pl.Crank(anchor=O, radius=a, angular_velocity=2 * math.pi / steps,
+                     initial_angle=math.atan2(*(at["A"] - at["O"])[::-1]), name="A")
+    B = pl.RRRDyad(anchor1=crank.output, anchor2=C, distance1=b, distance2=c, x=at["B"][0], y=at["B"][1], name="B")
+    m, ab = at["M"] - at["A"], at["B"] - at["A"]
+    M = pl.FixedDyad(anchor1=crank.output, anchor2=B, distance=float(np.hypot(*m)),
+                     angle=math.atan2(m[1], m[0]) - math.atan2(ab[1], ab[0]), name="M")
+    linkage = pl.Linkage([O, C, crank, B, M])
+    linkage.set_input_velocity(crank, 1.0, 0.0)
+    return linkage, [comp.name for comp in linkage.components]
+
+
+def pylinkage_version():
+    try:
+        from importlib.metadata import version
+        return version("pylinkage")
+    except Exception:  # noqa: BLE001 (not installed)
+        return None
+
+
+def check_pylinkage(engine, names, pos, vel=None, acc=None):
+    """pylinkage's points (steps, P, 2) equal mbplanar's at the crank angles pylinkage reached."""
+    A = pos[:, names.index("A")] - pos[:, names.index("O")]
+    motion = mbplanar.analyse(engine, np.arctan2(A[:, 1], A[:, 0]), 1.0, 0.0)
+    for k, name in enumerate(names):
+        p = motion.point(name)
+        same(f"pylinkage {name}", pos[:, k], motion.xy[:, p])
+        if vel is not None:
+            same(f"pylinkage velocity of {name}", vel[:, k], motion.v[:, p])
+            same(f"pylinkage acceleration of {name}", acc[:, k], motion.a[:, p])
+
+
+def pylinkage_calls(engine, n):
+    """(positions call, kinematics call, one-position call) of pylinkage on the four-bar, each checked
+    against mbplanar once; None without pylinkage."""
+    made = pylinkage_fourbar(engine, n)
+    if made is None:
+        return None
+    linkage, names = made
+    check_pylinkage(engine, names, linkage.step_fast(iterations=n))
+    check_pylinkage(engine, names, *linkage.step_fast_with_kinematics(iterations=n))
+
+    def positions():
+        return float(linkage.step_fast(iterations=n).sum())
+
+    def kinematics():
+        return sum(float(x.sum()) for x in linkage.step_fast_with_kinematics(iterations=n))
+
+    def one():
+        return sum(float(x.sum()) for x in linkage.step_fast_with_kinematics(iterations=1))
+    return positions, kinematics, one
+
+
+# ---------------------------------------------------------------------------------------------------
+# the cases
 
 
 def full_turn(engine, n):
@@ -73,218 +277,338 @@ def full_turn(engine, n):
     return engine.phi_drawn[0] + np.linspace(0.0, 2 * np.pi, n, endpoint=False)
 
 
-def build(path, backend="numpy"):
-    """Engine of a model file, and the times of the build and of the atlas (first solve)."""
-    t0 = time.perf_counter()
-    engine = mbplanar.Engine(mbplanar.read_model(path), backend=backend)
-    t1 = time.perf_counter()
-    engine.atlas().cover(engine.phi_drawn[0], engine.phi_drawn[0] + 2 * np.pi)
-    return engine, t1 - t0, time.perf_counter() - t1
+def engines_of(name):
+    """The engines of a model: numpy, and the compiled one on one and on two threads (when installed)."""
+    mech = mbplanar.read_model(ROOT / "models" / f"{name}.toml")
+    found = {"numpy": mbplanar.Engine(mech)}
+    if BEST == "numba":
+        found["numba"] = mbplanar.Engine(mech, backend="numba", threads=1)
+        found["numba_2t"] = mbplanar.Engine(mech, backend="numba", threads=2)
+    return found
 
 
-def reactions_fn():
-    try:
-        from mbplanar.forces import kinetostatics
-    except ImportError:
-        return None
-    return kinetostatics
+def sweep_cases(n, rounds, burst, plk=None):
+    """The sweeps of `SWEEPS`, checked for equal work, timed in rounds; one dict per case. `plk`:
+    pylinkage's calls (`pylinkage_calls`), timed on the four-bar."""
+    rows, calls, slots = [], [], []
+    engines, builds = {}, []
+    for name, work in SWEEPS:
+        if name not in engines:
+            t = time.perf_counter()
+            engines[name] = engines_of(name)
+            builds.append(dict(name=name, build_s=(time.perf_counter() - t) / len(engines[name])))
+        found = engines[name]
+        phi = full_turn(found["numpy"], n)
+        columns = {f"{b}_us": mbplanar_call(e, phi, work) for b, e in found.items()}
+        if "numba" in found and work != "reactions":  # analyse alone, the lazily derived arrays unread
+            request = positions_request() if work == "positions" else {}
+            columns["analyse_only_us"] = lambda e=found["numba"], phi=phi, r=request: mbplanar.analyse(e, phi, **r)
+        closed = closed_form(name, found["numpy"])
+        if closed is not None and work != "reactions":
+            only = work == "positions"
+            ref, request = closed(phi, only), positions_request() if only else {}
+            for e in found.values():
+                check_equal_work(mbplanar.analyse(e, phi, **request), ref, rates=not only)
+            columns["closed_form_us"] = lambda closed=closed, phi=phi, only=only: cf.read(closed(phi, only))
+        if name == "fourbar" and plk is not None and work in ("positions", "kinematics"):
+            columns["pylinkage_us"] = plk[0] if work == "positions" else plk[1]
+        for call in columns.values():
+            call()  # warm: compiled, cached, the branch atlas built
+        rows.append(dict(name=name, work=work, n=n))
+        for column, call in columns.items():
+            calls.append(call)
+            slots.append((rows[-1], column))
+    for (row, column), t in zip(slots, median_of_rounds(calls, rounds, burst)):
+        row[column] = 1e6 * t / n
+    for row in rows:
+        finish(row)
+    return rows, builds
 
 
-def sweep_cases(n, repeats, fsolve_n, out):
-    """Every model's sweeps on both backends (and the closed forms where they apply), timed in rounds:
-    each round times every case once, so that each case's minimum is taken over the whole run and a
-    slow spell of the shared machine does not decide one case."""
-    kinetostatics = reactions_fn()
-    builds, jobs = [], []
-    for name in MODELS:
-        path = ROOT / "models" / f"{name}.toml"
-        if not path.exists():
-            continue
-        engine, t_build, t_atlas = build(path)
-        fast = build(path, BEST)[0]
-        builds.append((name, t_build, t_atlas))
-        phi = full_turn(engine, n)
-        works = [("positions", lambda e, phi=phi: e.solve(phi)),
-                 ("kinematics", lambda e, phi=phi: mbplanar.analyse(e, phi))]
-        if kinetostatics is not None:
-            try:
-                kinetostatics(engine, mbplanar.analyse(engine, phi))
-                works.append(("reactions", lambda e, phi=phi: kinetostatics(e, mbplanar.analyse(e, phi))))
-            except Exception as exc:  # a model without mass data
-                print(f"  {name}: reactions skipped ({type(exc).__name__}: {exc})")
-        closed, fsolve = CLOSED.get(name, (None, None))
-        for work, fn in works:
-            engines = [engine] if work == "positions" else [engine, fast]  # Engine.solve is numpy's
-            for e in engines:
-                fn(e)
-            row = dict(name=name, work=work, n=n, mbplanar_us=None, closed_form_us=None, fsolve_us=None,
-                       numpy_us=None, backend=engines[-1].backend)
-            calls = [lambda e=e, fn=fn: fn(e) for e in engines]
-            if closed is not None and work != "reactions":
-                only = work == "positions"
-                calls.append(lambda closed=closed, phi=phi, only=only: closed(phi, positions_only=only))
-                few = phi[:fsolve_n]
-                row["fsolve_us"] = 1e6 * best_time(lambda: fsolve(few, rates=not only), 2) / fsolve_n
-            jobs.append((row, calls, len(engines)))
-    best = in_rounds([calls for _, calls, _ in jobs], repeats, 3)
-    for (row, calls, n_engines), times in zip(jobs, best):
-        row["numpy_us"], row["mbplanar_us"] = 1e6 * times[0] / n, 1e6 * times[n_engines - 1] / n
-        if len(calls) > n_engines:  # the closed form's time follows the engines'
-            row["closed_form_us"] = 1e6 * times[n_engines] / n
-        out.append(row)
-        ratio = f"  ({row['mbplanar_us'] / row['closed_form_us']:.1f}× closed form)" if row["closed_form_us"] else ""
-        print(f"  {row['name']:14s} {row['work']:11s} {row['mbplanar_us']:8.2f} µs/position ({row['backend']}; numpy "
-              f"{row['numpy_us']:.2f}){ratio}"
-              + (f"  closed {row['closed_form_us']:.3f}  fsolve {row['fsolve_us']:.1f}" if row["closed_form_us"] else ""))
-    return builds
+def finish(row, headline=None):
+    """The headline figure of a case (`headline`, by default the compiled backend on one core, else
+    numpy) and its ratios to the baselines."""
+    row["backend"] = BEST
+    row["mbplanar_us"] = row.get(f"{BEST}_us") if headline is None else headline
+    for base, key in (("closed_form", "ratio"), ("pylinkage", "pylinkage_ratio")):
+        b = row.get(f"{base}_us")
+        row[key] = row["mbplanar_us"] / b if b and row["mbplanar_us"] else None
 
 
-def latency_cases(repeats, out):
-    """One position on each backend (timed in rounds, as the sweeps), then `mbplanar solve` end to end."""
-    names = ("fourbar", "shaper", "six_bar_press")
-    calls = []
-    for name in names:
-        for backend in BACKENDS:
-            engine, _, _ = build(ROOT / "models" / f"{name}.toml", backend)
-            phi = engine.phi_drawn[:1] + 0.3
-            mbplanar.analyse(engine, phi)
-            calls.append(lambda engine=engine, phi=phi: mbplanar.analyse(engine, phi))
-    best = in_rounds([calls], repeats, 20)[0]
-    for i, name in enumerate(names):
-        times = best[i * len(BACKENDS):(i + 1) * len(BACKENDS)]
-        out.append(dict(name=name, work="one position", n=1, mbplanar_us=1e6 * times[-1], closed_form_us=None,
-                        fsolve_us=None, numpy_us=1e6 * times[0], backend=BEST))
-        print(f"  {name:14s} one position (analyse, warm engine) {1e6 * times[-1]:8.0f} µs ({BEST}; numpy "
-              f"{1e6 * times[0]:.0f})")
-    cmd = [sys.executable, "-m", "mbplanar", "solve", str(ROOT / "models" / "shaper.toml"), "--at", "140.769"]
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    # bytecode compiled once, as an installed package has it (PYTHONDONTWRITEBYTECODE would otherwise
-    # make every run compile the sources again)
+def one_position_cases(rounds, burst, plk_one=None):
+    """One position of the four-bar with velocities and accelerations of every point, µs per call,
+    through the public API on each backend: `analyse` with a scalar, and the lean `mbplanar.position`
+    where this version has it (and pylinkage's one step where installed)."""
+    found = engines_of("fourbar")
+    phi = float(found["numpy"].phi_drawn[0]) + 0.3
+    columns = {f"{b}_us": (lambda e=e: read_motion(mbplanar.analyse(e, phi))) for b, e in found.items()
+               if b != "numba_2t"}
+    ref = closed_form("fourbar", found["numpy"])(np.array([phi]), False)
+    for e in found.values():
+        check_equal_work(mbplanar.analyse(e, phi), ref, rates=True)
+    lean = getattr(mbplanar, "position", None)  # the lean one-position API, where this version has it
+    if lean is not None:
+        for b, e in found.items():
+            if b != "numba_2t":
+                check_equal_work(lean(e, phi), ref, rates=True)
+                columns[f"position_{b}_us"] = lambda e=e: read_motion(lean(e, phi))
+    if plk_one is not None:
+        columns["pylinkage_us"] = plk_one
+    for call in columns.values():
+        call()
+    row = dict(name="fourbar", work="one position", n=1)
+    for column, t in zip(columns, median_of_rounds(list(columns.values()), rounds, burst)):
+        row[column] = 1e6 * t
+    # the target is met through the public API's fastest path
+    finish(row, min(v for k, v in row.items() if k.endswith("_us") and k != "pylinkage_us"))
+    return row
+
+
+def process_cases(runs, cold):
+    """`mbplanar solve` end to end, `import mbplanar`, and numba's cold and warm start (subprocesses)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT), MBPLANAR_THREADS="1")
+    # bytecode compiled once, as an installed package has it
     subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "mbplanar")], check=True,
                    capture_output=True)
-    t = best_time(lambda: subprocess.run(cmd, check=True, capture_output=True, env=env), max(3, repeats))
-    out.append(dict(name="shaper", work="mbplanar solve (CLI, end to end)", n=1, mbplanar_us=1e6 * t,
-                    closed_form_us=None, fsolve_us=None, numpy_us=1e6 * t, backend="numpy"))
-    print(f"  mbplanar solve models/shaper.toml end to end (subprocess, import included) {t:.3f} s")
+    py = sys.executable
+    rows = []
+
+    def add(name, work, seconds, **extra):
+        rows.append(dict(name=name, work=work, n=1, seconds=seconds, **extra))
+        print(f"  {name:14s} {work:24s} {seconds:7.3f} s"
+              + "".join(f"   {k.replace('_s', '')} {v:.3f} s" for k, v in extra.items() if v is not None))
+
+    base = dict(python_s=median_run([py, "-c", "pass"], runs, env),
+                numpy_s=median_run([py, "-c", "import numpy"], runs, env))
+    add("fourbar", "mbplanar solve",
+        median_run([py, "-m", "mbplanar", "solve", "models/fourbar.toml", "--at", "30"], runs, env), **base)
+    add("mbplanar", "import", median_run([py, "-c", "import mbplanar"], runs, env), **base)
+    if BEST != "numba":
+        return rows
+    if not cold:
+        print("  numba cold and warm start: skipped (--quick)")
+        return rows
+    script = ("import sys, numpy as np, mbplanar\n"
+              "e = mbplanar.Engine(mbplanar.read_model('models/fourbar_loaded.toml'), backend=sys.argv[1])\n"
+              "m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 2 * np.pi, 3600, endpoint=False))\n"
+              "k = mbplanar.kinetostatics(e, m)\n"
+              "print(m.xy.sum() + m.v.sum() + m.a.sum() + k.balancing['O'].sum())\n")
+    numpy_s = median_run([py, "-c", script, "numpy"], runs, env)
+    with tempfile.TemporaryDirectory() as cache:
+        warm_env = dict(env, NUMBA_CACHE_DIR=cache)
+        cold_s = median_run([py, "-c", script, "numba"], 1, warm_env)
+        warm_s = median_run([py, "-c", script, "numba"], runs, warm_env)
+    add("fourbar_loaded", "numba cold start", cold_s - numpy_s, process_s=cold_s, numpy_process_s=numpy_s)
+    add("fourbar_loaded", "numba warm start", warm_s - numpy_s, process_s=warm_s, numpy_process_s=numpy_s)
+    return rows
 
 
-def scaling_n(sizes, repeats, out):
-    engines = [build(ROOT / "models" / "shaper.toml", backend)[0] for backend in BACKENDS]
-    for n in sizes:
-        phi = full_turn(engines[0], n)
-        rep = repeats if n <= 10 ** 5 else 1
-        times = [best_time(lambda: mbplanar.analyse(e, phi), rep) for e in engines]
-        row = dict(name="shaper", work="kinematics, scaling in N", n=n, mbplanar_us=1e6 * times[-1] / n,
-                   closed_form_us=None, fsolve_us=None, numpy_us=1e6 * times[0] / n, backend=BEST)
-        if n == sizes[-1]:
-            peaks = []
-            for e in engines:
-                tracemalloc.start()
-                mbplanar.analyse(e, phi)
-                peaks.append(tracemalloc.get_traced_memory()[1] / 2 ** 20)
-                tracemalloc.stop()
-            row["numpy_peak_MB"], row["peak_MB"] = peaks[0], peaks[-1]
-        out.append(row)
-        print(f"  N = {n:8d}: {row['mbplanar_us']:8.2f} µs/position ({BEST}; numpy {row['numpy_us']:.2f})"
-              + (f", peak traced memory {row['peak_MB']:.0f} MB (numpy {row['numpy_peak_MB']:.0f} MB)"
-                 if "peak_MB" in row else ""))
-
-
-def scaling_groups(builder, label, ks, n, repeats, out):
-    """Time per position (positions + velocities + accelerations, N = n over a turn) of the mechanisms
-    builder(k) for k in ks, and the fitted exponents of time vs k (best backend, numpy)."""
+def scaling_groups(builder, label, ks, n, rounds):
+    """µs per position (positions, velocities, accelerations read, N = n over a turn) of the mechanisms
+    builder(k) for k in ks, one core, and the fitted exponent of time against k per backend."""
     times = {b: [] for b in BACKENDS}
     for k in ks:
-        t0 = time.perf_counter()
         mech = builder(k)
-        engines = {b: mbplanar.Engine(mech, backend=b) for b in BACKENDS}
-        t_engine = (time.perf_counter() - t0) / len(BACKENDS)
-        phi = full_turn(engines["numpy"], n)
-        for e in engines.values():
-            motion = mbplanar.analyse(e, phi)
-            assert motion.success, motion.message
-        t_build = time.perf_counter() - t0
-        for b, e in engines.items():
-            times[b].append(best_time(lambda: mbplanar.analyse(e, phi), repeats))
-        t, t_np = times[BEST][-1], times["numpy"][-1]
-        out.append(dict(name=f"chain of {k} {label}", work="kinematics", n=n, mbplanar_us=1e6 * t / n,
-                        closed_form_us=None, fsolve_us=None, numpy_us=1e6 * t_np / n, backend=BEST,
-                        build_s=t_build, engine_s=t_engine))
-        print(f"  k = {k:3d}: {1e6 * t / n:8.2f} µs/position ({1e6 * t / n / k:.2f} per group; numpy "
-              f"{1e6 * t_np / n:.2f}), engine {t_engine:.2f} s, + atlas and first sweeps {t_build - t_engine:.2f} s")
-    if len(ks) > 1:
-        slopes = {b: float(np.polyfit(np.log(ks), np.log(times[b]), 1)[0]) for b in BACKENDS}
-        print(f"  time per position ∝ k^{slopes[BEST]:.2f} over k = {ks[0]}…{ks[-1]} (numpy k^{slopes['numpy']:.2f})")
-        return slopes
+        for b in BACKENDS:
+            e = mbplanar.Engine(mech, backend=b, threads=1) if b == "numba" else mbplanar.Engine(mech)
+            phi = full_turn(e, n)
+            call = mbplanar_call(e, phi, "kinematics")
+            call()
+            times[b].append(median_of_rounds([call], rounds, 1)[0])
+        print(f"  k = {k:3d}: " + ", ".join(f"{b} {1e6 * times[b][-1] / n:.2f}" for b in BACKENDS)
+              + " µs/position")
+    slopes = {b: float(np.polyfit(np.log(ks), np.log(times[b]), 1)[0]) for b in BACKENDS}
+    print(f"  time per position ∝ k^{slopes[BEST]:.2f} over k = {ks[0]}…{ks[-1]} {label} "
+          f"(numpy k^{slopes['numpy']:.2f})")
+    return slopes
 
 
-def check_targets(cases, slopes, slopes4):
-    """Issue 7's targets against this run: (target, value, limit, met)."""
-    def us(name, work):
-        return next((c["mbplanar_us"] for c in cases if c["name"] == name and c["work"] == work), None)
+# ---------------------------------------------------------------------------------------------------
+# verdict and report
 
-    fourbar = next((c for c in cases if c["name"] == "fourbar" and c["work"] == "kinematics"), None)
-    big = max((c for c in cases if c["work"] == "kinematics, scaling in N"), key=lambda c: c["n"], default={})
-    found = [("four-bar kinematics / closed form", fourbar and fourbar["mbplanar_us"] / fourbar["closed_form_us"], 8.0),
-             ("shaper with reactions, µs/position", us("shaper", "reactions"), 1.5),
-             ("six-bar press with reactions, µs/position", us("six_bar_press", "reactions"), 1.5),
-             ("class IV model with reactions, µs/position", us("class4_group", "reactions"), 3.0),
-             ("one position, worst of three models, µs",
-              max((c["mbplanar_us"] for c in cases if c["work"] == "one position"), default=None), 50.0),
-             ("mbplanar solve end to end, s", (us("shaper", "mbplanar solve (CLI, end to end)") or 0) / 1e6 or None, 0.5),
-             (f"shaper sweep of {big.get('n')} positions, peak MB", big.get("peak_MB"), 2048.0),
-             ("time per position vs chained dyads, exponent", slopes and slopes[BEST], 1.1),
-             ("time per position vs chained class IV groups, exponent", slopes4 and slopes4[BEST], 1.1)]
-    return [dict(target=t, value=v, limit=lim, met=v is not None and v <= lim) for t, v, lim in found]
+
+def check_targets(cases):
+    """The targets against the cases of a run: (target, value, limit, met); a missing case is a miss
+    (value None), except pylinkage's, which are left out where it is not installed."""
+    found = []
+    for label, name, work, column, limit in TARGETS:
+        case = next((c for c in cases if c["name"] == name and c["work"] == work), {})
+        value = case.get(column)
+        if column == "pylinkage_ratio" and case.get("pylinkage_us") is None:
+            continue
+        found.append(dict(target=label, value=value, limit=limit, met=value is not None and value <= limit))
+    return found
+
+
+def fmt(x, digits=3):
+    return "—" if x is None else f"{x:.{digits}g}"
+
+
+def print_sweeps(rows):
+    head = ["case", "work", "numpy", f"{BEST} 1 core", f"{BEST} 2 threads", "analyse() alone",
+            "closed form", "× closed", "pylinkage+numba", "× pylinkage"]
+    print("  " + " | ".join(head))
+    for r in rows:
+        print("  " + " | ".join([r["name"], WORK.get(r["work"], r["work"]), fmt(r.get("numpy_us")),
+                                 fmt(r.get("numba_us")), fmt(r.get("numba_2t_us")), fmt(r.get("analyse_only_us")),
+                                 fmt(r.get("closed_form_us")), fmt(r.get("ratio"), 2), fmt(r.get("pylinkage_us")),
+                                 fmt(r.get("pylinkage_ratio"), 2)]))
+
+
+def markdown(doc) -> str:
+    """The run of `doc` (a latest.json) as the Markdown of docs/speed.md's latest-run section."""
+    m = doc["machine"]
+    lines = [f"Run of {doc['date']} on {m['cpus']} CPUs ({m['cpu']}), Python {m['python']}, numpy {m['numpy']}, "
+             f"numba {m['numba'] or '—'}, pylinkage {m['pylinkage'] or 'not installed'}; "
+             f"load average {m['load_before']:.1f} before and {m['load_after']:.1f} after (other jobs shared "
+             f"the machine). N = {doc['n']} positions over a turn, {doc['rounds']} rounds, one core unless "
+             "the column says otherwise.", "",
+             "Sweeps, µs per position (× = ratio to the closed form or to pylinkage+numba of the same run):", "",
+             "| model | work | numpy | numba | numba, 2 threads | analyse() alone | closed form | × closed "
+             "form | pylinkage+numba | × pylinkage |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in (c for c in doc["cases"] if c["work"] in WORK):
+        lines.append("| " + " | ".join([r["name"], WORK[r["work"]], fmt(r.get("numpy_us")), fmt(r.get("numba_us")),
+                                        fmt(r.get("numba_2t_us")), fmt(r.get("analyse_only_us")),
+                                        fmt(r.get("closed_form_us")), fmt(r.get("ratio"), 2),
+                                        fmt(r.get("pylinkage_us")), fmt(r.get("pylinkage_ratio"), 2)]) + " |")
+    one = next((c for c in doc["cases"] if c["work"] == "one position"), None)
+    if one:
+        lines += ["", "One position of the four-bar with velocities and accelerations of every point, µs per "
+                  "call: " + ", ".join(f"{k[:-3].replace('_', ' ')} {fmt(v)}" for k, v in one.items()
+                                       if k.endswith("_us") and k != "mbplanar_us" and v is not None) + "."]
+    procs = [c for c in doc["cases"] if "seconds" in c]
+    if procs:
+        lines += ["", "Processes (median of subprocess runs, s):", "", "| what | s | context |", "|---|---|---|"]
+        for c in procs:
+            context = ", ".join(f"{k[:-2].replace('_', ' ')} {v:.3f}" for k, v in c.items()
+                                if k.endswith("_s") and k != "seconds" and v is not None)
+            lines.append(f"| {c['work']} ({c['name']}) | {c['seconds']:.3f} | {context} |")
+    if doc.get("chain_exponents"):
+        fits = ", ".join(f"{b} k^{v:.2f}" for b, v in doc["chain_exponents"].items())
+        fits4 = ", ".join(f"{b} k^{v:.2f}" for b, v in (doc.get("class4_chain_exponents") or {}).items())
+        lines += ["", f"Time per position against the number of groups k (a crank and k dyads: {fits}; "
+                  f"a crank and k class IV groups: {fits4})."]
+    lines += ["", "Targets:", "", "| target | value | limit | met |", "|---|---|---|---|"]
+    lines += [f"| {t['target']} | {fmt(t['value'])} | {t['limit']:g} | {'yes' if t['met'] else 'no'} |"
+              for t in doc["targets"]]
+    return "\n".join(line if line.startswith("|") else wrap(line) for line in lines) + "\n"
+
+
+def wrap(text):
+    """A paragraph of the generated Markdown, cut at 110 characters as the hand-written pages are."""
+    return textwrap.fill(text, 110, break_on_hyphens=False, break_long_words=False)
+
+
+def readme_text(doc) -> str:
+    """The README's speed section: the headline equal-work figures of `doc` (a latest.json)."""
+    def get(name, work, column):
+        return next((c.get(column) for c in doc["cases"] if c["name"] == name and c["work"] == work), None)
+
+    def num(x):
+        return "—" if x is None else f"{x:.0f}" if x >= 100 else f"{x:.2g}"
+
+    rows = [("four-bar, positions", "fourbar", "positions"),
+            ("four-bar, with velocities and accelerations", "fourbar", "kinematics"),
+            ("slider-crank, with velocities and accelerations", "slider_crank", "kinematics"),
+            ("six-bar press, with velocities and accelerations", "six_bar_press", "kinematics"),
+            ("six-bar press, with reactions", "six_bar_press", "reactions"),
+            ("class IV group, with reactions", "class4_group", "reactions")]
+    m = doc["machine"]
+    prose = [f"Measured on equal work: every point's position (with velocity and acceleration) and every link's "
+             f"angle produced and read, as the baselines return them; `--backend {doc['backends'][-1]}` on one "
+             f"core of a shared {m['cpus']}-CPU machine ({doc['date'][:10]}); ratios to a vectorised numpy closed "
+             "form and to pylinkage+numba timed alongside.",
+             f"One position of the four-bar with velocities and accelerations: "
+             f"{num(get('fourbar', 'one position', 'mbplanar_us'))} µs per call; `mbplanar solve` end to end "
+             f"{num(get('fourbar', 'mbplanar solve', 'seconds'))} s; `import mbplanar` "
+             f"{num(get('mbplanar', 'import', 'seconds'))} s. Method, every case and the targets: "
+             "[docs/speed.md](docs/speed.md)."]
+    prose = [wrap(p) for p in prose]
+    lines = [prose[0], "",
+             f"| sweep of {doc['n']} positions | µs per position | × closed form | × pylinkage+numba |",
+             "|---|---|---|---|"]
+    lines += [f"| {label} | {num(get(n, w, 'mbplanar_us'))} | {num(get(n, w, 'ratio'))} | "
+              f"{num(get(n, w, 'pylinkage_ratio'))} |" for label, n, w in rows]
+    lines += ["", prose[1]]
+    return "\n".join(lines) + "\n"
+
+
+BEGIN, END = "<!-- latest run: written by benchmarks/run.py --docs -->", "<!-- end of the latest run -->"
+README = ROOT / "README.md"
+
+
+def write_between_markers(page, text):
+    """Replace what stands between `BEGIN` and `END` in the file `page` with `text`."""
+    whole = page.read_text(encoding="utf-8")
+    head, rest = whole.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    page.write_text(f"{head}{BEGIN}\n{text}{END}{tail}", encoding="utf-8")
+
+
+def write_docs(doc):
+    """docs/speed.md's latest-run section and the README's speed paragraph from `doc` (a latest.json)."""
+    write_between_markers(SPEED_DOC, f"\n{markdown(doc)}\n")
+    write_between_markers(README, readme_text(doc))
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes, few repeats (smoke run)")
-    ap.add_argument("--json", metavar="FILE", nargs="?", const="-", help="write the cases as JSON ('-': stdout)")
+    ap.add_argument("--quick", action="store_true", help="small sizes, few rounds (smoke run, < 60 s)")
+    ap.add_argument("--json", metavar="FILE", nargs="?", const="-", help="write the run as JSON ('-': stdout)")
+    ap.add_argument("--docs", action="store_true", help="rewrite docs/speed.md's table from benchmarks/latest.json")
     ap.add_argument("--study", action="store_true", help="only the design-study cases (benchmarks/study.py)")
+    ap.add_argument("--no-pylinkage", action="store_true", help="leave pylinkage+numba out")
     args = ap.parse_args(argv)
     if args.study:  # design batches and Dask: their own script, sizes and JSON
         import study
         study.main(["--quick"] if args.quick else [])
         return 0
+    if args.docs:
+        write_docs(json.loads(LATEST.read_text(encoding="utf-8")))
+        return 0
     quick = args.quick
-    repeats = 2 if quick else 7
-    n = 360 if quick else 3600
-    cases = []
-    print(f"mbplanar benchmark — {platform.processor() or platform.machine()}, {os.cpu_count()} CPU(s), "
-          f"Python {platform.python_version()}, numpy {np.__version__}")
-    print(f"sweeps of N = {n} positions (µs per position, minimum of {repeats} repeats):")
-    builds = sweep_cases(n, repeats, 20 if quick else 300, cases)
-    print("engine build (assembly + structure) and branch atlas, once per model:")
-    for name, t_build, t_atlas in builds:
-        print(f"  {name:14s} build {1e3 * t_build:7.1f} ms   atlas {1e3 * t_atlas:7.1f} ms")
-    print("latency:")
-    latency_cases(repeats, cases)
-    print("scaling with N (shaper, positions + velocities + accelerations):")
-    scaling_n([10, 100, 1000] if quick else [10, 100, 1000, 10 ** 4, 10 ** 5, 10 ** 6], repeats, cases)
-    print("scaling with mechanism size (a crank and k dyads):")
-    slope = scaling_groups(dyad_chain, "dyads", [1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n, repeats, cases)
-    print("scaling with mechanism size (a crank and k class IV groups):")
-    slope4 = scaling_groups(class4_chain, "class IV groups", [1, 2, 4] if quick else [1, 2, 4, 8, 16, 32], n,
-                            repeats, cases)
-    targets = check_targets(cases, slope, slope4)
-    print(f"targets of issue 7 (backend {BEST}):")
+    rounds, n = (3, 360) if quick else (9, 3600)
+    plk_version = None if args.no_pylinkage else pylinkage_version()
+    machine = dict(cpu=platform.processor() or platform.machine(), cpus=os.cpu_count(),
+                   python=platform.python_version(), numpy=np.__version__,
+                   numba=sys.modules["numba"].__version__ if BEST == "numba" else None,
+                   pylinkage=plk_version, load_before=os.getloadavg()[0])
+    plk_note = plk_version or SKIPPED
+    print(f"mbplanar benchmark on equal work — {machine['cpu']}, {machine['cpus']} CPU(s), Python "
+          f"{machine['python']}, numpy {machine['numpy']}, numba {machine['numba']}, pylinkage {plk_note}; "
+          f"load {machine['load_before']:.1f}")
+    print(f"sweeps of N = {n} positions, µs per position, median of {rounds} rounds; every point and angle read:")
+    plk = pylinkage_calls(mbplanar.Engine(mbplanar.read_model(ROOT / "models" / "fourbar.toml")), n) \
+        if plk_version else None
+    cases, builds = sweep_cases(n, rounds, 3, plk)
+    print_sweeps(cases)
+    print("one position (four-bar, every point with velocities and accelerations), µs per call:")
+    one = one_position_cases(rounds, 20, plk[2] if plk else None)
+    print("  " + ", ".join(f"{k[:-3]} {v:.1f}" for k, v in one.items() if k.endswith("_us") and v is not None))
+    cases.append(one)
+    print("processes:")
+    cases += process_cases(3 if quick else 7, cold=not quick)
+    slopes = slopes4 = None
+    if not quick:
+        print("scaling with mechanism size (a crank and k dyads; a crank and k class IV groups):")
+        ks = [1, 2, 4, 8, 16, 32]
+        slopes = scaling_groups(dyad_chain, "dyads", ks, n, 3)
+        slopes4 = scaling_groups(class4_chain, "class IV groups", ks, n, 3)
+    targets = check_targets(cases)
+    print(f"targets (one core, equal work, backend {BEST}):")
     for t in targets:
-        value = "—" if t["value"] is None else f"{t['value']:.3g}"
-        print(f"  {'met ' if t['met'] else 'MISS'}  {t['target']}: {value} (≤ {t['limit']:g})")
+        print(f"  {'met ' if t['met'] else 'MISS'}  {t['target']}: {fmt(t['value'])} (≤ {t['limit']:g})")
+    machine["load_after"] = os.getloadavg()[0]
+    doc = dict(date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), machine=machine,
+               n=n, rounds=rounds, backends=BACKENDS, builds=builds, chain_exponents=slopes,
+               class4_chain_exponents=slopes4, targets=targets, cases=cases)
     if args.json:
-        doc = dict(machine=dict(cpu=platform.processor() or platform.machine(), cpus=os.cpu_count(),
-                                python=platform.python_version(), numpy=np.__version__,
-                                numba=sys.modules["numba"].__version__ if "numba" in BACKENDS else None),
-                   backends=BACKENDS, builds=[dict(name=b[0], build_s=b[1], atlas_s=b[2]) for b in builds],
-                   chain_exponent=slope and slope[BEST], class4_chain_exponent=slope4 and slope4[BEST],
-                   chain_exponents=slope, class4_chain_exponents=slope4, targets=targets, cases=cases)
         text = json.dumps(doc, indent=1)
         if args.json == "-":
             print(text)
         else:
-            Path(args.json).write_text(text)
+            Path(args.json).write_text(text + "\n", encoding="utf-8")
     return 0
 
 

@@ -1,27 +1,34 @@
-"""Design-study benchmarks: a design batch against a single-design sweep of the same size, and Dask.
+"""Design-study benchmarks: design batches (numpy and numba) against a single-design sweep of the same
+size on the same backend, and Dask.
 
-    python benchmarks/study.py [--quick] [--designs D] [--dask-designs K] [--json FILE]
+    python benchmarks/study.py [--quick] [--designs D] [--numpy-designs D] [--dask-designs K]
+                               [--dask-rounds R] [--no-dask] [--json FILE]
 
 1. D crank-rocker four-bars (`models/fourbar_design.toml`, random dimensions) × 360 crank positions in one
-   design batch (numpy, one thread), reading every design's coupler point M: positions and analogue
-   velocities (the batch also computes every link's angle, ω_q, ε_q and every point's a_q). Positions
-   per second on one core.
-2. The same number of positions of one design in one sweep (`mbplanar.analyse`, numpy), reading the
-   same arrays of M: the cost per position against which the batch's cost per design-position is
-   compared (same run, ratio).
-3. K designs × 12 positions through `solve_designs` on a Dask LocalCluster of 1 and of 2 single-thread
-   worker processes (chunks of 2000 designs, one task each): the ratio of the wall times. The results
-   of both runs are checked equal, bit for bit.
+   design batch, reading every design's coupler point M: positions and velocity analogues. numba
+   (`backend="numba"`, the compiled design kernel): the batch computes the link angles, their ω_q and
+   M's xy and v_q (`points=["M"], accelerations=False`: what is asked for, all of it computed and read);
+   numpy: the reference batch, which computes every link's angle, ω_q, ε_q and every point's xy, v_q,
+   a_q. Positions per second on one core.
+2. The same number of positions of one design in one sweep (`mbplanar.analyse`) on the same backend,
+   reading the same arrays of M: the cost per position against which the batch's cost per
+   design-position is compared (same run, ratio).
+3. K designs × 12 positions through `solve_designs` (numpy) on a Dask LocalCluster of 1 and of 2
+   single-thread worker processes (chunks of 2000 designs, one task each), R rounds interleaved
+   (1, 2, 1, 2, ...): the ratio of the median wall times. The results of the runs are checked equal,
+   bit for bit.
 
-Every time is wall clock (time.perf_counter), the best of `--repeats` runs; numpy's own threads are
-held to one (OMP/OPENBLAS/MKL_NUM_THREADS=1) so that "per core" means one core.
+Times are wall clock (time.perf_counter), the best of `--repeats` runs, and the process's CPU time of
+that run (time.process_time: on a machine shared with other jobs it is what one core spent); numpy's
+own threads and the compiled kernels are held to one thread (OMP/OPENBLAS/MKL_NUM_THREADS=1,
+MBPLANAR_THREADS=1) so that "per core" means one core. The load average is recorded before each case.
 """
 
 from __future__ import annotations
 
 import os
 
-for _name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+for _name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "MBPLANAR_THREADS"):
     os.environ.setdefault(_name, "1")
 
 import argparse  # noqa: E402
@@ -63,36 +70,65 @@ def crank_rockers(count: int, seed: int = 1) -> dict:
     return {k: x[idx] for k, x in v.items()}
 
 
-def batch_case(designs: int, repeats: int) -> dict:
+def _timed(run, repeats: int):
+    """(wall seconds, CPU seconds) of the fastest of `repeats` runs (after one warm-up run when
+    repeats > 1: numba's kernels loaded, the allocator warm)."""
+    if repeats > 1:
+        run()
+    best = (float("inf"), float("inf"))
+    for _ in range(repeats):
+        c, t = time.process_time(), time.perf_counter()
+        run()
+        wall, cpu = time.perf_counter() - t, time.process_time() - c
+        best = min(best, (wall, cpu))
+    return best
+
+
+def _case(name, backend, n, wall, cpu, **extra) -> dict:
+    return {"case": name, "backend": backend, "positions": n, "seconds": wall, "cpu_seconds": cpu,
+            "positions_per_s": n / wall, "positions_per_cpu_s": n / cpu, "us_per_position": 1e6 * wall / n,
+            "us_per_position_cpu": 1e6 * cpu / n, "load": os.getloadavg()[0], **extra}
+
+
+def batch_case(designs: int, repeats: int, backend: str) -> dict:
     phi = np.radians(np.arange(360.0))
     values = crank_rockers(designs)
+    load = os.getloadavg()[0]
 
     def run():
-        motion = design_batch(MODEL, values).solve(phi)
+        batch = design_batch(MODEL, values, backend=backend)
+        if backend == "numba":
+            motion = batch.solve(phi, points=["M"], accelerations=False)
+        else:
+            motion = batch.solve(phi)
         k = motion.point("M")
         xy, vq = motion.xy[:, :, k].copy(), motion.vq[:, :, k].copy()
-        assert motion.valid.all(), "every crank-rocker turns fully"
+        assert motion.valid.all() and np.isfinite(xy).all() and np.isfinite(vq).all(), "every crank-rocker turns"
         return xy, vq
 
-    seconds = best_time(run, repeats)
-    n = designs * len(phi)
-    return {"case": "design batch", "designs": designs, "positions": n, "seconds": seconds,
-            "positions_per_s": n / seconds, "us_per_position": 1e6 * seconds / n}
+    wall, cpu = _timed(run, repeats)
+    out = _case("design batch", backend, designs * len(phi), wall, cpu, designs=designs)
+    out["load"] = load
+    return out
 
 
-def sweep_case(positions: int, repeats: int) -> dict:
-    engine = mbplanar.Engine(mbplanar.read_model(MODEL))
+def sweep_case(positions: int, repeats: int, backend: str) -> dict:
+    engine = mbplanar.Engine(mbplanar.read_model(MODEL), backend=backend, threads=1)
     phi = np.linspace(0, 2 * np.pi, positions, endpoint=False)
     mbplanar.analyse(engine, phi[:1000])  # the atlas, built once per engine
+    load = os.getloadavg()[0]
 
     def run():
         motion = mbplanar.analyse(engine, phi)
         k = motion.point("M")
-        return motion.xy[:, k].copy(), motion.vq[:, k].copy()
+        xy, vq = motion.xy[:, k].copy(), motion.vq[:, k].copy()
+        assert len(xy) == positions and np.isfinite(vq).all()
+        return xy, vq
 
-    seconds = best_time(run, repeats)
-    return {"case": "single-design sweep", "positions": positions, "seconds": seconds,
-            "positions_per_s": positions / seconds, "us_per_position": 1e6 * seconds / positions}
+    wall, cpu = _timed(run, repeats)
+    out = _case("single-design sweep", backend, positions, wall, cpu)
+    out["load"] = load
+    return out
 
 
 def dask_case(designs: int, workers: int, phi) -> tuple[dict, object]:
@@ -101,45 +137,66 @@ def dask_case(designs: int, workers: int, phi) -> tuple[dict, object]:
     client = local_client(workers)
     try:
         client.run(lambda: __import__("mbplanar.study"))  # imports paid before the clock starts
+        load = os.getloadavg()[0]
         t = time.perf_counter()
         motion = solve_designs(MODEL, crank_rockers(designs, seed=2), phi, chunk=2000, client=client)
         seconds = time.perf_counter() - t
     finally:
         close(client)
     return {"case": f"dask, {workers} worker(s)", "designs": designs, "positions": designs * len(phi),
-            "seconds": seconds}, motion
+            "seconds": seconds, "load": load}, motion
 
 
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes (smoke run)")
-    ap.add_argument("--designs", type=int, help="designs in the batch case (default 10000; quick 500)")
+    ap.add_argument("--designs", type=int, help="designs in the numba batch case (default 10000; quick 500)")
+    ap.add_argument("--numpy-designs", type=int, help="designs in the numpy batch case (default 2000; quick 200)")
+    ap.add_argument("--dask-rounds", type=int, default=2, help="rounds of the Dask case (median; default 2)")
     ap.add_argument("--dask-designs", type=int, help="designs in the Dask case (default 100000; quick 4000)")
     ap.add_argument("--repeats", type=int, default=None)
     ap.add_argument("--no-dask", action="store_true")
     ap.add_argument("--json", metavar="FILE")
     args = ap.parse_args(argv)
     designs = args.designs or (500 if args.quick else 10_000)
+    numpy_designs = args.numpy_designs or (200 if args.quick else 2_000)
     repeats = args.repeats or (1 if args.quick else 2)
-    cases = [batch_case(designs, repeats)]
-    cases.append(sweep_case(cases[0]["positions"], repeats))
-    ratio = cases[0]["us_per_position"] / cases[1]["us_per_position"]
-    doc = {"date": time.strftime("%Y-%m-%d"), "cpus": os.cpu_count(), "cases": cases,
-           "batch_vs_sweep_cost_ratio": ratio}
-    for c in cases:
-        print(f"{c['case']:<22} {c['positions']:>9} positions  {c['seconds']:8.2f} s  "
-              f"{c['positions_per_s']:12.0f} positions/s  {c['us_per_position']:.3f} µs/position")
-    print(f"cost per design-position / cost per position of one design's sweep: {ratio:.2f}")
+    doc = {"date": time.strftime("%Y-%m-%d %H:%M"), "cpus": os.cpu_count(), "cases": [], "ratios": {}}
+    for backend, count in (("numba", designs), ("numpy", numpy_designs)):
+        batch = batch_case(count, repeats, backend)
+        sweep = sweep_case(batch["positions"], repeats, backend)
+        doc["cases"] += [batch, sweep]
+        doc["ratios"][backend] = {"wall": batch["us_per_position"] / sweep["us_per_position"],
+                                  "cpu": batch["us_per_position_cpu"] / sweep["us_per_position_cpu"]}
+    for c in doc["cases"]:
+        print(f"{c['case']:<20} {c['backend']:<6} {c['positions']:>9} positions  {c['seconds']:7.2f} s wall "
+              f"{c['cpu_seconds']:7.2f} s CPU  {c['positions_per_s']:11.0f}/s wall  {c['positions_per_cpu_s']:11.0f}/s CPU"
+              f"  load {c['load']:.1f}")
+    for backend, r in doc["ratios"].items():
+        print(f"{backend}: cost per design-position / cost per position of one design's sweep: "
+              f"{r['wall']:.2f} (wall), {r['cpu']:.2f} (CPU)")
     if not args.no_dask:
         k = args.dask_designs or (4000 if args.quick else 100_000)
         phi = np.radians(np.arange(0.0, 360.0, 30.0))
-        one, m1 = dask_case(k, 1, phi)
-        two, m2 = dask_case(k, 2, phi)
-        equal = all(np.array_equal(getattr(m1, n), getattr(m2, n), equal_nan=True)
-                    for n in ("valid", "angle", "xy", "vq", "aq"))
-        doc["dask"] = {"one": one, "two": two, "speedup": one["seconds"] / two["seconds"], "equal": equal}
-        print(f"dask {k} designs x {len(phi)} positions: 1 worker {one['seconds']:.2f} s, 2 workers "
-              f"{two['seconds']:.2f} s, speed-up {doc['dask']['speedup']:.2f}, results equal: {equal}")
+        runs = {1: [], 2: []}
+        first = None
+        equal = True
+        for _ in range(args.dask_rounds):
+            for workers in (1, 2):
+                case, motion = dask_case(k, workers, phi)
+                runs[workers].append(case)
+                if first is None:
+                    first = motion
+                else:
+                    equal &= all(np.array_equal(getattr(first, n), getattr(motion, n), equal_nan=True)
+                                 for n in ("valid", "angle", "xy", "vq", "aq"))
+        median = {w: float(np.median([c["seconds"] for c in cases])) for w, cases in runs.items()}
+        doc["dask"] = {"designs": k, "positions_per_design": len(phi), "rounds": runs, "median_seconds": median,
+                       "speedup": median[1] / median[2], "equal": bool(equal)}
+        print(f"dask {k} designs x {len(phi)} positions, {args.dask_rounds} round(s): 1 worker "
+              f"{[round(c['seconds'], 1) for c in runs[1]]} s, 2 workers {[round(c['seconds'], 1) for c in runs[2]]} s "
+              f"(loads {[round(c['load'], 1) for c in runs[1] + runs[2]]}); median speed-up "
+              f"{doc['dask']['speedup']:.2f}, results equal: {equal}")
     if args.json:
         Path(args.json).write_text(json.dumps(doc, indent=1))
     return doc

@@ -7,7 +7,6 @@ Small directives are defined here rather than in an extra dependency:
 * ``mbplanar-api`` writes an autosummary table and the autodoc entries of every name in
   ``mbplanar.__all__`` and in each subpackage's ``__all__``, so the reference follows the code wherever its
   modules live;
-* ``mbplanar-benchmark`` writes the latest benchmark table from ``benchmarks/latest.json``;
 * ``mbplanar-if-page`` links pages only where they exist (pages other work adds), so that the site builds
   with warnings as errors either way.
 """
@@ -139,68 +138,6 @@ class IfPage(SphinxDirective):
         return _parse(self, lines)
 
 
-class BenchmarkTable(SphinxDirective):
-    """The latest benchmark run (``benchmarks/latest.json``): its date, machine, cases and targets."""
-
-    def run(self):
-        import json
-        path = ROOT / "benchmarks" / "latest.json"
-        self.env.note_dependency(str(path))
-        data = json.loads(path.read_text(encoding="utf-8"))
-        machine = data.get("machine", {})
-        about = ", ".join(f"{k} {v}" for k, v in machine.items())
-        lines = [f"Run of {_run_date(data, path)} on {about}.", ""]
-        lines += _list_table(["case", "work", "N", "mbplanar µs/pos", "backend", "numpy µs/pos",
-                              "closed form µs/pos", "fsolve µs/pos"],
-                             [[c["name"], c["work"], c["n"], _g(c.get("mbplanar_us")), c.get("backend", ""),
-                               _g(c.get("numpy_us")), _g(c.get("closed_form_us")), _g(c.get("fsolve_us"))]
-                              for c in data.get("cases", [])])
-        if data.get("builds"):
-            lines += ["Engine build and branch atlas, once per model:", ""]
-            lines += _list_table(["model", "build (ms)", "atlas (ms)"],
-                                 [[b["name"], _g(1e3 * b["build_s"]), _g(1e3 * b["atlas_s"])]
-                                  for b in data["builds"]])
-        for key, what in (("chain_exponents", "chains of k dyads"),
-                          ("class4_chain_exponents", "chains of k class IV groups")):
-            if data.get(key):
-                fits = ", ".join(f"{b} k^{v:.2f}" for b, v in data[key].items())
-                lines += [f"Time per position against the number of groups, {what}, k = 1 … 32: {fits}.", ""]
-        if data.get("targets"):
-            lines += ["Targets checked by the run:", ""]
-            lines += _list_table(["target", "value", "limit", "met"],
-                                 [[t["target"], _g(t["value"]), _g(t["limit"]), "yes" if t["met"] else "no"]
-                                  for t in data["targets"]])
-        return _parse(self, lines)
-
-
-def _run_date(data, path) -> str:
-    """The run's date: its own ``date`` key, else the date of the commit that last wrote the file."""
-    if data.get("date"):
-        return str(data["date"])
-    import subprocess
-    try:
-        done = subprocess.run(["git", "log", "-1", "--format=%cs", "--", str(path)], cwd=ROOT,
-                              capture_output=True, text=True, timeout=30)
-        if done.returncode == 0 and done.stdout.strip():
-            return done.stdout.strip()
-    except OSError:
-        pass
-    import datetime
-    return datetime.date.fromtimestamp(path.stat().st_mtime).isoformat()
-
-
-def _g(x) -> str:
-    return "—" if x is None else f"{x:.3g}"
-
-
-def _list_table(header, rows) -> list:
-    lines = [".. list-table::", "   :header-rows: 1", ""]
-    for row in [header] + rows:
-        lines.append(f"   * - {row[0]}")
-        lines += [f"     - {cell}" for cell in row[1:]]
-    return lines + [""]
-
-
 def _parse(directive, lines):
     node = nodes.container()
     nested_parse_with_titles(directive.state, StringList(lines, "<mbplanar-docs>"), node)
@@ -220,5 +157,4 @@ def setup(app):
     app.add_directive("mbplanar-cli", CliReference)
     app.add_directive("mbplanar-api", ApiReference)
     app.add_directive("mbplanar-if-page", IfPage)
-    app.add_directive("mbplanar-benchmark", BenchmarkTable)
     return {"parallel_read_safe": True}

@@ -29,9 +29,10 @@ __all__ = ["main"]
 
 
 def _load(args):
-    from .engine._solver import Engine
-    from .model._table import read_model
-    return Engine(read_model(args.model), backend=args.backend, threads=args.threads)
+    """The engine of the command's model file, from the engine cache unless --no-cache (`engine._cache`)."""
+    from .engine._cache import load_engine
+    return load_engine(args.model, backend=args.backend, threads=args.threads,
+                       use_cache=not getattr(args, "no_cache", False))
 
 
 def _positive_int(text) -> int:
@@ -178,6 +179,21 @@ def _motion(engine, values_si, omega=None, epsilon=None):
     return motion
 
 
+def _one_position(engine, phi, omega, epsilon, at):
+    """The position phi (1, n_in) by the lean path (`mbplanar.position`); where the drawn branch does not
+    reach it, the batch path says why, with the range the input moves through."""
+    from .kinematics._single import position
+    try:
+        result = position(engine, phi[0], omega, epsilon)
+    except MotionError:
+        motion = _motion(engine, phi, omega, epsilon)
+        if motion.success:
+            raise
+        raise _unreachable(engine, at, motion) from None
+    _check_overflow(result)
+    return result
+
+
 def _check_overflow(motion):
     """Refuse an input speed or acceleration whose real velocities or accelerations leave the
     floating-point range (--omega 1e300 squares to infinity) while their analogues are finite."""
@@ -221,13 +237,11 @@ def cmd_solve(args):
     values = _inputs_at(engine, args.at)
     phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
-    motion = _motion(engine, phi, omega, epsilon)
-    if not motion.success:
-        raise _unreachable(engine, args.at, motion)
+    result = _one_position(engine, phi, omega, epsilon, args.at)
     display = display_units(engine.mech, args.units)
-    doc = convert_solution(engine, solve_document(engine, motion, values=values), display)
+    doc = convert_solution(engine, solve_document(engine, result, values=values), display)
     if args.json:  # (with one input, "first" and "second" repeat the analogues, by name)
-        doc["partials"] = partials_document(engine, motion.phi)
+        doc["partials"] = partials_document(engine, phi, result)
     if args.json:
         print(json.dumps(doc, indent=2))
         return 0
@@ -776,8 +790,10 @@ def cmd_animate(args):
 
 
 def cmd_report(args):
+    from .cam.present import register as register_cam_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
+    register_cam_section()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -840,7 +856,34 @@ def _units_option(s):
                         "length_unit, moment_unit, inertia_unit)")
 
 
-def build_parser() -> argparse.ArgumentParser:
+#: commands whose options live in a package of their own, with their line in `mbplanar --help`: their
+#: package is imported only when the command runs (or shows its help), so that `mbplanar solve` does not
+#: load the synthesis, cam and study code
+OWN_MODULE = {
+    "synth": "synthesis: seed 001's guiding mechanism, function and motion generation",
+    "cam": "design a cam: motion law, size for a pressure-angle limit, exact profile",
+    "study": "a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
+}
+CORE_COMMANDS = ("info", "solve", "sweep", "forces", "dynamics", "simulate", "balance", "plot", "animate", "report",
+                 "check")  # the commands of this module
+GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
+
+
+def command_in(argv) -> str | None:
+    """The command `argv` runs, if it is one of `OWN_MODULE` (the first word that is neither a global
+    option nor its value), else "" for another command and None when it cannot tell (all are then built)."""
+    words = iter(argv)
+    for word in words:
+        if word in GLOBAL_VALUED:
+            next(words, None)
+        elif not word.startswith("-"):
+            return word if word in OWN_MODULE else ("" if word in CORE_COMMANDS else None)
+    return None
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser. `command` (see `command_in`): the options of the `OWN_MODULE` commands are
+    added only for that command ("": none of them), all of them with None."""
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
     p.add_argument("--backend", choices=("numpy", "numba"), default="numpy",
@@ -850,6 +893,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--threads", type=_positive_int, default=None, metavar="N",
                    help="cores the numba backend splits a long sweep over (default: all available, or "
                         "MBPLANAR_THREADS)")
+    p.add_argument("--no-cache", action="store_true",
+                   help="build the engine from the model file instead of reading the engine cache "
+                        "(also MBPLANAR_NO_CACHE=1; the cache lives in MBPLANAR_CACHE_DIR, else ~/.cache/mbplanar)")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("info", help="links, joints, DOF, loops, Assur groups")
@@ -958,10 +1004,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", required=True, help="FILE.html")
     s.set_defaults(func=cmd_report)
 
-    s = sub.add_parser("synth", help="synthesis: seed 001's guiding mechanism, function and motion generation")
-    from .synthesis.command import add_arguments
-    add_arguments(s)
+    s = sub.add_parser("synth", help=OWN_MODULE["synth"])
+    if command in ("synth", None):
+        from .synthesis.command import add_arguments
+        add_arguments(s)
     s.set_defaults(func=cmd_synth)
+    from .synthesis.report import register as register_synthesis_section
+    register_synthesis_section()
 
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")
@@ -969,19 +1018,22 @@ def build_parser() -> argparse.ArgumentParser:
     _units_option(s)
     s.set_defaults(func=cmd_check)
 
-    from .cam import present as cam_present
-    s = sub.add_parser("cam", help="design a cam: motion law, size for a pressure-angle limit, exact profile")
-    cam_present.add_arguments(s)
+    s = sub.add_parser("cam", help=OWN_MODULE["cam"])
+    if command in ("cam", None):
+        from .cam.present import add_arguments as add_cam_arguments
+        add_cam_arguments(s)
     s.set_defaults(func=cmd_cam)
-    cam_present.register()
 
-    from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
-    add_study_parser(sub)
+    if command in ("study", None):
+        from .study.command import add_parser as add_study_parser  # (argparse only; the work is imported on use)
+        add_study_parser(sub)
+    else:
+        sub.add_parser("study", help=OWN_MODULE["study"])
     return p
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    parser = build_parser(command_in(sys.argv[1:] if argv is None else argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)

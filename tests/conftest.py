@@ -25,6 +25,19 @@ def linkage_models() -> list[Path]:
     return sorted(p for p in MODELS.glob("*.toml") if "joints" in tomllib.loads(p.read_text(encoding="utf-8")))
 
 
+@pytest.fixture(scope="session", autouse=True)
+def engine_cache_of_the_run(tmp_path_factory):
+    """The command line's engine cache (`mbplanar.engine._cache`) in a folder of this test run, not the
+    user's: the CLI tests go through it, and the processes they start inherit the setting."""
+    before = os.environ.get("MBPLANAR_CACHE_DIR")
+    os.environ["MBPLANAR_CACHE_DIR"] = str(tmp_path_factory.mktemp("engine-cache"))
+    yield os.environ["MBPLANAR_CACHE_DIR"]
+    if before is None:
+        del os.environ["MBPLANAR_CACHE_DIR"]
+    else:
+        os.environ["MBPLANAR_CACHE_DIR"] = before
+
+
 @pytest.fixture(scope="session")
 def engine_of():
     cache = {}

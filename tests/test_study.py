@@ -16,6 +16,9 @@ from mbplanar.study import design_batch, run_study, solve_designs, with_dimensio
 from mbplanar.study.variants import read_variants
 
 SEED002 = "models/crank_slider_rocker.toml"
+# the design batch's loops: numpy (the reference) and the compiled kernel (backends._numba_design)
+BACKENDS = ["numpy", pytest.param("numba", marks=pytest.mark.skipif(
+    __import__("importlib").util.find_spec("numba") is None, reason="numba not installed"))]
 VARIANTS = "models/crank_slider_rocker_variants.csv"
 
 
@@ -75,11 +78,12 @@ def test_seed002_study_lists_every_variant_with_its_turn_or_lock(capsys, seed002
             assert got[direction]["kind"] == lim.kind
 
 
-def test_batch_equals_one_by_one(seed002_rows):
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_batch_equals_one_by_one(seed002_rows, backend):
     """Positions, link angles (and, away from motion limits, analogues) of a design batch against each
     design's own engine, to 1e-12; the same positions reached, the same limits."""
     variants = read_variants(VARIANTS, mbplanar.study.load_template(SEED002)).take(np.arange(0, 30, 6))
-    batch = design_batch(SEED002, variants)
+    batch = design_batch(SEED002, variants, backend=backend)
     phi = np.linspace(-math.pi, math.pi, 37)
     motion = batch.solve(phi)
     for d in range(len(variants)):
@@ -103,11 +107,12 @@ def test_batch_equals_one_by_one(seed002_rows):
             assert mine[lim.direction].kind == lim.kind
 
 
-def test_locking_variant_is_reported_as_a_single_model_sweep():
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_locking_variant_is_reported_as_a_single_model_sweep(backend):
     """The seed's first data (l3 = 1.2, φ30 = 4.7, φ40 = 5.7), a row of parameters, locks where the
     model file crank_slider_rocker_locking.toml locks in a sweep: same φ, direction, links, kind."""
     phi = np.linspace(0, 2 * math.pi, 73)
-    motion = design_batch(SEED002, {"phi30": [4.7], "phi40": [5.7]}).solve(phi)
+    motion = design_batch(SEED002, {"phi30": [4.7], "phi40": [5.7]}, backend=backend).solve(phi)
     sweep = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml")), phi)
     (lim,), (mine,) = sweep.limits, motion.limits_of(0)
     assert abs(mine.phi - lim.phi[0]) < 1e-13
@@ -136,7 +141,8 @@ drawn_at = 60.0
 """
 
 
-def test_every_invalid_design_gets_its_reason(tmp_path):
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_every_invalid_design_gets_its_reason(tmp_path, backend):
     """Designs that cannot be assembled, are drawn singular, or have undefined coordinates are
     reported with a reason, and the batch goes on with the others."""
     model = tmp_path / "sketch.toml"
@@ -144,7 +150,8 @@ def test_every_invalid_design_gets_its_reason(tmp_path):
     # 0: fine; 1: too short to close; 2: the coupler and the rocker in line when drawn (B on the far
     # side: b + c = |AC|); 3: fine again
     ac = math.dist((0.05, 0.0866), (0.3, 0.0))
-    motion = design_batch(model, {"b": [0.3, 0.01, ac - 0.1, 0.28], "c": [0.25, 0.01, 0.1, 0.26]}).solve(
+    motion = design_batch(model, {"b": [0.3, 0.01, ac - 0.1, 0.28], "c": [0.25, 0.01, 0.1, 0.26]},
+                          backend=backend).solve(
         np.radians(np.arange(0, 360, 30.0)))
     assert motion.ok.tolist() == [True, False, False, True]
     assert "cannot be assembled" in motion.reasons[1]
@@ -152,7 +159,7 @@ def test_every_invalid_design_gets_its_reason(tmp_path):
     assert motion.reasons[0] is None and motion.valid[0].all() and motion.valid[3].all()
     assert np.isnan(motion.xy[1]).all() and not motion.valid[1].any()
     # a coupler of zero length leaves the coupler point M (on A→B) undefined
-    bad = design_batch("models/fourbar_design.toml", {"b": [0.3, 0.0]})
+    bad = design_batch("models/fourbar_design.toml", {"b": [0.3, 0.0]}, backend=backend)
     got = bad.solve(np.radians([0.0, 90.0]))
     assert got.ok.tolist() == [True, False] and "undefined coordinates" in got.reasons[1]
 
@@ -192,14 +199,15 @@ def _closure(motion, names, pairs, lines=()):
     return worst
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @settings(max_examples=3, deadline=None)
 @given(seed=st.integers(0, 2 ** 31 - 1))
-def test_loop_closure_over_random_four_bars(seed):
+def test_loop_closure_over_random_four_bars(seed, backend):
     rng = np.random.default_rng(seed)
     D = 10
     vals = {"a": rng.uniform(0.02, 0.2, D), "b": rng.uniform(0.1, 0.4, D), "d": rng.uniform(0.1, 0.4, D),
             "theta0": rng.uniform(0, 360, D), "beta": rng.uniform(-180, 180, D)}
-    batch = design_batch("models/fourbar_design.toml", vals)
+    batch = design_batch("models/fourbar_design.toml", vals, backend=backend)
     motion = batch.solve(np.radians(np.arange(0, 360, 20.0)), exact_limits=False)
     g = batch.geometry.at
     length = lambda p, q: np.hypot(*(g[p] - g[q]))  # noqa: E731
@@ -217,15 +225,16 @@ def slider_crank_model(tmp_path_factory):
     return model
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @settings(max_examples=3, deadline=None)
 @given(seed=st.integers(0, 2 ** 31 - 1))
-def test_loop_closure_over_random_slider_cranks(slider_crank_model, seed):
+def test_loop_closure_over_random_slider_cranks(slider_crank_model, seed, backend):
     model = slider_crank_model
     rng = np.random.default_rng(seed)
     D = 10
     vals = {"r": rng.uniform(0.02, 0.2, D), "l": rng.uniform(0.1, 0.4, D), "t0": rng.uniform(0, 360, D),
             "beta": rng.uniform(-60, 60, D), "g": rng.uniform(-30, 30, D)}
-    batch = design_batch(model, vals)
+    batch = design_batch(model, vals, backend=backend)
     motion = batch.solve(np.radians(np.arange(0, 360, 20.0)), exact_limits=False)
     g = batch.geometry
     names = motion.points
@@ -257,6 +266,12 @@ def test_with_dimensions_equals_a_new_engine():
     variant = mbplanar.read_model("models/crank_slider_rocker_locking.toml")
     new = with_dimensions(base, variant)
     assert mbplanar.check(new).as_dict() == mbplanar.check(mbplanar.Engine(variant)).as_dict()
+    again = base.with_dimensions(variant)  # the Engine method, the same function
+    assert again.topology is base.topology and again.mech.joints["B"].at == new.mech.joints["B"].at
+    phi = np.linspace(0.0, 1.5, 7)
+    assert np.array_equal(mbplanar.analyse(again, phi).xy, mbplanar.analyse(mbplanar.Engine(variant), phi).xy)
+    with pytest.raises(mbplanar.errors.ModelError, match="re-dimensioning keeps the structure"):
+        base.with_dimensions(mbplanar.read_model("models/fourbar.toml"))
 
 
 def test_dask_two_workers_equal_the_serial_run(tmp_path, capsys):
@@ -322,3 +337,68 @@ def test_forces_in_the_summary_balance_over_a_turn(tmp_path):
 
 def study_template(path):
     return mbplanar.study.load_template(path)
+
+
+LOADED = HEAVY.replace("[gravity]", '''loads = [
+  { name = "resistance", type = "moment", link = "3", moment = -5.0 },
+  { name = "push", type = "force", link = "2", force = [3.0, -2.0], at = "M" },
+]
+
+[gravity]''').replace('mass = 1.5, inertia = 0.008', 'mass = 1.5, inertia = "i3"').replace(
+    "m2 = 1.0", "m2 = 1.0\ni3 = 0.008")
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_design_kinetostatics_equals_each_designs_own(tmp_path, backend):
+    """Reactions and balancing moments of a design batch (all pairs in one solve; masses, inertias
+    and dimensions per design) against each design's own engine's `kinetostatics`, to 1e-12 relative
+    to the largest reaction."""
+    from mbplanar.study.forces import design_kinetostatics
+    from mbplanar.study.variants import variants_from
+
+    model = tmp_path / "loaded.toml"
+    model.write_text(LOADED)
+    template = study_template(model)
+    vals = {"a": [0.08, 0.1, 0.09], "m2": [0.5, 2.0, 1.0], "i3": [0.002, 0.01, 0.008], "h": [0.0, 0.03, -0.02]}
+    variants = variants_from(template, vals)
+    batch = design_batch(template, variants, backend=backend)
+    phi = np.radians(np.arange(0.0, 360.0, 15.0))
+    motion = batch.solve(phi)
+    got = design_kinetostatics(batch, motion, template, variants)
+    base = mbplanar.Engine(mbplanar.read_model(model))
+    for d in range(3):
+        engine = base.with_dimensions(mbplanar.parse_model(template.bind(variants.row(d))))
+        ref = mbplanar.kinetostatics(engine, mbplanar.analyse(engine, phi))
+        scale = max(np.abs(r.magnitude).max() for r in ref.reactions.values())
+        for k, j in enumerate(got.joints):
+            r = ref.reactions[j]
+            assert np.abs(got.reactions[d, :, k, 0] - r.fx).max() < 1e-12 * scale
+            assert np.abs(got.reactions[d, :, k, 1] - r.fy).max() < 1e-12 * scale
+        assert np.abs(got.balancing[d] - ref.balancing["O"]).max() < 1e-12 * scale
+    largest, where = got.largest()
+    assert where[0] in "OABC" and largest[1] > largest[0] > 0
+    assert np.allclose(got.mean_balancing(), np.nanmean(got.balancing, axis=1), rtol=0, atol=1e-12)
+
+
+def test_study_forces_through_the_batch_equal_the_serial_reference(tmp_path):
+    """A study's largest reaction and mean balancing moment, all designs in one kinetostatic solve,
+    equal the serial reference's (each design's own `kinetostatics`)."""
+    model = tmp_path / "loaded.toml"
+    model.write_text(LOADED)
+    table = tmp_path / "v.csv"
+    table.write_text("variant,m2,a,i3\nA,0.5,0.08,0.002\nB,2.0,0.1,0.01\nC,1.0,0.12,0.005\n")
+    batch, serial = (run_study(model, table, samples=24, method=m) for m in ("batch", "serial"))
+    for x, y in zip(batch.designs, serial.designs):
+        assert x.max_reaction_joint == y.max_reaction_joint and abs(x.max_reaction / y.max_reaction - 1) < 1e-12
+        assert abs(x.mean_balancing - y.mean_balancing) < 1e-12 * y.max_reaction
+
+
+def test_progress_bar_only_when_asked_or_on_a_terminal(tmp_path, capsys):
+    """stderr is not a terminal under pytest: no bar by default; `--progress` shows one (tqdm's, or a
+    counter), with the number of designs."""
+    table = tmp_path / "v.csv"
+    table.write_text("variant,l3\nA,1.2\nB,1.1\nC,1.0\n")
+    assert main(["study", SEED002, "--variants", str(table), "--chunk", "1"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["study", SEED002, "--variants", str(table), "--chunk", "1", "--progress"]) == 0
+    assert "3/3" in capsys.readouterr().err

@@ -2,6 +2,7 @@
 
 import importlib.util
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -81,3 +82,75 @@ def test_pictures(tmp_path, capsys, argv):
     code, _, err = _run(capsys, ["synth", *argv, "--plot", str(picture)])
     assert code == 0, err
     assert picture.read_bytes()[:4] == b"\x89PNG"
+
+
+def _targets_csv(tmp_path, timed=False):
+    m = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), np.radians(np.arange(0, 360, 40.0)))
+    rows = m.xy[:, m.point("M")]
+    path = tmp_path / "targets.csv"
+    lines = ["x,y,phi_deg" if timed else "x,y"]
+    lines += [f"{float(x)!r},{float(y)!r}" + (f",{40.0 * k}" if timed else "") for k, (x, y) in enumerate(rows)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path, rows
+
+
+def test_path_writes_a_model_carrying_its_summary(tmp_path, capsys):
+    targets, rows = _targets_csv(tmp_path)
+    model = tmp_path / "best.toml"
+    code, out, err = _run(capsys, ["synth", "path", str(targets), "--starts", "1", "--generations", "15",
+                                   "--popsize", "6", "--seed", "2", "--min-transmission", "20", "-o", str(model), "--json"])
+    assert code == 0, err
+    doc = json.loads(out)
+    assert {"design", "errors", "rms_error", "max_error", "defects", "evaluations", "seconds", "seed", "starts",
+            "constraints", "timed", "point"} <= set(doc)
+    assert doc["defects"]["ok"] and doc["seed"] == 2 and doc["constraints"]["transmission_deg"] >= 20.0
+    mech = mbplanar.read_model(model)                 # an ordinary model, with its [synthesis] table
+    s = mech.extras["synthesis"]
+    assert s["rms_error"] == doc["rms_error"] and s["errors"] == doc["errors"]
+    engine = mbplanar.Engine(mech)
+    m = mbplanar.analyse(engine, np.radians(doc["target_phi_deg"]))
+    assert np.all(np.hypot(*(m.xy[:, m.point("P")] - rows).T) >= np.array(doc["errors"]) - 1e-12)
+    if importlib.util.find_spec("matplotlib"):
+        from mbplanar.synthesis.report import register
+        from mbplanar.viz import report_html
+        register()
+        page = report_html(engine, frames=2)
+        assert "<h2>Synthesis</h2>" in page and "target points against the analysed path" in page
+
+
+def test_path_on_a_models_parameters_from_toml(tmp_path, capsys):
+    from mbplanar.study.run import load_template
+    engine = mbplanar.Engine(mbplanar.parse_model(load_template("models/fourbar_design.toml").bind({"m": 0.3, "h": 0.08})))
+    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.radians(np.arange(0, 360, 36.0)))
+    spec = tmp_path / "spec.toml"
+    spec.write_text(f"targets = {m.xy[:, m.point('M')].tolist()}\n[model]\n"
+                    f'file = "{Path.cwd() / "models/fourbar_design.toml"}"\npoint = "M"\n'
+                    "[parameters]\nm = [0.0, 1.0]\nh = [-0.1, 0.1]\n[search]\nstarts = 1\ngenerations = 10\n"
+                    "popsize = 6\n", encoding="utf-8")
+    code, out, err = _run(capsys, ["synth", "path", str(spec), "--json", "--progress", "-o", str(tmp_path / "o.toml")])
+    assert code == 0, err
+    doc = json.loads(out)
+    assert abs(doc["design"]["m"] - 0.3) < 1e-9 and abs(doc["design"]["h"] - 0.08) < 1e-9 and doc["max_error"] < 1e-9
+    assert doc["point"] == "M" and doc["defects"]["ok"]
+    assert "1/1" in err or "100%" in err                      # the progress bar, asked for
+    written = load_template(str(tmp_path / "o.toml"))         # the model with its new parameter values
+    assert written.defaults()["m"] == doc["design"]["m"]
+    code, _, err = _run(capsys, ["synth", "path", str(spec), "--model", "models/fourbar.toml"])
+    assert code == 2 and "mb" in err and "parameter" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["synth", "path", "t.csv", "--vary", "a=0:1"], "need a model"),
+    (["synth", "path", "t.csv", "--pivot", "A0=1,2,3"], "NAME=XMIN,YMIN,XMAX,YMAX"),
+    (["synth", "path", "t.csv", "--min-transmission", "120"], "min_transmission_deg"),
+    (["synth", "path", "t.csv", "--starts", "0"], "starts must be a whole number"),
+    (["synth", "path", "spec.toml"], "unknown key(s) target"),
+    (["synth", "path", "t.csv", "--model", "m.toml", "--point", "M", "--vary", "a=1"], "NAME=LOWER:UPPER"),
+])
+def test_path_bad_input_exits_2(tmp_path, capsys, monkeypatch, argv, message):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "t.csv").write_text("0,0\n1,0\n1,1\n0,1\n0.5,1.5\n", encoding="utf-8")
+    (tmp_path / "spec.toml").write_text("target = [[0, 0]]\n", encoding="utf-8")
+    code, _, err = _run(capsys, argv)
+    assert code == 2
+    assert message in err and "Traceback" not in err

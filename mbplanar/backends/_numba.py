@@ -63,6 +63,11 @@ class NumbaBackend:
         x, singular, residual, values = _kernels()[1].solve(engine, motion, plan, inertia)
         return result(engine, motion, plan.lay, x, singular, residual, values)
 
+    def single(self, engine):
+        """The lean solver of one position (`mbplanar.position`), or None (several inputs)."""
+        from . import _numba_single
+        return _numba_single.single(engine)
+
 
 BACKEND = NumbaBackend()
 

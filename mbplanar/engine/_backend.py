@@ -23,7 +23,7 @@ if TYPE_CHECKING:
     from ..forces import Kinetostatics
     from ..kinematics import Motion
 
-__all__ = ["Backend", "BACKENDS", "load", "dispatch"]
+__all__ = ["Backend", "BACKENDS", "check", "load", "dispatch"]
 
 
 class Backend(Protocol):
@@ -40,6 +40,9 @@ class Backend(Protocol):
     def kinetostatics(self, engine, motion: Motion, input_inertia, loads, inertia: bool) -> Kinetostatics | None:
         """`kinetostatics` of a motion."""
 
+    # optional: ``single(engine)`` → a solver ``(phi, omega, epsilon) → Position`` of one position, made
+    # once per engine (`mbplanar.kinematics.position`), or None; numpy's is used where there is none
+
 
 #: name → (module defining ``BACKEND``, the package it needs, the extra that installs it);
 #: None for numpy, the reference, which needs no module
@@ -49,22 +52,30 @@ BACKENDS: dict[str, tuple[str, str, str] | None] = {
 }
 
 
-def load(name: str) -> Backend | None:
-    """The backend called `name` (None for numpy). ValueError for an unknown name, `MbplanarError`
-    naming the extra to install when its package is missing."""
+def check(name: str) -> None:
+    """Refuse what `load` would refuse, without importing the backend's package (numba takes ~0.4 s):
+    ValueError for an unknown name, `MbplanarError` naming the extra to install when the package is not
+    installed."""
     if name not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, not {name!r}")
     spec = BACKENDS[name]
+    if spec is not None and importlib.util.find_spec(spec[1]) is None:
+        raise _missing(name, spec)
+
+
+def load(name: str) -> Backend | None:
+    """The backend called `name` (None for numpy). ValueError for an unknown name, `MbplanarError`
+    naming the extra to install when its package is missing."""
+    check(name)
+    spec = BACKENDS[name]
     if spec is None:
         return None
-    module, package, extra = spec
-    try:
-        found = importlib.util.find_spec(package) is not None
-    except (ImportError, ValueError):
-        found = False
-    if not found:
-        raise MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'")
-    return importlib.import_module(module).BACKEND  # (the package itself is imported when first used)
+    return importlib.import_module(spec[0]).BACKEND  # (numba itself is imported when first used)
+
+
+def _missing(name: str, spec: tuple[str, str, str]) -> MbplanarError:
+    _, package, extra = spec
+    return MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'")
 
 
 def dispatch(engine, job: str, reference: Callable, *args):

@@ -39,6 +39,7 @@ import math
 import numpy as np
 
 from ._atlas import Atlas, far_span, solve_along, solve_sequence
+from ._backend import check as check_backend
 from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
 from ._constraints import make_law
@@ -71,7 +72,7 @@ class Engine:
         self.tol = tol
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise ValueError(f"threads must be a positive integer, not {threads!r}")
-        self.compiled = load_backend(backend)  # None: numpy alone
+        check_backend(backend)  # (loaded on first use: `compiled`)
         self.threads = threads
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
@@ -92,6 +93,15 @@ class Engine:
         self.blocks = self.solver.blocks
         self._atlas = None
 
+    def with_dimensions(self, mechanism: Mechanism) -> "Engine":
+        """This engine re-dimensioned for `mechanism`, a variant of its model (same links, joints,
+        points and inputs; other coordinates, lengths, guides or input zero): the topology and Assur
+        groups are kept, the drawn pose, joint laws and solving plans rebuilt (a fraction of a new
+        `Engine`'s cost). See `mbplanar.engine._dimensions.with_dimensions`."""
+        from ._dimensions import with_dimensions
+
+        return with_dimensions(self, mechanism)
+
     def prepare(self, name: str, make):
         """The engine's table called `name`, made by `make()` on first use and kept (the output tables,
         the kinetostatic plan, a backend's kernel tables, ...)."""
@@ -99,6 +109,26 @@ class Engine:
         if table is None:
             table = self.prepared[name] = make()
         return table
+
+    @property
+    def compiled(self):
+        """The compiled backend (None: numpy alone), loaded when a batch first reaches it, so that a
+        command that never dispatches to it does not import numba (~0.4 s)."""
+        try:
+            return self._compiled
+        except AttributeError:
+            self._compiled = load_backend(self.backend)
+            return self._compiled
+
+    @compiled.setter
+    def compiled(self, backend):
+        self._compiled = backend
+
+    def __getstate__(self) -> dict:
+        """Pickled without the compiled backend (a module's object), which is loaded again on first use."""
+        state = dict(self.__dict__)
+        state.pop("_compiled", None)
+        return state
 
     # -- compile --------------------------------------------------------------------------------
     def _drawn_link_angle(self, link: str) -> float:

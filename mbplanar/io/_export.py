@@ -19,7 +19,7 @@ import numpy as np
 from ..analysis import CheckReport
 from ..engine import Engine
 from ..forces import Dynamics, Kinetostatics
-from ..kinematics import Motion
+from ..kinematics import Motion, Position
 from ._tables import dynamics_table, forces_columns, sweep_table
 from ._units import (convert_check, convert_dynamics, convert_forces, convert_info, convert_solution,
                      convert_table, display_units)
@@ -47,6 +47,11 @@ def _(result: Engine, units: str | None = None) -> dict:
 @document.register
 def _(result: Motion, row: int = 0, values=None, units: str | None = None) -> dict:
     return _in_units(convert_solution, result.engine, solve_document(result.engine, result, row, values), units)
+
+
+@document.register
+def _(result: Position, values=None, units: str | None = None) -> dict:
+    return _in_units(convert_solution, result.engine, solve_document(result.engine, result, 0, values), units)
 
 
 @document.register
@@ -158,59 +163,83 @@ def info_document(engine) -> dict:
 
 
 # -- kinematics --------------------------------------------------------------------------------------
+def _row_of(result, row: int):
+    """The arrays of one position by name: a `Position`'s own, or row `row` of a `Motion`'s (None where
+    the result has none)."""
+    if isinstance(result, Position):
+        return lambda name: getattr(result, name)
+
+    def get(name):
+        arr = getattr(result, name)
+        return None if arr is None else arr[row]
+    return get
+
+
 def _input_documents(engine, motion, row, values=None) -> list[dict]:
     """Each input at `row`: its value in the model's unit (as requested, when given, so that 30° is not
     printed back as 29.999999999999996), in SI, and its speed and acceleration."""
-    values = values or [inp.from_si(float(motion.phi[row, k])) for k, inp in enumerate(engine.inputs)]
+    get = _row_of(motion, row)
+    phi, omega, epsilon = get("phi"), get("omega"), get("epsilon")
+    values = values or [inp.from_si(float(phi[k])) for k, inp in enumerate(engine.inputs)]
     return [{"name": inp.name, "joint": inp.joint, "unit": inp.unit, "value": float(values[k]),
-             "value_si": float(motion.phi[row, k]), "omega": float(motion.omega[row, k]),
-             "epsilon": float(motion.epsilon[row, k])} for k, inp in enumerate(engine.inputs)]
+             "value_si": float(phi[k]), "omega": float(omega[k]),
+             "epsilon": float(epsilon[k])} for k, inp in enumerate(engine.inputs)]
 
 
-def solve_document(engine, motion: Motion, row: int = 0, values=None) -> dict:
-    """One position of a motion as `mbplanar solve --json` prints it (`values`: the inputs as requested,
-    model units)."""
+def solve_document(engine, motion: Motion | Position, row: int = 0, values=None) -> dict:
+    """One position of a motion (or a `Position`) as `mbplanar solve --json` prints it (`values`: the
+    inputs as requested, model units)."""
     inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name, "input": inputs[0], "inputs": inputs,
            "points": {}, "links": {}, "joints": {}, "instant_centres": {}}
+    get = _row_of(motion, row)
+    xy, v, a, angle, w, e, ic = (get(n) for n in ("xy", "v", "a", "angle", "w", "e", "ic"))
     for k, name in enumerate(motion.point_names):
-        (x, y), (vx, vy), (ax, ay) = motion.xy[row, k], motion.v[row, k], motion.a[row, k]
+        (x, y), (vx, vy), (ax, ay) = xy[k], v[k], a[k]
         doc["points"][name] = {"x": x, "y": y, "vx": vx, "vy": vy, "ax": ax, "ay": ay}
     for k, name in enumerate(motion.link_names):
-        doc["links"][name] = {"angle": motion.angle[row, k], "omega": motion.w[row, k],
-                              "epsilon": motion.e[row, k]}
-        ic = motion.ic[row, k]
-        doc["instant_centres"][name] = None if not np.all(np.isfinite(ic)) else [ic[0], ic[1]]
+        doc["links"][name] = {"angle": angle[k], "omega": w[k], "epsilon": e[k]}
+        doc["instant_centres"][name] = None if not np.all(np.isfinite(ic[k])) else [ic[k][0], ic[k][1]]
+    value, rate, accel = get("value"), get("rate"), get("accel")
     for k, name in enumerate(motion.joint_names):
-        doc["joints"][name] = {"type": engine.mech.joints[name].kind, "value": motion.value[row, k],
-                               "rate": motion.rate[row, k], "accel": motion.accel[row, k]}
-    if motion.vq is not None:
+        doc["joints"][name] = {"type": engine.mech.joints[name].kind, "value": value[k],
+                               "rate": rate[k], "accel": accel[k]}
+    vq, aq, wq, eq = (get(n) for n in ("vq", "aq", "wq", "eq"))
+    if vq is not None:
         doc["analogues"] = {
-            "points": {n: {"vx": motion.vq[row, k, 0], "vy": motion.vq[row, k, 1],
-                           "ax": motion.aq[row, k, 0], "ay": motion.aq[row, k, 1]}
+            "points": {n: {"vx": vq[k, 0], "vy": vq[k, 1], "ax": aq[k, 0], "ay": aq[k, 1]}
                        for k, n in enumerate(motion.point_names)},
-            "links": {n: {"omega": motion.wq[row, k], "epsilon": motion.eq[row, k]}
-                      for k, n in enumerate(motion.link_names)},
+            "links": {n: {"omega": wq[k], "epsilon": eq[k]} for k, n in enumerate(motion.link_names)},
         }
     return plain(doc)
 
 
-def partials_document(engine, phi) -> dict:
+_RATES = ("v", "a", "w", "e", "rate", "accel")
+_ANALOGUES = ("vq", "aq", "wq", "eq", "rate_q", "accel_q")  # the same for ω = 1, ε = 0
+
+
+def partials_document(engine, phi, position: Position | None = None) -> dict:
     """First, second and mixed partial analogues at one position phi (1, n_in) (SI): ∂x/∂φ_k and
     ∂²x/∂φ_k∂φ_l of every point (x, y), link angle and joint value. The second derivative along a
     direction u is the acceleration for ω = u, ε = 0, a quadratic form in u, so the mixed partial is
-    (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing)."""
+    (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing). With one
+    input they are the analogues, read from `position` (of phi) when it is given."""
     from ..kinematics._motion import analyse
     n_in = len(engine.inputs)
     eye = np.eye(n_in)
 
     def along(u):
-        m = analyse(engine, phi, omega=u[None, :], epsilon=np.zeros((1, n_in)))
-        return m, {"points": {n: np.array([m.v[0, k], m.a[0, k]]) for k, n in enumerate(m.point_names)},
-                   "links": {n: np.array([m.w[0, k], m.e[0, k]]) for k, n in enumerate(m.link_names)},
-                   "joints": {n: np.array([m.rate[0, k], m.accel[0, k]]) for k, n in enumerate(m.joint_names)}}
+        """Rates and accelerations of points, links and joints for ω = u, ε = 0."""
+        if n_in == 1 and position is not None:  # the analogues are these rates for ω = 1, ε = 0
+            m, get = position, {r: getattr(position, q) for r, q in zip(_RATES, _ANALOGUES)}
+        else:
+            m = analyse(engine, phi, omega=u[None, :], epsilon=np.zeros((1, n_in)))
+            get = {r: getattr(m, r)[0] for r in _RATES}
+        return {"points": {n: np.array([get["v"][k], get["a"][k]]) for k, n in enumerate(m.point_names)},
+                "links": {n: np.array([get["w"][k], get["e"][k]]) for k, n in enumerate(m.link_names)},
+                "joints": {n: np.array([get["rate"][k], get["accel"][k]]) for k, n in enumerate(m.joint_names)}}
 
-    single = [along(eye[k])[1] for k in range(n_in)]
+    single = [along(eye[k]) for k in range(n_in)]
     names = [i.name for i in engine.inputs]
     doc = {"inputs": names, "first": {}, "second": {}}
 
@@ -223,7 +252,7 @@ def partials_document(engine, phi) -> dict:
         doc["first"][names[k]] = pack(single[k], 0)
         doc["second"][f"{names[k]},{names[k]}"] = pack(single[k], 1)
         for j in range(k + 1, n_in):
-            both = along(eye[k] + eye[j])[1]
+            both = along(eye[k] + eye[j])
             mixed = {part: {n: (both[part][n] - single[k][part][n] - single[j][part][n]) / 2
                             for n in both[part]} for part in both}
             doc["second"][f"{names[k]},{names[j]}"] = pack(mixed, 1)

@@ -9,7 +9,6 @@ the file and the row ("joints[3] 'Ap'") at fault. Lengths are converted to metre
 from __future__ import annotations
 
 import math
-import tomllib
 import warnings
 from pathlib import Path
 
@@ -36,6 +35,7 @@ def read_model(path) -> Mechanism:
 
 def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     """Parse the TOML `text` of a model; a syntax error names the line and column."""
+    import tomllib  # (here: an engine read from the cache needs no parser)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -194,8 +194,9 @@ def _read_units(top: Row) -> Units:
 
 
 # Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, friction and simulate
-# (mbplanar.cam, mbplanar.forces.read_friction and read_simulate read and check theirs).
-_EXTRA_SECTIONS = {"plot", "description", "cam", "friction", "simulate"}
+# (mbplanar.cam, mbplanar.forces.read_friction and read_simulate read and check theirs); `synthesis`:
+# the summary a synthesised model carries (mbplanar.synthesis.report shows it in the report).
+_EXTRA_SECTIONS = {"plot", "description", "cam", "friction", "simulate", "synthesis"}
 
 
 def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:

@@ -70,9 +70,10 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
-from typing import Iterable, Sequence
+from typing import TYPE_CHECKING, Iterable, Sequence
 
-import networkx as nx
+if TYPE_CHECKING:  # networkx is imported where a graph is made (it costs ~0.1 s)
+    import networkx as nx
 
 from ..errors import ModelError
 
@@ -237,6 +238,7 @@ def _read_joint(row, position) -> _Joint:
 
 
 def _link_graph(chain: _Chain, joints: Iterable[_Joint]) -> nx.MultiGraph:
+    import networkx as nx
     graph = nx.MultiGraph()
     graph.add_nodes_from((chain.ground, *chain.links))
     graph.add_edges_from((j.a, j.b, j.name) for j in joints)
@@ -244,6 +246,7 @@ def _link_graph(chain: _Chain, joints: Iterable[_Joint]) -> nx.MultiGraph:
 
 
 def _check_connected_to_ground(chain: _Chain) -> None:
+    import networkx as nx
     reached = nx.node_connected_component(_link_graph(chain, chain.joints), chain.ground)
     loose = [link for link in chain.links if link not in reached]
     if loose:
@@ -251,6 +254,7 @@ def _check_connected_to_ground(chain: _Chain) -> None:
 
 
 def _check_no_prismatic_contour(chain: _Chain) -> None:
+    import networkx as nx
     prismatic = _link_graph(chain, (j for j in chain.joints if j.kind == "P"))
     try:
         contour = nx.find_cycle(prismatic)
@@ -302,6 +306,7 @@ class _Bodies:
 
 
 def _bodies_after_inputs(chain: _Chain) -> _Bodies:
+    import networkx as nx
     input_joints = [chain.joint(name) for name in chain.inputs]
     driven = _link_graph(chain, input_joints)
     _refuse_input_loops(driven)
@@ -326,6 +331,7 @@ def _bodies_after_inputs(chain: _Chain) -> _Bodies:
 
 
 def _refuse_input_loops(driven: nx.MultiGraph) -> None:
+    import networkx as nx
     try:
         loop = nx.find_cycle(driven)
     except nx.NetworkXNoCycle:
@@ -564,6 +570,7 @@ def _describe_group(bodies: _Bodies, members: frozenset[int], known: frozenset[i
 
 
 def _group_class(members: frozenset[int], internal_bars: list[_Joint], body_of: dict[str, int]) -> int:
+    import networkx as nx
     if len(members) == 2:
         return 2
     graph = nx.Graph()

@@ -11,8 +11,10 @@ cross-check and fallback.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import networkx as nx
+if TYPE_CHECKING:  # networkx is imported where a graph is made (it costs ~0.1 s)
+    import networkx as nx
 
 from ..errors import ModelError
 from ..model._model import Mechanism
@@ -54,6 +56,7 @@ class Topology:
 
 def link_joint_graph(mech: Mechanism) -> nx.Graph:
     """Bipartite graph: a node per link ('L', name) and per joint ('J', name)."""
+    import networkx as nx
     g = nx.Graph()
     for link in mech.all_links:
         g.add_node(("L", link))
@@ -69,11 +72,13 @@ def mobility(mech: Mechanism) -> int:
 
 
 def independent_loops(mech: Mechanism) -> tuple[tuple[str, ...], ...]:
+    import networkx as nx
     basis = nx.cycle_basis(link_joint_graph(mech), ("L", mech.ground))
     return tuple(tuple(name for kind, name in cycle if kind == "J") for cycle in basis)
 
 
 def _check_connected(mech: Mechanism, g: nx.Graph):
+    import networkx as nx
     reached = nx.node_connected_component(g, ("L", mech.ground))
     lost = [link for link in mech.moving_links if ("L", link) not in reached]
     if lost:

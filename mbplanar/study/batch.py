@@ -23,7 +23,7 @@ design at a time, to the rounding floor, as a single-model sweep locates them.
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -276,9 +276,14 @@ class DesignBatch:
             active &= s < span
 
     # -- 2. the requested positions -----------------------------------------------------------------
-    def solve(self, phi, exact_limits: bool = True, fallback: bool = True) -> DesignMotion:
+    def solve(self, phi, exact_limits: bool = True, fallback: bool = True, points=None,
+              accelerations: bool = True) -> DesignMotion:
         """Kinematics (positions, analogues) of every design at input values `phi` (SI): (N,) the same
         for every design, or (D, N) one row per design.
+
+        The reference engine's backend chooses the loops: numpy (the reference) over flat batches of
+        (design, position) pairs, or numba (`backends._numba_design`) over designs × positions, handing
+        the designs it cannot follow to numpy.
 
         Parameters
         ----------
@@ -289,6 +294,10 @@ class DesignBatch:
         fallback : bool
             Solve designs the batch cannot follow (change points, positions it cannot vouch for) with their
             own engines, one by one.
+        points : sequence of str, optional
+            The joints and points whose xy, vq (and aq) are wanted (default: all).
+        accelerations : bool
+            Also the acceleration analogues (eq, aq); else they are None.
 
         Returns
         -------
@@ -301,6 +310,18 @@ class DesignBatch:
             raise ValueError(f"phi must have one row per design ({D}), not {phi.shape[0]}")
         if not np.all(np.isfinite(phi)):
             raise ValueError("input values must be finite")
+        names = list(self.points) if points is None else [str(p) for p in points]
+        unknown = [p for p in names if p not in self.points]
+        if unknown:
+            raise ValueError(f"{', '.join(unknown)}: neither a joint nor a point of the model")
+        if self.engine.backend == "numba":
+            return self._solve_compiled(phi, exact_limits, fallback, names, accelerations)
+        motion = self._solve_numpy(phi, exact_limits, fallback)
+        return _select(motion, names, accelerations)
+
+    def _solve_numpy(self, phi, exact_limits: bool, fallback: bool) -> DesignMotion:
+        """`solve` with numpy's loops, every point and rate."""
+        D = self.count
         designs = np.flatnonzero(self.geometry.ok)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
         if len(designs):
@@ -329,6 +350,78 @@ class DesignBatch:
         self.motion = motion
         motion.reasons = [None if motion.ok[d] else self.reasons[d] for d in range(D)]
         return motion
+
+    def _solve_compiled(self, phi, exact_limits: bool, fallback: bool, names: list,
+                        accelerations: bool) -> DesignMotion:
+        """`solve` by the compiled kernel: designs × positions in one call; the designs it hands back
+        (a change point passed, a position it cannot vouch for) are solved by numpy's batch."""
+        from ..backends import _numba_design as kernel
+
+        D, N = phi.shape
+        g, eng = self.geometry, self.engine
+        designs = np.flatnonzero(g.ok)
+        links = list(eng.links)
+        point_link = [self.point_link[self.points.index(p)] for p in names]
+        out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, links, names,
+                           *[None] * 6)
+        self.nodes = None
+        if len(designs):
+            tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs)
+            got = kernel.solve(eng, tables, phi[designs], self.scale, accelerations, eng.threads)
+        whole = len(designs) == D
+        for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
+                            ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
+            if not accelerations and name in ("eq", "aq"):
+                continue
+            if whole:
+                setattr(out, name, getattr(got, name))
+            else:
+                arr = np.full((D, N) + shape, np.nan)
+                if len(designs):
+                    arr[designs] = getattr(got, name)
+                setattr(out, name, arr)
+        if not len(designs):
+            out.ok = np.array([r is None for r in self.reasons], bool)
+            out.reasons = list(self.reasons)
+            self.motion = out
+            return out
+        out.valid[designs] = got.valid
+        words = {kernel.STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
+                 kernel.STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
+                                             "or a change point)")}
+        for k in np.flatnonzero(got.status):
+            self.reasons[designs[k]] = words.get(int(got.status[k]))
+        found = []
+        offsets = np.cumsum([0] + [bp.m for bp in eng.blocks])
+        for k, side in zip(*np.nonzero(got.limit)):
+            per = [tuple(arr[k, side, offsets[b]:offsets[b + 1]].copy() for arr in
+                         (got.limit_q, got.limit_qd, got.limit_qdd)) for b in range(len(eng.blocks))]
+            found.append((int(designs[k]), 1 if side == 0 else -1, float(got.limit_phi[k, side]),
+                          float(got.limit_h[k, side]), per, got.limit_signs[k, side].copy()))
+        out.limits = self._limits(found, exact_limits)
+        self._past_limits(out)
+        handed = designs[(got.status == kernel.STATUS["crossing"]) | (got.status == kernel.STATUS["numpy"])]
+        if len(handed):
+            self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations)
+        out.ok = np.array([r is None for r in self.reasons], bool)
+        out.reasons = [None if out.ok[d] else self.reasons[d] for d in range(D)]
+        self.motion = out
+        return out
+
+    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations):
+        """Designs `handed` solved by numpy's batch (a batch of their own) and copied into `out`."""
+        sub = DesignBatch(self.engine, _take_geometry(self.geometry, handed))
+        got = _select(sub._solve_numpy(phi[handed], exact_limits, fallback), names, accelerations)
+        out.valid[handed] = got.valid
+        for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
+            if getattr(out, name) is not None:
+                getattr(out, name)[handed] = getattr(got, name)
+        out.limits = [lim for lim in out.limits if lim.design not in set(handed.tolist())]
+        out.limits += [replace(lim, design=int(handed[lim.design])) for lim in got.limits]
+        for k, d in enumerate(handed):
+            self.reasons[d] = got.reasons[k]
+            if sub._engines.get(k) is not None:
+                self._engines[int(d)] = sub._engines[k]
 
     def _positions(self, phi, nodes: _Nodes, designs) -> DesignMotion:
         """Predict every (design, position) from its design's nodes, correct in one batch, check."""
@@ -451,6 +544,25 @@ class DesignBatch:
             motion.ok[d] = True
 
 
+def _select(motion: DesignMotion, names: list, accelerations: bool) -> DesignMotion:
+    """The motion with only the points `names` and, without `accelerations`, no eq, aq."""
+    if names != motion.points:
+        idx = [motion.points.index(p) for p in names]
+        motion.xy, motion.vq, motion.aq = motion.xy[:, :, idx], motion.vq[:, :, idx], motion.aq[:, :, idx]
+        motion.points = list(names)
+    if not accelerations:
+        motion.eq = motion.aq = None
+    return motion
+
+
+def _take_geometry(g: DesignGeometry, index) -> DesignGeometry:
+    """The designs `index` (B,) of a batch's geometry."""
+    return DesignGeometry(len(index), {n: a[:, index] for n, a in g.at.items()},
+                          {n: a[:, index] for n, a in g.guide.items()}, g.zero[:, index],
+                          {n: a[index] for n, a in g.reference.items()}, g.phi0[index],
+                          [g.reasons[k] for k in index])
+
+
 def _take_solution(sol, mask):
     """The rows `mask` of a solved batch's block states (for the march's start)."""
     out = copy.copy(sol)
@@ -491,7 +603,7 @@ def _interpolate(arrays, rows, x):
     return guesses, inside, np.sign(dets[near])
 
 
-def design_batch(model, variants, engine=None) -> DesignBatch:
+def design_batch(model, variants, engine=None, backend: str = "numpy") -> DesignBatch:
     """A `DesignBatch` of the variants of a model with parameters.
 
     Parameters
@@ -502,6 +614,8 @@ def design_batch(model, variants, engine=None) -> DesignBatch:
         The designs: a `Variants`, a dict of parameter arrays (D,) each, or a CSV variant table's path.
     engine : Engine, optional
         The reference design's engine (default: compiled from the model's declared parameter values).
+    backend : {"numpy", "numba"}
+        The default engine's backend: numba runs the design batch in compiled loops (extra `fast`).
 
     Returns
     -------
@@ -519,7 +633,7 @@ def design_batch(model, variants, engine=None) -> DesignBatch:
     elif not isinstance(variants, Variants):
         variants = read_variants(variants, template)
     if engine is None:
-        engine = Engine(parse_model(template.bind(), source=template.source))
+        engine = Engine(parse_model(template.bind(), source=template.source), backend=backend)
     if len(engine.inputs) != 1:
         raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
     return DesignBatch(engine, design_geometry(template, variants, engine.mech))

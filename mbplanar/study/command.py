@@ -1,4 +1,5 @@
-"""`mbplanar study MODEL --variants TABLE.csv [--json] [-o SUMMARY.csv] [--workers N | --scheduler ADDR]`:
+"""`mbplanar study MODEL --variants TABLE.csv [--json] [-o SUMMARY.csv] [--workers N | --scheduler ADDR]
+[--progress | --no-progress]`:
 the command-line side of a design study (parsing, printing; the work is `run_study`)."""
 
 from __future__ import annotations
@@ -7,6 +8,7 @@ import argparse
 import csv
 import json
 import math
+import sys
 
 __all__ = ["add_parser", "cmd_study"]
 
@@ -35,7 +37,10 @@ def add_parser(sub):
     g.add_argument("--workers", type=_positive, help="run on a Dask LocalCluster of N worker processes")
     g.add_argument("--scheduler", help="run on the Dask cluster of this scheduler (e.g. tcp://host:8786)")
     s.add_argument("--chunk", type=_positive, default=None, help="designs per task (default 64)")
-    s.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    p = s.add_mutually_exclusive_group()
+    p.add_argument("--progress", action="store_true", default=None,
+                   help="a progress bar on stderr (default: when stderr is a terminal)")
+    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     s.set_defaults(func=cmd_study)
     return s
 
@@ -48,7 +53,8 @@ def cmd_study(args) -> int:
 
     points = [p.strip() for p in args.points.split(",") if p.strip()] if args.points else []
     client = local_client(args.workers) if args.workers else connect(args.scheduler) if args.scheduler else None
-    bar = None if args.no_progress else _ProgressOnce(progress_bar)
+    show = sys.stderr.isatty() if args.progress is None else args.progress
+    bar = _ProgressOnce(progress_bar) if show else None
     try:
         study = run_study(args.model, args.variants, points=points, samples=args.samples, client=client,
                           chunk=args.chunk or CHUNK, progress=bar)

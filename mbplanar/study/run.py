@@ -15,7 +15,9 @@ import numpy as np
 from ..errors import MbplanarError, ModelError
 from ..model import parse_model
 from ..model._parameters import Template
-from .summary import SAMPLES, DesignSummary, failed_design, summarise, summarise_design
+from ..forces import has_force_data
+from ..kinematics import analyse
+from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design
 from .variants import Variants, read_variants
 
 __all__ = ["Study", "run_study", "solve_designs", "load_template", "join_motions", "CHUNK"]
@@ -96,10 +98,43 @@ def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: i
             out.append(failed_design(name, values[k], batch.reasons[k]))
             continue
         try:
-            out.append(summarise(batch.seeded_engine(k), name, values[k], points, samples, forces))
+            out.append(summarise(batch.seeded_engine(k), name, values[k], points, samples, False))
         except MbplanarError as exc:
             out.append(failed_design(name, values[k], str(exc)))
+    if has_force_data(base.mech) if forces is None else forces:
+        _batch_forces(batch, template, variants, out)
     return out
+
+
+def _batch_forces(batch, template: Template, variants: Variants, out: list):
+    """The largest reaction and the mean balancing load over each summary's samples, all designs'
+    samples in one design batch and one kinetostatic solve (`design_kinetostatics`); where the model has
+    loads that solve declines, each design's own `kinetostatics`."""
+    from .batch import DesignBatch, _take_geometry
+    from .forces import design_kinetostatics
+
+    idx = np.array([k for k, d in enumerate(out) if d.assembles and d.samples_phi is not None
+                    and len(d.samples_phi)], int)
+    if not len(idx):
+        return
+    inp = batch.engine.inputs[0]
+    phi = np.stack([inp.to_si(np.asarray(out[k].samples_phi, float)) for k in idx])
+    sub = DesignBatch(batch.engine, _take_geometry(batch.geometry, idx))
+    with np.errstate(invalid="ignore"):
+        motion = sub.solve(phi)
+        got = design_kinetostatics(sub, motion, template, variants.take(idx))
+    if got is None:
+        for k in idx:
+            engine = batch.seeded_engine(int(k))
+            out[k].max_reaction, out[k].max_reaction_joint, out[k].mean_balancing = _forces(
+                engine, analyse(engine, inp.to_si(np.asarray(out[k].samples_phi, float))))
+        return
+    largest, joints = got.largest()
+    mean = got.mean_balancing()
+    for i, k in enumerate(idx):
+        out[k].max_reaction = None if joints[i] is None else float(largest[i])
+        out[k].max_reaction_joint = joints[i]
+        out[k].mean_balancing = None if not np.isfinite(mean[i]) else float(mean[i])
 
 
 def _chunks(count: int, size: int) -> list[slice]:
@@ -173,15 +208,17 @@ def stderr_progress(done: int, total: int):
 
 
 def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,
-                fallback: bool = True):
+                fallback: bool = True, backend: str = "numpy", points=None, accelerations: bool = True):
     """The kinematics of a chunk of designs (one Dask task): a `DesignBatch` solved at `phi`."""
     from .batch import design_batch
 
-    return design_batch(Template(data, source), variants).solve(phi, exact_limits, fallback)
+    return design_batch(Template(data, source), variants, backend=backend).solve(phi, exact_limits, fallback, points,
+                                                                                accelerations)
 
 
 def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: bool = True, client=None,
-                  chunk: int = 2000, progress=None):
+                  chunk: int = 2000, progress=None, backend: str = "numpy", points=None,
+                  accelerations: bool = True):
     """The kinematics of every design of a variant table at input values `phi` (SI): a design batch,
     here or, with `client`, one Dask task per chunk of designs.
 
@@ -201,6 +238,10 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
         Designs per chunk (per task).
     progress : callable, optional
         progress(done, total) after each chunk.
+    backend : {"numpy", "numba"}
+        The design batch's loops (`design_batch`).
+    points, accelerations
+        What each design's motion holds (`DesignBatch.solve`).
 
     Returns
     -------
@@ -223,7 +264,8 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
     if client is None:
         results, done = [], 0
         for part, x in zip(parts, rows):
-            results.append(solve_chunk(template.raw, template.source, part, x, exact_limits, fallback))
+            results.append(solve_chunk(template.raw, template.source, part, x, exact_limits, fallback, backend,
+                                       points, accelerations))
             done += len(part)
             if progress is not None:
                 progress(done, len(variants))
@@ -232,13 +274,13 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
 
         tasks = [(part, x) for part, x in zip(parts, rows)]
         results = run_on_client(client, _solve_task, template.raw, template.source, tasks,
-                                (exact_limits, fallback), progress)
+                                (exact_limits, fallback, backend, points, accelerations), progress)
     return join_motions(results, [s.start for s in slices])
 
 
-def _solve_task(data, source, task, exact_limits, fallback):
+def _solve_task(data, source, task, exact_limits, fallback, backend="numpy", points=None, accelerations=True):
     part, phi = task
-    return solve_chunk(data, source, part, phi, exact_limits, fallback)
+    return solve_chunk(data, source, part, phi, exact_limits, fallback, backend, points, accelerations)
 
 
 def join_motions(parts: list, offsets: list):
@@ -246,8 +288,8 @@ def join_motions(parts: list, offsets: list):
     from dataclasses import replace
 
     first = parts[0]
-    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in
-              ("phi", "valid", "ok", "angle", "wq", "eq", "xy", "vq", "aq")}
+    arrays = {name: None if getattr(first, name) is None else np.concatenate([getattr(p, name) for p in parts])
+              for name in ("phi", "valid", "ok", "angle", "wq", "eq", "xy", "vq", "aq")}
     limits = [replace(lim, design=lim.design + off) for p, off in zip(parts, offsets) for lim in p.limits]
     reasons = [r for p in parts for r in p.reasons]
     return replace(first, **arrays, limits=limits, reasons=reasons)

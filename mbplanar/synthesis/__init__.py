@@ -6,8 +6,10 @@
 * `synthesise_motion`: four-bar motion generation through 2–5 poses (Burmester), with
   `centre_point_curve` and `burmester_points`;
 * `check_defects`: circuit, branch and order defects of any design, by mbplanar's engine;
-* `synthesise_path`: a four-bar coupler curve through untimed target points (differential evolution
-  over design batches, least-squares refinement);
+* `synthesise_path`: a four-bar coupler curve through untimed or timed target points, with constraints
+  (`PathConstraints`): seeded independent starts of differential evolution over design batches and a
+  least-squares polish, serial or on Dask;
+* `synthesise_model_path`: the same on any model's named parameters, by the study's design batch;
 * `fourbar_coupler_paths`, `path_errors`: batches of four-bar designs (D, 10) scored at once.
 
 Each result carries the model's TOML text (`toml`), the `Mechanism` read back from it, and errors that
@@ -21,11 +23,14 @@ from .defects import Defects, check_defects
 from .freudenstein import (FunctionResult, FunctionTask, freudenstein_coefficients, synthesise_angle_pairs,
                            synthesise_function)
 from .guiding import SEED001_CHAIN, Candidates, Chain, WalkingTarget, chebyshev_nodes, foot_paths
+from .constraints import PathConstraints
 from .path import PathResult, synthesise_path
+from .path_model import ModelPathResult, synthesise_model_path
 from .seed001 import GuidingResult, synthesise_seed001
 
 __all__ = ["synthesise_seed001", "GuidingResult", "Chain", "SEED001_CHAIN", "WalkingTarget", "Candidates",
            "chebyshev_nodes", "foot_paths", "synthesise_function", "synthesise_angle_pairs", "FunctionTask",
            "FunctionResult", "freudenstein_coefficients", "synthesise_motion", "MotionResult", "Dyad",
            "centre_point_curve", "burmester_points", "SliderDyad", "slider_points", "check_defects", "Defects",
-           "fourbar_coupler_paths", "path_errors", "synthesise_path", "PathResult"]
+           "fourbar_coupler_paths", "path_errors", "synthesise_path", "PathResult", "PathConstraints",
+           "synthesise_model_path", "ModelPathResult"]

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..model import parse_model
 
-__all__ = ["model_toml", "read_design", "guiding_slider_toml", "fourbar_toml", "slider_crank_toml"]
+__all__ = ["model_toml", "table_toml", "read_design", "guiding_slider_toml", "fourbar_toml", "slider_crank_toml"]
 
 
 def _value(v) -> str:
@@ -30,7 +30,7 @@ def _value(v) -> str:
     if isinstance(v, str):
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {_value(x)}" for k, x in v.items()) + " }"
+        return "{ " + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + " }"
     return "[" + ", ".join(_value(x) for x in v) + "]"
 
 
@@ -47,6 +47,26 @@ def model_toml(name: str, title: str, links: list, joints: list, points: list, i
     lines.append("[input]")
     lines += [f"{k} = {_value(v)}" for k, v in inputs.items()]
     return "\n".join(lines) + "\n"
+
+
+def table_toml(data: dict, comment: str = "") -> str:
+    """The TOML text of a model's table as `tomllib` reads it (top-level values, lists of rows as
+    inline tables, one `[section]` per sub-table), e.g. a model with new parameter values."""
+    lines = [f"# {c}" if c else "#" for c in comment.splitlines()]
+    plain = {k: v for k, v in data.items() if not isinstance(v, dict)}
+    for key, v in plain.items():
+        if isinstance(v, list) and v and all(isinstance(r, dict) for r in v):
+            lines += [f"{key} = ["] + [f"  {_value(r)}," for r in v] + ["]"]
+        else:
+            lines.append(f"{key} = {_value(v)}")
+    for key, table in data.items():
+        if isinstance(table, dict):
+            lines += ["", f"[{key}]"] + [f"{_key(k)} = {_value(v)}" for k, v in table.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _key(k: str) -> str:
+    return k if k.replace("_", "").replace("-", "").isalnum() and k.isascii() else _value(k)
 
 
 def read_design(text: str, source: str = "<synthesis>"):

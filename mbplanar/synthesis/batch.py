@@ -20,10 +20,12 @@ DESIGN_COLUMNS = ("a0x", "a0y", "b0x", "b0y", "crank", "coupler", "rocker", "u",
 
 
 def fourbar_coupler_paths(designs, phi) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Joints A, B and the coupler point of D designs (D, 10) at P crank angles (P,) (rad, direction
-    of A0→A): three (D, P, 2) arrays, and `ok` (D, P), False where the loop cannot close."""
+    """Joints A, B and the coupler point of D designs (D, 10) at P crank angles (rad, direction of
+    A0→A), the same (P,) for every design or one row (D, P) each: three (D, P, 2) arrays, and `ok`
+    (D, P), False where the loop cannot close."""
     d = np.atleast_2d(np.asarray(designs, float))
-    phi = np.asarray(phi, float)[None, :]
+    phi = np.asarray(phi, float)
+    phi = phi[None, :] if phi.ndim == 1 else phi
     a0, b0 = d[:, None, 0:2], d[:, None, 2:4]
     crank, coupler, rocker = d[:, 4:5], d[:, 5:6], d[:, 6:7]
     a = a0 + crank[..., None] * np.stack([np.cos(phi), np.sin(phi)], -1)

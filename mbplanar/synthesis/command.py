@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import ModelError, PlotUnavailable
 
-__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion"]
+__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion", "csv_rows", "read_toml"]
 
 
 def add_arguments(parser) -> None:
@@ -40,13 +40,29 @@ def add_arguments(parser) -> None:
     s.add_argument("--full-turn", action="store_true", help="require a crank that turns fully")
     s.add_argument("--curve", help="4 poses: write the centre- and circle-point curves to this CSV")
     _common(s)
-    s = sub.add_parser("path", help="four-bar coupler curve through untimed target points (global search + "
-                                    "least squares)")
-    s.add_argument("input", help="CSV of target points x, y in their order along the curve")
-    s.add_argument("--seed", type=int, default=0, help="random seed of the global search (default 0)")
-    s.add_argument("--time-limit", type=float, default=40.0, help="seconds for the global stage (default 40)")
-    s.add_argument("--popsize", type=int, default=20, help="differential evolution's population factor")
-    s.add_argument("--maxiter", type=int, default=1000, help="largest number of generations")
+    s = sub.add_parser("path", help="a coupler curve through target points: a four-bar, or any model's "
+                                    "parameters (global search + least squares)")
+    s.add_argument("input", help="CSV of target points x, y (timed: x, y, input in degrees, or metres for a "
+                                 "sliding input) in their order along the curve, or TOML with targets, [model], "
+                                 "[parameters], [constraints], [search]")
+    s.add_argument("--model", help="synthesise this model's parameters (default: a four-bar)")
+    s.add_argument("--point", help="the model's point whose path is shaped")
+    s.add_argument("--vary", action="append", default=[], metavar="NAME=LO:HI",
+                   help="a parameter searched within [LO, HI] (its unit); repeat for each")
+    s.add_argument("--timed", action="store_true", help="the CSV's third column is the input at each target")
+    s.add_argument("--open", action="store_true", help="no full turn: the targets on one branch between limits")
+    s.add_argument("--min-transmission", type=float, metavar="DEG", help="smallest transmission angle (degrees)")
+    s.add_argument("--max-ratio", type=float, help="largest ratio longest/shortest link (four-bar)")
+    s.add_argument("--pivot", action="append", default=[], metavar="NAME=XMIN,YMIN,XMAX,YMAX",
+                   help="a box for a fixed pivot (four-bar: A0 crank, B0 rocker); repeat for each")
+    s.add_argument("--seed", type=int, help="random seed (default 0): the same seed gives the same design")
+    s.add_argument("--starts", type=int, help="independent starts (default 8; 2 for a model)")
+    s.add_argument("--generations", type=int, help="differential evolution's generations per start")
+    s.add_argument("--popsize", type=int, help="differential evolution's population factor")
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, help="run the starts on a Dask LocalCluster of N worker processes")
+    g.add_argument("--scheduler", help="run the starts on the Dask cluster of this scheduler")
+    s.add_argument("--progress", action="store_true", help="a progress bar on stderr (default: when a terminal)")
     _common(s)
 
 
@@ -60,8 +76,9 @@ def run(args) -> int:
     problem = {"seed001": _seed001, "function": _function, "motion": _motion, "path": _path}[args.problem]
     summary, result, picture = problem(args)
     if args.output:
-        Path(args.output).write_text(result.toml, encoding="utf-8")
+        from .report import summary_table
         summary["model"] = str(args.output)
+        Path(args.output).write_text(result.toml + summary_table(summary), encoding="utf-8")
     if args.plot:
         picture(result, args.plot)
         summary["plot"] = str(args.plot)
@@ -88,13 +105,20 @@ def _print_text(summary: dict) -> None:
     if "structural_error" in summary:
         se = summary["structural_error"]
         print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
+    c = summary.get("constraints")
+    if c:
+        ratio = f", link ratio {c['ratio']:.4g}" if c.get("ratio") is not None else ""
+        mu = c.get("transmission_deg")
+        if mu is not None and math.isfinite(mu):
+            print(f"  smallest transmission angle {mu:.4g}°{ratio} (seed {summary['seed']}, "
+                  f"{summary['starts']} start{'s' if summary['starts'] != 1 else ''})")
     print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
     if summary.get("model"):
         print(f"  model written to {summary['model']}")
 
 
 # -- inputs -------------------------------------------------------------------------------------------
-def _toml(path) -> dict:
+def read_toml(path) -> dict:
     try:
         return tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except OSError as exc:
@@ -103,7 +127,7 @@ def _toml(path) -> dict:
         raise ModelError(f"TOML syntax error: {exc}", source=str(path)) from None
 
 
-def _csv_rows(path, columns: int) -> np.ndarray:
+def csv_rows(path, columns: int) -> np.ndarray:
     """Numeric rows of a CSV file (a header line of names is skipped), `columns` values each."""
     try:
         text = Path(path).read_text(encoding="utf-8")
@@ -170,7 +194,7 @@ def _errors(values) -> tuple[list, float, float]:
 def _seed001(args):
     from .guiding import SEED001_CHAIN, Chain, WalkingTarget
     from .seed001 import synthesise_seed001
-    data = _toml(args.input) if args.input else {}
+    data = read_toml(args.input) if args.input else {}
     src = args.input or "<default target>"
     _known(data, ("chain", "target", "method"), src)
     chain_t = _known(data.get("chain", {}), ("a", "b", "pivot"), f"{src}: [chain]")
@@ -239,10 +263,10 @@ def _function(args):
     from .freudenstein import FunctionTask, synthesise_angle_pairs, synthesise_function
     src = args.input
     if str(src).lower().endswith(".csv"):
-        rows = _csv_rows(src, 2)
+        rows = csv_rows(src, 2)
         result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]))
         return summary_function(result, None), result, _plot_function
-    data = _known(_toml(src), ("function",), src)
+    data = _known(read_toml(src), ("function",), src)
     where = f"{src}: [function]"
     if "function" not in data:
         raise ModelError(f"{src}: a [function] table is required")
@@ -305,9 +329,9 @@ def _motion(args):
     circle = centre = slider = None
     full_turn = args.full_turn
     if str(src).lower().endswith(".csv"):
-        rows = _csv_rows(src, 3)
+        rows = csv_rows(src, 3)
     else:
-        data = _known(_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn"), src)
+        data = _known(read_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn"), src)
         rows = _pairs(data, "poses", src, 3)
         circle = _pairs(data, "circle_points", src, 2, required=False)
         centre = _pairs(data, "centre_points", src, 2, required=False)
@@ -401,20 +425,22 @@ def _plot_motion(r, path):
 
 
 def _path(args):
-    from .path import synthesise_path
-    if not (args.time_limit > 0 and args.popsize >= 5 and args.maxiter >= 1):
-        raise ModelError("--time-limit must be positive, --popsize at least 5, --maxiter at least 1")
-    targets = _csv_rows(args.input, 2)
-    r = synthesise_path(targets, seed=args.seed, popsize=args.popsize, maxiter=args.maxiter,
-                        time_limit=args.time_limit)
+    from .path_setup import path_problem
+    problem = path_problem(args)
+    r = problem.run()
     per, mx, rms = _errors(r.errors)
-    names = ("a0x", "a0y", "b0x", "b0y", "crank", "coupler", "rocker", "u", "v", "mode")
-    design = {k: float(v) for k, v in zip(names, r.design)}
-    summary = {"problem": "path", "model": None, "design": design, "targets": r.targets.tolist(),
-               "target_phi_deg": [math.degrees(p) for p in r.phi], "error_unit": "m", "errors": per,
-               "max_error": mx, "rms_error": rms,
-               "defects": {"checked": ["circuit", "branch", "order", "full_turn"], **r.defects.as_dict()},
-               "evaluations": r.evaluations, "seed": r.seed, "seconds": r.seconds}
+    summary = {"problem": "path", "model": None, "design": problem.design(r), "targets": r.targets.tolist(),
+               "target_phi_deg": [math.degrees(p) for p in r.phi], "timed": r.timed, "error_unit": "m",
+               "errors": per, "max_error": mx, "rms_error": rms,
+               "constraints": {**r.constraints.as_dict(),
+                               "transmission_deg": r.transmission_deg if math.isfinite(r.transmission_deg) else None,
+                               "ratio": getattr(r, "ratio", None)},
+               "defects": {"checked": ["circuit", "branch", "order"] + (["full_turn"] if r.constraints.full_turn
+                                                                         else []), **r.defects.as_dict()},
+               "evaluations": r.evaluations, "seed": r.seed, "starts": r.starts, "seconds": r.seconds,
+               "point": r.point}
+    if problem.model:
+        summary["source_model"] = problem.model
     return summary, r, _plot_path
 
 
@@ -424,9 +450,14 @@ def _plot_path(r, path):
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.5, 5.5))
     engine = Engine(r.mechanism)
-    m = analyse(engine, r.phi[0] + np.linspace(0.0, 2 * math.pi, 721))
-    p = m.xy[:, m.point("P")]
-    ax.plot(p[:, 0], p[:, 1], "C0-", label="coupler curve, full crank turn (mbplanar)")
+    point = getattr(r, "point", "P")
+    if r.defects.full_turn:
+        grid, label = r.phi[0] + np.linspace(0.0, 2 * math.pi, 721), "full turn"
+    else:
+        grid, label = np.linspace(r.phi.min(), r.phi.max(), 721), "from the first to the last target"
+    m = analyse(engine, grid)
+    p = m.xy[:, m.point(point)]
+    ax.plot(p[:, 0], p[:, 1], "C0-", label=f"path of {point}, {label} (mbplanar)")
     ax.plot(r.targets[:, 0], r.targets[:, 1], "C3o", mfc="none", label="target points")
     ax.set_title(f"Path generation: RMS {r.rms:.4g}, max {r.max:.4g}")
     _finish(fig, ax, path)

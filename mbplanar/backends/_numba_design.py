@@ -1,0 +1,575 @@
+"""Compiled design batches (optional, needs numba): D designs of one structure × N input values each,
+the design axis and the position axis both in compiled loops.
+
+It is the numpy design batch (`mbplanar.study.batch.DesignBatch`) with another loop order, not a second
+method. Per design the kernel
+
+1. solves the drawn pose (unknowns 0) and its rates: a pose that does not close, or is singular, gets its
+   status (the batch words the reason);
+2. marches the input up and down from the drawn pose with the engine's continuation rules, as
+   `DesignBatch._march` does for all designs at once (second-order predictor, block Newton, a step
+   accepted when it converges close to its prediction in positions and derivatives with no change of
+   sign of a block's determinant, halved otherwise); a step below `h_min` is a motion limit, whose
+   bracket is handed back for the engine's fold Newton; a change point hands the design back;
+3. predicts every requested position by the quintic Hermite interpolant of its nodes, corrects it by
+   the block Newton, checks it (converged, same signs as the nearest node, a correction within
+   `max_correction`) and writes its link angles, analogue rates and the chosen points' positions,
+   velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
+
+The per-design constants (every joint's point in the link frames, each guide's direction, the drawn
+input value, each link's drawn angle, the chosen points) are tables with a design axis; before a design
+the kernel copies its row into the engine's step and cut tables, so that the per-position building
+blocks of `_numba_kinematics` (placement, closure, Jacobian, LU, rates) run unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _threads
+from ._numba_kinematics import _block_rates, _closure, _inline, _jacobian, _jit, _lu, _lu_solve, _place
+from ._tables import kinematics_tables
+from ..engine._nodes import HERMITE5
+from ..kinematics._motion import _tables
+
+__all__ = ["DesignTables", "design_tables", "solve", "STATUS"]
+
+#: per-design status the kernel returns
+STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
+MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
+MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
+
+
+@dataclass
+class DesignTables:
+    """An engine's kernel tables and, per design (D designs), the constants that differ.
+
+    step_s0, step_u0 (D, S, 2): each tree step's joint point and guide direction; cut_s0, cut_n0
+    (D, C, 2): each cut's point and guide normal; phi0 (D,): the drawn input value (SI); reference (D, L):
+    each link's drawn angle; point_at (D, P, 2) and point_link (P,): the chosen points, drawn, and their
+    links."""
+
+    steps: tuple
+    cuts: tuple
+    blocks: tuple
+    step_s0: np.ndarray
+    step_u0: np.ndarray
+    cut_s0: np.ndarray
+    cut_n0: np.ndarray
+    phi0: np.ndarray
+    reference: np.ndarray
+    point_at: np.ndarray
+    point_link: np.ndarray
+
+
+def _step_joints(engine) -> tuple[list, list]:
+    """The joint of every tree step and of every cut, in the kernel tables' order."""
+    steps = [st.law.name for bp in engine.blocks for st in bp.steps]
+    cuts = [law.name for bp in engine.blocks for law in bp.cuts]
+    return steps, cuts
+
+
+def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
+                  designs) -> DesignTables:
+    """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
+    guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
+    `point_link` their links' indices."""
+    steps, cuts, blocks, _ = kinematics_tables(engine, _tables(engine)[1])
+    step_names, cut_names = _step_joints(engine)
+    kind = {name: j.kind for name, j in engine.mech.joints.items()}
+
+    def stacked(names, table):
+        out = np.zeros((len(designs), len(names), 2))
+        for k, n in enumerate(names):
+            if table is at or kind[n] == "P":
+                out[:, k] = table[n][:, designs].T
+        return out
+
+    u0 = stacked(step_names, guide)
+    n = stacked(cut_names, guide)
+    cut_n0 = np.stack([-n[..., 1], n[..., 0]], axis=-1)  # perp(u0)
+    return DesignTables(steps, cuts, blocks, stacked(step_names, at), u0, stacked(cut_names, at), cut_n0,
+                        np.ascontiguousarray(phi0[designs], float),
+                        np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
+                        np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
+                                             .reshape(len(designs), len(points), 2)),
+                        np.asarray(point_link, np.int64))
+
+
+@dataclass
+class DesignResult:
+    """What the kernel gives per design (B designs × N positions).
+
+    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, L); eq (B, N, L) or None; xy, vq (B, N, P, 2);
+    aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
+    phi (B, 2) the last node's input value, h (B, 2) the last step tried, q, qd, qdd (B, 2, M) the last
+    node's unknowns and their derivatives along the march parameter, signs (B, 2, n_blocks)."""
+
+    status: np.ndarray
+    valid: np.ndarray
+    angle: np.ndarray
+    wq: np.ndarray
+    eq: np.ndarray | None
+    xy: np.ndarray
+    vq: np.ndarray
+    aq: np.ndarray | None
+    limit: np.ndarray
+    limit_phi: np.ndarray
+    limit_h: np.ndarray
+    limit_q: np.ndarray
+    limit_qd: np.ndarray
+    limit_qdd: np.ndarray
+    limit_signs: np.ndarray
+
+
+def _march_tolerances(tol) -> np.ndarray:
+    """The tolerances the kernel reads, in its order."""
+    return np.array([tol.closure, tol.max_newton, tol.pivot_polish, tol.pivot_cross, tol.max_correction,
+                     tol.h_start, tol.h_max, tol.h_min, tol.rate_jump, tol.h_cross, tol.cross_dist, tol.polish], float)
+
+
+def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
+    """One thread's work arrays, in `_designs`' order: its own copies of the step and cut tables (a
+    design's row is copied in), the pose, rate slots and caches of `_numba_kinematics`, a block's
+    Jacobian (as solved and scaled) with its permutations, the unknowns and their rates, the drawn pose,
+    the march nodes and their interpolant, the march's current node."""
+    vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
+    m1 = max(m_all, 1)
+    return (steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
+            cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()),
+            np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
+            np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
+            np.zeros((m_max, m_max)), np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max),
+            vec(m_max), vec(m_max), vec(m_all), vec(m_all), np.ones(n_blocks), vec(m_all), vec(m_all), vec(m_all),
+            np.ones(n_blocks), np.zeros(MAX_NODES), np.zeros((MAX_NODES, 3, m1)), np.zeros((MAX_NODES, n_blocks)),
+            np.zeros((MAX_NODES, 6, m1)), vec(m_all), vec(m_all), vec(m_all), np.zeros(n_blocks))
+
+
+def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = True, threads=None) -> DesignResult:
+    """The kernel over designs (B,) at input values x (B, N) (SI): march, then every position.
+
+    Parameters
+    ----------
+    engine : Engine
+        The reference design's engine (its blocks and tolerances serve every design).
+    tables : DesignTables
+        The designs' constants (`design_tables`).
+    x : ndarray (B, N)
+        Input values per design.
+    scale : float
+        The march parameter's unit: 1 for a revolute input, the mechanism's size for a slider.
+    accelerations : bool
+        Also the acceleration analogues (eq, aq).
+    threads : int, optional
+        Threads the designs are split over (default: `_threads.available()`).
+
+    Returns
+    -------
+    DesignResult
+    """
+    x = np.ascontiguousarray(x, float)
+    count, n = x.shape
+    n_links, n_points = tables.reference.shape[1], tables.point_link.shape[0]
+    n_blocks = len(tables.blocks.m)
+    m_all = int(tables.blocks.m.sum())
+    m_max = max([1] + [int(m) for m in tables.blocks.m])
+    valid = np.empty((count, n), np.bool_)
+    angle, wq = np.empty((count, n, n_links)), np.empty((count, n, n_links))
+    eq = np.empty((count, n, n_links)) if accelerations else np.empty((0, 0, n_links))
+    xy, vq = np.empty((count, n, n_points, 2)), np.empty((count, n, n_points, 2))
+    aq = np.empty((count, n, n_points, 2)) if accelerations else np.empty((0, 0, n_points, 2))
+    status = np.zeros(count, np.int64)
+    m1 = max(m_all, 1)
+    limit, limit_phi, limit_h = np.zeros((count, 2), np.bool_), np.zeros((count, 2)), np.zeros((count, 2))
+    limit_q, limit_qd, limit_qdd = (np.zeros((count, 2, m1)) for _ in range(3))
+    limit_signs = np.zeros((count, 2, n_blocks))
+    lo, hi = x.min(axis=1) if n else tables.phi0, x.max(axis=1) if n else tables.phi0
+    sense = float(engine.inputs[0].sense)
+    tol = _march_tolerances(engine.tol)
+    ground = engine.link_index[engine.mech.ground]
+    sizes = (len(tables.reference[0]), m_all, m_max, n_blocks, len(tables.steps.parent), len(tables.cuts.a))
+    k = 1 if count < 2 * MIN_DESIGNS else max(1, min(threads or _threads.available(), count // MIN_DESIGNS))
+    cuts_at = [count * i // k for i in range(k + 1)]
+    parts = [slice(a, b) for a, b in zip(cuts_at[:-1], cuts_at[1:])]
+    store = engine.prepared.setdefault("numba design scratch", {}).setdefault(sizes, [])
+    work = _threads.work_arrays(store, lambda: _scratch(tables.steps, tables.cuts, *sizes), len(parts))
+    t = tables
+    uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1])) and bool(np.all(bp.var_scale == bp.var_scale[:1]))
+                        for bp in engine.blocks], np.bool_)
+
+    def call(p, w):
+        return _designs(w[0], w[1], t.blocks, uniform, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
+                        t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, x[p],
+                        lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
+                        xy[p], vq[p], aq[p] if accelerations else aq, limit[p], limit_phi[p], limit_h[p], limit_q[p],
+                        limit_qd[p], limit_qdd[p], limit_signs[p], HERMITE5, *w[2:])
+
+    _threads.run([lambda p=p, w=w: call(p, w) for p, w in zip(parts, work)])
+    failed = status != 0  # rows the kernel left unwritten
+    if failed.any():
+        valid[failed] = False
+        for arr in (angle, wq, xy, vq) + ((eq, aq) if accelerations else ()):
+            arr[failed] = np.nan
+    return DesignResult(status, valid, angle, wq, eq if accelerations else None, xy, vq,
+                        aq if accelerations else None, limit, limit_phi, limit_h, limit_q, limit_qd, limit_qdd,
+                        limit_signs)
+
+
+# -- kernels ----------------------------------------------------------------------------------------
+# As in `_numba_kinematics`: scalar loops over arrays indexed in place, nothing allocated, every work
+# array passed by the caller. q, qd, qdd (M,) hold every block's unknowns and their derivatives.
+
+@_jit
+def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, q, qd, qdd, dets, ps, rt, sc, cc,
+           jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
+    """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
+    input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
+    with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio)."""
+    closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
+    n_blocks = len(blocks.m)
+    row_scale, var_scale = blocks.row_scale, blocks.var_scale
+    vel, acc = len(rt) - 2, len(rt) - 1
+    ps[0, ground], ps[1, ground], ps[2, ground], ps[3, ground], ps[4, ground] = 0.0, 1.0, 0.0, 0.0, 0.0
+    for comp in range(3):
+        for link in range(rt.shape[2]):
+            rt[vel, comp, link] = 0.0
+            if accelerations:
+                rt[acc, comp, link] = 0.0
+    smallest = 1.0
+    for bk in range(n_blocks):
+        k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
+        var0, m = blocks.var0[bk], blocks.m[bk]
+        polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
+        for it in range(max_newton + 1):
+            for k in range(k0, k1):
+                if it == 1 and not steps.prismatic[k]:
+                    _turn(k, steps, q, q_in, ps, sc)
+                else:
+                    _place(k, steps, q, q_in, ps, sc)
+            err = 0.0
+            for k in range(c0, c1):
+                _closure(k, cuts, ps, cc, res, 2 * (k - c0))
+            for i in range(m):
+                err = max(err, abs(res[i]) * row_scale[var0 + i])
+            if m == 0:
+                ok = True
+                break
+            _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
+                      sc, cc, rt, jac, step)
+            if uniform[bk]:  # R·J·V⁻¹ a multiple of J: the same pivot ratio and sign
+                det, ratio = _lu(jac, m, perm)
+            else:  # the dimensionless Jacobian R·J·V⁻¹: its pivots and sign, as numpy's
+                for i in range(m):
+                    for j in range(m):
+                        jac_s[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
+                det, ratio = _lu(jac_s, m, perm_s)
+                _lu(jac, m, perm)
+            ok = err < closure
+            if ok:  # converged: polished to `polish` (as in a batch whose other positions still step), and
+                # near a singular position one more step, as `BlockSolver.newton` does
+                if polished or (err < polish and not pivot_cross * 1e3 <= ratio < pivot_polish):
+                    break
+                polished = True
+            if it == max_newton:
+                break
+            for i in range(m):
+                res[i] = -res[i]
+            _lu_solve(jac, m, perm, res, step)
+            for i in range(m):
+                if np.isfinite(step[i]):
+                    q[var0 + i] += step[i]
+        if not (ok and np.isfinite(err)):
+            return False, smallest
+        dets[bk] = det
+        smallest = min(smallest, ratio)
+        _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
+                     res, qd_u)
+        for i in range(m):
+            qd[var0 + i] = qd_u[i]
+        if accelerations:
+            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
+                         sense * rate, res, qdd_u)
+            for i in range(m):
+                qdd[var0 + i] = qdd_u[i]
+    return True, smallest
+
+
+#: `_solve` inlined where it runs per requested position (a call passes every table and work array,
+#: a few hundred words, which costs as much as the arithmetic of a small block)
+_solve_inline = _inline(_solve.py_func)
+
+
+@_inline
+def _turn(k, steps, q, q_in, ps, sc):
+    """`_place` of a revolute step k whose child was placed at the previous Newton iterate: cos and sin
+    of the new angle from the old ones by the angle-addition formulas (the correction δ is small, its
+    cos and sin series exact to rounding), the rest as `_place`. A large δ is placed afresh."""
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
+    value = q[var] if var >= 0 else steps.sign[k] * q_in
+    t = ps[0, parent] + value if rel else value
+    delta = t - ps[0, child]
+    if not abs(delta) < 1e-4:
+        _place(k, steps, q, q_in, ps, sc)
+        return
+    d2 = delta * delta
+    cd, sd = 1.0 - 0.5 * d2 * (1.0 - d2 / 12.0), delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0))
+    c0, s0 = ps[1, child], ps[2, child]
+    cc, ss = c0 * cd - s0 * sd, s0 * cd + c0 * sd
+    cp, sp = ps[1, parent], ps[2, parent]
+    s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
+    rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
+    ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
+    rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
+    ps[3, child] = ps[3, parent] + rpx - rcx
+    ps[4, child] = ps[4, parent] + rpy - rcy
+    sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
+
+
+@_jit
+def _reverse(node_phi, node_q, node_sign, count):
+    """Reverse the first `count` nodes in place (the march down gives them in decreasing φ)."""
+    for a in range(count // 2):
+        b = count - 1 - a
+        node_phi[a], node_phi[b] = node_phi[b], node_phi[a]
+        for r in range(node_q.shape[1]):
+            for i in range(node_q.shape[2]):
+                node_q[a, r, i], node_q[b, r, i] = node_q[b, r, i], node_q[a, r, i]
+        for i in range(node_sign.shape[1]):
+            node_sign[a, i], node_sign[b, i] = node_sign[b, i], node_sign[a, i]
+
+
+@_jit
+def _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations):
+    """NaN in every output of position n of design d (not on the design's branch)."""
+    for l in range(angle.shape[2]):  # noqa: E741
+        angle[d, n, l], wq[d, n, l] = np.nan, np.nan
+        if accelerations:
+            eq[d, n, l] = np.nan
+    for p in range(xy.shape[2]):
+        for c in range(2):
+            xy[d, n, p, c], vq[d, n, p, c] = np.nan, np.nan
+            if accelerations:
+                aq[d, n, p, c] = np.nan
+
+
+@_inline
+def _interval(grid, count, x):
+    """i with grid[i] <= x <= grid[i + 1] among the first `count` nodes (bisection)."""
+    lo, hi = 0, count - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if grid[mid] < x:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@_inline
+def _sign(v):
+    """The sign of v as numpy's (0 at 0)."""
+    return 1.0 if v > 0 else -1.0 if v < 0 else 0.0
+
+
+@_jit
+def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target, direction, q0, qd0, qdd0, dets0,
+           node_phi, node_q, node_sign, start, limit, limit_phi, limit_h, limit_q, limit_qd, limit_qdd, limit_signs,
+           side, q, qd, qdd, dets, qc, qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u,
+           qdd_u):
+    """Walk one design from its drawn pose (q0, qd0, qdd0 per unit input; dets0) towards `target` in
+    `direction`, as `DesignBatch._march`: the accepted nodes go to node_*[start:] (q, dq/dφ, d²q/dφ²);
+    returns (nodes added, status). A motion limit fills limit_*[side]."""
+    max_correction, h_start, h_max, h_min = tol[4], tol[5], tol[6], tol[7]
+    rate_jump, h_cross, cross_dist, pivot_cross = tol[8], tol[9], tol[10], tol[3]
+    m_all = len(blocks.var_scale)
+    n_blocks = len(blocks.m)
+    var_scale = blocks.var_scale
+    span = abs(target - phi0) / scale
+    rate = direction * scale
+    for i in range(m_all):
+        qc[i], qdc[i], qddc[i] = q0[i], qd0[i] * rate, qdd0[i] * scale * scale
+    for b in range(n_blocks):
+        signs[b] = _sign(dets0[b])
+    s, h, added = 0.0, h_start, 0
+    while s < span:
+        h_try = min(h, span - s)
+        end = s + h_try >= span
+        phi = target if end else phi0 + rate * (s + h_try)
+        for i in range(m_all):
+            q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True, q, qd,
+                                  qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        dist, jump = 0.0, 0.0
+        for i in range(m_all):
+            guess = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
+            dist = max(dist, abs(q[i] - guess) * var_scale[i])
+            err = abs(qd[i] - qdc[i] - qddc[i] * h_try) * var_scale[i] / (1.0 + abs(qdc[i]) * var_scale[i])
+            jump = max(jump, err) if np.isfinite(err) else np.inf
+        good = converged and ratio >= pivot_cross and dist <= max_correction and jump <= rate_jump
+        same = True
+        for b in range(n_blocks):
+            if _sign(dets[b]) != signs[b]:
+                same = False
+        if good and same:
+            k = start + added
+            if k >= len(node_phi):
+                return added, 4
+            for i in range(m_all):
+                qc[i], qdc[i], qddc[i] = q[i], qd[i], qdd[i]
+                node_q[k, 0, i], node_q[k, 1, i], node_q[k, 2, i] = q[i], qd[i] / rate, qdd[i] / (scale * scale)
+            for b in range(n_blocks):
+                signs[b] = _sign(dets[b])
+                node_sign[k, b] = signs[b]
+            node_phi[k] = phi
+            added += 1
+            s += h_try
+            if dist < 0.1 * max_correction:
+                h = min(h_try * 1.6, h_max)
+            continue
+        if good and h_try <= h_cross and dist <= cross_dist:
+            return added, 3  # a change point: the design's own engine goes through it
+        h = h_try / 2
+        if h < h_min:
+            limit[side] = True
+            limit_phi[side] = phi0 + rate * s
+            limit_h[side] = 2 * h
+            for i in range(m_all):
+                limit_q[side, i], limit_qd[side, i], limit_qdd[side, i] = qc[i], qdc[i], qddc[i]
+            for b in range(n_blocks):
+                limit_signs[side, b] = signs[b]
+            return added, 0
+    return added, 0
+
+
+@_jit
+def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
+             reference, point_at, point_link, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
+             limit_h, limit_q, limit_qd, limit_qdd, limit_signs, hermite, ps, rt, sc, cc, q, guess, jac, jac_s, perm,
+             perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
+             qc, qdc, qddc, signs):
+    """Every design of a part: its drawn pose, its march both ways, then its positions (see the module
+    docstring); status (B,) as `STATUS`."""
+    max_correction = tol[4]
+    n_designs, n_pos = x.shape
+    m_all = len(blocks.var_scale)
+    n_blocks, n_links, n_points = len(blocks.m), reference.shape[1], point_link.shape[0]
+    var_scale = blocks.var_scale
+    vel, acc = len(rt) - 2, len(rt) - 1
+    ps[:, :] = 0.0
+    ps[1, :] = 1.0
+    for d in range(n_designs):
+        for k in range(len(steps.parent)):
+            steps.s0[k, 0], steps.s0[k, 1] = step_s0[d, k, 0], step_s0[d, k, 1]
+            steps.u0[k, 0], steps.u0[k, 1] = step_u0[d, k, 0], step_u0[d, k, 1]
+        for k in range(len(cuts.a)):
+            cuts.s0[k, 0], cuts.s0[k, 1] = cut_s0[d, k, 0], cut_s0[d, k, 1]
+            cuts.n0[k, 0], cuts.n0[k, 1] = cut_n0[d, k, 0], cut_n0[d, k, 1]
+        for i in range(n_pos):
+            valid[d, i] = False
+        # 1. the drawn pose
+        for i in range(m_all):
+            q0[i] = 0.0
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, q0, qd0, qdd0, dets0, ps,
+                                  rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        if not converged:
+            status[d] = 1
+            continue
+        if not ratio >= tol[3]:
+            status[d] = 2
+            continue
+        # 2. the march down (stored reversed), the drawn pose, the march up
+        total, state = 0, 0
+        if lo[d] < phi0[d]:
+            total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
+                                  qdd0, dets0, node_phi, node_q, node_sign, 0, limit[d], limit_phi[d], limit_h[d],
+                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 1, q, qd, qdd, dets, qc,
+                                  qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            _reverse(node_phi, node_q, node_sign, total)
+        if state != 0:
+            status[d] = state
+            continue
+        if total >= len(node_phi):
+            status[d] = 4
+            continue
+        node_phi[total] = phi0[d]
+        for i in range(m_all):
+            node_q[total, 0, i], node_q[total, 1, i], node_q[total, 2, i] = q0[i], qd0[i], qdd0[i]
+        for b in range(n_blocks):
+            node_sign[total, b] = _sign(dets0[b])
+        total += 1
+        if hi[d] > phi0[d]:
+            added, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], hi[d], 1.0, q0, qd0,
+                                  qdd0, dets0, node_phi, node_q, node_sign, total, limit[d], limit_phi[d], limit_h[d],
+                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 0, q, qd, qdd, dets, qc,
+                                  qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            total += added
+            if state != 0:
+                status[d] = state
+                continue
+        # the interpolant of every interval: coef[j, c, i] (the same sums as numpy's HERMITE5 @ ends)
+        for j in range(total - 1):
+            width = node_phi[j + 1] - node_phi[j]
+            for i in range(m_all):
+                e0, e1 = node_q[j, 0, i], node_q[j + 1, 0, i]
+                e2, e3 = width * node_q[j, 1, i], width * node_q[j + 1, 1, i]
+                e4, e5 = width * width * node_q[j, 2, i], width * width * node_q[j + 1, 2, i]
+                for c in range(6):
+                    coef[j, c, i] = (hermite[c, 0] * e0 + hermite[c, 1] * e1 + hermite[c, 2] * e2
+                                     + hermite[c, 3] * e3 + hermite[c, 4] * e4 + hermite[c, 5] * e5)
+        first, last = node_phi[0], node_phi[total - 1]
+        # 3. the requested positions
+        for n in range(n_pos):
+            xb = x[d, n]
+            if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
+                valid[d, n] = False
+                _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations)
+                continue
+            j, near, t = 0, 0, 0.0
+            if total > 1:
+                j = _interval(node_phi, total, xb)
+                width = node_phi[j + 1] - node_phi[j]
+                t = (xb - node_phi[j]) / width if width > 0 else 0.0
+                near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
+            for i in range(m_all):
+                if total > 1:
+                    value = coef[j, 5, i]
+                    for p in range(4, -1, -1):
+                        value = value * t + coef[j, p, i]
+                else:
+                    value = node_q[0, 0, i]
+                q[i] = value
+                guess[i] = value
+            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
+                                      accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res,
+                                      step, qd_u, qdd_u)
+            ok = converged
+            for b in range(n_blocks):
+                if _sign(dets[b]) != node_sign[near, b]:
+                    ok = False
+            for i in range(m_all):
+                if abs(q[i] - guess[i]) * var_scale[i] > max_correction:
+                    ok = False
+            if not ok:
+                status[d] = 4
+                break
+            valid[d, n] = True
+            for l in range(n_links):  # noqa: E741
+                angle[d, n, l] = ps[0, l] + reference[d, l]
+                wq[d, n, l] = rt[vel, 0, l]
+                if accelerations:
+                    eq[d, n, l] = rt[acc, 0, l]
+            for p in range(n_points):
+                l = point_link[p]  # noqa: E741
+                c, s = ps[1, l], ps[2, l]
+                ax, ay = point_at[d, p, 0], point_at[d, p, 1]
+                rx, ry = c * ax - s * ay, s * ax + c * ay
+                w = rt[vel, 0, l]
+                xy[d, n, p, 0], xy[d, n, p, 1] = ps[3, l] + rx, ps[4, l] + ry
+                vq[d, n, p, 0], vq[d, n, p, 1] = rt[vel, 1, l] + w * -ry, rt[vel, 2, l] + w * rx
+                if accelerations:
+                    e = rt[acc, 0, l]
+                    aq[d, n, p, 0] = rt[acc, 1, l] + e * -ry - (w * w) * rx
+                    aq[d, n, p, 1] = rt[acc, 2, l] + e * rx - (w * w) * ry
+    return 0

@@ -1,0 +1,90 @@
+"""What a new process loads: `import mbplanar` leaves the heavy optional packages alone, `mbplanar solve`
+imports only its own command's code, and the compiled backend is imported when a batch reaches it.
+(Behaviour, not timing: the times are in benchmarks/startup.py.)"""
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mbplanar.cli import CORE_COMMANDS, OWN_MODULE, build_parser, command_in, main
+
+ROOT = Path(__file__).resolve().parent.parent
+HEAVY = ("scipy", "networkx", "matplotlib", "numba", "dask")
+
+
+def _loaded_after(code: str) -> set[str]:
+    """The top-level packages and mbplanar subpackages a new process has loaded after running `code`."""
+    probe = (code + "\nimport json, sys\n"
+             "print(json.dumps(sorted({m.split('.')[0] for m in sys.modules} | {m for m in sys.modules "
+             "if m.startswith('mbplanar.') and m.count('.') == 1})))")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    done = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, env=env, capture_output=True, text=True,
+                          check=True)
+    return set(json.loads(done.stdout.splitlines()[-1]))
+
+
+def test_import_mbplanar_leaves_the_heavy_packages_alone():
+    loaded = _loaded_after("import mbplanar")
+    assert "numpy" in loaded and not loaded & set(HEAVY)
+
+
+def test_solve_imports_only_its_own_command():
+    solve = ("import contextlib, io\nfrom mbplanar.cli import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             "    assert main(['solve', 'models/fourbar.toml', '--at', '30']) == 0")
+    _loaded_after(solve)  # the first run fills the engine cache (networkx is imported to build it)
+    loaded = _loaded_after(solve)
+    assert not loaded & set(HEAVY)
+    assert not loaded & {"mbplanar.synthesis", "mbplanar.cam", "mbplanar.study", "mbplanar.viz"}
+
+
+@pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba not installed")
+def test_the_compiled_backend_is_imported_when_a_batch_reaches_it():
+    loaded = _loaded_after("import mbplanar\n"
+                           "engine = mbplanar.Engine(mbplanar.read_model('models/fourbar.toml'), backend='numba')\n"
+                           "assert engine.backend == 'numba' and engine.topology.structure.dof == 1")
+    assert "numba" not in loaded and "networkx" in loaded
+
+
+def test_a_backend_whose_package_is_missing_is_refused_when_the_engine_is_made(monkeypatch):
+    import mbplanar
+    from mbplanar.engine._backend import BACKENDS
+    from mbplanar.errors import MbplanarError
+    monkeypatch.setitem(BACKENDS, "fortran", ("mbplanar.backends._fortran", "no_such_package_here", "fortran"))
+    mech = mbplanar.read_model(ROOT / "models" / "fourbar.toml")
+    with pytest.raises(MbplanarError, match=r"'fortran' needs no_such_package_here: pip install 'mbplanar\[fortran\]'"):
+        mbplanar.Engine(mech, backend="fortran")
+    with pytest.raises(ValueError, match="backend must be one of"):
+        mbplanar.Engine(mech, backend="cobol")
+
+
+@pytest.mark.parametrize("argv, command", [
+    (["solve", "m.toml", "--at", "30"], ""),
+    (["--backend", "numba", "--threads", "2", "sweep", "m.toml"], ""),
+    (["--debug", "--threads", "2", "cam", "c.toml"], "cam"),
+    (["--no-cache", "study", "m.toml"], "study"),
+    (["synth", "seed001"], "synth"),
+    (["--back", "numba", "cam", "c.toml"], None),  # an abbreviated option: every command is built
+    (["-h"], None),
+    (["nonsense"], None),
+])
+def test_the_command_is_found_before_parsing(argv, command):
+    assert command_in(argv) == command
+
+
+def test_every_command_is_listed_once():
+    sub = next(a for a in build_parser("")._actions if a.dest == "command")
+    assert set(sub.choices) == set(CORE_COMMANDS) | set(OWN_MODULE)
+    assert not set(CORE_COMMANDS) & set(OWN_MODULE)
+
+
+@pytest.mark.parametrize("command, option", [("cam", "--plot-output"), ("study", "--variants"),
+                                             ("synth", "seed001")])
+def test_a_command_in_its_own_package_shows_its_options(command, option, capsys):
+    assert main([command, "-h"]) == 0
+    assert option in capsys.readouterr().out
