@@ -23,6 +23,11 @@ POSITIONS = ("angle", "xy", "value")
 RATES = ("w", "e", "v", "a", "rate", "accel", "wq", "eq", "vq", "aq", "rate_q", "accel_q")
 
 
+def _compiled(m):
+    """Whether the compiled kernel made the Motion (its records, or positions only its refill)."""
+    return m.rows is not None or m.refill is not None
+
+
 def _pair(mech):
     return mbplanar.Engine(mech), mbplanar.Engine(mech, backend="numba")
 
@@ -150,7 +155,7 @@ def test_asked_points_and_positions_only_same_as_numpy(name):
     asked = every[::-2]  # every other point, in another order
     for kw in (dict(points=asked), dict(rates=False), dict(points=asked[:1], rates=False)):
         ref, fast = mbplanar.analyse(ref_engine, phi, 1.5, 0.4, **kw), mbplanar.analyse(fast_engine, phi, 1.5, 0.4, **kw)
-        assert fast.rows is not None, "the compiled path took the batch"
+        assert _compiled(fast), "the compiled path took the batch"
         assert fast.point_names == ref.point_names == kw.get("points", every)
         assert fast.has_rates == ref.has_rates == kw.get("rates", True)
         for field in POSITIONS:
@@ -185,8 +190,21 @@ def test_random_mechanisms_positions_only_same_as_numpy(mech_kind, start):
     ref_engine, fast_engine = _pair(mech)
     phi = ref_engine.phi_drawn[0] + start + np.linspace(0.0, 2 * math.pi, 200)
     ref, fast = mbplanar.analyse(ref_engine, phi, rates=False), mbplanar.analyse(fast_engine, phi, rates=False)
-    assert len(fast.phi) == len(ref.phi) and fast.rows is not None
+    assert len(fast.phi) == len(ref.phi) and _compiled(fast)
     assert [lim.phi[0] for lim in fast.limits] == [lim.phi[0] for lim in ref.limits]
     for field in POSITIONS:
         np.testing.assert_allclose(getattr(fast, field), getattr(ref, field), rtol=0, atol=1e-11 * ref_engine.size,
                                    err_msg=field)
+
+
+def test_positions_only_write_no_records_and_give_joint_values_when_read():
+    """Positions only, the kernel writes the angles and points alone; the joint values and link frames
+    come from a second compiled pass when first read, equal to numpy's."""
+    ref_engine, engine = _pair(mbplanar.read_model(MODELS / "shaper.toml"))
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 6.0, 40)
+    m, ref = mbplanar.analyse(engine, phi, rates=False), mbplanar.analyse(ref_engine, phi, rates=False)
+    assert m.rows is None and "value" not in vars(m) and "frames" not in vars(m)
+    np.testing.assert_allclose(m.value, ref.value, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m.frames["r"], ref.frames["r"], rtol=0, atol=1e-12)
+    assert m.value is m.value and "frames" in vars(m)  # kept after the first read
+    assert "array(40, 6)" in repr(m)

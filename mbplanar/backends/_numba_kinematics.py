@@ -54,7 +54,7 @@ class Outputs:
     e: np.ndarray | None
     v: np.ndarray | None
     a: np.ndarray | None
-    rows: np.ndarray
+    rows: np.ndarray | None
     valid: np.ndarray
 
 
@@ -122,10 +122,11 @@ def _atlas_tables(engine, atlas):
     return tables
 
 
-def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Outputs | None:
+def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=True) -> Outputs | None:
     """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi) with input speed
     om and acceleration ep (B,), for the points on links p_link (P,) drawn at p_at (P, 2); with `rates`
-    the velocities and accelerations too. None where the numpy path must take the batch."""
+    the velocities and accelerations too; with `records` the frames and joints (`Outputs.rows`, else
+    None). None where the numpy path must take the batch."""
     atlas = engine.atlas()
     atlas.cover(lo, hi)
     grid, coef, signs = _atlas_tables(engine, atlas)
@@ -136,8 +137,8 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Output
     plan = _plan(engine, joint_table)
     batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
     dtype, offsets = plan.rows[bool(rates)]
-    rows = np.empty(batch, dtype)
-    flat = rows.view(np.float64).reshape(batch, -1)
+    rows = np.empty(batch if records else 0, dtype)
+    flat = rows.view(np.float64).reshape(batch, -1) if records else np.empty((batch, 0))
     angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
     if rates:
         w, e, v, a = np.empty((batch, n_l)), np.empty((batch, n_l)), np.empty((batch, n_p, 2)), np.empty((batch, n_p, 2))
@@ -159,10 +160,10 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Output
     if any(status):
         return None
     out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
-                  a if rates else None, rows, valid)
+                  a if rates else None, rows if records else None, valid)
     if not valid.all():
         keep = np.flatnonzero(valid)
-        for name in ("angle", "xy", "w", "e", "v", "a", "rows"):
+        for name in ("angle", "xy", "w", "e", "v", "a", "rows"):  # (None where not asked for)
             if getattr(out, name) is not None:
                 setattr(out, name, getattr(out, name)[keep])
     return out

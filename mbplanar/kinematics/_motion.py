@@ -69,6 +69,9 @@ class Motion:
     # compiled kinetostatics reads it a position at a time)
     rows: np.ndarray | None = field(default=None, repr=False)
     has_rates: bool = True  # False: positions only, the arrays of RATE_NAMES were not computed
+    # a backend's (motion) → (value, frames) where it did not write them (compiled, positions only):
+    # computed when first read
+    refill: object = field(default=None, repr=False, compare=False)
 
     @property
     def success(self) -> bool:
@@ -82,7 +85,8 @@ class Motion:
             f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
 
     def __post_init__(self):
-        absent = (RATE_NAMES if not self.has_rates else ()) + (DERIVED if self.rows is not None else ())
+        absent = ((RATE_NAMES if not self.has_rates else ()) + (DERIVED if self.rows is not None else ())
+                  + (REFILLED if self.refill is not None else ()))
         for name in absent:
             if self.__dict__.get(name, 0) is None:
                 del self.__dict__[name]  # so that reading it reaches __getattr__
@@ -91,6 +95,9 @@ class Motion:
         if name in RATE_NAMES and not self.__dict__.get("has_rates", True):
             raise RatesNotComputed(f"Motion.{name}: this motion holds positions only (analyse(..., rates=False)); "
                                    "ask analyse(..., rates=True) for velocities and accelerations")
+        if name in REFILLED and self.__dict__.get("refill") is not None:
+            self.value, self.frames = self.refill(self)
+            return getattr(self, name)
         if name not in DERIVED or self.__dict__.get("rows") is None:
             raise AttributeError(f"'Motion' object has no attribute '{name}'")
         value = _derived(self, name)
@@ -102,8 +109,8 @@ class Motion:
         return {f.name: self.__dict__.get(f.name) for f in dataclass_fields(self)}
 
     def __repr__(self) -> str:
-        shown = ", ".join(f"{k}={'array' + str(v.shape) if isinstance(v, np.ndarray) else v!r}"
-                          for k, v in self.fields().items() if k not in ("engine", "rows", "frames"))
+        shown = ", ".join(f"{k}=array{v.shape}" if isinstance(v, np.ndarray) else f"{k}={v!r}"
+                          for k, v in self.fields().items() if k not in ("engine", "rows", "frames", "refill"))
         return f"Motion({shown})"
 
     def point(self, name: str) -> int:
@@ -151,6 +158,7 @@ for _name in ("wq", "eq", "rate_q", "accel_q"):  # after @dataclass has taken th
 
 
 DERIVED = ("vq", "aq", "rate", "accel", "ic")  # follow from the compiled frames and joint analogues
+REFILLED = ("value", "frames")  # a backend's `refill` gives them
 RATE_NAMES = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "rate", "accel", "rate_q", "accel_q", "ic")
 
 
