@@ -32,6 +32,16 @@ def _pair(mech):
     return mbplanar.Engine(mech), mbplanar.Engine(mech, backend="numba")
 
 
+def _model_sweep(name, n):
+    """Both engines of a model file and n values over its default sweep (skipped for several inputs)."""
+    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / f"{name}.toml"))
+    if len(ref_engine.inputs) != 1:
+        pytest.skip("several inputs: the numpy path only")
+    inp = ref_engine.inputs[0]
+    lo, hi = (inp.to_si(v) for v in inp.default_sweep()[:2])
+    return ref_engine, fast_engine, np.linspace(lo, hi, n)
+
+
 def _assert_same(ref, fast, size, rate_tol=1e-8):
     """Positions to 1e-10 of the size; rates and accelerations to `rate_tol` relative (both paths stop
     Newton at the same residual, so near a dead point, where the rates grow without bound, they differ
@@ -56,12 +66,7 @@ def _assert_same(ref, fast, size, rate_tol=1e-8):
 
 @pytest.mark.parametrize("name", sorted(p.stem for p in linkage_models()))
 def test_every_model_same_as_numpy(name):
-    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / f"{name}.toml"))
-    if len(ref_engine.inputs) != 1:
-        pytest.skip("several inputs: the numpy path only")
-    inp = ref_engine.inputs[0]
-    lo, hi = (inp.to_si(v) for v in inp.default_sweep()[:2])
-    phi = np.linspace(lo, hi, 721)
+    ref_engine, fast_engine, phi = _model_sweep(name, 721)
     ref = mbplanar.analyse(ref_engine, phi, omega=2.5, epsilon=-0.7)
     fast = mbplanar.analyse(fast_engine, phi, omega=2.5, epsilon=-0.7)
     # the locking model's last rows lie a hair before its fold, where the rates are ~1e6
@@ -145,12 +150,7 @@ def test_outputs_written_by_the_kernel_and_the_rest_derived_when_read():
 # numpy solving one position: see test_differences_are_numpys_batch_coupling)
 @pytest.mark.parametrize("name", sorted(p.stem for p in linkage_models()))
 def test_asked_points_and_positions_only_same_as_numpy(name):
-    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / f"{name}.toml"))
-    if len(ref_engine.inputs) != 1:
-        pytest.skip("several inputs: the numpy path only")
-    inp = ref_engine.inputs[0]
-    lo, hi = (inp.to_si(v) for v in inp.default_sweep()[:2])
-    phi = np.linspace(lo, hi, 181)
+    ref_engine, fast_engine, phi = _model_sweep(name, 181)
     every = mbplanar.analyse(ref_engine, phi[:1]).point_names
     asked = every[::-2]  # every other point, in another order
     for kw in (dict(points=asked), dict(rates=False), dict(points=asked[:1], rates=False)):
