@@ -117,11 +117,12 @@ def _refill(motion) -> tuple:
     again with the records (they are not written in the first pass, to keep it lean)."""
     engine = motion.engine
     x = np.ascontiguousarray(motion.phi[:, 0])
-    got = None
-    if len(x):
-        none = point_selection(engine, [])
-        got = _kernels()[0].sweep(engine, x, float(x.min()), float(x.max()), _tables(engine)[1], np.ones(len(x)),
-                                  np.zeros(len(x)), none.links, none.at, False)
+    n_l, n_j = len(engine.links), len(engine.mech.joints)
+    if not len(x):  # every position past a limit
+        return np.zeros((0, n_j)), {"th": np.zeros((0, n_l)), "r": np.zeros((0, n_l, 2))}
+    none = point_selection(engine, [])
+    got = _kernels()[0].sweep(engine, x, float(x.min()), float(x.max()), _tables(engine)[1], np.ones(len(x)),
+                              np.zeros(len(x)), none.links, none.at, False)
     if got is None or len(got.rows) != len(x):  # (the kernel takes what it took before)
         from ..kinematics._motion import _reference
         ref = _reference(engine, motion.phi, None, None, point_selection(engine, []), False)
