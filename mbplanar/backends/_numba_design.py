@@ -19,7 +19,7 @@ method. Per design the kernel
 The per-design constants (every joint's point in the link frames, each guide's direction, the drawn
 input value, each link's drawn angle, the chosen points) are tables with a design axis; before a design
 the kernel copies its row into the engine's step and cut tables, so that the per-position building
-blocks of `_numba_kinematics` (placement, closure, Jacobian, LU, rates) run unchanged.
+blocks of `_numba_blocks` (placement, closure, Jacobian, LU, rates) run unchanged.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _threads
-from ._numba_kinematics import _block_rates, _closure, _inline, _jacobian, _jit, _lu, _lu_solve, _place
+from ._numba_blocks import _block_rates, _closure, _inline, _jacobian, _jit, _lu, _lu_solve, _place
 from ._tables import kinematics_tables
 from ..engine._nodes import HERMITE5
 from ..kinematics._motion import _tables
