@@ -5,15 +5,14 @@ size on the same backend, and Dask.
                                [--dask-rounds R] [--no-dask] [--json FILE]
 
 1. D crank-rocker four-bars (`models/fourbar_design.toml`, random dimensions) × 360 crank positions in one
-   design batch, reading every design's coupler point M: positions and velocity analogues. numba
-   (`backend="numba"`, the compiled design kernel): the batch computes the link angles, their ω_q and
-   M's xy and v_q (`points=["M"], accelerations=False`: what is asked for, all of it computed and read);
-   numpy: the reference batch, which computes every link's angle, ω_q, ε_q and every point's xy, v_q,
-   a_q. Positions per second on one core.
+   design batch (numba, the compiled design kernel, and numpy, the reference), reading every design's
+   coupler point M: positions and velocity analogues. The batch computes what is asked for
+   (`points=["M"], accelerations=False`), every link's angle and ω_q and M's xy and v_q, and all of it is
+   read. Positions per second on one core.
 2. The same number of positions of one design in one sweep (`mbplanar.analyse`) on the same backend,
    reading the same arrays of M: the cost per position against which the batch's cost per
    design-position is compared (same run, ratio).
-3. K designs × 12 positions through `solve_designs` (numpy) on a Dask LocalCluster of 1 and of 2
+3. K designs × 12 positions through `solve_designs` (numpy; M's xy and v_q) on a Dask LocalCluster of 1 and of 2
    single-thread worker processes (chunks of 2000 designs, one task each), R rounds interleaved
    (1, 2, 1, 2, ...): the ratio of the median wall times. The results of the runs are checked equal,
    bit for bit.
@@ -41,9 +40,6 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from run import best_time  # noqa: E402
 
 import mbplanar  # noqa: E402
 from mbplanar.study import design_batch, solve_designs  # noqa: E402
@@ -97,10 +93,7 @@ def batch_case(designs: int, repeats: int, backend: str) -> dict:
 
     def run():
         batch = design_batch(MODEL, values, backend=backend)
-        if backend == "numba":
-            motion = batch.solve(phi, points=["M"], accelerations=False)
-        else:
-            motion = batch.solve(phi)
+        motion = batch.solve(phi, points=["M"], accelerations=False)
         k = motion.point("M")
         xy, vq = motion.xy[:, :, k].copy(), motion.vq[:, :, k].copy()
         assert motion.valid.all() and np.isfinite(xy).all() and np.isfinite(vq).all(), "every crank-rocker turns"
@@ -139,7 +132,8 @@ def dask_case(designs: int, workers: int, phi) -> tuple[dict, object]:
         client.run(lambda: __import__("mbplanar.study"))  # imports paid before the clock starts
         load = os.getloadavg()[0]
         t = time.perf_counter()
-        motion = solve_designs(MODEL, crank_rockers(designs, seed=2), phi, chunk=2000, client=client)
+        motion = solve_designs(MODEL, crank_rockers(designs, seed=2), phi, chunk=2000, client=client, points=["M"],
+                               accelerations=False)
         seconds = time.perf_counter() - t
     finally:
         close(client)
@@ -189,7 +183,7 @@ def main(argv=None) -> dict:
                     first = motion
                 else:
                     equal &= all(np.array_equal(getattr(first, n), getattr(motion, n), equal_nan=True)
-                                 for n in ("valid", "angle", "xy", "vq", "aq"))
+                                 for n in ("valid", "angle", "wq", "xy", "vq"))
         median = {w: float(np.median([c["seconds"] for c in cases])) for w, cases in runs.items()}
         doc["dask"] = {"designs": k, "positions_per_design": len(phi), "rounds": runs, "median_seconds": median,
                        "speedup": median[1] / median[2], "equal": bool(equal)}

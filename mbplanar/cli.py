@@ -35,6 +35,14 @@ def _load(args):
                        use_cache=not getattr(args, "no_cache", False))
 
 
+def _numpy_unless_it_pays(engine, positions: int) -> None:
+    """Leave the compiled backend out of a command of `positions` positions where loading it would cost
+    this process more than it saves (the backend's `pays`: numba's own start is ~0.6 s, a position saves
+    ~1 µs); the answers are the same to rounding."""
+    if not getattr(engine.compiled, "pays", lambda n: True)(positions):
+        engine.compiled = None
+
+
 def _positive_int(text) -> int:
     try:
         value = int(text)
@@ -234,6 +242,7 @@ def _inputs_at(engine, text) -> list[float]:
 
 def cmd_solve(args):
     engine = _load(args)
+    _numpy_unless_it_pays(engine, 1)
     values = _inputs_at(engine, args.at)
     phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
@@ -433,8 +442,7 @@ def cmd_sweep(args):
     if args.grid and n_in == 1:
         raise ModelError("--grid applies to several inputs")
     count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
-    if not getattr(engine.compiled, "pays", lambda n: True)(count):
-        engine.compiled = None  # a short sweep: loading the compiled kernels would cost more than they save
+    _numpy_unless_it_pays(engine, count)
     if args.true_motion or n_in == 1:
         _speeds(engine, None, args, check_only=True)
     with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))
@@ -497,6 +505,7 @@ def cmd_sweep(args):
 def cmd_forces(args):
     from .forces._kinetostatics import kinetostatics
     engine = _load(args)
+    _numpy_unless_it_pays(engine, 1)
     values = _inputs_at(engine, args.at)
     if not has_force_data(engine.mech):
         raise ModelError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
@@ -791,9 +800,11 @@ def cmd_animate(args):
 
 def cmd_report(args):
     from .cam.present import register as register_cam_section
+    from .synthesis.report import register as register_synthesis_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
-    register_cam_section()
+    register_cam_section()  # (the report's sections of other packages: registered here, so that the other
+    register_synthesis_section()  # commands do not import those packages)
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -1009,8 +1020,6 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         from .synthesis.command import add_arguments
         add_arguments(s)
     s.set_defaults(func=cmd_synth)
-    from .synthesis.report import register as register_synthesis_section
-    register_synthesis_section()
 
     s = sub.add_parser("check", help="full turn?, dead points, extreme positions, transmission angles")
     s.add_argument("model")

@@ -44,6 +44,16 @@ def test_solve_imports_only_its_own_command():
 
 
 @pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba not installed")
+def test_one_position_on_the_compiled_backend_does_not_load_numba():
+    """numba's start (~0.6 s) would cost a one-position command far more than the position (`pays`)."""
+    commands = [["solve", "models/fourbar.toml", "--at", "30"], ["forces", "models/fourbar_loaded.toml", "--at", "30"]]
+    loaded = _loaded_after("import contextlib, io\nfrom mbplanar.cli import main\n"
+                           "with contextlib.redirect_stdout(io.StringIO()):\n"
+                           + "".join(f"    assert main(['--backend', 'numba', *{c!r}]) == 0\n" for c in commands))
+    assert "numba" not in loaded and "mbplanar.backends" in loaded
+
+
+@pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba not installed")
 def test_the_compiled_backend_is_imported_when_a_batch_reaches_it():
     loaded = _loaded_after("import mbplanar\n"
                            "engine = mbplanar.Engine(mbplanar.read_model('models/fourbar.toml'), backend='numba')\n"

@@ -111,11 +111,15 @@ def test_path_writes_a_model_carrying_its_summary(tmp_path, capsys):
     m = mbplanar.analyse(engine, np.radians(doc["target_phi_deg"]))
     assert np.all(np.hypot(*(m.xy[:, m.point("P")] - rows).T) >= np.array(doc["errors"]) - 1e-12)
     if importlib.util.find_spec("matplotlib"):
-        from mbplanar.synthesis.report import register
-        from mbplanar.viz import report_html
+        from mbplanar.synthesis.report import register, report_section
+        from mbplanar.viz import _report
         register()
-        page = report_html(engine, frames=2)
-        assert "<h2>Synthesis</h2>" in page and "target points against the analysed path" in page
+        keys = list(_report.SECTIONS)
+        assert keys.index("synthesis") == keys.index("model") + 1
+        cycle = mbplanar.analyse(engine, np.radians(np.arange(0.0, 360.0, 10.0)))
+        body = report_section(engine, _report.ReportContext(engine, cycle, cycle, dpi=40))
+        assert "target points against the analysed path" in body and f"{doc['rms_error']:.6g}" in body
+        assert report_section(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), None) is None
 
 
 def test_path_on_a_models_parameters_from_toml(tmp_path, capsys):

@@ -1,10 +1,7 @@
-"""The per-position building blocks of the compiled kernels: placing a tree step, a cut's closure, their
-rate passes, a block's Jacobian and rates, LU with partial pivoting. Each is a small function that numba
-inlines where it is called (``inline="always"``).
-
-The design kernel (`_numba_design`) calls them from several places of its own; the kinematics kernel
-(`_numba_kinematics`) calls the placement, the closure and LU once each and writes its rate passes once
-inside its one function, so that numba compiles each piece once.
+"""Per-position building blocks of the compiled kernels: placing a tree step, a cut's closure, LU with
+partial pivoting. Each is a small function that numba inlines where it is called (``inline="always"``);
+the kinematics kernel (`_numba_kinematics`) calls each once, so that numba compiles each piece once, and
+the kinetostatics and design kernels take LU from there.
 """
 
 from __future__ import annotations
@@ -12,8 +9,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["_jit", "_inline", "_place", "_closure", "_step_rates", "_closure_rates", "_lu", "_lu_solve",
-           "_jacobian", "_block_rates"]
+__all__ = ["_inline", "_place", "_closure", "_lu", "_lu_solve"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
@@ -21,7 +17,6 @@ __all__ = ["_jit", "_inline", "_place", "_closure", "_step_rates", "_closure_rat
 # is allocated here, the caller passes every work array (`_scratch`).
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
 
 
@@ -72,63 +67,6 @@ def _closure(k, cuts, ps, cc, res, row):
 
 
 @_inline
-def _step_rates(k, steps, sc, rt, slot, qd, vel, qv):
-    """Rates in rt[slot] of step k's child from its parent's and the tree variable's rate qd; with
-    vel >= 0 they are accelerations, rt[vel] holding the velocities and qv the variable's velocity."""
-    parent, child, rel = steps.parent[k], steps.child[k], steps.relative[k]
-    wp, vpx, vpy = rt[slot, 0, parent], rt[slot, 1, parent], rt[slot, 2, parent]
-    if not steps.prismatic[k]:
-        rpx, rpy, rcx, rcy = sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
-        wc = qd + wp if rel else qd
-        cx = vpx + wp * -rpy - wc * -rcy
-        cy = vpy + wp * rpx - wc * rcx
-        if vel >= 0:
-            Wp, Wc = rt[vel, 0, parent], rt[vel, 0, child]
-            cx = cx - (Wp * Wp) * rpx + (Wc * Wc) * rcx
-            cy = cy - (Wp * Wp) * rpy + (Wc * Wc) * rcy
-        rt[slot, 0, child], rt[slot, 1, child], rt[slot, 2, child] = wc, cx, cy
-    else:
-        sign, ux, uy, q = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 4]
-        cx = vpx + sign * (qd * ux + (q * wp) * -uy)
-        cy = vpy + sign * (qd * uy + (q * wp) * ux)
-        if vel >= 0:
-            Wp = rt[vel, 0, parent]
-            cx = cx + sign * ((2 * qv * Wp) * -uy - (q * Wp * Wp) * ux)
-            cy = cy + sign * ((2 * qv * Wp) * ux - (q * Wp * Wp) * uy)
-        rt[slot, 0, child], rt[slot, 1, child], rt[slot, 2, child] = wp, cx, cy
-
-
-@_inline
-def _closure_rates(k, cuts, cc, rt, slot, vel, out, row):
-    """Rate rows of cut k from rt[slot] (its Jacobian column when the slot holds sensitivities); with
-    vel >= 0 the centripetal and Coriolis terms from the velocities rt[vel]."""
-    a, b = cuts.a[k], cuts.b[k]
-    rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
-    wa, wb = rt[slot, 0, a], rt[slot, 0, b]
-    if not cuts.prismatic[k]:
-        ox = rt[slot, 1, a] + wa * -ray - rt[slot, 1, b] - wb * -rby
-        oy = rt[slot, 2, a] + wa * rax - rt[slot, 2, b] - wb * rbx
-        if vel >= 0:
-            Wa, Wb = rt[vel, 0, a], rt[vel, 0, b]
-            ox = ox - (Wa * Wa) * rax + (Wb * Wb) * rbx
-            oy = oy - (Wa * Wa) * ray + (Wb * Wb) * rby
-        out[row], out[row + 1] = ox, oy
-    else:  # a carrier, b slider
-        nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
-        drx = rt[slot, 1, b] + wb * -rby - rt[slot, 1, a] - wa * -ray
-        dry = rt[slot, 2, b] + wb * rbx - rt[slot, 2, a] - wa * rax
-        o1 = drx * nx + dry * ny + wa * pnd
-        if vel >= 0:
-            Ws, Wc = rt[vel, 0, b], rt[vel, 0, a]
-            dvx = rt[vel, 1, b] + Ws * -rby - rt[vel, 1, a] - Wc * -ray
-            dvy = rt[vel, 2, b] + Ws * rbx - rt[vel, 2, a] - Wc * rax
-            bx = -(Ws * Ws) * rbx + (Wc * Wc) * rax
-            by = -(Ws * Ws) * rby + (Wc * Wc) * ray
-            o1 += -(Wc * Wc) * (nx * dx + ny * dy) + 2 * Wc * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
-        out[row], out[row + 1] = wb - wa, o1
-
-
-@_inline
 def _lu(a, m, perm):
     """LU with partial pivoting of a[:m, :m] in place (first largest pivot, as numpy's argmax);
     returns (det, min |pivot| / max |pivot|)."""
@@ -168,44 +106,3 @@ def _lu_solve(a, m, perm, b, x):
         for j in range(i + 1, m):
             x[i] -= a[i, j] * x[j]
         x[i] /= a[i, i]
-
-
-@_inline
-def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt, jac, col):
-    """Closure Jacobian (m, m) of a block, and in rt[0 … m − 1] the sensitivities of its links' rates to
-    each unknown (the links outside the block stay at 0)."""
-    for j in range(m):
-        for t in range(a0, a1):  # the links the block reads but does not place are at rest
-            for comp in range(3):
-                rt[j, comp, anchors[t]] = 0.0
-        for k in range(k0, k1):
-            _step_rates(k, steps, sc, rt, j, 1.0 if steps.var[k] - var0 == j and steps.var[k] >= 0 else 0.0, -1,
-                        0.0)
-        for k in range(c0, c1):
-            _closure_rates(k, cuts, cc, rt, j, -1, col, 2 * (k - c0))
-        for i in range(m):
-            jac[i, j] = col[i]
-
-
-@_inline
-def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
-                 q_in_vel, rhs, out):
-    """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
-    out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms)."""
-    for k in range(k0, k1):
-        var, sign = steps.var[k], steps.sign[k]
-        qd = 0.0 if var >= 0 else sign * q_in_rate
-        qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
-        _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
-    if m == 0:
-        return
-    for k in range(c0, c1):
-        _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
-    for i in range(m):
-        rhs[i] = -rhs[i]
-    _lu_solve(lu, m, perm, rhs, out)
-    for k in range(k0, k1):
-        link = steps.child[k]
-        for j in range(m):
-            for comp in range(3):
-                rt[slot, comp, link] += rt[j, comp, link] * out[j]

@@ -10,9 +10,10 @@ and the same study on every core or on a Dask cluster.
 from ..model._parameters import Parameter, Template
 from .batch import DesignBatch, DesignLimit, DesignMotion, design_batch
 from .dimensions import with_dimensions
+from .forces import DesignForces, design_kinetostatics
 from .run import Study, join_motions, load_template, run_study, solve_designs
 from .summary import DesignSummary, summarise
 from .variants import Variants, read_variants, variants_from
 
-__all__ = ["Parameter", "Template", "with_dimensions", "DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "Study", "run_study", "solve_designs", "join_motions", "load_template",
+__all__ = ["Parameter", "Template", "with_dimensions", "DesignForces", "design_kinetostatics", "DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "Study", "run_study", "solve_designs", "join_motions", "load_template",
            "DesignSummary", "summarise", "Variants", "read_variants", "variants_from"]

@@ -133,6 +133,7 @@ class DesignBatch:
         self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
         self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
         self._engines = {}
+        self._want = (list(self.points), True)  # the points and rates `solve` was asked for
         self.nodes = None
         self.motion = None
 
@@ -316,11 +317,12 @@ class DesignBatch:
             raise ValueError(f"{', '.join(unknown)}: neither a joint nor a point of the model")
         if self.engine.backend == "numba":
             return self._solve_compiled(phi, exact_limits, fallback, names, accelerations)
-        motion = self._solve_numpy(phi, exact_limits, fallback)
-        return _select(motion, names, accelerations)
+        return self._solve_numpy(phi, exact_limits, fallback, names, accelerations)
 
-    def _solve_numpy(self, phi, exact_limits: bool, fallback: bool) -> DesignMotion:
-        """`solve` with numpy's loops, every point and rate."""
+    def _solve_numpy(self, phi, exact_limits: bool, fallback: bool, names=None,
+                     accelerations: bool = True) -> DesignMotion:
+        """`solve` with numpy's loops (the points `names`, default all)."""
+        self._want = (list(self.points) if names is None else list(names), accelerations)
         D = self.count
         designs = np.flatnonzero(self.geometry.ok)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
@@ -411,7 +413,7 @@ class DesignBatch:
     def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations):
         """Designs `handed` solved by numpy's batch (a batch of their own) and copied into `out`."""
         sub = DesignBatch(self.engine, _take_geometry(self.geometry, handed))
-        got = _select(sub._solve_numpy(phi[handed], exact_limits, fallback), names, accelerations)
+        got = sub._solve_numpy(phi[handed], exact_limits, fallback, names, accelerations)
         out.valid[handed] = got.valid
         for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
             if getattr(out, name) is not None:
@@ -427,11 +429,12 @@ class DesignBatch:
         """Predict every (design, position) from its design's nodes, correct in one batch, check."""
         D, N = phi.shape
         eng0 = self.engine
-        L, P = len(eng0.links), len(self.points)
+        names, acc = self._want
+        L, P = len(eng0.links), len(names)
         out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, list(eng0.links),
-                           self.points, np.full((D, N, L), np.nan), np.full((D, N, L), np.nan),
-                           np.full((D, N, L), np.nan), np.full((D, N, P, 2), np.nan),
-                           np.full((D, N, P, 2), np.nan), np.full((D, N, P, 2), np.nan))
+                           names, np.full((D, N, L), np.nan), np.full((D, N, L), np.nan),
+                           np.full((D, N, L), np.nan) if acc else None, np.full((D, N, P, 2), np.nan),
+                           np.full((D, N, P, 2), np.nan), np.full((D, N, P, 2), np.nan) if acc else None)
         if not len(designs) or not nodes.parts:
             return out
         rows = np.repeat(designs, N)
@@ -475,24 +478,28 @@ class DesignBatch:
         reference = np.stack([self.geometry.reference[n][where] for n in links])
         wq, eqq = sol.w.T, sol.e.T  # (L, T)
         vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
-        at = np.stack([self.geometry.at[n][:, where] for n in self.points], axis=1)  # (2, P, T)
-        li = np.array(self.point_link)
+        at = np.stack([self.geometry.at[n][:, where] for n in out.points], axis=1)  # (2, P, T)
+        li = np.array([self.point_link[self.points.index(n)] for n in out.points], int)
         cp, sp = c[li], s[li]
         rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
         w, e = wq[li], eqq[li]
         turned = np.stack([-rho[1], rho[0]])
         xy = r[:, li] + rho
         vq = vf[:, li] + w * turned
-        aq = af[:, li] + e * turned - (w * w) * rho
         d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
         ok = good[take]
         out.valid[d_idx, n_idx] = ok
         bad = ~ok
-        for target, value in ((out.angle, th + reference), (out.wq, wq), (out.eq, eqq)):
+        links_out = [(out.angle, th + reference), (out.wq, wq)]
+        points_out = [(out.xy, xy), (out.vq, vq)]
+        if out.eq is not None:
+            links_out.append((out.eq, eqq))
+            points_out.append((out.aq, af[:, li] + e * turned - (w * w) * rho))
+        for target, value in links_out:
             v = value.T.copy()
             v[bad] = np.nan
             target[d_idx, n_idx] = v
-        for target, value in ((out.xy, xy), (out.vq, vq), (out.aq, aq)):
+        for target, value in points_out:
             v = np.moveaxis(value, 0, -1).transpose(1, 0, 2).copy()  # (T, P, 2)
             v[bad] = np.nan
             target[d_idx, n_idx] = v
@@ -532,27 +539,18 @@ class DesignBatch:
             idx = np.flatnonzero(hit)
             motion.valid[d] = hit
             for name in ("angle", "wq", "eq"):
-                getattr(motion, name)[d] = np.nan
-                getattr(motion, name)[d, idx] = getattr(m, name)
+                if getattr(motion, name) is not None:
+                    getattr(motion, name)[d] = np.nan
+                    getattr(motion, name)[d, idx] = getattr(m, name)
             for name in ("xy", "vq", "aq"):
-                getattr(motion, name)[d] = np.nan
-                getattr(motion, name)[d, idx] = getattr(m, name)[:, [m.point(p) for p in self.points]]
+                if getattr(motion, name) is not None:
+                    getattr(motion, name)[d] = np.nan
+                    getattr(motion, name)[d, idx] = getattr(m, name)[:, [m.point(p) for p in motion.points]]
             motion.limits = [lim for lim in motion.limits if lim.design != d]
             motion.limits += [DesignLimit(d, float(lim.phi[0]), lim.direction, lim.links, lim.joints, lim.kind, lim)
                               for lim in m.limits]
             self.reasons[d] = None
             motion.ok[d] = True
-
-
-def _select(motion: DesignMotion, names: list, accelerations: bool) -> DesignMotion:
-    """The motion with only the points `names` and, without `accelerations`, no eq, aq."""
-    if names != motion.points:
-        idx = [motion.points.index(p) for p in names]
-        motion.xy, motion.vq, motion.aq = motion.xy[:, :, idx], motion.vq[:, :, idx], motion.aq[:, :, idx]
-        motion.points = list(names)
-    if not accelerations:
-        motion.eq = motion.aq = None
-    return motion
 
 
 def _take_geometry(g: DesignGeometry, index) -> DesignGeometry:

@@ -118,10 +118,13 @@ def _batch_forces(batch, template: Template, variants: Variants, out: list):
     if not len(idx):
         return
     inp = batch.engine.inputs[0]
-    phi = np.stack([inp.to_si(np.asarray(out[k].samples_phi, float)) for k in idx])
+    rows = [inp.to_si(np.asarray(out[k].samples_phi, float)) for k in idx]  # fewer where a design locks
+    width = max(len(r) for r in rows)
+    phi = np.stack([np.concatenate([r, np.full(width - len(r), r[0])]) for r in rows])
     sub = DesignBatch(batch.engine, _take_geometry(batch.geometry, idx))
     with np.errstate(invalid="ignore"):
         motion = sub.solve(phi)
+        motion.valid &= np.arange(width) < np.array([len(r) for r in rows])[:, None]  # not the padding
         got = design_kinetostatics(sub, motion, template, variants.take(idx))
     if got is None:
         for k in idx:

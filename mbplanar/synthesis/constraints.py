@@ -26,14 +26,21 @@ PIVOTS = ("A0", "B0")
 class PathConstraints:
     """What a path generator must satisfy besides the targets.
 
-    full_turn : the input crank turns fully (Grashof, the crank the shortest link) on one branch;
-        False: the targets need only lie on one branch between two motion limits.
-    min_transmission_deg : smallest transmission angle μ (deviation of the angle between coupler and
-        rocker from 0 and 180°) over the travel, degrees; None: no bound.
-    max_ratio : largest ratio longest / shortest of the links (the ground included); None: no bound.
-    pivots : {"A0" or "B0" (or a generic model's joint): ((x_min, y_min), (x_max, y_max))} boxes.
-    transmission_joints : (J1, J2, J3) joints of a generic model whose angle at J2 is the transmission
-        angle (the four-bar's is at B between A and B0).
+    Attributes
+    ----------
+    full_turn : bool
+        The input crank turns fully (Grashof, the crank the shortest link) on one branch; False: the
+        targets need only lie on one branch between two motion limits.
+    min_transmission_deg : float or None
+        Smallest transmission angle μ (deviation of the angle between coupler and rocker from 0 and
+        180°) over the travel, degrees.
+    max_ratio : float or None
+        Largest ratio longest / shortest of the links (the ground included).
+    pivots : dict
+        {"A0" or "B0" (or a generic model's ground joint): ((x_min, y_min), (x_max, y_max))} boxes.
+    transmission_joints : tuple or None
+        (J1, J2, J3) joints of a generic model whose angle at J2 is the transmission angle (the
+        four-bar's is at B between A and B0).
     """
 
     full_turn: bool = True
@@ -118,18 +125,21 @@ def _grashof(d, margin: float) -> np.ndarray:
     return np.maximum(s + l - (1.0 - margin) * pq, 0.0) + np.maximum(links[:, 0] - links[:, 1:].min(axis=1), 0.0)
 
 
-def fourbar_violations(c: PathConstraints, d, a, b, ok, size: float, margin: float = 0.01) -> np.ndarray:
+def fourbar_violations(c: PathConstraints, d, a, b, ok, size: float, margin: float = 0.01,
+                       closure: bool = True) -> np.ndarray:
     """How far designs d (D, 10) are from meeting `c`, in lengths (D, 4) (columns: full turn or
     assembly over the travel, link ratio, transmission angle (rad × size), pivot regions): zero when met.
 
-    a, b (D, P, 2) are the joints A, B over the travel and ok (D, P) where the loop closes; `margin`
+    a, b (D, P, 2) are the joints A, B over the travel and ok (D, P) where the loop closes (`closure`
+    False: a part of the travel may not close, as for untimed targets without a full turn); `margin`
     keeps the penalised designs a little inside the constraints, so that a polished design meets them
     exactly.
     """
     out = np.zeros((len(d), 4))
     if c.full_turn:
         out[:, 0] = _grashof(d, margin)
-    out[:, 0] += size * np.mean(~ok, axis=1)
+    if closure:
+        out[:, 0] += size * np.mean(~ok, axis=1)
     ground = np.hypot(d[:, 2] - d[:, 0], d[:, 3] - d[:, 1])
     links = np.stack([np.abs(d[:, 4]), np.abs(d[:, 5]), np.abs(d[:, 6]), ground], axis=1)
     if c.max_ratio is not None:

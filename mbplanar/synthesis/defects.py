@@ -103,7 +103,8 @@ def check_defects(engine, phi, intended: dict, *, periodic: bool = True, full_tu
     """
     phi = np.asarray(phi, float)
     # the engine measures the drawn input within its default sweep: node 1 moved there by whole turns
-    shift = TWO_PI * round((float(engine.phi_drawn[0]) - phi[0]) / TWO_PI) if periodic else 0.0
+    rotary = engine.mech.joints[engine.inputs[0].joint].kind == "R"       # a sliding input is not moved by turns
+    shift = TWO_PI * round((float(engine.phi_drawn[0]) - phi[0]) / TWO_PI) if rotary else 0.0
     phi = phi + shift
     senses = [s for s in (1, -1) if _in_order(_offsets(phi, s, periodic))]
     order = not senses

@@ -34,7 +34,7 @@ from .constraints import PathConstraints, fourbar_violations, transmission_angle
 from .defects import Defects, check_defects
 from .starts import run_starts
 
-__all__ = ["PathResult", "PathTask", "synthesise_path", "nearest_on_polyline"]
+__all__ = ["PathOutcome", "PathResult", "PathTask", "synthesise_path", "nearest_on_polyline"]
 
 TWO_PI = 2.0 * math.pi
 WEIGHT = 10.0  # penalty per unit of violation (lengths), global stage and polish
@@ -55,13 +55,13 @@ class PathTask:
 
 
 @dataclass(frozen=True)
-class PathResult:
-    """A defect-free design for the targets: `design` (see `batch.DESIGN_COLUMNS`), `errors` (T,) the
-    distances of the targets from the coupler curve analysed by mbplanar, `phi` (T,) the crank angles of
-    the nearest (or timed) curve points, `transmission_deg` the smallest transmission angle over the
-    travel (mbplanar's analysis), `evaluations` the designs scored, `seed` the random seed."""
+class PathOutcome:
+    """What every path generator returns: the written model (`toml`, `mechanism`), the `targets` (T, 2)
+    and their `errors` (T,) from mbplanar's analysis of that model, `phi` (T,) the input at each target
+    (the nearest curve point's, or the timed one's), the `defects` check, the smallest transmission angle
+    over the travel `transmission_deg` (nan when not defined), the `constraints`, and the search's
+    `evaluations`, `seconds`, `seed` and `starts`."""
 
-    design: np.ndarray
     toml: str
     mechanism: object
     targets: np.ndarray
@@ -71,12 +71,10 @@ class PathResult:
     evaluations: int
     seconds: float
     seed: int
-    timed: bool = False
-    transmission_deg: float = float("nan")
-    ratio: float = float("nan")
-    constraints: PathConstraints = field(default_factory=PathConstraints)
-    starts: int = 1
-    point: str = "P"
+    starts: int
+    timed: bool
+    transmission_deg: float
+    constraints: PathConstraints
 
     @property
     def rms(self) -> float:
@@ -85,6 +83,16 @@ class PathResult:
     @property
     def max(self) -> float:
         return float(np.max(self.errors))
+
+
+@dataclass(frozen=True)
+class PathResult(PathOutcome):
+    """A defect-free four-bar: `design` (10,) (see `batch.DESIGN_COLUMNS`), `ratio` its longest over
+    shortest link; the coupler point is `point` ("P") of the model."""
+
+    design: np.ndarray = None
+    ratio: float = float("nan")
+    point: str = "P"
 
 
 # -- geometry of the search ---------------------------------------------------------------------------
@@ -144,6 +152,27 @@ def nearest_on_polyline(p, ok, targets, closed: bool = True, dtype=np.float64):
     return np.sqrt(np.take_along_axis(wx, index[:, None, :], axis=1)[:, 0].astype(float)), index
 
 
+def nearest_on_model(engine, point: str, targets, motion, iterations: int = 8) -> np.ndarray:
+    """Distances (T,) of targets (T, 2) from the path of `point` analysed by mbplanar: the nearest
+    position of `motion` (a dense sweep of `engine`) brackets each, and Newton's method on
+    (P − target)·dP/dφ = 0 with mbplanar's analogues dP/dφ, d²P/dφ² (all targets at once, kept within
+    the bracket) finds the foot of the perpendicular."""
+    grid = motion.phi[:, 0]
+    k = motion.point(point)
+    p = motion.xy[:, k]
+    i = np.argmin(np.hypot(p[:, None, 0] - targets[:, 0], p[:, None, 1] - targets[:, 1]), axis=0)
+    lo, hi = grid[np.maximum(i - 1, 0)], grid[np.minimum(i + 1, len(grid) - 1)]
+    x = grid[i]
+    for _ in range(iterations):
+        m = analyse(engine, x)
+        d, v, a = m.xy[:, k] - targets, m.vq[:, k], m.aq[:, k]
+        slope = np.sum(v * v, axis=1) + np.sum(d * a, axis=1)
+        step = np.where(slope > 0, -np.sum(d * v, axis=1) / np.where(slope > 0, slope, 1.0), 0.0)
+        x = np.clip(x + step, np.minimum(lo, hi), np.maximum(lo, hi))
+    m = analyse(engine, x)
+    return np.minimum(np.hypot(*(m.xy[:, k] - targets).T), np.hypot(*(p[i] - targets).T))
+
+
 def _order_penalty(index, samples: int) -> np.ndarray:
     """Zero when the nearest-sample indices (S, T) go round the curve once in one sense (cyclically)."""
     step = np.diff(np.concatenate([index, index[:, :1]], axis=1), axis=1) % samples
@@ -172,6 +201,12 @@ def _travel(task: PathTask, x_phase, samples: int) -> np.ndarray:
     return x_phase[:, None] + np.linspace(lo, hi, samples)[None, :]
 
 
+def _closes(task: PathTask) -> bool:
+    """Whether the whole sampled travel must close: a full turn, or a timed travel between targets
+    (untimed targets without a full turn need only the arc that holds them)."""
+    return task.constraints.full_turn or task.timing is not None
+
+
 def score(x, task: PathTask, samples: int) -> np.ndarray:
     """Objective of a population x (V, S): RMS error + WEIGHT × (violations + order/arc defects)."""
     d = _designs(x)
@@ -179,8 +214,7 @@ def score(x, task: PathTask, samples: int) -> np.ndarray:
     phase = np.asarray(x, float)[10] if task.timing is not None else None
     travel = _travel(task, phase, samples)
     a, b, p, ok = fourbar_coupler_paths(d, travel)
-    penalty = fourbar_violations(task.constraints, d, a, b, ok if task.constraints.full_turn else
-                                 (ok if task.timing is not None else np.ones_like(ok)), size).sum(axis=1)
+    penalty = fourbar_violations(task.constraints, d, a, b, ok, size, closure=_closes(task)).sum(axis=1)
     if task.timing is None:
         near, index = nearest_on_polyline(p, ok, task.targets, closed=True, dtype=np.float32)
         penalty = penalty + 0.1 * size * _order_penalty(index, samples)
@@ -213,7 +247,7 @@ def _residuals(z, mode: float, task: PathTask, samples: int, weight: float) -> n
     miss = np.where(ok[..., None], p - task.targets, task.size).reshape(len(z), -1)
     travel = _travel(task, z[:, 9], samples) if task.timing is not None else np.linspace(0.0, TWO_PI, samples, endpoint=False)
     a, b, _, okt = fourbar_coupler_paths(d, travel)
-    v = fourbar_violations(task.constraints, d, a, b, okt, task.size)
+    v = fourbar_violations(task.constraints, d, a, b, okt, task.size, closure=_closes(task))
     return np.column_stack([miss, weight * v])
 
 
@@ -447,12 +481,10 @@ def _verified(design, phi_t, task: PathTask, evaluations, seconds, seed, starts)
     dense = analyse(engine, node_phi[0] + np.linspace(0.0, span, 3601))
     xy = {k: dense.xy[:, dense.point(k)] for k in ("A", "B", "B0", "P")}
     if task.timing is None:  # the nearest point of the analysed curve, where nearer than the polished foot
-        near, _ = nearest_on_polyline(xy["P"][None], np.ones((1, len(xy["P"])), bool), targets,
-                                      closed=c.full_turn)
-        errors = np.minimum(errors, near[0])
+        errors = np.minimum(errors, nearest_on_model(engine, "P", targets, dense))
     mu = float(np.degrees(transmission_angles(xy["A"], xy["B"], xy["B0"]).min()))
     if c.min_transmission_deg is not None and mu < c.min_transmission_deg - 1e-9:
         raise ModelError(f"transmission angle {mu:.4f}° below the bound {c.min_transmission_deg}°")
     links = [design[4], design[5], design[6], float(np.hypot(*(design[2:4] - design[0:2])))]
-    return PathResult(design, text, mech, targets, errors, node_phi, defects, evaluations, seconds, seed,
-                      task.timing is not None, mu, max(links) / min(links), c, starts)
+    return PathResult(text, mech, targets, errors, node_phi, defects, evaluations, seconds, seed, starts,
+                      task.timing is not None, mu, c, design=design, ratio=max(links) / min(links))

@@ -28,8 +28,8 @@ from ..kinematics import analyse
 from ..model import parse_model
 from ._models import table_toml
 from .constraints import PathConstraints, transmission_angles
-from .defects import Defects, check_defects
-from .path import _order_penalty, _task, nearest_on_polyline, start_seeds
+from .defects import check_defects
+from .path import PathOutcome, _order_penalty, _task, nearest_on_model, nearest_on_polyline, start_seeds
 from .starts import run_starts
 
 __all__ = ["ModelPathResult", "synthesise_model_path"]
@@ -39,36 +39,15 @@ WEIGHT = 10.0
 
 
 @dataclass(frozen=True)
-class ModelPathResult:
-    """The model with its synthesised parameters: `values` {parameter: value in its unit}, `toml` the
-    model's text with them, `errors` (T,) distances of the targets from the analysed curve of `point`,
-    `phi` (T,) the input's values (SI) there, `transmission_deg` the smallest transmission angle at the
-    constraint's joints over the travel (nan when none is named)."""
+class ModelPathResult(PathOutcome):
+    """The model with its synthesised parameters: `values` {parameter: value in its unit} (the model's
+    text `toml` holds them), `point` the shaped joint or point, `travel` the input's range about the
+    drawn pose (SI) over which its curve was traced; the transmission angle is at the constraint's
+    `transmission_joints` (nan when none are named)."""
 
-    values: dict
-    toml: str
-    mechanism: object
-    point: str
-    targets: np.ndarray
-    errors: np.ndarray
-    phi: np.ndarray
-    defects: Defects
-    evaluations: int
-    seconds: float
-    seed: int
-    timed: bool
-    transmission_deg: float
-    constraints: PathConstraints
-    starts: int
-    travel: tuple
-
-    @property
-    def rms(self) -> float:
-        return float(np.sqrt(np.mean(self.errors ** 2)))
-
-    @property
-    def max(self) -> float:
-        return float(np.max(self.errors))
+    values: dict = None
+    point: str = ""
+    travel: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -404,15 +383,14 @@ def _verified(problem: _Problem, template, values, rel, evaluations, seconds, se
     lo, hi = problem.travel
     dense = analyse(engine, phi0 + np.linspace(lo, hi, 1441) if not problem.closed else
                     node_phi[0] + np.linspace(0.0, TWO_PI, 1441))
-    if problem.timing is None:
-        p = dense.xy[:, dense.point(problem.point)]
-        near, _ = nearest_on_polyline(p[None], np.ones((1, len(p)), bool), problem.targets, closed=problem.closed)
-        errors = np.minimum(errors, near[0])
+    if problem.timing is None:  # the nearest point of the analysed path, where nearer than the polished foot
+        errors = np.minimum(errors, nearest_on_model(engine, problem.point, problem.targets, dense))
     mu = float("nan")
     if c.transmission_joints:
         j = [dense.xy[:, dense.point(n)] for n in c.transmission_joints]
         mu = float(np.degrees(transmission_angles(*j).min()))
         if c.min_transmission_deg is not None and mu < c.min_transmission_deg - 1e-9:
             raise ModelError(f"transmission angle {mu:.4f}° below the bound {c.min_transmission_deg}°")
-    return ModelPathResult(found, text, mech, problem.point, problem.targets, errors, node_phi, defects,
-                           evaluations, seconds, seed, problem.timing is not None, mu, c, starts, problem.travel)
+    return ModelPathResult(text, mech, problem.targets, errors, node_phi, defects, evaluations, seconds, seed,
+                           starts, problem.timing is not None, mu, c, values=found, point=problem.point,
+                           travel=problem.travel)
