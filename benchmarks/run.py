@@ -10,8 +10,9 @@ pylinkage+numba where it is installed (`pip install -e ".[bench]"`; its `step_fa
 `step_fast_with_kinematics` on the four-bar of models/fourbar.toml, checked to give the same points).
 
 Timing: the cases are timed in turn, in rounds; each round calls every case a few times in a row and
-keeps the fastest call; the figure is the median over the rounds (µs per position, or per call). Ratios
-are to the closed form of the same run. The compiled backend runs on one core for the headline
+keeps the fastest call; the figure is the median over the rounds (µs per position, or per call). A ratio
+to a baseline is the median over the rounds of the ratio within a round (the baseline is timed right
+after the case), so that the load of the moment cancels. The compiled backend runs on one core for the headline
 (`Engine(threads=1)`, the baselines use one core) and on two as a second column. Process-level figures
 (`mbplanar solve`, `import mbplanar`, numba's cold and warm start) are medians of subprocess runs.
 
@@ -28,6 +29,7 @@ import json
 import math
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -73,10 +75,11 @@ TARGETS = [  # (label, case name, work, column, limit)
     ("six-bar with reactions, µs/position", "six_bar_press", "reactions", "mbplanar_us", 1.2),
     ("class IV group with reactions, µs/position", "class4_group", "reactions", "mbplanar_us", 2.5),
     ("one position with velocities and accelerations, µs", "fourbar", "one position", "mbplanar_us", 10.0),
-    ("mbplanar solve end to end, s", "fourbar", "mbplanar solve", "seconds", 0.25),
-    ("numba cold start over numpy, s", "fourbar_loaded", "numba cold start", "seconds", 5.0),
-    ("numba warm start over numpy, s", "fourbar_loaded", "numba warm start", "seconds", 0.3),
-    ("import mbplanar, s", "mbplanar", "import", "seconds", 0.2),
+    # processes: CPU time of the child (on a loaded shared machine its wall time is 2 to 3 times longer)
+    ("mbplanar solve end to end, CPU s", "fourbar", "mbplanar solve", "cpu_s", 0.25),
+    ("numba cold start over numpy, CPU s", "fourbar_loaded", "numba cold start", "cpu_s", 5.0),
+    ("numba warm start over numpy, CPU s", "fourbar_loaded", "numba warm start", "cpu_s", 0.3),
+    ("import mbplanar, CPU s", "mbplanar", "import", "cpu_s", 0.2),
     ("four-bar positions, × pylinkage+numba", "fourbar", "positions", "pylinkage_ratio", 1.0),
     ("four-bar positions + velocities + accelerations, × pylinkage+numba", "fourbar", "kinematics",
      "pylinkage_ratio", 1.0),
@@ -97,24 +100,39 @@ def fastest(call, burst):
     return best
 
 
-def median_of_rounds(calls, rounds, burst):
-    """Per callable, the median over `rounds` rounds of its fastest of `burst` calls (s). Every round
+def in_rounds(calls, rounds, burst):
+    """Per callable, its fastest of `burst` calls in a row (s) in each of `rounds` rounds. Every round
     times every callable in turn, so that a slow spell of a shared machine falls on all of them."""
     times = [[] for _ in calls]
     for _ in range(rounds):
         for call, seen in zip(calls, times):
             seen.append(fastest(call, burst))
-    return [statistics.median(seen) for seen in times]
+    return times
 
 
-def median_run(cmd, runs, env=None):
-    """Median wall time (s) of `runs` runs of the command `cmd` (a subprocess each)."""
-    times = []
-    for _ in range(runs):
-        t = time.perf_counter()
-        subprocess.run(cmd, check=True, capture_output=True, env=env, cwd=ROOT)
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+def median_of_rounds(calls, rounds, burst):
+    """Per callable, the median over the rounds of its fastest call (s) (`in_rounds`)."""
+    return [statistics.median(seen) for seen in in_rounds(calls, rounds, burst)]
+
+
+def run_process(cmd, env):
+    """Wall time and CPU time (user + system of the child) in s of one run of the command `cmd`."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t = time.perf_counter()
+    subprocess.run(cmd, check=True, capture_output=True, env=env, cwd=ROOT)
+    wall = time.perf_counter() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def processes_in_rounds(commands, rounds):
+    """Per command (name → (argv, env)), the medians over `rounds` rounds of its wall and CPU times (s);
+    every round runs every command once, in turn, so that the load of a shared machine falls on all."""
+    seen = {name: [] for name in commands}
+    for _ in range(rounds):
+        for name, (cmd, env) in commands.items():
+            seen[name].append(run_process(cmd, env))
+    return {name: tuple(statistics.median(x[k] for x in times) for k in (0, 1)) for name, times in seen.items()}
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -318,21 +336,26 @@ def sweep_cases(n, rounds, burst, plk=None):
         for column, call in columns.items():
             calls.append(call)
             slots.append((rows[-1], column))
-    for (row, column), t in zip(slots, median_of_rounds(calls, rounds, burst)):
-        row[column] = 1e6 * t / n
+    seen = {}
+    for (row, column), times in zip(slots, in_rounds(calls, rounds, burst)):
+        row[column] = 1e6 * statistics.median(times) / n
+        seen[id(row), column] = times
     for row in rows:
-        finish(row)
+        finish(row, {column: seen[id(row), column] for column in list(row) if (id(row), column) in seen})
     return rows, builds
 
 
-def finish(row, headline=None):
-    """The headline figure of a case (`headline`, by default the compiled backend on one core, else
-    numpy) and its ratios to the baselines."""
+def finish(row, rounds, headline=None):
+    """The headline figure of a case: the column `headline`, by default the compiled backend on one core
+    (else numpy); and its ratios to the baselines, the medians over the rounds of the ratios within a
+    round (`rounds`: column → its time in each round), so that the load of the moment cancels."""
+    headline = headline or f"{BEST}_us"
     row["backend"] = BEST
-    row["mbplanar_us"] = row.get(f"{BEST}_us") if headline is None else headline
-    for base, key in (("closed_form", "ratio"), ("pylinkage", "pylinkage_ratio")):
-        b = row.get(f"{base}_us")
-        row[key] = row["mbplanar_us"] / b if b and row["mbplanar_us"] else None
+    row["headline"] = headline
+    row["mbplanar_us"] = row.get(headline)
+    for base, key in (("closed_form_us", "ratio"), ("pylinkage_us", "pylinkage_ratio")):
+        ok = base in rounds and headline in rounds
+        row[key] = statistics.median(a / b for a, b in zip(rounds[headline], rounds[base])) if ok else None
 
 
 def one_position_cases(rounds, burst, plk_one=None):
@@ -357,50 +380,65 @@ def one_position_cases(rounds, burst, plk_one=None):
     for call in columns.values():
         call()
     row = dict(name="fourbar", work="one position", n=1)
-    for column, t in zip(columns, median_of_rounds(list(columns.values()), rounds, burst)):
-        row[column] = 1e6 * t
+    seen = dict(zip(columns, in_rounds(list(columns.values()), rounds, burst)))
+    for column, times in seen.items():
+        row[column] = 1e6 * statistics.median(times)
     # the target is met through the public API's fastest path
-    finish(row, min(v for k, v in row.items() if k.endswith("_us") and k != "pylinkage_us"))
+    finish(row, seen, min((k for k in seen if k != "pylinkage_us"), key=row.get))
     return row
 
 
-def process_cases(runs, cold):
-    """`mbplanar solve` end to end, `import mbplanar`, and numba's cold and warm start (subprocesses)."""
-    env = dict(os.environ, PYTHONPATH=str(ROOT), MBPLANAR_THREADS="1")
-    # bytecode compiled once, as an installed package has it
-    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "mbplanar")], check=True,
-                   capture_output=True)
+COLD_SCRIPT = """import sys, numpy as np, mbplanar
+e = mbplanar.Engine(mbplanar.read_model('models/fourbar_loaded.toml'), backend=sys.argv[1])
+m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 2 * np.pi, 3600, endpoint=False))
+k = mbplanar.kinetostatics(e, m)
+print(m.xy.sum() + m.v.sum() + m.a.sum() + k.balancing['O'].sum())
+"""
+
+
+def process_cases(rounds, cold):
+    """`mbplanar solve` end to end, `import mbplanar`, and numba's cold and warm start: new processes
+    timed in rounds (wall and CPU time, medians), with `python -c pass` and `import numpy` as context."""
     py = sys.executable
-    rows = []
-
-    def add(name, work, seconds, **extra):
-        rows.append(dict(name=name, work=work, n=1, seconds=seconds, **extra))
-        print(f"  {name:14s} {work:24s} {seconds:7.3f} s"
-              + "".join(f"   {k.replace('_s', '')} {v:.3f} s" for k, v in extra.items() if v is not None))
-
-    base = dict(python_s=median_run([py, "-c", "pass"], runs, env),
-                numpy_s=median_run([py, "-c", "import numpy"], runs, env))
-    add("fourbar", "mbplanar solve",
-        median_run([py, "-m", "mbplanar", "solve", "models/fourbar.toml", "--at", "30"], runs, env), **base)
-    add("mbplanar", "import", median_run([py, "-c", "import mbplanar"], runs, env), **base)
-    if BEST != "numba":
-        return rows
-    if not cold:
-        print("  numba cold and warm start: skipped (--quick)")
-        return rows
-    script = ("import sys, numpy as np, mbplanar\n"
-              "e = mbplanar.Engine(mbplanar.read_model('models/fourbar_loaded.toml'), backend=sys.argv[1])\n"
-              "m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 2 * np.pi, 3600, endpoint=False))\n"
-              "k = mbplanar.kinetostatics(e, m)\n"
-              "print(m.xy.sum() + m.v.sum() + m.a.sum() + k.balancing['O'].sum())\n")
-    numpy_s = median_run([py, "-c", script, "numpy"], runs, env)
     with tempfile.TemporaryDirectory() as cache:
-        warm_env = dict(env, NUMBA_CACHE_DIR=cache)
-        cold_s = median_run([py, "-c", script, "numba"], 1, warm_env)
-        warm_s = median_run([py, "-c", script, "numba"], runs, warm_env)
-    add("fourbar_loaded", "numba cold start", cold_s - numpy_s, process_s=cold_s, numpy_process_s=numpy_s)
-    add("fourbar_loaded", "numba warm start", warm_s - numpy_s, process_s=warm_s, numpy_process_s=numpy_s)
+        env = dict(os.environ, PYTHONPATH=str(ROOT), MBPLANAR_THREADS="1", MBPLANAR_CACHE_DIR=cache)
+        # bytecode compiled once, as an installed package has it; the engine cache of the command line
+        # filled as by a user's first command on the file
+        subprocess.run([py, "-m", "compileall", "-q", str(ROOT / "mbplanar")], check=True, capture_output=True)
+        solve = [py, "-m", "mbplanar", "solve", "models/fourbar.toml", "--at", "30"]
+        subprocess.run(solve, check=True, capture_output=True, env=env, cwd=ROOT)
+        commands = {"python": ([py, "-c", "pass"], env), "numpy": ([py, "-c", "import numpy"], env),
+                    "import": ([py, "-c", "import mbplanar"], env), "solve": (solve, env)}
+        cold_s = None
+        if cold and BEST == "numba":
+            numba_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba"))
+            cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], numba_env)   # compiles into the empty cache
+            commands.update(sweep_numpy=([py, "-c", COLD_SCRIPT, "numpy"], env),
+                            sweep_numba=([py, "-c", COLD_SCRIPT, "numba"], numba_env))
+        t = processes_in_rounds(commands, rounds)
+    context = dict(python_s=t["python"][0], python_cpu_s=t["python"][1], numpy_s=t["numpy"][0],
+                   numpy_cpu_s=t["numpy"][1])
+    rows = [dict(name="fourbar", work="mbplanar solve", n=1, seconds=t["solve"][0], cpu_s=t["solve"][1], **context),
+            dict(name="mbplanar", work="import", n=1, seconds=t["import"][0], cpu_s=t["import"][1], **context)]
+    if cold_s is not None:
+        (np_wall, np_cpu), (warm_wall, warm_cpu) = t["sweep_numpy"], t["sweep_numba"]
+        rows += [dict(name="fourbar_loaded", work="numba cold start", n=1, seconds=cold_s[0] - np_wall,
+                      cpu_s=cold_s[1] - np_cpu, process_s=cold_s[0], process_cpu_s=cold_s[1], numpy_process_s=np_wall,
+                      numpy_process_cpu_s=np_cpu),
+                 dict(name="fourbar_loaded", work="numba warm start", n=1, seconds=warm_wall - np_wall,
+                      cpu_s=warm_cpu - np_cpu, process_s=warm_wall, process_cpu_s=warm_cpu, numpy_process_s=np_wall,
+                      numpy_process_cpu_s=np_cpu)]
+    for r in rows:
+        print(f"  {r['work']:18s} ({r['name']}) wall {r['seconds']:.3f} s, CPU {r['cpu_s']:.3f} s; {context_of(r)}")
+    if cold_s is None:
+        print("  numba cold and warm start: skipped" + (" (--quick)" if not cold else " (no numba)"))
     return rows
+
+
+def context_of(row) -> str:
+    """The context processes of a process case, wall / CPU time each (s)."""
+    names = [k[:-2] for k in row if k.endswith("_s") and not k.endswith("cpu_s") and k != "seconds"]
+    return ", ".join(f"{k.replace('_', ' ')} {row[k + '_s']:.3f} / {row[k + '_cpu_s']:.3f}" for k in names)
 
 
 def scaling_groups(builder, label, ks, n, rounds):
@@ -463,7 +501,8 @@ def markdown(doc) -> str:
              f"load average {m['load_before']:.1f} before and {m['load_after']:.1f} after (other jobs shared "
              f"the machine). N = {doc['n']} positions over a turn, {doc['rounds']} rounds, one core unless "
              "the column says otherwise.", "",
-             "Sweeps, µs per position (× = ratio to the closed form or to pylinkage+numba of the same run):", "",
+             "Sweeps, µs per position (×: the headline's time over the baseline's in the same round, median "
+             "over the rounds):", "",
              "| model | work | numpy | numba | numba, 2 threads | analyse() alone | closed form | × closed "
              "form | pylinkage+numba | × pylinkage |",
              "|---|---|---|---|---|---|---|---|---|---|"]
@@ -479,18 +518,18 @@ def markdown(doc) -> str:
                                        if k.endswith("_us") and k != "mbplanar_us" and v is not None) + "."]
     procs = [c for c in doc["cases"] if "seconds" in c]
     if procs:
-        lines += ["", "Processes (median of subprocess runs, s):", "", "| what | s | context |", "|---|---|---|"]
-        for c in procs:
-            context = ", ".join(f"{k[:-2].replace('_', ' ')} {v:.3f}" for k, v in c.items()
-                                if k.endswith("_s") and k != "seconds" and v is not None)
-            lines.append(f"| {c['work']} ({c['name']}) | {c['seconds']:.3f} | {context} |")
+        lines += ["", "New processes, medians of the rounds (s; the cold start is one process, and the cold and "
+                  "warm start are the time over the same process on numpy):", "",
+                  "| process | wall | CPU | context (wall / CPU) |", "|---|---|---|---|"]
+        lines += [f"| {c['work']} ({c['name']}) | {c['seconds']:.3f} | {c['cpu_s']:.3f} | {context_of(c)} |"
+                  for c in procs]
     if doc.get("chain_exponents"):
         fits = ", ".join(f"{b} k^{v:.2f}" for b, v in doc["chain_exponents"].items())
         fits4 = ", ".join(f"{b} k^{v:.2f}" for b, v in (doc.get("class4_chain_exponents") or {}).items())
         lines += ["", f"Time per position against the number of groups k (a crank and k dyads: {fits}; "
                   f"a crank and k class IV groups: {fits4})."]
     lines += ["", "Targets:", "", "| target | value | limit | met |", "|---|---|---|---|"]
-    lines += [f"| {t['target']} | {fmt(t['value'])} | {t['limit']:g} | {'yes' if t['met'] else 'no'} |"
+    lines += [f"| {t['target']} | {fmt(t['value'], 4)} | {t['limit']:g} | {'yes' if t['met'] else 'no'} |"
               for t in doc["targets"]]
     return "\n".join(line if line.startswith("|") else wrap(line) for line in lines) + "\n"
 
@@ -521,8 +560,8 @@ def readme_text(doc) -> str:
              "form and to pylinkage+numba timed alongside.",
              f"One position of the four-bar with velocities and accelerations: "
              f"{num(get('fourbar', 'one position', 'mbplanar_us'))} µs per call; `mbplanar solve` end to end "
-             f"{num(get('fourbar', 'mbplanar solve', 'seconds'))} s; `import mbplanar` "
-             f"{num(get('mbplanar', 'import', 'seconds'))} s. Method, every case and the targets: "
+             f"{num(get('fourbar', 'mbplanar solve', 'cpu_s'))} s of CPU time; `import mbplanar` "
+             f"{num(get('mbplanar', 'import', 'cpu_s'))} s. Method, every case and the targets: "
              "[docs/speed.md](docs/speed.md)."]
     prose = [wrap(p) for p in prose]
     lines = [prose[0], "",
@@ -568,7 +607,7 @@ def main(argv=None):
         write_docs(json.loads(LATEST.read_text(encoding="utf-8")))
         return 0
     quick = args.quick
-    rounds, n = (3, 360) if quick else (9, 3600)
+    rounds, n = (3, 360) if quick else (11, 3600)
     plk_version = None if args.no_pylinkage else pylinkage_version()
     machine = dict(cpu=platform.processor() or platform.machine(), cpus=os.cpu_count(),
                    python=platform.python_version(), numpy=np.__version__,
@@ -598,7 +637,7 @@ def main(argv=None):
     targets = check_targets(cases)
     print(f"targets (one core, equal work, backend {BEST}):")
     for t in targets:
-        print(f"  {'met ' if t['met'] else 'MISS'}  {t['target']}: {fmt(t['value'])} (≤ {t['limit']:g})")
+        print(f"  {'met ' if t['met'] else 'MISS'}  {t['target']}: {fmt(t['value'], 4)} (≤ {t['limit']:g})")
     machine["load_after"] = os.getloadavg()[0]
     doc = dict(date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), machine=machine,
                n=n, rounds=rounds, backends=BACKENDS, builds=builds, chain_exponents=slopes,

@@ -433,3 +433,45 @@ def test_andrews_squeezer_assembles_from_a_sketch_to_the_published_consistent_po
     for name, ref in (("E3", E), ("G", G), ("H", H)):
         for row in (0, -1):
             assert np.abs(motion.xy[row, motion.point(name)] - ref).max() < 1e-13, (name, row)
+
+
+# -- what a caller asks for: analyse(..., points=, rates=) ------------------------------------------
+def test_asked_points_are_the_same_columns_in_the_asked_order(engine_of):
+    engine = engine_of("shaper")
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 37)
+    full = mbplanar.analyse(engine, phi, 3.0, -0.4)
+    asked = [full.point_names[-1], full.point_names[1]]
+    some = mbplanar.analyse(engine, phi, 3.0, -0.4, points=asked)
+    assert some.point_names == asked and some.xy.shape == (37, 2, 2)
+    idx = [full.point(n) for n in asked]
+    for name in ("xy", "v", "a", "vq", "aq"):
+        np.testing.assert_array_equal(getattr(some, name), getattr(full, name)[:, idx], err_msg=name)
+    for name in ("angle", "w", "e", "value", "rate", "accel"):  # links and joints do not depend on it
+        np.testing.assert_array_equal(getattr(some, name), getattr(full, name), err_msg=name)
+    with pytest.raises(KeyError, match=r"holds the points .* not 'O'"):
+        some.point("O")
+
+
+def test_positions_only_are_the_positions_and_refuse_rates(engine_of):
+    engine = engine_of("six_bar_press")
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 25)
+    full, bare = mbplanar.analyse(engine, phi), mbplanar.analyse(engine, phi, rates=False)
+    assert bare.has_rates is False and full.has_rates is True
+    for name in ("angle", "xy", "value"):
+        np.testing.assert_array_equal(getattr(bare, name), getattr(full, name), err_msg=name)
+    for name in ("v", "w", "aq", "rate_q", "ic"):
+        with pytest.raises(mbplanar.kinematics.RatesNotComputed, match=r"rates=False.*rates=True"):
+            getattr(bare, name)
+    assert getattr(bare, "v", None) is None  # an AttributeError: getattr with a default still works
+    from mbplanar.forces import kinetostatics
+    with pytest.raises(AttributeError, match="positions only"):
+        kinetostatics(engine, bare)
+
+
+def test_unknown_or_repeated_points_are_refused(engine_of):
+    engine = engine_of("fourbar")
+    with pytest.raises(mbplanar.ModelError, match=r"no joint or point named 'Q' \(the model has O, A, B, C, M\)"):
+        mbplanar.analyse(engine, [1.0], points=["A", "Q"])
+    with pytest.raises(mbplanar.ModelError, match="'A' is asked twice"):
+        mbplanar.analyse(engine, [1.0], points=["A", "B", "A"])
+    assert mbplanar.analyse(engine, [1.0], points=[]).xy.shape == (1, 0, 2)

@@ -212,12 +212,13 @@ def test_document_of_a_position_is_that_of_its_motion():
 
 
 def test_solve_command_on_the_compiled_backend(capsys):
-    """`solve --backend numba` goes through the compiled lean path and prints numpy's document (to the
-    backends' agreement), with the same keys."""
+    """`solve --backend numba` in a process that has the compiled kernels loaded goes through the compiled
+    lean path and prints numpy's document (to the backends' agreement), with the same keys."""
     import json
 
     from mbplanar.cli import main
     pytest.importorskip("numba")
+    import mbplanar.backends._numba_kinematics  # noqa: F401  (loaded: one position pays, `NumbaBackend.pays`)
     docs = []
     for backend in ("numpy", "numba"):
         assert main(["--backend", backend, "solve", str(MODELS / "six_bar_press.toml"), "--at", "1000",
@@ -238,3 +239,13 @@ def test_solve_command_on_the_compiled_backend(capsys):
             assert fast[key] == pytest.approx(value, rel=1e-9, abs=1e-9), key
         else:
             assert fast[key] == value, key
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_an_engine_that_solved_positions_still_pickles(backend):
+    """(an engine goes to another process, a Dask worker, with the tables it has made)"""
+    import pickle
+    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "slider_crank.toml"), backend=backend, threads=1)
+    first = mbplanar.position(engine, 1.0, 2.0)
+    again = pickle.loads(pickle.dumps(engine))
+    assert mbplanar.position(again, 1.0, 2.0).record.tobytes() == first.record.tobytes()

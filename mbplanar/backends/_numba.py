@@ -84,13 +84,20 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
     if not engine.within_walk(lo, hi):
         return None  # far values: the numpy path reduces them by the period
     sel = points if points is not None else point_selection(engine)
-    got = _kernels()[0].sweep(engine, x, lo, hi, _tables(engine)[1], om, ep, sel.links, sel.at, rates)
+    got = _kernels()[0].sweep(engine, x, lo, hi, _tables(engine)[1], om, ep, sel.links, sel.at, rates,
+                              records=rates)  # (positions only: the frames and joints when first read)
     if got is None:
         return None
     keep = slice(None) if got.valid.all() else np.flatnonzero(got.valid)
     rows = got.rows
-    field = rows.__getitem__
     limits, crossings = met_along(engine.atlas(), lo, hi)
+    if not rates:
+        return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
+                      link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
+                      joint_names=list(engine.mech.joints), value=None, rate=None, accel=None, ic=None, vq=None,
+                      aq=None, w=None, e=None, v=None, a=None, requested=batch, limits=limits, crossings=crossings,
+                      frames=None, has_rates=False, refill=_refill)
+    field = rows.__getitem__
     frames = {"th": field("th"), "r": field("r")}
     arrays = dict(w=None, e=None, v=None, a=None, wq=None, eq=None, rate_q=None, accel_q=None)
     if rates:
@@ -103,3 +110,21 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
                   joint_names=list(engine.mech.joints), value=field("value"), rate=None, accel=None, ic=None,
                   vq=None, aq=None, requested=batch, limits=limits, crossings=crossings, frames=frames, rows=rows,
                   has_rates=bool(rates), **arrays)
+
+
+def _refill(motion) -> tuple:
+    """The joint values (B, J) and link frames {"th", "r"} of a compiled positions-only `motion`, solved
+    again with the records (they are not written in the first pass, to keep it lean)."""
+    engine = motion.engine
+    x = np.ascontiguousarray(motion.phi[:, 0])
+    n_l, n_j = len(engine.links), len(engine.mech.joints)
+    if not len(x):  # every position past a limit
+        return np.zeros((0, n_j)), {"th": np.zeros((0, n_l)), "r": np.zeros((0, n_l, 2))}
+    none = point_selection(engine, [])
+    got = _kernels()[0].sweep(engine, x, float(x.min()), float(x.max()), _tables(engine)[1], np.ones(len(x)),
+                              np.zeros(len(x)), none.links, none.at, False)
+    if got is None or len(got.rows) != len(x):  # (the kernel takes what it took before)
+        from ..kinematics._motion import _reference
+        ref = _reference(engine, motion.phi, None, None, point_selection(engine, []), False)
+        return ref.value, ref.frames
+    return got.rows["value"], {"th": got.rows["th"], "r": got.rows["r"]}

@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ._numba_kinematics import _lu, _lu_solve
+from ._numba_blocks import _closure, _lu, _lu_solve, _place
 from ._tables import kinematics_tables
 from ..engine._nodes import HERMITE5
 from ..kinematics._motion import _tables
@@ -229,52 +229,6 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 # the sweep kernel has it written out in its loop.
 _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
-
-
-@_inline
-def _place(k, steps, q, q_in, ps, sc):
-    """Place the child of tree step k; caches rho_parent, rho_child (R) or u, q (P) in sc[k]."""
-    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
-    value = q[var] if var >= 0 else steps.sign[k] * q_in
-    cp, sp = ps[1, parent], ps[2, parent]
-    if not steps.prismatic[k]:
-        s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
-        rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
-        t = ps[0, parent] + value if rel else value
-        cc, ss = np.cos(t), np.sin(t)
-        ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
-        rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
-        ps[3, child] = ps[3, parent] + rpx - rcx
-        ps[4, child] = ps[4, parent] + rpy - rcy
-        sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
-    else:
-        sign = steps.carrier[k]
-        ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
-        ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
-        ps[3, child] = ps[3, parent] + (sign * value) * ux
-        ps[4, child] = ps[4, parent] + (sign * value) * uy
-        sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
-
-
-@_inline
-def _closure(k, cuts, ps, cc, res, row):
-    """Residual rows row, row + 1 of cut k; caches what its rates need in cc[k]."""
-    a, b = cuts.a[k], cuts.b[k]
-    s0x, s0y = cuts.s0[k, 0], cuts.s0[k, 1]
-    rax, ray = ps[1, a] * s0x - ps[2, a] * s0y, ps[2, a] * s0x + ps[1, a] * s0y
-    rbx, rby = ps[1, b] * s0x - ps[2, b] * s0y, ps[2, b] * s0x + ps[1, b] * s0y
-    if not cuts.prismatic[k]:
-        res[row] = ps[3, a] + rax - ps[3, b] - rbx
-        res[row + 1] = ps[4, a] + ray - ps[4, b] - rby
-    else:  # a carrier, b slider
-        nx = ps[1, a] * cuts.n0[k, 0] - ps[2, a] * cuts.n0[k, 1]
-        ny = ps[2, a] * cuts.n0[k, 0] + ps[1, a] * cuts.n0[k, 1]
-        dx = ps[3, b] + rbx - ps[3, a] - rax
-        dy = ps[4, b] + rby - ps[4, a] - ray
-        res[row] = ps[0, b] - ps[0, a]
-        res[row + 1] = nx * dx + ny * dy
-        cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8] = nx, ny, dx, dy, -ny * dx + nx * dy
-    cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3] = rax, ray, rbx, rby
 
 
 @_inline

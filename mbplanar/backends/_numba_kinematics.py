@@ -28,6 +28,7 @@ import numba
 import numpy as np
 
 from . import _threads
+from ._numba_blocks import _closure, _lu, _lu_solve, _place  # (each called once here: inlined once)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -54,7 +55,7 @@ class Outputs:
     e: np.ndarray | None
     v: np.ndarray | None
     a: np.ndarray | None
-    rows: np.ndarray
+    rows: np.ndarray | None
     valid: np.ndarray
 
 
@@ -122,10 +123,11 @@ def _atlas_tables(engine, atlas):
     return tables
 
 
-def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Outputs | None:
+def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=True) -> Outputs | None:
     """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi) with input speed
     om and acceleration ep (B,), for the points on links p_link (P,) drawn at p_at (P, 2); with `rates`
-    the velocities and accelerations too. None where the numpy path must take the batch."""
+    the velocities and accelerations too; with `records` the frames and joints (`Outputs.rows`, else
+    None). None where the numpy path must take the batch."""
     atlas = engine.atlas()
     atlas.cover(lo, hi)
     grid, coef, signs = _atlas_tables(engine, atlas)
@@ -136,8 +138,8 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Output
     plan = _plan(engine, joint_table)
     batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
     dtype, offsets = plan.rows[bool(rates)]
-    rows = np.empty(batch, dtype)
-    flat = rows.view(np.float64).reshape(batch, -1)
+    rows = np.empty(batch if records else 0, dtype)
+    flat = rows.view(np.float64).reshape(batch, -1) if records else np.empty((batch, 0))
     angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
     if rates:
         w, e, v, a = np.empty((batch, n_l)), np.empty((batch, n_l)), np.empty((batch, n_p, 2)), np.empty((batch, n_p, 2))
@@ -159,10 +161,10 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates) -> Output
     if any(status):
         return None
     out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
-                  a if rates else None, rows, valid)
+                  a if rates else None, rows if records else None, valid)
     if not valid.all():
         keep = np.flatnonzero(valid)
-        for name in ("angle", "xy", "w", "e", "v", "a", "rows"):
+        for name in ("angle", "xy", "w", "e", "v", "a", "rows"):  # (None where not asked for)
             if getattr(out, name) is not None:
                 setattr(out, name, getattr(out, name)[keep])
     return out
@@ -184,7 +186,8 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 
 # -- kernel -----------------------------------------------------------------------------------------
 # One function, each piece of the engine written once (numba compiles a helper again at every call site
-# it inlines, and a helper it does not inline pays for its many arguments at every call): per position
+# it inlines, and a helper it does not inline pays for its many arguments at every call; the placement,
+# the closure and LU of `_numba_blocks` are called once each): per position
 # the atlas' predictor, then per block a loop in three phases: Newton (place, closure, the Jacobian's
 # columns by rate passes with unit unknown rates, factor, step), the velocity pass and the acceleration
 # pass (a rate pass, the closure's rates, the solve, the correction by the sensitivities).
@@ -194,48 +197,6 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
 _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-
-
-@_jit
-def _lu(a, m, perm):
-    """LU with partial pivoting of a[:m, :m] in place (first largest pivot, as numpy's argmax);
-    returns (det, min |pivot| / max |pivot|)."""
-    sign = 1.0
-    for i in range(m):
-        perm[i] = i
-    for k in range(m - 1):
-        p, big = k, abs(a[k, k])
-        for i in range(k + 1, m):
-            if abs(a[i, k]) > big:
-                p, big = i, abs(a[i, k])
-        if p != k:
-            for j in range(m):
-                a[k, j], a[p, j] = a[p, j], a[k, j]
-            perm[k], perm[p] = perm[p], perm[k]
-            sign = -sign
-        for i in range(k + 1, m):
-            a[i, k] /= a[k, k]
-            for j in range(k + 1, m):
-                a[i, j] -= a[i, k] * a[k, j]
-    det, lo, hi = sign, np.inf, 0.0
-    for i in range(m):
-        det *= a[i, i]
-        lo, hi = min(lo, abs(a[i, i])), max(hi, abs(a[i, i]))
-    return det, lo / max(hi, 1e-300)
-
-
-@_jit
-def _lu_solve(a, m, perm, b, x):
-    """x = A⁻¹ b from the factors of `_lu` (b is left as it was)."""
-    for i in range(m):
-        x[i] = b[perm[i]]
-    for i in range(1, m):
-        for j in range(i):
-            x[i] -= a[i, j] * x[j]
-    for i in range(m - 1, -1, -1):
-        for j in range(i + 1, m):
-            x[i] -= a[i, j] * x[j]
-        x[i] /= a[i, i]
 
 
 @_jit
@@ -295,26 +256,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
             while True:
                 if phase == 0:
                     for k in range(k0, k1):  # place the child of tree step k (Revolute/Prismatic.place)
-                        parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
-                        value = q[var] if var >= 0 else steps.sign[k] * q_in
-                        cp, sp = ps[1, parent], ps[2, parent]
-                        if not steps.prismatic[k]:
-                            s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
-                            rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
-                            th = ps[0, parent] + value if steps.relative[k] else value
-                            cc_, ss = np.cos(th), np.sin(th)
-                            ps[0, child], ps[1, child], ps[2, child] = th, cc_, ss
-                            rcx, rcy = cc_ * s0x - ss * s0y, ss * s0x + cc_ * s0y
-                            ps[3, child] = ps[3, parent] + rpx - rcx
-                            ps[4, child] = ps[4, parent] + rpy - rcy
-                            sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
-                        else:
-                            sign = steps.carrier[k]
-                            ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
-                            ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
-                            ps[3, child] = ps[3, parent] + (sign * value) * ux
-                            ps[4, child] = ps[4, parent] + (sign * value) * uy
-                            sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
+                        _place(k, steps, q, q_in, ps, sc)
                     if m == 0:
                         if not rates:
                             break
@@ -322,22 +264,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                     else:
                         err, finite = 0.0, True
                         for k in range(c0, c1):  # closure rows of cut k (Revolute/Prismatic.closure)
-                            row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
-                            s0x, s0y = cuts.s0[k, 0], cuts.s0[k, 1]
-                            rax, ray = ps[1, a] * s0x - ps[2, a] * s0y, ps[2, a] * s0x + ps[1, a] * s0y
-                            rbx, rby = ps[1, bb] * s0x - ps[2, bb] * s0y, ps[2, bb] * s0x + ps[1, bb] * s0y
-                            if not cuts.prismatic[k]:
-                                res[row] = ps[3, a] + rax - ps[3, bb] - rbx
-                                res[row + 1] = ps[4, a] + ray - ps[4, bb] - rby
-                            else:  # a carrier, bb slider
-                                nx = ps[1, a] * cuts.n0[k, 0] - ps[2, a] * cuts.n0[k, 1]
-                                ny = ps[2, a] * cuts.n0[k, 0] + ps[1, a] * cuts.n0[k, 1]
-                                dx = ps[3, bb] + rbx - ps[3, a] - rax
-                                dy = ps[4, bb] + rby - ps[4, a] - ray
-                                res[row] = ps[0, bb] - ps[0, a]
-                                res[row + 1] = nx * dx + ny * dy
-                                cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8] = nx, ny, dx, dy, -ny * dx + nx * dy
-                            cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3] = rax, ray, rbx, rby
+                            _closure(k, cuts, ps, cc, res, 2 * (k - c0))
                         for i in range(m):
                             r = abs(res[i]) * row_scale[var0 + i]
                             finite = finite and np.isfinite(r)

@@ -69,6 +69,9 @@ class Motion:
     # compiled kinetostatics reads it a position at a time)
     rows: np.ndarray | None = field(default=None, repr=False)
     has_rates: bool = True  # False: positions only, the arrays of RATE_NAMES were not computed
+    # a backend's (motion) → (value, frames) where it did not write them (compiled, positions only):
+    # computed when first read
+    refill: object = field(default=None, repr=False, compare=False)
 
     @property
     def success(self) -> bool:
@@ -82,7 +85,8 @@ class Motion:
             f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
 
     def __post_init__(self):
-        absent = (RATE_NAMES if not self.has_rates else ()) + (DERIVED if self.rows is not None else ())
+        absent = ((RATE_NAMES if not self.has_rates else ()) + (DERIVED if self.rows is not None else ())
+                  + (REFILLED if self.refill is not None else ()))
         for name in absent:
             if self.__dict__.get(name, 0) is None:
                 del self.__dict__[name]  # so that reading it reaches __getattr__
@@ -91,6 +95,9 @@ class Motion:
         if name in RATE_NAMES and not self.__dict__.get("has_rates", True):
             raise RatesNotComputed(f"Motion.{name}: this motion holds positions only (analyse(..., rates=False)); "
                                    "ask analyse(..., rates=True) for velocities and accelerations")
+        if name in REFILLED and self.__dict__.get("refill") is not None:
+            self.value, self.frames = self.refill(self)
+            return getattr(self, name)
         if name not in DERIVED or self.__dict__.get("rows") is None:
             raise AttributeError(f"'Motion' object has no attribute '{name}'")
         value = _derived(self, name)
@@ -101,8 +108,19 @@ class Motion:
         """Every field's value as stored (None for an array not computed or not derived yet)."""
         return {f.name: self.__dict__.get(f.name) for f in dataclass_fields(self)}
 
+    def __repr__(self) -> str:
+        shown = ", ".join(f"{k}=array{v.shape}" if isinstance(v, np.ndarray) else f"{k}={v!r}"
+                          for k, v in self.fields().items() if k not in ("engine", "rows", "frames", "refill"))
+        return f"Motion({shown})"
+
     def point(self, name: str) -> int:
-        return self.point_names.index(name)
+        """Index of the joint or point `name` in `point_names`; `KeyError` naming the points this motion
+        holds when it was not asked for (`analyse(..., points=)`)."""
+        try:
+            return self.point_names.index(name)
+        except ValueError:
+            raise KeyError(f"this motion holds the points {', '.join(self.point_names) or '(none)'}, not {name!r}: "
+                           "ask analyse(..., points=None) for every point") from None
 
     def link(self, name: str) -> int:
         return self.link_names.index(name)
@@ -121,7 +139,26 @@ class Motion:
         return view("html", self)
 
 
+class _Absent:
+    """The class-level default of a field that may be missing from an instance (the analogues wq, eq,
+    rate_q, accel_q, None by default): reading it where the instance has none goes to
+    `Motion.__getattr__` (positions only: `RatesNotComputed`), as for the fields without a default."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return None
+        return obj.__getattr__(self.name)
+
+
+for _name in ("wq", "eq", "rate_q", "accel_q"):  # after @dataclass has taken their default None
+    setattr(Motion, _name, _Absent(_name))
+
+
 DERIVED = ("vq", "aq", "rate", "accel", "ic")  # follow from the compiled frames and joint analogues
+REFILLED = ("value", "frames")  # a backend's `refill` gives them
 RATE_NAMES = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "rate", "accel", "rate_q", "accel_q", "ic")
 
 

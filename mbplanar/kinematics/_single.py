@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import ModelError, MotionError
 from ._motion import MAX_EPSILON, MAX_OMEGA, _checked_rate, _tables, analyse
 
-__all__ = ["Position", "position", "Layout", "layout_of", "FIELDS", "ANALOGUES", "reference_solver"]
+__all__ = ["Position", "position", "Layout", "layout_of", "FIELDS", "ANALOGUES", "ReferenceSolver", "PendingSolver"]
 
 #: what a `Position` holds, in the order of its record: (name, per input / link / point / joint, components)
 FIELDS = (("phi", "I", 1), ("omega", "I", 1), ("epsilon", "I", 1),
@@ -170,20 +170,37 @@ def position(engine, phi, omega=None, epsilon=None) -> Position:
 
 
 def _make_solver(engine):
-    """The compiled backend's lean solver where it offers one, else numpy's (`reference_solver`)."""
+    """The compiled backend's lean solver where it offers one, else numpy's (`ReferenceSolver`)."""
     single = getattr(engine.compiled, "single", None)
     solver = single(engine) if single is not None else None
-    return solver if solver is not None else reference_solver(engine)
+    return solver if solver is not None else ReferenceSolver(engine)
 
 
-def reference_solver(engine):
+class PendingSolver:
+    """A solver not made yet: what an engine's solver becomes when the engine is pickled (sent to another
+    process), made again there on its first call (not while the engine is being unpickled, when its
+    state may not be there yet)."""
+
+    def __init__(self, engine):
+        self.engine = engine
+
+    def __call__(self, phi, omega=None, epsilon=None) -> Position:
+        solver = self.engine.prepared["position"] = _make_solver(self.engine)
+        return solver(phi, omega, epsilon)
+
+
+class ReferenceSolver:
     """numpy's lean solver: one row of `analyse`, packed as a `Position`."""
-    layout = layout_of(engine)
-    n_in = len(engine.inputs)
 
-    def solve(phi, omega=None, epsilon=None) -> Position:
-        return reference(engine, layout, _inputs(engine, phi, n_in), omega, epsilon)
-    return solve
+    def __init__(self, engine):
+        self.engine, self.layout = engine, layout_of(engine)
+
+    def __reduce__(self):
+        return PendingSolver, (self.engine,)
+
+    def __call__(self, phi, omega=None, epsilon=None) -> Position:
+        engine = self.engine
+        return reference(engine, self.layout, _inputs(engine, phi, len(engine.inputs)), omega, epsilon)
 
 
 def _inputs(engine, phi, n_in: int) -> np.ndarray:

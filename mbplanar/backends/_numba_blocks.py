@@ -1,0 +1,108 @@
+"""Per-position building blocks of the compiled kernels: placing a tree step, a cut's closure, LU with
+partial pivoting. Each is a small function that numba inlines where it is called (``inline="always"``);
+the kinematics kernel (`_numba_kinematics`) calls each once, so that numba compiles each piece once, and
+the kinetostatics and design kernels take LU from there.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = ["_inline", "_place", "_closure", "_lu", "_lu_solve"]
+
+# -- kernels ----------------------------------------------------------------------------------------
+# Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
+# atomic increments on every array passed or aliased would cost more than the arithmetic): so nothing
+# is allocated here, the caller passes every work array (`_scratch`).
+# Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
+# slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
+_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
+
+
+@_inline
+def _place(k, steps, q, q_in, ps, sc):
+    """Place the child of tree step k; caches rho_parent, rho_child (R) or u, q (P) in sc[k]."""
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
+    value = q[var] if var >= 0 else steps.sign[k] * q_in
+    cp, sp = ps[1, parent], ps[2, parent]
+    if not steps.prismatic[k]:
+        s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
+        rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
+        t = ps[0, parent] + value if rel else value
+        cc, ss = np.cos(t), np.sin(t)
+        ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
+        rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
+        ps[3, child] = ps[3, parent] + rpx - rcx
+        ps[4, child] = ps[4, parent] + rpy - rcy
+        sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
+    else:
+        sign = steps.carrier[k]
+        ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
+        ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
+        ps[3, child] = ps[3, parent] + (sign * value) * ux
+        ps[4, child] = ps[4, parent] + (sign * value) * uy
+        sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
+
+
+@_inline
+def _closure(k, cuts, ps, cc, res, row):
+    """Residual rows row, row + 1 of cut k; caches what its rates need in cc[k]."""
+    a, b = cuts.a[k], cuts.b[k]
+    s0x, s0y = cuts.s0[k, 0], cuts.s0[k, 1]
+    rax, ray = ps[1, a] * s0x - ps[2, a] * s0y, ps[2, a] * s0x + ps[1, a] * s0y
+    rbx, rby = ps[1, b] * s0x - ps[2, b] * s0y, ps[2, b] * s0x + ps[1, b] * s0y
+    if not cuts.prismatic[k]:
+        res[row] = ps[3, a] + rax - ps[3, b] - rbx
+        res[row + 1] = ps[4, a] + ray - ps[4, b] - rby
+    else:  # a carrier, b slider
+        nx = ps[1, a] * cuts.n0[k, 0] - ps[2, a] * cuts.n0[k, 1]
+        ny = ps[2, a] * cuts.n0[k, 0] + ps[1, a] * cuts.n0[k, 1]
+        dx = ps[3, b] + rbx - ps[3, a] - rax
+        dy = ps[4, b] + rby - ps[4, a] - ray
+        res[row] = ps[0, b] - ps[0, a]
+        res[row + 1] = nx * dx + ny * dy
+        cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8] = nx, ny, dx, dy, -ny * dx + nx * dy
+    cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3] = rax, ray, rbx, rby
+
+
+@_inline
+def _lu(a, m, perm):
+    """LU with partial pivoting of a[:m, :m] in place (first largest pivot, as numpy's argmax);
+    returns (det, min |pivot| / max |pivot|)."""
+    sign = 1.0
+    for i in range(m):
+        perm[i] = i
+    for k in range(m - 1):
+        p, big = k, abs(a[k, k])
+        for i in range(k + 1, m):
+            if abs(a[i, k]) > big:
+                p, big = i, abs(a[i, k])
+        if p != k:
+            for j in range(m):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+            perm[k], perm[p] = perm[p], perm[k]
+            sign = -sign
+        for i in range(k + 1, m):
+            a[i, k] /= a[k, k]
+            for j in range(k + 1, m):
+                a[i, j] -= a[i, k] * a[k, j]
+    det, lo, hi = sign, np.inf, 0.0
+    for i in range(m):
+        det *= a[i, i]
+        lo, hi = min(lo, abs(a[i, i])), max(hi, abs(a[i, i]))
+    return det, lo / max(hi, 1e-300)
+
+
+@_inline
+def _lu_solve(a, m, perm, b, x):
+    """x = A⁻¹ b from the factors of `_lu` (b is left as it was)."""
+    for i in range(m):
+        x[i] = b[perm[i]]
+    for i in range(1, m):
+        for j in range(i):
+            x[i] -= a[i, j] * x[j]
+    for i in range(m - 1, -1, -1):
+        for j in range(i + 1, m):
+            x[i] -= a[i, j] * x[j]
+        x[i] /= a[i, i]
