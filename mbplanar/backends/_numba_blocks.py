@@ -1,7 +1,7 @@
 """Per-position building blocks of the compiled kernels: placing a tree step, a cut's closure, LU with
-partial pivoting. Each is a small function that numba inlines where it is called (``inline="always"``);
-the kinematics kernel (`_numba_kinematics`) calls each once, so that numba compiles each piece once, and
-the kinetostatics and design kernels take LU from there.
+partial pivoting, the grid interval around an input value. Each is a small function that numba inlines
+where it is called (``inline="always"``); the kinematics kernel (`_numba_kinematics`) calls each once, so
+that numba compiles each piece once, and the kinetostatics and design kernels take LU from there.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["_inline", "_place", "_closure", "_lu", "_lu_solve"]
+__all__ = ["_inline", "_place", "_closure", "_lu", "_lu_solve", "_interval"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
@@ -106,3 +106,16 @@ def _lu_solve(a, m, perm, b, x):
         for j in range(i + 1, m):
             x[i] -= a[i, j] * x[j]
         x[i] /= a[i, i]
+
+
+@_inline
+def _interval(grid, count, x):
+    """i with grid[i] <= x <= grid[i + 1] among the first `count` nodes (bisection)."""
+    lo, hi = 0, count - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if grid[mid] < x:
+            lo = mid
+        else:
+            hi = mid
+    return lo

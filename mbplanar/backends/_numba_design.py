@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ._numba_blocks import _closure, _lu, _lu_solve, _place
+from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place
 from ._tables import kinematics_tables
 from ..engine._nodes import HERMITE5
 from ..kinematics._motion import _tables
@@ -461,19 +461,6 @@ def _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations):
             xy[d, n, p, c], vq[d, n, p, c] = np.nan, np.nan
             if accelerations:
                 aq[d, n, p, c] = np.nan
-
-
-@_inline
-def _interval(grid, count, x):
-    """i with grid[i] <= x <= grid[i + 1] among the first `count` nodes (bisection)."""
-    lo, hi = 0, count - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if grid[mid] < x:
-            lo = mid
-        else:
-            hi = mid
-    return lo
 
 
 @_inline

@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ._numba_blocks import _closure, _lu, _lu_solve, _place  # (each called once here: inlined once)
+from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (each called once here: inlined once)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -228,13 +228,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
             if lo < last and grid[lo + 1] < xb and (lo + 1 == last or xb <= grid[lo + 2]):
                 lo += 1
             else:
-                lo, hi = 0, last + 1
-                while hi - lo > 1:
-                    mid = (lo + hi) // 2
-                    if grid[mid] < xb:
-                        lo = mid
-                    else:
-                        hi = mid
+                lo = _interval(grid, n_grid, xb)
         # the quintic Hermite interpolant between the two nodes around x, and the nearest node
         left, right = grid[lo], grid[lo + 1]
         t = (xb - left) / (right - left)
