@@ -16,17 +16,40 @@ underscore are private. See ``docs/architecture.md``.
 """
 
 from . import _deprecated
+from .errors import MbplanarError, ModelError, MotionError
 
 _deprecated.install()  # old module paths (mbplanar.solver, ...) as warning aliases, for one release
-
-from .analysis import CheckReport, check  # noqa: E402
-from .engine import Engine, Limit  # noqa: E402
-from .errors import MbplanarError, ModelError, MotionError  # noqa: E402
-from .forces import Dynamics, Kinetostatics, kinetostatics, machine_dynamics  # noqa: E402
-from .kinematics import Motion, Position, analyse, position  # noqa: E402
-from .model import Input, Joint, Link, Mechanism, Point, assemble, parse_model, read_model  # noqa: E402
+for _old in _deprecated.SHADOWED:  # the old module mbplanar.check gave way to the function, served below
+    globals().pop(_old, None)
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
            "Engine", "Limit", "analyse", "Motion", "position", "Position", "MbplanarError", "ModelError", "MotionError",
            "kinetostatics", "Kinetostatics", "check", "CheckReport", "machine_dynamics", "Dynamics"]
 __version__ = "0.1.0"
+
+#: public name → the subpackage that defines it, imported on first use (PEP 562): ``import mbplanar``
+#: loads neither numpy nor the analysis code, so that a command or a script pays only for what it uses
+_HOME = {**dict.fromkeys(["CheckReport", "check"], "analysis"), **dict.fromkeys(["Engine", "Limit"], "engine"),
+         **dict.fromkeys(["Dynamics", "Kinetostatics", "kinetostatics", "machine_dynamics"], "forces"),
+         **dict.fromkeys(["Motion", "Position", "analyse", "position"], "kinematics"),
+         **dict.fromkeys(["Input", "Joint", "Link", "Mechanism", "Point", "assemble", "parse_model", "read_model"],
+                         "model")}
+_SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
+                "study", "synthesis", "cli", "errors")
+
+
+def __getattr__(name: str):
+    """A public name (or a subpackage) imported on first use and kept in the module's namespace."""
+    import importlib
+    if name in _HOME:
+        value = getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module(f"{__name__}.{name}")
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__) | set(_SUBPACKAGES))

@@ -30,7 +30,31 @@ def _loaded_after(code: str) -> set[str]:
 
 def test_import_mbplanar_leaves_the_heavy_packages_alone():
     loaded = _loaded_after("import mbplanar")
-    assert "numpy" in loaded and not loaded & set(HEAVY)
+    assert "mbplanar" in loaded and not loaded & set(HEAVY)
+
+
+def test_import_mbplanar_loads_the_public_names_on_first_use():
+    """`import mbplanar` loads neither numpy nor a subpackage; a public name loads its own subpackage."""
+    loaded = _loaded_after("import mbplanar")
+    ours = {m for m in loaded if m.startswith("mbplanar.")}
+    assert "numpy" not in loaded and ours <= {"mbplanar.errors", "mbplanar._deprecated", "mbplanar.check",
+                                              "mbplanar.kinetostatics"}  # (the last two: deprecated aliases)
+    loaded = _loaded_after("import mbplanar\nmbplanar.Engine")
+    assert {"numpy", "mbplanar.engine"} <= loaded and not loaded & {"mbplanar.forces", "mbplanar.analysis"}
+
+
+def test_the_lazy_public_names_are_the_subpackages_own():
+    import mbplanar
+    import mbplanar.check  # the deprecated module of that name must not shadow the function
+    from mbplanar import analysis, engine, errors, forces, kinematics, model
+    homes = (errors, analysis, engine, forces, kinematics, model)
+    for name in mbplanar.__all__:
+        home = next(h for h in homes if name in h.__all__)
+        assert getattr(mbplanar, name) is getattr(home, name), name
+    assert callable(mbplanar.check) and callable(mbplanar.kinetostatics)
+    assert set(mbplanar.__all__) <= set(dir(mbplanar)) and mbplanar.forces is forces
+    with pytest.raises(AttributeError, match="no attribute 'nonsense'"):
+        mbplanar.nonsense
 
 
 def test_solve_imports_only_its_own_command():
