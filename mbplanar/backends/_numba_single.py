@@ -18,8 +18,10 @@ which the reference reports with its `MotionError`).
 
 Calling cost. A numba dispatcher types every argument on every call, and typing a named tuple of arrays
 costs ~1 µs; the solver therefore calls the compiled overload's entry point directly, with arguments
-whose types are fixed when the solver binds them (`_Solver._bind`), so that a call costs about a
-microsecond before the arithmetic.
+whose types are fixed when the solver binds them (`_Solver._bind`). The tables and work arrays travel as
+one tuple made at binding (a call passes five arguments, not 52: building the argument list cost
+~0.3 µs), and the answer is made without the dataclass' ``__init__`` (`kinematics._single.made`). What
+remains of a call before the arithmetic is numba unboxing the ~76 arrays (~0.6 µs).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ import numpy as np
 
 from ..engine._atlas import LOST_PRECISION, far_span
 from ..kinematics._motion import _tables
-from ..kinematics._single import (FIELDS, PendingSolver, Position, checked_speeds, finite_input, layout_of,
+from ..kinematics._single import (FIELDS, PendingSolver, Position, checked_speeds, finite_input, layout_of, made,
                                   reference)
 from ._numba_kinematics import _ORDER, _atlas_tables, _plan, _scratch, _sweep
 
@@ -42,6 +44,7 @@ DONE, REFERENCE, OUTSIDE, FAR = 0, 1, 2, 3
 # the largest uncertainty (rad) of a value reduced by whole periods that the kernel takes; above it the
 # numpy path warns (`PrecisionWarning`) and takes it
 FAR_ERROR = 1e-12
+_empty, _ndarray = np.empty, np.ndarray
 
 
 def single(engine):
@@ -95,19 +98,20 @@ class _Solver:
         grid, coef, signs = _atlas_tables(self.engine, atlas)
         limits = np.array([atlas.limits[-1] is not None, atlas.limits[+1] is not None], np.bool_)
         brackets = np.array([c.bracket for c in atlas.crossings], float).reshape(-1, 2)
+        # one tuple, passed as it is: a call builds no argument list of its 48 members
         self.args = self.fixed + (grid, coef, signs, limits, brackets) + self.work
-        self.kernel = _entry(_position, (0.0, 1.0, 0.0, np.empty(self.size)) + self.args)
+        self.kernel = _entry(_position, (0.0, 1.0, 0.0, np.empty(self.size), self.args))
 
     def __call__(self, phi, omega=None, epsilon=None) -> Position:
         x = phi if phi.__class__ is float and phi - phi == 0.0 else finite_input(self.engine, phi)
         om, ep = self.defaults if omega is None and epsilon is None else checked_speeds(self.engine, omega, epsilon)
         if self.atlas.arrays() is not self.seen:
             self._bind()  # the atlas grew (another call walked it): predict from it as `analyse` would
-        out = np.empty(self.size)
-        status = self.kernel(x, om, ep, out, *self.args)
+        out = _empty(self.size)
+        status = self.kernel(x, om, ep, out, self.args)
         if status:
             return self._slow(x, om, ep, status)
-        return Position(np.ndarray((), self.dtype, out), self.layout)
+        return made(_ndarray((), self.dtype, out), self.layout)
 
     def _slow(self, x, om, ep, status) -> Position:
         """A position the kernel could not take at once: extend the atlas to it, or find the period a far
@@ -127,10 +131,10 @@ class _Solver:
                 break
             if self.atlas.arrays() is not self.seen:
                 self._bind()
-            out = np.empty(self.size)
-            status = self.kernel(x, om, ep, out, *self.args)
+            out = _empty(self.size)
+            status = self.kernel(x, om, ep, out, self.args)
             if status == DONE:
-                return Position(np.ndarray((), self.dtype, out), self.layout)
+                return made(_ndarray((), self.dtype, out), self.layout)
         return reference(self.engine, self.layout, np.array([[x]]), om, ep)
 
     def _near(self, x: float) -> float:
@@ -164,16 +168,16 @@ _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, in
 # the scaled block Jacobian and its factors (`_blocks.ScaledLU`; explicit inverse up to 2 × 2, else LU,
 # as `_linalg.factor`), the Newton polish and the rate passes (`BlockSolver.newton`, `_block_rates`).
 @_jit
-def _position(x, omega, epsilon, out, steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, far, shift,
-              p_link, p_at, off, row_off, rec_off, grid, coef, signs, limits, brackets, xs, ones, zeros, angle, xy,
-              wq, eq, vq, aq, rows, valid, one_grid, one_coef, one_signs, no_limits, ps, rt, sc, cc, q, guess, jac,
-              perm, res, col, sol, qd_u):
+def _position(x, omega, epsilon, out, args):
     """Solve the position x and write its `Position` record into out (at the offsets `off` of `FIELDS`);
-    returns the status (0 written; 1 the reference's, 2 outside the atlas, 3 far from the drawn pose with
+    args: the solver's tables and work arrays in one tuple (`_Solver._bind`); returns the status (0 written; 1 the reference's, 2 outside the atlas, 3 far from the drawn pose with
     the period not yet known: see `_Solver._slow`). The sweep kernel solves it, as a batch of one at
     ω = 1, ε = 0 (so that its rates are the analogues). far: the walk's reach, the period T, the largest
     float spacing of a reduced value and the largest uncertainty of a reduction
     (`engine._atlas._periods_away`); shift (M,): the unknowns' change over one period."""
+    (steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, far, shift, p_link, p_at, off, row_off, rec_off,
+     grid, coef, signs, limits, brackets, xs, ones, zeros, angle, xy, wq, eq, vq, aq, rows, valid, one_grid, one_coef,
+     one_signs, no_limits, ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u) = args
     n_grid, m_all = len(grid), coef.shape[2]
     span, period, lost, far_error = far[0], far[1], far[2], far[3]
     reduced, periods, near_x = False, 0.0, x
