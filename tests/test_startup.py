@@ -43,6 +43,16 @@ def test_import_mbplanar_loads_the_public_names_on_first_use():
     assert {"numpy", "mbplanar.engine"} <= loaded and not loaded & {"mbplanar.forces", "mbplanar.analysis"}
 
 
+def test_a_forces_name_loads_only_its_own_module():
+    probe = ("from mbplanar.forces import Kinetostatics\nimport sys\n"
+             "print(sorted(m for m in sys.modules if m.startswith('mbplanar.forces.')))")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["['mbplanar.forces._kinetostatics',", "'mbplanar.forces._loads']"]
+    import mbplanar.forces as forces
+    assert set(forces.__all__) <= set(dir(forces)) and all(getattr(forces, name) for name in forces.__all__)
+
+
 def test_the_lazy_public_names_are_the_subpackages_own():
     import mbplanar
     import mbplanar.check  # the deprecated module of that name must not shadow the function

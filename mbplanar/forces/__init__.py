@@ -8,13 +8,32 @@ dynamics (reduced model, flywheel, true motion, `machine_dynamics`), and the mot
 modules here.
 """
 
-from ._dynamics import (Dynamics, DynamicsSpec, FlywheelSpec, Reduced, Simulation, flywheel_sizes,
-                        machine_dynamics, reduce, simulate, true_motion)
-from ._friction import FrictionResult, FrictionSpec, PairFriction, friction_kinetostatics, read_friction
-from ._kinetostatics import Kinetostatics, Reaction, inertia_loads, kinetostatics
-from ._loads import Gravity, Load, LoadValue, evaluate_loads, has_force_data, load_power
-from ._shaking import Balancing, Counterweight, Shaking, balance, shaking, shaking_from_loads
-from ._simulation import SimulateSpec, Trajectory, read_simulate, simulate_motion
+#: name → the module that defines it, imported on first use (PEP 562), so that a command reading one
+#: result type (``mbplanar solve`` reaches `Kinetostatics` and `Dynamics` through `mbplanar.io`) does not
+#: load friction, shaking and the simulation
+_HOME = {**dict.fromkeys(["Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "flywheel_sizes",
+                          "machine_dynamics", "reduce", "simulate", "true_motion"], "_dynamics"),
+         **dict.fromkeys(["FrictionResult", "FrictionSpec", "PairFriction", "friction_kinetostatics", "read_friction"],
+                         "_friction"),
+         **dict.fromkeys(["Kinetostatics", "Reaction", "inertia_loads", "kinetostatics"], "_kinetostatics"),
+         **dict.fromkeys(["Gravity", "Load", "LoadValue", "evaluate_loads", "has_force_data", "load_power"], "_loads"),
+         **dict.fromkeys(["Balancing", "Counterweight", "Shaking", "balance", "shaking", "shaking_from_loads"],
+                         "_shaking"),
+         **dict.fromkeys(["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"], "_simulation")}
+
+
+def __getattr__(name: str):
+    """A public name, imported from its module on first use and kept here."""
+    if name not in _HOME:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    value = globals()[name] = getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
 
 __all__ = ["Load", "Gravity", "LoadValue", "evaluate_loads", "load_power", "has_force_data",
            "Kinetostatics", "Reaction", "kinetostatics", "inertia_loads",
