@@ -101,8 +101,22 @@ class _Solver:
         # one tuple, passed as it is: a call builds no argument list of its 48 members
         self.args = self.fixed + (grid, coef, signs, limits, brackets) + self.work
         self.kernel = _entry(_position, (0.0, 1.0, 0.0, np.empty(self.size), self.args))
+        self.bound = (self.kernel, self.args, self.size, self.dtype, self.layout, self.seen)
 
     def __call__(self, phi, omega=None, epsilon=None) -> Position:
+        kernel, args, size, dtype, layout, seen = self.bound
+        if omega is None and epsilon is None and phi.__class__ is float and phi - phi == 0.0 \
+                and self.atlas.arrays() is seen:  # the usual call: a finite float at the model's speeds
+            out = _empty(size)
+            om, ep = self.defaults
+            status = kernel(phi, om, ep, out, args)
+            if not status:
+                return made(_ndarray((), dtype, out), layout)
+            return self._slow(phi, om, ep, status)
+        return self._checked(phi, omega, epsilon)
+
+    def _checked(self, phi, omega, epsilon) -> Position:
+        """A call with its arguments checked and converted (`finite_input`, `checked_speeds`)."""
         x = phi if phi.__class__ is float and phi - phi == 0.0 else finite_input(self.engine, phi)
         om, ep = self.defaults if omega is None and epsilon is None else checked_speeds(self.engine, omega, epsilon)
         if self.atlas.arrays() is not self.seen:
