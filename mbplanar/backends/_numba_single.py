@@ -184,8 +184,9 @@ _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, in
 @_jit
 def _position(x, omega, epsilon, out, args):
     """Solve the position x and write its `Position` record into out (at the offsets `off` of `FIELDS`);
-    args: the solver's tables and work arrays in one tuple (`_Solver._bind`); returns the status (0 written; 1 the reference's, 2 outside the atlas, 3 far from the drawn pose with
-    the period not yet known: see `_Solver._slow`). The sweep kernel solves it, as a batch of one at
+    args: the solver's tables and work arrays in one tuple (`_Solver._bind`). Returns the status (0
+    written; 1 the reference's, 2 outside the atlas, 3 far from the drawn pose with the period not yet
+    known: see `_Solver._slow`). The sweep kernel solves it, as a batch of one at
     ω = 1, ε = 0 (so that its rates are the analogues). far: the walk's reach, the period T, the largest
     float spacing of a reduced value and the largest uncertainty of a reduction
     (`engine._atlas._periods_away`); shift (M,): the unknowns' change over one period."""
