@@ -18,10 +18,11 @@ which the reference reports with its `MotionError`).
 
 Calling cost. A numba dispatcher types every argument on every call, and typing a named tuple of arrays
 costs ~1 µs; the solver therefore calls the compiled overload's entry point directly, with arguments
-whose types are fixed when the solver binds them (`_Solver._bind`). The tables and work arrays travel as
-one tuple made at binding (a call passes five arguments, not 52: building the argument list cost
-~0.3 µs), and the answer is made without the dataclass' ``__init__`` (`kinematics._single.made`). What
-remains of a call before the arithmetic is numba unboxing the ~76 arrays (~0.6 µs).
+whose types are fixed when the solver binds them (`_Solver._bind`). Numba unboxes every array of every
+call (~10 ns each): the sweep kernel's tables travel as one tuple, and this module's own 39 arrays (work
+arrays, offsets, the atlas' interpolant) are packed by type into four flat buffers (`PACKED`) whose
+views the kernel takes, so that a call passes ten arguments and ~40 arrays rather than 52 and ~76
+(~0.4 µs less); the answer is made without the dataclass' ``__init__`` (`kinematics._single.made`).
 """
 
 from __future__ import annotations
@@ -71,20 +72,28 @@ class _Solver:
         plan = _plan(engine, joint_table)  # the sweep kernel's tables: its `_sweep` solves the position
         row, row_offsets = plan.rows[True]
         offsets = np.array([self.layout.offsets[name] for name, _, _ in FIELDS], np.int64)
-        # the walk's reach from the drawn pose, the period (0 until it is needed), and the limits of a reduction
-        self.far = np.array([far_span(engine.solver), 0.0, LOST_PRECISION, FAR_ERROR])
         m_all, n_l, n_p = sum(bp.m for bp in engine.blocks), len(engine.links), len(links)
-        self.shift = np.zeros(m_all)  # the unknowns' change over one period
-        self.fixed = plan.args + (self.far, self.shift, np.ascontiguousarray(links, np.int64),
-                                  np.ascontiguousarray(at, float), offsets, row_offsets,
-                                  np.array([row_offsets[_ORDER.index(n)] for n in ("r", "value", "fv", "rate_q",
-                                                                                   "accel_q")], np.int64))
-        # one position's outputs of `_sweep` (x, ω = 1, ε = 0: the analogues), and a one-interval atlas
-        self.work = ((np.zeros(1), np.ones(1), np.zeros(1), np.zeros((1, n_l)), np.zeros((1, n_p, 2)),
-                      np.zeros((1, n_l)), np.zeros((1, n_l)), np.zeros((1, n_p, 2)), np.zeros((1, n_p, 2)),
-                      np.zeros((1, row.itemsize // 8)), np.zeros(1, np.bool_), np.zeros(2), np.zeros((1, 6, m_all)),
-                      np.zeros((2, len(engine.blocks))), np.zeros(2, np.bool_))
-                     + _scratch(*plan.sizes))
+        ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u = _scratch(*plan.sizes)
+        self.tables = plan.args
+        # the kernel's own arrays, packed by type into three buffers (`PACKED`): a call unboxes 3 arrays
+        # rather than 39 (~0.4 µs); the atlas' arrays go into a fourth buffer at every binding
+        floats = dict(far=np.array([far_span(engine.solver), 0.0, LOST_PRECISION, FAR_ERROR]),
+                      shift=np.zeros(m_all), p_at=np.ascontiguousarray(at, float), xs=np.zeros(1), ones=np.ones(1),
+                      zeros=np.zeros(1), angle=np.zeros((1, n_l)), xy=np.zeros((1, n_p, 2)), wq=np.zeros((1, n_l)),
+                      eq=np.zeros((1, n_l)), vq=np.zeros((1, n_p, 2)), aq=np.zeros((1, n_p, 2)),
+                      rows=np.zeros((1, row.itemsize // 8)), one_grid=np.zeros(2), one_coef=np.zeros((1, 6, m_all)),
+                      one_signs=np.zeros((2, len(engine.blocks))), ps=ps, rt=rt, sc=sc, cc=cc, q=q, guess=guess,
+                      jac=jac, res=res, col=col, sol=sol, qd_u=qd_u)
+        ints = dict(p_link=np.ascontiguousarray(links, np.int64), off=offsets, row_off=row_offsets,
+                    rec_off=np.array([row_offsets[_ORDER.index(n)] for n in ("r", "value", "fv", "rate_q", "accel_q")],
+                                     np.int64), perm=perm)
+        bools = dict(valid=np.zeros(1, np.bool_), no_limits=np.zeros(2, np.bool_), limits=np.zeros(2, np.bool_))
+        self.lay = np.zeros((len(PACKED), 4), np.int64)
+        self.buffers, views = zip(*(_pack(group, self.lay) for group in (floats, ints, bools)))
+        self.views = {name: view for group in views for name, view in group.items()}
+        # the walk's reach from the drawn pose, the period (0 until it is needed), and the limits of a
+        # reduction; the unknowns' change over one period (written by `_slow`, read by the kernel)
+        self.far, self.shift = self.views["far"], self.views["shift"]
         self._bind()
 
     def __reduce__(self):
@@ -96,20 +105,20 @@ class _Solver:
         atlas = self.atlas
         self.seen = atlas.arrays()
         grid, coef, signs = _atlas_tables(self.engine, atlas)
-        limits = np.array([atlas.limits[-1] is not None, atlas.limits[+1] is not None], np.bool_)
+        self.views["limits"][:] = atlas.limits[-1] is not None, atlas.limits[+1] is not None
         brackets = np.array([c.bracket for c in atlas.crossings], float).reshape(-1, 2)
-        # one tuple, passed as it is: a call builds no argument list of its 48 members
-        self.args = self.fixed + (grid, coef, signs, limits, brackets) + self.work
-        self.kernel = _entry(_position, (0.0, 1.0, 0.0, np.empty(self.size), self.args))
+        atlas_buffer, _ = _pack(dict(grid=grid, coef=coef, signs=signs, brackets=brackets), self.lay)
+        self.args = (self.tables,) + self.buffers + (atlas_buffer, self.lay)
+        self.kernel = _entry(_position, (0.0, 1.0, 0.0, np.empty(self.size)) + self.args)
         self.bound = (self.kernel, self.args, self.size, self.dtype, self.layout, self.seen)
 
     def __call__(self, phi, omega=None, epsilon=None) -> Position:
-        kernel, args, size, dtype, layout, seen = self.bound
+        kernel, (tables, floats, ints, bools, interpolant, lay), size, dtype, layout, seen = self.bound
         if omega is None and epsilon is None and phi.__class__ is float and phi - phi == 0.0 \
                 and self.atlas.arrays() is seen:  # the usual call: a finite float at the model's speeds
             out = _empty(size)
             om, ep = self.defaults
-            status = kernel(phi, om, ep, out, args)
+            status = kernel(phi, om, ep, out, tables, floats, ints, bools, interpolant, lay)
             if not status:
                 return made(_ndarray((), dtype, out), layout)
             return self._slow(phi, om, ep, status)
@@ -122,7 +131,7 @@ class _Solver:
         if self.atlas.arrays() is not self.seen:
             self._bind()  # the atlas grew (another call walked it): predict from it as `analyse` would
         out = _empty(self.size)
-        status = self.kernel(x, om, ep, out, self.args)
+        status = self.kernel(x, om, ep, out, *self.args)
         if status:
             return self._slow(x, om, ep, status)
         return made(_ndarray((), self.dtype, out), self.layout)
@@ -146,7 +155,7 @@ class _Solver:
             if self.atlas.arrays() is not self.seen:
                 self._bind()
             out = _empty(self.size)
-            status = self.kernel(x, om, ep, out, self.args)
+            status = self.kernel(x, om, ep, out, *self.args)
             if status == DONE:
                 return made(_ndarray((), self.dtype, out), self.layout)
         return reference(self.engine, self.layout, np.array([[x]]), om, ep)
@@ -170,6 +179,30 @@ def _entry(kernel, args):
         return kernel
 
 
+#: the kernel's packed arrays, in the order of the rows of its table `lay` (offset, shape): floats, ints,
+#: bools, then the atlas' (floats, packed again when the atlas grows); `_position` reads them in this order
+PACKED = ("far", "shift", "p_at", "xs", "ones", "zeros", "angle", "xy", "wq", "eq", "vq", "aq", "rows", "one_grid",
+          "one_coef", "one_signs", "ps", "rt", "sc", "cc", "q", "guess", "jac", "res", "col", "sol", "qd_u",
+          "p_link", "off", "row_off", "rec_off", "perm",
+          "valid", "no_limits", "limits",
+          "grid", "coef", "signs", "brackets")
+
+
+def _pack(arrays: dict, lay: np.ndarray) -> tuple:
+    """The arrays (of one dtype) copied into one flat buffer; their rows of `lay` (offset, up to three
+    dimensions) written; returns the buffer and the arrays' views in it."""
+    dtype = next(iter(arrays.values())).dtype
+    buffer = np.zeros(sum(a.size for a in arrays.values()), dtype)
+    views, offset = {}, 0
+    for name, a in arrays.items():
+        assert a.dtype == dtype and a.ndim <= 3, name
+        view = views[name] = buffer[offset:offset + a.size].reshape(a.shape)
+        view[...] = a
+        lay[PACKED.index(name)] = (offset, *a.shape, *(0,) * (3 - a.ndim))
+        offset += a.size
+    return buffer, views
+
+
 # -- kernel -----------------------------------------------------------------------------------------
 _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
@@ -181,18 +214,47 @@ _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, in
 # numpy engine's, operation for operation where it matters for rounding: the joint laws (`_constraints`),
 # the scaled block Jacobian and its factors (`_blocks.ScaledLU`; explicit inverse up to 2 × 2, else LU,
 # as `_linalg.factor`), the Newton polish and the rate passes (`BlockSolver.newton`, `_block_rates`).
+@_inline
+def _v1(buf, lay, k):
+    """Packed array k (`PACKED`) of one dimension, a view of its buffer."""
+    o = lay[k, 0]
+    return buf[o:o + lay[k, 1]]
+
+
+@_inline
+def _v2(buf, lay, k):
+    o, d0, d1 = lay[k, 0], lay[k, 1], lay[k, 2]
+    return buf[o:o + d0 * d1].reshape((d0, d1))
+
+
+@_inline
+def _v3(buf, lay, k):
+    o, d0, d1, d2 = lay[k, 0], lay[k, 1], lay[k, 2], lay[k, 3]
+    return buf[o:o + d0 * d1 * d2].reshape((d0, d1, d2))
+
+
 @_jit
-def _position(x, omega, epsilon, out, args):
+def _position(x, omega, epsilon, out, tables, fb, ib, bb, ab, lay):
     """Solve the position x and write its `Position` record into out (at the offsets `off` of `FIELDS`);
-    args: the solver's tables and work arrays in one tuple (`_Solver._bind`). Returns the status (0
-    written; 1 the reference's, 2 outside the atlas, 3 far from the drawn pose with the period not yet
+    tables: the sweep kernel's; fb, ib, bb, ab: the packed arrays (`PACKED`, rows of `lay`). Returns the
+    status (0 written; 1 the reference's, 2 outside the atlas, 3 far from the drawn pose with the period not yet
     known: see `_Solver._slow`). The sweep kernel solves it, as a batch of one at
     ω = 1, ε = 0 (so that its rates are the analogues). far: the walk's reach, the period T, the largest
     float spacing of a reduced value and the largest uncertainty of a reduction
     (`engine._atlas._periods_away`); shift (M,): the unknowns' change over one period."""
-    (steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, far, shift, p_link, p_at, off, row_off, rec_off,
-     grid, coef, signs, limits, brackets, xs, ones, zeros, angle, xy, wq, eq, vq, aq, rows, valid, one_grid, one_coef,
-     one_signs, no_limits, ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u) = args
+    steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol = tables
+    far, shift, p_at, xs, ones, zeros = _v1(fb, lay, 0), _v1(fb, lay, 1), _v2(fb, lay, 2), _v1(fb, lay, 3), \
+        _v1(fb, lay, 4), _v1(fb, lay, 5)
+    angle, xy, wq, eq, vq, aq, rows = _v2(fb, lay, 6), _v3(fb, lay, 7), _v2(fb, lay, 8), _v2(fb, lay, 9), \
+        _v3(fb, lay, 10), _v3(fb, lay, 11), _v2(fb, lay, 12)
+    one_grid, one_coef, one_signs = _v1(fb, lay, 13), _v3(fb, lay, 14), _v2(fb, lay, 15)
+    ps, rt, sc, cc, q, guess, jac = _v2(fb, lay, 16), _v3(fb, lay, 17), _v2(fb, lay, 18), _v2(fb, lay, 19), \
+        _v1(fb, lay, 20), _v1(fb, lay, 21), _v2(fb, lay, 22)
+    res, col, sol, qd_u = _v1(fb, lay, 23), _v1(fb, lay, 24), _v1(fb, lay, 25), _v1(fb, lay, 26)
+    p_link, off, row_off, rec_off, perm = _v1(ib, lay, 27), _v1(ib, lay, 28), _v1(ib, lay, 29), _v1(ib, lay, 30), \
+        _v1(ib, lay, 31)
+    valid, no_limits, limits = _v1(bb, lay, 32), _v1(bb, lay, 33), _v1(bb, lay, 34)
+    grid, coef, signs, brackets = _v1(ab, lay, 35), _v3(ab, lay, 36), _v2(ab, lay, 37), _v2(ab, lay, 38)
     n_grid, m_all = len(grid), coef.shape[2]
     span, period, lost, far_error = far[0], far[1], far[2], far[3]
     reduced, periods, near_x = False, 0.0, x
