@@ -1,5 +1,6 @@
-"""What a new process loads: `import mbplanar` leaves the heavy optional packages alone, `mbplanar solve`
-imports only its own command's code, and the compiled backend is imported when a batch reaches it.
+"""What a new process loads: `import mbplanar` loads neither numpy nor a subpackage (each public name loads
+its own on first use) and leaves the heavy optional packages alone, `mbplanar solve` imports only its own
+command's code, and the compiled backend is imported when a batch reaches it.
 (Behaviour, not timing: the times are in benchmarks/startup.py.)"""
 
 import importlib.util
