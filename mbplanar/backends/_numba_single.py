@@ -75,8 +75,8 @@ class _Solver:
         m_all, n_l, n_p = sum(bp.m for bp in engine.blocks), len(engine.links), len(links)
         ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u = _scratch(*plan.sizes)
         self.tables = plan.args
-        # the kernel's own arrays, packed by type into three buffers (`PACKED`): a call unboxes 3 arrays
-        # rather than 39 (~0.4 µs); the atlas' arrays go into a fourth buffer at every binding
+        # the kernel's own arrays, packed by type into three buffers (`PACKED`), the atlas' into a fourth at
+        # every binding: a call unboxes these and their table `lay` rather than 39 arrays (~0.4 µs)
         floats = dict(far=np.array([far_span(engine.solver), 0.0, LOST_PRECISION, FAR_ERROR]),
                       shift=np.zeros(m_all), p_at=np.ascontiguousarray(at, float), xs=np.zeros(1), ones=np.ones(1),
                       zeros=np.zeros(1), angle=np.zeros((1, n_l)), xy=np.zeros((1, n_p, 2)), wq=np.zeros((1, n_l)),
