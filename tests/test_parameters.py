@@ -54,6 +54,7 @@ def test_units_and_values():
     (('from = "A"', 'from = "B"'), "polar placements form a cycle"),
     (('length = "a"', 'length = "t"'), "parameter 't' is in rad"),
     (('d = { value = 300.0, unit = "mm" }', 'd = { value = 300.0, unit = "inch" }'), "unit must be one of"),
+    (('d = { value = 300.0, unit = "mm" }', 'd = { value = 300.0, unit = [] }'), "unit must be one of"),
     (('from = "O"', 'from = "Q"'), "'from' names no joint 'Q'"),
 ])
 def test_errors_name_the_row(change, message):
