@@ -19,7 +19,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, ForceBlockTables, load_tables
+from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
 from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
@@ -74,48 +74,6 @@ def _load_table(engine, inertia):
     return names, [r[1] for r in rows], guides, load_tables(rows)
 
 
-def _block_tables(blocks):
-    """The blocks as `ForceBlockTables`: every place of a block's matrix that the solve reads gets a slot
-    of the kernel's store (entries first, then fill-in and the rest's zeros), and each step of
-    `kinetostatics._solve_block` is listed on slots, in numpy's order."""
-    per_block, rows, entry, ent_c, later, lat_c, piv, aff, upd, prow = ([] for _ in range(10))
-    rest_r, rest_c, rest_s, zeros = [], [], [], []
-    slots = 0
-    for blk in blocks:
-        slot = {}
-        for i, j, _, _ in blk.entries:
-            slot[i, j] = slots + len(slot)
-        for i, j in _zeros(blk):
-            slot[i, j] = slots + len(slot)
-            zeros.append(slot[i, j])
-        slots += len(slot)
-        per_block.append((len(blk.rows), len(rows), len(entry), len(entry) + len(blk.entries), len(later),
-                          len(later) + len(blk.later), len(piv), len(piv) + len(blk.pivots), len(rest_r),
-                          len(rest_r) + len(blk.rest_rows), len(rest_s)))
-        rows += list(blk.rows)
-        entry += [(slot[i, j], i, f) for i, j, f, _ in blk.entries]
-        ent_c += [coef for *_, coef in blk.entries]
-        later += [(i, c, f) for i, c, f, _ in blk.later]
-        lat_c += [coef for *_, coef in blk.later]
-        for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
-            piv.append((slot[i, j], i, blk.own[j], len(aff), len(aff) + len(affected), len(prow),
-                        len(prow) + len(columns)))
-            for k in affected:
-                aff.append((k, slot[k, j], len(upd), len(upd) + len(columns)))
-                upd += [(slot[k, u], slot[i, u]) for u in columns]
-            prow += [(slot[i, u], blk.own[u]) for u in columns]
-        rest_r += blk.rest_rows
-        rest_c += [blk.own[j] for j in blk.rest_cols]
-        rest_s += [slot[i, j] for i in blk.rest_rows for j in blk.rest_cols]
-    ints = lambda x, w=None: np.array(x, np.int64).reshape((-1, w) if w else -1)  # noqa: E731
-    per_block = ints(per_block, 11)
-    tables = ForceBlockTables(*(np.ascontiguousarray(per_block[:, c]) for c in range(11)), ints(rows),
-                              ints(entry, 3), np.array(ent_c, float), ints(later, 3), np.array(lat_c, float),
-                              ints(piv, 7), ints(aff, 4), ints(upd, 2), ints(prow, 2), ints(rest_r), ints(rest_c),
-                              ints(rest_s), ints(zeros))
-    return tables, slots
-
-
 def _zeros(blk) -> list:
     """The places of a block's matrix that are read but hold no entry: fill-in, and the rest of the
     square solved densely."""
@@ -125,49 +83,314 @@ def _zeros(blk) -> list:
     return sorted(read - entries)
 
 
+class _Tape:
+    """The kernel's program under construction: ops (code, d, a, b, k) on rows of a work matrix (one
+    row per value, one column per position of a chunk), constants, and the LU groups' row lists. Rows
+    are virtual (one per value, `new`) until `_Tape.finish` maps them onto as few rows as their
+    lifetimes allow."""
+
+    def __init__(self):
+        self.ops, self.consts, self.aux, self.rows = [], [], [], 0
+        self._const, self._gathered, self._inputs = {}, {}, {}
+
+    def new(self) -> int:
+        self.rows += 1
+        return self.rows - 1
+
+    def const(self, value) -> int:
+        value = float(value)
+        key = (value, np.signbit(value))
+        if key not in self._const:
+            self._const[key] = len(self.consts)
+            self.consts.append(value)
+        return self._const[key]
+
+    def op(self, code, d=0, a=0, b=0, k=0) -> int:
+        self.ops.append((code, d, a, b, k))
+        return d
+
+    # values: each returns the row it wrote
+    def gather(self, column) -> int:
+        if column not in self._gathered:
+            self._gathered[column] = self.op(GATHER, self.new(), column)
+        return self._gathered[column]
+
+    def input(self, i) -> int:
+        if i not in self._inputs:
+            self._inputs[i] = self.op(INPUT, self.new(), i)
+        return self._inputs[i]
+
+    def set(self, value, d=None) -> int:
+        return self.op(SET, self.new() if d is None else d, k=self.const(value))
+
+    def mulk(self, a, value) -> int:
+        return self.op(MULK, self.new(), a, k=self.const(value))
+
+    def addk(self, a, value) -> int:
+        return self.op(ADDK, self.new(), a, k=self.const(value))
+
+    def add(self, a, b, d=None) -> int:
+        return self.op(ADD, self.new() if d is None else d, a, b)
+
+    def sub(self, a, b, d=None) -> int:
+        return self.op(SUB, self.new() if d is None else d, a, b)
+
+    def mul(self, a, b, d=None) -> int:
+        return self.op(MUL, self.new() if d is None else d, a, b)
+
+    def div(self, a, b) -> int:
+        return self.op(DIV, self.new(), a, b)
+
+    def finish(self) -> tuple:
+        """(ops (T, 5) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
+        taken again once the last op reading it has run."""
+        ops = np.array(self.ops, np.int64).reshape(-1, 5)
+        aux = np.array(self.aux, np.int64)
+        touched = [_touches(op, aux) for op in ops]
+        last = {}
+        for t, rows in enumerate(touched):
+            for r in rows:
+                last[r] = t
+        phys, free, top = {}, [], 0
+        for t, rows in enumerate(touched):
+            for r in rows:
+                if r not in phys:
+                    if free:
+                        phys[r] = free.pop()
+                    else:
+                        phys[r], top = top, top + 1
+            for r in set(rows):
+                if last[r] == t:
+                    free.append(phys[r])
+        for t, op in enumerate(ops):
+            for field in _W_FIELDS[op[0]]:
+                op[field] = phys[op[field]]
+        for t, op in enumerate(ops):
+            if op[0] == LU:
+                nr = op[3]
+                for i in range(op[2], op[2] + nr * nr + 2 * nr):
+                    aux[i] = phys[self.aux[i]]
+        return ops, np.array(self.consts + [0.0]), np.concatenate([aux, np.zeros(1, np.int64)]), max(top, 1)
+
+
+def _touches(op, aux) -> list:
+    """The virtual rows an op reads or writes."""
+    rows = [op[f] for f in _W_FIELDS[op[0]]]
+    if op[0] == LU:
+        nr = op[3]
+        rows += list(aux[op[2]:op[2] + nr * nr + 2 * nr])
+    return rows
+
+
+# op codes of `_kernel`: W is the work matrix (rows, chunk), c a position of the chunk, b = b0 + c
+GATHER = 0   # W[d] = row[b, a]            (a: a column of the records)
+INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
+SET = 2      # W[d] = K[k]
+MULK = 3     # W[d] = K[k] · W[a]
+ADDK = 4     # W[d] = W[a] + K[k]
+ADD = 5      # W[d] = W[a] + W[b]
+SUB = 6      # W[d] = W[a] − W[b]
+MUL = 7      # W[d] = W[a] · W[b]
+DIV = 8      # W[d] = W[a] / W[b]
+MAX = 9      # W[d] = max(W[a], W[b])
+SQRT = 10    # W[d] = √W[a]
+ABS = 11     # W[d] = |W[a]|
+OUT = 12     # out[d, b] = W[a]
+FLAG = 13    # W[d] = 1 where not W[a] > K[k]
+FINITE = 14  # W[d] = 1 where W[a] is not finite
+MASK = 15    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
+RESID = 16   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
+LU = 17      # the dense system of aux[a …] (n = b): LU with partial pivoting, each position its own pivots
+# the fields of an op that name rows of W
+_W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MULK: (1, 2), ADDK: (1, 2), ADD: (1, 2, 3), SUB: (1, 2, 3),
+             MUL: (1, 2, 3), DIV: (1, 2, 3), MAX: (1, 2, 3), SQRT: (1, 2), ABS: (1, 2), OUT: (2,), FLAG: (1, 2),
+             FINITE: (1, 2), MASK: (2, 3), RESID: (2, 3), LU: (1,)}
+
+
+def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
+    """The kernel's program for an engine, its record layout and `inertia`: (names, links and guide
+    loads of the loads, the `_Tape`), numpy's formulas in numpy's order, op by op."""
+    mech, lay, T = engine.mech, ks_plan.lay, _Tape()
+    names, links, guides, loads = _load_table(engine, inertia)
+    field = {name: row_dtype.fields[name][1] // 8 for name in _READS}
+    per_link = {"cos": ("cos", 1, 0), "sin": ("sin", 1, 0), "rx": ("r", 2, 0), "ry": ("r", 2, 1),
+                "fvx": ("fv", 2, 0), "fvy": ("fv", 2, 1), "fax": ("fa", 2, 0), "fay": ("fa", 2, 1),
+                "wq": ("wq", 1, 0), "eq": ("eq", 1, 0)}
+
+    def fr(k, name):  # a field of link k's frame
+        base, width, part = per_link[name]
+        return T.gather(field[base] + width * k + part)
+
+    def turn(k, ax, ay):  # the drawn vector (ax, ay) turned with link k: (c·ax − s·ay, s·ax + c·ay)
+        co, si = fr(k, "cos"), fr(k, "sin")
+        return T.sub(T.mulk(co, ax), T.mulk(si, ay)), T.add(T.mulk(si, ax), T.mulk(co, ay))
+
+    cx, cy = ks_plan.centre
+    inv_size = 1.0 / engine.size
+    # the entries' features (kinetostatics._features)
+    p_names, p_link, p_at = _tables(engine)[0]
+    point_of = {name: k for k, name in enumerate(p_names)}
+    feat = [T.set(1.0)]
+    for name in ks_plan.joints:
+        p = point_of[name]
+        k = int(p_link[p])
+        rx, ry = turn(k, *p_at[p])
+        feat += [T.mulk(T.addk(T.add(fr(k, "rx"), rx), -cx), inv_size),
+                 T.mulk(T.addk(T.add(fr(k, "ry"), ry), -cy), inv_size)]
+    n_j = len(ks_plan.joints)
+    for name in ks_plan.guides:
+        feat += turn(engine.link_index[mech.joints[name].carrier], *engine.laws[name].u0)
+    base = 1 + 2 * n_j
+    for g, j in ks_plan.p_inputs:
+        ux, uy = feat[base + 2 * g], feat[base + 2 * g + 1]
+        feat.append(T.sub(T.mul(feat[1 + 2 * j], uy), T.mul(feat[2 + 2 * j], ux)))
+    # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
+    n = lay.size
+    bvec = [T.set(0.0) for _ in range(n)]
+    values = []
+    om, ep = T.input(0), T.input(1)
+    om2 = T.mul(om, om)
+    for ld in range(len(loads.link)):
+        k = int(loads.link[ld])
+        rx, ry = turn(k, *loads.at[ld])
+        px, py = T.add(fr(k, "rx"), rx), T.add(fr(k, "ry"), ry)
+        if loads.inertia[ld]:  # d'Alembert: −m·a at the centre, −I·ε
+            wq = fr(k, "wq")
+            wr, er = T.mul(wq, om), T.add(T.mul(fr(k, "eq"), om2), T.mul(wq, ep))  # real ω, ε
+            ax = T.add(T.mul(fr(k, "fax"), om2), T.mul(fr(k, "fvx"), ep))
+            ay = T.add(T.mul(fr(k, "fay"), om2), T.mul(fr(k, "fvy"), ep))
+            ax, ay = T.sub(ax, T.mul(er, ry)), T.add(ay, T.mul(er, rx))
+            w2 = T.mul(wr, wr)
+            ax, ay = T.sub(ax, T.mul(w2, rx)), T.sub(ay, T.mul(w2, ry))
+            fx, fy, mz = T.mulk(ax, -loads.mass[ld]), T.mulk(ay, -loads.mass[ld]), T.mulk(er, -loads.moment_of_inertia[ld])
+        elif loads.guide[ld] >= 0:  # along the guide of the carrier
+            ux, uy = turn(int(loads.carrier[ld]), *loads.u0[ld])
+            size = T.input(2 + int(loads.guide[ld]))
+            fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.set(loads.moment[ld])
+        else:
+            fx, fy, mz = T.set(loads.force[ld, 0]), T.set(loads.force[ld, 1]), T.set(loads.moment[ld])
+        for i, v in enumerate((fx, fy, px, py, mz)):
+            T.op(OUT, n + 5 * ld + i, v)
+        values.append((k, fx, fy, px, py, mz))
+        r = lay.rows.get(k)
+        if r is not None:
+            T.sub(bvec[r], fx, d=bvec[r])
+            T.sub(bvec[r + 1], fy, d=bvec[r + 1])
+            m = T.sub(T.mul(T.addk(px, -cx), fy), T.mul(T.addk(py, -cy), fx))
+            T.sub(bvec[r + 2], T.mulk(T.add(m, mz), inv_size), d=bvec[r + 2])
+    # the blocks, last group first (kinetostatics._solve_blocks)
+    x = [None] * n
+    bad = T.set(0.0)
+    for blk in ks_plan.blocks:
+        _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
+    out_bad = n + 5 * len(loads.link) + 1
+    for i in range(n):
+        x[i] = T.mulk(x[i], lay.scale[i])
+        T.op(FINITE, bad, x[i])
+    for i in range(n):
+        T.op(MASK, i, x[i], bad)
+    T.op(OUT, out_bad, bad)
+    # virtual power with the analogues (kinetostatics._virtual_power)
+    speed = T.set(0.0)
+    for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
+        k = int(p_link[p])
+        (ux, uy), wq = turn(k, *p_at[p]), fr(k, "wq")
+        vx, vy = T.sub(fr(k, "fvx"), T.mul(wq, uy)), T.add(fr(k, "fvy"), T.mul(wq, ux))
+        T.op(MAX, speed, speed, T.add(T.mul(vx, vx), T.mul(vy, vy)))
+    T.op(SQRT, speed, speed)  # the largest point speed (one root: the root keeps the order)
+    turning = T.set(0.0)
+    for k in range(len(engine.links)):
+        T.op(MAX, turning, turning, T.op(ABS, T.new(), fr(k, "wq")))
+    total, bound = T.set(0.0), T.set(0.0)
+    for k, fx, fy, px, py, mz in values:
+        wq = fr(k, "wq")
+        dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
+        term = T.add(T.add(T.mul(fx, T.sub(fr(k, "fvx"), T.mul(wq, dy))), T.mul(fy, T.add(fr(k, "fvy"), T.mul(wq, dx)))),
+                     T.mul(mz, wq))
+        T.add(total, term, d=total)
+        force = T.op(SQRT, T.new(), T.add(T.mul(fx, fx), T.mul(fy, fy)))
+        T.add(bound, T.add(T.mul(force, speed), T.mul(T.op(ABS, T.new(), mz), turning)), d=bound)
+    for inp, col in zip(engine.inputs, lay.in_cols):
+        term = T.mul(x[col], T.gather(field["rate_q"] + list(mech.joints).index(inp.joint)))
+        T.add(total, term, d=total)
+        T.add(bound, T.op(ABS, T.new(), term), d=bound)
+    T.op(RESID, out_bad - 1, total, bound)
+    return names, links, guides, T
+
+
+def _program_block(T, blk, feat, bvec, x, bad, min_measure):
+    """One block of `kinetostatics._solve_block`: its entries, the constant pivots eliminated, the rest
+    solved densely, the back-substitution into x (rows of the unknowns), and `bad` marked where its
+    measure |det| / Π‖row‖ is not above `min_measure`."""
+    rows = [bvec[r] for r in blk.rows]  # the right side, in place
+    slot, norm = {}, [None] * len(blk.rows)
+    for i, j, f, coef in blk.entries:
+        v = slot[i, j] = T.set(coef) if f == 0 else T.mulk(feat[f], coef)
+        norm[i] = T.mul(v, v) if norm[i] is None else T.add(norm[i], T.mul(v, v))
+    for i, j in _zeros(blk):
+        slot[i, j] = T.set(0.0)
+    prod = norm[0]
+    for v in norm[1:]:
+        prod = T.mul(prod, v)
+    for i, c, f, coef in blk.later:
+        T.sub(rows[i], T.mul(T.set(coef) if f == 0 else T.mulk(feat[f], coef), x[c]), d=rows[i])
+    det = T.set(1.0)
+    for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
+        for k in affected:
+            m = T.div(slot[k, j], slot[i, j])
+            for u in columns:
+                T.sub(slot[k, u], T.mul(m, slot[i, u]), d=slot[k, u])
+            T.sub(rows[k], T.mul(m, rows[i]), d=rows[k])
+        T.mul(det, slot[i, j], d=det)
+    own = blk.own
+    nr = len(blk.rest_rows)
+    a = [[slot[i, j] for j in blk.rest_cols] for i in blk.rest_rows]
+    r = [rows[i] for i in blk.rest_rows]
+    if nr == 1:  # the explicit inverse (_linalg.factor)
+        x[own[blk.rest_cols[0]]] = T.mul(T.div(T.set(1.0), a[0][0]), r[0])
+        T.mul(det, a[0][0], d=det)
+    elif nr == 2:
+        d = T.sub(T.mul(a[0][0], a[1][1]), T.mul(a[0][1], a[1][0]))
+        i00, i01 = T.div(a[1][1], d), T.div(T.mulk(a[0][1], -1.0), d)
+        i10, i11 = T.div(T.mulk(a[1][0], -1.0), d), T.div(a[0][0], d)
+        x[own[blk.rest_cols[0]]] = T.add(T.mul(i00, r[0]), T.mul(i01, r[1]))
+        x[own[blk.rest_cols[1]]] = T.add(T.mul(i10, r[0]), T.mul(i11, r[1]))
+        T.mul(det, d, d=det)
+    elif nr:
+        sol = [T.set(0.0) for _ in range(nr)]
+        start = len(T.aux)
+        T.aux += [v for row in a for v in row] + r + sol
+        T.op(LU, det, start, nr)
+        for q, j in enumerate(blk.rest_cols):
+            x[own[j]] = sol[q]
+    for (i, j), (_, columns) in reversed(list(zip(blk.pivots, blk.fill))):
+        acc = rows[i]
+        for u in columns:
+            acc = T.sub(acc, T.mul(slot[i, u], x[own[u]]))
+        x[own[j]] = T.div(acc, slot[i, j])
+    measure = T.div(T.op(ABS, T.new(), det), T.op(SQRT, T.new(), prod))
+    T.op(FLAG, bad, measure, k=T.const(min_measure))
+
+
 def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
+    """The kernel's plan for the engine, the record layout of `motion` and `inertia`, made once."""
     row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
-    if key in cache:
-        return cache[key]
-    mech, lay = engine.mech, ks_plan.lay
-    names, links, guides, loads = _load_table(engine, inertia)
-    offsets = np.array([row_dtype.fields[name][1] // 8 for name in _READS], np.int64)
-    link_row = np.full(len(engine.links), -1, np.int64)
-    for k, row in lay.rows.items():
-        link_row[k] = row
-    p_names, p_link, p_at = _tables(engine)[0]  # every point: the kernel places them from the frames
-    point_of = {name: k for k, name in enumerate(p_names)}
-    jpoint = np.array([point_of[name] for name in ks_plan.joints], np.int64)
-    guide_i = np.array([engine.link_index[mech.joints[n].carrier] for n in ks_plan.guides], np.int64)
-    guide_f = np.array([engine.laws[n].u0 for n in ks_plan.guides], float).reshape(-1, 2)
-    p_inputs = np.array(ks_plan.p_inputs, np.int64).reshape(-1, 2)
-    in_joint = np.array([list(mech.joints).index(inp.joint) for inp in engine.inputs], np.int64)
-    blocks, slots = _block_tables(ks_plan.blocks)
-    args = (offsets, p_link.astype(np.int64), np.ascontiguousarray(p_at, float), link_row,
-            np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, loads,
-            blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
-    sizes = (slots, max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
-             1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
-    plan = cache[key] = _KernelPlan(names, links, guides, args, sizes, [])
-    return plan
+    if key not in cache:
+        names, links, guides, tape = _program(engine, ks_plan, row_dtype, inertia)
+        ops, consts, aux, rows = tape.finish()
+        cache[key] = _KernelPlan(names, links, guides, (ops, consts, aux), rows, [])
+    return cache[key]
 
 
-#: positions a kernel takes at once: each step runs over them in an inner loop, so that reading the
-#: tables costs once per chunk and the arithmetic runs in SIMD lanes
-CHUNK = 32
-#: the frame fields `_gather` copies per link and position, in this order
-_FRAME = ("cos", "sin", "rx", "ry", "fvx", "fvy", "fax", "fay", "wq", "eq")
+#: positions the kernel takes at once: each op of the program runs over them in an inner loop
+CHUNK = 64
 
 
-def _scratch(slots: int, n_max: int, n: int, n_features: int, n_links: int) -> tuple:
-    """Work arrays of `_kernel`, per position of a chunk (last axis): the slots, a block's right side and
-    row norms, the unknowns, the whole right side, the features, seven vectors (`_V_*`), the frames
-    (`_FRAME`, per link) and the pivot rows of a dense solve."""
-    return (np.zeros((max(slots, 1), CHUNK)), np.zeros((n_max, CHUNK)), np.zeros((n_max, CHUNK)),
-            np.zeros((max(n, 1), CHUNK)), np.zeros((max(n, 1), CHUNK)), np.zeros((n_features, CHUNK)),
-            np.zeros((7, CHUNK)), np.zeros((len(_FRAME), n_links, CHUNK)), np.zeros(CHUNK, np.int64))
+def _scratch(rows: int) -> tuple:
+    """Work arrays of `_kernel`: the work matrix (rows, CHUNK) and the pivot rows of a dense solve."""
+    return np.zeros((rows, CHUNK)), np.zeros(CHUNK, np.int64)
 
 
 def solve(engine, motion, ks_plan, inertia=True):
@@ -175,331 +398,139 @@ def solve(engine, motion, ks_plan, inertia=True):
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
     rows = motion.rows
     plan = _plan(engine, ks_plan, motion, inertia)
-    batch = len(rows)
-    sizes = np.zeros((max(len(plan.guide_loads), 1), batch))
+    batch, n, n_loads = len(rows), ks_plan.lay.size, len(plan.names)
+    inputs = np.empty((2 + len(plan.guide_loads), batch))
+    inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
-        sizes[g] = guide_force_size(engine, motion, load)
-    x = np.empty((ks_plan.lay.size, batch))
-    singular = np.empty(batch, np.bool_)
-    residual = np.empty(batch)
-    loads = np.empty((len(plan.names), 5, batch))  # fx, fy, x, y, moment
-    om = np.ascontiguousarray(motion.omega[:, 0])
-    ep = np.ascontiguousarray(motion.epsilon[:, 0])
+        inputs[2 + g] = guide_force_size(engine, motion, load)
+    out = np.empty((n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, singular
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
-    work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes, len(engine.links)), len(parts))
-    _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, row, om, ep, sizes, *plan.args, x, singular, residual,
-                                           loads, *w)
+    work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.sizes), len(parts))
+    _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
                   for p, w in zip(parts, work)])
+    loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
     values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
-    return x, singular, residual, values
+    return out[:n], out[-1] != 0.0, out[-2], values
 
 
 # -- kernel -------------------------------------------------------------------------------------------
 _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-# the rows of the vectors work array
-_V_MULT, _V_DET, _V_PROD, _V_BAD, _V_SPEED, _V_TURN, _V_BIG = 0, 1, 2, 3, 4, 5, 6
 
 
 @_jit
-def _gather(b0, nc, row, offsets, fr):
-    """The frames of positions b0 … b0 + nc − 1 from their records into fr (`_FRAME`, L, chunk)."""
-    o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq = (offsets[0], offsets[1], offsets[2], offsets[3], offsets[4],
-                                                 offsets[5], offsets[6])
-    for c in range(nc):
-        rec = row[b0 + c]
-        for k in range(fr.shape[1]):
-            fr[0, k, c], fr[1, k, c] = rec[o_cos + k], rec[o_sin + k]
-            fr[2, k, c], fr[3, k, c] = rec[o_r + 2 * k], rec[o_r + 2 * k + 1]
-            fr[4, k, c], fr[5, k, c] = rec[o_fv + 2 * k], rec[o_fv + 2 * k + 1]
-            fr[6, k, c], fr[7, k, c] = rec[o_fa + 2 * k], rec[o_fa + 2 * k + 1]
-            fr[8, k, c], fr[9, k, c] = rec[o_wq + k], rec[o_eq + k]
-
-
-@_jit
-def _features(nc, fr, p_link, p_at, centre, inv_size, jpoint, guide_i, guide_f, p_inputs, feat):
-    """The entries' features (kinetostatics._features) of the chunk into feat (F, chunk)."""
-    cx, cy = centre[0], centre[1]
-    n_j, n_g = len(jpoint), len(guide_i)
-    base = 1 + 2 * n_j
-    for c in range(nc):
-        feat[0, c] = 1.0
-    for jj in range(n_j):  # the joint's point from its link's frame (kinematics._moving_points)
-        p = jpoint[jj]
-        k = p_link[p]
-        ax, ay = p_at[p, 0], p_at[p, 1]
-        for c in range(nc):
-            co, si = fr[0, k, c], fr[1, k, c]
-            px = fr[2, k, c] + (co * ax - si * ay)
-            py = fr[3, k, c] + (si * ax + co * ay)
-            feat[1 + 2 * jj, c] = (px - cx) * inv_size
-            feat[2 + 2 * jj, c] = (py - cy) * inv_size
-    for g in range(n_g):
-        k, ux, uy = guide_i[g], guide_f[g, 0], guide_f[g, 1]
-        for c in range(nc):
-            co, si = fr[0, k, c], fr[1, k, c]
-            feat[base + 2 * g, c] = co * ux - si * uy
-            feat[base + 2 * g + 1, c] = si * ux + co * uy
-    for q in range(len(p_inputs)):
-        g, j = p_inputs[q, 0], p_inputs[q, 1]
-        for c in range(nc):
-            feat[base + 2 * n_g + q, c] = (feat[1 + 2 * j, c] * feat[base + 2 * g + 1, c]
-                                           - feat[2 + 2 * j, c] * feat[base + 2 * g, c])
-
-
-@_jit
-def _loads(b0, nc, fr, omega, epsilon, sizes, centre, inv_size, link_row, loads, loads_out, bvec):
-    """The loads (loads._evaluate, inertia_loads) into loads_out[:, :, b] (fx, fy, x, y, moment) and
-    minus them into the right side bvec (n, chunk) (kinetostatics._right_side)."""
-    cx, cy = centre[0], centre[1]
-    for i in range(bvec.shape[0]):
-        for c in range(nc):
-            bvec[i, c] = 0.0
-    for ld in range(len(loads.link)):
-        k, g, r = loads.link[ld], loads.guide[ld], link_row[loads.link[ld]]
-        atx, aty, mass, mom_i = loads.at[ld, 0], loads.at[ld, 1], loads.mass[ld], loads.moment_of_inertia[ld]
-        out = loads_out[ld]
-        for c in range(nc):
-            co, si = fr[0, k, c], fr[1, k, c]
-            rx = co * atx - si * aty
-            ry = si * atx + co * aty
-            out[2, b0 + c], out[3, b0 + c] = fr[2, k, c] + rx, fr[3, k, c] + ry
-        if loads.inertia[ld]:  # d'Alembert: −m·a at the centre, −I·ε
-            for c in range(nc):
-                om, ep = omega[b0 + c], epsilon[b0 + c]
-                om2 = om * om
-                wq = fr[8, k, c]
-                wr, er = wq * om, fr[9, k, c] * om2 + wq * ep  # real ω, ε (Motion.w, Motion.e)
-                co, si = fr[0, k, c], fr[1, k, c]
-                rx = co * atx - si * aty
-                ry = si * atx + co * aty
-                ax = fr[6, k, c] * om2 + fr[4, k, c] * ep
-                ay = fr[7, k, c] * om2 + fr[5, k, c] * ep
-                ax -= er * ry
-                ay += er * rx
-                ax -= (wr * wr) * rx
-                ay -= (wr * wr) * ry
-                out[0, b0 + c], out[1, b0 + c], out[4, b0 + c] = -mass * ax, -mass * ay, -mom_i * er
-        elif g >= 0:  # along the guide of the carrier
-            kc, u0x, u0y, mz = loads.carrier[ld], loads.u0[ld, 0], loads.u0[ld, 1], loads.moment[ld]
-            for c in range(nc):
-                co, si = fr[0, kc, c], fr[1, kc, c]
-                size = sizes[g, b0 + c]
-                out[0, b0 + c], out[1, b0 + c] = size * (co * u0x - si * u0y), size * (si * u0x + co * u0y)
-                out[4, b0 + c] = mz
-        else:
-            fx, fy, mz = loads.force[ld, 0], loads.force[ld, 1], loads.moment[ld]
-            for c in range(nc):
-                out[0, b0 + c], out[1, b0 + c], out[4, b0 + c] = fx, fy, mz
-        if r >= 0:
-            for c in range(nc):
-                fx, fy, px, py = out[0, b0 + c], out[1, b0 + c], out[2, b0 + c], out[3, b0 + c]
-                bvec[r, c] -= fx
-                bvec[r + 1, c] -= fy
-                bvec[r + 2, c] -= ((px - cx) * fy - (py - cy) * fx + out[4, b0 + c]) * inv_size
-
-
-@_jit
-def _rest_solve(bk, nc, fb, S, rl, X, vec, ipiv):
-    """The rest of a block (`_Block.rest_rows`, `rest_cols`) over the chunk, solved in place on its slots
-    as `_linalg.factor` does: the explicit inverse up to 2×2, else LU with partial pivoting, each position
-    its own pivots; the unknowns into X, the determinant into vec[_V_DET]."""
-    s0, q0 = fb.rest0[bk], fb.rest_slot0[bk]
-    nr = fb.rest1[bk] - s0
-    rows, cols, slot = fb.rest_rows, fb.rest_cols, fb.rest_slots
-    det, mult, big = vec[_V_DET], vec[_V_MULT], vec[_V_BIG]
-    if nr == 1:
-        a, r = S[slot[q0]], rl[rows[s0]]
-        for c in range(nc):
-            d = a[c]
-            X[cols[s0], c] = (1.0 / d) * r[c]
-            det[c] *= d
-        return
-    if nr == 2:
-        a00, a01, a10, a11 = S[slot[q0]], S[slot[q0 + 1]], S[slot[q0 + 2]], S[slot[q0 + 3]]
-        r0, r1 = rl[rows[s0]], rl[rows[s0 + 1]]
-        x0, x1 = X[cols[s0]], X[cols[s0 + 1]]
-        for c in range(nc):
-            d = a00[c] * a11[c] - a01[c] * a10[c]
-            i00, i01, i10, i11 = a11[c] / d, -a01[c] / d, -a10[c] / d, a00[c] / d
-            x0[c] = i00 * r0[c] + i01 * r1[c]
-            x1[c] = i10 * r0[c] + i11 * r1[c]
-            det[c] *= d
-        return
+def _lu(W, aux, a, nr, det, nc, piv):
+    """The dense system aux[a …] (its matrix row by row, right side, solution: rows of W) of each
+    position of the chunk solved as `_linalg.lu_factor` does, with its own row pivots (the first
+    largest of the column); the determinant multiplied into W[det]."""
+    rhs, sol = a + nr * nr, a + nr * nr + nr
     for k in range(nr):
-        akk = S[slot[q0 + k * nr + k]]
+        kk = aux[a + k * nr + k]
         if k < nr - 1:
-            for c in range(nc):  # the first largest pivot of the column (numpy's argmax)
-                ipiv[c], big[c] = k, abs(akk[c])
-            for i in range(k + 1, nr):
-                aik = S[slot[q0 + i * nr + k]]
-                for c in range(nc):
-                    if abs(aik[c]) > big[c]:
-                        ipiv[c], big[c] = i, abs(aik[c])
             for c in range(nc):
-                p = ipiv[c]
+                piv[c] = k
+            for i in range(k + 1, nr):
+                ik = aux[a + i * nr + k]
+                for c in range(nc):
+                    if abs(W[ik, c]) > abs(W[aux[a + piv[c] * nr + k], c]):
+                        piv[c] = i
+            for c in range(nc):
+                p = piv[c]
                 if p != k:
                     for j in range(k, nr):
-                        skj, spj = slot[q0 + k * nr + j], slot[q0 + p * nr + j]
-                        S[skj, c], S[spj, c] = S[spj, c], S[skj, c]
-                    rk, rp = rows[s0 + k], rows[s0 + p]
-                    rl[rk, c], rl[rp, c] = rl[rp, c], rl[rk, c]
-                    det[c] = -det[c]
-            rk = rl[rows[s0 + k]]
+                        s, t = aux[a + k * nr + j], aux[a + p * nr + j]
+                        W[s, c], W[t, c] = W[t, c], W[s, c]
+                    s, t = aux[rhs + k], aux[rhs + p]
+                    W[s, c], W[t, c] = W[t, c], W[s, c]
+                    W[det, c] = -W[det, c]
+            rk = aux[rhs + k]
             for i in range(k + 1, nr):
-                aik, ri = S[slot[q0 + i * nr + k]], rl[rows[s0 + i]]
+                ik, ri = aux[a + i * nr + k], aux[rhs + i]
                 for c in range(nc):
-                    mult[c] = aik[c] / akk[c]
-                    ri[c] -= mult[c] * rk[c]
+                    W[ik, c] = W[ik, c] / W[kk, c]
+                    W[ri, c] -= W[ik, c] * W[rk, c]
                 for j in range(k + 1, nr):
-                    aij, akj = S[slot[q0 + i * nr + j]], S[slot[q0 + k * nr + j]]
+                    ij, kj = aux[a + i * nr + j], aux[a + k * nr + j]
                     for c in range(nc):
-                        aij[c] -= mult[c] * akj[c]
+                        W[ij, c] -= W[ik, c] * W[kj, c]
         for c in range(nc):
-            det[c] *= akk[c]
+            W[det, c] *= W[kk, c]
     for i in range(nr - 1, -1, -1):
-        ri, xi, aii = rl[rows[s0 + i]], X[cols[s0 + i]], S[slot[q0 + i * nr + i]]
+        ri, xi, ii = aux[rhs + i], aux[sol + i], aux[a + i * nr + i]
         for c in range(nc):
-            mult[c] = ri[c]
+            W[xi, c] = W[ri, c]
         for j in range(i + 1, nr):
-            aij, xj = S[slot[q0 + i * nr + j]], X[cols[s0 + j]]
+            ij, xj = aux[a + i * nr + j], aux[sol + j]
             for c in range(nc):
-                mult[c] -= aij[c] * xj[c]
+                W[xi, c] -= W[ij, c] * W[xj, c]
         for c in range(nc):
-            xi[c] = mult[c] / aii[c]
+            W[xi, c] /= W[ii, c]
 
 
 @_jit
-def _solve_block(bk, nc, fb, feat, bvec, X, S, rl, norm, vec, ipiv, min_measure):
-    """One block of `kinetostatics._solve_block` over a chunk, into X (n, chunk) (scaled unknowns); marks
-    vec[_V_BAD] where its singularity measure |det| / Π‖row‖ is not above min_measure."""
-    n, r0 = fb.size[bk], fb.row0[bk]
-    mult, det, prod, bad = vec[_V_MULT], vec[_V_DET], vec[_V_PROD], vec[_V_BAD]
-    for i in range(n):
-        ri, bi, ni = rl[i], bvec[fb.rows[r0 + i]], norm[i]
-        for c in range(nc):
-            ri[c] = bi[c]
-            ni[c] = 0.0  # Σ of the row's squares
-    for e in range(fb.entry0[bk], fb.entry1[bk]):
-        st, ni, fe, coef = S[fb.entry[e, 0]], norm[fb.entry[e, 1]], feat[fb.entry[e, 2]], fb.entry_coef[e]
-        for c in range(nc):  # (feature 0 is 1)
-            v = coef * fe[c]
-            st[c] = v
-            ni[c] += v * v
-    for c in range(nc):
-        prod[c] = 1.0  # Π‖row‖²
-        det[c] = 1.0
-    for i in range(n):
-        ni = norm[i]
-        for c in range(nc):
-            prod[c] *= ni[c]
-    for e in range(fb.later0[bk], fb.later1[bk]):
-        ri, xc, fe, coef = rl[fb.later[e, 0]], X[fb.later[e, 1]], feat[fb.later[e, 2]], fb.later_coef[e]
-        for c in range(nc):
-            ri[c] -= (coef * fe[c]) * xc[c]
-    for p in range(fb.pivot0[bk], fb.pivot1[bk]):  # the constant pivots
-        sp, ri = S[fb.pivots[p, 0]], rl[fb.pivots[p, 1]]
-        for a in range(fb.pivots[p, 3], fb.pivots[p, 4]):
-            rk, skj = rl[fb.affected[a, 0]], S[fb.affected[a, 1]]
-            for c in range(nc):
-                mult[c] = skj[c] / sp[c]
-            for u in range(fb.affected[a, 2], fb.affected[a, 3]):
-                tu, su = S[fb.updates[u, 0]], S[fb.updates[u, 1]]
-                for c in range(nc):
-                    tu[c] -= mult[c] * su[c]
-            for c in range(nc):
-                rk[c] -= mult[c] * ri[c]
-        for c in range(nc):
-            det[c] *= sp[c]
-    if fb.rest1[bk] > fb.rest0[bk]:
-        _rest_solve(bk, nc, fb, S, rl, X, vec, ipiv)
-    for p in range(fb.pivot1[bk] - 1, fb.pivot0[bk] - 1, -1):  # back-substitution
-        sp, ri, xj = S[fb.pivots[p, 0]], rl[fb.pivots[p, 1]], X[fb.pivots[p, 2]]
-        for c in range(nc):
-            mult[c] = ri[c]
-        for u in range(fb.pivots[p, 5], fb.pivots[p, 6]):
-            su, xu = S[fb.pivot_row[u, 0]], X[fb.pivot_row[u, 1]]
-            for c in range(nc):
-                mult[c] -= su[c] * xu[c]
-        for c in range(nc):
-            xj[c] = mult[c] / sp[c]
-    for c in range(nc):
-        if not abs(det[c]) / np.sqrt(prod[c]) > min_measure:
-            bad[c] = 1.0
-
-
-@_jit
-def _virtual_power(b0, nc, fr, row, o_rq, p_link, p_at, loads, in_cols, in_joint, x_out, loads_out, vec,
-                   residual):
-    """The relative virtual-power residual with the analogues (kinetostatics._virtual_power) of the chunk."""
-    vscale, wscale, total, bound = vec[_V_SPEED], vec[_V_TURN], vec[_V_MULT], vec[_V_PROD]
-    for c in range(nc):
-        vscale[c], wscale[c], total[c], bound[c] = 0.0, 0.0, 0.0, 0.0
-    for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
-        k, ax, ay = p_link[p], p_at[p, 0], p_at[p, 1]
-        for c in range(nc):
-            co, si, wk = fr[0, k, c], fr[1, k, c], fr[8, k, c]
-            vx = fr[4, k, c] - wk * (si * ax + co * ay)
-            vy = fr[5, k, c] + wk * (co * ax - si * ay)
-            vscale[c] = max(vscale[c], vx * vx + vy * vy)
-    for c in range(nc):
-        vscale[c] = np.sqrt(vscale[c])  # the largest point speed (one root: the root keeps the order)
-    for k in range(fr.shape[1]):
-        for c in range(nc):
-            wscale[c] = max(wscale[c], abs(fr[8, k, c]))
-    for ld in range(len(loads.link)):
-        k, out = loads.link[ld], loads_out[ld]
-        for c in range(nc):
-            fx, fy, px, py, mz = out[0, b0 + c], out[1, b0 + c], out[2, b0 + c], out[3, b0 + c], out[4, b0 + c]
-            wk = fr[8, k, c]
-            dx, dy = px - fr[2, k, c], py - fr[3, k, c]
-            total[c] += fx * (fr[4, k, c] - wk * dy) + fy * (fr[5, k, c] + wk * dx) + mz * wk
-            bound[c] += np.sqrt(fx * fx + fy * fy) * vscale[c] + abs(mz) * wscale[c]
-    for q in range(len(in_cols)):
-        xq, jq = x_out[in_cols[q]], o_rq + in_joint[q]
-        for c in range(nc):
-            term = xq[b0 + c] * row[b0 + c, jq]
-            total[c] += term
-            bound[c] += abs(term)
-    for c in range(nc):
-        residual[b0 + c] = abs(total[c]) / (bound[c] if bound[c] > 0 else 1.0)
-
-
-@_jit
-def _kernel(start, stop, row, omega, epsilon, sizes, offsets, p_link, p_at, link_row, centre, size, jpoint,
-            guide_i, guide_f, p_inputs, loads, fb, scale, in_cols, in_joint, min_measure, x_out, singular, residual,
-            loads_out, S, rl, norm, X, bvec, feat, vec, fr, ipiv):
-    """Positions start … stop − 1, a chunk at a time: the frames, features, loads (into loads_out[:, :, b]:
-    fx, fy, x, y, moment), the blocks into x_out[:, b] (scaled back, NaN where a block's measure is not
-    above min_measure, `Tolerances.singular`), and the relative virtual-power residual."""
-    inv_size = 1.0 / size
-    n, chunk = len(scale), S.shape[1]
-    bad = vec[_V_BAD]
+def _kernel(start, stop, ops, K, aux, row, inputs, out, W, piv):
+    """Positions start … stop − 1, a chunk at a time: every op of the program (`_program`; codes above)
+    over the chunk, from the records `row` (B, fields) and `inputs` into `out`."""
+    chunk = W.shape[1]
     for b0 in range(start, stop, chunk):
         nc = min(chunk, stop - b0)
-        _gather(b0, nc, row, offsets, fr)
-        _features(nc, fr, p_link, p_at, centre, inv_size, jpoint, guide_i, guide_f, p_inputs, feat)
-        _loads(b0, nc, fr, omega, epsilon, sizes, centre, inv_size, link_row, loads, loads_out, bvec)
-        for z in range(len(fb.zeros)):
-            sz = S[fb.zeros[z]]
-            for c in range(nc):
-                sz[c] = 0.0
-        for c in range(nc):
-            bad[c] = 0.0
-        for bk in range(len(fb.size)):  # last group first (kinetostatics._solve_blocks)
-            _solve_block(bk, nc, fb, feat, bvec, X, S, rl, norm, vec, ipiv, min_measure)
-        for i in range(n):
-            xi, si = X[i], scale[i]
-            for c in range(nc):
-                xi[c] *= si
-                if not np.isfinite(xi[c]):
-                    bad[c] = 1.0
-        for c in range(nc):
-            singular[b0 + c] = bad[c] != 0.0
-        for i in range(n):
-            xi, oi = X[i], x_out[i]
-            for c in range(nc):
-                oi[b0 + c] = np.nan if bad[c] != 0.0 else xi[c]
-        _virtual_power(b0, nc, fr, row, offsets[7], p_link, p_at, loads, in_cols, in_joint, x_out, loads_out, vec,
-                       residual)
+        for t in range(len(ops)):
+            code, d, a, b, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4]
+            if code == 0:  # GATHER
+                for c in range(nc):
+                    W[d, c] = row[b0 + c, a]
+            elif code == 1:  # INPUT
+                for c in range(nc):
+                    W[d, c] = inputs[a, b0 + c]
+            elif code == 2:  # SET
+                for c in range(nc):
+                    W[d, c] = K[k]
+            elif code == 3:  # MULK
+                for c in range(nc):
+                    W[d, c] = K[k] * W[a, c]
+            elif code == 4:  # ADDK
+                for c in range(nc):
+                    W[d, c] = W[a, c] + K[k]
+            elif code == 5:  # ADD
+                for c in range(nc):
+                    W[d, c] = W[a, c] + W[b, c]
+            elif code == 6:  # SUB
+                for c in range(nc):
+                    W[d, c] = W[a, c] - W[b, c]
+            elif code == 7:  # MUL
+                for c in range(nc):
+                    W[d, c] = W[a, c] * W[b, c]
+            elif code == 8:  # DIV
+                for c in range(nc):
+                    W[d, c] = W[a, c] / W[b, c]
+            elif code == 9:  # MAX
+                for c in range(nc):
+                    W[d, c] = max(W[a, c], W[b, c])
+            elif code == 10:  # SQRT
+                for c in range(nc):
+                    W[d, c] = np.sqrt(W[a, c])
+            elif code == 11:  # ABS
+                for c in range(nc):
+                    W[d, c] = abs(W[a, c])
+            elif code == 12:  # OUT
+                for c in range(nc):
+                    out[d, b0 + c] = W[a, c]
+            elif code == 13:  # FLAG
+                for c in range(nc):
+                    if not W[a, c] > K[k]:
+                        W[d, c] = 1.0
+            elif code == 14:  # FINITE
+                for c in range(nc):
+                    if not np.isfinite(W[a, c]):
+                        W[d, c] = 1.0
+            elif code == 15:  # MASK
+                for c in range(nc):
+                    if W[b, c] != 0.0:
+                        W[a, c] = np.nan
+                    out[d, b0 + c] = W[a, c]
+            elif code == 16:  # RESID
+                for c in range(nc):
+                    out[d, b0 + c] = abs(W[a, c]) / (W[b, c] if W[b, c] > 0 else 1.0)
+            else:  # LU
+                _lu(W, aux, a, b, d, nc, piv)

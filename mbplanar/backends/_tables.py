@@ -89,36 +89,34 @@ class LoadTables(NamedTuple):
 
 
 class ForceBlockTables(NamedTuple):
-    """The kinetostatic system's K blocks (`kinetostatics._Block`, last group first) for the compiled solve,
-    on a store of slots: every place of a block's matrix that is read (its entries, their fill-in, the
-    square solved densely) has its own slot. Per block, where its rows, entries, earlier-column entries,
-    pivots and rest start and end (end exclusive); then those lists concatenated."""
+    """The kinetostatic system's K blocks (`kinetostatics._Block`, last group first) for the compiled solve:
+    where each block's rows, entries, pivots, rest and zeros start and end (end exclusive), then those
+    lists concatenated."""
 
     size: np.ndarray        # (K,) int: the block's rows (= its columns)
-    row0: np.ndarray        # (K,) int: its first row in `rows`
+    row0: np.ndarray        # (K,) int: its first row in `rows` and `own`
     entry0: np.ndarray      # (K,) int
     entry1: np.ndarray      # (K,) int
     later0: np.ndarray      # (K,) int
     later1: np.ndarray      # (K,) int
     pivot0: np.ndarray      # (K,) int
     pivot1: np.ndarray      # (K,) int
-    rest0: np.ndarray       # (K,) int: its first row and column in `rest_rows`, `rest_cols`
+    rest0: np.ndarray       # (K,) int
     rest1: np.ndarray       # (K,) int
-    rest_slot0: np.ndarray  # (K,) int: its first slot in `rest_slots`
+    zero0: np.ndarray       # (K,) int
+    zero1: np.ndarray       # (K,) int
     rows: np.ndarray        # (R,) int: the blocks' global rows
-    entry: np.ndarray       # (E, 3) int: slot, local row, feature (0: constant)
+    own: np.ndarray         # (R,) int: the blocks' own (global) columns
+    entry: np.ndarray       # (E, 3) int: local row, local column, feature (0: constant)
     entry_coef: np.ndarray  # (E,) float
     later: np.ndarray       # (F, 3) int: local row, global column solved earlier, feature
     later_coef: np.ndarray  # (F,) float
-    pivots: np.ndarray      # (P, 7) int: slot, local row, global column, affected rows start, end, the pivot
-    #                         row's other places start, end
-    affected: np.ndarray    # (Q, 4) int: local row, slot in the pivot's column, updates start, end
-    updates: np.ndarray     # (U, 2) int: slot updated, slot of the pivot row it takes a multiple of
-    pivot_row: np.ndarray   # (G, 2) int: slot, global column of each pivot row's other places
-    rest_rows: np.ndarray   # (N,) int: the local rows left for the dense solve
-    rest_cols: np.ndarray   # (N,) int: the global columns left for the dense solve
-    rest_slots: np.ndarray  # (N2,) int: each block's rest square, row by row
-    zeros: np.ndarray       # (Z,) int: slots read but holding no entry (fill-in, the rest's zeros)
+    pivots: np.ndarray      # (P, 6) int: row, column, affected rows start, end, pivot-row columns start, end
+    affected: np.ndarray    # (Q,) int: the rows each pivot eliminates from
+    pivot_cols: np.ndarray  # (G,) int: the columns of each pivot row
+    rest_rows: np.ndarray   # (N,) int: the rows left for the dense solve
+    rest_cols: np.ndarray   # (N,) int: the columns left for the dense solve
+    zeros: np.ndarray       # (Z, 2) int: read positions holding no entry (fill-in), zeroed first
 
 
 def load_tables(rows: list) -> LoadTables:
