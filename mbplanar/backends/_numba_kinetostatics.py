@@ -84,67 +84,86 @@ def _zeros(blk) -> list:
 
 
 class _Tape:
-    """The kernel's program under construction: ops (code, d, a, b, k) on rows of a work matrix (one
-    row per value, one column per position of a chunk), constants, and the LU groups' row lists. Rows
-    are virtual (one per value, `new`) until `_Tape.finish` maps them onto as few rows as their
-    lifetimes allow."""
+    """The kernel's program under construction: ops (code, d, a, b, e, f, k) on rows of a work matrix
+    (one row per value, one column per position of a chunk), constants, and the dense groups' row lists.
+    A value is computed once (`val` remembers it until a row it reads is written again); rows are
+    virtual until `finish` maps them onto as few rows as their lifetimes allow."""
 
     def __init__(self):
         self.ops, self.consts, self.aux, self.rows = [], [], [], 0
-        self._const, self._gathered, self._inputs = {}, {}, {}
-
-    def new(self) -> int:
-        self.rows += 1
-        return self.rows - 1
+        self._const, self._memo, self._uses = {}, {}, {}
 
     def const(self, value) -> int:
         value = float(value)
-        key = (value, np.signbit(value))
+        key = (value, bool(np.signbit(value)))
         if key not in self._const:
             self._const[key] = len(self.consts)
             self.consts.append(value)
         return self._const[key]
 
-    def op(self, code, d=0, a=0, b=0, k=0) -> int:
-        self.ops.append((code, d, a, b, k))
+    def consts2(self, u, v) -> int:
+        """Two constants next to each other (read as K[k], K[k + 1])."""
+        key = (float(u), float(v), bool(np.signbit(u)), bool(np.signbit(v)))
+        if key not in self._const:
+            self._const[key] = len(self.consts)
+            self.consts += [float(u), float(v)]
+        return self._const[key]
+
+    def fresh(self, code, a=0, b=0, e=0, f=0, k=0) -> int:
+        """A new row computed by op `code` (one that later ops may write again)."""
+        self.rows += 1
+        self.ops.append((code, self.rows - 1, a, b, e, f, k))
+        return self.rows - 1
+
+    def val(self, code, a=0, b=0, e=0, f=0, k=0) -> int:
+        """The row of a value, computed by op `code` unless it already was."""
+        key = (code, a, b, e, f, k)
+        if key not in self._memo:
+            self._memo[key] = d = self.fresh(code, a, b, e, f, k)
+            for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
+                self._uses.setdefault(r, []).append(key)
+        return self._memo[key]
+
+    def into(self, code, d, a=0, b=0, e=0, f=0, k=0) -> int:
+        """Op `code` writing row d again: the values read from d are forgotten."""
+        self.ops.append((code, d, a, b, e, f, k))
+        self.written(d)
         return d
 
-    # values: each returns the row it wrote
-    def gather(self, column) -> int:
-        if column not in self._gathered:
-            self._gathered[column] = self.op(GATHER, self.new(), column)
-        return self._gathered[column]
+    def written(self, d):
+        for key in self._uses.pop(d, []):
+            self._memo.pop(key, None)
+        for key in [key for key, row in self._memo.items() if row == d]:
+            del self._memo[key]
 
-    def input(self, i) -> int:
-        if i not in self._inputs:
-            self._inputs[i] = self.op(INPUT, self.new(), i)
-        return self._inputs[i]
+    def out(self, code, to, a=0, b=0):
+        self.ops.append((code, to, a, b, 0, 0, 0))
 
-    def set(self, value, d=None) -> int:
-        return self.op(SET, self.new() if d is None else d, k=self.const(value))
+    def set(self, value) -> int:
+        return self.fresh(SET, k=self.const(value))
 
-    def mulk(self, a, value) -> int:
-        return self.op(MULK, self.new(), a, k=self.const(value))
+    def value(self, value) -> int:
+        return self.val(SET, k=self.const(value))
 
-    def addk(self, a, value) -> int:
-        return self.op(ADDK, self.new(), a, k=self.const(value))
+    def add(self, a, b):
+        return self.val(ADD, a, b)
 
-    def add(self, a, b, d=None) -> int:
-        return self.op(ADD, self.new() if d is None else d, a, b)
+    def sub(self, a, b):
+        return self.val(SUB, a, b)
 
-    def sub(self, a, b, d=None) -> int:
-        return self.op(SUB, self.new() if d is None else d, a, b)
+    def mul(self, a, b):
+        return self.val(MUL, a, b)
 
-    def mul(self, a, b, d=None) -> int:
-        return self.op(MUL, self.new() if d is None else d, a, b)
+    def div(self, a, b):
+        return self.val(DIV, a, b)
 
-    def div(self, a, b) -> int:
-        return self.op(DIV, self.new(), a, b)
+    def mulk(self, a, value):
+        return self.val(MULK, a, k=self.const(value))
 
     def finish(self) -> tuple:
-        """(ops (T, 5) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
-        taken again once the last op reading it has run."""
-        ops = np.array(self.ops, np.int64).reshape(-1, 5)
+        """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
+        taken again once the last op touching it has run."""
+        ops = np.array(self.ops, np.int64).reshape(-1, 7)
         aux = np.array(self.aux, np.int64)
         touched = [_touches(op, aux) for op in ops]
         last = {}
@@ -162,49 +181,56 @@ class _Tape:
             for r in set(rows):
                 if last[r] == t:
                     free.append(phys[r])
-        for t, op in enumerate(ops):
+        mapped = aux.copy()
+        for op in ops:
             for field in _W_FIELDS[op[0]]:
                 op[field] = phys[op[field]]
-        for t, op in enumerate(ops):
             if op[0] == LU:
-                nr = op[3]
-                for i in range(op[2], op[2] + nr * nr + 2 * nr):
-                    aux[i] = phys[self.aux[i]]
-        return ops, np.array(self.consts + [0.0]), np.concatenate([aux, np.zeros(1, np.int64)]), max(top, 1)
+                span = slice(op[2], op[2] + op[3] * op[3] + 2 * op[3])
+                mapped[span] = [phys[r] for r in aux[span]]
+        return ops, np.array(self.consts + [0.0]), np.concatenate([mapped, np.zeros(1, np.int64)]), max(top, 1)
 
 
 def _touches(op, aux) -> list:
     """The virtual rows an op reads or writes."""
     rows = [op[f] for f in _W_FIELDS[op[0]]]
     if op[0] == LU:
-        nr = op[3]
-        rows += list(aux[op[2]:op[2] + nr * nr + 2 * nr])
+        rows += list(aux[op[2]:op[2] + op[3] * op[3] + 2 * op[3]])
     return rows
 
 
-# op codes of `_kernel`: W is the work matrix (rows, chunk), c a position of the chunk, b = b0 + c
+# op codes of `_kernel` (code, d, a, b, e, f, k): W is the work matrix (rows, chunk), c a position of the
+# chunk, b = b0 + c its position in the batch, K the constants
 GATHER = 0   # W[d] = row[b, a]            (a: a column of the records)
 INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
 SET = 2      # W[d] = K[k]
 MULK = 3     # W[d] = K[k] · W[a]
-ADDK = 4     # W[d] = W[a] + K[k]
-ADD = 5      # W[d] = W[a] + W[b]
-SUB = 6      # W[d] = W[a] − W[b]
-MUL = 7      # W[d] = W[a] · W[b]
-DIV = 8      # W[d] = W[a] / W[b]
-MAX = 9      # W[d] = max(W[a], W[b])
-SQRT = 10    # W[d] = √W[a]
-ABS = 11     # W[d] = |W[a]|
-OUT = 12     # out[d, b] = W[a]
-FLAG = 13    # W[d] = 1 where not W[a] > K[k]
-FINITE = 14  # W[d] = 1 where W[a] is not finite
-MASK = 15    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
-RESID = 16   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
-LU = 17      # the dense system of aux[a …] (n = b): LU with partial pivoting, each position its own pivots
-# the fields of an op that name rows of W
-_W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MULK: (1, 2), ADDK: (1, 2), ADD: (1, 2, 3), SUB: (1, 2, 3),
-             MUL: (1, 2, 3), DIV: (1, 2, 3), MAX: (1, 2, 3), SQRT: (1, 2), ABS: (1, 2), OUT: (2,), FLAG: (1, 2),
-             FINITE: (1, 2), MASK: (2, 3), RESID: (2, 3), LU: (1,)}
+ADD = 4      # W[d] = W[a] + W[b]
+SUB = 5      # W[d] = W[a] − W[b]
+MUL = 6      # W[d] = W[a] · W[b]
+DIV = 7      # W[d] = W[a] / W[b]
+MAX = 8      # W[d] = max(W[a], W[b])
+SQRT = 9     # W[d] = √W[a]
+ABS = 10     # W[d] = |W[a]|
+MSUB = 11    # W[d] = W[a] − W[b] · W[e]
+MADD = 12    # W[d] = W[a] + W[b] · W[e]
+DOT = 13     # W[d] = W[a] · W[b] + W[e] · W[f]
+CROSS = 14   # W[d] = W[a] · W[b] − W[e] · W[f]
+TURNX = 15   # W[d] = W[a] · K[k] − W[b] · K[k + 1]    (cos, sin: x of a drawn vector turned)
+TURNY = 16   # W[d] = W[b] · K[k] + W[a] · K[k + 1]    (its y)
+LEVER = 17   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
+OUT = 18     # out[d, b] = W[a]
+FLAG = 19    # W[d] = 1 where not W[a] > K[k]
+FINITE = 20  # W[d] = 1 where W[a] is not finite
+MASK = 21    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
+RESID = 22   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
+LU = 23      # the dense system of aux[a …] (n = b): LU with partial pivoting, each position its own pivots
+_ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
+# the fields of each op that name rows of W
+_W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MULK: _ONE, ADD: _TWO, SUB: _TWO, MUL: _TWO, DIV: _TWO,
+             MAX: _TWO, SQRT: _ONE, ABS: _ONE, MSUB: _THREE, MADD: _THREE, DOT: _FOUR, CROSS: _FOUR,
+             TURNX: _TWO, TURNY: _TWO, LEVER: _TWO, OUT: (2,), FLAG: _ONE, FINITE: _ONE, MASK: (2, 3),
+             RESID: (2, 3), LU: (1,)}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -219,65 +245,69 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
 
     def fr(k, name):  # a field of link k's frame
         base, width, part = per_link[name]
-        return T.gather(field[base] + width * k + part)
+        return T.val(GATHER, field[base] + width * k + part)
 
-    def turn(k, ax, ay):  # the drawn vector (ax, ay) turned with link k: (c·ax − s·ay, s·ax + c·ay)
-        co, si = fr(k, "cos"), fr(k, "sin")
-        return T.sub(T.mulk(co, ax), T.mulk(si, ay)), T.add(T.mulk(si, ax), T.mulk(co, ay))
+    def turn(k, at):  # the drawn vector `at` turned with link k: (c·x − s·y, s·x + c·y)
+        co, si, kk = fr(k, "cos"), fr(k, "sin"), T.consts2(*at)
+        return T.val(TURNX, co, si, k=kk), T.val(TURNY, co, si, k=kk)
+
+    def point(k, at):  # the point drawn at `at` on link k
+        ux, uy = turn(k, at)
+        return T.add(fr(k, "rx"), ux), T.add(fr(k, "ry"), uy)
 
     cx, cy = ks_plan.centre
     inv_size = 1.0 / engine.size
     # the entries' features (kinetostatics._features)
     p_names, p_link, p_at = _tables(engine)[0]
     point_of = {name: k for k, name in enumerate(p_names)}
-    feat = [T.set(1.0)]
+    feat = [T.value(1.0)]
     for name in ks_plan.joints:
         p = point_of[name]
         k = int(p_link[p])
-        rx, ry = turn(k, *p_at[p])
-        feat += [T.mulk(T.addk(T.add(fr(k, "rx"), rx), -cx), inv_size),
-                 T.mulk(T.addk(T.add(fr(k, "ry"), ry), -cy), inv_size)]
-    n_j = len(ks_plan.joints)
+        ux, uy = turn(k, p_at[p])
+        feat += [T.val(LEVER, fr(k, "rx"), ux, k=T.consts2(-cx, inv_size)),
+                 T.val(LEVER, fr(k, "ry"), uy, k=T.consts2(-cy, inv_size))]
     for name in ks_plan.guides:
-        feat += turn(engine.link_index[mech.joints[name].carrier], *engine.laws[name].u0)
-    base = 1 + 2 * n_j
+        feat += turn(engine.link_index[mech.joints[name].carrier], engine.laws[name].u0)
+    base = 1 + 2 * len(ks_plan.joints)
     for g, j in ks_plan.p_inputs:
-        ux, uy = feat[base + 2 * g], feat[base + 2 * g + 1]
-        feat.append(T.sub(T.mul(feat[1 + 2 * j], uy), T.mul(feat[2 + 2 * j], ux)))
+        feat.append(T.val(CROSS, feat[1 + 2 * j], feat[base + 2 * g + 1], feat[2 + 2 * j], feat[base + 2 * g]))
     # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
     n = lay.size
     bvec = [T.set(0.0) for _ in range(n)]
     values = []
-    om, ep = T.input(0), T.input(1)
+    om, ep = T.val(INPUT, 0), T.val(INPUT, 1)
     om2 = T.mul(om, om)
     for ld in range(len(loads.link)):
         k = int(loads.link[ld])
-        rx, ry = turn(k, *loads.at[ld])
-        px, py = T.add(fr(k, "rx"), rx), T.add(fr(k, "ry"), ry)
+        rx, ry = turn(k, loads.at[ld])
+        px, py = point(k, loads.at[ld])
         if loads.inertia[ld]:  # d'Alembert: −m·a at the centre, −I·ε
             wq = fr(k, "wq")
-            wr, er = T.mul(wq, om), T.add(T.mul(fr(k, "eq"), om2), T.mul(wq, ep))  # real ω, ε
-            ax = T.add(T.mul(fr(k, "fax"), om2), T.mul(fr(k, "fvx"), ep))
-            ay = T.add(T.mul(fr(k, "fay"), om2), T.mul(fr(k, "fvy"), ep))
-            ax, ay = T.sub(ax, T.mul(er, ry)), T.add(ay, T.mul(er, rx))
+            wr, er = T.mul(wq, om), T.val(DOT, fr(k, "eq"), om2, wq, ep)  # real ω, ε (Motion.w, Motion.e)
+            ax = T.val(DOT, fr(k, "fax"), om2, fr(k, "fvx"), ep)
+            ay = T.val(DOT, fr(k, "fay"), om2, fr(k, "fvy"), ep)
+            ax, ay = T.val(MSUB, ax, er, ry), T.val(MADD, ay, er, rx)
             w2 = T.mul(wr, wr)
-            ax, ay = T.sub(ax, T.mul(w2, rx)), T.sub(ay, T.mul(w2, ry))
-            fx, fy, mz = T.mulk(ax, -loads.mass[ld]), T.mulk(ay, -loads.mass[ld]), T.mulk(er, -loads.moment_of_inertia[ld])
+            ax, ay = T.val(MSUB, ax, w2, rx), T.val(MSUB, ay, w2, ry)
+            fx, fy = T.mulk(ax, -loads.mass[ld]), T.mulk(ay, -loads.mass[ld])
+            mz = T.mulk(er, -loads.moment_of_inertia[ld])
         elif loads.guide[ld] >= 0:  # along the guide of the carrier
-            ux, uy = turn(int(loads.carrier[ld]), *loads.u0[ld])
-            size = T.input(2 + int(loads.guide[ld]))
-            fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.set(loads.moment[ld])
+            ux, uy = turn(int(loads.carrier[ld]), loads.u0[ld])
+            size = T.val(INPUT, 2 + int(loads.guide[ld]))
+            fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
         else:
-            fx, fy, mz = T.set(loads.force[ld, 0]), T.set(loads.force[ld, 1]), T.set(loads.moment[ld])
+            fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
         for i, v in enumerate((fx, fy, px, py, mz)):
-            T.op(OUT, n + 5 * ld + i, v)
+            T.out(OUT, n + 5 * ld + i, v)
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
-            T.sub(bvec[r], fx, d=bvec[r])
-            T.sub(bvec[r + 1], fy, d=bvec[r + 1])
-            m = T.sub(T.mul(T.addk(px, -cx), fy), T.mul(T.addk(py, -cy), fx))
-            T.sub(bvec[r + 2], T.mulk(T.add(m, mz), inv_size), d=bvec[r + 2])
+            T.into(SUB, bvec[r], bvec[r], fx)
+            T.into(SUB, bvec[r + 1], bvec[r + 1], fy)
+            lx, ly = T.val(ADD, px, T.value(-cx)), T.val(ADD, py, T.value(-cy))
+            m = T.add(T.val(CROSS, lx, fy, ly, fx), mz)
+            T.into(SUB, bvec[r + 2], bvec[r + 2], T.mulk(m, inv_size))
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
@@ -285,36 +315,36 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
     out_bad = n + 5 * len(loads.link) + 1
     for i in range(n):
-        x[i] = T.mulk(x[i], lay.scale[i])
-        T.op(FINITE, bad, x[i])
+        x[i] = T.fresh(MULK, x[i], k=T.const(lay.scale[i]))
+        T.into(FINITE, bad, x[i])
     for i in range(n):
-        T.op(MASK, i, x[i], bad)
-    T.op(OUT, out_bad, bad)
+        T.out(MASK, i, x[i], bad)
+        T.written(x[i])
+    T.out(OUT, out_bad, bad)
     # virtual power with the analogues (kinetostatics._virtual_power)
     speed = T.set(0.0)
     for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
         k = int(p_link[p])
-        (ux, uy), wq = turn(k, *p_at[p]), fr(k, "wq")
-        vx, vy = T.sub(fr(k, "fvx"), T.mul(wq, uy)), T.add(fr(k, "fvy"), T.mul(wq, ux))
-        T.op(MAX, speed, speed, T.add(T.mul(vx, vx), T.mul(vy, vy)))
-    T.op(SQRT, speed, speed)  # the largest point speed (one root: the root keeps the order)
+        (ux, uy), wq = turn(k, p_at[p]), fr(k, "wq")
+        vx, vy = T.val(MSUB, fr(k, "fvx"), wq, uy), T.val(MADD, fr(k, "fvy"), wq, ux)
+        T.into(MAX, speed, speed, T.val(DOT, vx, vx, vy, vy))
+    T.into(SQRT, speed, speed)  # the largest point speed (one root: the root keeps the order)
     turning = T.set(0.0)
     for k in range(len(engine.links)):
-        T.op(MAX, turning, turning, T.op(ABS, T.new(), fr(k, "wq")))
+        T.into(MAX, turning, turning, T.val(ABS, fr(k, "wq")))
     total, bound = T.set(0.0), T.set(0.0)
     for k, fx, fy, px, py, mz in values:
         wq = fr(k, "wq")
         dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
-        term = T.add(T.add(T.mul(fx, T.sub(fr(k, "fvx"), T.mul(wq, dy))), T.mul(fy, T.add(fr(k, "fvy"), T.mul(wq, dx)))),
-                     T.mul(mz, wq))
-        T.add(total, term, d=total)
-        force = T.op(SQRT, T.new(), T.add(T.mul(fx, fx), T.mul(fy, fy)))
-        T.add(bound, T.add(T.mul(force, speed), T.mul(T.op(ABS, T.new(), mz), turning)), d=bound)
+        vx, vy = T.val(MSUB, fr(k, "fvx"), wq, dy), T.val(MADD, fr(k, "fvy"), wq, dx)
+        T.into(ADD, total, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq))
+        force = T.val(SQRT, T.val(DOT, fx, fx, fy, fy))
+        T.into(ADD, bound, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning))
     for inp, col in zip(engine.inputs, lay.in_cols):
-        term = T.mul(x[col], T.gather(field["rate_q"] + list(mech.joints).index(inp.joint)))
-        T.add(total, term, d=total)
-        T.add(bound, T.op(ABS, T.new(), term), d=bound)
-    T.op(RESID, out_bad - 1, total, bound)
+        term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
+        T.into(ADD, total, total, term)
+        T.into(ADD, bound, bound, T.val(ABS, term))
+    T.out(RESID, out_bad - 1, total, bound)
     return names, links, guides, T
 
 
@@ -325,51 +355,54 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
     rows = [bvec[r] for r in blk.rows]  # the right side, in place
     slot, norm = {}, [None] * len(blk.rows)
     for i, j, f, coef in blk.entries:
-        v = slot[i, j] = T.set(coef) if f == 0 else T.mulk(feat[f], coef)
-        norm[i] = T.mul(v, v) if norm[i] is None else T.add(norm[i], T.mul(v, v))
+        v = slot[i, j] = T.set(coef) if f == 0 else T.fresh(MULK, feat[f], k=T.const(coef))
+        norm[i] = T.mul(v, v) if norm[i] is None else T.val(MADD, norm[i], v, v)
     for i, j in _zeros(blk):
         slot[i, j] = T.set(0.0)
     prod = norm[0]
     for v in norm[1:]:
         prod = T.mul(prod, v)
+    measure_of = T.val(SQRT, prod)
     for i, c, f, coef in blk.later:
-        T.sub(rows[i], T.mul(T.set(coef) if f == 0 else T.mulk(feat[f], coef), x[c]), d=rows[i])
+        T.into(MSUB, rows[i], rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
     det = T.set(1.0)
     for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
         for k in affected:
             m = T.div(slot[k, j], slot[i, j])
             for u in columns:
-                T.sub(slot[k, u], T.mul(m, slot[i, u]), d=slot[k, u])
-            T.sub(rows[k], T.mul(m, rows[i]), d=rows[k])
-        T.mul(det, slot[i, j], d=det)
+                T.into(MSUB, slot[k, u], slot[k, u], m, slot[i, u])
+            T.into(MSUB, rows[k], rows[k], m, rows[i])
+        T.into(MUL, det, det, slot[i, j])
     own = blk.own
     nr = len(blk.rest_rows)
     a = [[slot[i, j] for j in blk.rest_cols] for i in blk.rest_rows]
     r = [rows[i] for i in blk.rest_rows]
     if nr == 1:  # the explicit inverse (_linalg.factor)
-        x[own[blk.rest_cols[0]]] = T.mul(T.div(T.set(1.0), a[0][0]), r[0])
-        T.mul(det, a[0][0], d=det)
+        x[own[blk.rest_cols[0]]] = T.mul(T.div(T.value(1.0), a[0][0]), r[0])
+        T.into(MUL, det, det, a[0][0])
     elif nr == 2:
-        d = T.sub(T.mul(a[0][0], a[1][1]), T.mul(a[0][1], a[1][0]))
+        d = T.val(CROSS, a[0][0], a[1][1], a[0][1], a[1][0])
         i00, i01 = T.div(a[1][1], d), T.div(T.mulk(a[0][1], -1.0), d)
         i10, i11 = T.div(T.mulk(a[1][0], -1.0), d), T.div(a[0][0], d)
-        x[own[blk.rest_cols[0]]] = T.add(T.mul(i00, r[0]), T.mul(i01, r[1]))
-        x[own[blk.rest_cols[1]]] = T.add(T.mul(i10, r[0]), T.mul(i11, r[1]))
-        T.mul(det, d, d=det)
+        x[own[blk.rest_cols[0]]] = T.val(DOT, i00, r[0], i01, r[1])
+        x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
+        T.into(MUL, det, det, d)
     elif nr:
         sol = [T.set(0.0) for _ in range(nr)]
         start = len(T.aux)
         T.aux += [v for row in a for v in row] + r + sol
-        T.op(LU, det, start, nr)
+        T.into(LU, det, start, nr)
+        for v in T.aux[start:]:
+            T.written(v)
         for q, j in enumerate(blk.rest_cols):
             x[own[j]] = sol[q]
     for (i, j), (_, columns) in reversed(list(zip(blk.pivots, blk.fill))):
         acc = rows[i]
         for u in columns:
-            acc = T.sub(acc, T.mul(slot[i, u], x[own[u]]))
+            acc = T.val(MSUB, acc, slot[i, u], x[own[u]])
         x[own[j]] = T.div(acc, slot[i, j])
-    measure = T.div(T.op(ABS, T.new(), det), T.op(SQRT, T.new(), prod))
-    T.op(FLAG, bad, measure, k=T.const(min_measure))
+    measure = T.div(T.val(ABS, det), measure_of)
+    T.into(FLAG, bad, measure, k=T.const(min_measure))
 
 
 def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
@@ -385,7 +418,7 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
 
 
 #: positions the kernel takes at once: each op of the program runs over them in an inner loop
-CHUNK = 64
+CHUNK = 128
 
 
 def _scratch(rows: int) -> tuple:
@@ -476,7 +509,7 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W, piv):
     for b0 in range(start, stop, chunk):
         nc = min(chunk, stop - b0)
         for t in range(len(ops)):
-            code, d, a, b, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4]
+            code, d, a, b, e, f, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4], ops[t, 5], ops[t, 6]
             if code == 0:  # GATHER
                 for c in range(nc):
                     W[d, c] = row[b0 + c, a]
@@ -489,47 +522,65 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W, piv):
             elif code == 3:  # MULK
                 for c in range(nc):
                     W[d, c] = K[k] * W[a, c]
-            elif code == 4:  # ADDK
-                for c in range(nc):
-                    W[d, c] = W[a, c] + K[k]
-            elif code == 5:  # ADD
+            elif code == 4:  # ADD
                 for c in range(nc):
                     W[d, c] = W[a, c] + W[b, c]
-            elif code == 6:  # SUB
+            elif code == 5:  # SUB
                 for c in range(nc):
                     W[d, c] = W[a, c] - W[b, c]
-            elif code == 7:  # MUL
+            elif code == 6:  # MUL
                 for c in range(nc):
                     W[d, c] = W[a, c] * W[b, c]
-            elif code == 8:  # DIV
+            elif code == 7:  # DIV
                 for c in range(nc):
                     W[d, c] = W[a, c] / W[b, c]
-            elif code == 9:  # MAX
+            elif code == 8:  # MAX
                 for c in range(nc):
                     W[d, c] = max(W[a, c], W[b, c])
-            elif code == 10:  # SQRT
+            elif code == 9:  # SQRT
                 for c in range(nc):
                     W[d, c] = np.sqrt(W[a, c])
-            elif code == 11:  # ABS
+            elif code == 10:  # ABS
                 for c in range(nc):
                     W[d, c] = abs(W[a, c])
-            elif code == 12:  # OUT
+            elif code == 11:  # MSUB
+                for c in range(nc):
+                    W[d, c] = W[a, c] - W[b, c] * W[e, c]
+            elif code == 12:  # MADD
+                for c in range(nc):
+                    W[d, c] = W[a, c] + W[b, c] * W[e, c]
+            elif code == 13:  # DOT
+                for c in range(nc):
+                    W[d, c] = W[a, c] * W[b, c] + W[e, c] * W[f, c]
+            elif code == 14:  # CROSS
+                for c in range(nc):
+                    W[d, c] = W[a, c] * W[b, c] - W[e, c] * W[f, c]
+            elif code == 15:  # TURNX
+                for c in range(nc):
+                    W[d, c] = W[a, c] * K[k] - W[b, c] * K[k + 1]
+            elif code == 16:  # TURNY
+                for c in range(nc):
+                    W[d, c] = W[b, c] * K[k] + W[a, c] * K[k + 1]
+            elif code == 17:  # LEVER
+                for c in range(nc):
+                    W[d, c] = ((W[a, c] + W[b, c]) + K[k]) * K[k + 1]
+            elif code == 18:  # OUT
                 for c in range(nc):
                     out[d, b0 + c] = W[a, c]
-            elif code == 13:  # FLAG
+            elif code == 19:  # FLAG
                 for c in range(nc):
                     if not W[a, c] > K[k]:
                         W[d, c] = 1.0
-            elif code == 14:  # FINITE
+            elif code == 20:  # FINITE
                 for c in range(nc):
                     if not np.isfinite(W[a, c]):
                         W[d, c] = 1.0
-            elif code == 15:  # MASK
+            elif code == 21:  # MASK
                 for c in range(nc):
                     if W[b, c] != 0.0:
                         W[a, c] = np.nan
                     out[d, b0 + c] = W[a, c]
-            elif code == 16:  # RESID
+            elif code == 22:  # RESID
                 for c in range(nc):
                     out[d, b0 + c] = abs(W[a, c]) / (W[b, c] if W[b, c] > 0 else 1.0)
             else:  # LU
