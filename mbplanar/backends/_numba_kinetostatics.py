@@ -185,8 +185,8 @@ class _Tape:
         for op in ops:
             for field in _W_FIELDS[op[0]]:
                 op[field] = phys[op[field]]
-            if op[0] == LU:
-                span = slice(op[2], op[2] + op[3] * op[3] + 2 * op[3])
+            if op[0] == PIVOT:
+                span = slice(op[2], op[2] + op[3] * (op[3] + 1))
                 mapped[span] = [phys[r] for r in aux[span]]
         return ops, np.array(self.consts + [0.0]), np.concatenate([mapped, np.zeros(1, np.int64)]), max(top, 1)
 
@@ -194,8 +194,8 @@ class _Tape:
 def _touches(op, aux) -> list:
     """The virtual rows an op reads or writes."""
     rows = [op[f] for f in _W_FIELDS[op[0]]]
-    if op[0] == LU:
-        rows += list(aux[op[2]:op[2] + op[3] * op[3] + 2 * op[3]])
+    if op[0] == PIVOT:
+        rows += list(aux[op[2]:op[2] + op[3] * (op[3] + 1)])
     return rows
 
 
@@ -224,13 +224,14 @@ FLAG = 19    # W[d] = 1 where not W[a] > K[k]
 FINITE = 20  # W[d] = 1 where W[a] is not finite
 MASK = 21    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
 RESID = 22   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
-LU = 23      # the dense system of aux[a …] (n = b): LU with partial pivoting, each position its own pivots
+PIVOT = 23   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
+#              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MULK: _ONE, ADD: _TWO, SUB: _TWO, MUL: _TWO, DIV: _TWO,
              MAX: _TWO, SQRT: _ONE, ABS: _ONE, MSUB: _THREE, MADD: _THREE, DOT: _FOUR, CROSS: _FOUR,
              TURNX: _TWO, TURNY: _TWO, LEVER: _TWO, OUT: (2,), FLAG: _ONE, FINITE: _ONE, MASK: (2, 3),
-             RESID: (2, 3), LU: (1,)}
+             RESID: (2, 3), PIVOT: (1,)}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -387,13 +388,27 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         x[own[blk.rest_cols[0]]] = T.val(DOT, i00, r[0], i01, r[1])
         x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
         T.into(MUL, det, det, d)
-    elif nr:
-        sol = [T.set(0.0) for _ in range(nr)]
-        start = len(T.aux)
-        T.aux += [v for row in a for v in row] + r + sol
-        T.into(LU, det, start, nr)
-        for v in T.aux[start:]:
-            T.written(v)
+    elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
+        for k in range(nr):
+            if k < nr - 1:
+                start = len(T.aux)
+                for i in range(k, nr):
+                    T.aux += a[i][k:] + [r[i]]
+                T.into(PIVOT, det, start, nr - k)
+                for v in T.aux[start:]:
+                    T.written(v)
+                for i in range(k + 1, nr):
+                    m = T.div(a[i][k], a[k][k])
+                    for j in range(k + 1, nr):
+                        T.into(MSUB, a[i][j], a[i][j], m, a[k][j])
+                    T.into(MSUB, r[i], r[i], m, r[k])
+            T.into(MUL, det, det, a[k][k])
+        sol = [None] * nr
+        for i in range(nr - 1, -1, -1):
+            acc = r[i]
+            for j in range(i + 1, nr):
+                acc = T.val(MSUB, acc, a[i][j], sol[j])
+            sol[i] = T.div(acc, a[i][i])
         for q, j in enumerate(blk.rest_cols):
             x[own[j]] = sol[q]
     for (i, j), (_, columns) in reversed(list(zip(blk.pivots, blk.fill))):
@@ -422,8 +437,8 @@ CHUNK = 128
 
 
 def _scratch(rows: int) -> tuple:
-    """Work arrays of `_kernel`: the work matrix (rows, CHUNK) and the pivot rows of a dense solve."""
-    return np.zeros((rows, CHUNK)), np.zeros(CHUNK, np.int64)
+    """Work arrays of `_kernel`: the work matrix (rows, CHUNK)."""
+    return (np.zeros((rows, CHUNK)),)
 
 
 def solve(engine, motion, ks_plan, inertia=True):
@@ -453,56 +468,7 @@ _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 
 
 @_jit
-def _lu(W, aux, a, nr, det, nc, piv):
-    """The dense system aux[a …] (its matrix row by row, right side, solution: rows of W) of each
-    position of the chunk solved as `_linalg.lu_factor` does, with its own row pivots (the first
-    largest of the column); the determinant multiplied into W[det]."""
-    rhs, sol = a + nr * nr, a + nr * nr + nr
-    for k in range(nr):
-        kk = aux[a + k * nr + k]
-        if k < nr - 1:
-            for c in range(nc):
-                piv[c] = k
-            for i in range(k + 1, nr):
-                ik = aux[a + i * nr + k]
-                for c in range(nc):
-                    if abs(W[ik, c]) > abs(W[aux[a + piv[c] * nr + k], c]):
-                        piv[c] = i
-            for c in range(nc):
-                p = piv[c]
-                if p != k:
-                    for j in range(k, nr):
-                        s, t = aux[a + k * nr + j], aux[a + p * nr + j]
-                        W[s, c], W[t, c] = W[t, c], W[s, c]
-                    s, t = aux[rhs + k], aux[rhs + p]
-                    W[s, c], W[t, c] = W[t, c], W[s, c]
-                    W[det, c] = -W[det, c]
-            rk = aux[rhs + k]
-            for i in range(k + 1, nr):
-                ik, ri = aux[a + i * nr + k], aux[rhs + i]
-                for c in range(nc):
-                    W[ik, c] = W[ik, c] / W[kk, c]
-                    W[ri, c] -= W[ik, c] * W[rk, c]
-                for j in range(k + 1, nr):
-                    ij, kj = aux[a + i * nr + j], aux[a + k * nr + j]
-                    for c in range(nc):
-                        W[ij, c] -= W[ik, c] * W[kj, c]
-        for c in range(nc):
-            W[det, c] *= W[kk, c]
-    for i in range(nr - 1, -1, -1):
-        ri, xi, ii = aux[rhs + i], aux[sol + i], aux[a + i * nr + i]
-        for c in range(nc):
-            W[xi, c] = W[ri, c]
-        for j in range(i + 1, nr):
-            ij, xj = aux[a + i * nr + j], aux[sol + j]
-            for c in range(nc):
-                W[xi, c] -= W[ij, c] * W[xj, c]
-        for c in range(nc):
-            W[xi, c] /= W[ii, c]
-
-
-@_jit
-def _kernel(start, stop, ops, K, aux, row, inputs, out, W, piv):
+def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
     """Positions start … stop − 1, a chunk at a time: every op of the program (`_program`; codes above)
     over the chunk, from the records `row` (B, fields) and `inputs` into `out`."""
     chunk = W.shape[1]
@@ -583,5 +549,15 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W, piv):
             elif code == 22:  # RESID
                 for c in range(nc):
                     out[d, b0 + c] = abs(W[a, c]) / (W[b, c] if W[b, c] > 0 else 1.0)
-            else:  # LU
-                _lu(W, aux, a, b, d, nc, piv)
+            else:  # PIVOT
+                w = b + 1
+                for c in range(nc):
+                    p, big = 0, abs(W[aux[a], c])
+                    for i in range(1, b):
+                        if abs(W[aux[a + i * w], c]) > big:
+                            p, big = i, abs(W[aux[a + i * w], c])
+                    if p:
+                        for j in range(w):
+                            s, t = aux[a + j], aux[a + p * w + j]
+                            W[s, c], W[t, c] = W[t, c], W[s, c]
+                        W[d, c] = -W[d, c]
