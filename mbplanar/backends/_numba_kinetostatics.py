@@ -146,10 +146,10 @@ class _Tape:
         return self.val(SET, k=self.const(value))
 
     def add(self, a, b):
-        return self.val(ADD, a, b)
+        return self.val(MADD, a, b, self.value(1.0))
 
     def sub(self, a, b):
-        return self.val(SUB, a, b)
+        return self.val(MSUB, a, b, self.value(1.0))
 
     def mul(self, a, b):
         return self.val(MUL, a, b)
@@ -158,7 +158,7 @@ class _Tape:
         return self.val(DIV, a, b)
 
     def mulk(self, a, value):
-        return self.val(MULK, a, k=self.const(value))
+        return self.val(MUL, a, self.value(value))
 
     def finish(self) -> tuple:
         """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
@@ -200,38 +200,32 @@ def _touches(op, aux) -> list:
 
 
 # op codes of `_kernel` (code, d, a, b, e, f, k): W is the work matrix (rows, chunk), c a position of the
-# chunk, b = b0 + c its position in the batch, K the constants
+# chunk, b = b0 + c its position in the batch, K the constants. Sums and differences are MADD and MSUB
+# with a row of ones, products by a constant MUL with a row of it (x·1 = x, x + 0 = x exactly).
 GATHER = 0   # W[d] = row[b, a]            (a: a column of the records)
 INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
 SET = 2      # W[d] = K[k]
-MULK = 3     # W[d] = K[k] · W[a]
-ADD = 4      # W[d] = W[a] + W[b]
-SUB = 5      # W[d] = W[a] − W[b]
-MUL = 6      # W[d] = W[a] · W[b]
-DIV = 7      # W[d] = W[a] / W[b]
-MAX = 8      # W[d] = max(W[a], W[b])
-SQRT = 9     # W[d] = √W[a]
-ABS = 10     # W[d] = |W[a]|
-MSUB = 11    # W[d] = W[a] − W[b] · W[e]
-MADD = 12    # W[d] = W[a] + W[b] · W[e]
-DOT = 13     # W[d] = W[a] · W[b] + W[e] · W[f]
-CROSS = 14   # W[d] = W[a] · W[b] − W[e] · W[f]
-TURNX = 15   # W[d] = W[a] · K[k] − W[b] · K[k + 1]    (cos, sin: x of a drawn vector turned)
-TURNY = 16   # W[d] = W[b] · K[k] + W[a] · K[k + 1]    (its y)
-LEVER = 17   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
-OUT = 18     # out[d, b] = W[a]
-FLAG = 19    # W[d] = 1 where not W[a] > K[k]
-FINITE = 20  # W[d] = 1 where W[a] is not finite
-MASK = 21    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
-RESID = 22   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
-PIVOT = 23   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
+MUL = 3      # W[d] = W[a] · W[b]
+DIV = 4      # W[d] = W[a] / W[b]
+MAX = 5      # W[d] = max(W[a], W[b])
+SQRT = 6     # W[d] = √W[a]
+ABS = 7      # W[d] = |W[a]|
+MSUB = 8     # W[d] = W[a] − W[b] · W[e]
+MADD = 9     # W[d] = W[a] + W[b] · W[e]
+DOT = 10     # W[d] = W[a] · W[b] + W[e] · W[f]
+CROSS = 11   # W[d] = W[a] · W[b] − W[e] · W[f]
+LEVER = 12   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
+OUT = 13     # out[d, b] = W[a]
+FLAG = 14    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
+MASK = 15    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
+RESID = 16   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
+PIVOT = 17   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the fields of each op that name rows of W
-_W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MULK: _ONE, ADD: _TWO, SUB: _TWO, MUL: _TWO, DIV: _TWO,
-             MAX: _TWO, SQRT: _ONE, ABS: _ONE, MSUB: _THREE, MADD: _THREE, DOT: _FOUR, CROSS: _FOUR,
-             TURNX: _TWO, TURNY: _TWO, LEVER: _TWO, OUT: (2,), FLAG: _ONE, FINITE: _ONE, MASK: (2, 3),
-             RESID: (2, 3), PIVOT: (1,)}
+_W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
+             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, CROSS: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE,
+             MASK: (2, 3), RESID: (2, 3), PIVOT: (1,)}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -249,8 +243,9 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         return T.val(GATHER, field[base] + width * k + part)
 
     def turn(k, at):  # the drawn vector `at` turned with link k: (c·x − s·y, s·x + c·y)
-        co, si, kk = fr(k, "cos"), fr(k, "sin"), T.consts2(*at)
-        return T.val(TURNX, co, si, k=kk), T.val(TURNY, co, si, k=kk)
+        co, si = fr(k, "cos"), fr(k, "sin")
+        ax, ay = T.value(at[0]), T.value(at[1])
+        return T.val(CROSS, co, ax, si, ay), T.val(DOT, si, ax, co, ay)
 
     def point(k, at):  # the point drawn at `at` on link k
         ux, uy = turn(k, at)
@@ -304,11 +299,11 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
-            T.into(SUB, bvec[r], bvec[r], fx)
-            T.into(SUB, bvec[r + 1], bvec[r + 1], fy)
-            lx, ly = T.val(ADD, px, T.value(-cx)), T.val(ADD, py, T.value(-cy))
+            T.into(MSUB, bvec[r], bvec[r], fx, T.value(1.0))
+            T.into(MSUB, bvec[r + 1], bvec[r + 1], fy, T.value(1.0))
+            lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
             m = T.add(T.val(CROSS, lx, fy, ly, fx), mz)
-            T.into(SUB, bvec[r + 2], bvec[r + 2], T.mulk(m, inv_size))
+            T.into(MSUB, bvec[r + 2], bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
@@ -316,8 +311,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
     out_bad = n + 5 * len(loads.link) + 1
     for i in range(n):
-        x[i] = T.fresh(MULK, x[i], k=T.const(lay.scale[i]))
-        T.into(FINITE, bad, x[i])
+        x[i] = T.fresh(MUL, x[i], T.value(lay.scale[i]))
+        T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
     for i in range(n):
         T.out(MASK, i, x[i], bad)
         T.written(x[i])
@@ -338,13 +333,13 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         wq = fr(k, "wq")
         dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, dy), T.val(MADD, fr(k, "fvy"), wq, dx)
-        T.into(ADD, total, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq))
+        T.into(MADD, total, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq), T.value(1.0))
         force = T.val(SQRT, T.val(DOT, fx, fx, fy, fy))
-        T.into(ADD, bound, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning))
+        T.into(MADD, bound, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning), T.value(1.0))
     for inp, col in zip(engine.inputs, lay.in_cols):
         term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
-        T.into(ADD, total, total, term)
-        T.into(ADD, bound, bound, T.val(ABS, term))
+        T.into(MADD, total, total, term, T.value(1.0))
+        T.into(MADD, bound, bound, T.val(ABS, term), T.value(1.0))
     T.out(RESID, out_bad - 1, total, bound)
     return names, links, guides, T
 
@@ -356,7 +351,7 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
     rows = [bvec[r] for r in blk.rows]  # the right side, in place
     slot, norm = {}, [None] * len(blk.rows)
     for i, j, f, coef in blk.entries:
-        v = slot[i, j] = T.set(coef) if f == 0 else T.fresh(MULK, feat[f], k=T.const(coef))
+        v = slot[i, j] = T.set(coef) if f == 0 else T.fresh(MUL, feat[f], T.value(coef))
         norm[i] = T.mul(v, v) if norm[i] is None else T.val(MADD, norm[i], v, v)
     for i, j in _zeros(blk):
         slot[i, j] = T.set(0.0)
@@ -417,7 +412,7 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
             acc = T.val(MSUB, acc, slot[i, u], x[own[u]])
         x[own[j]] = T.div(acc, slot[i, j])
     measure = T.div(T.val(ABS, det), measure_of)
-    T.into(FLAG, bad, measure, k=T.const(min_measure))
+    T.into(FLAG, bad, measure, k=T.consts2(min_measure, np.inf))
 
 
 def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
@@ -476,79 +471,61 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
         nc = min(chunk, stop - b0)
         for t in range(len(ops)):
             code, d, a, b, e, f, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4], ops[t, 5], ops[t, 6]
+            Wd, Wa, Wb, We, Wf = W[d], W[a], W[b], W[e], W[f]
             if code == 0:  # GATHER
                 for c in range(nc):
-                    W[d, c] = row[b0 + c, a]
+                    Wd[c] = row[b0 + c, a]
             elif code == 1:  # INPUT
                 for c in range(nc):
-                    W[d, c] = inputs[a, b0 + c]
+                    Wd[c] = inputs[a, b0 + c]
             elif code == 2:  # SET
                 for c in range(nc):
-                    W[d, c] = K[k]
-            elif code == 3:  # MULK
+                    Wd[c] = K[k]
+            elif code == 3:  # MUL
                 for c in range(nc):
-                    W[d, c] = K[k] * W[a, c]
-            elif code == 4:  # ADD
+                    Wd[c] = Wa[c] * Wb[c]
+            elif code == 4:  # DIV
                 for c in range(nc):
-                    W[d, c] = W[a, c] + W[b, c]
-            elif code == 5:  # SUB
+                    Wd[c] = Wa[c] / Wb[c]
+            elif code == 5:  # MAX
                 for c in range(nc):
-                    W[d, c] = W[a, c] - W[b, c]
-            elif code == 6:  # MUL
+                    Wd[c] = max(Wa[c], Wb[c])
+            elif code == 6:  # SQRT
                 for c in range(nc):
-                    W[d, c] = W[a, c] * W[b, c]
-            elif code == 7:  # DIV
+                    Wd[c] = np.sqrt(Wa[c])
+            elif code == 7:  # ABS
                 for c in range(nc):
-                    W[d, c] = W[a, c] / W[b, c]
-            elif code == 8:  # MAX
+                    Wd[c] = abs(Wa[c])
+            elif code == 8:  # MSUB
                 for c in range(nc):
-                    W[d, c] = max(W[a, c], W[b, c])
-            elif code == 9:  # SQRT
+                    Wd[c] = Wa[c] - Wb[c] * We[c]
+            elif code == 9:  # MADD
                 for c in range(nc):
-                    W[d, c] = np.sqrt(W[a, c])
-            elif code == 10:  # ABS
+                    Wd[c] = Wa[c] + Wb[c] * We[c]
+            elif code == 10:  # DOT
                 for c in range(nc):
-                    W[d, c] = abs(W[a, c])
-            elif code == 11:  # MSUB
+                    Wd[c] = Wa[c] * Wb[c] + We[c] * Wf[c]
+            elif code == 11:  # CROSS
                 for c in range(nc):
-                    W[d, c] = W[a, c] - W[b, c] * W[e, c]
-            elif code == 12:  # MADD
+                    Wd[c] = Wa[c] * Wb[c] - We[c] * Wf[c]
+            elif code == 12:  # LEVER
                 for c in range(nc):
-                    W[d, c] = W[a, c] + W[b, c] * W[e, c]
-            elif code == 13:  # DOT
+                    Wd[c] = ((Wa[c] + Wb[c]) + K[k]) * K[k + 1]
+            elif code == 13:  # OUT
                 for c in range(nc):
-                    W[d, c] = W[a, c] * W[b, c] + W[e, c] * W[f, c]
-            elif code == 14:  # CROSS
+                    out[d, b0 + c] = Wa[c]
+            elif code == 14:  # FLAG
                 for c in range(nc):
-                    W[d, c] = W[a, c] * W[b, c] - W[e, c] * W[f, c]
-            elif code == 15:  # TURNX
+                    if not K[k] < Wa[c] <= K[k + 1]:
+                        Wd[c] = 1.0
+            elif code == 15:  # MASK
                 for c in range(nc):
-                    W[d, c] = W[a, c] * K[k] - W[b, c] * K[k + 1]
-            elif code == 16:  # TURNY
+                    if Wb[c] != 0.0:
+                        Wa[c] = np.nan
+                    out[d, b0 + c] = Wa[c]
+            elif code == 16:  # RESID
                 for c in range(nc):
-                    W[d, c] = W[b, c] * K[k] + W[a, c] * K[k + 1]
-            elif code == 17:  # LEVER
-                for c in range(nc):
-                    W[d, c] = ((W[a, c] + W[b, c]) + K[k]) * K[k + 1]
-            elif code == 18:  # OUT
-                for c in range(nc):
-                    out[d, b0 + c] = W[a, c]
-            elif code == 19:  # FLAG
-                for c in range(nc):
-                    if not W[a, c] > K[k]:
-                        W[d, c] = 1.0
-            elif code == 20:  # FINITE
-                for c in range(nc):
-                    if not np.isfinite(W[a, c]):
-                        W[d, c] = 1.0
-            elif code == 21:  # MASK
-                for c in range(nc):
-                    if W[b, c] != 0.0:
-                        W[a, c] = np.nan
-                    out[d, b0 + c] = W[a, c]
-            elif code == 22:  # RESID
-                for c in range(nc):
-                    out[d, b0 + c] = abs(W[a, c]) / (W[b, c] if W[b, c] > 0 else 1.0)
+                    out[d, b0 + c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):
@@ -560,4 +537,4 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
                         for j in range(w):
                             s, t = aux[a + j], aux[a + p * w + j]
                             W[s, c], W[t, c] = W[t, c], W[s, c]
-                        W[d, c] = -W[d, c]
+                        Wd[c] = -Wd[c]
