@@ -217,7 +217,7 @@ CROSS = 11   # W[d] = W[a] · W[b] − W[e] · W[f]
 LEVER = 12   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
 OUT = 13     # out[d, b] = W[a]
 FLAG = 14    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
-MASK = 15    # W[a] = NaN where W[b] ≠ 0; out[d, b] = W[a]
+MASK = 15    # W[d] = NaN where W[b] ≠ 0, else W[a]; out[k, b] = W[d]
 RESID = 16   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
 PIVOT = 17   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
@@ -225,7 +225,7 @@ _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, CROSS: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE,
-             MASK: (2, 3), RESID: (2, 3), PIVOT: (1,)}
+             MASK: _TWO, RESID: (2, 3), PIVOT: (1,)}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -299,11 +299,11 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
-            T.into(MSUB, bvec[r], bvec[r], fx, T.value(1.0))
-            T.into(MSUB, bvec[r + 1], bvec[r + 1], fy, T.value(1.0))
+            bvec[r] = T.fresh(MSUB, bvec[r], fx, T.value(1.0))
+            bvec[r + 1] = T.fresh(MSUB, bvec[r + 1], fy, T.value(1.0))
             lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
             m = T.add(T.val(CROSS, lx, fy, ly, fx), mz)
-            T.into(MSUB, bvec[r + 2], bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
+            bvec[r + 2] = T.fresh(MSUB, bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
@@ -314,8 +314,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         x[i] = T.fresh(MUL, x[i], T.value(lay.scale[i]))
         T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
     for i in range(n):
-        T.out(MASK, i, x[i], bad)
-        T.written(x[i])
+        x[i] = T.fresh(MASK, x[i], bad, k=i)
     T.out(OUT, out_bad, bad)
     # virtual power with the analogues (kinetostatics._virtual_power)
     speed = T.set(0.0)
@@ -323,23 +322,23 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         k = int(p_link[p])
         (ux, uy), wq = turn(k, p_at[p]), fr(k, "wq")
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, uy), T.val(MADD, fr(k, "fvy"), wq, ux)
-        T.into(MAX, speed, speed, T.val(DOT, vx, vx, vy, vy))
-    T.into(SQRT, speed, speed)  # the largest point speed (one root: the root keeps the order)
+        speed = T.fresh(MAX, speed, T.val(DOT, vx, vx, vy, vy))
+    speed = T.fresh(SQRT, speed)  # the largest point speed (one root: the root keeps the order)
     turning = T.set(0.0)
     for k in range(len(engine.links)):
-        T.into(MAX, turning, turning, T.val(ABS, fr(k, "wq")))
+        turning = T.fresh(MAX, turning, T.val(ABS, fr(k, "wq")))
     total, bound = T.set(0.0), T.set(0.0)
     for k, fx, fy, px, py, mz in values:
         wq = fr(k, "wq")
         dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, dy), T.val(MADD, fr(k, "fvy"), wq, dx)
-        T.into(MADD, total, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq), T.value(1.0))
+        total = T.fresh(MADD, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq), T.value(1.0))
         force = T.val(SQRT, T.val(DOT, fx, fx, fy, fy))
-        T.into(MADD, bound, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning), T.value(1.0))
+        bound = T.fresh(MADD, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning), T.value(1.0))
     for inp, col in zip(engine.inputs, lay.in_cols):
         term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
-        T.into(MADD, total, total, term, T.value(1.0))
-        T.into(MADD, bound, bound, T.val(ABS, term), T.value(1.0))
+        total = T.fresh(MADD, total, term, T.value(1.0))
+        bound = T.fresh(MADD, bound, T.val(ABS, term), T.value(1.0))
     T.out(RESID, out_bad - 1, total, bound)
     return names, links, guides, T
 
@@ -360,29 +359,29 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         prod = T.mul(prod, v)
     measure_of = T.val(SQRT, prod)
     for i, c, f, coef in blk.later:
-        T.into(MSUB, rows[i], rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
+        rows[i] = T.fresh(MSUB, rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
     det = T.set(1.0)
     for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
         for k in affected:
             m = T.div(slot[k, j], slot[i, j])
             for u in columns:
-                T.into(MSUB, slot[k, u], slot[k, u], m, slot[i, u])
-            T.into(MSUB, rows[k], rows[k], m, rows[i])
-        T.into(MUL, det, det, slot[i, j])
+                slot[k, u] = T.fresh(MSUB, slot[k, u], m, slot[i, u])
+            rows[k] = T.fresh(MSUB, rows[k], m, rows[i])
+        det = T.fresh(MUL, det, slot[i, j])
     own = blk.own
     nr = len(blk.rest_rows)
     a = [[slot[i, j] for j in blk.rest_cols] for i in blk.rest_rows]
     r = [rows[i] for i in blk.rest_rows]
     if nr == 1:  # the explicit inverse (_linalg.factor)
         x[own[blk.rest_cols[0]]] = T.mul(T.div(T.value(1.0), a[0][0]), r[0])
-        T.into(MUL, det, det, a[0][0])
+        det = T.fresh(MUL, det, a[0][0])
     elif nr == 2:
         d = T.val(CROSS, a[0][0], a[1][1], a[0][1], a[1][0])
         i00, i01 = T.div(a[1][1], d), T.div(T.mulk(a[0][1], -1.0), d)
         i10, i11 = T.div(T.mulk(a[1][0], -1.0), d), T.div(a[0][0], d)
         x[own[blk.rest_cols[0]]] = T.val(DOT, i00, r[0], i01, r[1])
         x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
-        T.into(MUL, det, det, d)
+        det = T.fresh(MUL, det, d)
     elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
         for k in range(nr):
             if k < nr - 1:
@@ -395,9 +394,9 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
                 for i in range(k + 1, nr):
                     m = T.div(a[i][k], a[k][k])
                     for j in range(k + 1, nr):
-                        T.into(MSUB, a[i][j], a[i][j], m, a[k][j])
-                    T.into(MSUB, r[i], r[i], m, r[k])
-            T.into(MUL, det, det, a[k][k])
+                        a[i][j] = T.fresh(MSUB, a[i][j], m, a[k][j])
+                    r[i] = T.fresh(MSUB, r[i], m, r[k])
+            det = T.fresh(MUL, det, a[k][k])
         sol = [None] * nr
         for i in range(nr - 1, -1, -1):
             acc = r[i]
@@ -520,9 +519,8 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
                         Wd[c] = 1.0
             elif code == 15:  # MASK
                 for c in range(nc):
-                    if Wb[c] != 0.0:
-                        Wa[c] = np.nan
-                    out[d, b0 + c] = Wa[c]
+                    Wd[c] = np.nan if Wb[c] != 0.0 else Wa[c]
+                    out[k, b0 + c] = Wd[c]
             elif code == 16:  # RESID
                 for c in range(nc):
                     out[d, b0 + c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
