@@ -91,7 +91,7 @@ class _Tape:
 
     def __init__(self):
         self.ops, self.consts, self.aux, self.rows = [], [], [], 0
-        self._const, self._memo, self._uses = {}, {}, {}
+        self._const, self._memo, self._uses, self._shared = {}, {}, {}, set()
 
     def const(self, value) -> int:
         value = float(value)
@@ -120,6 +120,7 @@ class _Tape:
         key = (code, a, b, e, f, k)
         if key not in self._memo:
             self._memo[key] = d = self.fresh(code, a, b, e, f, k)
+            self._shared.add(d)
             for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
                 self._uses.setdefault(r, []).append(key)
         return self._memo[key]
@@ -138,6 +139,14 @@ class _Tape:
 
     def out(self, code, to, a=0, b=0):
         self.ops.append((code, to, a, b, 0, 0, 0))
+
+    def private(self, row) -> int:
+        """`row`, or a copy of it where other values may be the same row (an op writing it again
+        would change them too)."""
+        if row in self._shared:
+            return self.fresh(MUL, row, self.value(1.0))
+        self._shared.add(row)  # (a second request copies)
+        return row
 
     def set(self, value) -> int:
         return self.fresh(SET, k=self.const(value))
@@ -270,7 +279,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         feat.append(T.val(CROSS, feat[1 + 2 * j], feat[base + 2 * g + 1], feat[2 + 2 * j], feat[base + 2 * g]))
     # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
     n = lay.size
-    bvec = [T.set(0.0) for _ in range(n)]
+    bvec = [T.value(0.0)] * n
     values = []
     om, ep = T.val(INPUT, 0), T.val(INPUT, 1)
     om2 = T.mul(om, om)
@@ -317,17 +326,17 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         x[i] = T.fresh(MASK, x[i], bad, k=i)
     T.out(OUT, out_bad, bad)
     # virtual power with the analogues (kinetostatics._virtual_power)
-    speed = T.set(0.0)
+    speed = T.value(0.0)
     for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
         k = int(p_link[p])
         (ux, uy), wq = turn(k, p_at[p]), fr(k, "wq")
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, uy), T.val(MADD, fr(k, "fvy"), wq, ux)
         speed = T.fresh(MAX, speed, T.val(DOT, vx, vx, vy, vy))
     speed = T.fresh(SQRT, speed)  # the largest point speed (one root: the root keeps the order)
-    turning = T.set(0.0)
+    turning = T.value(0.0)
     for k in range(len(engine.links)):
         turning = T.fresh(MAX, turning, T.val(ABS, fr(k, "wq")))
-    total, bound = T.set(0.0), T.set(0.0)
+    total = bound = T.value(0.0)
     for k, fx, fy, px, py, mz in values:
         wq = fr(k, "wq")
         dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
@@ -350,17 +359,17 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
     rows = [bvec[r] for r in blk.rows]  # the right side, in place
     slot, norm = {}, [None] * len(blk.rows)
     for i, j, f, coef in blk.entries:
-        v = slot[i, j] = T.set(coef) if f == 0 else T.fresh(MUL, feat[f], T.value(coef))
+        v = slot[i, j] = T.value(coef) if f == 0 else T.mul(feat[f], T.value(coef))
         norm[i] = T.mul(v, v) if norm[i] is None else T.val(MADD, norm[i], v, v)
     for i, j in _zeros(blk):
-        slot[i, j] = T.set(0.0)
+        slot[i, j] = T.value(0.0)
     prod = norm[0]
     for v in norm[1:]:
         prod = T.mul(prod, v)
     measure_of = T.val(SQRT, prod)
     for i, c, f, coef in blk.later:
         rows[i] = T.fresh(MSUB, rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
-    det = T.set(1.0)
+    det = T.value(1.0)
     for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
         for k in affected:
             m = T.div(slot[k, j], slot[i, j])
@@ -383,6 +392,8 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
         det = T.fresh(MUL, det, d)
     elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
+        a = [[T.private(v) for v in row] for row in a]  # (the pivots swap them in place)
+        r, det = [T.private(v) for v in r], T.private(det)
         for k in range(nr):
             if k < nr - 1:
                 start = len(T.aux)
