@@ -1,18 +1,26 @@
 """Compiled kinetostatics of a compiled one-input `Motion` (optional, needs numba): the loads, the
-d'Alembert loads, the assembled system and the virtual-power check, position by position, reading the
-rows the compiled kinematics wrote (`Motion.rows`) while they are in the cache.
+d'Alembert loads, the assembled system and the virtual-power check, reading the records the compiled
+kinematics wrote (`Motion.rows`).
 
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
-blocks, their pivots and fill-in (`_Block.fill`) come from `kinetostatics._plan`; the loads' constant
-parts, guide-force sizes and heavy links from `loads`; the formulas are numpy's written per position,
-in the same order (but for one thing: the moments are divided by the model size as a product with its
-reciprocal, a division costing several multiplications here). It takes the model's loads with or
+blocks (one per Assur group, last attached first), their constant pivots and fill-in (`_Block.fill`)
+come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes and heavy links from
+`loads`. Once per engine (and record layout), `_program` writes numpy's formulas, in numpy's order, as a
+list of elementary ops on the rows of a work matrix, one row per value and one column per position of
+a chunk of `CHUNK` positions; `_kernel` runs the ops one after the other, each over the whole chunk in
+an inner loop (SIMD lanes), so the tables are read once per chunk, not once per position. The kernel is
+one small function of 18 kinds of op whatever the model, so numba compiles it once, in about 1.5 s.
+
+Two things differ from numpy by rounding only: the moments are divided by the model size as a product
+with its reciprocal, and the dense part of a class III or higher group (LU with partial pivoting, each
+position its own pivot rows) substitutes forward while it eliminates. It takes the model's loads with or
 without the inertia loads, and no input inertia; anything else stays with numpy. Tests hold both equal
 to rounding.
 """
 
 from __future__ import annotations
 
+from collections import defaultdict
 from dataclasses import dataclass
 
 import numba
@@ -25,22 +33,22 @@ from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_l
 
 __all__ = ["solve"]
 
-# row fields the kernel reads, in the order of its `offsets` argument
+# the record fields (`_numba_kinematics.FIELDS`, `RATE_FIELDS`) the program reads
 _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 
 
 @dataclass
 class _KernelPlan:
-    """The model's loads and the system's structure as arrays in `_kernel`'s order, built once per
-    engine and row layout: `names`, `links` of the loads in the order numpy lists them; `guide_loads`,
-    the rows whose size `guide_force_size` gives; `args`; `sizes` of the kernel's work arrays and
-    `scratch`, one set of them per thread."""
+    """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
+    numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
+    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, and `scratch`, one
+    work matrix per thread."""
 
     names: list
     links: list
     guide_loads: list
     args: tuple
-    sizes: tuple
+    rows: int
     scratch: list
 
 
@@ -72,15 +80,6 @@ def _load_table(engine, inertia):
             rows.append((LOAD_INERTIA, engine.link_index[name], -1, 0, at, (lk.mass, lk.inertia), 0.0, (0.0, 0.0)))
             names.append(f"inertia of {name}")
     return names, [r[1] for r in rows], guides, load_tables(rows)
-
-
-def _zeros(blk) -> list:
-    """The places of a block's matrix that are read but hold no entry: fill-in, and the rest of the
-    square solved densely."""
-    entries = {(i, j) for i, j, _, _ in blk.entries}
-    read = {(k, jj) for (i, j), (affected, columns) in zip(blk.pivots, blk.fill) for k in affected for jj in columns}
-    read |= {(i, j) for i in blk.rest_rows for j in blk.rest_cols}
-    return sorted(read - entries)
 
 
 class _Tape:
@@ -356,13 +355,11 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
     """One block of `kinetostatics._solve_block`: its entries, the constant pivots eliminated, the rest
     solved densely, the back-substitution into x (rows of the unknowns), and `bad` marked where its
     measure |det| / Π‖row‖ is not above `min_measure`."""
-    rows = [bvec[r] for r in blk.rows]  # the right side, in place
-    slot, norm = {}, [None] * len(blk.rows)
+    rows = [bvec[r] for r in blk.rows]  # the right side
+    slot, norm = defaultdict(lambda: T.value(0.0)), [None] * len(blk.rows)  # (fill-in starts at 0)
     for i, j, f, coef in blk.entries:
         v = slot[i, j] = T.value(coef) if f == 0 else T.mul(feat[f], T.value(coef))
         norm[i] = T.mul(v, v) if norm[i] is None else T.val(MADD, norm[i], v, v)
-    for i, j in _zeros(blk):
-        slot[i, j] = T.value(0.0)
     prod = norm[0]
     for v in norm[1:]:
         prod = T.mul(prod, v)
@@ -459,7 +456,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     out = np.empty((n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, singular
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
-    work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.sizes), len(parts))
+    work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
     _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
                   for p, w in zip(parts, work)])
     loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
