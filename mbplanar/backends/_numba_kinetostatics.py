@@ -209,7 +209,8 @@ def _touches(op, aux) -> list:
 
 # op codes of `_kernel` (code, d, a, b, e, f, k): W is the work matrix (rows, chunk), c a position of the
 # chunk, b = b0 + c its position in the batch, K the constants. Sums and differences are MADD and MSUB
-# with a row of ones, products by a constant MUL with a row of it (x·1 = x, x + 0 = x exactly).
+# with a row of ones, products by a constant MUL with a row of it, x·y − u·v is x·y + u·(−v): the same
+# numbers (x·1 = x, x − y = x + (−y) exactly).
 GATHER = 0   # W[d] = row[b, a]            (a: a column of the records)
 INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
 SET = 2      # W[d] = K[k]
@@ -221,19 +222,15 @@ ABS = 7      # W[d] = |W[a]|
 MSUB = 8     # W[d] = W[a] − W[b] · W[e]
 MADD = 9     # W[d] = W[a] + W[b] · W[e]
 DOT = 10     # W[d] = W[a] · W[b] + W[e] · W[f]
-CROSS = 11   # W[d] = W[a] · W[b] − W[e] · W[f]
-LEVER = 12   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
-OUT = 13     # out[d, b] = W[a]
-FLAG = 14    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
-MASK = 15    # W[d] = NaN where W[b] ≠ 0, else W[a]; out[k, b] = W[d]
-RESID = 16   # out[d, b] = |W[a]| / (W[b] if W[b] > 0 else 1)
-PIVOT = 17   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
+LEVER = 11   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
+OUT = 12     # out[d, b] = W[a]
+FLAG = 13    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
+PIVOT = 14   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
-             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, CROSS: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE,
-             MASK: _TWO, RESID: (2, 3), PIVOT: (1,)}
+             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,)}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -253,7 +250,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     def turn(k, at):  # the drawn vector `at` turned with link k: (c·x − s·y, s·x + c·y)
         co, si = fr(k, "cos"), fr(k, "sin")
         ax, ay = T.value(at[0]), T.value(at[1])
-        return T.val(CROSS, co, ax, si, ay), T.val(DOT, si, ax, co, ay)
+        return T.val(DOT, co, ax, si, T.value(-at[1])), T.val(DOT, si, ax, co, ay)
 
     def point(k, at):  # the point drawn at `at` on link k
         ux, uy = turn(k, at)
@@ -275,7 +272,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         feat += turn(engine.link_index[mech.joints[name].carrier], engine.laws[name].u0)
     base = 1 + 2 * len(ks_plan.joints)
     for g, j in ks_plan.p_inputs:
-        feat.append(T.val(CROSS, feat[1 + 2 * j], feat[base + 2 * g + 1], feat[2 + 2 * j], feat[base + 2 * g]))
+        feat.append(T.val(DOT, feat[1 + 2 * j], feat[base + 2 * g + 1], feat[2 + 2 * j], T.mulk(feat[base + 2 * g], -1.0)))
     # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
     n = lay.size
     bvec = [T.value(0.0)] * n
@@ -310,19 +307,19 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
             bvec[r] = T.fresh(MSUB, bvec[r], fx, T.value(1.0))
             bvec[r + 1] = T.fresh(MSUB, bvec[r + 1], fy, T.value(1.0))
             lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
-            m = T.add(T.val(CROSS, lx, fy, ly, fx), mz)
+            m = T.add(T.val(DOT, lx, fy, ly, T.mulk(fx, -1.0)), mz)
             bvec[r + 2] = T.fresh(MSUB, bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
     for blk in ks_plan.blocks:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
-    out_bad = n + 5 * len(loads.link) + 1
+    out_bad = n + 5 * len(loads.link) + 2
     for i in range(n):
         x[i] = T.fresh(MUL, x[i], T.value(lay.scale[i]))
         T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
     for i in range(n):
-        x[i] = T.fresh(MASK, x[i], bad, k=i)
+        T.out(OUT, i, x[i])  # (`solve` writes NaN where singular)
     T.out(OUT, out_bad, bad)
     # virtual power with the analogues (kinetostatics._virtual_power)
     speed = T.value(0.0)
@@ -347,7 +344,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
         total = T.fresh(MADD, total, term, T.value(1.0))
         bound = T.fresh(MADD, bound, T.val(ABS, term), T.value(1.0))
-    T.out(RESID, out_bad - 1, total, bound)
+    T.out(OUT, out_bad - 2, total)
+    T.out(OUT, out_bad - 1, bound)
     return names, links, guides, T
 
 
@@ -382,7 +380,7 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         x[own[blk.rest_cols[0]]] = T.mul(T.div(T.value(1.0), a[0][0]), r[0])
         det = T.fresh(MUL, det, a[0][0])
     elif nr == 2:
-        d = T.val(CROSS, a[0][0], a[1][1], a[0][1], a[1][0])
+        d = T.val(DOT, a[0][0], a[1][1], a[0][1], T.mulk(a[1][0], -1.0))
         i00, i01 = T.div(a[1][1], d), T.div(T.mulk(a[0][1], -1.0), d)
         i10, i11 = T.div(T.mulk(a[1][0], -1.0), d), T.div(a[0][0], d)
         x[own[blk.rest_cols[0]]] = T.val(DOT, i00, r[0], i01, r[1])
@@ -453,7 +451,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    out = np.empty((n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, singular
+    out = np.empty((n + 5 * n_loads + 3, batch))  # x, the loads (fx, fy, x, y, moment), Σ power, its bound, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
@@ -462,7 +460,11 @@ def solve(engine, motion, ks_plan, inertia=True):
     loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
     values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
-    return out[:n], out[-1] != 0.0, out[-2], values
+    x, singular, total, bound = out[:n], out[-1] != 0.0, out[-3], out[-2]
+    residual = np.abs(total) / np.where(bound > 0, bound, 1.0)
+    x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
+    residual[singular] = np.nan
+    return x, singular, residual, values
 
 
 # -- kernel -------------------------------------------------------------------------------------------
@@ -512,26 +514,16 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 10:  # DOT
                 for c in range(nc):
                     Wd[c] = Wa[c] * Wb[c] + We[c] * Wf[c]
-            elif code == 11:  # CROSS
-                for c in range(nc):
-                    Wd[c] = Wa[c] * Wb[c] - We[c] * Wf[c]
-            elif code == 12:  # LEVER
+            elif code == 11:  # LEVER
                 for c in range(nc):
                     Wd[c] = ((Wa[c] + Wb[c]) + K[k]) * K[k + 1]
-            elif code == 13:  # OUT
+            elif code == 12:  # OUT
                 for c in range(nc):
                     out[d, b0 + c] = Wa[c]
-            elif code == 14:  # FLAG
+            elif code == 13:  # FLAG
                 for c in range(nc):
                     if not K[k] < Wa[c] <= K[k + 1]:
                         Wd[c] = 1.0
-            elif code == 15:  # MASK
-                for c in range(nc):
-                    Wd[c] = np.nan if Wb[c] != 0.0 else Wa[c]
-                    out[k, b0 + c] = Wd[c]
-            elif code == 16:  # RESID
-                for c in range(nc):
-                    out[d, b0 + c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):
