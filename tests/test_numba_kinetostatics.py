@@ -132,3 +132,29 @@ def test_what_the_compiled_path_does_not_take_is_numpy():
     np.testing.assert_array_equal(kinetostatics(fast_engine, ref).reactions["F"].fx,
                                   kinetostatics(ref_engine, ref).reactions["F"].fx)
 
+
+
+@pytest.mark.parametrize("batch", [2, 127, 129, 300])
+def test_batches_across_chunks_same_as_numpy(batch):
+    """The kernel takes the positions a chunk at a time: a batch much shorter than a chunk, one position
+    either side of a chunk's end, several chunks; on a class III group (its dense part pivots position
+    by position) and the six-bar press (a guide load)."""
+    from mbplanar.backends._numba_kinetostatics import CHUNK
+    assert CHUNK == 128  # (the batches above straddle it)
+    for name in ("class3_triad", "six_bar_press"):
+        mech = mbplanar.read_model(MODELS / f"{name}.toml")
+        engine = mbplanar.Engine(mech)
+        phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, batch, endpoint=False)
+        (ref_engine, ref), (fast_engine, fast) = _motions(mech, phi)
+        _assert_same(kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast))
+
+
+def test_one_compiled_kernel_for_every_model():
+    """The models differ in the kernel's program (data), not in its code: numba compiles one kernel."""
+    from mbplanar.backends import _numba_kinetostatics
+    for name in FORCE_MODELS:
+        mech = mbplanar.read_model(MODELS / f"{name}.toml")
+        engine = mbplanar.Engine(mech, backend="numba")
+        if len(engine.inputs) == 1:
+            kinetostatics(engine, mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 1.0, 5)))
+    assert len(_numba_kinetostatics._kernel.signatures) == 1
