@@ -158,3 +158,22 @@ def test_one_compiled_kernel_for_every_model():
         if len(engine.inputs) == 1:
             kinetostatics(engine, mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 1.0, 5)))
     assert len(_numba_kinetostatics._kernel.signatures) == 1
+
+
+def test_prismatic_input_same_as_numpy(tmp_path):
+    """A slider-crank driven at its slider: the balancing load is a force along the guide (its lever is
+    a feature of its own), the same as numpy's."""
+    text = (MODELS / "slider_crank.toml").read_text()
+    for link, extra in (('"1", length = 0.1', 'mass = 1.5, inertia = 0.01, centre = "A"'),
+                        ('"2", length = 0.3', 'mass = 2.0, inertia = 0.03, centre = "B"'),
+                        ('"3"', 'mass = 4.0, centre = "B"')):
+        text = text.replace(f"{{ name = {link} }}", f"{{ name = {link}, {extra} }}")
+    text = text.replace('joint = "O"\ndrawn_at = 45.0', 'joint = "Bp"\ndrawn_at = 0.0')
+    (tmp_path / "driven_slider.toml").write_text(text)
+    mech = mbplanar.read_model(tmp_path / "driven_slider.toml")
+    assert mech.joints[mbplanar.Engine(mech).inputs[0].joint].kind == "P"
+    engine = mbplanar.Engine(mech)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, engine.phi_drawn[0] + np.linspace(-0.1, 0.1, 200), 0.5, 0.1)
+    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
+    assert np.all(np.abs(a.balancing["Bp"]) > 0)
+    _assert_same(a, b)

@@ -272,7 +272,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         feat += turn(engine.link_index[mech.joints[name].carrier], engine.laws[name].u0)
     base = 1 + 2 * len(ks_plan.joints)
     for g, j in ks_plan.p_inputs:
-        feat.append(T.val(DOT, feat[1 + 2 * j], feat[base + 2 * g + 1], feat[2 + 2 * j], T.mulk(feat[base + 2 * g], -1.0)))
+        ux, uy = feat[base + 2 * g], feat[base + 2 * g + 1]
+        feat.append(T.val(DOT, feat[1 + 2 * j], uy, feat[2 + 2 * j], T.mulk(ux, -1.0)))
     # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
     n = lay.size
     bvec = [T.value(0.0)] * n
