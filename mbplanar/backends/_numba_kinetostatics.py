@@ -171,8 +171,10 @@ class _Tape:
     def finish(self) -> tuple:
         """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
         taken again once the last op touching it has run."""
-        ops = np.array(self.ops, np.int64).reshape(-1, 7)
-        aux = np.array(self.aux, np.int64)
+        gathered = sorted((op[2], op[1]) for op in self.ops if op[0] == GATHER)  # (column, row)
+        ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in self.ops if op[0] != GATHER]
+        ops = np.array(ops, np.int64).reshape(-1, 7)
+        aux = np.array(self.aux + [v for pair in gathered for v in pair], np.int64)
         touched = [_touches(op, aux) for op in ops]
         last = {}
         for t, rows in enumerate(touched):
@@ -193,25 +195,31 @@ class _Tape:
         for op in ops:
             for field in _W_FIELDS[op[0]]:
                 op[field] = phys[op[field]]
-            if op[0] == PIVOT:
-                span = slice(op[2], op[2] + op[3] * (op[3] + 1))
-                mapped[span] = [phys[r] for r in aux[span]]
+            for i in _aux_rows(op):
+                mapped[i] = phys[aux[i]]
         return ops, np.array(self.consts + [0.0]), np.concatenate([mapped, np.zeros(1, np.int64)]), max(top, 1)
 
 
 def _touches(op, aux) -> list:
     """The virtual rows an op reads or writes."""
-    rows = [op[f] for f in _W_FIELDS[op[0]]]
+    return [op[f] for f in _W_FIELDS[op[0]]] + [aux[i] for i in _aux_rows(op)]
+
+
+def _aux_rows(op) -> range:
+    """Where `aux` names the rows of W an op reads or writes."""
     if op[0] == PIVOT:
-        rows += list(aux[op[2]:op[2] + op[3] * (op[3] + 1)])
-    return rows
+        return range(op[2], op[2] + op[3] * (op[3] + 1))
+    if op[0] == GATHER:
+        return range(op[2] + 1, op[2] + 2 * op[3], 2)
+    return range(0)
 
 
 # op codes of `_kernel` (code, d, a, b, e, f, k): W is the work matrix (rows, chunk), c a position of the
 # chunk, b = b0 + c its position in the batch, K the constants. Sums and differences are MADD and MSUB
 # with a row of ones, products by a constant MUL with a row of it, x·y − u·v is x·y + u·(−v): the same
 # numbers (x·1 = x, x − y = x + (−y) exactly).
-GATHER = 0   # W[d] = row[b, a]            (a: a column of the records)
+GATHER = 0   # W[d] = row[b, a]            (a: a column of the records; `finish` makes all of them one op,
+#              W[aux[a + 2i + 1]] = row[b, aux[a + 2i]] for i < b, reading each record once)
 INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
 SET = 2      # W[d] = K[k]
 MUL = 3      # W[d] = W[a] · W[b]
@@ -229,7 +237,7 @@ PIVOT = 14   # the rows aux[a …] of a dense system (b of them, each its entrie
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the fields of each op that name rows of W
-_W_FIELDS = {GATHER: (1,), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
+_W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,)}
 
 
@@ -484,7 +492,9 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             Wd, Wa, Wb, We, Wf = W[d], W[a], W[b], W[e], W[f]
             if code == 0:  # GATHER
                 for c in range(nc):
-                    Wd[c] = row[b0 + c, a]
+                    rec = row[b0 + c]
+                    for i in range(b):
+                        W[aux[a + 2 * i + 1], c] = rec[aux[a + 2 * i]]
             elif code == 1:  # INPUT
                 for c in range(nc):
                     Wd[c] = inputs[a, b0 + c]
