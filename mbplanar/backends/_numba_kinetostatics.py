@@ -325,7 +325,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
     out_bad = n + 5 * len(loads.link) + 2
     for i in range(n):
-        x[i] = T.fresh(MUL, x[i], T.value(lay.scale[i]))
+        if lay.scale[i] != 1.0:  # (x·1 = x)
+            x[i] = T.mulk(x[i], lay.scale[i])
         T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
     for i in range(n):
         T.out(OUT, i, x[i])  # (`solve` writes NaN where singular)
