@@ -472,8 +472,9 @@ def solve(engine, motion, ks_plan, inertia=True):
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
     x, singular, total, bound = out[:n], out[-1] != 0.0, out[-3], out[-2]
     residual = np.abs(total) / np.where(bound > 0, bound, 1.0)
-    x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
-    residual[singular] = np.nan
+    if singular.any():
+        x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
+        residual[singular] = np.nan
     return x, singular, residual, values
 
 

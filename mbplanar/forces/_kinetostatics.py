@@ -529,6 +529,8 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
 
 
 def _check_input_inertia(engine, input_inertia):
+    if type(input_inertia) in (int, float) and input_inertia == 0:  # the default, at once
+        return
     try:
         values = np.asarray(input_inertia, float)
     except (TypeError, ValueError):
