@@ -20,6 +20,7 @@ to rounding.
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from dataclasses import dataclass
 
@@ -90,7 +91,7 @@ class _Tape:
 
     def __init__(self):
         self.ops, self.consts, self.aux, self.rows = [], [], [], 0
-        self._const, self._memo, self._uses, self._shared = {}, {}, {}, set()
+        self._const, self._memo, self._uses, self._shared, self._known = {}, {}, {}, set(), {}
 
     def const(self, value) -> int:
         value = float(value)
@@ -115,7 +116,11 @@ class _Tape:
         return self.rows - 1
 
     def val(self, code, a=0, b=0, e=0, f=0, k=0) -> int:
-        """The row of a value, computed by op `code` unless it already was."""
+        """The row of a value, computed by op `code` unless it already was (or, when what it reads is
+        constant, here, with the same floating-point operations)."""
+        folded = self._fold(code, a, b, e, f, k)
+        if folded is not None:
+            return self.value(folded)
         key = (code, a, b, e, f, k)
         if key not in self._memo:
             self._memo[key] = d = self.fresh(code, a, b, e, f, k)
@@ -123,6 +128,22 @@ class _Tape:
             for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
                 self._uses.setdefault(r, []).append(key)
         return self._memo[key]
+
+    def _fold(self, code, a, b, e, f, k):
+        """The value of op `code` if the rows it reads hold constants (None if not, or if Python's
+        arithmetic would raise where the kernel's gives an infinity or a NaN)."""
+        if code not in _FOLD:
+            return None
+        known = self._known
+        try:
+            v = [known[r] for r in (a, b, e, f)[:len(_W_FIELDS[code]) - 1]]
+        except KeyError:
+            return None
+        if any(math.isnan(u) for u in v) or (code == DIV and v[1] == 0.0) or (code == SQRT and v[0] < 0.0):
+            return None
+        if code == LEVER:
+            return ((v[0] + v[1]) + self.consts[k]) * self.consts[k + 1]
+        return _FOLD[code](*v)
 
     def into(self, code, d, a=0, b=0, e=0, f=0, k=0) -> int:
         """Op `code` writing row d again: the values read from d are forgotten."""
@@ -151,7 +172,12 @@ class _Tape:
         return self.fresh(SET, k=self.const(value))
 
     def value(self, value) -> int:
-        return self.val(SET, k=self.const(value))
+        key = (SET, 0, 0, 0, 0, self.const(value))
+        if key not in self._memo:
+            self._memo[key] = d = self.fresh(*key[:1], k=key[5])
+            self._shared.add(d)
+            self._known[d] = float(value)
+        return self._memo[key]
 
     def add(self, a, b):
         return self.val(MADD, a, b, self.value(1.0))
@@ -236,6 +262,10 @@ FLAG = 13    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
 PIVOT = 14   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
+# the ops `_Tape` computes itself on constants, as the kernel would
+_FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max(a, b), SQRT: math.sqrt, ABS: abs,
+         MSUB: lambda a, b, e: a - b * e, MADD: lambda a, b, e: a + b * e, DOT: lambda a, b, e, f: a * b + e * f,
+         LEVER: None}
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,)}
@@ -313,11 +343,11 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
-            bvec[r] = T.fresh(MSUB, bvec[r], fx, T.value(1.0))
-            bvec[r + 1] = T.fresh(MSUB, bvec[r + 1], fy, T.value(1.0))
+            bvec[r] = T.val(MSUB, bvec[r], fx, T.value(1.0))
+            bvec[r + 1] = T.val(MSUB, bvec[r + 1], fy, T.value(1.0))
             lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
             m = T.add(T.val(DOT, lx, fy, ly, T.mulk(fx, -1.0)), mz)
-            bvec[r + 2] = T.fresh(MSUB, bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
+            bvec[r + 2] = T.val(MSUB, bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
@@ -337,23 +367,23 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         k = int(p_link[p])
         (ux, uy), wq = turn(k, p_at[p]), fr(k, "wq")
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, uy), T.val(MADD, fr(k, "fvy"), wq, ux)
-        speed = T.fresh(MAX, speed, T.val(DOT, vx, vx, vy, vy))
-    speed = T.fresh(SQRT, speed)  # the largest point speed (one root: the root keeps the order)
+        speed = T.val(MAX, speed, T.val(DOT, vx, vx, vy, vy))
+    speed = T.val(SQRT, speed)  # the largest point speed (one root: the root keeps the order)
     turning = T.value(0.0)
     for k in range(len(engine.links)):
-        turning = T.fresh(MAX, turning, T.val(ABS, fr(k, "wq")))
+        turning = T.val(MAX, turning, T.val(ABS, fr(k, "wq")))
     total = bound = T.value(0.0)
     for k, fx, fy, px, py, mz in values:
         wq = fr(k, "wq")
         dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, dy), T.val(MADD, fr(k, "fvy"), wq, dx)
-        total = T.fresh(MADD, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq), T.value(1.0))
+        total = T.val(MADD, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq), T.value(1.0))
         force = T.val(SQRT, T.val(DOT, fx, fx, fy, fy))
-        bound = T.fresh(MADD, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning), T.value(1.0))
+        bound = T.val(MADD, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning), T.value(1.0))
     for inp, col in zip(engine.inputs, lay.in_cols):
         term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
-        total = T.fresh(MADD, total, term, T.value(1.0))
-        bound = T.fresh(MADD, bound, T.val(ABS, term), T.value(1.0))
+        total = T.val(MADD, total, term, T.value(1.0))
+        bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
     T.out(OUT, out_bad - 2, total)
     T.out(OUT, out_bad - 1, bound)
     return names, links, guides, T
@@ -373,29 +403,29 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         prod = T.mul(prod, v)
     measure_of = T.val(SQRT, prod)
     for i, c, f, coef in blk.later:
-        rows[i] = T.fresh(MSUB, rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
+        rows[i] = T.val(MSUB, rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
     det = T.value(1.0)
     for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
         for k in affected:
             m = T.div(slot[k, j], slot[i, j])
             for u in columns:
-                slot[k, u] = T.fresh(MSUB, slot[k, u], m, slot[i, u])
-            rows[k] = T.fresh(MSUB, rows[k], m, rows[i])
-        det = T.fresh(MUL, det, slot[i, j])
+                slot[k, u] = T.val(MSUB, slot[k, u], m, slot[i, u])
+            rows[k] = T.val(MSUB, rows[k], m, rows[i])
+        det = T.val(MUL, det, slot[i, j])
     own = blk.own
     nr = len(blk.rest_rows)
     a = [[slot[i, j] for j in blk.rest_cols] for i in blk.rest_rows]
     r = [rows[i] for i in blk.rest_rows]
     if nr == 1:  # the explicit inverse (_linalg.factor)
         x[own[blk.rest_cols[0]]] = T.mul(T.div(T.value(1.0), a[0][0]), r[0])
-        det = T.fresh(MUL, det, a[0][0])
+        det = T.val(MUL, det, a[0][0])
     elif nr == 2:
         d = T.val(DOT, a[0][0], a[1][1], a[0][1], T.mulk(a[1][0], -1.0))
         i00, i01 = T.div(a[1][1], d), T.div(T.mulk(a[0][1], -1.0), d)
         i10, i11 = T.div(T.mulk(a[1][0], -1.0), d), T.div(a[0][0], d)
         x[own[blk.rest_cols[0]]] = T.val(DOT, i00, r[0], i01, r[1])
         x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
-        det = T.fresh(MUL, det, d)
+        det = T.val(MUL, det, d)
     elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
         a = [[T.private(v) for v in row] for row in a]  # (the pivots swap them in place)
         r, det = [T.private(v) for v in r], T.private(det)
@@ -410,9 +440,9 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
                 for i in range(k + 1, nr):
                     m = T.div(a[i][k], a[k][k])
                     for j in range(k + 1, nr):
-                        a[i][j] = T.fresh(MSUB, a[i][j], m, a[k][j])
-                    r[i] = T.fresh(MSUB, r[i], m, r[k])
-            det = T.fresh(MUL, det, a[k][k])
+                        a[i][j] = T.val(MSUB, a[i][j], m, a[k][j])
+                    r[i] = T.val(MSUB, r[i], m, r[k])
+            det = T.val(MUL, det, a[k][k])
         sol = [None] * nr
         for i in range(nr - 1, -1, -1):
             acc = r[i]
