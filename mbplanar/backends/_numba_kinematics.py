@@ -22,7 +22,7 @@ The plan is the engine's `BlockPlan`s as named tables of arrays (`_tables`), bui
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -72,6 +72,7 @@ class _KernelPlan:
     sizes: tuple
     scratch: list
     entry: object = None  # the compiled `_sweep` for these argument types, once known (`_run`)
+    empty: dict = field(default_factory=dict)  # the empty arrays standing for outputs not asked for (`_none`)
 
 
 def _plan(engine, joint_table) -> _KernelPlan:
@@ -137,27 +138,32 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=T
         return None
     plan = _plan(engine, joint_table)
     batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
-    dtype, offsets = plan.rows[bool(rates)]
+    rates = bool(rates)
+    dtype, offsets = plan.rows[rates]
     rows = np.empty(batch if records else 0, dtype)
-    flat = rows.view(np.float64).reshape(batch, -1) if records else np.empty((batch, 0))
+    flat = rows.view(np.float64).reshape(batch, -1) if records else _none(plan, "flat", (0, 0))
     angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
     if rates:
         w, e, v, a = np.empty((batch, n_l)), np.empty((batch, n_l)), np.empty((batch, n_p, 2)), np.empty((batch, n_p, 2))
-    else:
-        w = e = np.empty((0, n_l))
-        v = a = np.empty((0, n_p, 2))
+    else:  # (not written: empty arrays of the kernel's types)
+        w = e = _none(plan, "links", (0, n_l))
+        v = a = _none(plan, "points", (0, n_p, 2))
     valid = np.empty(batch, np.bool_)
     limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
-    ep_any = bool(rates) and bool(np.any(ep))
+    ep_any = rates and bool(ep.any())
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    rates = bool(rates)
-    every = slice(None)
-    status = _threads.run([
-        lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
-            *plan.args, grid, coef, signs, limits, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
-            angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
-        for p, wk in zip(parts, work)])
+    fixed = (*plan.args, grid, coef, signs, limits)
+    if len(parts) == 1:  # (one thread: no slicing)
+        status = [_run(plan, (*fixed, x, om, ep, ep_any, rates, p_link, p_at, offsets, angle, xy, w, e, v, a, flat,
+                              valid, *work[0]))]
+    else:
+        every = slice(None)
+        status = _threads.run([
+            lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
+                *fixed, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
+                angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
+            for p, wk in zip(parts, work)])
     if any(status):
         return None
     out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
@@ -168,6 +174,16 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=T
             if getattr(out, name) is not None:
                 setattr(out, name, getattr(out, name)[keep])
     return out
+
+
+def _none(plan: _KernelPlan, name: str, shape: tuple) -> np.ndarray:
+    """An empty float array of `shape` (a zero in it) standing for an output not asked for, made once
+    per plan and shape."""
+    key = (name, shape)
+    found = plan.empty.get(key)
+    if found is None:
+        found = plan.empty[key] = np.empty(shape)
+    return found
 
 
 def _run(plan: _KernelPlan, args: tuple) -> int:
