@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (each called once here: inlined once)
+from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (compiled once each; LLVM inlines them)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -201,9 +201,8 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 
 
 # -- kernel -----------------------------------------------------------------------------------------
-# One function, each piece of the engine written once (numba compiles a helper again at every call site
-# it inlines, and a helper it does not inline pays for its many arguments at every call; the placement,
-# the closure and LU of `_numba_blocks` are called once each): per position
+# One function, each piece of the engine written once (the placement, the closure and LU of
+# `_numba_blocks` are compiled on their own and inlined by LLVM, not by numba): per position
 # the atlas' predictor, then per block a loop in three phases: Newton (place, closure, the Jacobian's
 # columns by rate passes with unit unknown rates, factor, step), the velocity pass and the acceleration
 # pass (a rate pass, the closure's rates, the solve, the correction by the sensitivities).
