@@ -225,9 +225,10 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
     n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
-    ps[:, :] = 0.0
-    ps[1, :] = 1.0
-    rt[:, :, :] = 0.0  # the ground stays at rest; every other link is placed at every position
+    for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
+        ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
+        for sl in range(len(rt)):
+            rt[sl, 0, l], rt[sl, 1, l], rt[sl, 2, l] = 0.0, 0.0, 0.0
     lo = 0
     for b in range(len(x)):
         xb = x[b]
