@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from . import _threads
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (compiled once each; LLVM inlines them)
+from ._numba_blocks import LeanPipeline, _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -211,7 +211,7 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # allocated here, the caller passes every work array (`_scratch`).
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, pipeline_class=LeanPipeline)
 
 
 @_jit
