@@ -421,3 +421,24 @@ def test_a_batch_computes_only_the_points_asked_for(backend):
     assert np.array_equal(some.angle, full.angle) and np.array_equal(some.valid, full.valid)
     with pytest.raises(ValueError, match="Q: neither a joint nor a point"):
         design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, points=["Q"])
+
+
+@pytest.mark.skipif(__import__("importlib").util.find_spec("numba") is None, reason="numba not installed")
+def test_compiled_sweep_followed_position_by_position_equals_the_march():
+    """The compiled batch follows an ordered sweep position by position from each drawn pose; the same
+    positions shuffled take the march and its interpolant: both equal to 1e-12, and a design that locks
+    inside the sweep still gets its limits."""
+    vals = {"a": [0.08, 0.1, 0.12, 0.25], "b": [0.3, 0.3, 0.3, 0.2], "theta0": [10.0, 200.0, 359.5, 60.0],
+            "h": [0.0, 0.02, -0.03, 0.01]}
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    order = np.random.default_rng(3).permutation(len(phi))
+    followed = design_batch("models/fourbar_design.toml", vals, backend="numba").solve(phi)
+    marched = design_batch("models/fourbar_design.toml", vals, backend="numba").solve(np.tile(phi[order], (4, 1)))
+    back = np.argsort(order)
+    assert np.array_equal(followed.valid, marched.valid[:, back]) and followed.valid[:3].all()
+    assert not followed.valid[3].all() and followed.limits_of(3)
+    for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
+        a, b = getattr(followed, name), getattr(marched, name)[:, back]
+        assert np.nanmax(np.abs(a - b) / (1 + np.abs(b))) < 1e-12, name
+    assert [(lim.design, lim.direction, lim.phi) for lim in followed.limits] == \
+        [(lim.design, lim.direction, lim.phi) for lim in marched.limits]

@@ -136,7 +136,8 @@ def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
     """One thread's work arrays, in `_designs`' order: its own copies of the step and cut tables (a
     design's row is copied in), the pose, rate slots and caches of `_numba_kinematics`, a block's
     Jacobian (as solved and scaled) with its permutations, the unknowns and their rates, the drawn pose,
-    the march nodes and their interpolant, the march's current node."""
+    the march nodes and their interpolant, the march's current node, the last two positions followed
+    (q and dq/dφ) and the predicted dq/dφ."""
     vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
     m1 = max(m_all, 1)
     return (steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
@@ -146,7 +147,8 @@ def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
             np.zeros((m_max, m_max)), np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max),
             vec(m_max), vec(m_max), vec(m_all), vec(m_all), np.ones(n_blocks), vec(m_all), vec(m_all), vec(m_all),
             np.ones(n_blocks), np.zeros(MAX_NODES), np.zeros((MAX_NODES, 3, m1)), np.zeros((MAX_NODES, n_blocks)),
-            np.zeros((MAX_NODES, 6, m1)), vec(m_all), vec(m_all), vec(m_all), np.zeros(n_blocks))
+            np.zeros((MAX_NODES, 6, m1)), vec(m_all), vec(m_all), vec(m_all), np.zeros(n_blocks),
+            np.zeros((2, 2, m1)), vec(m_all))
 
 
 def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = True, threads=None) -> DesignResult:
@@ -539,12 +541,115 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
     return added, 0
 
 
+@_inline
+def _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, angle, wq, eq, xy, vq, aq):
+    """Write position n of design d from the solved pose ps and rates rt: every link's angle and ω_q
+    (ε_q), the chosen points' positions and velocity (acceleration) analogues."""
+    vel, acc = len(rt) - 2, len(rt) - 1
+    valid[d, n] = True
+    for l in range(angle.shape[2]):  # noqa: E741
+        angle[d, n, l] = ps[0, l] + reference[d, l]
+        wq[d, n, l] = rt[vel, 0, l]
+        if accelerations:
+            eq[d, n, l] = rt[acc, 0, l]
+    for p in range(point_link.shape[0]):
+        l = point_link[p]  # noqa: E741
+        c, s = ps[1, l], ps[2, l]
+        ax, ay = point_at[d, p, 0], point_at[d, p, 1]
+        rx, ry = c * ax - s * ay, s * ax + c * ay
+        w = rt[vel, 0, l]
+        xy[d, n, p, 0], xy[d, n, p, 1] = ps[3, l] + rx, ps[4, l] + ry
+        vq[d, n, p, 0], vq[d, n, p, 1] = rt[vel, 1, l] + w * -ry, rt[vel, 2, l] + w * rx
+        if accelerations:
+            e = rt[acc, 0, l]
+            aq[d, n, p, 0] = rt[acc, 1, l] + e * -ry - (w * w) * rx
+            aq[d, n, p, 1] = rt[acc, 2, l] + e * rx - (w * w) * ry
+
+
+@_jit
+def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0, q0, qd0, qdd0, dets0,
+            reference, point_at, point_link, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets,
+            jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
+    """Design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
+    drawn pose (q0, qd0, qdd0 per unit input; dets0) up through those above it and down through those
+    below, every position a march node: predicted from the two positions before it (the cubic Hermite
+    extrapolant of their q and dq/dφ; the first by the drawn pose's Taylor polynomial), corrected by the
+    block Newton and accepted by the march's rules (converged, not singular, within `max_correction`
+    of its prediction, dq/dφ within `rate_jump` of the predicted one, no change of sign of a block's
+    determinant), then written. At 1° the prediction is within ~1e-8 and one Newton step ends at the
+    rounding floor. Returns False when x[d] is not such a sweep or a position is not accepted: the
+    design then takes the march (which meets the limit or change point there)."""
+    max_correction, h_max, rate_jump, pivot_cross = tol[4], tol[6], tol[8], tol[3]
+    n_pos = x.shape[1]
+    m_all, n_blocks = len(blocks.var_scale), len(blocks.m)
+    var_scale = blocks.var_scale
+    reach = h_max * scale
+    up = n_pos  # the first position at or above the drawn one
+    for n in range(n_pos):
+        if n > 0 and not (x[d, n] > x[d, n - 1] and x[d, n] - x[d, n - 1] <= reach):
+            return False
+        if up == n_pos and x[d, n] >= phi0:
+            up = n
+    if (up < n_pos and not x[d, up] - phi0 <= reach) or (up > 0 and not phi0 - x[d, up - 1] <= reach):
+        return False
+    for side in range(2):
+        for i in range(m_all):
+            prev[1, 0, i], prev[1, 1, i] = q0[i], qd0[i]
+        for b in range(n_blocks):
+            signs[b] = _sign(dets0[b])
+        phi_a, phi_b, older = phi0, phi0, False
+        for k in range(n_pos - up if side == 0 else up):
+            n = up + k if side == 0 else up - 1 - k
+            xb = x[d, n]
+            if older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
+                w = phi_b - phi_a
+                t = (xb - phi_a) / w
+                t2 = t * t
+                t3 = t2 * t
+                h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, 3 * t2 - 2 * t3, t3 - t2
+                g00, g10, g11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, 3 * t2 - 2 * t
+                for i in range(m_all):
+                    qa, qda, qb, qdb = prev[0, 0, i], prev[0, 1, i], prev[1, 0, i], prev[1, 1, i]
+                    guess[i] = h00 * qa + h10 * w * qda + h01 * qb + h11 * w * qdb
+                    qdp[i] = g00 * (qa - qb) / w + g10 * qda + g11 * qdb
+            else:  # from the drawn pose: its Taylor polynomial
+                h = xb - phi_b
+                for i in range(m_all):
+                    guess[i] = prev[1, 0, i] + prev[1, 1, i] * h + 0.5 * qdd0[i] * h * h
+                    qdp[i] = prev[1, 1, i] + qdd0[i] * h
+            for i in range(m_all):
+                q[i] = guess[i]
+            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
+                                             accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s,
+                                             res, step, qd_u, qdd_u)
+            if not (converged and ratio >= pivot_cross):
+                return False
+            for i in range(m_all):
+                vs = var_scale[i]
+                if not abs(q[i] - guess[i]) * vs <= max_correction:
+                    return False
+                if not abs(qd[i] - qdp[i]) * vs * scale <= rate_jump * (1.0 + abs(qdp[i]) * vs * scale):
+                    return False
+            for b in range(n_blocks):
+                if _sign(dets[b]) != signs[b]:
+                    return False
+            _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, angle, wq, eq, xy, vq, aq)
+            if xb != phi_b:
+                phi_a, older = phi_b, True
+                for i in range(m_all):
+                    prev[0, 0, i], prev[0, 1, i] = prev[1, 0, i], prev[1, 1, i]
+            phi_b = xb
+            for i in range(m_all):
+                prev[1, 0, i], prev[1, 1, i] = q[i], qd[i]
+    return True
+
+
 @_jit
 def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
              reference, point_at, point_link, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
              limit_h, limit_q, limit_qd, limit_qdd, limit_signs, hermite, ps, rt, sc, cc, q, guess, jac, jac_s, perm,
              perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
-             qc, qdc, qddc, signs):
+             qc, qdc, qddc, signs, prev, qdp):
     """Every design of a part: its drawn pose, its march both ways, then its positions (see the module
     docstring); status (B,) as `STATUS`."""
     max_correction = tol[4]
@@ -575,7 +680,12 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         if not ratio >= tol[3]:
             status[d] = 2
             continue
-        # 2. the march down (stored reversed), the drawn pose, the march up
+        # 2. an ordered sweep at steps the march could take: followed position by position
+        if _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0,
+                   dets0, reference, point_at, point_link, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd,
+                   qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
+            continue
+        # 3. else the march down (stored reversed), the drawn pose, the march up
         total, state = 0, 0
         if lo[d] < phi0[d]:
             total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
@@ -615,7 +725,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                     coef[j, c, i] = (hermite[c, 0] * e0 + hermite[c, 1] * e1 + hermite[c, 2] * e2
                                      + hermite[c, 3] * e3 + hermite[c, 4] * e4 + hermite[c, 5] * e5)
         first, last = node_phi[0], node_phi[total - 1]
-        # 3. the requested positions
+        # 4. the requested positions
         for n in range(n_pos):
             xb = x[d, n]
             if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
@@ -650,22 +760,5 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             if not ok:
                 status[d] = 4
                 break
-            valid[d, n] = True
-            for l in range(n_links):  # noqa: E741
-                angle[d, n, l] = ps[0, l] + reference[d, l]
-                wq[d, n, l] = rt[vel, 0, l]
-                if accelerations:
-                    eq[d, n, l] = rt[acc, 0, l]
-            for p in range(n_points):
-                l = point_link[p]  # noqa: E741
-                c, s = ps[1, l], ps[2, l]
-                ax, ay = point_at[d, p, 0], point_at[d, p, 1]
-                rx, ry = c * ax - s * ay, s * ax + c * ay
-                w = rt[vel, 0, l]
-                xy[d, n, p, 0], xy[d, n, p, 1] = ps[3, l] + rx, ps[4, l] + ry
-                vq[d, n, p, 0], vq[d, n, p, 1] = rt[vel, 1, l] + w * -ry, rt[vel, 2, l] + w * rx
-                if accelerations:
-                    e = rt[acc, 0, l]
-                    aq[d, n, p, 0] = rt[acc, 1, l] + e * -ry - (w * w) * rx
-                    aq[d, n, p, 1] = rt[acc, 2, l] + e * rx - (w * w) * ry
+            _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, angle, wq, eq, xy, vq, aq)
     return 0
