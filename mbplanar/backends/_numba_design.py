@@ -42,6 +42,7 @@ __all__ = ["DesignTables", "design_tables", "solve", "STATUS"]
 STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
+TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
 
 
 @dataclass
@@ -142,7 +143,7 @@ def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
     m1 = max(m_all, 1)
     return (steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
             cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()),
-            np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
+            np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
             np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
             np.zeros((m_max, m_max)), np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max),
             vec(m_max), vec(m_max), vec(m_all), vec(m_all), np.ones(n_blocks), vec(m_all), vec(m_all), vec(m_all),
@@ -223,14 +224,14 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 
 # -- kernels ----------------------------------------------------------------------------------------
 # As in `_numba_kinematics`: scalar loops over arrays indexed in place, compiled without numba's reference
-# counting, nothing allocated, every work array passed by the caller. Pose ps (5, L): θ, cos θ, sin θ,
-# r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link; slots 0 … m−1 hold a block's
+# counting, nothing allocated, every work array passed by the caller. Pose ps (8, L): θ, cos θ, sin θ,
+# r_x, r_y per link, then each link's anchor angle θa, cos θa, sin θa (`_turn`). Rates rt (slots, 3, L): ω, v_x, v_y per link; slots 0 … m−1 hold a block's
 # sensitivities to its unknowns, then the velocities, then the accelerations. q, qd, qdd (M,) hold every
 # block's unknowns and their derivatives. The per-position building blocks (placement, closure, their
 # rates, the Jacobian, a block's rate pass) are the joint laws' arithmetic (`engine._constraints`), as
 # the sweep kernel has it written out in its loop.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
+_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
+_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath={"contract"})
 
 
 @_inline
@@ -355,10 +356,10 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
         polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
         for it in range(max_newton + 1):
             for k in range(k0, k1):
-                if it == 1 and not steps.prismatic[k]:
-                    _turn(k, steps, q, q_in, ps, sc)
-                else:
+                if steps.prismatic[k]:
                     _place(k, steps, q, q_in, ps, sc)
+                else:  # turned from where the link is (the last iterate, or the position before)
+                    _turn(k, steps, q, q_in, ps, sc)
             err = 0.0
             for k in range(c0, c1):
                 _closure(k, cuts, ps, cc, res, 2 * (k - c0))
@@ -414,19 +415,24 @@ _solve_inline = _inline(_solve.py_func)
 
 @_inline
 def _turn(k, steps, q, q_in, ps, sc):
-    """`_place` of a revolute step k whose child was placed at the previous Newton iterate: cos and sin
-    of the new angle from the old ones by the angle-addition formulas (the correction δ is small, its
-    cos and sin series exact to rounding), the rest as `_place`. A large δ is placed afresh."""
+    """`_place` of a revolute step k by turning its child from an anchor angle θa, whose cos and sin were
+    computed by `_place` (ps[5:8, child]): cos and sin of the new angle by the angle-addition formulas,
+    those of the turn δ = θ − θa by their series (|δ| < `TURN`: the first omitted terms, δ¹⁰/10! and
+    δ¹¹/11!, are below 1e-19), so that every placement is one rotation from exactly computed values and
+    no rounding accumulates. A larger turn is placed by `_place` and becomes the anchor."""
     parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
     value = q[var] if var >= 0 else steps.sign[k] * q_in
     t = ps[0, parent] + value if rel else value
-    delta = t - ps[0, child]
-    if not abs(delta) < 1e-4:
+    delta = t - ps[5, child]
+    if not abs(delta) < TURN:
         _place(k, steps, q, q_in, ps, sc)
+        ps[5, child], ps[6, child], ps[7, child] = ps[0, child], ps[1, child], ps[2, child]
         return
     d2 = delta * delta
-    cd, sd = 1.0 - 0.5 * d2 * (1.0 - d2 / 12.0), delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0))
-    c0, s0 = ps[1, child], ps[2, child]
+    cd = 1.0 - 0.5 * d2 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))))
+    sd = delta * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
+                                                                         * (1.0 - d2 * (1.0 / 72.0)))))
+    c0, s0 = ps[6, child], ps[7, child]
     cc, ss = c0 * cd - s0 * sd, s0 * cd + c0 * sd
     cp, sp = ps[1, parent], ps[2, parent]
     s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
@@ -660,6 +666,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
     vel, acc = len(rt) - 2, len(rt) - 1
     ps[:, :] = 0.0
     ps[1, :] = 1.0
+    ps[6, :] = 1.0  # every link's anchor (`_turn`) at 0
     for d in range(n_designs):
         for k in range(len(steps.parent)):
             steps.s0[k, 0], steps.s0[k, 1] = step_s0[d, k, 0], step_s0[d, k, 1]
