@@ -408,8 +408,8 @@ def test_progress_bar_only_when_asked_or_on_a_terminal(tmp_path, capsys):
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_a_batch_computes_only_the_points_asked_for(backend):
-    """`points=` and `accelerations=False` leave the rest out and change nothing in what is computed;
-    an unknown point is refused."""
+    """`points=`, `links=` and `accelerations=False` leave the rest out and change nothing in what is
+    computed; an unknown point or link is refused."""
     vals = {"a": [0.08, 0.1, 0.12], "h": [0.0, 0.02, -0.03]}
     phi = np.radians(np.arange(0.0, 360.0, 10.0))
     full = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi)
@@ -421,6 +421,18 @@ def test_a_batch_computes_only_the_points_asked_for(backend):
     assert np.array_equal(some.angle, full.angle) and np.array_equal(some.valid, full.valid)
     with pytest.raises(ValueError, match="Q: neither a joint nor a point"):
         design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, points=["Q"])
+    # `links=` likewise: the links asked for, in their order, or none
+    two = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, links=["3", "1"])
+    k = [full.link("3"), full.link("1")]
+    assert two.links == ["3", "1"] and two.angle.shape == (3, len(phi), 2)
+    for name in ("angle", "wq", "eq"):
+        assert np.array_equal(getattr(two, name), getattr(full, name)[:, :, k])
+    assert np.array_equal(two.xy, full.xy) and np.array_equal(two.aq, full.aq)
+    none = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, points=["M"], links=[],
+                                                                                   accelerations=False)
+    assert none.angle.shape == (3, len(phi), 0) and np.array_equal(none.vq, some.vq[:, :, :1])
+    with pytest.raises(ValueError, match="7: not a link"):
+        design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, links=["7"])
 
 
 @pytest.mark.skipif(__import__("importlib").util.find_spec("numba") is None, reason="numba not installed")

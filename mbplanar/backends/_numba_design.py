@@ -52,7 +52,7 @@ class DesignTables:
     step_s0, step_u0 (D, S, 2): each tree step's joint point and guide direction; cut_s0, cut_n0
     (D, C, 2): each cut's point and guide normal; phi0 (D,): the drawn input value (SI); reference (D, L):
     each link's drawn angle; point_at (D, P, 2) and point_link (P,): the chosen points, drawn, and their
-    links."""
+    links; link_out (K,): the links whose angle and rates are written."""
 
     steps: tuple
     cuts: tuple
@@ -65,6 +65,7 @@ class DesignTables:
     reference: np.ndarray
     point_at: np.ndarray
     point_link: np.ndarray
+    link_out: np.ndarray
 
 
 def _step_joints(engine) -> tuple[list, list]:
@@ -75,10 +76,11 @@ def _step_joints(engine) -> tuple[list, list]:
 
 
 def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
-                  designs) -> DesignTables:
+                  designs, link_out=None) -> DesignTables:
     """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
     guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
-    `point_link` their links' indices."""
+    `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
+    wanted (default all)."""
     steps, cuts, blocks, _ = kinematics_tables(engine, _tables(engine)[1])
     step_names, cut_names = _step_joints(engine)
     kind = {name: j.kind for name, j in engine.mech.joints.items()}
@@ -98,15 +100,16 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
                         np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
                         np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
                                              .reshape(len(designs), len(points), 2)),
-                        np.asarray(point_link, np.int64))
+                        np.asarray(point_link, np.int64),
+                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
 
 
 @dataclass
 class DesignResult:
     """What the kernel gives per design (B designs × N positions).
 
-    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, L); eq (B, N, L) or None; xy, vq (B, N, P, 2);
-    aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
+    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, K) of the links `link_out`; eq (B, N, K) or None;
+    xy, vq (B, N, P, 2); aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
     phi (B, 2) the last node's input value, h (B, 2) the last step tried, q, qd, qdd (B, 2, M) the last
     node's unknowns and their derivatives along the march parameter, signs (B, 2, n_blocks)."""
 
@@ -176,7 +179,7 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
     """
     x = np.ascontiguousarray(x, float)
     count, n = x.shape
-    n_links, n_points = tables.reference.shape[1], tables.point_link.shape[0]
+    n_links, n_points = tables.link_out.shape[0], tables.point_link.shape[0]
     n_blocks = len(tables.blocks.m)
     m_all = int(tables.blocks.m.sum())
     m_max = max([1] + [int(m) for m in tables.blocks.m])
@@ -206,8 +209,8 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 
     def call(p, w):
         return _designs(w[0], w[1], t.blocks, uniform, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
-                        t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, x[p],
-                        lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
+                        t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, t.link_out,
+                        x[p], lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
                         xy[p], vq[p], aq[p] if accelerations else aq, limit[p], limit_phi[p], limit_h[p], limit_q[p],
                         limit_qd[p], limit_qdd[p], limit_signs[p], HERMITE5, *w[2:])
 
@@ -548,16 +551,18 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
 
 
 @_inline
-def _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, angle, wq, eq, xy, vq, aq):
-    """Write position n of design d from the solved pose ps and rates rt: every link's angle and ω_q
-    (ε_q), the chosen points' positions and velocity (acceleration) analogues."""
+def _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq,
+           aq):
+    """Write position n of design d from the solved pose ps and rates rt: the chosen links' angle and
+    ω_q (ε_q), the chosen points' positions and velocity (acceleration) analogues."""
     vel, acc = len(rt) - 2, len(rt) - 1
     valid[d, n] = True
-    for l in range(angle.shape[2]):  # noqa: E741
-        angle[d, n, l] = ps[0, l] + reference[d, l]
-        wq[d, n, l] = rt[vel, 0, l]
+    for j in range(link_out.shape[0]):
+        l = link_out[j]  # noqa: E741
+        angle[d, n, j] = ps[0, l] + reference[d, l]
+        wq[d, n, j] = rt[vel, 0, l]
         if accelerations:
-            eq[d, n, l] = rt[acc, 0, l]
+            eq[d, n, j] = rt[acc, 0, l]
     for p in range(point_link.shape[0]):
         l = point_link[p]  # noqa: E741
         c, s = ps[1, l], ps[2, l]
@@ -574,7 +579,8 @@ def _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, 
 
 @_jit
 def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0, q0, qd0, qdd0, dets0,
-            reference, point_at, point_link, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets,
+            reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd,
+            dets,
             jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
     """Design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
     drawn pose (q0, qd0, qdd0 per unit input; dets0) up through those above it and down through those
@@ -639,7 +645,7 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
             for b in range(n_blocks):
                 if _sign(dets[b]) != signs[b]:
                     return False
-            _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, angle, wq, eq, xy, vq, aq)
+            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
             if xb != phi_b:
                 phi_a, older = phi_b, True
                 for i in range(m_all):
@@ -652,7 +658,7 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
 
 @_jit
 def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
-             reference, point_at, point_link, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
+             reference, point_at, point_link, link_out, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
              limit_h, limit_q, limit_qd, limit_qdd, limit_signs, hermite, ps, rt, sc, cc, q, guess, jac, jac_s, perm,
              perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
              qc, qdc, qddc, signs, prev, qdp):
@@ -689,7 +695,8 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             continue
         # 2. an ordered sweep at steps the march could take: followed position by position
         if _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0,
-                   dets0, reference, point_at, point_link, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd,
+                   dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q,
+                   guess, qd,
                    qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
             continue
         # 3. else the march down (stored reversed), the drawn pose, the march up
@@ -767,5 +774,5 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             if not ok:
                 status[d] = 4
                 break
-            _store(d, n, ps, rt, reference, point_at, point_link, accelerations, valid, angle, wq, eq, xy, vq, aq)
+            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
     return 0
