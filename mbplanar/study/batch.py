@@ -478,28 +478,30 @@ class DesignBatch:
 
     def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
         """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
-        pose, links = sol.pose, self.engine.links
-        th = np.stack([pose.th[n] for n in links])  # (L, T)
-        c, s = np.cos(th), np.sin(th)
-        r = np.stack([pose.r[n] for n in links], axis=1)  # (2, L, T)
+        pose, links = sol.pose, list(self.engine.links)
         where = rows[take]
-        reference = np.stack([self.geometry.reference[n][where] for n in links])
+        chosen = [links.index(n) for n in out.links]  # the links asked for
+        if chosen:
+            th = np.stack([pose.th[links[i]] for i in chosen])  # (K, T)
+            th = th + np.stack([self.geometry.reference[links[i]][where] for i in chosen])
+        else:
+            th = np.zeros((0, len(take)))
         wq, eqq = sol.w.T, sol.e.T  # (L, T)
         vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
         at = np.stack([self.geometry.at[n][:, where] for n in out.points], axis=1)  # (2, P, T)
         li = np.array([self.point_link[self.points.index(n)] for n in out.points], int)
-        cp, sp = c[li], s[li]
+        cp = np.stack([pose.c[links[i]] for i in li])  # the points' links' cos and sin, as placed (P, T)
+        sp = np.stack([pose.s[links[i]] for i in li])
         rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
         w, e = wq[li], eqq[li]
         turned = np.stack([-rho[1], rho[0]])
-        xy = r[:, li] + rho
+        xy = np.stack([pose.r[links[i]] for i in li], axis=1) + rho
         vq = vf[:, li] + w * turned
         d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
         ok = good[take]
         out.valid[d_idx, n_idx] = ok
         bad = ~ok
-        chosen = [list(links).index(n) for n in out.links]  # the links asked for
-        links_out = [(out.angle, (th + reference)[chosen]), (out.wq, wq[chosen])]
+        links_out = [(out.angle, th), (out.wq, wq[chosen])]
         points_out = [(out.xy, xy), (out.vq, vq)]
         if out.eq is not None:
             links_out.append((out.eq, eqq[chosen]))
