@@ -374,11 +374,12 @@ class DesignBatch:
         out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, links, names,
                            *[None] * 6)
         self.nodes = None
+        whole = len(designs) == D
         if len(designs):
             tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
                                           [eng.link_index[n] for n in links])
-            got = kernel.solve(eng, tables, phi[designs], self.scale, accelerations, eng.threads)
-        whole = len(designs) == D
+            got = kernel.solve(eng, tables, out.phi if whole else phi[designs], self.scale, accelerations,
+                               eng.threads)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
@@ -395,7 +396,10 @@ class DesignBatch:
             out.reasons = list(self.reasons)
             self.motion = out
             return out
-        out.valid[designs] = got.valid
+        if whole:
+            out.valid = got.valid
+        else:
+            out.valid[designs] = got.valid
         words = {kernel.STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
                  kernel.STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
                                              "or a change point)")}
