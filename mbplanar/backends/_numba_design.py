@@ -13,8 +13,12 @@ method. Per design the kernel
    bracket is handed back for the engine's fold Newton; a change point hands the design back;
 3. predicts every requested position by the quintic Hermite interpolant of its nodes, corrects it by
    the block Newton, checks it (converged, same signs as the nearest node, a correction within
-   `max_correction`) and writes its link angles, analogue rates and the chosen points' positions,
-   velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
+   `max_correction`) and writes the chosen links' angles and analogue rates and the chosen points'
+   positions, velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
+
+When a design's input values are an ordered sweep with no gap wider than `h_max` (`_follow`), steps 2
+and 3 are one: the sweep itself is walked from the drawn pose, every requested position a march node
+accepted by the march's rules and written at once; a position they refuse sends the design to step 2.
 
 The per-design constants (every joint's point in the link frames, each guide's direction, the drawn
 input value, each link's drawn angle, the chosen points) are tables with a design axis; before a design
