@@ -132,3 +132,48 @@ def test_what_the_compiled_path_does_not_take_is_numpy():
     np.testing.assert_array_equal(kinetostatics(fast_engine, ref).reactions["F"].fx,
                                   kinetostatics(ref_engine, ref).reactions["F"].fx)
 
+
+
+@pytest.mark.parametrize("batch", [2, 127, 129, 300])
+def test_batches_across_chunks_same_as_numpy(batch):
+    """The kernel takes the positions a chunk at a time: a batch much shorter than a chunk, one position
+    either side of a chunk's end, several chunks; on a class III group (its dense part pivots position
+    by position) and the six-bar press (a guide load)."""
+    from mbplanar.backends._numba_kinetostatics import CHUNK
+    assert CHUNK == 128  # (the batches above straddle it)
+    for name in ("class3_triad", "six_bar_press"):
+        mech = mbplanar.read_model(MODELS / f"{name}.toml")
+        engine = mbplanar.Engine(mech)
+        phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, batch, endpoint=False)
+        (ref_engine, ref), (fast_engine, fast) = _motions(mech, phi)
+        _assert_same(kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast))
+
+
+def test_one_compiled_kernel_for_every_model():
+    """The models differ in the kernel's program (data), not in its code: numba compiles one kernel."""
+    from mbplanar.backends import _numba_kinetostatics
+    for name in FORCE_MODELS:
+        mech = mbplanar.read_model(MODELS / f"{name}.toml")
+        engine = mbplanar.Engine(mech, backend="numba")
+        if len(engine.inputs) == 1:
+            kinetostatics(engine, mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 1.0, 5)))
+    assert len(_numba_kinetostatics._kernel.signatures) == 1
+
+
+def test_prismatic_input_same_as_numpy(tmp_path):
+    """A slider-crank driven at its slider: the balancing load is a force along the guide (its lever is
+    a feature of its own), the same as numpy's."""
+    text = (MODELS / "slider_crank.toml").read_text()
+    for link, extra in (('"1", length = 0.1', 'mass = 1.5, inertia = 0.01, centre = "A"'),
+                        ('"2", length = 0.3', 'mass = 2.0, inertia = 0.03, centre = "B"'),
+                        ('"3"', 'mass = 4.0, centre = "B"')):
+        text = text.replace(f"{{ name = {link} }}", f"{{ name = {link}, {extra} }}")
+    text = text.replace('joint = "O"\ndrawn_at = 45.0', 'joint = "Bp"\ndrawn_at = 0.0')
+    (tmp_path / "driven_slider.toml").write_text(text)
+    mech = mbplanar.read_model(tmp_path / "driven_slider.toml")
+    assert mech.joints[mbplanar.Engine(mech).inputs[0].joint].kind == "P"
+    engine = mbplanar.Engine(mech)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, engine.phi_drawn[0] + np.linspace(-0.1, 0.1, 200), 0.5, 0.1)
+    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
+    assert np.all(np.abs(a.balancing["Bp"]) > 0)
+    _assert_same(a, b)

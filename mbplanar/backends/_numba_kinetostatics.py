@@ -1,47 +1,55 @@
 """Compiled kinetostatics of a compiled one-input `Motion` (optional, needs numba): the loads, the
-d'Alembert loads, the assembled system and the virtual-power check, position by position, reading the
-rows the compiled kinematics wrote (`Motion.rows`) while they are in the cache.
+d'Alembert loads, the assembled system and the virtual-power check, reading the records the compiled
+kinematics wrote (`Motion.rows`).
 
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
-blocks, their pivots and fill-in (`_Block.fill`) come from `kinetostatics._plan`; the loads' constant
-parts, guide-force sizes and heavy links from `loads`; the formulas are numpy's written per position,
-in the same order (but for one thing: the moments are divided by the model size as a product with its
-reciprocal, a division costing several multiplications here). It takes the model's loads with or
+blocks (one per Assur group, last attached first), their constant pivots and fill-in (`_Block.fill`)
+come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes and heavy links from
+`loads`. Once per engine (and record layout), `_program` writes numpy's formulas, in numpy's order, as a
+list of elementary ops on the rows of a work matrix, one row per value and one column per position of
+a chunk of `CHUNK` positions; `_kernel` runs the ops one after the other, each over the whole chunk in
+an inner loop (SIMD lanes), so the tables are read once per chunk, not once per position. The kernel is
+one small function of 18 kinds of op whatever the model, so numba compiles it once, in about 1.5 s.
+
+Two things differ from numpy by rounding only: the moments are divided by the model size as a product
+with its reciprocal, and the dense part of a class III or higher group (LU with partial pivoting, each
+position its own pivot rows) substitutes forward while it eliminates. It takes the model's loads with or
 without the inertia loads, and no input inertia; anything else stays with numpy. Tests hold both equal
 to rounding.
 """
 
 from __future__ import annotations
 
+import math
+from collections import defaultdict
 from dataclasses import dataclass
 
 import numba
 import numpy as np
 
 from . import _threads
-from ._numba_kinematics import _lu, _lu_solve
-from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, ForceBlockTables, load_tables
+from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
 from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
 
-# row fields the kernel reads, in the order of its `offsets` argument
+# the record fields (`_numba_kinematics.FIELDS`, `RATE_FIELDS`) the program reads
 _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 
 
 @dataclass
 class _KernelPlan:
-    """The model's loads and the system's structure as arrays in `_kernel`'s order, built once per
-    engine and row layout: `names`, `links` of the loads in the order numpy lists them; `guide_loads`,
-    the rows whose size `guide_force_size` gives; `args`; `sizes` of the kernel's work arrays and
-    `scratch`, one set of them per thread."""
+    """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
+    numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
+    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, and `scratch`, one
+    work matrix per thread."""
 
     names: list
     links: list
     guide_loads: list
     args: tuple
-    sizes: tuple
+    rows: int
     scratch: list
 
 
@@ -75,81 +83,402 @@ def _load_table(engine, inertia):
     return names, [r[1] for r in rows], guides, load_tables(rows)
 
 
-def _block_tables(blocks):
-    """The blocks flattened: (K, 12) int per block: size, first row/column, entries, earlier-column
-    entries, pivots, rest and zeros (start, end each); then rows, columns, entries (i, j, feature) and
-    their coefficients, earlier entries (i, column, feature) and coefficients, pivots (i, j, affected
-    start, end, columns start, end), affected rows, pivot-row columns, rest rows, rest columns, zeros
-    (i, j)."""
-    table, rows, own, ent_i, ent_c, lat_i, lat_c, piv, aff, pcol, rest_r, rest_c, zero = ([] for _ in range(13))
-    for blk in blocks:
-        zeros = _zeros(blk)
-        table.append((len(blk.rows), len(rows), len(ent_i), len(ent_i) + len(blk.entries), len(lat_i),
-                      len(lat_i) + len(blk.later), len(piv), len(piv) + len(blk.pivots), len(rest_r),
-                      len(rest_r) + len(blk.rest_rows), len(zero), len(zero) + len(zeros)))
-        zero += zeros
-        rows += list(blk.rows)
-        own += list(blk.own)
-        ent_i += [(i, j, f) for i, j, f, _ in blk.entries]
-        ent_c += [coef for *_, coef in blk.entries]
-        lat_i += [(i, c, f) for i, c, f, _ in blk.later]
-        lat_c += [coef for *_, coef in blk.later]
-        for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
-            piv.append((i, j, len(aff), len(aff) + len(affected), len(pcol), len(pcol) + len(columns)))
-            aff += affected
-            pcol += columns
-        rest_r += blk.rest_rows
-        rest_c += blk.rest_cols
-    ints = lambda x, w=None: np.array(x, np.int64).reshape((-1, w) if w else -1)  # noqa: E731
-    table = ints(table, 12)
-    return ForceBlockTables(*(np.ascontiguousarray(table[:, c]) for c in range(12)), ints(rows), ints(own),
-                            ints(ent_i, 3), np.array(ent_c, float), ints(lat_i, 3), np.array(lat_c, float),
-                            ints(piv, 6), ints(aff), ints(pcol), ints(rest_r), ints(rest_c), ints(zero, 2))
+class _Tape:
+    """The kernel's program under construction: ops (code, d, a, b, e, f, k) on rows of a work matrix
+    (one row per value, one column per position of a chunk), constants, and the dense groups' row lists.
+    A value is computed once (`val` remembers it until a row it reads is written again); rows are
+    virtual until `finish` maps them onto as few rows as their lifetimes allow."""
+
+    def __init__(self):
+        self.ops, self.consts, self.aux, self.rows = [], [], [], 0
+        self._const, self._memo, self._uses, self._shared, self._known = {}, {}, {}, set(), {}
+
+    def const(self, value) -> int:
+        value = float(value)
+        key = (value, bool(np.signbit(value)))
+        if key not in self._const:
+            self._const[key] = len(self.consts)
+            self.consts.append(value)
+        return self._const[key]
+
+    def consts2(self, u, v) -> int:
+        """Two constants next to each other (read as K[k], K[k + 1])."""
+        key = (float(u), float(v), bool(np.signbit(u)), bool(np.signbit(v)))
+        if key not in self._const:
+            self._const[key] = len(self.consts)
+            self.consts += [float(u), float(v)]
+        return self._const[key]
+
+    def fresh(self, code, a=0, b=0, e=0, f=0, k=0) -> int:
+        """A new row computed by op `code` (one that later ops may write again)."""
+        self.rows += 1
+        self.ops.append((code, self.rows - 1, a, b, e, f, k))
+        return self.rows - 1
+
+    def val(self, code, a=0, b=0, e=0, f=0, k=0) -> int:
+        """The row of a value, computed by op `code` unless it already was (or, when what it reads is
+        constant, here, with the same floating-point operations)."""
+        folded = self._fold(code, a, b, e, f, k)
+        if folded is not None:
+            return self.value(folded)
+        key = (code, a, b, e, f, k)
+        if key not in self._memo:
+            self._memo[key] = d = self.fresh(code, a, b, e, f, k)
+            self._shared.add(d)
+            for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
+                self._uses.setdefault(r, []).append(key)
+        return self._memo[key]
+
+    def _fold(self, code, a, b, e, f, k):
+        """The value of op `code` if the rows it reads hold constants (None if not, or if Python's
+        arithmetic would raise where the kernel's gives an infinity or a NaN)."""
+        if code not in _FOLD:
+            return None
+        known = self._known
+        try:
+            v = [known[r] for r in (a, b, e, f)[:len(_W_FIELDS[code]) - 1]]
+        except KeyError:
+            return None
+        if any(math.isnan(u) for u in v) or (code == DIV and v[1] == 0.0) or (code == SQRT and v[0] < 0.0):
+            return None
+        if code == LEVER:
+            return ((v[0] + v[1]) + self.consts[k]) * self.consts[k + 1]
+        return _FOLD[code](*v)
+
+    def into(self, code, d, a=0, b=0, e=0, f=0, k=0) -> int:
+        """Op `code` writing row d again: the values read from d are forgotten."""
+        self.ops.append((code, d, a, b, e, f, k))
+        self.written(d)
+        return d
+
+    def written(self, d):
+        for key in self._uses.pop(d, []):
+            self._memo.pop(key, None)
+        for key in [key for key, row in self._memo.items() if row == d]:
+            del self._memo[key]
+
+    def out(self, code, to, a=0, b=0):
+        self.ops.append((code, to, a, b, 0, 0, 0))
+
+    def private(self, row) -> int:
+        """`row`, or a copy of it where other values may be the same row (an op writing it again
+        would change them too)."""
+        if row in self._shared:
+            return self.fresh(MUL, row, self.value(1.0))
+        self._shared.add(row)  # (a second request copies)
+        return row
+
+    def set(self, value) -> int:
+        return self.fresh(SET, k=self.const(value))
+
+    def value(self, value) -> int:
+        key = (SET, 0, 0, 0, 0, self.const(value))
+        if key not in self._memo:
+            self._memo[key] = d = self.fresh(*key[:1], k=key[5])
+            self._shared.add(d)
+            self._known[d] = float(value)
+        return self._memo[key]
+
+    def add(self, a, b):
+        return self.val(MADD, a, b, self.value(1.0))
+
+    def sub(self, a, b):
+        return self.val(MSUB, a, b, self.value(1.0))
+
+    def mul(self, a, b):
+        return self.val(MUL, a, b)
+
+    def div(self, a, b):
+        return self.val(DIV, a, b)
+
+    def mulk(self, a, value):
+        return self.val(MUL, a, self.value(value))
+
+    def finish(self) -> tuple:
+        """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
+        taken again once the last op touching it has run."""
+        gathered = sorted((op[2], op[1]) for op in self.ops if op[0] == GATHER)  # (column, row)
+        ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in self.ops if op[0] != GATHER]
+        ops = np.array(ops, np.int64).reshape(-1, 7)
+        aux = np.array(self.aux + [v for pair in gathered for v in pair], np.int64)
+        touched = [_touches(op, aux) for op in ops]
+        last = {}
+        for t, rows in enumerate(touched):
+            for r in rows:
+                last[r] = t
+        phys, free, top = {}, [], 0
+        for t, rows in enumerate(touched):
+            for r in rows:
+                if r not in phys:
+                    if free:
+                        phys[r] = free.pop()
+                    else:
+                        phys[r], top = top, top + 1
+            for r in set(rows):
+                if last[r] == t:
+                    free.append(phys[r])
+        mapped = aux.copy()
+        for op in ops:
+            for field in _W_FIELDS[op[0]]:
+                op[field] = phys[op[field]]
+            for i in _aux_rows(op):
+                mapped[i] = phys[aux[i]]
+        return ops, np.array(self.consts + [0.0]), np.concatenate([mapped, np.zeros(1, np.int64)]), max(top, 1)
 
 
-def _zeros(blk) -> list:
-    """The positions of a block's dense matrix that are read but hold no entry: fill-in, and the rest
-    of the square solved densely."""
-    entries = {(i, j) for i, j, _, _ in blk.entries}
-    read = {(k, jj) for (i, j), (affected, columns) in zip(blk.pivots, blk.fill) for k in affected for jj in columns}
-    read |= {(i, j) for i in blk.rest_rows for j in blk.rest_cols}
-    return sorted(read - entries)
+def _touches(op, aux) -> list:
+    """The virtual rows an op reads or writes."""
+    return [op[f] for f in _W_FIELDS[op[0]]] + [aux[i] for i in _aux_rows(op)]
+
+
+def _aux_rows(op) -> range:
+    """Where `aux` names the rows of W an op reads or writes."""
+    if op[0] == PIVOT:
+        return range(op[2], op[2] + op[3] * (op[3] + 1))
+    if op[0] == GATHER:
+        return range(op[2] + 1, op[2] + 2 * op[3], 2)
+    return range(0)
+
+
+# op codes of `_kernel` (code, d, a, b, e, f, k): W is the work matrix (rows, chunk), c a position of the
+# chunk, b = b0 + c its position in the batch, K the constants. Sums and differences are MADD and MSUB
+# with a row of ones, products by a constant MUL with a row of it, x·y − u·v is x·y + u·(−v): the same
+# numbers (x·1 = x, x − y = x + (−y) exactly).
+GATHER = 0   # W[d] = row[b, a]            (a: a column of the records; `finish` makes all of them one op,
+#              W[aux[a + 2i + 1]] = row[b, aux[a + 2i]] for i < b, reading each record once)
+INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
+SET = 2      # W[d] = K[k]
+MUL = 3      # W[d] = W[a] · W[b]
+DIV = 4      # W[d] = W[a] / W[b]
+MAX = 5      # W[d] = max(W[a], W[b])
+SQRT = 6     # W[d] = √W[a]
+ABS = 7      # W[d] = |W[a]|
+MSUB = 8     # W[d] = W[a] − W[b] · W[e]
+MADD = 9     # W[d] = W[a] + W[b] · W[e]
+DOT = 10     # W[d] = W[a] · W[b] + W[e] · W[f]
+LEVER = 11   # W[d] = ((W[a] + W[b]) + K[k]) · K[k + 1]
+OUT = 12     # out[d, b] = W[a]
+FLAG = 13    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
+PIVOT = 14   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
+#              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
+_ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
+# the ops `_Tape` computes itself on constants, as the kernel would
+_FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max(a, b), SQRT: math.sqrt, ABS: abs,
+         MSUB: lambda a, b, e: a - b * e, MADD: lambda a, b, e: a + b * e, DOT: lambda a, b, e, f: a * b + e * f,
+         LEVER: None}
+# the fields of each op that name rows of W
+_W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
+             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,)}
+
+
+def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
+    """The kernel's program for an engine, its record layout and `inertia`: (names, links and guide
+    loads of the loads, the `_Tape`), numpy's formulas in numpy's order, op by op."""
+    mech, lay, T = engine.mech, ks_plan.lay, _Tape()
+    names, links, guides, loads = _load_table(engine, inertia)
+    field = {name: row_dtype.fields[name][1] // 8 for name in _READS}
+    per_link = {"cos": ("cos", 1, 0), "sin": ("sin", 1, 0), "rx": ("r", 2, 0), "ry": ("r", 2, 1),
+                "fvx": ("fv", 2, 0), "fvy": ("fv", 2, 1), "fax": ("fa", 2, 0), "fay": ("fa", 2, 1),
+                "wq": ("wq", 1, 0), "eq": ("eq", 1, 0)}
+
+    def fr(k, name):  # a field of link k's frame
+        base, width, part = per_link[name]
+        return T.val(GATHER, field[base] + width * k + part)
+
+    def turn(k, at):  # the drawn vector `at` turned with link k: (c·x − s·y, s·x + c·y)
+        co, si = fr(k, "cos"), fr(k, "sin")
+        ax, ay = T.value(at[0]), T.value(at[1])
+        return T.val(DOT, co, ax, si, T.value(-at[1])), T.val(DOT, si, ax, co, ay)
+
+    def point(k, at):  # the point drawn at `at` on link k
+        ux, uy = turn(k, at)
+        return T.add(fr(k, "rx"), ux), T.add(fr(k, "ry"), uy)
+
+    cx, cy = ks_plan.centre
+    inv_size = 1.0 / engine.size
+    # the entries' features (kinetostatics._features)
+    p_names, p_link, p_at = _tables(engine)[0]
+    point_of = {name: k for k, name in enumerate(p_names)}
+    feat = [T.value(1.0)]
+    for name in ks_plan.joints:
+        p = point_of[name]
+        k = int(p_link[p])
+        ux, uy = turn(k, p_at[p])
+        feat += [T.val(LEVER, fr(k, "rx"), ux, k=T.consts2(-cx, inv_size)),
+                 T.val(LEVER, fr(k, "ry"), uy, k=T.consts2(-cy, inv_size))]
+    for name in ks_plan.guides:
+        feat += turn(engine.link_index[mech.joints[name].carrier], engine.laws[name].u0)
+    base = 1 + 2 * len(ks_plan.joints)
+    for g, j in ks_plan.p_inputs:
+        ux, uy = feat[base + 2 * g], feat[base + 2 * g + 1]
+        feat.append(T.val(DOT, feat[1 + 2 * j], uy, feat[2 + 2 * j], T.mulk(ux, -1.0)))
+    # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
+    n = lay.size
+    bvec = [T.value(0.0)] * n
+    values = []
+    om, ep = T.val(INPUT, 0), T.val(INPUT, 1)
+    om2 = T.mul(om, om)
+    for ld in range(len(loads.link)):
+        k = int(loads.link[ld])
+        rx, ry = turn(k, loads.at[ld])
+        px, py = point(k, loads.at[ld])
+        if loads.inertia[ld]:  # d'Alembert: −m·a at the centre, −I·ε
+            wq = fr(k, "wq")
+            wr, er = T.mul(wq, om), T.val(DOT, fr(k, "eq"), om2, wq, ep)  # real ω, ε (Motion.w, Motion.e)
+            ax = T.val(DOT, fr(k, "fax"), om2, fr(k, "fvx"), ep)
+            ay = T.val(DOT, fr(k, "fay"), om2, fr(k, "fvy"), ep)
+            ax, ay = T.val(MSUB, ax, er, ry), T.val(MADD, ay, er, rx)
+            w2 = T.mul(wr, wr)
+            ax, ay = T.val(MSUB, ax, w2, rx), T.val(MSUB, ay, w2, ry)
+            fx, fy = T.mulk(ax, -loads.mass[ld]), T.mulk(ay, -loads.mass[ld])
+            mz = T.mulk(er, -loads.moment_of_inertia[ld])
+        elif loads.guide[ld] >= 0:  # along the guide of the carrier
+            ux, uy = turn(int(loads.carrier[ld]), loads.u0[ld])
+            size = T.val(INPUT, 2 + int(loads.guide[ld]))
+            fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
+        else:
+            fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
+        for i, v in enumerate((fx, fy, px, py, mz)):
+            T.out(OUT, n + 5 * ld + i, v)
+        values.append((k, fx, fy, px, py, mz))
+        r = lay.rows.get(k)
+        if r is not None:
+            bvec[r] = T.val(MSUB, bvec[r], fx, T.value(1.0))
+            bvec[r + 1] = T.val(MSUB, bvec[r + 1], fy, T.value(1.0))
+            lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
+            m = T.add(T.val(DOT, lx, fy, ly, T.mulk(fx, -1.0)), mz)
+            bvec[r + 2] = T.val(MSUB, bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
+    # the blocks, last group first (kinetostatics._solve_blocks)
+    x = [None] * n
+    bad = T.set(0.0)
+    for blk in ks_plan.blocks:
+        _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
+    out_bad = n + 5 * len(loads.link) + 2
+    for i in range(n):
+        if lay.scale[i] != 1.0:  # (x·1 = x)
+            x[i] = T.mulk(x[i], lay.scale[i])
+        T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
+    for i in range(n):
+        T.out(OUT, i, x[i])  # (`solve` writes NaN where singular)
+    T.out(OUT, out_bad, bad)
+    # virtual power with the analogues (kinetostatics._virtual_power)
+    speed = T.value(0.0)
+    for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
+        k = int(p_link[p])
+        (ux, uy), wq = turn(k, p_at[p]), fr(k, "wq")
+        vx, vy = T.val(MSUB, fr(k, "fvx"), wq, uy), T.val(MADD, fr(k, "fvy"), wq, ux)
+        speed = T.val(MAX, speed, T.val(DOT, vx, vx, vy, vy))
+    speed = T.val(SQRT, speed)  # the largest point speed (one root: the root keeps the order)
+    turning = T.value(0.0)
+    for k in range(len(engine.links)):
+        turning = T.val(MAX, turning, T.val(ABS, fr(k, "wq")))
+    total = bound = T.value(0.0)
+    for k, fx, fy, px, py, mz in values:
+        wq = fr(k, "wq")
+        dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
+        vx, vy = T.val(MSUB, fr(k, "fvx"), wq, dy), T.val(MADD, fr(k, "fvy"), wq, dx)
+        total = T.val(MADD, total, T.val(MADD, T.val(DOT, fx, vx, fy, vy), mz, wq), T.value(1.0))
+        force = T.val(SQRT, T.val(DOT, fx, fx, fy, fy))
+        bound = T.val(MADD, bound, T.val(DOT, force, speed, T.val(ABS, mz), turning), T.value(1.0))
+    for inp, col in zip(engine.inputs, lay.in_cols):
+        term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
+        total = T.val(MADD, total, term, T.value(1.0))
+        bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
+    T.out(OUT, out_bad - 2, total)
+    T.out(OUT, out_bad - 1, bound)
+    return names, links, guides, T
+
+
+def _program_block(T, blk, feat, bvec, x, bad, min_measure):
+    """One block of `kinetostatics._solve_block`: its entries, the constant pivots eliminated, the rest
+    solved densely, the back-substitution into x (rows of the unknowns), and `bad` marked where its
+    measure |det| / Π‖row‖ is not above `min_measure`."""
+    rows = [bvec[r] for r in blk.rows]  # the right side
+    slot, norm = defaultdict(lambda: T.value(0.0)), [None] * len(blk.rows)  # (fill-in starts at 0)
+    for i, j, f, coef in blk.entries:
+        v = slot[i, j] = T.value(coef) if f == 0 else T.mul(feat[f], T.value(coef))
+        norm[i] = T.mul(v, v) if norm[i] is None else T.val(MADD, norm[i], v, v)
+    prod = norm[0]
+    for v in norm[1:]:
+        prod = T.mul(prod, v)
+    measure_of = T.val(SQRT, prod)
+    for i, c, f, coef in blk.later:
+        rows[i] = T.val(MSUB, rows[i], T.value(coef) if f == 0 else T.mulk(feat[f], coef), x[c])
+    det = T.value(1.0)
+    for (i, j), (affected, columns) in zip(blk.pivots, blk.fill):
+        for k in affected:
+            m = T.div(slot[k, j], slot[i, j])
+            for u in columns:
+                slot[k, u] = T.val(MSUB, slot[k, u], m, slot[i, u])
+            rows[k] = T.val(MSUB, rows[k], m, rows[i])
+        det = T.val(MUL, det, slot[i, j])
+    own = blk.own
+    nr = len(blk.rest_rows)
+    a = [[slot[i, j] for j in blk.rest_cols] for i in blk.rest_rows]
+    r = [rows[i] for i in blk.rest_rows]
+    if nr == 1:  # the explicit inverse (_linalg.factor)
+        x[own[blk.rest_cols[0]]] = T.mul(T.div(T.value(1.0), a[0][0]), r[0])
+        det = T.val(MUL, det, a[0][0])
+    elif nr == 2:
+        d = T.val(DOT, a[0][0], a[1][1], a[0][1], T.mulk(a[1][0], -1.0))
+        i00, i01 = T.div(a[1][1], d), T.div(T.mulk(a[0][1], -1.0), d)
+        i10, i11 = T.div(T.mulk(a[1][0], -1.0), d), T.div(a[0][0], d)
+        x[own[blk.rest_cols[0]]] = T.val(DOT, i00, r[0], i01, r[1])
+        x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
+        det = T.val(MUL, det, d)
+    elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
+        a = [[T.private(v) for v in row] for row in a]  # (the pivots swap them in place)
+        r, det = [T.private(v) for v in r], T.private(det)
+        for k in range(nr):
+            if k < nr - 1:
+                start = len(T.aux)
+                for i in range(k, nr):
+                    T.aux += a[i][k:] + [r[i]]
+                T.into(PIVOT, det, start, nr - k)
+                for v in T.aux[start:]:
+                    T.written(v)
+                for i in range(k + 1, nr):
+                    m = T.div(a[i][k], a[k][k])
+                    for j in range(k + 1, nr):
+                        a[i][j] = T.val(MSUB, a[i][j], m, a[k][j])
+                    r[i] = T.val(MSUB, r[i], m, r[k])
+            det = T.val(MUL, det, a[k][k])
+        sol = [None] * nr
+        for i in range(nr - 1, -1, -1):
+            acc = r[i]
+            for j in range(i + 1, nr):
+                acc = T.val(MSUB, acc, a[i][j], sol[j])
+            sol[i] = T.div(acc, a[i][i])
+        for q, j in enumerate(blk.rest_cols):
+            x[own[j]] = sol[q]
+    for (i, j), (_, columns) in reversed(list(zip(blk.pivots, blk.fill))):
+        acc = rows[i]
+        for u in columns:
+            acc = T.val(MSUB, acc, slot[i, u], x[own[u]])
+        x[own[j]] = T.div(acc, slot[i, j])
+    measure = T.div(T.val(ABS, det), measure_of)
+    T.into(FLAG, bad, measure, k=T.consts2(min_measure, np.inf))
 
 
 def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
+    """The kernel's plan for the engine, the record layout of `motion` and `inertia`, made once."""
     row_dtype = motion.rows.dtype
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
-    if key in cache:
-        return cache[key]
-    mech, lay = engine.mech, ks_plan.lay
-    names, links, guides, loads = _load_table(engine, inertia)
-    offsets = np.array([row_dtype.fields[name][1] // 8 for name in _READS], np.int64)
-    link_row = np.full(len(engine.links), -1, np.int64)
-    for k, row in lay.rows.items():
-        link_row[k] = row
-    p_names, p_link, p_at = _tables(engine)[0]  # every point: the kernel places them from the frames
-    point_of = {name: k for k, name in enumerate(p_names)}
-    jpoint = np.array([point_of[name] for name in ks_plan.joints], np.int64)
-    guide_i = np.array([engine.link_index[mech.joints[n].carrier] for n in ks_plan.guides], np.int64)
-    guide_f = np.array([engine.laws[n].u0 for n in ks_plan.guides], float).reshape(-1, 2)
-    p_inputs = np.array(ks_plan.p_inputs, np.int64).reshape(-1, 2)
-    in_joint = np.array([list(mech.joints).index(inp.joint) for inp in engine.inputs], np.int64)
-    blocks = _block_tables(ks_plan.blocks)
-    args = (offsets, len(engine.links), p_link.astype(np.int64), np.ascontiguousarray(p_at, float), link_row,
-            np.asarray(ks_plan.centre, float), float(engine.size), jpoint, guide_i, guide_f, p_inputs, loads,
-            blocks, lay.scale.astype(float), np.array(lay.in_cols, np.int64), in_joint, float(engine.tol.singular))
-    sizes = (max([1] + [len(b.rows) for b in ks_plan.blocks]), lay.size,
-             1 + 2 * len(jpoint) + 2 * len(guide_i) + len(p_inputs))
-    plan = cache[key] = _KernelPlan(names, links, guides, args, sizes, [])
-    return plan
+    if key not in cache:
+        names, links, guides, tape = _program(engine, ks_plan, row_dtype, inertia)
+        ops, consts, aux, rows = tape.finish()
+        cache[key] = _KernelPlan(names, links, guides, (ops, consts, aux), rows, [])
+    return cache[key]
 
 
-def _scratch(n_max: int, n: int, n_features: int) -> tuple:
-    """Work arrays of `_kernel`: a block's dense matrix, its right side, the dense rest with its right
-    side, permutation and solution, the whole right side, the features."""
-    return (np.zeros((n_max, n_max)), np.zeros(n_max), np.zeros((n_max, n_max)), np.zeros(n_max),
-            np.zeros(n_max, np.int64), np.zeros(n_max), np.zeros(max(n, 1)), np.zeros(n_features))
+#: positions the kernel takes at once: each op of the program runs over them in an inner loop
+CHUNK = 128
+
+
+def _scratch(rows: int) -> tuple:
+    """Work arrays of `_kernel`: the work matrix (rows, CHUNK)."""
+    return (np.zeros((rows, CHUNK)),)
 
 
 def solve(engine, motion, ks_plan, inertia=True):
@@ -157,204 +486,96 @@ def solve(engine, motion, ks_plan, inertia=True):
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
     rows = motion.rows
     plan = _plan(engine, ks_plan, motion, inertia)
-    batch = len(rows)
-    sizes = np.zeros((batch, max(len(plan.guide_loads), 1)))
+    batch, n, n_loads = len(rows), ks_plan.lay.size, len(plan.names)
+    inputs = np.empty((2 + len(plan.guide_loads), batch))
+    inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
-        sizes[:, g] = guide_force_size(engine, motion, load)
-    x = np.empty((batch, ks_plan.lay.size))
-    singular = np.empty(batch, np.bool_)
-    residual = np.empty(batch)
-    loads = np.empty((batch, len(plan.names), 5))
-    om = np.ascontiguousarray(motion.omega[:, 0])
-    ep = np.ascontiguousarray(motion.epsilon[:, 0])
+        inputs[2 + g] = guide_force_size(engine, motion, load)
+    out = np.empty((n + 5 * n_loads + 3, batch))  # x, the loads (fx, fy, x, y, moment), Σ power, its bound, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
-    work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    _threads.run([lambda p=p, w=w: _kernel(row[p], om[p], ep[p], sizes[p], *plan.args, x[p], singular[p], residual[p],
-                                           loads[p], *w)
+    work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
+    _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
                   for p, w in zip(parts, work)])
-    values = [LoadValue(name, k, loads[:, i, 0:2], loads[:, i, 2:4], loads[:, i, 4])
+    loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
+    values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
-    return x.T, singular, residual, values
+    x, singular, total, bound = out[:n], out[-1] != 0.0, out[-3], out[-2]
+    residual = np.abs(total) / np.where(bound > 0, bound, 1.0)
+    if singular.any():
+        x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
+        residual[singular] = np.nan
+    return x, singular, residual, values
 
 
 # -- kernel -------------------------------------------------------------------------------------------
 _jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
-
-
-@_inline
-def _dense_solve(M, n, perm, rhs, sol):
-    """Solve M[:n, :n] sol = rhs as `_linalg.factor` does (explicit inverse for n ≤ 2, else the
-    kinematics kernel's LU with partial pivoting); returns the determinant. M is overwritten."""
-    if n == 1:
-        det = M[0, 0]
-        sol[0] = (1.0 / det) * rhs[0]
-        return det
-    if n == 2:
-        a00, a01, a10, a11 = M[0, 0], M[0, 1], M[1, 0], M[1, 1]
-        det = a00 * a11 - a01 * a10
-        i00, i01, i10, i11 = a11 / det, -a01 / det, -a10 / det, a00 / det
-        sol[0] = i00 * rhs[0] + i01 * rhs[1]
-        sol[1] = i10 * rhs[0] + i11 * rhs[1]
-        return det
-    det, _ = _lu(M, n, perm)
-    _lu_solve(M, n, perm, rhs, sol)
-    return det
-
-
-@_inline
-def _solve_block(bk, fb, feat, bvec, x, A, rl, M, rr, perm, sol):
-    """One block of `kinetostatics._solve_block` at one position, into x (scaled unknowns); returns
-    its singularity measure |det| / Π‖row‖."""
-    n, r0 = fb.size[bk], fb.row0[bk]
-    for i in range(n):
-        rl[i] = bvec[fb.rows[r0 + i]]
-        rr[i] = 0.0  # Σ of the row's squares
-    for z in range(fb.zero0[bk], fb.zero1[bk]):
-        A[fb.zeros[z, 0], fb.zeros[z, 1]] = 0.0
-    for e in range(fb.entry0[bk], fb.entry1[bk]):
-        f, i = fb.entry[e, 2], fb.entry[e, 0]
-        v = fb.entry_coef[e] if f == 0 else fb.entry_coef[e] * feat[f]
-        A[i, fb.entry[e, 1]] = v
-        rr[i] += v * v
-    norm2 = 1.0
-    for i in range(n):
-        norm2 *= rr[i]
-    for e in range(fb.later0[bk], fb.later1[bk]):
-        f = fb.later[e, 2]
-        rl[fb.later[e, 0]] -= (fb.later_coef[e] if f == 0 else fb.later_coef[e] * feat[f]) * x[fb.later[e, 1]]
-    det = 1.0
-    for p in range(fb.pivot0[bk], fb.pivot1[bk]):
-        i, j = fb.pivots[p, 0], fb.pivots[p, 1]
-        pivot = A[i, j]
-        for t in range(fb.pivots[p, 2], fb.pivots[p, 3]):
-            k = fb.affected[t]
-            m = A[k, j] / pivot
-            for u in range(fb.pivots[p, 4], fb.pivots[p, 5]):
-                A[k, fb.pivot_cols[u]] -= m * A[i, fb.pivot_cols[u]]
-            rl[k] -= m * rl[i]
-        det *= pivot
-    s0, s1 = fb.rest0[bk], fb.rest1[bk]
-    if s1 > s0:
-        nr = s1 - s0
-        for p in range(nr):
-            for q in range(nr):
-                M[p, q] = A[fb.rest_rows[s0 + p], fb.rest_cols[s0 + q]]
-            rr[p] = rl[fb.rest_rows[s0 + p]]  # rr, free again, takes the rest's right side
-        det *= _dense_solve(M, nr, perm, rr, sol)
-        for q in range(nr):
-            x[fb.own[r0 + fb.rest_cols[s0 + q]]] = sol[q]
-    for p in range(fb.pivot1[bk] - 1, fb.pivot0[bk] - 1, -1):
-        i, j = fb.pivots[p, 0], fb.pivots[p, 1]
-        acc = rl[i]
-        for u in range(fb.pivots[p, 4], fb.pivots[p, 5]):
-            acc -= A[i, fb.pivot_cols[u]] * x[fb.own[r0 + fb.pivot_cols[u]]]
-        x[fb.own[r0 + j]] = acc / A[i, j]
-    return abs(det) / np.sqrt(norm2)
 
 
 @_jit
-def _kernel(row, omega, epsilon, sizes, offsets, n_l, p_link, p_at, link_row, centre, size, jpoint, guide_i, guide_f,
-            p_inputs, loads, fb, scale, in_cols, in_joint, min_measure, x_out, singular, residual, loads_out, A, rl, M,
-            rr, perm, sol, bvec, feat):
-    """Every position b: features, loads (stored in loads_out[b]: fx, fy, x, y, moment), the blocks into
-    x_out[b] (scaled back, NaN where a block's measure is not above min_measure, `Tolerances.singular`),
-    and the relative virtual-power residual."""
-    o_cos, o_sin, o_r, o_fv, o_fa, o_wq, o_eq, o_rq = (
-        offsets[0], offsets[1], offsets[2], offsets[3], offsets[4], offsets[5], offsets[6], offsets[7])
-    cx, cy = centre[0], centre[1]
-    inv_size = 1.0 / size
-    n_j, n_g, n_loads, n = len(jpoint), len(guide_i), len(loads.link), len(scale)
-    base = 1 + 2 * n_j
-    for b in range(len(row)):
-        om, ep = omega[b], epsilon[b]
-        om2 = om * om
-        # the entries' features (kinetostatics._features)
-        feat[0] = 1.0
-        for jj in range(n_j):  # the joint's point from its link's frame (kinematics._moving_points)
-            p = jpoint[jj]
-            k = p_link[p]
-            c, s = row[b, o_cos + k], row[b, o_sin + k]
-            px = row[b, o_r + 2 * k] + (c * p_at[p, 0] - s * p_at[p, 1])
-            py = row[b, o_r + 2 * k + 1] + (s * p_at[p, 0] + c * p_at[p, 1])
-            feat[1 + 2 * jj] = (px - cx) * inv_size
-            feat[2 + 2 * jj] = (py - cy) * inv_size
-        for g in range(n_g):
-            c, s = row[b, o_cos + guide_i[g]], row[b, o_sin + guide_i[g]]
-            feat[base + 2 * g] = c * guide_f[g, 0] - s * guide_f[g, 1]
-            feat[base + 2 * g + 1] = s * guide_f[g, 0] + c * guide_f[g, 1]
-        for q in range(len(p_inputs)):
-            g, j = p_inputs[q, 0], p_inputs[q, 1]
-            feat[base + 2 * n_g + q] = feat[1 + 2 * j] * feat[base + 2 * g + 1] - feat[2 + 2 * j] * feat[base + 2 * g]
-        # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
-        for i in range(n):
-            bvec[i] = 0.0
-        for ld in range(n_loads):
-            k, g = loads.link[ld], loads.guide[ld]
-            c, s = row[b, o_cos + k], row[b, o_sin + k]
-            rx = c * loads.at[ld, 0] - s * loads.at[ld, 1]
-            ry = s * loads.at[ld, 0] + c * loads.at[ld, 1]
-            px, py = row[b, o_r + 2 * k] + rx, row[b, o_r + 2 * k + 1] + ry
-            if loads.inertia[ld]:  # d'Alembert: −m·a at the centre, −I·ε
-                wq = row[b, o_wq + k]
-                wr, er = wq * om, row[b, o_eq + k] * om2 + wq * ep  # real ω, ε (Motion.w, Motion.e)
-                ax = row[b, o_fa + 2 * k] * om2 + row[b, o_fv + 2 * k] * ep
-                ay = row[b, o_fa + 2 * k + 1] * om2 + row[b, o_fv + 2 * k + 1] * ep
-                ax -= er * ry
-                ay += er * rx
-                ax -= (wr * wr) * rx
-                ay -= (wr * wr) * ry
-                fx, fy, mz = -loads.mass[ld] * ax, -loads.mass[ld] * ay, -loads.moment_of_inertia[ld] * er
-            elif g >= 0:  # along the guide of the carrier
-                c, s = row[b, o_cos + loads.carrier[ld]], row[b, o_sin + loads.carrier[ld]]
-                ux = c * loads.u0[ld, 0] - s * loads.u0[ld, 1]
-                uy = s * loads.u0[ld, 0] + c * loads.u0[ld, 1]
-                fx, fy, mz = sizes[b, g] * ux, sizes[b, g] * uy, loads.moment[ld]
-            else:
-                fx, fy, mz = loads.force[ld, 0], loads.force[ld, 1], loads.moment[ld]
-            loads_out[b, ld, 0], loads_out[b, ld, 1], loads_out[b, ld, 2] = fx, fy, px
-            loads_out[b, ld, 3], loads_out[b, ld, 4] = py, mz
-            r = link_row[k]
-            if r >= 0:
-                bvec[r] -= fx
-                bvec[r + 1] -= fy
-                bvec[r + 2] -= ((px - cx) * fy - (py - cy) * fx + mz) * inv_size
-        # the blocks, last group first (kinetostatics._solve_blocks)
-        xb = x_out[b]
-        bad = False
-        for bk in range(len(fb.size)):
-            measure = _solve_block(bk, fb, feat, bvec, xb, A, rl, M, rr, perm, sol)
-            bad = bad or not measure > min_measure
-        for i in range(n):
-            xb[i] *= scale[i]
-            bad = bad or not np.isfinite(xb[i])
-        if bad:
-            for i in range(n):
-                xb[i] = np.nan
-        singular[b] = bad
-        # virtual power with the analogues (kinetostatics._virtual_power)
-        vscale, wscale = 0.0, 0.0
-        for p in range(len(p_link)):  # the points' velocity analogues (Motion.vq)
-            k = p_link[p]
-            c, s, wk = row[b, o_cos + k], row[b, o_sin + k], row[b, o_wq + k]
-            vx = row[b, o_fv + 2 * k] - wk * (s * p_at[p, 0] + c * p_at[p, 1])
-            vy = row[b, o_fv + 2 * k + 1] + wk * (c * p_at[p, 0] - s * p_at[p, 1])
-            vscale = max(vscale, vx * vx + vy * vy)
-        vscale = np.sqrt(vscale)  # the largest point speed (one root: the root keeps the order)
-        for k in range(n_l):
-            wscale = max(wscale, abs(row[b, o_wq + k]))
-        total, bound = 0.0, 0.0
-        for ld in range(n_loads):
-            k = loads.link[ld]
-            fx, fy, px, py, mz = (loads_out[b, ld, 0], loads_out[b, ld, 1], loads_out[b, ld, 2],
-                                  loads_out[b, ld, 3], loads_out[b, ld, 4])
-            wk = row[b, o_wq + k]
-            dx, dy = px - row[b, o_r + 2 * k], py - row[b, o_r + 2 * k + 1]
-            total += fx * (row[b, o_fv + 2 * k] - wk * dy) + fy * (row[b, o_fv + 2 * k + 1] + wk * dx) + mz * wk
-            bound += np.sqrt(fx * fx + fy * fy) * vscale + abs(mz) * wscale
-        for q in range(len(in_cols)):
-            term = xb[in_cols[q]] * row[b, o_rq + in_joint[q]]
-            total += term
-            bound += abs(term)
-        residual[b] = abs(total) / (bound if bound > 0 else 1.0)
+def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
+    """Positions start … stop − 1, a chunk at a time: every op of the program (`_program`; codes above)
+    over the chunk, from the records `row` (B, fields) and `inputs` into `out`."""
+    chunk = W.shape[1]
+    for b0 in range(start, stop, chunk):
+        nc = min(chunk, stop - b0)
+        for t in range(len(ops)):
+            code, d, a, b, e, f, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4], ops[t, 5], ops[t, 6]
+            Wd, Wa, Wb, We, Wf = W[d], W[a], W[b], W[e], W[f]
+            if code == 0:  # GATHER
+                for c in range(nc):
+                    rec = row[b0 + c]
+                    for i in range(b):
+                        W[aux[a + 2 * i + 1], c] = rec[aux[a + 2 * i]]
+            elif code == 1:  # INPUT
+                for c in range(nc):
+                    Wd[c] = inputs[a, b0 + c]
+            elif code == 2:  # SET
+                for c in range(nc):
+                    Wd[c] = K[k]
+            elif code == 3:  # MUL
+                for c in range(nc):
+                    Wd[c] = Wa[c] * Wb[c]
+            elif code == 4:  # DIV
+                for c in range(nc):
+                    Wd[c] = Wa[c] / Wb[c]
+            elif code == 5:  # MAX
+                for c in range(nc):
+                    Wd[c] = max(Wa[c], Wb[c])
+            elif code == 6:  # SQRT
+                for c in range(nc):
+                    Wd[c] = np.sqrt(Wa[c])
+            elif code == 7:  # ABS
+                for c in range(nc):
+                    Wd[c] = abs(Wa[c])
+            elif code == 8:  # MSUB
+                for c in range(nc):
+                    Wd[c] = Wa[c] - Wb[c] * We[c]
+            elif code == 9:  # MADD
+                for c in range(nc):
+                    Wd[c] = Wa[c] + Wb[c] * We[c]
+            elif code == 10:  # DOT
+                for c in range(nc):
+                    Wd[c] = Wa[c] * Wb[c] + We[c] * Wf[c]
+            elif code == 11:  # LEVER
+                for c in range(nc):
+                    Wd[c] = ((Wa[c] + Wb[c]) + K[k]) * K[k + 1]
+            elif code == 12:  # OUT
+                for c in range(nc):
+                    out[d, b0 + c] = Wa[c]
+            elif code == 13:  # FLAG
+                for c in range(nc):
+                    if not K[k] < Wa[c] <= K[k + 1]:
+                        Wd[c] = 1.0
+            else:  # PIVOT
+                w = b + 1
+                for c in range(nc):
+                    p, big = 0, abs(W[aux[a], c])
+                    for i in range(1, b):
+                        if abs(W[aux[a + i * w], c]) > big:
+                            p, big = i, abs(W[aux[a + i * w], c])
+                    if p:
+                        for j in range(w):
+                            s, t = aux[a + j], aux[a + p * w + j]
+                            W[s, c], W[t, c] = W[t, c], W[s, c]
+                        Wd[c] = -Wd[c]

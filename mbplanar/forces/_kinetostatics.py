@@ -332,7 +332,7 @@ class _Block:
     is a constant (±1 on a force column of a force row), then the rows and columns left (`rest_rows`,
     `rest_cols`, typically the moment rows of a group) solved densely with partial pivoting. `fill`, per
     pivot, the structure its elimination touches: (the live rows that have its column, the other columns
-    of its row), fill-in included (for the compiled kinetostatics, which works on dense arrays)."""
+    of its row), fill-in included (the compiled kinetostatics lists its operations from it)."""
 
     rows: np.ndarray
     own: np.ndarray
@@ -529,6 +529,8 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
 
 
 def _check_input_inertia(engine, input_inertia):
+    if type(input_inertia) in (int, float) and input_inertia == 0:  # the default, at once
+        return
     try:
         values = np.asarray(input_inertia, float)
     except (TypeError, ValueError):

@@ -72,7 +72,8 @@ def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter
             if "value" not in spec:
                 raise ModelError(f"{where}: missing 'value'")
             unit = spec.get("unit")
-            if unit is not None and unit not in LENGTH_UNITS and unit not in ANGLE_UNITS:
+            known = isinstance(unit, str) and (unit in LENGTH_UNITS or unit in ANGLE_UNITS)
+            if unit is not None and not known:
                 raise ModelError(f"{where}: unit must be one of m, mm, cm, deg, rad, got {unit!r}")
             spec = spec["value"]
         params[name] = Parameter(name, _number(spec, where), unit)
