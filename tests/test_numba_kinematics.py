@@ -200,3 +200,21 @@ def test_positions_only_write_no_records_and_give_joint_values_when_read():
     np.testing.assert_allclose(m.frames["r"], ref.frames["r"], rtol=0, atol=1e-12)
     assert m.value is m.value and "frames" in vars(m)  # kept after the first read
     assert "array(40, 6)" in repr(m)
+
+
+def test_one_compiled_kernel_for_every_request():
+    """Positions only or with rates, every point or some, on one thread or two, the records written or
+    refilled, and the one-position path: the sweep kernel takes the same argument types every time, so
+    numba compiles it once (one signature, the first use's compile) and a process never pays twice."""
+    from mbplanar.backends import _numba_kinematics
+
+    mech = mbplanar.read_model(MODELS / "fourbar.toml")
+    one, two = (mbplanar.Engine(mech, backend="numba", threads=t) for t in (1, 2))
+    phi = one.phi_drawn[0] + np.linspace(0.0, 2 * np.pi, 900)
+    made = [mbplanar.analyse(one, phi[:40], rates=False), mbplanar.analyse(one, phi[:40]),
+            mbplanar.analyse(one, phi[:40], points=["M"]), mbplanar.analyse(two, phi, rates=False),
+            mbplanar.analyse(two, phi, 2.0, -1.0, points=["B", "M"])]
+    assert all(_compiled(m) for m in made)
+    assert made[0].value.shape == (40, len(mech.joints))  # (positions only: refilled by the kernel)
+    mbplanar.position(one, float(phi[3]))
+    assert len(_numba_kinematics._sweep.signatures) == 1, _numba_kinematics._sweep.signatures

@@ -22,13 +22,13 @@ The plan is the engine's `BlockPlan`s as named tables of arrays (`_tables`), bui
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
 
 from . import _threads
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (each called once here: inlined once)
+from ._numba_blocks import LeanPipeline, _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -72,6 +72,7 @@ class _KernelPlan:
     sizes: tuple
     scratch: list
     entry: object = None  # the compiled `_sweep` for these argument types, once known (`_run`)
+    empty: dict = field(default_factory=dict)  # the empty arrays standing for outputs not asked for (`_none`)
 
 
 def _plan(engine, joint_table) -> _KernelPlan:
@@ -137,27 +138,32 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=T
         return None
     plan = _plan(engine, joint_table)
     batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
-    dtype, offsets = plan.rows[bool(rates)]
+    rates = bool(rates)
+    dtype, offsets = plan.rows[rates]
     rows = np.empty(batch if records else 0, dtype)
-    flat = rows.view(np.float64).reshape(batch, -1) if records else np.empty((batch, 0))
+    flat = rows.view(np.float64).reshape(batch, -1) if records else _none(plan, "flat", (0, 0))
     angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
     if rates:
         w, e, v, a = np.empty((batch, n_l)), np.empty((batch, n_l)), np.empty((batch, n_p, 2)), np.empty((batch, n_p, 2))
-    else:
-        w = e = np.empty((0, n_l))
-        v = a = np.empty((0, n_p, 2))
+    else:  # (not written: empty arrays of the kernel's types)
+        w = e = _none(plan, "links", (0, n_l))
+        v = a = _none(plan, "points", (0, n_p, 2))
     valid = np.empty(batch, np.bool_)
     limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
-    ep_any = bool(rates) and bool(np.any(ep))
+    ep_any = rates and bool(ep.any())
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    rates = bool(rates)
-    every = slice(None)
-    status = _threads.run([
-        lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
-            *plan.args, grid, coef, signs, limits, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
-            angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
-        for p, wk in zip(parts, work)])
+    fixed = (*plan.args, grid, coef, signs, limits)
+    if len(parts) == 1:  # (one thread: no slicing)
+        status = [_run(plan, (*fixed, x, om, ep, ep_any, rates, p_link, p_at, offsets, angle, xy, w, e, v, a, flat,
+                              valid, *work[0]))]
+    else:
+        every = slice(None)
+        status = _threads.run([
+            lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
+                *fixed, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
+                angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
+            for p, wk in zip(parts, work)])
     if any(status):
         return None
     out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
@@ -168,6 +174,16 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=T
             if getattr(out, name) is not None:
                 setattr(out, name, getattr(out, name)[keep])
     return out
+
+
+def _none(plan: _KernelPlan, name: str, shape: tuple) -> np.ndarray:
+    """An empty float array of `shape` (a zero in it) standing for an output not asked for, made once
+    per plan and shape."""
+    key = (name, shape)
+    found = plan.empty.get(key)
+    if found is None:
+        found = plan.empty[key] = np.empty(shape)
+    return found
 
 
 def _run(plan: _KernelPlan, args: tuple) -> int:
@@ -185,9 +201,8 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 
 
 # -- kernel -----------------------------------------------------------------------------------------
-# One function, each piece of the engine written once (numba compiles a helper again at every call site
-# it inlines, and a helper it does not inline pays for its many arguments at every call; the placement,
-# the closure and LU of `_numba_blocks` are called once each): per position
+# One function, each piece of the engine written once (the placement, the closure and LU of
+# `_numba_blocks` are compiled on their own and inlined by LLVM, not by numba): per position
 # the atlas' predictor, then per block a loop in three phases: Newton (place, closure, the Jacobian's
 # columns by rate passes with unit unknown rates, factor, step), the velocity pass and the acceleration
 # pass (a rate pass, the closure's rates, the solve, the correction by the sensitivities).
@@ -196,7 +211,7 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # allocated here, the caller passes every work array (`_scratch`).
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, pipeline_class=LeanPipeline)
 
 
 @_jit
@@ -210,9 +225,10 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
     n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
-    ps[:, :] = 0.0
-    ps[1, :] = 1.0
-    rt[:, :, :] = 0.0  # the ground stays at rest; every other link is placed at every position
+    for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
+        ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
+        for sl in range(len(rt)):
+            rt[sl, 0, l], rt[sl, 1, l], rt[sl, 2, l] = 0.0, 0.0, 0.0
     lo = 0
     for b in range(len(x)):
         xb = x[b]
