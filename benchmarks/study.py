@@ -7,8 +7,8 @@ size on the same backend, and Dask.
 1. D crank-rocker four-bars (`models/fourbar_design.toml`, random dimensions) × 360 crank positions in one
    design batch (numba, the compiled design kernel, and numpy, the reference), reading every design's
    coupler point M: positions and velocity analogues. The batch computes what is asked for
-   (`points=["M"], accelerations=False`), every link's angle and ω_q and M's xy and v_q, and all of it is
-   read. Positions per second on one core.
+   (`points=["M"], links=[], accelerations=False`), M's xy and v_q, and all of it is read. Positions per
+   second on one core.
 2. The same number of positions of one design in one sweep (`mbplanar.analyse`) on the same backend,
    reading the same arrays of M: the cost per position against which the batch's cost per
    design-position is compared (same run, ratio).
@@ -93,7 +93,7 @@ def batch_case(designs: int, repeats: int, backend: str) -> dict:
 
     def run():
         batch = design_batch(MODEL, values, backend=backend)
-        motion = batch.solve(phi, points=["M"], accelerations=False)
+        motion = batch.solve(phi, points=["M"], links=[], accelerations=False)
         k = motion.point("M")
         xy, vq = motion.xy[:, :, k].copy(), motion.vq[:, :, k].copy()
         assert motion.valid.all() and np.isfinite(xy).all() and np.isfinite(vq).all(), "every crank-rocker turns"

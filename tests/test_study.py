@@ -408,8 +408,8 @@ def test_progress_bar_only_when_asked_or_on_a_terminal(tmp_path, capsys):
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_a_batch_computes_only_the_points_asked_for(backend):
-    """`points=` and `accelerations=False` leave the rest out and change nothing in what is computed;
-    an unknown point is refused."""
+    """`points=`, `links=` and `accelerations=False` leave the rest out and change nothing in what is
+    computed; an unknown point or link is refused."""
     vals = {"a": [0.08, 0.1, 0.12], "h": [0.0, 0.02, -0.03]}
     phi = np.radians(np.arange(0.0, 360.0, 10.0))
     full = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi)
@@ -421,3 +421,54 @@ def test_a_batch_computes_only_the_points_asked_for(backend):
     assert np.array_equal(some.angle, full.angle) and np.array_equal(some.valid, full.valid)
     with pytest.raises(ValueError, match="Q: neither a joint nor a point"):
         design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, points=["Q"])
+    # `links=` likewise: the links asked for, in their order, or none
+    two = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, links=["3", "1"])
+    k = [full.link("3"), full.link("1")]
+    assert two.links == ["3", "1"] and two.angle.shape == (3, len(phi), 2)
+    for name in ("angle", "wq", "eq"):
+        assert np.array_equal(getattr(two, name), getattr(full, name)[:, :, k])
+    assert np.array_equal(two.xy, full.xy) and np.array_equal(two.aq, full.aq)
+    none = design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, points=["M"], links=[],
+                                                                                   accelerations=False)
+    assert none.angle.shape == (3, len(phi), 0) and np.array_equal(none.vq, some.vq[:, :, :1])
+    with pytest.raises(ValueError, match="7: not a link"):
+        design_batch("models/fourbar_design.toml", vals, backend=backend).solve(phi, links=["7"])
+
+
+@pytest.mark.skipif(__import__("importlib").util.find_spec("numba") is None, reason="numba not installed")
+def test_compiled_sweep_followed_position_by_position_equals_the_march():
+    """The compiled batch follows an ordered sweep position by position from each drawn pose; the same
+    positions shuffled take the march and its interpolant: both equal to 1e-12, and a design that locks
+    inside the sweep still gets its limits."""
+    vals = {"a": [0.08, 0.1, 0.12, 0.25], "b": [0.3, 0.3, 0.3, 0.2], "theta0": [10.0, 200.0, 359.5, 60.0],
+            "h": [0.0, 0.02, -0.03, 0.01]}
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    order = np.random.default_rng(3).permutation(len(phi))
+    followed = design_batch("models/fourbar_design.toml", vals, backend="numba").solve(phi)
+    marched = design_batch("models/fourbar_design.toml", vals, backend="numba").solve(np.tile(phi[order], (4, 1)))
+    back = np.argsort(order)
+    assert np.array_equal(followed.valid, marched.valid[:, back]) and followed.valid[:3].all()
+    assert not followed.valid[3].all() and followed.limits_of(3)
+    for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
+        a, b = getattr(followed, name), getattr(marched, name)[:, back]
+        assert np.nanmax(np.abs(a - b) / (1 + np.abs(b))) < 1e-12, name
+    assert [(lim.design, lim.direction) for lim in followed.limits] == \
+        [(lim.design, lim.direction) for lim in marched.limits]
+    assert all(abs(a.phi - b.phi) < 1e-12 for a, b in zip(followed.limits, marched.limits))
+
+
+@pytest.mark.skipif(__import__("importlib").util.find_spec("numba") is None, reason="numba not installed")
+def test_compiled_followed_sweep_of_slider_cranks_equals_numpy(slider_crank_model):
+    """Slider-cranks (a guide among the joints) followed at 2° steps by the compiled batch equal numpy's
+    batch to 1e-12, the one whose coupler is shorter than its crank stopping at the same limits."""
+    vals = {"r": [0.1, 0.05, 0.2], "l": [0.3, 0.25, 0.15], "t0": [40.0, 300.0, 80.0], "beta": [-10.0, 5.0, -60.0],
+            "g": [0.0, 12.0, -8.0]}
+    phi = np.radians(np.arange(-180.0, 180.0, 2.0))
+    fast = design_batch(slider_crank_model, vals, backend="numba").solve(phi)
+    ref = design_batch(slider_crank_model, vals, backend="numpy").solve(phi)
+    assert np.array_equal(fast.valid, ref.valid) and fast.valid[:2].all() and not fast.valid[2].all()
+    for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
+        a, b = getattr(fast, name), getattr(ref, name)
+        assert np.nanmax(np.abs(a - b) / (1 + np.abs(b))) < 1e-12, name
+    assert [(lim.design, lim.direction) for lim in fast.limits] == [(lim.design, lim.direction) for lim in ref.limits]
+    assert all(abs(a.phi - b.phi) < 1e-12 for a, b in zip(fast.limits, ref.limits))

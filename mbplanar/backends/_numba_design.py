@@ -13,8 +13,12 @@ method. Per design the kernel
    bracket is handed back for the engine's fold Newton; a change point hands the design back;
 3. predicts every requested position by the quintic Hermite interpolant of its nodes, corrects it by
    the block Newton, checks it (converged, same signs as the nearest node, a correction within
-   `max_correction`) and writes its link angles, analogue rates and the chosen points' positions,
-   velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
+   `max_correction`) and writes the chosen links' angles and analogue rates and the chosen points'
+   positions, velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
+
+When a design's input values are an ordered sweep with no gap wider than `h_max` (`_follow`), steps 2
+and 3 are one: the sweep itself is walked from the drawn pose, every requested position a march node
+accepted by the march's rules and written at once; a position they refuse sends the design to step 2.
 
 The per-design constants (every joint's point in the link frames, each guide's direction, the drawn
 input value, each link's drawn angle, the chosen points) are tables with a design axis; before a design
@@ -42,6 +46,7 @@ __all__ = ["DesignTables", "design_tables", "solve", "STATUS"]
 STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
+TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
 
 
 @dataclass
@@ -51,7 +56,7 @@ class DesignTables:
     step_s0, step_u0 (D, S, 2): each tree step's joint point and guide direction; cut_s0, cut_n0
     (D, C, 2): each cut's point and guide normal; phi0 (D,): the drawn input value (SI); reference (D, L):
     each link's drawn angle; point_at (D, P, 2) and point_link (P,): the chosen points, drawn, and their
-    links."""
+    links; link_out (K,): the links whose angle and rates are written."""
 
     steps: tuple
     cuts: tuple
@@ -64,6 +69,7 @@ class DesignTables:
     reference: np.ndarray
     point_at: np.ndarray
     point_link: np.ndarray
+    link_out: np.ndarray
 
 
 def _step_joints(engine) -> tuple[list, list]:
@@ -74,10 +80,11 @@ def _step_joints(engine) -> tuple[list, list]:
 
 
 def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
-                  designs) -> DesignTables:
+                  designs, link_out=None) -> DesignTables:
     """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
     guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
-    `point_link` their links' indices."""
+    `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
+    wanted (default all)."""
     steps, cuts, blocks, _ = kinematics_tables(engine, _tables(engine)[1])
     step_names, cut_names = _step_joints(engine)
     kind = {name: j.kind for name, j in engine.mech.joints.items()}
@@ -97,15 +104,16 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
                         np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
                         np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
                                              .reshape(len(designs), len(points), 2)),
-                        np.asarray(point_link, np.int64))
+                        np.asarray(point_link, np.int64),
+                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
 
 
 @dataclass
 class DesignResult:
     """What the kernel gives per design (B designs × N positions).
 
-    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, L); eq (B, N, L) or None; xy, vq (B, N, P, 2);
-    aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
+    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, K) of the links `link_out`; eq (B, N, K) or None;
+    xy, vq (B, N, P, 2); aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
     phi (B, 2) the last node's input value, h (B, 2) the last step tried, q, qd, qdd (B, 2, M) the last
     node's unknowns and their derivatives along the march parameter, signs (B, 2, n_blocks)."""
 
@@ -136,17 +144,19 @@ def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
     """One thread's work arrays, in `_designs`' order: its own copies of the step and cut tables (a
     design's row is copied in), the pose, rate slots and caches of `_numba_kinematics`, a block's
     Jacobian (as solved and scaled) with its permutations, the unknowns and their rates, the drawn pose,
-    the march nodes and their interpolant, the march's current node."""
+    the march nodes and their interpolant, the march's current node, the last two positions followed
+    (q and dq/dφ) and the predicted dq/dφ."""
     vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
     m1 = max(m_all, 1)
     return (steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
             cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()),
-            np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
+            np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
             np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
             np.zeros((m_max, m_max)), np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max),
             vec(m_max), vec(m_max), vec(m_all), vec(m_all), np.ones(n_blocks), vec(m_all), vec(m_all), vec(m_all),
             np.ones(n_blocks), np.zeros(MAX_NODES), np.zeros((MAX_NODES, 3, m1)), np.zeros((MAX_NODES, n_blocks)),
-            np.zeros((MAX_NODES, 6, m1)), vec(m_all), vec(m_all), vec(m_all), np.zeros(n_blocks))
+            np.zeros((MAX_NODES, 6, m1)), vec(m_all), vec(m_all), vec(m_all), np.zeros(n_blocks),
+            np.zeros((2, 2, m1)), vec(m_all))
 
 
 def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = True, threads=None) -> DesignResult:
@@ -173,7 +183,7 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
     """
     x = np.ascontiguousarray(x, float)
     count, n = x.shape
-    n_links, n_points = tables.reference.shape[1], tables.point_link.shape[0]
+    n_links, n_points = tables.link_out.shape[0], tables.point_link.shape[0]
     n_blocks = len(tables.blocks.m)
     m_all = int(tables.blocks.m.sum())
     m_max = max([1] + [int(m) for m in tables.blocks.m])
@@ -203,8 +213,8 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 
     def call(p, w):
         return _designs(w[0], w[1], t.blocks, uniform, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
-                        t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, x[p],
-                        lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
+                        t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, t.link_out,
+                        x[p], lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
                         xy[p], vq[p], aq[p] if accelerations else aq, limit[p], limit_phi[p], limit_h[p], limit_q[p],
                         limit_qd[p], limit_qdd[p], limit_signs[p], HERMITE5, *w[2:])
 
@@ -221,14 +231,14 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 
 # -- kernels ----------------------------------------------------------------------------------------
 # As in `_numba_kinematics`: scalar loops over arrays indexed in place, compiled without numba's reference
-# counting, nothing allocated, every work array passed by the caller. Pose ps (5, L): θ, cos θ, sin θ,
-# r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link; slots 0 … m−1 hold a block's
+# counting, nothing allocated, every work array passed by the caller. Pose ps (8, L): θ, cos θ, sin θ,
+# r_x, r_y per link, then each link's anchor angle θa, cos θa, sin θa (`_turn`). Rates rt (slots, 3, L): ω, v_x, v_y per link; slots 0 … m−1 hold a block's
 # sensitivities to its unknowns, then the velocities, then the accelerations. q, qd, qdd (M,) hold every
 # block's unknowns and their derivatives. The per-position building blocks (placement, closure, their
 # rates, the Jacobian, a block's rate pass) are the joint laws' arithmetic (`engine._constraints`), as
 # the sweep kernel has it written out in its loop.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
+_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
+_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath={"contract"})
 
 
 @_inline
@@ -353,10 +363,10 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
         polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
         for it in range(max_newton + 1):
             for k in range(k0, k1):
-                if it == 1 and not steps.prismatic[k]:
-                    _turn(k, steps, q, q_in, ps, sc)
-                else:
+                if steps.prismatic[k]:
                     _place(k, steps, q, q_in, ps, sc)
+                else:  # turned from where the link is (the last iterate, or the position before)
+                    _turn(k, steps, q, q_in, ps, sc)
             err = 0.0
             for k in range(c0, c1):
                 _closure(k, cuts, ps, cc, res, 2 * (k - c0))
@@ -412,19 +422,24 @@ _solve_inline = _inline(_solve.py_func)
 
 @_inline
 def _turn(k, steps, q, q_in, ps, sc):
-    """`_place` of a revolute step k whose child was placed at the previous Newton iterate: cos and sin
-    of the new angle from the old ones by the angle-addition formulas (the correction δ is small, its
-    cos and sin series exact to rounding), the rest as `_place`. A large δ is placed afresh."""
+    """`_place` of a revolute step k by turning its child from an anchor angle θa, whose cos and sin were
+    computed by `_place` (ps[5:8, child]): cos and sin of the new angle by the angle-addition formulas,
+    those of the turn δ = θ − θa by their series (|δ| < `TURN`: the first omitted terms, δ¹⁰/10! and
+    δ¹¹/11!, are below 1e-19), so that every placement is one rotation from exactly computed values and
+    no rounding accumulates. A larger turn is placed by `_place` and becomes the anchor."""
     parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
     value = q[var] if var >= 0 else steps.sign[k] * q_in
     t = ps[0, parent] + value if rel else value
-    delta = t - ps[0, child]
-    if not abs(delta) < 1e-4:
+    delta = t - ps[5, child]
+    if not abs(delta) < TURN:
         _place(k, steps, q, q_in, ps, sc)
+        ps[5, child], ps[6, child], ps[7, child] = ps[0, child], ps[1, child], ps[2, child]
         return
     d2 = delta * delta
-    cd, sd = 1.0 - 0.5 * d2 * (1.0 - d2 / 12.0), delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0))
-    c0, s0 = ps[1, child], ps[2, child]
+    cd = 1.0 - 0.5 * d2 * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))))
+    sd = delta * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
+                                                                         * (1.0 - d2 * (1.0 / 72.0)))))
+    c0, s0 = ps[6, child], ps[7, child]
     cc, ss = c0 * cd - s0 * sd, s0 * cd + c0 * sd
     cp, sp = ps[1, parent], ps[2, parent]
     s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
@@ -539,12 +554,118 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
     return added, 0
 
 
+@_inline
+def _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq,
+           aq):
+    """Write position n of design d from the solved pose ps and rates rt: the chosen links' angle and
+    ω_q (ε_q), the chosen points' positions and velocity (acceleration) analogues."""
+    vel, acc = len(rt) - 2, len(rt) - 1
+    valid[d, n] = True
+    for j in range(link_out.shape[0]):
+        l = link_out[j]  # noqa: E741
+        angle[d, n, j] = ps[0, l] + reference[d, l]
+        wq[d, n, j] = rt[vel, 0, l]
+        if accelerations:
+            eq[d, n, j] = rt[acc, 0, l]
+    for p in range(point_link.shape[0]):
+        l = point_link[p]  # noqa: E741
+        c, s = ps[1, l], ps[2, l]
+        ax, ay = point_at[d, p, 0], point_at[d, p, 1]
+        rx, ry = c * ax - s * ay, s * ax + c * ay
+        w = rt[vel, 0, l]
+        xy[d, n, p, 0], xy[d, n, p, 1] = ps[3, l] + rx, ps[4, l] + ry
+        vq[d, n, p, 0], vq[d, n, p, 1] = rt[vel, 1, l] + w * -ry, rt[vel, 2, l] + w * rx
+        if accelerations:
+            e = rt[acc, 0, l]
+            aq[d, n, p, 0] = rt[acc, 1, l] + e * -ry - (w * w) * rx
+            aq[d, n, p, 1] = rt[acc, 2, l] + e * rx - (w * w) * ry
+
+
+@_jit
+def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0, q0, qd0, qdd0, dets0,
+            reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd,
+            dets,
+            jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
+    """Design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
+    drawn pose (q0, qd0, qdd0 per unit input; dets0) up through those above it and down through those
+    below, every position a march node: predicted from the two positions before it (the cubic Hermite
+    extrapolant of their q and dq/dφ; the first by the drawn pose's Taylor polynomial), corrected by the
+    block Newton and accepted by the march's rules (converged, not singular, within `max_correction`
+    of its prediction, dq/dφ within `rate_jump` of the predicted one, no change of sign of a block's
+    determinant), then written. At 1° the prediction is within ~1e-8 and one Newton step ends at the
+    rounding floor. Returns False when x[d] is not such a sweep or a position is not accepted: the
+    design then takes the march (which meets the limit or change point there)."""
+    max_correction, h_max, rate_jump, pivot_cross = tol[4], tol[6], tol[8], tol[3]
+    n_pos = x.shape[1]
+    m_all, n_blocks = len(blocks.var_scale), len(blocks.m)
+    var_scale = blocks.var_scale
+    reach = h_max * scale
+    up = n_pos  # the first position at or above the drawn one
+    for n in range(n_pos):
+        if n > 0 and not (x[d, n] > x[d, n - 1] and x[d, n] - x[d, n - 1] <= reach):
+            return False
+        if up == n_pos and x[d, n] >= phi0:
+            up = n
+    if (up < n_pos and not x[d, up] - phi0 <= reach) or (up > 0 and not phi0 - x[d, up - 1] <= reach):
+        return False
+    for side in range(2):
+        for i in range(m_all):
+            prev[1, 0, i], prev[1, 1, i] = q0[i], qd0[i]
+        for b in range(n_blocks):
+            signs[b] = _sign(dets0[b])
+        phi_a, phi_b, older = phi0, phi0, False
+        for k in range(n_pos - up if side == 0 else up):
+            n = up + k if side == 0 else up - 1 - k
+            xb = x[d, n]
+            if older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
+                w = phi_b - phi_a
+                t = (xb - phi_a) / w
+                t2 = t * t
+                t3 = t2 * t
+                h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, 3 * t2 - 2 * t3, t3 - t2
+                g00, g10, g11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, 3 * t2 - 2 * t
+                for i in range(m_all):
+                    qa, qda, qb, qdb = prev[0, 0, i], prev[0, 1, i], prev[1, 0, i], prev[1, 1, i]
+                    guess[i] = h00 * qa + h10 * w * qda + h01 * qb + h11 * w * qdb
+                    qdp[i] = g00 * (qa - qb) / w + g10 * qda + g11 * qdb
+            else:  # from the drawn pose: its Taylor polynomial
+                h = xb - phi_b
+                for i in range(m_all):
+                    guess[i] = prev[1, 0, i] + prev[1, 1, i] * h + 0.5 * qdd0[i] * h * h
+                    qdp[i] = prev[1, 1, i] + qdd0[i] * h
+            for i in range(m_all):
+                q[i] = guess[i]
+            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
+                                             accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s,
+                                             res, step, qd_u, qdd_u)
+            if not (converged and ratio >= pivot_cross):
+                return False
+            for i in range(m_all):
+                vs = var_scale[i]
+                if not abs(q[i] - guess[i]) * vs <= max_correction:
+                    return False
+                if not abs(qd[i] - qdp[i]) * vs * scale <= rate_jump * (1.0 + abs(qdp[i]) * vs * scale):
+                    return False
+            for b in range(n_blocks):
+                if _sign(dets[b]) != signs[b]:
+                    return False
+            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
+            if xb != phi_b:
+                phi_a, older = phi_b, True
+                for i in range(m_all):
+                    prev[0, 0, i], prev[0, 1, i] = prev[1, 0, i], prev[1, 1, i]
+            phi_b = xb
+            for i in range(m_all):
+                prev[1, 0, i], prev[1, 1, i] = q[i], qd[i]
+    return True
+
+
 @_jit
 def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
-             reference, point_at, point_link, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
+             reference, point_at, point_link, link_out, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
              limit_h, limit_q, limit_qd, limit_qdd, limit_signs, hermite, ps, rt, sc, cc, q, guess, jac, jac_s, perm,
              perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
-             qc, qdc, qddc, signs):
+             qc, qdc, qddc, signs, prev, qdp):
     """Every design of a part: its drawn pose, its march both ways, then its positions (see the module
     docstring); status (B,) as `STATUS`."""
     max_correction = tol[4]
@@ -555,6 +676,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
     vel, acc = len(rt) - 2, len(rt) - 1
     ps[:, :] = 0.0
     ps[1, :] = 1.0
+    ps[6, :] = 1.0  # every link's anchor (`_turn`) at 0
     for d in range(n_designs):
         for k in range(len(steps.parent)):
             steps.s0[k, 0], steps.s0[k, 1] = step_s0[d, k, 0], step_s0[d, k, 1]
@@ -575,7 +697,13 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         if not ratio >= tol[3]:
             status[d] = 2
             continue
-        # 2. the march down (stored reversed), the drawn pose, the march up
+        # 2. an ordered sweep at steps the march could take: followed position by position
+        if _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0,
+                   dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q,
+                   guess, qd,
+                   qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
+            continue
+        # 3. else the march down (stored reversed), the drawn pose, the march up
         total, state = 0, 0
         if lo[d] < phi0[d]:
             total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
@@ -615,7 +743,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                     coef[j, c, i] = (hermite[c, 0] * e0 + hermite[c, 1] * e1 + hermite[c, 2] * e2
                                      + hermite[c, 3] * e3 + hermite[c, 4] * e4 + hermite[c, 5] * e5)
         first, last = node_phi[0], node_phi[total - 1]
-        # 3. the requested positions
+        # 4. the requested positions
         for n in range(n_pos):
             xb = x[d, n]
             if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
@@ -650,22 +778,5 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             if not ok:
                 status[d] = 4
                 break
-            valid[d, n] = True
-            for l in range(n_links):  # noqa: E741
-                angle[d, n, l] = ps[0, l] + reference[d, l]
-                wq[d, n, l] = rt[vel, 0, l]
-                if accelerations:
-                    eq[d, n, l] = rt[acc, 0, l]
-            for p in range(n_points):
-                l = point_link[p]  # noqa: E741
-                c, s = ps[1, l], ps[2, l]
-                ax, ay = point_at[d, p, 0], point_at[d, p, 1]
-                rx, ry = c * ax - s * ay, s * ax + c * ay
-                w = rt[vel, 0, l]
-                xy[d, n, p, 0], xy[d, n, p, 1] = ps[3, l] + rx, ps[4, l] + ry
-                vq[d, n, p, 0], vq[d, n, p, 1] = rt[vel, 1, l] + w * -ry, rt[vel, 2, l] + w * rx
-                if accelerations:
-                    e = rt[acc, 0, l]
-                    aq[d, n, p, 0] = rt[acc, 1, l] + e * -ry - (w * w) * rx
-                    aq[d, n, p, 1] = rt[acc, 2, l] + e * rx - (w * w) * ry
+            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
     return 0

@@ -60,7 +60,8 @@ class DesignMotion:
     """Kinematics of D designs at N input values each (batch first: design, then position).
 
     phi (D, N) SI; valid (D, N): solved on the drawn branch; ok (D,): the design could be analysed,
-    else reasons[d] says why. Links (engine.links order): angle, wq (D, N, L) (rad, rad/rad); eq (D, N, L).
+    else reasons[d] says why. Links (`links` order, default engine.links): angle, wq (D, N, L) (rad, rad/rad);
+    eq (D, N, L).
     Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²). limits: [DesignLimit] met
     inside the requested range, per design in `limits_of(d)`.
     """
@@ -133,7 +134,7 @@ class DesignBatch:
         self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
         self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
         self._engines = {}
-        self._want = (list(self.points), True)  # the points and rates `solve` was asked for
+        self._want = (list(self.points), True, list(engine.links))  # the points, rates and links asked for
         self.nodes = None
         self.motion = None
 
@@ -278,7 +279,7 @@ class DesignBatch:
 
     # -- 2. the requested positions -----------------------------------------------------------------
     def solve(self, phi, exact_limits: bool = True, fallback: bool = True, points=None,
-              accelerations: bool = True) -> DesignMotion:
+              accelerations: bool = True, links=None) -> DesignMotion:
         """Kinematics (positions, analogues) of every design at input values `phi` (SI): (N,) the same
         for every design, or (D, N) one row per design.
 
@@ -299,6 +300,8 @@ class DesignBatch:
             The joints and points whose xy, vq (and aq) are wanted (default: all).
         accelerations : bool
             Also the acceleration analogues (eq, aq); else they are None.
+        links : sequence of str, optional
+            The links whose angle, ω_q (and ε_q) are wanted (default: all; ``[]``: none).
 
         Returns
         -------
@@ -315,14 +318,19 @@ class DesignBatch:
         unknown = [p for p in names if p not in self.points]
         if unknown:
             raise ValueError(f"{', '.join(unknown)}: neither a joint nor a point of the model")
+        link_names = list(self.engine.links) if links is None else [str(n) for n in links]
+        unknown = [n for n in link_names if n not in self.engine.links]
+        if unknown:
+            raise ValueError(f"{', '.join(unknown)}: not a link of the model")
         if self.engine.backend == "numba":
-            return self._solve_compiled(phi, exact_limits, fallback, names, accelerations)
-        return self._solve_numpy(phi, exact_limits, fallback, names, accelerations)
+            return self._solve_compiled(phi, exact_limits, fallback, names, accelerations, link_names)
+        return self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names)
 
     def _solve_numpy(self, phi, exact_limits: bool, fallback: bool, names=None,
-                     accelerations: bool = True) -> DesignMotion:
-        """`solve` with numpy's loops (the points `names`, default all)."""
-        self._want = (list(self.points) if names is None else list(names), accelerations)
+                     accelerations: bool = True, links=None) -> DesignMotion:
+        """`solve` with numpy's loops (the points `names` and links `links`, default all)."""
+        self._want = (list(self.points) if names is None else list(names), accelerations,
+                      list(self.engine.links) if links is None else list(links))
         D = self.count
         designs = np.flatnonzero(self.geometry.ok)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
@@ -354,7 +362,7 @@ class DesignBatch:
         return motion
 
     def _solve_compiled(self, phi, exact_limits: bool, fallback: bool, names: list,
-                        accelerations: bool) -> DesignMotion:
+                        accelerations: bool, links: list) -> DesignMotion:
         """`solve` by the compiled kernel: designs × positions in one call; the designs it hands back
         (a change point passed, a position it cannot vouch for) are solved by numpy's batch."""
         from ..backends import _numba_design as kernel
@@ -362,15 +370,16 @@ class DesignBatch:
         D, N = phi.shape
         g, eng = self.geometry, self.engine
         designs = np.flatnonzero(g.ok)
-        links = list(eng.links)
         point_link = [self.point_link[self.points.index(p)] for p in names]
         out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, links, names,
                            *[None] * 6)
         self.nodes = None
-        if len(designs):
-            tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs)
-            got = kernel.solve(eng, tables, phi[designs], self.scale, accelerations, eng.threads)
         whole = len(designs) == D
+        if len(designs):
+            tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
+                                          [eng.link_index[n] for n in links])
+            got = kernel.solve(eng, tables, out.phi if whole else phi[designs], self.scale, accelerations,
+                               eng.threads)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
@@ -387,7 +396,10 @@ class DesignBatch:
             out.reasons = list(self.reasons)
             self.motion = out
             return out
-        out.valid[designs] = got.valid
+        if whole:
+            out.valid = got.valid
+        else:
+            out.valid[designs] = got.valid
         words = {kernel.STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
                  kernel.STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
                                              "or a change point)")}
@@ -404,16 +416,16 @@ class DesignBatch:
         self._past_limits(out)
         handed = designs[(got.status == kernel.STATUS["crossing"]) | (got.status == kernel.STATUS["numpy"])]
         if len(handed):
-            self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations)
+            self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
         out.ok = np.array([r is None for r in self.reasons], bool)
         out.reasons = [None if out.ok[d] else self.reasons[d] for d in range(D)]
         self.motion = out
         return out
 
-    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations):
+    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations, links):
         """Designs `handed` solved by numpy's batch (a batch of their own) and copied into `out`."""
         sub = DesignBatch(self.engine, _take_geometry(self.geometry, handed))
-        got = sub._solve_numpy(phi[handed], exact_limits, fallback, names, accelerations)
+        got = sub._solve_numpy(phi[handed], exact_limits, fallback, names, accelerations, links)
         out.valid[handed] = got.valid
         for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
             if getattr(out, name) is not None:
@@ -429,9 +441,9 @@ class DesignBatch:
         """Predict every (design, position) from its design's nodes, correct in one batch, check."""
         D, N = phi.shape
         eng0 = self.engine
-        names, acc = self._want
-        L, P = len(eng0.links), len(names)
-        out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, list(eng0.links),
+        names, acc, links = self._want
+        L, P = len(links), len(names)
+        out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, list(links),
                            names, np.full((D, N, L), np.nan), np.full((D, N, L), np.nan),
                            np.full((D, N, L), np.nan) if acc else None, np.full((D, N, P, 2), np.nan),
                            np.full((D, N, P, 2), np.nan), np.full((D, N, P, 2), np.nan) if acc else None)
@@ -470,30 +482,33 @@ class DesignBatch:
 
     def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
         """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
-        pose, links = sol.pose, self.engine.links
-        th = np.stack([pose.th[n] for n in links])  # (L, T)
-        c, s = np.cos(th), np.sin(th)
-        r = np.stack([pose.r[n] for n in links], axis=1)  # (2, L, T)
+        pose, links = sol.pose, list(self.engine.links)
         where = rows[take]
-        reference = np.stack([self.geometry.reference[n][where] for n in links])
+        chosen = [links.index(n) for n in out.links]  # the links asked for
+        if chosen:
+            th = np.stack([pose.th[links[i]] for i in chosen])  # (K, T)
+            th = th + np.stack([self.geometry.reference[links[i]][where] for i in chosen])
+        else:
+            th = np.zeros((0, len(take)))
         wq, eqq = sol.w.T, sol.e.T  # (L, T)
         vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
         at = np.stack([self.geometry.at[n][:, where] for n in out.points], axis=1)  # (2, P, T)
         li = np.array([self.point_link[self.points.index(n)] for n in out.points], int)
-        cp, sp = c[li], s[li]
+        cp = np.stack([pose.c[links[i]] for i in li])  # the points' links' cos and sin, as placed (P, T)
+        sp = np.stack([pose.s[links[i]] for i in li])
         rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
         w, e = wq[li], eqq[li]
         turned = np.stack([-rho[1], rho[0]])
-        xy = r[:, li] + rho
+        xy = np.stack([pose.r[links[i]] for i in li], axis=1) + rho
         vq = vf[:, li] + w * turned
         d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
         ok = good[take]
         out.valid[d_idx, n_idx] = ok
         bad = ~ok
-        links_out = [(out.angle, th + reference), (out.wq, wq)]
+        links_out = [(out.angle, th), (out.wq, wq[chosen])]
         points_out = [(out.xy, xy), (out.vq, vq)]
         if out.eq is not None:
-            links_out.append((out.eq, eqq))
+            links_out.append((out.eq, eqq[chosen]))
             points_out.append((out.aq, af[:, li] + e * turned - (w * w) * rho))
         for target, value in links_out:
             v = value.T.copy()
@@ -538,10 +553,11 @@ class DesignBatch:
             hit = np.isin(phi[d], m.phi[:, 0])
             idx = np.flatnonzero(hit)
             motion.valid[d] = hit
+            chosen = [list(eng.links).index(n) for n in motion.links]
             for name in ("angle", "wq", "eq"):
                 if getattr(motion, name) is not None:
                     getattr(motion, name)[d] = np.nan
-                    getattr(motion, name)[d, idx] = getattr(m, name)
+                    getattr(motion, name)[d, idx] = getattr(m, name)[:, chosen]
             for name in ("xy", "vq", "aq"):
                 if getattr(motion, name) is not None:
                     getattr(motion, name)[d] = np.nan

@@ -211,17 +211,17 @@ def stderr_progress(done: int, total: int):
 
 
 def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,
-                fallback: bool = True, backend: str = "numpy", points=None, accelerations: bool = True):
+                fallback: bool = True, backend: str = "numpy", points=None, accelerations: bool = True, links=None):
     """The kinematics of a chunk of designs (one Dask task): a `DesignBatch` solved at `phi`."""
     from .batch import design_batch
 
     return design_batch(Template(data, source), variants, backend=backend).solve(phi, exact_limits, fallback, points,
-                                                                                accelerations)
+                                                                                accelerations, links)
 
 
 def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: bool = True, client=None,
                   chunk: int = 2000, progress=None, backend: str = "numpy", points=None,
-                  accelerations: bool = True):
+                  accelerations: bool = True, links=None):
     """The kinematics of every design of a variant table at input values `phi` (SI): a design batch,
     here or, with `client`, one Dask task per chunk of designs.
 
@@ -243,7 +243,7 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
         progress(done, total) after each chunk.
     backend : {"numpy", "numba"}
         The design batch's loops (`design_batch`).
-    points, accelerations
+    points, accelerations, links
         What each design's motion holds (`DesignBatch.solve`).
 
     Returns
@@ -268,7 +268,7 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
         results, done = [], 0
         for part, x in zip(parts, rows):
             results.append(solve_chunk(template.raw, template.source, part, x, exact_limits, fallback, backend,
-                                       points, accelerations))
+                                       points, accelerations, links))
             done += len(part)
             if progress is not None:
                 progress(done, len(variants))
@@ -277,13 +277,14 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
 
         tasks = [(part, x) for part, x in zip(parts, rows)]
         results = run_on_client(client, _solve_task, template.raw, template.source, tasks,
-                                (exact_limits, fallback, backend, points, accelerations), progress)
+                                (exact_limits, fallback, backend, points, accelerations, links), progress)
     return join_motions(results, [s.start for s in slices])
 
 
-def _solve_task(data, source, task, exact_limits, fallback, backend="numpy", points=None, accelerations=True):
+def _solve_task(data, source, task, exact_limits, fallback, backend="numpy", points=None, accelerations=True,
+                links=None):
     part, phi = task
-    return solve_chunk(data, source, part, phi, exact_limits, fallback, backend, points, accelerations)
+    return solve_chunk(data, source, part, phi, exact_limits, fallback, backend, points, accelerations, links)
 
 
 def join_motions(parts: list, offsets: list):
