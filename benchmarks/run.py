@@ -14,7 +14,8 @@ keeps the fastest call; the figure is the median over the rounds (µs per positi
 to a baseline is the median over the rounds of the ratio within a round (the baseline is timed right
 after the case), so that the load of the moment cancels. The compiled backend runs on one core for the headline
 (`Engine(threads=1)`, the baselines use one core) and on two as a second column. Process-level figures
-(`mbplanar solve`, `import mbplanar`, numba's cold and warm start) are medians of subprocess runs.
+(`mbplanar solve`, `import mbplanar` alone and with its first use, numba's cold and warm start) are medians
+of subprocess runs.
 
 `--json FILE` writes the run ('-': stdout), `--docs` rewrites the table in docs/speed.md from
 benchmarks/latest.json, `--study` runs the design-study cases (benchmarks/study.py).
@@ -404,6 +405,11 @@ print(m.xy.sum() + m.v.sum() + m.a.sum() + k.balancing['O'].sum())
 """
 
 
+# `import mbplanar` loads its names on first use; the first use of the API loads numpy and the model,
+# engine and kinematics code, as any program that uses mbplanar pays for it
+FIRST_USE = "import mbplanar; mbplanar.Engine, mbplanar.read_model, mbplanar.analyse"
+
+
 def process_cases(rounds, cold):
     """`mbplanar solve` end to end, `import mbplanar`, and numba's cold and warm start: new processes
     timed in rounds (wall and CPU time, medians), with `python -c pass` and `import numpy` as context."""
@@ -416,7 +422,8 @@ def process_cases(rounds, cold):
         solve = [py, "-m", "mbplanar", "solve", "models/fourbar.toml", "--at", "30"]
         subprocess.run(solve, check=True, capture_output=True, env=env, cwd=ROOT)
         commands = {"python": ([py, "-c", "pass"], env), "numpy": ([py, "-c", "import numpy"], env),
-                    "import": ([py, "-c", "import mbplanar"], env), "solve": (solve, env)}
+                    "import": ([py, "-c", "import mbplanar"], env),
+                    "first_use": ([py, "-c", FIRST_USE], env), "solve": (solve, env)}
         cold_s = None
         if cold and BEST == "numba":
             numba_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba"))
@@ -427,7 +434,9 @@ def process_cases(rounds, cold):
     context = dict(python_s=t["python"][0], python_cpu_s=t["python"][1], numpy_s=t["numpy"][0],
                    numpy_cpu_s=t["numpy"][1])
     rows = [dict(name="fourbar", work="mbplanar solve", n=1, seconds=t["solve"][0], cpu_s=t["solve"][1], **context),
-            dict(name="mbplanar", work="import", n=1, seconds=t["import"][0], cpu_s=t["import"][1], **context)]
+            dict(name="mbplanar", work="import", n=1, seconds=t["import"][0], cpu_s=t["import"][1], **context),
+            dict(name="mbplanar", work="import and first use", n=1, seconds=t["first_use"][0],
+                 cpu_s=t["first_use"][1], **context)]
     if cold_s is not None:
         (np_wall, np_cpu), (warm_wall, warm_cpu) = t["sweep_numpy"], t["sweep_numba"]
         rows += [dict(name="fourbar_loaded", work="numba cold start", n=1, seconds=cold_s[0] - np_wall,
@@ -569,7 +578,8 @@ def readme_text(doc) -> str:
              f"One position of the four-bar with velocities and accelerations: "
              f"{num(get('fourbar', 'one position', 'mbplanar_us'))} µs per call; `mbplanar solve` end to end "
              f"{num(get('fourbar', 'mbplanar solve', 'cpu_s'))} s of CPU time; `import mbplanar` "
-             f"{num(get('mbplanar', 'import', 'cpu_s'))} s. Method, every case and the targets: "
+             f"{num(get('mbplanar', 'import', 'cpu_s'))} s ({num(get('mbplanar', 'import and first use', 'cpu_s'))}"
+             " s with the first use of the API, which loads numpy). Method, every case and the targets: "
              "[docs/speed.md](docs/speed.md)."]
     prose = [wrap(p) for p in prose]
     lines = [prose[0], "",

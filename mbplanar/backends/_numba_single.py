@@ -275,11 +275,14 @@ def _position(x, omega, epsilon, out, tables, fb, ib, bb, ab, lay):
         if brackets[c, 0] <= near_x <= brackets[c, 1]:
             return 1  # a change point's bracket: the interpolant gives the rates there, numpy's path
     xs[0] = near_x
+    # `_sweep`'s flags as run-time booleans: a constant True or False would be typed as a literal, and
+    # numba would compile `_sweep` again for it (two more first compiles of the whole kernel)
+    no, yes = n_grid < 0, n_grid >= 0
     if reduced:
         # solved and checked at the equivalent value near the drawn pose, then moved on by whole periods:
         # the prediction at x of a one-interval atlas, corrected there (`engine._atlas._solve_periodic`)
         if _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, grid, coef, signs, limits, xs,
-                  ones, zeros, False, False, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt,
+                  ones, zeros, no, no, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt,
                   sc, cc, q, guess, jac, perm, res, col, sol, qd_u) or not valid[0]:
             return 1
         lo = min(max(np.searchsorted(grid, near_x) - 1, 0), n_grid - 2)  # (as `atlas._interpolate`)
@@ -293,7 +296,7 @@ def _position(x, omega, epsilon, out, tables, fb, ib, bb, ab, lay):
         xs[0] = x
         grid, coef, signs, limits = one_grid, one_coef, one_signs, no_limits
     if _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, grid, coef, signs, limits, xs, ones,
-              zeros, False, True, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt, sc, cc, q,
+              zeros, no, yes, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt, sc, cc, q,
               guess, jac, perm, res, col, sol, qd_u) or not valid[0]:
         return 1
     _outputs(x, omega, epsilon, out, off, rec_off, len(joints.a), angle, xy, wq, eq, vq, aq, rows)
