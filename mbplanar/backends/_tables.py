@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["REVOLUTE", "PRISMATIC", "LOAD_FIXED", "LOAD_GUIDE", "LOAD_INERTIA", "StepTables", "CutTables",
-           "BlockTables", "JointTables", "LoadTables", "ForceBlockTables", "kinematics_tables", "load_tables"]
+           "BlockTables", "JointTables", "LoadTables", "kinematics_tables", "load_tables"]
 
 REVOLUTE, PRISMATIC = "R", "P"                          # JointLaw.kind, Joint.kind
 LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA = "fixed", "guide", "inertia"   # the three kinds of load a kernel adds
@@ -86,37 +86,6 @@ class LoadTables(NamedTuple):
     u0: np.ndarray                 # (N, 2) float: the guide's direction, drawn (guide loads; else 0)
     mass: np.ndarray               # (N,) float: inertia loads: the link's mass (else 0)
     moment_of_inertia: np.ndarray  # (N,) float: inertia loads: the link's I_S (else 0)
-
-
-class ForceBlockTables(NamedTuple):
-    """The kinetostatic system's K blocks (`kinetostatics._Block`, last group first) for the compiled solve:
-    where each block's rows, entries, pivots, rest and zeros start and end (end exclusive), then those
-    lists concatenated."""
-
-    size: np.ndarray        # (K,) int: the block's rows (= its columns)
-    row0: np.ndarray        # (K,) int: its first row in `rows` and `own`
-    entry0: np.ndarray      # (K,) int
-    entry1: np.ndarray      # (K,) int
-    later0: np.ndarray      # (K,) int
-    later1: np.ndarray      # (K,) int
-    pivot0: np.ndarray      # (K,) int
-    pivot1: np.ndarray      # (K,) int
-    rest0: np.ndarray       # (K,) int
-    rest1: np.ndarray       # (K,) int
-    zero0: np.ndarray       # (K,) int
-    zero1: np.ndarray       # (K,) int
-    rows: np.ndarray        # (R,) int: the blocks' global rows
-    own: np.ndarray         # (R,) int: the blocks' own (global) columns
-    entry: np.ndarray       # (E, 3) int: local row, local column, feature (0: constant)
-    entry_coef: np.ndarray  # (E,) float
-    later: np.ndarray       # (F, 3) int: local row, global column solved earlier, feature
-    later_coef: np.ndarray  # (F,) float
-    pivots: np.ndarray      # (P, 6) int: row, column, affected rows start, end, pivot-row columns start, end
-    affected: np.ndarray    # (Q,) int: the rows each pivot eliminates from
-    pivot_cols: np.ndarray  # (G,) int: the columns of each pivot row
-    rest_rows: np.ndarray   # (N,) int: the rows left for the dense solve
-    rest_cols: np.ndarray   # (N,) int: the columns left for the dense solve
-    zeros: np.ndarray       # (Z, 2) int: read positions holding no entry (fill-in), zeroed first
 
 
 def load_tables(rows: list) -> LoadTables:
