@@ -150,11 +150,10 @@ def read_motion(motion, rates=True) -> float:
 
 
 def read_one(motion) -> float:
-    """Touch every output array of one position (positions, velocities, accelerations of every point,
-    every link's angle): reading an attribute makes the whole array, as `read_motion` does, but one
-    element is read instead of a sum, since numpy's reduction of a tiny array (about 1.3 µs each) would
-    outweigh the solve. pylinkage's one-position call is read the same way."""
-    return motion.xy.item(-1) + motion.angle.item(-1) + motion.v.item(-1) + motion.a.item(-1)
+    """Read every value of one position's outputs (positions, velocities, accelerations of every point,
+    every link's angle), as `read_motion` does, but through Python floats: numpy's reduction of a tiny
+    array (about 1.3 µs each) would outweigh the solve. pylinkage's one-position call is read the same way."""
+    return sum(sum(a.ravel().tolist()) for a in (motion.xy, motion.angle, motion.v, motion.a))
 
 
 def read_reactions(result) -> float:
@@ -290,8 +289,8 @@ def pylinkage_calls(engine, n):
     def kinematics():
         return sum(float(x.sum()) for x in linkage.step_fast_with_kinematics(iterations=n))
 
-    def one():  # read as `read_one` reads mbplanar's: the last element of each output
-        return sum(x.item(-1) for x in linkage.step_fast_with_kinematics(iterations=1))
+    def one():  # read as `read_one` reads mbplanar's: every value, through Python floats
+        return sum(sum(x.ravel().tolist()) for x in linkage.step_fast_with_kinematics(iterations=1))
     return positions, kinematics, one
 
 

@@ -9,9 +9,11 @@ size on the same backend, and Dask.
    coupler point M: positions and velocity analogues. The batch computes what is asked for
    (`points=["M"], links=[], accelerations=False`), M's xy and v_q, and all of it is read. Positions per
    second on one core.
-2. The same number of positions of one design in one sweep (`mbplanar.analyse`) on the same backend,
-   reading the same arrays of M: the cost per position against which the batch's cost per
-   design-position is compared (same run, ratio).
+2. Equal work for the ratio: the same number of positions of one design in one sweep
+   (`mbplanar.analyse(..., points=["M"])`, which also gives every link's angle and rates and M's
+   accelerations) against a design batch asked for the same (`points=["M"]`, every link,
+   `accelerations=True`), each reading M's xy and v_q, on the same backend: the batch's cost per
+   design-position over the sweep's cost per position (same run).
 3. K designs × 12 positions through `solve_designs` (numpy; M's xy and v_q) on a Dask LocalCluster of 1 and of 2
    single-thread worker processes (chunks of 2000 designs, one task each), R rounds interleaved
    (1, 2, 1, 2, ...): the ratio of the median wall times. The results of the runs are checked equal,
@@ -86,21 +88,25 @@ def _case(name, backend, n, wall, cpu, **extra) -> dict:
             "us_per_position_cpu": 1e6 * cpu / n, "load": os.getloadavg()[0], **extra}
 
 
-def batch_case(designs: int, repeats: int, backend: str) -> dict:
+def batch_case(designs: int, repeats: int, backend: str, sweeps_work: bool = False) -> dict:
+    """The design batch: M's positions and velocities only, or with `sweeps_work` what a single-design
+    sweep gives (every link's angle and rates, M's accelerations too)."""
     phi = np.radians(np.arange(360.0))
     values = crank_rockers(designs)
     load = os.getloadavg()[0]
+    request = dict(points=["M"]) if sweeps_work else dict(points=["M"], links=[], accelerations=False)
 
     def run():
         batch = design_batch(MODEL, values, backend=backend)
-        motion = batch.solve(phi, points=["M"], links=[], accelerations=False)
+        motion = batch.solve(phi, **request)
         k = motion.point("M")
         xy, vq = motion.xy[:, :, k].copy(), motion.vq[:, :, k].copy()
         assert motion.valid.all() and np.isfinite(xy).all() and np.isfinite(vq).all(), "every crank-rocker turns"
         return xy, vq
 
     wall, cpu = _timed(run, repeats)
-    out = _case("design batch", backend, designs * len(phi), wall, cpu, designs=designs)
+    out = _case("design batch" + (", sweep's work" if sweeps_work else ""), backend, designs * len(phi), wall,
+                cpu, designs=designs)
     out["load"] = load
     return out
 
@@ -112,7 +118,7 @@ def sweep_case(positions: int, repeats: int, backend: str) -> dict:
     load = os.getloadavg()[0]
 
     def run():
-        motion = mbplanar.analyse(engine, phi)
+        motion = mbplanar.analyse(engine, phi, points=["M"])
         k = motion.point("M")
         xy, vq = motion.xy[:, k].copy(), motion.vq[:, k].copy()
         assert len(xy) == positions and np.isfinite(vq).all()
@@ -157,13 +163,14 @@ def main(argv=None) -> dict:
     repeats = args.repeats or (1 if args.quick else 2)
     doc = {"date": time.strftime("%Y-%m-%d %H:%M"), "cpus": os.cpu_count(), "cases": [], "ratios": {}}
     for backend, count in (("numba", designs), ("numpy", numpy_designs)):
-        batch = batch_case(count, repeats, backend)
+        doc["cases"].append(batch_case(count, repeats, backend))
+        batch = batch_case(count, repeats, backend, sweeps_work=True)
         sweep = sweep_case(batch["positions"], repeats, backend)
         doc["cases"] += [batch, sweep]
         doc["ratios"][backend] = {"wall": batch["us_per_position"] / sweep["us_per_position"],
                                   "cpu": batch["us_per_position_cpu"] / sweep["us_per_position_cpu"]}
     for c in doc["cases"]:
-        print(f"{c['case']:<20} {c['backend']:<6} {c['positions']:>9} positions  {c['seconds']:7.2f} s wall "
+        print(f"{c['case']:<34} {c['backend']:<6} {c['positions']:>9} positions  {c['seconds']:7.2f} s wall "
               f"{c['cpu_seconds']:7.2f} s CPU  {c['positions_per_s']:11.0f}/s wall  {c['positions_per_cpu_s']:11.0f}/s CPU"
               f"  load {c['load']:.1f}")
     for backend, r in doc["ratios"].items():
