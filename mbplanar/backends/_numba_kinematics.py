@@ -32,7 +32,7 @@ from ._numba_blocks import LeanPipeline, _closure, _interval, _lu, _lu_solve, _p
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
-__all__ = ["FIELDS", "RATE_FIELDS", "Outputs", "sweep"]
+__all__ = ["FIELDS", "RATE_FIELDS", "Outputs", "record_dtype", "sweep"]
 
 # the record of a position, in this order: (name, per link / joint, components); `RATE_FIELDS` only
 # with rates. The kinetostatics kernel reads it by offset.
@@ -97,6 +97,11 @@ def _make_plan(engine, joint_table) -> _KernelPlan:
     m_max = max([1] + [bp.m for bp in engine.blocks])
     sizes = (len(steps.parent), len(cuts.a), per["L"], len(blocks.var_scale), m_max)
     return _KernelPlan(args, rows, sizes, [])
+
+
+def record_dtype(engine, joint_table, rates: bool) -> np.dtype:
+    """The dtype of the records `sweep` writes (`Outputs.rows`), with or without rates."""
+    return _plan(engine, joint_table).rows[bool(rates)][0]
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
