@@ -449,12 +449,18 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 wq, eq = rt[vel, 0, l], rt[acc, 0, l]
                 w_out[b, l] = wq * omb
                 e_out[b, l] = eq * om2 + wq * epb if ep_any else eq * om2
-        for p in range(len(p_link)):
-            k = p_link[p]
-            c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-            rx, ry = c * atx - s * aty, s * atx + c * aty
-            xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
-            if rates:  # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
+        if not rates:
+            for p in range(len(p_link)):
+                k = p_link[p]
+                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + (c * atx - s * aty), ps[4, k] + (s * atx + c * aty)
+        else:
+            for p in range(len(p_link)):
+                k = p_link[p]
+                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+                rx, ry = c * atx - s * aty, s * atx + c * aty
+                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
+                # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
                 wl, el = rt[vel, 0, k], rt[acc, 0, k]
                 w2 = wl * wl
                 vx, vy = rt[vel, 1, k] - wl * ry, rt[vel, 2, k] + wl * rx
