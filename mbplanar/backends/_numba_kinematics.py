@@ -234,7 +234,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
         for sl in range(len(rt)):
             rt[sl, 0, l], rt[sl, 1, l], rt[sl, 2, l] = 0.0, 0.0, 0.0
-    lo = 0
+    lo, lo_inv, inv = 0, -1, 1.0
     for b in range(len(x)):
         xb = x[b]
         if (limits[0] and xb < grid[0]) or (limits[1] and xb > grid[n_grid - 1]):
@@ -252,7 +252,9 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 lo = _interval(grid, n_grid, xb)
         # the quintic Hermite interpolant between the two nodes around x, and the nearest node
         left, right = grid[lo], grid[lo + 1]
-        t = (xb - left) / (right - left)
+        if lo != lo_inv:  # (1 / the interval's width, once per interval: no division per position)
+            lo_inv, inv = lo, 1.0 / (right - left)
+        t = (xb - left) * inv
         near = lo if abs(xb - left) <= abs(xb - right) else lo + 1
         for i in range(m_all):
             value = coef[lo, 5, i]
