@@ -291,7 +291,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
                 s_hi = m if phase == 0 else s_lo + 1
                 if phase == 0:
-                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed, left moving by an earlier block
+                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed, moved by an earlier block
                         link = blocks.anchors[t_]
                         for sl in range(m):
                             rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
