@@ -80,8 +80,7 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
     them is first read (`_refill`)."""
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
-    om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1).reshape(-1))
-    ep = np.ascontiguousarray(_per_position(epsilon, [inp.epsilon], batch, 1).reshape(-1))
+    om, ep = _speed(omega, inp.omega, batch), _speed(epsilon, inp.epsilon, batch)
     lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
     if not engine.within_walk(lo, hi):
         return None  # far values: the numpy path reduces them by the period
@@ -91,8 +90,10 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
                               records=records)
     if got is None:
         return None
-    keep = slice(None) if got.valid.all() else np.flatnonzero(got.valid)
-    limits, crossings = met_along(engine.atlas(), lo, hi)
+    keep = slice(None) if got.complete else np.flatnonzero(got.valid)
+    atlas = engine.atlas()
+    known = atlas.crossings or atlas.limits[-1] is not None or atlas.limits[+1] is not None
+    limits, crossings = met_along(atlas, lo, hi) if known else ([], [])  # (neither known: nothing to look up)
     arrays = dict(w=got.w, e=got.e, v=got.v, a=got.a) if rates else dict(w=None, e=None, v=None, a=None)
     common = dict(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
                   link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
@@ -102,6 +103,14 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
         return Motion(**common, value=None, frames=None, rows=None, wq=None, eq=None, rate_q=None, accel_q=None,
                       refill=_refill)
     return Motion(**common, **_views(got.rows, rates))
+
+
+def _speed(value, default, batch: int) -> np.ndarray:
+    """The input's speed or acceleration per position (B,), contiguous: `value` one number (None: the
+    model's `default`) or one per position."""
+    if value is None or isinstance(value, (int, float)):
+        return np.full(batch, float(default if value is None else value))
+    return np.ascontiguousarray(_per_position(value, [default], batch, 1).reshape(-1))
 
 
 def _records_read(engine) -> bool:

@@ -47,7 +47,8 @@ _LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi
 @dataclass
 class Outputs:
     """What `sweep` wrote for the valid positions: angle (B, L), xy (B, P, 2), and with rates w, e
-    (B, L), v, a (B, P, 2) (else None); rows (B,) structured records (`FIELDS`, `RATE_FIELDS`)."""
+    (B, L), v, a (B, P, 2) (else None); rows (B,) structured records (`FIELDS`, `RATE_FIELDS`); valid
+    (B,) the positions solved (the rest lie past a motion limit), complete: all of them."""
 
     angle: np.ndarray
     xy: np.ndarray
@@ -57,6 +58,7 @@ class Outputs:
     a: np.ndarray | None
     rows: np.ndarray | None
     valid: np.ndarray
+    complete: bool  # every position valid
 
 
 
@@ -129,14 +131,28 @@ def _atlas_tables(engine, atlas):
     return tables
 
 
+def _covering_tables(engine, atlas, lo: float, hi: float):
+    """`_atlas_tables` of the atlas covering lo … hi (`Atlas.cover`). A sweep inside the nodes the tables
+    were made from (the usual case: the same range again) neither asks the atlas to grow nor makes them
+    again: `cover` would find nothing to do there."""
+    found = engine.prepared.get("numba covered")
+    if found is not None and found[0] <= lo and hi <= found[1] and found[2] is atlas.arrays():
+        return found[3]
+    atlas.cover(lo, hi)
+    tables = _atlas_tables(engine, atlas)
+    grid = tables[0]
+    span = (float(grid[0]), float(grid[-1])) if len(grid) else (np.inf, -np.inf)
+    engine.prepared["numba covered"] = (*span, atlas.arrays(), tables)
+    return tables
+
+
 def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=True) -> Outputs | None:
     """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi) with input speed
     om and acceleration ep (B,), for the points on links p_link (P,) drawn at p_at (P, 2); with `rates`
     the velocities and accelerations too; with `records` the frames and joints (`Outputs.rows`, else
     None). None where the numpy path must take the batch."""
     atlas = engine.atlas()
-    atlas.cover(lo, hi)
-    grid, coef, signs = _atlas_tables(engine, atlas)
+    grid, coef, signs = _covering_tables(engine, atlas, lo, hi)
     if len(grid) < 2:
         return None
     if atlas.crossings and _in_brackets(atlas.crossings, x).any():
@@ -145,7 +161,7 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=T
     batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
     rates = bool(rates)
     dtype, offsets = plan.rows[rates]
-    rows = np.empty(batch if records else 0, dtype)
+    rows = np.empty(batch, dtype) if records else None
     flat = rows.view(np.float64).reshape(batch, -1) if records else _none(plan, "flat", (0, 0))
     angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
     if rates:
@@ -171,9 +187,10 @@ def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=T
             for p, wk in zip(parts, work)])
     if any(status):
         return None
+    complete = bool(valid.all())
     out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
-                  a if rates else None, rows if records else None, valid)
-    if not valid.all():
+                  a if rates else None, rows, valid, complete)
+    if not complete:
         keep = np.flatnonzero(valid)
         for name in ("angle", "xy", "w", "e", "v", "a", "rows"):  # (None where not asked for)
             if getattr(out, name) is not None:
