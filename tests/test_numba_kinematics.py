@@ -109,6 +109,24 @@ def test_one_position_and_past_the_limit():
         _assert_same(ref, fast, ref_engine.size)
 
 
+def test_sweeps_inside_and_beyond_the_atlas_already_walked():
+    """One compiled engine, sweeps inside the atlas' nodes (its kernel tables kept), then beyond them (the
+    atlas grows, the tables are made again), then inside again: each the numpy engine's answer, and the
+    kernel made each one."""
+    ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / "fourbar.toml"))
+    phi0 = float(ref_engine.phi_drawn[0])
+    for lo, hi in ((0.0, 1.0), (0.2, 0.8), (-3.0, 7.0), (0.0, 1.0), (-3.0, 7.0)):
+        values = phi0 + np.linspace(lo, hi, 40)
+        ref, fast = mbplanar.analyse(ref_engine, values), mbplanar.analyse(fast_engine, values)
+        assert _compiled(fast)
+        _assert_same(ref, fast, ref_engine.size)
+    locking_ref, locking_fast = _pair(mbplanar.read_model(MODELS / "crank_slider_rocker_locking.toml"))
+    inp = locking_ref.inputs[0]
+    for ends in ((0.5, 1.0), (0.5, 2.5), (0.6, 0.9), (0.5, 2.5)):  # (past the limit: rows dropped alike)
+        values = np.linspace(*(inp.to_si(v) for v in ends), 30)
+        _assert_same(mbplanar.analyse(locking_ref, values), mbplanar.analyse(locking_fast, values), locking_ref.size)
+
+
 def test_unknown_backend_is_refused(monkeypatch):
     mech = mbplanar.read_model(MODELS / "fourbar.toml")
     with pytest.raises(ValueError, match="backend"):
