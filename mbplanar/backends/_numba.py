@@ -20,10 +20,9 @@ PAYS_FROM = 500_000
 
 
 def _kernels():
-    """The kernel modules, imported (with numba) on first use."""
+    """The kernel modules, imported on first use (numba only when a kernel is compiled: `_jit`)."""
     if not _loaded:
-        from . import _numba_kinematics, _numba_kinetostatics, _numba_notice
-        _numba_notice.install()
+        from . import _numba_kinematics, _numba_kinetostatics
         _loaded.extend((_numba_kinematics, _numba_kinetostatics))
     return _loaded
 
