@@ -163,10 +163,17 @@ def build(stream=None) -> Path:
     writes progress to `stream`. An `MbplanarError` when numba or a C compiler is missing."""
     try:
         import numba  # noqa: F401
-        from numba.pycc import CC
+        import numba.pycc  # noqa: F401
     except ImportError as exc:
         raise MbplanarError("mbplanar compile needs numba and its numba.pycc: pip install 'mbplanar[fast]' "
                             f"({exc})") from None
+    from ._numba_notice import quiet
+    with quiet():
+        return _build(stream)
+
+
+def _build(stream) -> Path:
+    from numba.pycc import CC
     start = time.perf_counter()
     calls = _sample_calls()
     where = folder()
