@@ -907,9 +907,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
     p.add_argument("--backend", choices=("numpy", "numba"), default="numpy",
-                   help="numba: compiled kinematics and forces for long sweeps (pip install 'mbplanar[fast]'; "
-                        "importing it and loading the compiled code take ~1 s, the very first run compiles for "
-                        "~30 s)")
+                   help="numba: compiled kinematics and forces for long sweeps (pip install 'mbplanar[fast]' "
+                        "&& mbplanar compile; without that compile, importing numba costs ~1 s per process and the "
+                        "very first run compiles for ~10 s)")
     p.add_argument("--threads", type=_positive_int, default=None, metavar="N",
                    help="cores the numba backend splits a long sweep over (default: all available, or "
                         "MBPLANAR_THREADS)")
