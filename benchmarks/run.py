@@ -545,9 +545,8 @@ def markdown(doc) -> str:
                                        if k.endswith("_us") and k != "mbplanar_us" and v is not None) + "."]
     procs = [c for c in doc["cases"] if "seconds" in c]
     if procs:
-        lines += ["", "New processes, medians of the rounds (s; the install step, `mbplanar compile` on empty caches, "
-                  "and each cold start, the first run after it or without it, are one process each; the cold "
-                  "and warm starts are the time over the same process on numpy):", "",
+        lines += ["", "New processes, medians of the rounds (s; the cold start is one process, and the cold and "
+                  "warm start are the time over the same process on numpy):", "",
                   "| process | wall | CPU | context (wall / CPU) |", "|---|---|---|---|"]
         lines += [f"| {c['work']} ({c['name']}) | {c['seconds']:.3f} | {c['cpu_s']:.3f} | {context_of(c)} |"
                   for c in procs]
