@@ -175,7 +175,6 @@ def build(stream=None) -> Path:
 def _build(stream) -> Path:
     from numba.pycc import CC
     start = time.perf_counter()
-    calls = _sample_calls()
     where = folder()
     root = where.parent
     root.mkdir(mode=0o700, parents=True, exist_ok=True)
@@ -183,6 +182,7 @@ def _build(stream) -> Path:
         raise MbplanarError(f"{root}: the folder of the built kernels must be the user's own, writable by no one else")
     work = Path(tempfile.mkdtemp(prefix="build-", dir=root))
     try:
+        calls = _sample_calls()
         cc = CC(MODULE)
         cc.output_dir, cc.target_cpu, cc.use_nrt, cc.verbose = str(work), "host", False, False
         # numba's C helpers (the arguments' unboxing, ...) compiled with -O1, not -O3: ~0.8 s less of the
