@@ -162,7 +162,7 @@ def test_arguments_of_other_types_go_to_numba(built):
 
 def test_build_without_numba_pycc_is_a_clear_error(monkeypatch):
     monkeypatch.setitem(sys.modules, "numba.pycc", None)
-    with pytest.raises(MbplanarError, match="mbplanar compile needs numba"):
+    with pytest.raises(MbplanarError, match="building the compiled kernels needs numba"):
         _aot.build()
 
 

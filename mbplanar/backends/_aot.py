@@ -159,20 +159,32 @@ def _cpu() -> str:
 # -- the build --------------------------------------------------------------------------------------
 
 def build(stream=None) -> Path:
-    """Build the module for this copy of mbplanar (replacing any other key's) and return its folder;
-    writes progress to `stream`. An `MbplanarError` when numba or a C compiler is missing."""
+    """Build the module for this copy of mbplanar (replacing any other key's) and return its folder; one
+    line on `stream` says so. An `MbplanarError` when numba or a C compiler is missing."""
     try:
         import numba  # noqa: F401
         import numba.pycc  # noqa: F401
     except ImportError as exc:
-        raise MbplanarError("mbplanar compile needs numba and its numba.pycc: pip install 'mbplanar[fast]' "
+        raise MbplanarError("building the compiled kernels needs numba and its numba.pycc: pip install 'mbplanar[fast]' "
                             f"({exc})") from None
     from ._numba_notice import quiet
-    with quiet():
-        return _build(stream)
+    if stream is not None:
+        stream.write("mbplanar: compiling the numba kernels ahead of time")
+        stream.flush()
+    try:
+        with quiet():
+            where, seconds = _build()
+    except BaseException:
+        if stream is not None:
+            stream.write(": failed\n")
+        raise
+    if stream is not None:
+        stream.write(f" ({seconds:.1f} s) into {where}\n")
+    return where
 
 
-def _build(stream) -> Path:
+def _build() -> tuple[Path, float]:
+    """`build`'s work: the folder written and the seconds it took."""
     from numba.pycc import CC
     start = time.perf_counter()
     where = folder()
@@ -198,7 +210,7 @@ def _build(stream) -> Path:
             cc.compile()
         built = [p.name for p in work.iterdir() if p.name.startswith(MODULE) and p.suffix in _suffixes()]
         if len(built) != 1:
-            raise MbplanarError(f"mbplanar compile: numba.pycc wrote {built or 'nothing'}")
+            raise MbplanarError(f"building the compiled kernels: numba.pycc wrote {built or 'nothing'}")
         manifest = {"format": FORMAT, "key": _key(), "file": built[0], "kernels": kernels,
                     "built_s": round(time.perf_counter() - start, 3)}
         (work / MANIFEST).write_text(json.dumps(manifest, indent=1), encoding="utf-8")
@@ -211,14 +223,11 @@ def _build(stream) -> Path:
         shutil.rmtree(work, ignore_errors=True)
         if isinstance(exc, MbplanarError):
             raise
-        raise MbplanarError(f"mbplanar compile failed (the numba backend still works, compiling on first use): "
+        raise MbplanarError(f"building the compiled kernels failed (the numba backend still works, compiling on first use): "
                             f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}") from exc
     from ._jit import forget
     forget()
-    if stream is not None:
-        stream.write(f"mbplanar: compiled {len(kernels)} kernels ahead of time in "
-                     f"{time.perf_counter() - start:.1f} s into {where}\n")
-    return where
+    return where, time.perf_counter() - start
 
 
 def _forwarder(kernel, count: int):
@@ -239,7 +248,7 @@ def _signature(args) -> str:
     from ._jit import signature
     found = signature(args)
     if found is None:
-        raise MbplanarError("mbplanar compile: a kernel takes an argument of a type it cannot describe")
+        raise MbplanarError("building the compiled kernels: a kernel takes an argument of a type it cannot describe")
     return found
 
 
@@ -258,7 +267,7 @@ class _kernel_flags:
         options = {tuple(sorted((k, str(v)) for k, v in kernel.options.items() if k in _FLAGS))
                    for kernel, _, _ in calls.values()}
         if len(options) != 1:
-            raise MbplanarError(f"mbplanar compile: the kernels disagree on their numba options {options}")
+            raise MbplanarError(f"building the compiled kernels: the kernels disagree on their numba options {options}")
         self.options = dict(next(iter(options)))
 
     def __enter__(self):
@@ -304,7 +313,7 @@ def _sample_calls() -> dict:
     calls = {name: (kernel, args, seen["results"][name]) for name, (kernel, args) in seen["calls"].items()
              if kernel.py_func.__name__ in wanted}
     if len(calls) != len(wanted):
-        raise MbplanarError(f"mbplanar compile: the sample ran {sorted(seen['calls'])}, not every kernel")
+        raise MbplanarError(f"building the compiled kernels: the sample ran {sorted(seen['calls'])}, not every kernel")
     return calls
 
 
