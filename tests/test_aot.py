@@ -160,10 +160,14 @@ def test_arguments_of_other_types_go_to_numba(built):
     assert _aot.function(_numba_single._position.name, "") is None
 
 
-def test_build_without_numba_pycc_is_a_clear_error(monkeypatch):
+def test_build_without_numba_pycc_is_a_clear_error(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "numba.pycc", None)
     with pytest.raises(MbplanarError, match="building the compiled kernels needs numba"):
         _aot.build()
+    from mbplanar.cli import main
+    assert main(["compile"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("mbplanar: building the compiled kernels needs numba") and err.count("\n") == 1
 
 
 Pair = namedtuple("Pair", "a b")
