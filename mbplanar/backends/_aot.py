@@ -271,6 +271,7 @@ class _kernel_flags:
         self.options = dict(next(iter(options)))
 
     def __enter__(self):
+        from numba.core import codegen
         from numba.core.compiler import Flags
         from numba.pycc import compiler
         error_model, release_gil = self.options.get("error_model", "python"), self.options.get("nogil") == "True"
@@ -283,9 +284,17 @@ class _kernel_flags:
 
         self.module, self.saved = compiler, compiler.Flags
         compiler.Flags = KernelFlags
+        # the module links the kernels as numba compiled and optimised them (`_forwarder`): optimising the
+        # whole module once more would only inline the forwarders (~2 s of the build)
+        self.library, self.optimise = codegen.AOTCodeLibrary, codegen.AOTCodeLibrary.__dict__.get("_optimize_final_module")
+        codegen.AOTCodeLibrary._optimize_final_module = lambda library: None
 
     def __exit__(self, *exc):
         self.module.Flags = self.saved
+        if self.optimise is None:
+            del self.library._optimize_final_module
+        else:
+            self.library._optimize_final_module = self.optimise
 
 
 _FLAGS = ("error_model", "nogil", "fastmath", "boundscheck", "_nrt")
