@@ -117,8 +117,8 @@ def forget() -> None:
 
 
 class capture:
-    """``with capture() as calls``: every kernel runs as plain Python, and `calls` collects, per kernel
-    name, the first outermost call's (kernel, arguments) and its result (``calls["results"]``): the
+    """``with capture() as seen``: every kernel runs as plain Python; ``seen["calls"]`` collects, per
+    kernel name, the first outermost call's (kernel, arguments), ``seen["results"]`` its result: the
     ahead-of-time build learns the argument types from a sample run without compiling anything."""
 
     def __enter__(self) -> dict:
