@@ -47,6 +47,7 @@ STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
 TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
+LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which a converged block keeps its Jacobian (`_solve`)
 
 
 @dataclass
@@ -242,6 +243,43 @@ _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, in
 
 
 @_inline
+def _factor(a, m, perm):
+    """`_lu` of a[:m, :m] (the same operations in the same order), written out for the 1 × 1 and 2 × 2
+    blocks of dyads and single joints so that it is inlined where a position is solved; larger blocks
+    call `_lu`."""
+    if m == 2:
+        sign = 1.0
+        perm[0], perm[1] = 0, 1
+        if abs(a[1, 0]) > abs(a[0, 0]):
+            a[0, 0], a[1, 0] = a[1, 0], a[0, 0]
+            a[0, 1], a[1, 1] = a[1, 1], a[0, 1]
+            perm[0], perm[1] = 1, 0
+            sign = -1.0
+        a[1, 0] /= a[0, 0]
+        a[1, 1] -= a[1, 0] * a[0, 1]
+        p0, p1 = abs(a[0, 0]), abs(a[1, 1])
+        return sign * a[0, 0] * a[1, 1], min(p0, p1) / max(max(p0, p1), 1e-300)
+    if m == 1:
+        perm[0] = 0
+        p0 = abs(a[0, 0])
+        return a[0, 0], p0 / max(p0, 1e-300)
+    return _lu(a, m, perm)
+
+
+@_inline
+def _solve_factored(a, m, perm, b, x):
+    """`_lu_solve` (x = A⁻¹ b from the factors of `_factor`), written out for m ≤ 2 as `_factor` is."""
+    if m == 2:
+        x0 = b[perm[0]]
+        x1 = (b[perm[1]] - a[1, 0] * x0) / a[1, 1]
+        x[0], x[1] = (x0 - a[0, 1] * x1) / a[0, 0], x1
+    elif m == 1:
+        x[0] = b[0] / a[0, 0]
+    else:
+        _lu_solve(a, m, perm, b, x)
+
+
+@_inline
 def _step_rates(k, steps, sc, rt, slot, qd, vel, qv):
     """Rates in rt[slot] of step k's child from its parent's and the tree variable's rate qd; with
     vel >= 0 they are accelerations, rt[vel] holding the velocities and qv the variable's velocity."""
@@ -331,7 +369,7 @@ def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu
         _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
     for i in range(m):
         rhs[i] = -rhs[i]
-    _lu_solve(lu, m, perm, rhs, out)
+    _solve_factored(lu, m, perm, rhs, out)
     for k in range(k0, k1):
         link = steps.child[k]
         for j in range(m):
@@ -340,13 +378,49 @@ def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu
 
 
 
+@_inline
+def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+            out, delta):
+    """One step of iterative refinement of `_block_rates`' result out[:m] (and the link rates in rt[slot])
+    when the factors `lu` and the sensitivities rt[0 … m − 1] are those of a nearby configuration (the
+    Newton iterate before the last, `LAZY_STEP` away): the rates of the block's links recomputed forward
+    from out at the pose as placed, the closure's rate residual r, out += δ with J δ = −r, the links'
+    rates moved by the sensitivities times δ. The error left is the product of the two configurations'
+    distance and the first result's error (both ~1e-9 at most: below 1e-17)."""
+    for k in range(k0, k1):
+        var, sign = steps.var[k], steps.sign[k]
+        qd = out[var - var0] if var >= 0 else sign * q_in_rate
+        qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
+        _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
+    for k in range(c0, c1):
+        _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
+    for i in range(m):
+        rhs[i] = -rhs[i]
+    _solve_factored(lu, m, perm, rhs, delta)
+    for i in range(m):
+        out[i] += delta[i]
+    for k in range(k0, k1):
+        link = steps.child[k]
+        for j in range(m):
+            for comp in range(3):
+                rt[slot, comp, link] += rt[j, comp, link] * delta[j]
+
 @_jit
-def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, q, qd, qdd, dets, ps, rt, sc, cc,
-           jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
+def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, q, qd, qdd, dets, ps, rt,
+           sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
     """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
     input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
-    with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio)."""
+    with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio).
+
+    With `lazy`, a block whose last Newton step was below `LAZY_STEP` (scaled), taken from a Jacobian
+    whose pivot ratio is at least twice `pivot_polish`, and whose residual after it is below `polish`
+    is accepted without a new Jacobian: the iteration a converged block ends with only confirms the
+    rounding floor, and what it would compute besides, the Jacobian's determinant sign and pivot
+    ratio, cannot differ from the last one's by more than that step moves them (a relative ~1e-6 at
+    most against a ratio of 0.1 or more: the same sign, the same side of every threshold). Its rates
+    are solved with the last factors and refined once (`_refine`)."""
     closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
+    lazy_ratio = 2 * pivot_polish
     n_blocks = len(blocks.m)
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
@@ -360,7 +434,7 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     for bk in range(n_blocks):
         k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
         var0, m = blocks.var0[bk], blocks.m[bk]
-        polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
+        polished, ok, det, ratio, err, small, stale = False, False, 1.0, 1.0, 0.0, False, False
         for it in range(max_newton + 1):
             for k in range(k0, k1):
                 if steps.prismatic[k]:
@@ -375,16 +449,19 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             if m == 0:
                 ok = True
                 break
+            if small and err < polish:  # at the rounding floor after a tiny step (see the docstring)
+                ok, stale = True, True
+                break
             _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
                       sc, cc, rt, jac, step)
             if uniform[bk]:  # R·J·V⁻¹ a multiple of J: the same pivot ratio and sign
-                det, ratio = _lu(jac, m, perm)
+                det, ratio = _factor(jac, m, perm)
             else:  # the dimensionless Jacobian R·J·V⁻¹: its pivots and sign, as numpy's
                 for i in range(m):
                     for j in range(m):
                         jac_s[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
-                det, ratio = _lu(jac_s, m, perm_s)
-                _lu(jac, m, perm)
+                det, ratio = _factor(jac_s, m, perm_s)
+                _factor(jac, m, perm)
             ok = err < closure
             if ok:  # converged: polished to `polish` (as in a batch whose other positions still step), and
                 # near a singular position one more step, as `BlockSolver.newton` does
@@ -395,21 +472,30 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
                 break
             for i in range(m):
                 res[i] = -res[i]
-            _lu_solve(jac, m, perm, res, step)
+            _solve_factored(jac, m, perm, res, step)
+            small = lazy and ratio >= lazy_ratio
             for i in range(m):
                 if np.isfinite(step[i]):
                     q[var0 + i] += step[i]
+                if not abs(step[i]) * var_scale[var0 + i] <= LAZY_STEP:
+                    small = False
         if not (ok and np.isfinite(err)):
             return False, smallest
         dets[bk] = det
         smallest = min(smallest, ratio)
         _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
                      res, qd_u)
+        if stale:
+            _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0, res,
+                    qd_u, step)
         for i in range(m):
             qd[var0 + i] = qd_u[i]
         if accelerations:
             _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
                          sense * rate, res, qdd_u)
+            if stale:
+                _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u, sense * rate,
+                        res, qdd_u, step)
             for i in range(m):
                 qdd[var0 + i] = qdd_u[i]
     return True, smallest
@@ -510,8 +596,9 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
         phi = target if end else phi0 + rate * (s + h_try)
         for i in range(m_all):
             q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True, q, qd,
-                                  qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True,
+                                  False, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u,
+                                  qdd_u)
         dist, jump = 0.0, 0.0
         for i in range(m_all):
             guess = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
@@ -636,8 +723,8 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
             for i in range(m_all):
                 q[i] = guess[i]
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
-                                             accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s,
-                                             res, step, qd_u, qdd_u)
+                                             accelerations, True, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+                                             perm_s, res, step, qd_u, qdd_u)
             if not (converged and ratio >= pivot_cross):
                 return False
             for i in range(m_all):
@@ -689,8 +776,8 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         # 1. the drawn pose
         for i in range(m_all):
             q0[i] = 0.0
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, q0, qd0, qdd0, dets0, ps,
-                                  rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, False, q0, qd0,
+                                  qdd0, dets0, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
         if not converged:
             status[d] = 1
             continue
@@ -766,8 +853,8 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                 q[i] = value
                 guess[i] = value
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
-                                      accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res,
-                                      step, qd_u, qdd_u)
+                                             accelerations, True, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+                                             perm_s, res, step, qd_u, qdd_u)
             ok = converged
             for b in range(n_blocks):
                 if _sign(dets[b]) != node_sign[near, b]:

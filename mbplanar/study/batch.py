@@ -449,75 +449,89 @@ class DesignBatch:
                            np.full((D, N, P, 2), np.nan), np.full((D, N, P, 2), np.nan) if acc else None)
         if not len(designs) or not nodes.parts:
             return out
-        rows = np.repeat(designs, N)
-        x = phi[designs].reshape(-1)
         arrays = self.nodes
-        step = max(N, CHUNK // N * N)  # whole designs per chunk: the working arrays stay in cache
-        for start in range(0, len(x), step):
-            part = slice(start, start + step)
-            self._correct(out, arrays, rows[part], x[part], N)
+        coefs = _interval_coefficients(arrays)
+        per = max(1, CHUNK // max(N, 1))  # whole designs per chunk: the working arrays stay in cache
+        for start in range(0, len(designs), per):
+            self._correct(out, arrays, coefs, designs[start:start + per], phi)
         out.ok[designs] = True
         return out
 
-    def _correct(self, out: DesignMotion, arrays, rows, x, N):
-        """Correct one chunk of (design, position) pairs (whole designs) and copy it into `out`; pairs
+    def _correct(self, out: DesignMotion, arrays, coefs, chunk, phi):
+        """Correct the (design, position) pairs of designs `chunk` (C,) and copy them into `out`; pairs
         outside their design's march (past a limit) are left out of the Newton batch."""
-        guesses, inside, node_signs = _interpolate(arrays, rows, x)
+        N = phi.shape[1]
+        rows = np.repeat(chunk, N)
+        x = phi[chunk].reshape(-1)
+        guesses, inside, node_signs = _interpolate(arrays, coefs, chunk, rows, x)
         take = np.flatnonzero(inside)
         good = np.zeros(len(x), bool)
         if not len(take):
             return
+        every = len(take) == len(x)
         eng = self.bound(rows[take])
         with np.errstate(all="ignore"):
-            sol = eng.solve_batch(x[take, None], [g[:, take] for g in guesses])
+            sol = eng.solve_batch(x[take, None], guesses if every else [g[:, take] for g in guesses])
             ok = sol.valid & np.all(eng.signs(sol) == node_signs[take], axis=1)
             for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
                 if bp.m:
-                    ok &= np.max(np.abs(st.q - gk[:, take]) * bp.var_scale[:, None], axis=0) <= self.engine.tol.max_correction
+                    g = gk if every else gk[:, take]
+                    ok &= np.max(np.abs(st.q - g) * bp.var_scale[:, None], axis=0) <= self.engine.tol.max_correction
             eng.rates(sol, np.ones((len(take), 1)), np.zeros((len(take), 1)))
         good[take] = ok
         for d in np.unique(rows[take[~ok]]):
             self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
-        self._fill(out, rows, take, eng, sol, good)
+        self._fill(out, chunk, rows[take], take, sol, good)
 
-    def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
-        """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
+    def _fill(self, out: DesignMotion, chunk, where, take, sol, good):
+        """Copy the solved link states and points of pairs `take` (designs `where`, of the C × N pairs of
+        designs `chunk`) into `out`, whole designs at a time; the pairs not solved or not good are NaN."""
         pose, links = sol.pose, list(self.engine.links)
-        where = rows[take]
+        C, N = len(chunk), out.phi.shape[1]
+        rows = slice(chunk[0], chunk[-1] + 1) if chunk[-1] - chunk[0] + 1 == C else chunk
+        out.valid[rows] = good.reshape(C, N)
+        bad = ~good
+        T = len(take)
+
+        def put(target, value):
+            """value (T, ...) of the solved pairs into target[rows] (C, N, ...)."""
+            if T == C * N:
+                block = value
+            else:
+                block = np.empty((C * N,) + value.shape[1:])
+                block[take] = value
+            block[bad] = np.nan
+            target[rows] = block.reshape((C, N) + value.shape[1:])
+
         chosen = [links.index(n) for n in out.links]  # the links asked for
         if chosen:
-            th = np.stack([pose.th[links[i]] for i in chosen])  # (K, T)
-            th = th + np.stack([self.geometry.reference[links[i]][where] for i in chosen])
-        else:
-            th = np.zeros((0, len(take)))
-        wq, eqq = sol.w.T, sol.e.T  # (L, T)
-        vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
-        at = np.stack([self.geometry.at[n][:, where] for n in out.points], axis=1)  # (2, P, T)
-        li = np.array([self.point_link[self.points.index(n)] for n in out.points], int)
-        cp = np.stack([pose.c[links[i]] for i in li])  # the points' links' cos and sin, as placed (P, T)
-        sp = np.stack([pose.s[links[i]] for i in li])
-        rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
-        w, e = wq[li], eqq[li]
-        turned = np.stack([-rho[1], rho[0]])
-        xy = np.stack([pose.r[links[i]] for i in li], axis=1) + rho
-        vq = vf[:, li] + w * turned
-        d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
-        ok = good[take]
-        out.valid[d_idx, n_idx] = ok
-        bad = ~ok
-        links_out = [(out.angle, th), (out.wq, wq[chosen])]
-        points_out = [(out.xy, xy), (out.vq, vq)]
-        if out.eq is not None:
-            links_out.append((out.eq, eqq[chosen]))
-            points_out.append((out.aq, af[:, li] + e * turned - (w * w) * rho))
-        for target, value in links_out:
-            v = value.T.copy()
-            v[bad] = np.nan
-            target[d_idx, n_idx] = v
-        for target, value in points_out:
-            v = np.moveaxis(value, 0, -1).transpose(1, 0, 2).copy()  # (T, P, 2)
-            v[bad] = np.nan
-            target[d_idx, n_idx] = v
+            th = np.empty((T, len(chosen)))
+            for k, i in enumerate(chosen):
+                th[:, k] = pose.th[links[i]] + self.geometry.reference[links[i]][where]
+            put(out.angle, th)
+            put(out.wq, sol.w[:, chosen])
+            if out.eq is not None:
+                put(out.eq, sol.e[:, chosen])
+        P = len(out.points)
+        xy, vq = np.empty((T, P, 2)), np.empty((T, P, 2))
+        aq = np.empty((T, P, 2)) if out.aq is not None else None
+        for p, name in enumerate(out.points):
+            li = self.point_link[self.points.index(name)]
+            link = links[li]
+            at = self.geometry.at[name][:, where]
+            c, s = pose.c[link], pose.s[link]
+            rx, ry = c * at[0] - s * at[1], s * at[0] + c * at[1]
+            w = sol.w[:, li]
+            xy[:, p, 0], xy[:, p, 1] = pose.r[link][0] + rx, pose.r[link][1] + ry
+            vq[:, p, 0], vq[:, p, 1] = sol.v[:, li, 0] + w * -ry, sol.v[:, li, 1] + w * rx
+            if aq is not None:
+                e, ww = sol.e[:, li], w * w
+                aq[:, p, 0] = sol.a[:, li, 0] + e * -ry - ww * rx
+                aq[:, p, 1] = sol.a[:, li, 1] + e * rx - ww * ry
+        put(out.xy, xy)
+        put(out.vq, vq)
+        if aq is not None:
+            put(out.aq, aq)
 
     def _limits(self, found, exact: bool) -> list:
         """The motion limits the march met, located by the engine's fold Newton when `exact`."""
@@ -586,34 +600,51 @@ def _take_solution(sol, mask):
     return out
 
 
-def _interpolate(arrays, rows, x):
-    """Guesses (per block (m, B)) for designs `rows` (B,) at x (B,) from their nodes: the quintic
-    Hermite interpolant between the two nodes around x. Also whether x lies within the design's nodes
-    and the signs of the node below it."""
+def _interval_coefficients(arrays) -> list:
+    """Per block, the quintic Hermite coefficients (6, m, K) of the interval from every node k to node
+    k + 1 (the same sums as `HERMITE5 @ ends`); a design's last node gets its own values as the first
+    coefficient (its interval, to the next design's first node, is used only at t = 0)."""
     design, phi, per_block, dets = arrays
-    first = np.searchsorted(design, rows, "left")
-    last = np.searchsorted(design, rows, "right") - 1
-    lo_phi, hi_phi = phi[first], phi[np.maximum(last, first)]
-    inside = (last >= first) & (x >= lo_phi) & (x <= hi_phi)
+    width = np.zeros(len(phi))
+    width[:-1] = np.diff(phi)
+    out = []
+    for q, qd, qdd in per_block:
+        def after(a):
+            return np.concatenate([a[:, 1:], a[:, -1:]], axis=1)
+        ends = np.stack([q, after(q), width * qd, width * after(qd), width * width * qdd,
+                         width * width * after(qdd)])  # (6, m, K)
+        out.append(np.einsum("ce,emk->cmk", HERMITE5, ends))
+    return out
+
+
+def _interpolate(arrays, coefs, chunk, rows, x):
+    """Guesses (per block (m, B)) for designs `rows` (B,) (whole designs `chunk`, each repeated) at x (B,)
+    from their nodes: the quintic Hermite interpolant between the two nodes around x (coefficients
+    `coefs` of `_interval_coefficients`). Also whether x lies within the design's nodes and the signs of
+    the node nearer to it."""
+    design, phi, per_block, dets = arrays
+    repeat = len(rows) // len(chunk)
+    first = np.repeat(np.searchsorted(design, chunk, "left"), repeat)
+    last = np.repeat(np.searchsorted(design, chunk, "right") - 1, repeat)
+    inside = (last >= first) & (x >= phi[first]) & (x <= phi[np.maximum(last, first)])
     # the interval of x within its design's nodes: a search in the (design, φ) order by offsetting φ
     span = float(phi.max() - phi.min()) + 1.0
     key = design * (2 * span) + (phi - phi.min())
     lo = np.searchsorted(key, rows * (2 * span) + (x - phi.min()), "right") - 1
     lo = np.clip(lo, first, np.maximum(last - 1, first))
     hi = np.minimum(lo + 1, last)
-    width = phi[hi] - phi[lo]
+    left = phi[lo]
+    width = phi[hi] - left
     with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.where(width > 0, (x - phi[lo]) / np.where(width > 0, width, 1.0), 0.0)
+        t = np.where(width > 0, (x - left) / np.where(width > 0, width, 1.0), 0.0)
     guesses = []
-    for q, qd, qdd in per_block:
-        ends = np.stack([q[:, lo], q[:, hi], width * qd[:, lo], width * qd[:, hi],
-                         width * width * qdd[:, lo], width * width * qdd[:, hi]])  # (6, m, B)
-        coef = np.einsum("ce,emb->cmb", HERMITE5, ends)
-        inner = coef[5]
+    for coef in coefs:
+        c = coef.take(lo, axis=2)  # (6, m, B)
+        inner = c[5]
         for k in range(4, -1, -1):
-            inner = inner * t + coef[k]
+            inner = inner * t + c[k]
         guesses.append(inner)
-    near = np.where(np.abs(x - phi[lo]) <= np.abs(x - phi[hi]), lo, hi)
+    near = np.where(np.abs(x - left) <= np.abs(x - phi[hi]), lo, hi)
     return guesses, inside, np.sign(dets[near])
 
 
