@@ -405,9 +405,30 @@ def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, per
             for comp in range(3):
                 rt[slot, comp, link] += rt[j, comp, link] * delta[j]
 
+
+@_inline
+def _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+                out, delta, var_scale, unit, reach, polish):
+    """A block's rates (as `_block_rates`) from the factors `lu` and sensitivities of the Newton iterate
+    before the last, a scaled distance s away, starting from the guess in out[:m]: `_refine` steps until
+    the error left is below `polish` (relative to 1 + |rate|, in the input's `unit`). A step from a guess
+    e away leaves at most ‖J₀⁻¹(J₀ − J₁)‖·e ≤ `reach`·e (`reach` = 4·m·s / pivot ratio, a bound with a
+    safety factor of 4 on ‖J₀⁻¹‖·‖∂J/∂q‖·s), e being about the step's own size: with the predictor's
+    rates (e ~ 3e-7 at 1° steps) and s ~ 2e-9 one step is enough; each further step gains a factor
+    `reach` (≤ 2e-5 with s ≤ `LAZY_STEP`), so at most four are taken."""
+    for _ in range(4):
+        _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+                out, delta)
+        err = 0.0
+        for i in range(m):
+            vs = var_scale[var0 + i] * unit
+            err = max(err, abs(delta[i]) * vs / (1.0 + abs(out[i]) * vs))
+        if reach * err <= polish:
+            return
+
 @_jit
-def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, q, qd, qdd, dets, ps, rt,
-           sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
+def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, unit, q, qd, qdd, dets, ps,
+           rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
     """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
     input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
     with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio).
@@ -418,7 +439,9 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     rounding floor, and what it would compute besides, the Jacobian's determinant sign and pivot
     ratio, cannot differ from the last one's by more than that step moves them (a relative ~1e-6 at
     most against a ratio of 0.1 or more: the same sign, the same side of every threshold). Its rates
-    are solved with the last factors and refined once (`_refine`)."""
+    are solved with the last factors from the guesses the caller leaves in qd and qdd (the predicted
+    rates; anything finite will do) to within `polish` (`_lazy_rates`; `unit`: the input's unit, 1 for
+    a revolute input, the mechanism's size for a slider)."""
     closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
     lazy_ratio = 2 * pivot_polish
     n_blocks = len(blocks.m)
@@ -434,7 +457,7 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     for bk in range(n_blocks):
         k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
         var0, m = blocks.var0[bk], blocks.m[bk]
-        polished, ok, det, ratio, err, small, stale = False, False, 1.0, 1.0, 0.0, False, False
+        polished, ok, det, ratio, err, small, stale, moved = False, False, 1.0, 1.0, 0.0, False, False, 0.0
         for it in range(max_newton + 1):
             for k in range(k0, k1):
                 if steps.prismatic[k]:
@@ -474,28 +497,38 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
                 res[i] = -res[i]
             _solve_factored(jac, m, perm, res, step)
             small = lazy and ratio >= lazy_ratio
+            moved = 0.0
             for i in range(m):
                 if np.isfinite(step[i]):
                     q[var0 + i] += step[i]
-                if not abs(step[i]) * var_scale[var0 + i] <= LAZY_STEP:
-                    small = False
+                moved = max(moved, abs(step[i]) * var_scale[var0 + i])
+            small = small and moved <= LAZY_STEP
         if not (ok and np.isfinite(err)):
             return False, smallest
         dets[bk] = det
         smallest = min(smallest, ratio)
-        _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
-                     res, qd_u)
+        reach = 4.0 * m * moved / ratio
         if stale:
-            _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0, res,
-                    qd_u, step)
+            for i in range(m):
+                guess = qd[var0 + i]
+                qd_u[i] = guess if np.isfinite(guess) else 0.0
+            _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
+                        res, qd_u, step, var_scale, unit, reach, polish)
+        else:
+            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
+                         res, qd_u)
         for i in range(m):
             qd[var0 + i] = qd_u[i]
         if accelerations:
-            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
-                         sense * rate, res, qdd_u)
             if stale:
-                _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u, sense * rate,
-                        res, qdd_u, step)
+                for i in range(m):
+                    guess = qdd[var0 + i]
+                    qdd_u[i] = guess if np.isfinite(guess) else 0.0
+                _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
+                            sense * rate, res, qdd_u, step, var_scale, unit * unit, reach, polish)
+            else:
+                _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
+                             sense * rate, res, qdd_u)
             for i in range(m):
                 qdd[var0 + i] = qdd_u[i]
     return True, smallest
@@ -597,8 +630,8 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
         for i in range(m_all):
             q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
         converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True,
-                                  False, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u,
-                                  qdd_u)
+                                  False, scale, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step,
+                                  qd_u, qdd_u)
         dist, jump = 0.0, 0.0
         for i in range(m_all):
             guess = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
@@ -721,9 +754,9 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
                     guess[i] = prev[1, 0, i] + prev[1, 1, i] * h + 0.5 * qdd0[i] * h * h
                     qdp[i] = prev[1, 1, i] + qdd0[i] * h
             for i in range(m_all):
-                q[i] = guess[i]
+                q[i], qd[i] = guess[i], qdp[i]  # qd: the rates' guess (`_solve`'s lazy rates)
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
-                                             accelerations, True, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+                                             accelerations, True, scale, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
                                              perm_s, res, step, qd_u, qdd_u)
             if not (converged and ratio >= pivot_cross):
                 return False
@@ -776,7 +809,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         # 1. the drawn pose
         for i in range(m_all):
             q0[i] = 0.0
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, False, q0, qd0,
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, False, 1.0, q0, qd0,
                                   qdd0, dets0, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
         if not converged:
             status[d] = 1
@@ -853,7 +886,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                 q[i] = value
                 guess[i] = value
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
-                                             accelerations, True, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+                                             accelerations, True, scale, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
                                              perm_s, res, step, qd_u, qdd_u)
             ok = converged
             for b in range(n_blocks):

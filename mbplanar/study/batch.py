@@ -139,9 +139,10 @@ class DesignBatch:
         self.motion = None
 
     # -- engines over batches of designs --------------------------------------------------------------
-    def bound(self, index: np.ndarray) -> BlockSolver:
+    def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
         """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
-        per batch element: its Newton and rate passes then solve batches of exactly those designs."""
+        per batch element: its Newton and rate passes then solve batches of exactly those designs (with
+        tolerances `tol`, default the engine's)."""
         base, g = self.engine, self.geometry
         laws = {}
         for name, j in base.mech.joints.items():
@@ -152,7 +153,7 @@ class DesignBatch:
                 law.n0 = perp(law.u0)
             laws[name] = law
         return BlockSolver(base.mech, laws, base.topology.blocks, base.links, base.size, g.phi0[index][:, None],
-                           base.tol)
+                           base.tol if tol is None else tol)
 
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
@@ -459,7 +460,15 @@ class DesignBatch:
 
     def _correct(self, out: DesignMotion, arrays, coefs, chunk, phi):
         """Correct the (design, position) pairs of designs `chunk` (C,) and copy them into `out`; pairs
-        outside their design's march (past a limit) are left out of the Newton batch."""
+        outside their design's march (past a limit) are left out of the Newton batch.
+
+        A batched Newton takes as many iterations as its worst element needs, and the interpolant's
+        guesses are mostly within ~1e-9 (one step from the rounding floor) but a few are ~1e-6 away. So
+        the batch takes one step and one more evaluation (`_one_step`), and only the pairs not at the
+        rounding floor then (residual not below `polish`, or near a singular position, where the engine
+        polishes once more) go on, from where they are, in a batch of their own with the engine's full
+        iteration: each pair ends where the engine's Newton over the whole chunk would end it."""
+        tol = self.engine.tol
         N = phi.shape[1]
         rows = np.repeat(chunk, N)
         x = phi[chunk].reshape(-1)
@@ -468,50 +477,54 @@ class DesignBatch:
         good = np.zeros(len(x), bool)
         if not len(take):
             return
-        every = len(take) == len(x)
-        eng = self.bound(rows[take])
+        where = rows[take]
+        if len(take) < len(x):
+            guesses = [g[:, take] for g in guesses]
+        eng = self.bound(where, _one_step(tol))
+        parts = []
         with np.errstate(all="ignore"):
-            sol = eng.solve_batch(x[take, None], guesses if every else [g[:, take] for g in guesses])
-            ok = sol.valid & np.all(eng.signs(sol) == node_signs[take], axis=1)
-            for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
-                if bp.m:
-                    g = gk if every else gk[:, take]
-                    ok &= np.max(np.abs(st.q - g) * bp.var_scale[:, None], axis=0) <= self.engine.tol.max_correction
-            eng.rates(sol, np.ones((len(take), 1)), np.zeros((len(take), 1)))
+            sol = eng.solve_batch(x[take, None], guesses)
+            done = sol.valid.copy()
+            for st in sol.blocks:
+                if st.lu is not None:
+                    r = st.lu.pivot_ratio
+                    done &= ~((r >= tol.pivot_cross * 1e3) & (r < tol.pivot_polish))
+            parts.append((np.arange(len(take)), eng, sol))
+            redo = np.flatnonzero(~done)
+            if len(redo):
+                eng2 = self.bound(where[redo])
+                parts.append((redo, eng2, eng2.solve_batch(x[take[redo], None], [st.q[:, redo] for st in sol.blocks])))
+            ok = np.zeros(len(take), bool)
+            for idx, e, sl in parts:
+                ok_part = sl.valid & np.all(e.signs(sl) == node_signs[take[idx]], axis=1)
+                for bp, st, gk in zip(e.blocks, sl.blocks, guesses):
+                    if bp.m:
+                        ok_part &= np.max(np.abs(st.q - gk[:, idx]) * bp.var_scale[:, None], axis=0) <= tol.max_correction
+                ok[idx] = ok_part
+                e.rates(sl, np.ones((len(idx), 1)), np.zeros((len(idx), 1)))
         good[take] = ok
-        for d in np.unique(rows[take[~ok]]):
+        for d in np.unique(where[~ok]):
             self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
-        self._fill(out, chunk, rows[take], take, sol, good)
+        values = self._values(out, parts[0][2], where)
+        if len(parts) > 1:
+            for name, value in self._values(out, parts[1][2], where[redo]).items():
+                values[name][redo] = value
+        self._fill(out, chunk, take, values, good)
 
-    def _fill(self, out: DesignMotion, chunk, where, take, sol, good):
-        """Copy the solved link states and points of pairs `take` (designs `where`, of the C × N pairs of
-        designs `chunk`) into `out`, whole designs at a time; the pairs not solved or not good are NaN."""
+    def _values(self, out: DesignMotion, sol, where) -> dict:
+        """What `out` holds (its links' angle, wq, eq and its points' xy, vq, aq) of a solved batch of
+        designs `where` (T,), batch first: (T, K) and (T, P, 2)."""
         pose, links = sol.pose, list(self.engine.links)
-        C, N = len(chunk), out.phi.shape[1]
-        rows = slice(chunk[0], chunk[-1] + 1) if chunk[-1] - chunk[0] + 1 == C else chunk
-        out.valid[rows] = good.reshape(C, N)
-        bad = ~good
-        T = len(take)
-
-        def put(target, value):
-            """value (T, ...) of the solved pairs into target[rows] (C, N, ...)."""
-            if T == C * N:
-                block = value
-            else:
-                block = np.empty((C * N,) + value.shape[1:])
-                block[take] = value
-            block[bad] = np.nan
-            target[rows] = block.reshape((C, N) + value.shape[1:])
-
+        T = len(where)
+        values = {}
         chosen = [links.index(n) for n in out.links]  # the links asked for
         if chosen:
             th = np.empty((T, len(chosen)))
             for k, i in enumerate(chosen):
                 th[:, k] = pose.th[links[i]] + self.geometry.reference[links[i]][where]
-            put(out.angle, th)
-            put(out.wq, sol.w[:, chosen])
+            values["angle"], values["wq"] = th, sol.w[:, chosen]
             if out.eq is not None:
-                put(out.eq, sol.e[:, chosen])
+                values["eq"] = sol.e[:, chosen]
         P = len(out.points)
         xy, vq = np.empty((T, P, 2)), np.empty((T, P, 2))
         aq = np.empty((T, P, 2)) if out.aq is not None else None
@@ -528,10 +541,26 @@ class DesignBatch:
                 e, ww = sol.e[:, li], w * w
                 aq[:, p, 0] = sol.a[:, li, 0] + e * -ry - ww * rx
                 aq[:, p, 1] = sol.a[:, li, 1] + e * rx - ww * ry
-        put(out.xy, xy)
-        put(out.vq, vq)
+        values["xy"], values["vq"] = xy, vq
         if aq is not None:
-            put(out.aq, aq)
+            values["aq"] = aq
+        return values
+
+    def _fill(self, out: DesignMotion, chunk, take, values: dict, good):
+        """Copy `values` (`_values`) of the pairs `take` of the C × N pairs of designs `chunk` into `out`,
+        whole designs at a time; the pairs not solved or not good are NaN."""
+        C, N = len(chunk), out.phi.shape[1]
+        rows = slice(chunk[0], chunk[-1] + 1) if chunk[-1] - chunk[0] + 1 == C else chunk
+        out.valid[rows] = good.reshape(C, N)
+        bad = ~good
+        for name, value in values.items():
+            if len(take) == C * N:
+                block = value
+            else:
+                block = np.empty((C * N,) + value.shape[1:])
+                block[take] = value
+            block[bad] = np.nan
+            getattr(out, name)[rows] = block.reshape((C, N) + value.shape[1:])
 
     def _limits(self, found, exact: bool) -> list:
         """The motion limits the march met, located by the engine's fold Newton when `exact`."""
@@ -581,6 +610,13 @@ class DesignBatch:
                               for lim in m.limits]
             self.reasons[d] = None
             motion.ok[d] = True
+
+
+def _one_step(tol):
+    """The engine's tolerances for a first pass over a batch of good guesses: one Newton step and one
+    more evaluation, a position counted converged when its residual is below `polish` (the level the
+    engine polishes a converged position to)."""
+    return replace(tol, closure=tol.polish, max_newton=1)
 
 
 def _take_geometry(g: DesignGeometry, index) -> DesignGeometry:
