@@ -47,6 +47,7 @@ STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
 TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
+NUDGE = 1e-8  # largest move (rad) of a link within a solve placed by `_nudge` (to first order) rather than `_turn`
 LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which a converged block keeps its Jacobian (`_solve`)
 
 
@@ -413,22 +414,23 @@ def _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu,
     before the last, a scaled distance s away, starting from the guess in out[:m]: `_refine` steps until
     the error left is below `polish` (relative to 1 + |rate|, in the input's `unit`). A step from a guess
     e away leaves at most ‖J₀⁻¹(J₀ − J₁)‖·e ≤ `reach`·e (`reach` = 4·m·s / pivot ratio, a bound with a
-    safety factor of 4 on ‖J₀⁻¹‖·‖∂J/∂q‖·s), e being about the step's own size: with the predictor's
-    rates (e ~ 3e-7 at 1° steps) and s ~ 2e-9 one step is enough; each further step gains a factor
-    `reach` (≤ 2e-5 with s ≤ `LAZY_STEP`), so at most four are taken."""
+    safety factor of 4 on ‖J₀⁻¹‖·‖∂J/∂q‖·s), e being about the step's own size: with the followed
+    sweep's guesses (e ~ 1e-9 at 1° steps) and s ~ 3e-9 one step is enough for 98 % of the positions;
+    each further step gains a factor `reach` (≤ 2e-5 with s ≤ `LAZY_STEP`), so at most four are taken."""
     for _ in range(4):
         _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
                 out, delta)
-        err = 0.0
+        done = True
         for i in range(m):
             vs = var_scale[var0 + i] * unit
-            err = max(err, abs(delta[i]) * vs / (1.0 + abs(out[i]) * vs))
-        if reach * err <= polish:
+            if not reach * abs(delta[i]) * vs <= polish * (1.0 + abs(out[i]) * vs):
+                done = False
+        if done:
             return
 
 @_jit
-def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, unit, q, qd, qdd, dets, ps,
-           rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
+def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, unit, gain, q, qd, qdd, dets,
+           ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
     """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
     input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
     with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio).
@@ -441,7 +443,9 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     most against a ratio of 0.1 or more: the same sign, the same side of every threshold). Its rates
     are solved with the last factors from the guesses the caller leaves in qd and qdd (the predicted
     rates; anything finite will do) to within `polish` (`_lazy_rates`; `unit`: the input's unit, 1 for
-    a revolute input, the mechanism's size for a slider)."""
+    a revolute input, the mechanism's size for a slider). The rates' guess is first moved by `gain`
+    times Newton's correction of the positions: a predictor's error in q' is that factor times its
+    error in q (to leading order), which Newton has just measured."""
     closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
     lazy_ratio = 2 * pivot_polish
     n_blocks = len(blocks.m)
@@ -458,11 +462,16 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
         k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
         var0, m = blocks.var0[bk], blocks.m[bk]
         polished, ok, det, ratio, err, small, stale, moved = False, False, 1.0, 1.0, 0.0, False, False, 0.0
+        if lazy:
+            for i in range(m):
+                qd_u[i] = q[var0 + i]  # the guess, for the rates' guess (qd_u is free until the rates)
         for it in range(max_newton + 1):
             for k in range(k0, k1):
                 if steps.prismatic[k]:
                     _place(k, steps, q, q_in, ps, sc)
-                else:  # turned from where the link is (the last iterate, or the position before)
+                elif it > 0:  # moved from the last iterate (by a step at the rounding floor: `_nudge`)
+                    _nudge(k, steps, q, q_in, ps, sc)
+                else:  # turned from where the link is (the position before)
                     _turn(k, steps, q, q_in, ps, sc)
             err = 0.0
             for k in range(c0, c1):
@@ -510,7 +519,7 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
         reach = 4.0 * m * moved / ratio
         if stale:
             for i in range(m):
-                guess = qd[var0 + i]
+                guess = qd[var0 + i] + gain * (q[var0 + i] - qd_u[i])
                 qd_u[i] = guess if np.isfinite(guess) else 0.0
             _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
                         res, qd_u, step, var_scale, unit, reach, polish)
@@ -559,7 +568,33 @@ def _turn(k, steps, q, q_in, ps, sc):
     sd = delta * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
                                                                          * (1.0 - d2 * (1.0 / 72.0)))))
     c0, s0 = ps[6, child], ps[7, child]
-    cc, ss = c0 * cd - s0 * sd, s0 * cd + c0 * sd
+    _pose_at(k, steps, ps, sc, parent, child, t, c0 * cd - s0 * sd, s0 * cd + c0 * sd)
+
+
+@_inline
+def _nudge(k, steps, q, q_in, ps, sc):
+    """`_turn` of a revolute step k whose child moved by less than `NUDGE` since it was placed (a Newton
+    step at the rounding floor): cos and sin from the placed ones to first order, cos(θ + ε) =
+    cos θ − ε sin θ, sin(θ + ε) = sin θ + ε cos θ (the terms left out, ε²/2, below 5e-17: a rounding
+    of its own, no more). Used only within one solve, after its first placement by `_turn`: a solve's
+    Newton steps below `NUDGE` are its last one or two, so a position is at most that many such
+    rotations from exactly computed values and nothing accumulates from one position to the next. A
+    larger move is placed by `_turn`."""
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
+    value = q[var] if var >= 0 else steps.sign[k] * q_in
+    t = ps[0, parent] + value if rel else value
+    eps = t - ps[0, child]
+    if not abs(eps) < NUDGE:
+        _turn(k, steps, q, q_in, ps, sc)
+        return
+    c0, s0 = ps[1, child], ps[2, child]
+    _pose_at(k, steps, ps, sc, parent, child, t, c0 - eps * s0, s0 + eps * c0)
+
+
+@_inline
+def _pose_at(k, steps, ps, sc, parent, child, t, cc, ss):
+    """Step k's child at angle t (cos cc, sin ss): its frame origin from the parent's, and the cached
+    joint vectors in sc[k]."""
     cp, sp = ps[1, parent], ps[2, parent]
     s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
     rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
@@ -618,6 +653,7 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
     var_scale = blocks.var_scale
     span = abs(target - phi0) / scale
     rate = direction * scale
+    yes, no = start >= 0, start < 0  # run-time booleans for `_solve` (see `_designs`)
     for i in range(m_all):
         qc[i], qdc[i], qddc[i] = q0[i], qd0[i] * rate, qdd0[i] * scale * scale
     for b in range(n_blocks):
@@ -629,8 +665,8 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
         phi = target if end else phi0 + rate * (s + h_try)
         for i in range(m_all):
             q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True,
-                                  False, scale, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step,
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, yes,
+                                  no, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step,
                                   qd_u, qdd_u)
         dist, jump = 0.0, 0.0
         for i in range(m_all):
@@ -739,7 +775,8 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
             xb = x[d, n]
             if older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
                 w = phi_b - phi_a
-                t = (xb - phi_a) / w
+                inv_w = 1.0 / w
+                t = (xb - phi_a) * inv_w
                 t2 = t * t
                 t3 = t2 * t
                 h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, 3 * t2 - 2 * t3, t3 - t2
@@ -747,16 +784,20 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
                 for i in range(m_all):
                     qa, qda, qb, qdb = prev[0, 0, i], prev[0, 1, i], prev[1, 0, i], prev[1, 1, i]
                     guess[i] = h00 * qa + h10 * w * qda + h01 * qb + h11 * w * qdb
-                    qdp[i] = g00 * (qa - qb) / w + g10 * qda + g11 * qdb
+                    qdp[i] = g00 * (qa - qb) * inv_w + g10 * qda + g11 * qdb
+                # the extrapolant's error ~ t²(t − 1)², its derivative's 2t(t − 1)(2t − 1)/w: their ratio
+                bend = t * (t - 1.0) * w
+                gain = 2.0 * (2.0 * t - 1.0) / bend if bend != 0.0 else 0.0
             else:  # from the drawn pose: its Taylor polynomial
                 h = xb - phi_b
                 for i in range(m_all):
                     guess[i] = prev[1, 0, i] + prev[1, 1, i] * h + 0.5 * qdd0[i] * h * h
                     qdp[i] = prev[1, 1, i] + qdd0[i] * h
+                gain = 3.0 / h if h != 0.0 else 0.0  # the errors ~ h³/6 and h²/2
             for i in range(m_all):
                 q[i], qd[i] = guess[i], qdp[i]  # qd: the rates' guess (`_solve`'s lazy rates)
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
-                                             accelerations, True, scale, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+                                             accelerations, True, scale, gain, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
                                              perm_s, res, step, qd_u, qdd_u)
             if not (converged and ratio >= pivot_cross):
                 return False
@@ -797,6 +838,10 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
     ps[:, :] = 0.0
     ps[1, :] = 1.0
     ps[6, :] = 1.0  # every link's anchor (`_turn`) at 0
+    # `_march`'s first node and sides as run-time integers: a constant 0 or 1 would be typed as a literal,
+    # and numba would compile `_march` once for each (a second first compile of it)
+    origin, down = n_pos - n_pos, n_pos - n_pos + 1
+    yes, no = n_pos >= 0, n_pos < 0  # and `_solve`'s flags as run-time booleans, for the same reason
     for d in range(n_designs):
         for k in range(len(steps.parent)):
             steps.s0[k, 0], steps.s0[k, 1] = step_s0[d, k, 0], step_s0[d, k, 1]
@@ -809,7 +854,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         # 1. the drawn pose
         for i in range(m_all):
             q0[i] = 0.0
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, False, 1.0, q0, qd0,
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, yes, no, 1.0, 0.0, q0, qd0,
                                   qdd0, dets0, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
         if not converged:
             status[d] = 1
@@ -827,8 +872,8 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         total, state = 0, 0
         if lo[d] < phi0[d]:
             total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
-                                  qdd0, dets0, node_phi, node_q, node_sign, 0, limit[d], limit_phi[d], limit_h[d],
-                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 1, q, qd, qdd, dets, qc,
+                                  qdd0, dets0, node_phi, node_q, node_sign, origin, limit[d], limit_phi[d], limit_h[d],
+                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], down, q, qd, qdd, dets, qc,
                                   qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
             _reverse(node_phi, node_q, node_sign, total)
         if state != 0:
@@ -846,7 +891,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         if hi[d] > phi0[d]:
             added, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], hi[d], 1.0, q0, qd0,
                                   qdd0, dets0, node_phi, node_q, node_sign, total, limit[d], limit_phi[d], limit_h[d],
-                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 0, q, qd, qdd, dets, qc,
+                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], origin, q, qd, qdd, dets, qc,
                                   qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
             total += added
             if state != 0:
@@ -885,8 +930,10 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                     value = node_q[0, 0, i]
                 q[i] = value
                 guess[i] = value
-            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
-                                             accelerations, True, scale, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+            # `_solve` called, not inlined: a third copy of it would lengthen the kernel's first compile by
+            # a fifth, and positions in any order cost the march besides
+            converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
+                                             accelerations, yes, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
                                              perm_s, res, step, qd_u, qdd_u)
             ok = converged
             for b in range(n_blocks):
