@@ -354,7 +354,7 @@ def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt,
             jac[i, j] = col[i]
 
 
-@_inline
+@_jit
 def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
                  q_in_vel, rhs, out):
     """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
@@ -393,6 +393,8 @@ def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, per
         qd = out[var - var0] if var >= 0 else sign * q_in_rate
         qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
         _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
+    if m == 0:
+        return
     for k in range(c0, c1):
         _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
     for i in range(m):
@@ -469,9 +471,9 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             for k in range(k0, k1):
                 if steps.prismatic[k]:
                     _place(k, steps, q, q_in, ps, sc)
-                elif it > 0:  # moved from the last iterate (by a step at the rounding floor: `_nudge`)
-                    _nudge(k, steps, q, q_in, ps, sc)
-                else:  # turned from where the link is (the position before)
+                elif not (it > 0 and _nudge(k, steps, q, q_in, ps, sc)):
+                    # turned from where the link is (the position before, or the last iterate), unless
+                    # moved by a step at the rounding floor (`_nudge`)
                     _turn(k, steps, q, q_in, ps, sc)
             err = 0.0
             for k in range(c0, c1):
@@ -492,8 +494,8 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
                 for i in range(m):
                     for j in range(m):
                         jac_s[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
-                det, ratio = _factor(jac_s, m, perm_s)
-                _factor(jac, m, perm)
+                det, ratio = _lu(jac_s, m, perm_s)  # (called: blocks mixing R and P rows or unknowns)
+                _lu(jac, m, perm)
             ok = err < closure
             if ok:  # converged: polished to `polish` (as in a batch whose other positions still step), and
                 # near a singular position one more step, as `BlockSolver.newton` does
@@ -517,29 +519,28 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
         dets[bk] = det
         smallest = min(smallest, ratio)
         reach = 4.0 * m * moved / ratio
-        if stale:
-            for i in range(m):
-                guess = qd[var0 + i] + gain * (q[var0 + i] - qd_u[i])
-                qd_u[i] = guess if np.isfinite(guess) else 0.0
-            _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
-                        res, qd_u, step, var_scale, unit, reach, polish)
-        else:
-            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
-                         res, qd_u)
-        for i in range(m):
-            qd[var0 + i] = qd_u[i]
-        if accelerations:
-            if stale:
-                for i in range(m):
-                    guess = qdd[var0 + i]
-                    qdd_u[i] = guess if np.isfinite(guess) else 0.0
-                _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
-                            sense * rate, res, qdd_u, step, var_scale, unit * unit, reach, polish)
+        # the velocities, then the accelerations: one pass of code for both (each inlined pass is compiled
+        # again wherever `_solve` is inlined); a block without unknowns is its forward pass (`_refine`)
+        fresh = m > 0 and not stale
+        for p in range(2 if accelerations else 1):
+            if p == 0:
+                slot, before, in_rate, in_vel, out, unit_p = vel, -1, sense * rate, 0.0, qd_u, unit
             else:
-                _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
-                             sense * rate, res, qdd_u)
+                slot, before, in_rate, in_vel, out, unit_p = acc, vel, 0.0, sense * rate, qdd_u, unit * unit
+            if fresh:
+                _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
+                             in_vel, res, out)
+            else:
+                for i in range(m):
+                    guess = qd[var0 + i] + gain * (q[var0 + i] - qd_u[i]) if p == 0 else qdd[var0 + i]
+                    out[i] = guess if np.isfinite(guess) else 0.0
+                _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
+                            in_vel, res, out, step, var_scale, unit_p, reach, polish)
             for i in range(m):
-                qdd[var0 + i] = qdd_u[i]
+                if p == 0:
+                    qd[var0 + i] = out[i]
+                else:
+                    qdd[var0 + i] = out[i]
     return True, smallest
 
 
@@ -578,17 +579,17 @@ def _nudge(k, steps, q, q_in, ps, sc):
     cos θ − ε sin θ, sin(θ + ε) = sin θ + ε cos θ (the terms left out, ε²/2, below 5e-17: a rounding
     of its own, no more). Used only within one solve, after its first placement by `_turn`: a solve's
     Newton steps below `NUDGE` are its last one or two, so a position is at most that many such
-    rotations from exactly computed values and nothing accumulates from one position to the next. A
-    larger move is placed by `_turn`."""
+    rotations from exactly computed values and nothing accumulates from one position to the next.
+    Returns False, placing nothing, for a larger move (placed by `_turn`)."""
     parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
     value = q[var] if var >= 0 else steps.sign[k] * q_in
     t = ps[0, parent] + value if rel else value
     eps = t - ps[0, child]
     if not abs(eps) < NUDGE:
-        _turn(k, steps, q, q_in, ps, sc)
-        return
+        return False
     c0, s0 = ps[1, child], ps[2, child]
     _pose_at(k, steps, ps, sc, parent, child, t, c0 - eps * s0, s0 + eps * c0)
+    return True
 
 
 @_inline
