@@ -923,19 +923,22 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                 t = (xb - node_phi[j]) / width if width > 0 else 0.0
                 near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
             for i in range(m_all):
-                if total > 1:
-                    value = coef[j, 5, i]
-                    for p in range(4, -1, -1):
+                if total > 1:  # the interpolant and its derivative (the rates' guess), by Horner's rule
+                    value, slope = coef[j, 5, i], 5.0 * coef[j, 5, i]
+                    for p in range(4, 0, -1):
                         value = value * t + coef[j, p, i]
+                        slope = slope * t + p * coef[j, p, i]
+                    value = value * t + coef[j, 0, i]
+                    slope = slope / width if width > 0 else node_q[near, 1, i]
                 else:
-                    value = node_q[0, 0, i]
-                q[i] = value
+                    value, slope = node_q[0, 0, i], node_q[0, 1, i]
+                q[i], qd[i] = value, slope
                 guess[i] = value
             # `_solve` called, not inlined: a third copy of it would lengthen the kernel's first compile by
             # a fifth, and positions in any order cost the march besides
             converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
-                                             accelerations, yes, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
-                                             perm_s, res, step, qd_u, qdd_u)
+                                      accelerations, yes, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
+                                      perm_s, res, step, qd_u, qdd_u)
             ok = converged
             for b in range(n_blocks):
                 if _sign(dets[b]) != node_sign[near, b]:
