@@ -16,7 +16,7 @@ method. Per design the kernel
    `max_correction`) and writes the chosen links' angles and analogue rates and the chosen points'
    positions, velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
 
-When a design's input values are an ordered sweep with no gap wider than `h_max` (`_follow`), steps 2
+When a design's input values are an ordered sweep with no gap wider than `h_max` (`_walk`), steps 2
 and 3 are one: the sweep itself is walked from the drawn pose, every requested position a march node
 accepted by the march's rules and written at once; a position they refuse sends the design to step 2.
 
@@ -739,11 +739,19 @@ def _store(d, n, ps, rt, reference, point_at, point_link, link_out, acceleration
 
 
 @_jit
-def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0, q0, qd0, qdd0, dets0,
-            reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd,
-            dets,
-            jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
-    """Design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
+def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense, ground, scale,
+          accelerations, x, phi0, q0, qd0, qdd0, dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq,
+          xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp,
+          signs, prev):
+    """Every requested position of design d, solved and written, in one loop around one inlined copy of
+    the block solver (each copy lengthens the kernel's first compile): with `follow`, the followed sweep
+    below (returns 1, or 0 when x[d] is not such a sweep or a position is not accepted); else every
+    position predicted by the interpolant of the march's `total` nodes (node_phi, node_q, node_sign and
+    the intervals' coefficients `coef`), its rates' guess the interpolant's derivative, corrected and
+    checked (converged, same signs as the nearer node, within `max_correction` of the prediction);
+    positions outside the nodes are blanked; returns 0, or 4 when a position cannot be vouched for.
+
+    Followed: design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
     drawn pose (q0, qd0, qdd0 per unit input; dets0) up through those above it and down through those
     below, every position a march node: predicted from the two positions before it (the cubic Hermite
     extrapolant of their q and dq/dφ; the first by the drawn pose's Taylor polynomial), corrected by the
@@ -758,23 +766,50 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
     var_scale = blocks.var_scale
     reach = h_max * scale
     up = n_pos  # the first position at or above the drawn one
-    for n in range(n_pos):
-        if n > 0 and not (x[d, n] > x[d, n - 1] and x[d, n] - x[d, n - 1] <= reach):
-            return False
-        if up == n_pos and x[d, n] >= phi0:
-            up = n
-    if (up < n_pos and not x[d, up] - phi0 <= reach) or (up > 0 and not phi0 - x[d, up - 1] <= reach):
-        return False
-    for side in range(2):
-        for i in range(m_all):
-            prev[1, 0, i], prev[1, 1, i] = q0[i], qd0[i]
-        for b in range(n_blocks):
-            signs[b] = _sign(dets0[b])
-        phi_a, phi_b, older = phi0, phi0, False
-        for k in range(n_pos - up if side == 0 else up):
-            n = up + k if side == 0 else up - 1 - k
+    if follow:
+        for n in range(n_pos):
+            if n > 0 and not (x[d, n] > x[d, n - 1] and x[d, n] - x[d, n - 1] <= reach):
+                return 0
+            if up == n_pos and x[d, n] >= phi0:
+                up = n
+        if (up < n_pos and not x[d, up] - phi0 <= reach) or (up > 0 and not phi0 - x[d, up - 1] <= reach):
+            return 0
+    first, last = node_phi[0], node_phi[max(total, 1) - 1]
+    phi_a, phi_b, older = phi0, phi0, False
+    for side in range(2 if follow else 1):
+        if follow:
+            for i in range(m_all):
+                prev[1, 0, i], prev[1, 1, i] = q0[i], qd0[i]
+            for b in range(n_blocks):
+                signs[b] = _sign(dets0[b])
+            phi_a, phi_b, older = phi0, phi0, False
+        for k in range((n_pos - up if side == 0 else up) if follow else n_pos):
+            n = (up + k if side == 0 else up - 1 - k) if follow else k
             xb = x[d, n]
-            if older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
+            gain, near = 0.0, 0
+            if not follow:  # the march's interpolant and its derivative (the rates' guess)
+                if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
+                    valid[d, n] = False
+                    _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations)
+                    continue
+                j, t, width = 0, 0.0, 0.0
+                if total > 1:
+                    j = _interval(node_phi, total, xb)
+                    width = node_phi[j + 1] - node_phi[j]
+                    t = (xb - node_phi[j]) / width if width > 0 else 0.0
+                    near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
+                for i in range(m_all):
+                    if total > 1:  # by Horner's rule
+                        value, slope = coef[j, 5, i], 5.0 * coef[j, 5, i]
+                        for c in range(4, 0, -1):
+                            value = value * t + coef[j, c, i]
+                            slope = slope * t + c * coef[j, c, i]
+                        value = value * t + coef[j, 0, i]
+                        slope = slope / width if width > 0 else node_q[near, 1, i]
+                    else:
+                        value, slope = node_q[0, 0, i], node_q[0, 1, i]
+                    guess[i], qdp[i] = value, slope
+            elif older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
                 w = phi_b - phi_a
                 inv_w = 1.0 / w
                 t = (xb - phi_a) * inv_w
@@ -798,19 +833,32 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
             for i in range(m_all):
                 q[i], qd[i] = guess[i], qdp[i]  # qd: the rates' guess (`_solve`'s lazy rates)
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
-                                             accelerations, True, scale, gain, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
-                                             perm_s, res, step, qd_u, qdd_u)
+                                             accelerations, True, scale, gain, q, qd, qdd, dets, ps, rt, sc, cc, jac,
+                                             jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            if not follow:
+                ok = converged
+                for b in range(n_blocks):
+                    if _sign(dets[b]) != node_sign[near, b]:
+                        ok = False
+                for i in range(m_all):
+                    if abs(q[i] - guess[i]) * var_scale[i] > max_correction:
+                        ok = False
+                if not ok:
+                    return 4
+                _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy,
+                       vq, aq)
+                continue
             if not (converged and ratio >= pivot_cross):
-                return False
+                return 0
             for i in range(m_all):
                 vs = var_scale[i]
                 if not abs(q[i] - guess[i]) * vs <= max_correction:
-                    return False
+                    return 0
                 if not abs(qd[i] - qdp[i]) * vs * scale <= rate_jump * (1.0 + abs(qdp[i]) * vs * scale):
-                    return False
+                    return 0
             for b in range(n_blocks):
                 if _sign(dets[b]) != signs[b]:
-                    return False
+                    return 0
             _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
             if xb != phi_b:
                 phi_a, older = phi_b, True
@@ -819,7 +867,7 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
             phi_b = xb
             for i in range(m_all):
                 prev[1, 0, i], prev[1, 1, i] = q[i], qd[i]
-    return True
+    return 1 if follow else 0
 
 
 @_jit
@@ -864,10 +912,10 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             status[d] = 2
             continue
         # 2. an ordered sweep at steps the march could take: followed position by position
-        if _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0,
-                   dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q,
-                   guess, qd,
-                   qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
+        if _walk(d, yes, origin, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense, ground,
+                 scale, accelerations, x, phi0[d], q0, qd0, qdd0, dets0, reference, point_at, point_link, link_out, valid,
+                 angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s, perm, perm_s, res, step,
+                 qd_u, qdd_u, qdp, signs, prev):
             continue
         # 3. else the march down (stored reversed), the drawn pose, the march up
         total, state = 0, 0
@@ -908,46 +956,9 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                 for c in range(6):
                     coef[j, c, i] = (hermite[c, 0] * e0 + hermite[c, 1] * e1 + hermite[c, 2] * e2
                                      + hermite[c, 3] * e3 + hermite[c, 4] * e4 + hermite[c, 5] * e5)
-        first, last = node_phi[0], node_phi[total - 1]
         # 4. the requested positions
-        for n in range(n_pos):
-            xb = x[d, n]
-            if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
-                valid[d, n] = False
-                _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations)
-                continue
-            j, near, t = 0, 0, 0.0
-            if total > 1:
-                j = _interval(node_phi, total, xb)
-                width = node_phi[j + 1] - node_phi[j]
-                t = (xb - node_phi[j]) / width if width > 0 else 0.0
-                near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
-            for i in range(m_all):
-                if total > 1:  # the interpolant and its derivative (the rates' guess), by Horner's rule
-                    value, slope = coef[j, 5, i], 5.0 * coef[j, 5, i]
-                    for p in range(4, 0, -1):
-                        value = value * t + coef[j, p, i]
-                        slope = slope * t + p * coef[j, p, i]
-                    value = value * t + coef[j, 0, i]
-                    slope = slope / width if width > 0 else node_q[near, 1, i]
-                else:
-                    value, slope = node_q[0, 0, i], node_q[0, 1, i]
-                q[i], qd[i] = value, slope
-                guess[i] = value
-            # `_solve` called, not inlined: a third copy of it would lengthen the kernel's first compile by
-            # a fifth, and positions in any order cost the march besides
-            converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
-                                      accelerations, yes, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm,
-                                      perm_s, res, step, qd_u, qdd_u)
-            ok = converged
-            for b in range(n_blocks):
-                if _sign(dets[b]) != node_sign[near, b]:
-                    ok = False
-            for i in range(m_all):
-                if abs(q[i] - guess[i]) * var_scale[i] > max_correction:
-                    ok = False
-            if not ok:
-                status[d] = 4
-                break
-            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
+        status[d] = _walk(d, no, total, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense,
+                          ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0, dets0, reference, point_at, point_link,
+                          link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s,
+                          perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev)
     return 0
