@@ -356,38 +356,25 @@ def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt,
 
 @_jit
 def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
-                 q_in_vel, rhs, out):
+                 q_in_vel, rhs, out, delta):
     """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
-    out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms)."""
-    for k in range(k0, k1):
-        var, sign = steps.var[k], steps.sign[k]
-        qd = 0.0 if var >= 0 else sign * q_in_rate
-        qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
-        _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
-    if m == 0:
-        return
-    for k in range(c0, c1):
-        _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
+    out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms). It is
+    `_refine` from rates 0 (compiled on its own and called: it runs off the followed path only)."""
     for i in range(m):
-        rhs[i] = -rhs[i]
-    _solve_factored(lu, m, perm, rhs, out)
-    for k in range(k0, k1):
-        link = steps.child[k]
-        for j in range(m):
-            for comp in range(3):
-                rt[slot, comp, link] += rt[j, comp, link] * out[j]
-
+        out[i] = 0.0
+    _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+            out, delta)
 
 
 @_inline
 def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
             out, delta):
-    """One step of iterative refinement of `_block_rates`' result out[:m] (and the link rates in rt[slot])
-    when the factors `lu` and the sensitivities rt[0 … m − 1] are those of a nearby configuration (the
-    Newton iterate before the last, `LAZY_STEP` away): the rates of the block's links recomputed forward
-    from out at the pose as placed, the closure's rate residual r, out += δ with J δ = −r, the links'
-    rates moved by the sensitivities times δ. The error left is the product of the two configurations'
-    distance and the first result's error (both ~1e-9 at most: below 1e-17)."""
+    """One step of iterative refinement of a block's rates out[:m] (and its links' rates in rt[slot]) with
+    the factors `lu` and the sensitivities rt[0 … m − 1] (those of the pose as placed, or of a nearby one,
+    the Newton iterate before the last): the rates of the block's links recomputed forward from out at
+    the pose as placed, the closure's rate residual r, out += δ with J δ = −r (δ in `delta`), the links'
+    rates moved by the sensitivities times δ. From out = 0 with the pose's own factors it is the rate
+    pass itself (`_block_rates`); the error left otherwise is bounded in `_lazy_rates`."""
     for k in range(k0, k1):
         var, sign = steps.var[k], steps.sign[k]
         qd = out[var - var0] if var >= 0 else sign * q_in_rate
@@ -529,7 +516,7 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
                 slot, before, in_rate, in_vel, out, unit_p = acc, vel, 0.0, sense * rate, qdd_u, unit * unit
             if fresh:
                 _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
-                             in_vel, res, out)
+                             in_vel, res, out, step)
             else:
                 for i in range(m):
                     guess = qd[var0 + i] + gain * (q[var0 + i] - qd_u[i]) if p == 0 else qdd[var0 + i]
