@@ -198,6 +198,7 @@ class _Tape:
         """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
         taken again once the last op touching it has run."""
         gathered = sorted((op[2], op[1]) for op in self.ops if op[0] == GATHER)  # (column, row)
+        gathered += gathered[-1:] * (len(gathered) % 2)  # (the kernel reads them two at a time)
         ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in self.ops if op[0] != GATHER]
         ops = np.array(ops, np.int64).reshape(-1, 7)
         aux = np.array(self.aux + [v for pair in gathered for v in pair], np.int64)
@@ -245,7 +246,8 @@ def _aux_rows(op) -> range:
 # with a row of ones, products by a constant MUL with a row of it, x·y − u·v is x·y + u·(−v): the same
 # numbers (x·1 = x, x − y = x + (−y) exactly).
 GATHER = 0   # W[d] = row[b, a]            (a: a column of the records; `finish` makes all of them one op,
-#              W[aux[a + 2i + 1]] = row[b, aux[a + 2i]] for i < b, reading each record once)
+#              W[aux[a + 2i + 1]] = row[b, aux[a + 2i]] for i < b, two fields a pass over the chunk's
+#              records: field by field, not record by record, the writes run along W's rows)
 INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
 SET = 2      # W[d] = K[k]
 MUL = 3      # W[d] = W[a] · W[b]
@@ -522,11 +524,13 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
         for t in range(len(ops)):
             code, d, a, b, e, f, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4], ops[t, 5], ops[t, 6]
             Wd, Wa, Wb, We, Wf = W[d], W[a], W[b], W[e], W[f]
-            if code == 0:  # GATHER
-                for c in range(nc):
-                    rec = row[b0 + c]
-                    for i in range(b):
-                        W[aux[a + 2 * i + 1], c] = rec[aux[a + 2 * i]]
+            if code == 0:  # GATHER, two fields a pass (`finish` pads them to an even number)
+                for i in range(a, a + 2 * b, 4):
+                    s0, W0, s1, W1 = aux[i], W[aux[i + 1]], aux[i + 2], W[aux[i + 3]]
+                    for c in range(nc):
+                        rec = row[b0 + c]
+                        W0[c] = rec[s0]
+                        W1[c] = rec[s1]
             elif code == 1:  # INPUT
                 for c in range(nc):
                     Wd[c] = inputs[a, b0 + c]
