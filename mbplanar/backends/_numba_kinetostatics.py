@@ -123,7 +123,10 @@ class _Tape:
             return self.value(folded)
         key = (code, a, b, e, f, k)
         if key not in self._memo:
-            self._memo[key] = d = self.fresh(code, a, b, e, f, k)
+            op = self._with_constants(code, a, b, e, f, k)
+            if len(op) == 1:  # x·1, x/1: x itself
+                return op[0]
+            self._memo[key] = d = self.fresh(*op)
             self._shared.add(d)
             for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
                 self._uses.setdefault(r, []).append(key)
@@ -144,6 +147,35 @@ class _Tape:
         if code == LEVER:
             return ((v[0] + v[1]) + self.consts[k]) * self.consts[k + 1]
         return _FOLD[code](*v)
+
+    def _with_constants(self, code, a, b, e, f, k) -> tuple:
+        """Op `code` with the constants it reads taken from K, not from rows of W (one row fewer to
+        read, and no row to fill): (code, a, b, e, f, k), or (row,) where the op gives row `row`
+        itself (x·1 = x and x/1 = x exactly). The same floating-point operations, in the same order."""
+        known = self._known
+        if code == MUL and (a in known or b in known):
+            x, c = (b, known[a]) if a in known else (a, known[b])
+            return (x,) if c == 1.0 and x in self._shared else (MULK, x, 0, 0, 0, self.const(c))
+        if code == DIV and known.get(b) == 1.0 and a in self._shared:
+            return (a,)
+        if code in (MADD, MSUB) and (b in known or e in known):
+            y, c = (e, known[b]) if b in known else (b, known[e])  # a ± c·y
+            if c == 1.0:
+                if a in known and code == MSUB:
+                    return KSUB, y, 0, 0, 0, self.const(known[a])
+                if a in known:  # (c + y, as y + c)
+                    return ADDK, y, 0, 0, 0, self.const(known[a])
+                if y in known and code == MADD:
+                    return ADDK, a, 0, 0, 0, self.const(known[y])
+                return (ADD if code == MADD else SUB), a, y
+            if a not in known and y not in known:
+                return (MADDK if code == MADD else MSUBK), a, y, 0, 0, self.const(c)
+        if code == DOT and (a in known or b in known) and (e in known or f in known):
+            x, c = (b, known[a]) if a in known else (a, known[b])
+            y, g = (f, known[e]) if e in known else (e, known[f])
+            if x not in known and y not in known:
+                return DOTK, x, y, 0, 0, self.consts2(c, g)
+        return code, a, b, e, f, k
 
     def into(self, code, d, a=0, b=0, e=0, f=0, k=0) -> int:
         """Op `code` writing row d again: the values read from d are forgotten."""
@@ -197,9 +229,10 @@ class _Tape:
     def finish(self) -> tuple:
         """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
         taken again once the last op touching it has run."""
-        gathered = sorted((op[2], op[1]) for op in self.ops if op[0] == GATHER)  # (column, row)
+        needed = _needed(self.ops, self.aux)
+        gathered = sorted((op[2], op[1]) for op in needed if op[0] == GATHER)  # (column, row)
         gathered += gathered[-1:] * (len(gathered) % 2)  # (the kernel reads them two at a time)
-        ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in self.ops if op[0] != GATHER]
+        ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in needed if op[0] != GATHER]
         ops = np.array(ops, np.int64).reshape(-1, 7)
         aux = np.array(self.aux + [v for pair in gathered for v in pair], np.int64)
         touched = [_touches(op, aux) for op in ops]
@@ -225,6 +258,24 @@ class _Tape:
             for i in _aux_rows(op):
                 mapped[i] = phys[aux[i]]
         return ops, np.array(self.consts + [0.0]), np.concatenate([mapped, np.zeros(1, np.int64)]), max(top, 1)
+
+
+def _needed(ops, aux) -> list:
+    """The ops whose value something reads (an output, or an op that is needed): a constant's row
+    that `_Tape._with_constants` took into K, for one, is not filled."""
+    live, kept = set(), []
+    for op in reversed(ops):
+        code, d = op[0], op[1]
+        reads = [op[f] for f in _W_FIELDS[code] if f != 1] + [aux[i] for i in _aux_rows(op)]
+        if code in (FLAG, PIVOT):  # (they change row d)
+            reads.append(d)
+        elif code != OUT:  # an op that only writes row d
+            if d not in live:
+                continue
+            live.discard(d)
+        live.update(reads)
+        kept.append(op)
+    return kept[::-1]
 
 
 def _touches(op, aux) -> list:
@@ -263,6 +314,15 @@ OUT = 12     # out[d, b] = W[a]
 FLAG = 13    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
 PIVOT = 14   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
+# the same with constants from K (`_Tape._with_constants`)
+ADD = 15     # W[d] = W[a] + W[b]
+SUB = 16     # W[d] = W[a] − W[b]
+ADDK = 17    # W[d] = W[a] + K[k]
+KSUB = 18    # W[d] = K[k] − W[a]
+MULK = 19    # W[d] = W[a] · K[k]
+MADDK = 20   # W[d] = W[a] + K[k] · W[b]
+MSUBK = 21   # W[d] = W[a] − K[k] · W[b]
+DOTK = 22    # W[d] = W[a] · K[k] + W[b] · K[k + 1]
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the ops `_Tape` computes itself on constants, as the kernel would
 _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max(a, b), SQRT: math.sqrt, ABS: abs,
@@ -270,7 +330,8 @@ _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max
          LEVER: None}
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
-             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,)}
+             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,),
+             ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -524,6 +585,7 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
         for t in range(len(ops)):
             code, d, a, b, e, f, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4], ops[t, 5], ops[t, 6]
             Wd, Wa, Wb, We, Wf = W[d], W[a], W[b], W[e], W[f]
+            k0, k1 = K[k], K[k + 1]  # (read once: the stores to W might alias K)
             if code == 0:  # GATHER, two fields a pass (`finish` pads them to an even number)
                 for i in range(a, a + 2 * b, 4):
                     s0, W0, s1, W1 = aux[i], W[aux[i + 1]], aux[i + 2], W[aux[i + 3]]
@@ -536,7 +598,7 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
                     Wd[c] = inputs[a, b0 + c]
             elif code == 2:  # SET
                 for c in range(nc):
-                    Wd[c] = K[k]
+                    Wd[c] = k0
             elif code == 3:  # MUL
                 for c in range(nc):
                     Wd[c] = Wa[c] * Wb[c]
@@ -563,14 +625,38 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
                     Wd[c] = Wa[c] * Wb[c] + We[c] * Wf[c]
             elif code == 11:  # LEVER
                 for c in range(nc):
-                    Wd[c] = ((Wa[c] + Wb[c]) + K[k]) * K[k + 1]
+                    Wd[c] = ((Wa[c] + Wb[c]) + k0) * k1
             elif code == 12:  # OUT
                 for c in range(nc):
                     out[d, b0 + c] = Wa[c]
             elif code == 13:  # FLAG
                 for c in range(nc):
-                    if not K[k] < Wa[c] <= K[k + 1]:
+                    if not k0 < Wa[c] <= k1:
                         Wd[c] = 1.0
+            elif code == 15:  # ADD
+                for c in range(nc):
+                    Wd[c] = Wa[c] + Wb[c]
+            elif code == 16:  # SUB
+                for c in range(nc):
+                    Wd[c] = Wa[c] - Wb[c]
+            elif code == 17:  # ADDK
+                for c in range(nc):
+                    Wd[c] = Wa[c] + k0
+            elif code == 18:  # KSUB
+                for c in range(nc):
+                    Wd[c] = k0 - Wa[c]
+            elif code == 19:  # MULK
+                for c in range(nc):
+                    Wd[c] = Wa[c] * k0
+            elif code == 20:  # MADDK
+                for c in range(nc):
+                    Wd[c] = Wa[c] + k0 * Wb[c]
+            elif code == 21:  # MSUBK
+                for c in range(nc):
+                    Wd[c] = Wa[c] - k0 * Wb[c]
+            elif code == 22:  # DOTK
+                for c in range(nc):
+                    Wd[c] = Wa[c] * k0 + Wb[c] * k1
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):
