@@ -92,6 +92,7 @@ class _Tape:
     def __init__(self):
         self.ops, self.consts, self.aux, self.rows = [], [], [], 0
         self._const, self._memo, self._uses, self._shared, self._known = {}, {}, {}, set(), {}
+        self._neg = {}  # row → the row it is the negative of (x·(−1) is −x exactly)
 
     def const(self, value) -> int:
         value = float(value)
@@ -128,6 +129,8 @@ class _Tape:
                 return op[0]
             self._memo[key] = d = self.fresh(*op)
             self._shared.add(d)
+            if op[0] == MULK and self.consts[op[5]] == -1.0:
+                self._neg[d] = op[1]
             for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
                 self._uses.setdefault(r, []).append(key)
         return self._memo[key]
@@ -152,6 +155,7 @@ class _Tape:
         """Op `code` with the constants it reads taken from K, not from rows of W (one row fewer to
         read, and no row to fill): (code, a, b, e, f, k), or (row,) where the op gives row `row`
         itself (x·1 = x and x/1 = x exactly). The same floating-point operations, in the same order."""
+        code, a, b, e, f = self._without_negations(code, a, b, e, f)
         known = self._known
         if code == MUL and (a in known or b in known):
             x, c = (b, known[a]) if a in known else (a, known[b])
@@ -177,6 +181,34 @@ class _Tape:
                 return DOTK, x, y, 0, 0, self.consts2(c, g)
         return code, a, b, e, f, k
 
+    def _without_negations(self, code, a, b, e, f) -> tuple:
+        """Op `code` reading x where it read −x (`_neg`), the sign moved into the op: a ± (−x)·y is
+        a ∓ x·y, p + (−x)·y is p − x·y, (−x)·(−y) is x·y; the same numbers, one op fewer to read
+        (the negation is dropped when nothing else reads it)."""
+        neg = self._neg
+        if code in (MADD, MSUB, MUL, DOT) and (b in neg or e in neg or a in neg or f in neg):
+            def product(x, y):  # (x, y, negated) of x·y
+                flip = (x in neg) != (y in neg)
+                return neg.get(x, x), neg.get(y, y), flip
+            if code == MUL:
+                x, y, flip = product(a, b)
+                if not flip:
+                    return MUL, x, y, e, f
+            elif code in (MADD, MSUB):
+                x, y, flip = product(b, e)
+                if flip or x != b or y != e:
+                    return (MSUB if (code == MADD) == flip else MADD), a, x, y, f
+            else:
+                x, y, flip = product(a, b)
+                u, v, flip2 = product(e, f)
+                if flip2 and not flip:
+                    return CROSS, x, y, u, v
+                if flip and not flip2:
+                    return CROSS, u, v, x, y
+                if not flip and not flip2:
+                    return DOT, x, y, u, v
+        return code, a, b, e, f
+
     def into(self, code, d, a=0, b=0, e=0, f=0, k=0) -> int:
         """Op `code` writing row d again: the values read from d are forgotten."""
         self.ops.append((code, d, a, b, e, f, k))
@@ -184,6 +216,7 @@ class _Tape:
         return d
 
     def written(self, d):
+        self._neg = {r: x for r, x in self._neg.items() if d not in (r, x)}
         for key in self._uses.pop(d, []):
             self._memo.pop(key, None)
         for key in [key for key, row in self._memo.items() if row == d]:
@@ -323,6 +356,7 @@ MULK = 19    # W[d] = W[a] · K[k]
 MADDK = 20   # W[d] = W[a] + K[k] · W[b]
 MSUBK = 21   # W[d] = W[a] − K[k] · W[b]
 DOTK = 22    # W[d] = W[a] · K[k] + W[b] · K[k + 1]
+CROSS = 23   # W[d] = W[a] · W[b] − W[e] · W[f]   (DOT of a negated factor, `_Tape._without_negations`)
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the ops `_Tape` computes itself on constants, as the kernel would
 _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max(a, b), SQRT: math.sqrt, ABS: abs,
@@ -331,7 +365,8 @@ _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,),
-             ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO}
+             ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO,
+             CROSS: _FOUR}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -657,6 +692,9 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 22:  # DOTK
                 for c in range(nc):
                     Wd[c] = Wa[c] * k0 + Wb[c] * k1
+            elif code == 23:  # CROSS
+                for c in range(nc):
+                    Wd[c] = Wa[c] * Wb[c] - We[c] * Wf[c]
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):
