@@ -177,3 +177,24 @@ def test_prismatic_input_same_as_numpy(tmp_path):
     a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
     assert np.all(np.abs(a.balancing["Bp"]) > 0)
     _assert_same(a, b)
+
+
+def test_a_held_result_keeps_its_values_and_a_dropped_one_lends_its_block():
+    """The kernel writes into an output block of an earlier call only when no result holds any array of
+    it: a result kept while later calls run keeps its values; once dropped, its block is written again."""
+    mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
+    engine = mbplanar.Engine(mech, backend="numba", threads=1)
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 300, endpoint=False)
+    first, second = mbplanar.analyse(engine, phi), mbplanar.analyse(engine, phi + 0.5)
+    held = kinetostatics(engine, first)
+    fx, point = held.reactions["B"].fx.copy(), held.loads[-1].point.copy()
+    for _ in range(3):
+        later = kinetostatics(engine, second)
+        assert not np.shares_memory(later.reactions["B"].fx, held.reactions["B"].fx)
+    np.testing.assert_array_equal(held.reactions["B"].fx, fx)
+    np.testing.assert_array_equal(held.loads[-1].point, point)
+    block = id(held.reactions["B"].fx.base)
+    del held
+    again = kinetostatics(engine, first)
+    assert id(again.reactions["B"].fx.base) == block  # (still kept by the plan: not a new array at its address)
+    np.testing.assert_array_equal(again.reactions["B"].fx, fx)

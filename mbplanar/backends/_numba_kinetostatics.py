@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from dataclasses import dataclass
+import sys
+import threading
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -42,8 +44,8 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 class _KernelPlan:
     """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
     numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
-    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, and `scratch`, one
-    work matrix per thread."""
+    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
+    work matrix per thread, and `outputs`, the output blocks kept for reuse (`_output_block`)."""
 
     names: list
     links: list
@@ -51,6 +53,11 @@ class _KernelPlan:
     args: tuple
     rows: int
     scratch: list
+    outputs: list = field(default_factory=list)
+
+    def __getstate__(self) -> dict:
+        """Pickled (with its engine) without its work and output arrays, made again as needed."""
+        return dict(self.__dict__, scratch=[], outputs=[])
 
 
 def _load_table(engine, inertia):
@@ -579,6 +586,39 @@ def _scratch(rows: int) -> tuple:
     return (np.zeros((rows, CHUNK)),)
 
 
+#: output blocks a plan keeps for reuse
+KEEP_OUTPUTS = 2
+_outputs_lock = threading.Lock()
+
+
+def _output_block(plan, shape) -> np.ndarray:
+    """An array `shape` for the kernel's outputs: a block of an earlier call that no result holds any
+    more (every array of a result is a view of its block), else a new one, kept for reuse (up to
+    `KEEP_OUTPUTS` per plan). Reusing it spares the pages a new one faults in: glibc gives a freed
+    block of megabytes back to the system, and a sweep repeated over the same batch (a study, a
+    benchmark) would fault its few MB in again every call (~0.1 µs per position at N = 3600)."""
+    kept = plan.outputs
+    with _outputs_lock:
+        free = [i for i in range(len(kept)) if _references(kept, i) == _UNHELD]
+        for i in free:
+            if kept[i].shape == shape:
+                return kept[i]
+        block = np.empty(shape)
+        if free:
+            kept[free[0]] = block
+        elif len(kept) < KEEP_OUTPUTS:
+            kept.append(block)
+        return block
+
+
+def _references(blocks, i) -> int:
+    """The reference count of blocks[i] as this function sees it."""
+    return sys.getrefcount(blocks[i])
+
+
+_UNHELD = _references([np.empty(0)], 0)  # that of a block only its list holds
+
+
 def solve(engine, motion, ks_plan, inertia=True):
     """x (n, B) (the unknowns, NaN where singular), singular (B,), the virtual-power residual (B,) and
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
@@ -589,7 +629,8 @@ def solve(engine, motion, ks_plan, inertia=True):
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    out = np.empty((n + 5 * n_loads + 3, batch))  # x, the loads (fx, fy, x, y, moment), Σ power, its bound, bad
+    out = _output_block(plan, (n + 5 * n_loads + 3, batch))  # x, the loads (fx, fy, x, y, moment), Σ power,
+    #                                                         its bound, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
