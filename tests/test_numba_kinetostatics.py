@@ -99,6 +99,9 @@ def test_random_mechanisms_same_as_numpy(mech_kind, data):
     if prismatic:
         mech.add_load("resistance", joint=prismatic[0], force=300.0,
                       when=data.draw(st.sampled_from(["forward", "backward", "always"])))
+        carrier = mech.joints[prismatic[-1]].carrier
+        if carrier != mech.ground:  # (a guide force on the carrier: the opposite of the slider's)
+            mech.add_load("friction", joint=prismatic[-1], link=carrier, force=80.0)
     try:
         engine = mbplanar.Engine(mech)
     except mbplanar.MbplanarError:

@@ -4,12 +4,15 @@ kinematics wrote (`Motion.rows`).
 
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
 blocks (one per Assur group, last attached first), their constant pivots and fill-in (`_Block.fill`)
-come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes and heavy links from
-`loads`. Once per engine (and record layout), `_program` writes numpy's formulas, in numpy's order, as a
-list of elementary ops on the rows of a work matrix, one row per value and one column per position of
-a chunk of `CHUNK` positions; `_kernel` runs the ops one after the other, each over the whole chunk in
-an inner loop (SIMD lanes), so the tables are read once per chunk, not once per position. The kernel is
-one small function of 18 kinds of op whatever the model, so numba compiles it once, in about 1.5 s.
+come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes (the diagrams'
+interpolated by `loads.guide_force_size`) and heavy links from `loads`. Once per engine (and record
+layout), `_program` writes numpy's formulas, in numpy's order, as a list of elementary ops on the rows
+of a work matrix, one row per value and one column per position of a chunk of `CHUNK` positions;
+`_kernel` runs the ops one after the other, each over the whole chunk in an inner loop (SIMD lanes), so
+the tables are read once per chunk, not once per position. The time goes with the rows the ops read and
+write, so `_Tape` reads constants from the op (not from a row of them), moves negations into the ops
+that read them, and drops what nothing reads, all without changing a rounding. The kernel is one small
+function of 26 kinds of op whatever the model, so numba compiles it once, in about 2 s.
 
 Two things differ from numpy by rounding only: the moments are divided by the model size as a product
 with its reciprocal, and the dense part of a class III or higher group (LU with partial pivoting, each
@@ -21,9 +24,9 @@ to rounding.
 from __future__ import annotations
 
 import math
-from collections import defaultdict
 import sys
 import threading
+from collections import defaultdict
 from dataclasses import dataclass, field
 
 import numba
@@ -364,6 +367,10 @@ MADDK = 20   # W[d] = W[a] + K[k] · W[b]
 MSUBK = 21   # W[d] = W[a] − K[k] · W[b]
 DOTK = 22    # W[d] = W[a] · K[k] + W[b] · K[k + 1]
 CROSS = 23   # W[d] = W[a] · W[b] − W[e] · W[f]   (DOT of a negated factor, `_Tape._without_negations`)
+GUIDE = 24   # W[d] = K[k] · (the unit against the motion: `_WHEN`[K[k + 1]]) of the joint rate W[a] turned
+#              round where ω = W[b] < 0 (`guide_force_size` of a load without a table)
+RESIDUAL = 25  # W[d] = |W[a]| / W[b], by 1 where W[b] <= 0 (the virtual-power residual, its bound)
+_WHEN = ("forward", "backward", "always")
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the ops `_Tape` computes itself on constants, as the kernel would
 _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max(a, b), SQRT: math.sqrt, ABS: abs,
@@ -373,7 +380,7 @@ _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,),
              ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO,
-             CROSS: _FOUR}
+             CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -422,6 +429,16 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     bvec = [T.value(0.0)] * n
     values = []
     om, ep = T.val(INPUT, 0), T.val(INPUT, 1)
+    tabled = [load for load in guides if load.table]  # (their sizes `solve` interpolates: inputs 2, 3, ...)
+    joint_index = {name: i for i, name in enumerate(mech.joints)}
+
+    def guide_size(load):  # loads.guide_force_size: against the joint's rate, signed by ω's direction
+        if load.table:
+            return T.val(INPUT, 2 + tabled.index(load))
+        size = load.magnitude if load.link != mech.joints[load.joint].carrier else -load.magnitude
+        rate = T.val(GATHER, field["rate_q"] + joint_index[load.joint])
+        return T.val(GUIDE, rate, om, k=T.consts2(size, _WHEN.index(load.when)))
+
     om2 = T.mul(om, om)
     for ld in range(len(loads.link)):
         k = int(loads.link[ld])
@@ -439,7 +456,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
             mz = T.mulk(er, -loads.moment_of_inertia[ld])
         elif loads.guide[ld] >= 0:  # along the guide of the carrier
             ux, uy = turn(int(loads.carrier[ld]), loads.u0[ld])
-            size = T.val(INPUT, 2 + int(loads.guide[ld]))
+            size = guide_size(guides[int(loads.guide[ld])])
             fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
         else:
             fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
@@ -458,7 +475,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     bad = T.set(0.0)
     for blk in ks_plan.blocks:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
-    out_bad = n + 5 * len(loads.link) + 2
+    out_bad = n + 5 * len(loads.link) + 1  # the row of `bad`, the residual's before it
     for i in range(n):
         if lay.scale[i] != 1.0:  # (x·1 = x)
             x[i] = T.mulk(x[i], lay.scale[i])
@@ -489,9 +506,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
         total = T.val(MADD, total, term, T.value(1.0))
         bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
-    T.out(OUT, out_bad - 2, total)
-    T.out(OUT, out_bad - 1, bound)
-    return names, links, guides, T
+    T.out(OUT, out_bad - 1, T.val(RESIDUAL, total, bound))  # (relative to what the loads could do)
+    return names, links, tabled, T
 
 
 def _program_block(T, blk, feat, bvec, x, bad, min_measure):
@@ -629,8 +645,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    out = _output_block(plan, (n + 5 * n_loads + 3, batch))  # x, the loads (fx, fy, x, y, moment), Σ power,
-    #                                                         its bound, bad
+    out = _output_block(plan, (n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
@@ -639,8 +654,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
     values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
-    x, singular, total, bound = out[:n], out[-1] != 0.0, out[-3], out[-2]
-    residual = np.abs(total) / np.where(bound > 0, bound, 1.0)
+    x, residual, singular = out[:n], out[-2], out[-1] != 0.0
     if singular.any():
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
@@ -736,6 +750,19 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 23:  # CROSS
                 for c in range(nc):
                     Wd[c] = Wa[c] * Wb[c] - We[c] * Wf[c]
+            elif code == 24:  # GUIDE
+                for c in range(nc):
+                    rate = -Wa[c] if Wb[c] < 0 else Wa[c]
+                    if k1 == 0.0:  # forward
+                        along = -1.0 if rate >= 0 else 0.0
+                    elif k1 == 1.0:  # backward
+                        along = 1.0 if rate <= 0 else 0.0
+                    else:  # always: −sign(rate)
+                        along = -1.0 if rate > 0 else (1.0 if rate < 0 else -(rate * 0.0))
+                    Wd[c] = along * k0
+            elif code == 25:  # RESIDUAL
+                for c in range(nc):
+                    Wd[c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):
