@@ -393,7 +393,11 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
                 "fvx": ("fv", 2, 0), "fvy": ("fv", 2, 1), "fax": ("fa", 2, 0), "fay": ("fa", 2, 1),
                 "wq": ("wq", 1, 0), "eq": ("eq", 1, 0)}
 
-    def fr(k, name):  # a field of link k's frame
+    ground = engine.link_index[mech.ground]
+
+    def fr(k, name):  # a field of link k's frame (the ground's: the world's, at rest, as the kinematics writes it)
+        if k == ground:
+            return T.value(1.0 if name == "cos" else 0.0)
         base, width, part = per_link[name]
         return T.val(GATHER, field[base] + width * k + part)
 
