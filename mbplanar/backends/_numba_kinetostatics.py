@@ -723,10 +723,9 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 12:  # OUT
                 for c in range(nc):
                     out[d, b0 + c] = Wa[c]
-            elif code == 13:  # FLAG
+            elif code == 13:  # FLAG (a select, not a branch: the loop vectorises)
                 for c in range(nc):
-                    if not k0 < Wa[c] <= k1:
-                        Wd[c] = 1.0
+                    Wd[c] = Wd[c] if k0 < Wa[c] <= k1 else 1.0
             elif code == 15:  # ADD
                 for c in range(nc):
                     Wd[c] = Wa[c] + Wb[c]
