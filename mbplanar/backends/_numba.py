@@ -8,7 +8,7 @@ import numpy as np
 
 from ..engine._atlas import met_along
 from ..forces._kinetostatics import plan_of, result
-from ..forces._loads import needs_numpy
+from ..forces._loads import heavy_links, needs_numpy
 from ..kinematics._motion import Motion, _per_position, _tables, point_selection
 
 __all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM"]
@@ -53,11 +53,11 @@ class NumbaBackend:
     def kinetostatics(self, engine, motion, input_inertia, loads, inertia):
         """`kinetostatics` of a compiled Motion (its rows in step with its arrays) of one input with the
         model's own loads (no springs, dampers, torques or switched rows) and no input inertia, or None."""
-        rows = motion.rows
-        if not (rows is not None and motion.has_rates and len(rows) == len(motion.phi) > 0
-                and np.may_share_memory(rows, motion.wq)
-                and loads is None and len(engine.inputs) == 1 and not np.any(input_inertia)
+        if not (motion.has_rates and loads is None and len(engine.inputs) == 1 and not np.any(input_inertia)
                 and not needs_numpy(engine.mech)):
+            return None
+        rows = motion.rows  # (a compiled sweep that did not write them solves again for them, once)
+        if not (rows is not None and len(rows) == len(motion.phi) > 0 and np.may_share_memory(rows, motion.wq)):
             return None
         plan = plan_of(engine)
         x, singular, residual, values = _kernels()[1].solve(engine, motion, plan, inertia)
@@ -75,7 +75,9 @@ BACKEND = NumbaBackend()
 def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
     """The `Motion` of one input's values phi (B, 1) as the kernel wrote it: the angles, the points and
     the real rates are its arrays, the frames, analogues and joint values views of its records; the rest
-    `Motion` derives when first read."""
+    `Motion` derives when first read. The records are written in the same pass only where the
+    kinetostatics will read them (`_records_read`); otherwise the kernel solves again for them when one of
+    them is first read (`_refill`)."""
     batch, inp = len(phi), engine.inputs[0]
     x = np.ascontiguousarray(phi[:, 0])
     om = np.ascontiguousarray(_per_position(omega, [inp.omega], batch, 1).reshape(-1))
@@ -84,47 +86,66 @@ def _motion(engine, phi, omega, epsilon, points, rates) -> Motion | None:
     if not engine.within_walk(lo, hi):
         return None  # far values: the numpy path reduces them by the period
     sel = points if points is not None else point_selection(engine)
+    records = bool(rates) and _records_read(engine)
     got = _kernels()[0].sweep(engine, x, lo, hi, _tables(engine)[1], om, ep, sel.links, sel.at, rates,
-                              records=rates)  # (positions only: the frames and joints when first read)
+                              records=records)
     if got is None:
         return None
     keep = slice(None) if got.valid.all() else np.flatnonzero(got.valid)
-    rows = got.rows
     limits, crossings = met_along(engine.atlas(), lo, hi)
-    if not rates:
-        return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
-                      link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
-                      joint_names=list(engine.mech.joints), value=None, rate=None, accel=None, ic=None, vq=None,
-                      aq=None, w=None, e=None, v=None, a=None, requested=batch, limits=limits, crossings=crossings,
-                      frames=None, has_rates=False, refill=_refill)
+    arrays = dict(w=got.w, e=got.e, v=got.v, a=got.a) if rates else dict(w=None, e=None, v=None, a=None)
+    common = dict(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
+                  link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
+                  joint_names=list(engine.mech.joints), rate=None, accel=None, ic=None, vq=None, aq=None,
+                  requested=batch, limits=limits, crossings=crossings, has_rates=bool(rates), **arrays)
+    if not records:
+        return Motion(**common, value=None, frames=None, rows=None, wq=None, eq=None, rate_q=None, accel_q=None,
+                      refill=_refill)
+    return Motion(**common, **_views(got.rows, rates))
+
+
+def _records_read(engine) -> bool:
+    """Whether the kinetostatics is likely to read a sweep's records: the model has loads or heavy links,
+    or the compiled kinetostatics has had to solve again for them on this engine (`_refill`)."""
+    found = engine.prepared.get("numba records read")
+    if found is None:
+        found = engine.prepared["numba records read"] = bool(engine.mech.loads or heavy_links(engine.mech))
+    return found
+
+
+def _views(rows, rates) -> dict:
+    """The fields of a compiled `Motion` that are views of its records `rows`: the joint values, the
+    link frames and, with rates, the analogues."""
     field = rows.__getitem__
     frames = {"th": field("th"), "r": field("r")}
-    arrays = dict(w=None, e=None, v=None, a=None, wq=None, eq=None, rate_q=None, accel_q=None)
+    out = dict(rows=rows, value=field("value"), frames=frames)
     if rates:
         wq, eq = field("wq"), field("eq")
         frames.update(w=wq, v=field("fv"), e=eq, a=field("fa"))
-        arrays.update(w=got.w, e=got.e, v=got.v, a=got.a, wq=wq, eq=eq, rate_q=field("rate_q"),
-                      accel_q=field("accel_q"))
-    return Motion(engine=engine, phi=phi[keep], omega=om[keep, None], epsilon=ep[keep, None],
-                  link_names=list(engine.links), angle=got.angle, point_names=list(sel.names), xy=got.xy,
-                  joint_names=list(engine.mech.joints), value=field("value"), rate=None, accel=None, ic=None,
-                  vq=None, aq=None, requested=batch, limits=limits, crossings=crossings, frames=frames, rows=rows,
-                  has_rates=bool(rates), **arrays)
+        out.update(wq=wq, eq=eq, rate_q=field("rate_q"), accel_q=field("accel_q"))
+    return out
 
 
-def _refill(motion) -> tuple:
-    """The joint values (B, J) and link frames {"th", "r"} of a compiled positions-only `motion`, solved
-    again with the records (they are not written in the first pass, to keep it lean)."""
+def _refill(motion) -> dict:
+    """The records of a compiled `motion` whose sweep did not write them, and the fields that are views
+    of them (`_views`): the kernel solves its positions again, writing the records only."""
     engine = motion.engine
     x = np.ascontiguousarray(motion.phi[:, 0])
-    n_l, n_j = len(engine.links), len(engine.mech.joints)
-    if not len(x):  # every position past a limit
-        return np.zeros((0, n_j)), {"th": np.zeros((0, n_l)), "r": np.zeros((0, n_l, 2))}
+    rates = motion.has_rates
+    if rates:
+        engine.prepared["numba records read"] = True  # (later sweeps of this engine write them at once)
     none = point_selection(engine, [])
-    got = _kernels()[0].sweep(engine, x, float(x.min()), float(x.max()), _tables(engine)[1], np.ones(len(x)),
-                              np.zeros(len(x)), none.links, none.at, False)
-    if got is None or len(got.rows) != len(x):  # (the kernel takes what it took before)
-        from ..kinematics._motion import _reference
-        ref = _reference(engine, motion.phi, None, None, point_selection(engine, []), False)
-        return ref.value, ref.frames
-    return got.rows["value"], {"th": got.rows["th"], "r": got.rows["r"]}
+    got = None
+    if len(x):
+        got = _kernels()[0].sweep(engine, x, float(x.min()), float(x.max()), _tables(engine)[1], np.ones(len(x)),
+                                  np.zeros(len(x)), none.links, none.at, rates)
+    if got is not None and len(got.rows) == len(x):
+        return _views(got.rows, rates)
+    if len(x):  # (the kernel takes what it took before; numpy otherwise, the derived arrays with it)
+        from ..kinematics._motion import DERIVED, _reference
+        ref = _reference(engine, motion.phi, motion.omega, motion.epsilon,
+                         point_selection(engine, motion.point_names), rates)
+        names = ("value", "frames") + (("wq", "eq", "rate_q", "accel_q") + DERIVED if rates else ())
+        return {"rows": None, **{name: getattr(ref, name) for name in names}}
+    dtype = _kernels()[0].record_dtype(engine, _tables(engine)[1], rates)  # every position past a limit
+    return _views(np.zeros(0, dtype), rates)

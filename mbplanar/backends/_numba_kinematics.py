@@ -32,7 +32,7 @@ from ._numba_blocks import LeanPipeline, _closure, _interval, _lu, _lu_solve, _p
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
-__all__ = ["FIELDS", "RATE_FIELDS", "Outputs", "sweep"]
+__all__ = ["FIELDS", "RATE_FIELDS", "Outputs", "record_dtype", "sweep"]
 
 # the record of a position, in this order: (name, per link / joint, components); `RATE_FIELDS` only
 # with rates. The kinetostatics kernel reads it by offset.
@@ -97,6 +97,11 @@ def _make_plan(engine, joint_table) -> _KernelPlan:
     m_max = max([1] + [bp.m for bp in engine.blocks])
     sizes = (len(steps.parent), len(cuts.a), per["L"], len(blocks.var_scale), m_max)
     return _KernelPlan(args, rows, sizes, [])
+
+
+def record_dtype(engine, joint_table, rates: bool) -> np.dtype:
+    """The dtype of the records `sweep` writes (`Outputs.rows`), with or without rates."""
+    return _plan(engine, joint_table).rows[bool(rates)][0]
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
@@ -229,7 +234,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
         for sl in range(len(rt)):
             rt[sl, 0, l], rt[sl, 1, l], rt[sl, 2, l] = 0.0, 0.0, 0.0
-    lo = 0
+    lo, lo_inv, inv = 0, -1, 1.0
     for b in range(len(x)):
         xb = x[b]
         if (limits[0] and xb < grid[0]) or (limits[1] and xb > grid[n_grid - 1]):
@@ -247,7 +252,9 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 lo = _interval(grid, n_grid, xb)
         # the quintic Hermite interpolant between the two nodes around x, and the nearest node
         left, right = grid[lo], grid[lo + 1]
-        t = (xb - left) / (right - left)
+        if lo != lo_inv:  # (1 / the interval's width, once per interval: no division per position)
+            lo_inv, inv = lo, 1.0 / (right - left)
+        t = (xb - left) * inv
         near = lo if abs(xb - left) <= abs(xb - right) else lo + 1
         for i in range(m_all):
             value = coef[lo, 5, i]
@@ -284,7 +291,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
                 s_hi = m if phase == 0 else s_lo + 1
                 if phase == 0:
-                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed: at rest
+                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed, moved by an earlier block
                         link = blocks.anchors[t_]
                         for sl in range(m):
                             rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
@@ -444,12 +451,18 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 wq, eq = rt[vel, 0, l], rt[acc, 0, l]
                 w_out[b, l] = wq * omb
                 e_out[b, l] = eq * om2 + wq * epb if ep_any else eq * om2
-        for p in range(len(p_link)):
-            k = p_link[p]
-            c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-            rx, ry = c * atx - s * aty, s * atx + c * aty
-            xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
-            if rates:  # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
+        if not rates:
+            for p in range(len(p_link)):
+                k = p_link[p]
+                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + (c * atx - s * aty), ps[4, k] + (s * atx + c * aty)
+        else:
+            for p in range(len(p_link)):
+                k = p_link[p]
+                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+                rx, ry = c * atx - s * aty, s * atx + c * aty
+                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
+                # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
                 wl, el = rt[vel, 0, k], rt[acc, 0, k]
                 w2 = wl * wl
                 vx, vy = rt[vel, 1, k] - wl * ry, rt[vel, 2, k] + wl * rx

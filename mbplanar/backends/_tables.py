@@ -57,7 +57,8 @@ class BlockTables(NamedTuple):
     m: np.ndarray           # (K,) int: number of unknowns
     anchor0: np.ndarray     # (K,) int
     anchor1: np.ndarray     # (K,) int
-    anchors: np.ndarray     # (A,) int: the links a block reads but does not place (earlier blocks', ground)
+    anchors: np.ndarray     # (A,) int: the links a block reads but does not place (earlier blocks') whose
+    #                         sensitivities an earlier block's Jacobian wrote (the rest are still at rest)
     row_scale: np.ndarray   # (M,) float: every block's residual row scales, concatenated
     var_scale: np.ndarray   # (M,) float: every block's unknown scales, concatenated
 
@@ -109,11 +110,13 @@ def kinematics_tables(engine, joint_table) -> tuple[StepTables, CutTables, Block
     """The engine's `BlockPlan`s and its joints (`kinematics._JointTable`) as the kinematics kernel's tables."""
     idx = engine.link_index
     steps, cuts, blocks, anchors, rows, vars_ = [], [], [], [], [], []
-    var0 = 0
+    var0, written = 0, set()
     for bp in engine.blocks:
         placed = {idx[st.child] for st in bp.steps}
         read = {idx[st.parent] for st in bp.steps} | {idx[n] for law in bp.cuts for n in law.links[:2]}
-        mine = sorted(read - placed)
+        mine = sorted((read - placed) & written)
+        if bp.m:
+            written |= placed
         blocks.append((len(steps), len(steps) + len(bp.steps), len(cuts), len(cuts) + len(bp.cuts), var0, bp.m,
                        len(anchors), len(anchors) + len(mine)))
         anchors += mine

@@ -69,8 +69,9 @@ class Motion:
     # compiled kinetostatics reads it a position at a time)
     rows: np.ndarray | None = field(default=None, repr=False)
     has_rates: bool = True  # False: positions only, the arrays of RATE_NAMES were not computed
-    # a backend's (motion) → (value, frames) where it did not write them (compiled, positions only):
-    # computed when first read
+    # a backend's (motion) → {name: array} of `REFILLED` where it did not write them (the compiled
+    # backend's records, the frames and joint values, and with rates the analogues, all views of the
+    # records): computed when first read
     refill: object = field(default=None, repr=False, compare=False)
 
     @property
@@ -85,8 +86,10 @@ class Motion:
             f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
 
     def __post_init__(self):
-        absent = ((RATE_NAMES if not self.has_rates else ()) + (DERIVED if self.rows is not None else ())
-                  + (REFILLED if self.refill is not None else ()))
+        lazy = self.refill is not None
+        absent = ((RATE_NAMES if not self.has_rates else ())
+                  + (DERIVED if self.rows is not None or (lazy and self.has_rates) else ())
+                  + (REFILLED if lazy else ()))
         for name in absent:
             if self.__dict__.get(name, 0) is None:
                 del self.__dict__[name]  # so that reading it reaches __getattr__
@@ -95,10 +98,13 @@ class Motion:
         if name in RATE_NAMES and not self.__dict__.get("has_rates", True):
             raise RatesNotComputed(f"Motion.{name}: this motion holds positions only (analyse(..., rates=False)); "
                                    "ask analyse(..., rates=True) for velocities and accelerations")
-        if name in REFILLED and self.__dict__.get("refill") is not None:
-            self.value, self.frames = self.refill(self)
+        if (name in REFILLED or name in DERIVED) and self.__dict__.get("refill") is not None \
+                and "rows" not in self.__dict__:  # (the records and their views not made yet)
+            for key, value in self.refill(self).items():
+                if key not in self.__dict__:
+                    setattr(self, key, value)
             return getattr(self, name)
-        if name not in DERIVED or self.__dict__.get("rows") is None:
+        if name not in DERIVED or (self.__dict__.get("rows") is None and self.__dict__.get("refill") is None):
             raise AttributeError(f"'Motion' object has no attribute '{name}'")
         value = _derived(self, name)
         setattr(self, name, value)
@@ -141,7 +147,7 @@ class Motion:
 
 class _Absent:
     """The class-level default of a field that may be missing from an instance (the analogues wq, eq,
-    rate_q, accel_q, None by default): reading it where the instance has none goes to
+    rate_q, accel_q and the compiled records, None by default): reading it where the instance has none goes to
     `Motion.__getattr__` (positions only: `RatesNotComputed`), as for the fields without a default."""
 
     def __init__(self, name: str):
@@ -153,12 +159,13 @@ class _Absent:
         return obj.__getattr__(self.name)
 
 
-for _name in ("wq", "eq", "rate_q", "accel_q"):  # after @dataclass has taken their default None
+for _name in ("wq", "eq", "rate_q", "accel_q", "rows"):  # after @dataclass has taken their default None
     setattr(Motion, _name, _Absent(_name))
 
 
 DERIVED = ("vq", "aq", "rate", "accel", "ic")  # follow from the compiled frames and joint analogues
-REFILLED = ("value", "frames")  # a backend's `refill` gives them
+REFILLED = ("value", "frames", "rows", "wq", "eq", "rate_q", "accel_q")  # a backend's `refill` gives them
+# (positions only: the first three)
 RATE_NAMES = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "rate", "accel", "rate_q", "accel_q", "ic")
 
 
