@@ -137,14 +137,14 @@ def test_what_the_compiled_path_does_not_take_is_numpy():
 
 
 
-@pytest.mark.parametrize("batch", [2, 127, 129, 300])
+@pytest.mark.parametrize("batch", [2, 127, 129, 255, 257, 600])
 def test_batches_across_chunks_same_as_numpy(batch):
     """The kernel takes the positions a chunk at a time: a batch much shorter than a chunk, one position
     either side of a chunk's end, several chunks; on a class III group (its dense part pivots position
-    by position) and the six-bar press (a guide load)."""
-    from mbplanar.backends._numba_kinetostatics import CHUNK
-    assert CHUNK == 128  # (the batches above straddle it)
-    for name in ("class3_triad", "six_bar_press"):
+    by position), the six-bar press (a guide load) and the class IV group (a longer program)."""
+    from mbplanar.backends._numba_kinetostatics import CHUNKS, chunk_of
+    assert CHUNKS == (256, 128) and chunk_of(100) == 256 and chunk_of(156) == 128  # (straddled above)
+    for name in ("class3_triad", "six_bar_press", "class4_group"):
         mech = mbplanar.read_model(MODELS / f"{name}.toml")
         engine = mbplanar.Engine(mech)
         phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, batch, endpoint=False)
