@@ -11,8 +11,9 @@ of a work matrix, one row per value and one column per position of a chunk of 12
 (`chunk_of`); `_kernel` runs the ops one after the other, each over the whole chunk in an inner loop
 (SIMD lanes), so the tables are read once per chunk, not once per position. The time goes with the
 rows the ops read and write, so `_Tape` reads constants from the op (not from a row of them), moves
-negations into the ops that read them, and drops what nothing reads, all without changing a rounding. The kernel is one small
-function of 26 kinds of op whatever the model, so numba compiles it once, in about 2 s.
+negations into the ops that read them, and drops what nothing reads, all without changing a rounding.
+The kernel is one small function of 26 kinds of op whatever the model, so numba compiles it once, in
+about 2 s.
 
 Two things differ from numpy by rounding only: the moments are divided by the model size as a product
 with its reciprocal, and the dense part of a class III or higher group (LU with partial pivoting, each
@@ -172,6 +173,9 @@ class _Tape:
             return (x,) if c == 1.0 and x in self._shared else (MULK, x, 0, 0, 0, self.const(c))
         if code == DIV and known.get(b) == 1.0 and a in self._shared:
             return (a,)
+        if code in (MADD, MSUB) and b in known and e in known and a not in known:  # a ± p, p = b·e
+            p = known[b] * known[e]
+            return ADDK, a, 0, 0, 0, self.const(p if code == MADD else -p)  # (a − p is a + (−p) exactly)
         if code in (MADD, MSUB) and (b in known or e in known):
             y, c = (e, known[b]) if b in known else (b, known[e])  # a ± c·y
             if c == 1.0:
