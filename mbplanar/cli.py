@@ -19,10 +19,10 @@ BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
 
 
 def _blas_on_one_thread() -> None:
-    """Run numpy's BLAS on one thread in a command-line process, unless the user set its threads: its
-    matrices are tiny (a batch of small systems is solved matrix by matrix, on one thread whatever the
-    setting), while OpenBLAS starts one busy thread per core at numpy's import (~0.06 s of CPU on 2 cores
-    for every command). Before numpy is imported, or it has no effect; the library itself sets nothing."""
+    """Run numpy's BLAS on one thread in a command-line process, unless the user set its threads: the
+    commands' matrices are small (no command took less time with more BLAS threads, docs/speed.md), while
+    OpenBLAS starts one busy thread per core at numpy's import (~0.06 s of CPU on 2 cores for every
+    command). Before numpy is imported, or it has no effect; the library itself sets nothing."""
     if "numpy" not in sys.modules and not any(os.environ.get(name) for name in BLAS_THREADS):
         os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
