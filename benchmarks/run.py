@@ -425,10 +425,17 @@ def process_cases(rounds, cold):
                     "first_use": ([py, "-c", FIRST_USE], env), "solve": (solve, env)}
         cold_s = None
         if cold and BEST == "numba":
+            # installed with its install step: `mbplanar compile` (into the empty caches: numba's and the
+            # built kernels'), then the first run after it (cold) and the next ones (warm); and without it:
+            # numba compiles on the first run, into another empty cache (MBPLANAR_AOT=0: nothing built)
             numba_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba"))
-            cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], numba_env)   # compiles into the empty cache
+            jit_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba-jit"), MBPLANAR_AOT="0")
+            jit_cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], jit_env)
+            install_s = run_process([py, "-m", "mbplanar", "compile"], numba_env)
+            cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], numba_env)
             commands.update(sweep_numpy=([py, "-c", COLD_SCRIPT, "numpy"], env),
-                            sweep_numba=([py, "-c", COLD_SCRIPT, "numba"], numba_env))
+                            sweep_numba=([py, "-c", COLD_SCRIPT, "numba"], numba_env),
+                            sweep_numba_jit=([py, "-c", COLD_SCRIPT, "numba"], jit_env))
         t = processes_in_rounds(commands, rounds)
     context = dict(python_s=t["python"][0], python_cpu_s=t["python"][1], numpy_s=t["numpy"][0],
                    numpy_cpu_s=t["numpy"][1])
@@ -437,13 +444,17 @@ def process_cases(rounds, cold):
             dict(name="mbplanar", work="import and first use", n=1, seconds=t["first_use"][0],
                  cpu_s=t["first_use"][1], **context)]
     if cold_s is not None:
-        (np_wall, np_cpu), (warm_wall, warm_cpu) = t["sweep_numpy"], t["sweep_numba"]
-        rows += [dict(name="fourbar_loaded", work="numba cold start", n=1, seconds=cold_s[0] - np_wall,
-                      cpu_s=cold_s[1] - np_cpu, process_s=cold_s[0], process_cpu_s=cold_s[1], numpy_process_s=np_wall,
-                      numpy_process_cpu_s=np_cpu),
-                 dict(name="fourbar_loaded", work="numba warm start", n=1, seconds=warm_wall - np_wall,
-                      cpu_s=warm_cpu - np_cpu, process_s=warm_wall, process_cpu_s=warm_cpu, numpy_process_s=np_wall,
-                      numpy_process_cpu_s=np_cpu)]
+        np_wall, np_cpu = t["sweep_numpy"]
+
+        def over_numpy(work, process):
+            return dict(name="fourbar_loaded", work=work, n=1, seconds=process[0] - np_wall, cpu_s=process[1] - np_cpu,
+                        process_s=process[0], process_cpu_s=process[1], numpy_process_s=np_wall,
+                        numpy_process_cpu_s=np_cpu)
+        rows += [dict(name="mbplanar", work="numba install step (mbplanar compile)", n=1, seconds=install_s[0],
+                      cpu_s=install_s[1]),
+                 over_numpy("numba cold start", cold_s), over_numpy("numba warm start", t["sweep_numba"]),
+                 over_numpy("numba cold start, not compiled", jit_cold_s),
+                 over_numpy("numba warm start, not compiled", t["sweep_numba_jit"])]
     for r in rows:
         print(f"  {r['work']:18s} ({r['name']}) wall {r['seconds']:.3f} s, CPU {r['cpu_s']:.3f} s; {context_of(r)}")
     if cold_s is None:

@@ -827,6 +827,15 @@ def cmd_report(args):
     return 0
 
 
+# -- compile ----------------------------------------------------------------------------------------
+def cmd_compile(args):
+    """Build the numba backend's kernels ahead of time (`backends._aot`): later processes load them
+    without importing numba."""
+    from .backends._aot import build
+    build(sys.stderr)
+    return 0
+
+
 # -- check ------------------------------------------------------------------------------------------
 def cmd_check(args):
     from .analysis._check import check, check_region, format_region, format_report
@@ -891,7 +900,7 @@ OWN_MODULE = {
     "study": "a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
 }
 CORE_COMMANDS = ("info", "solve", "sweep", "forces", "dynamics", "simulate", "balance", "plot", "animate", "report",
-                 "check")  # the commands of this module
+                 "check", "compile")  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 
 
@@ -913,9 +922,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="mbplanar", description="Planar linkage analysis from a table of pairs.")
     p.add_argument("--debug", action="store_true", help="show tracebacks")
     p.add_argument("--backend", choices=("numpy", "numba"), default="numpy",
-                   help="numba: compiled kinematics and forces for long sweeps (pip install 'mbplanar[fast]'; "
-                        "importing it and loading the compiled code take ~1 s, the very first run compiles for "
-                        "~30 s)")
+                   help="numba: compiled kinematics and forces for long sweeps (pip install 'mbplanar[fast]' "
+                        "&& mbplanar compile; without that compile, importing numba costs ~1 s per process and the "
+                        "very first run compiles for ~10 s)")
     p.add_argument("--threads", type=_positive_int, default=None, metavar="N",
                    help="cores the numba backend splits a long sweep over (default: all available, or "
                         "MBPLANAR_THREADS)")
@@ -1041,6 +1050,11 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     _units_option(s)
     s.set_defaults(func=cmd_check)
+
+    s = sub.add_parser("compile", help="build the numba backend's compiled kernels ahead of time, once after "
+                                       "installing mbplanar[fast]: later runs start without numba's compile "
+                                       "and load")
+    s.set_defaults(func=cmd_compile)
 
     s = sub.add_parser("cam", help=OWN_MODULE["cam"])
     if command in ("cam", None):

@@ -8,49 +8,20 @@ every caller, which made the kinematics kernel's first compile about 0.5 s (5 %)
 
 from __future__ import annotations
 
-import numba
 import numpy as np
-from numba.core import typed_passes, untyped_passes
-from numba.core.compiler import CompilerBase, DefaultPassBuilder
-from numba.core.compiler_machinery import PassManager
 
-__all__ = ["LeanPipeline", "_part", "_place", "_closure", "_lu", "_lu_solve", "_interval"]
+from ._jit import njit
+
+__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
-# atomic increments on every array passed or aliased would cost more than the arithmetic): so nothing
-# is allocated here, the caller passes every work array (`_scratch`).
+# atomic increments on every array passed or aliased would cost more than the arithmetic): so nothing is
+# allocated here, the caller passes every work array (`_scratch`).
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
-# numba's passes that these kernels have nothing for: closures and functions made inside them, numba's own
-# inlining, literal unrolling and dispatch on literals, branch pruning on constants, array-expression
-# rewrites, and the SSA form with its phi nodes (there to type a variable that changes type, which no
-# kernel variable does: a variable that did would fail to compile, not change meaning). They cost about
-# a fifth of the kinematics kernel's first compile (7.9 → 6.2 s CPU), the compiled code is the same
-# speed, and the tests hold the results bit for bit where they were.
-_SKIPPED = [getattr(module, name, None) for module, name in (
-    (untyped_passes, "InlineClosureLikes"), (untyped_passes, "MakeFunctionToJitFunction"),
-    (untyped_passes, "InlineInlinables"), (untyped_passes, "DeadBranchPrune"),
-    (untyped_passes, "FindLiterallyCalls"), (untyped_passes, "LiteralUnroll"),
-    (untyped_passes, "ReconstructSSA"), (untyped_passes, "LiteralPropagationSubPipelinePass"),
-    (typed_passes, "PreLowerStripPhis"), (typed_passes, "NopythonRewrites"))]
-
-
-class LeanPipeline(CompilerBase):
-    """numba's nopython pipeline less the passes of `_SKIPPED` (per function, as
-    ``numba.njit(pipeline_class=LeanPipeline)``: numba's settings for other code are untouched)."""
-
-    def define_pipelines(self):
-        full = DefaultPassBuilder.define_nopython_pipeline(self.state)
-        lean = PassManager("mbplanar lean nopython")
-        for kind, description in full.passes:
-            if kind not in _SKIPPED:
-                lean.add_pass(kind, description)
-        lean.finalize()
-        return [lean]
-
-
-_part = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, pipeline_class=LeanPipeline)
+# Compiled with numba's pipeline less the passes these kernels have nothing for (`_jit.lean_pipeline`).
+_part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
 
 
 @_part

@@ -24,11 +24,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 
 from . import _threads
-from ._numba_blocks import LeanPipeline, _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
+from ._jit import njit
+from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -192,17 +192,13 @@ def _none(plan: _KernelPlan, name: str, shape: tuple) -> np.ndarray:
 
 
 def _run(plan: _KernelPlan, args: tuple) -> int:
-    """`_sweep(*args)`. The first call goes through numba's dispatcher, which types every argument
-    (some 10 µs for the named tables) and compiles or loads the kernel; later calls with the same plan
-    pass the same types (the plan's tables, and arrays made here as C-contiguous float64, int64 and
-    bool arrays of fixed dimensions), so they call the compiled function it chose directly."""
-    if plan.entry is not None:
-        return plan.entry(*args)
-    status = _sweep(*args)
-    found = _sweep.overloads.get(tuple(numba.typeof(a) for a in args))
-    if found is not None:
-        plan.entry = found.entry_point
-    return status
+    """`_sweep(*args)`. The first call looks the compiled function up for the arguments' types (the
+    ahead-of-time build's, else numba's, compiled or loaded now: `_jit.Kernel.entry`); later calls with
+    the same plan pass the same types (the plan's tables, and arrays made here as C-contiguous float64,
+    int64 and bool arrays of fixed dimensions), so they call it directly."""
+    if plan.entry is None:
+        plan.entry = _sweep.entry(args)
+    return plan.entry(*args)
 
 
 # -- kernel -----------------------------------------------------------------------------------------
@@ -216,7 +212,7 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # allocated here, the caller passes every work array (`_scratch`).
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, pipeline_class=LeanPipeline)
+_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
 
 
 @_jit

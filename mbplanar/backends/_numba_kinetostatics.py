@@ -30,10 +30,10 @@ import threading
 from collections import defaultdict
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 
 from . import _threads
+from ._jit import njit
 from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
 from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
@@ -679,7 +679,7 @@ def solve(engine, motion, ks_plan, inertia=True):
 
 
 # -- kernel -------------------------------------------------------------------------------------------
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 
 
 @_jit

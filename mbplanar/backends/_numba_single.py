@@ -29,13 +29,13 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
 from ..engine._atlas import LOST_PRECISION, far_span
 from ..kinematics._motion import _tables
 from ..kinematics._single import (FIELDS, PendingSolver, Position, checked_speeds, finite_input, layout_of, made,
                                   reference)
+from ._jit import njit
 from ._numba_kinematics import _ORDER, _atlas_tables, _plan, _scratch, _sweep
 
 __all__ = ["single"]
@@ -169,14 +169,9 @@ class _Solver:
 
 
 def _entry(kernel, args):
-    """The compiled entry point of `kernel` for `args` (compiled or loaded from numba's cache on first
-    use), which skips the dispatcher's typing of every argument; the dispatcher itself where numba
-    does not expose it."""
-    kernel(*args)
-    try:
-        return kernel.overloads[tuple(kernel.typeof_pyval(a) for a in args)].entry_point
-    except (AttributeError, KeyError):
-        return kernel
+    """The compiled function of `kernel` for `args` (`_jit.Kernel.entry`: the ahead-of-time build's, or
+    numba's, compiled or loaded from its cache now), which skips the typing of every argument."""
+    return kernel.entry(args)
 
 
 #: the kernel's packed arrays, in the order of the rows of its table `lay` (offset, shape): floats, ints,
@@ -204,8 +199,8 @@ def _pack(arrays: dict, lay: np.ndarray) -> tuple:
 
 
 # -- kernel -----------------------------------------------------------------------------------------
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
-_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
+_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+_inline = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
 
 # Scalar loops over arrays indexed in place, compiled without numba's reference counting, nothing
 # allocated (the caller passes every work array, `_numba_kinematics._scratch`). Pose ps (5, L): θ, cos θ,

@@ -6,14 +6,13 @@ so the answers do not depend on the cut. Each thread needs its own work arrays; 
 from __future__ import annotations
 
 import os
-from concurrent.futures import ThreadPoolExecutor
 
 from ..errors import MbplanarError
 
 __all__ = ["MIN_CHUNK", "available", "chunks", "run", "work_arrays"]
 
 MIN_CHUNK = 400  # positions per thread below which another thread costs more than it saves
-_pool: ThreadPoolExecutor | None = None  # the other threads, made on first use
+_pool = None  # the other threads (a ThreadPoolExecutor), made on first use
 _pool_size = 0
 _CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
@@ -45,6 +44,7 @@ def run(calls: list) -> list:
     if len(calls) == 1:
         return [calls[0]()]
     if _pool is None or _pool_size < len(calls) - 1:
+        from concurrent.futures import ThreadPoolExecutor  # (imported here: one-thread runs skip it, ~10 ms)
         if _pool is not None:
             _pool.shutdown(wait=False)
         _pool, _pool_size = ThreadPoolExecutor(len(calls) - 1, thread_name_prefix="mbplanar"), len(calls) - 1

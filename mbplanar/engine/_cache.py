@@ -99,7 +99,17 @@ def _key(text: bytes, source: str, backend: str) -> str:
 
 
 def _code_stamp() -> str:
-    """The size and modification time of every module of the package: any edit changes it."""
+    """The size and modification time of every module of the package: any edit changes it (read once per
+    process: the engine cache and the built kernels' key, `backends._aot`, share it)."""
+    if not _stamp:
+        _stamp.append(_stamp_of_files())
+    return _stamp[0]
+
+
+_stamp: list = []
+
+
+def _stamp_of_files() -> str:
     root, stamps = str(PACKAGE), []
     for folder, dirs, files in os.walk(root):
         dirs[:] = sorted(d for d in dirs if d != "__pycache__")
