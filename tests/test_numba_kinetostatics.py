@@ -99,6 +99,9 @@ def test_random_mechanisms_same_as_numpy(mech_kind, data):
     if prismatic:
         mech.add_load("resistance", joint=prismatic[0], force=300.0,
                       when=data.draw(st.sampled_from(["forward", "backward", "always"])))
+        carrier = mech.joints[prismatic[-1]].carrier
+        if carrier != mech.ground:  # (a guide force on the carrier: the opposite of the slider's)
+            mech.add_load("friction", joint=prismatic[-1], link=carrier, force=80.0)
     try:
         engine = mbplanar.Engine(mech)
     except mbplanar.MbplanarError:
@@ -134,14 +137,14 @@ def test_what_the_compiled_path_does_not_take_is_numpy():
 
 
 
-@pytest.mark.parametrize("batch", [2, 127, 129, 300])
+@pytest.mark.parametrize("batch", [2, 127, 129, 255, 257, 600])
 def test_batches_across_chunks_same_as_numpy(batch):
     """The kernel takes the positions a chunk at a time: a batch much shorter than a chunk, one position
     either side of a chunk's end, several chunks; on a class III group (its dense part pivots position
-    by position) and the six-bar press (a guide load)."""
-    from mbplanar.backends._numba_kinetostatics import CHUNK
-    assert CHUNK == 128  # (the batches above straddle it)
-    for name in ("class3_triad", "six_bar_press"):
+    by position), the six-bar press (a guide load) and the class IV group (a longer program)."""
+    from mbplanar.backends._numba_kinetostatics import CHUNKS, chunk_of
+    assert CHUNKS == (256, 128) and chunk_of(100) == 256 and chunk_of(156) == 128  # (straddled above)
+    for name in ("class3_triad", "six_bar_press", "class4_group"):
         mech = mbplanar.read_model(MODELS / f"{name}.toml")
         engine = mbplanar.Engine(mech)
         phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, batch, endpoint=False)
@@ -177,3 +180,24 @@ def test_prismatic_input_same_as_numpy(tmp_path):
     a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
     assert np.all(np.abs(a.balancing["Bp"]) > 0)
     _assert_same(a, b)
+
+
+def test_a_held_result_keeps_its_values_and_a_dropped_one_lends_its_block():
+    """The kernel writes into an output block of an earlier call only when no result holds any array of
+    it: a result kept while later calls run keeps its values; once dropped, its block is written again."""
+    mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
+    engine = mbplanar.Engine(mech, backend="numba", threads=1)
+    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 300, endpoint=False)
+    first, second = mbplanar.analyse(engine, phi), mbplanar.analyse(engine, phi + 0.5)
+    held = kinetostatics(engine, first)
+    fx, point = held.reactions["B"].fx.copy(), held.loads[-1].point.copy()
+    for _ in range(3):
+        later = kinetostatics(engine, second)
+        assert not np.shares_memory(later.reactions["B"].fx, held.reactions["B"].fx)
+    np.testing.assert_array_equal(held.reactions["B"].fx, fx)
+    np.testing.assert_array_equal(held.loads[-1].point, point)
+    block = id(held.reactions["B"].fx.base)
+    del held
+    again = kinetostatics(engine, first)
+    assert id(again.reactions["B"].fx.base) == block  # (still kept by the plan: not a new array at its address)
+    np.testing.assert_array_equal(again.reactions["B"].fx, fx)

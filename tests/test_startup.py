@@ -133,3 +133,26 @@ def test_every_command_is_listed_once():
 def test_a_command_in_its_own_package_shows_its_options(command, option, capsys):
     assert main([command, "-h"]) == 0
     assert option in capsys.readouterr().out
+
+
+def _blas_threads_after(code: str, **env) -> str:
+    """OPENBLAS_NUM_THREADS as a new process running `code` sees it, without the BLAS variables of this
+    environment unless given in `env`."""
+    from mbplanar.cli import BLAS_THREADS
+    clean = {k: v for k, v in os.environ.items() if k not in BLAS_THREADS}
+    done = subprocess.run([sys.executable, "-c", code + "\nimport os\nprint(os.environ.get('OPENBLAS_NUM_THREADS'))"],
+                          cwd=ROOT, env=dict(clean, PYTHONPATH=str(ROOT), **env), capture_output=True, text=True,
+                          check=True)
+    return done.stdout.split()[-1]
+
+
+def test_the_command_line_runs_blas_on_one_thread_unless_told():
+    """The command line sets OpenBLAS to one thread before numpy starts its threads; a user's own setting
+    (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS) wins, and the library and a program that imported numpy first
+    are left alone."""
+    cli = "import mbplanar.cli\nimport numpy"
+    assert _blas_threads_after(cli) == "1"
+    assert _blas_threads_after(cli, OPENBLAS_NUM_THREADS="2") == "2"
+    assert _blas_threads_after(cli, OMP_NUM_THREADS="3") == "None"
+    assert _blas_threads_after("import numpy\nimport mbplanar.cli") == "None"
+    assert _blas_threads_after("import mbplanar\nmbplanar.Engine, mbplanar.analyse") == "None"

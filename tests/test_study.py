@@ -472,3 +472,42 @@ def test_compiled_followed_sweep_of_slider_cranks_equals_numpy(slider_crank_mode
         assert np.nanmax(np.abs(a - b) / (1 + np.abs(b))) < 1e-12, name
     assert [(lim.design, lim.direction) for lim in fast.limits] == [(lim.design, lim.direction) for lim in ref.limits]
     assert all(abs(a.phi - b.phi) < 1e-12 for a, b in zip(fast.limits, ref.limits))
+
+
+def test_numpy_batch_second_pass_ends_where_the_full_newton_does(monkeypatch):
+    """The numpy batch corrects a chunk by one Newton step and one evaluation, then only the pairs not at
+    the rounding floor by the engine's full iteration: the same as the full iteration over the whole
+    chunk (the former one-pass correction), to the rounding, with the second pass taken."""
+    from mbplanar.study import batch as B
+
+    vals = {"a": [0.06, 0.08, 0.1, 0.12], "b": [0.3, 0.26, 0.33, 0.3], "theta0": [10.0, 200.0, 100.0, 300.0],
+            "beta": [20.0, 60.0, 340.0, 45.0]}
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    second = []
+    correct, bound = B.DesignBatch._correct, B.DesignBatch.bound
+
+    def spy_correct(self, *args):
+        self._in_correct = True
+        try:
+            return correct(self, *args)
+        finally:
+            self._in_correct = False
+
+    def spy_bound(self, index, tol=None):
+        if getattr(self, "_in_correct", False) and tol is None:
+            second.append(len(index))
+        return bound(self, index, tol)
+
+    monkeypatch.setattr(B.DesignBatch, "_correct", spy_correct)
+    monkeypatch.setattr(B.DesignBatch, "bound", spy_bound)
+    two = design_batch("models/fourbar_design.toml", vals).solve(phi)
+    assert second and 0 < sum(second) < two.valid.sum() / 4  # a few pairs took the second pass
+    monkeypatch.setattr(B, "_one_step", lambda tol: tol)  # the engine's full iteration over every pair
+    one = design_batch("models/fourbar_design.toml", vals).solve(phi)
+    assert np.array_equal(two.valid, one.valid) and two.valid.sum() > 800 and two.limits  # two designs lock
+    for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
+        a, b = getattr(two, name), getattr(one, name)
+        assert np.array_equal(np.isnan(a), np.isnan(b)), name
+        assert np.mean(a[two.valid] == b[two.valid]) > 0.99, name  # the pairs at the floor: the same bits
+        # the others to the rounding (their rates, near the limits, as amplified as the Jacobian's inverse)
+        assert np.nanmax(np.abs(a - b) / (1 + np.abs(b))) < (1e-14 if name in ("angle", "xy") else 1e-12), name

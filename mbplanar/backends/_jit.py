@@ -166,7 +166,38 @@ def _dispatcher_of(func, options: dict):
     options = dict(options)
     if options.pop("lean", False):
         options["pipeline_class"] = lean_pipeline()
-    return numba.njit(**options)(func)
+    dispatcher = numba.njit(**options)(func)
+    _stamp_cache_with_kernel_sources(dispatcher)
+    return dispatcher
+
+
+def _stamp_cache_with_kernel_sources(dispatcher) -> None:
+    """Tie numba's on-disk cache of a kernel to every kernel module, not only its own file.
+
+    numba checks a cached kernel against its own source file's size and time, but a kernel inlines the
+    building blocks and kernels of the other modules of this folder: after an edit there (a ``git pull``
+    into an editable install), numba would load a kernel holding the old code. The index is stamped with
+    the size and time of every module here instead, so any edit compiles the kernels again."""
+    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
+    if cache_file is not None and hasattr(cache_file, "_source_stamp"):
+        cache_file._source_stamp = _kernel_sources_stamp()
+
+
+def _kernel_sources_stamp() -> str:
+    """The name, size and modification time of every module of this folder (read once per process)."""
+    if not _sources:
+        import os
+        folder = os.path.dirname(os.path.abspath(__file__))
+        stamps = []
+        for name in sorted(os.listdir(folder)):
+            if name.endswith(".py"):
+                info = os.stat(os.path.join(folder, name))
+                stamps.append(f"{name}:{info.st_size}:{info.st_mtime_ns}")
+        _sources.append(";".join(stamps))
+    return _sources[0]
+
+
+_sources: list = []
 
 
 _lean: list = []

@@ -16,7 +16,7 @@ method. Per design the kernel
    `max_correction`) and writes the chosen links' angles and analogue rates and the chosen points'
    positions, velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
 
-When a design's input values are an ordered sweep with no gap wider than `h_max` (`_follow`), steps 2
+When a design's input values are an ordered sweep with no gap wider than `h_max` (`_walk`), steps 2
 and 3 are one: the sweep itself is walked from the drawn pose, every requested position a march node
 accepted by the march's rules and written at once; a position they refuse sends the design to step 2.
 
@@ -35,6 +35,7 @@ import numba
 import numpy as np
 
 from . import _threads
+from ._jit import _stamp_cache_with_kernel_sources
 from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place
 from ._tables import kinematics_tables
 from ..engine._nodes import HERMITE5
@@ -47,6 +48,8 @@ STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
 TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
+NUDGE = 1e-8  # largest move (rad) of a link within a solve placed by `_nudge` (to first order) rather than `_turn`
+LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which a converged block keeps its Jacobian (`_solve`)
 
 
 @dataclass
@@ -237,8 +240,54 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
 # block's unknowns and their derivatives. The per-position building blocks (placement, closure, their
 # rates, the Jacobian, a block's rate pass) are the joint laws' arithmetic (`engine._constraints`), as
 # the sweep kernel has it written out in its loop.
-_jit = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
+_compile = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
+
+
+def _jit(func):
+    """`_compile`, its on-disk cache tied to every kernel module (it inlines `_numba_blocks`)."""
+    dispatcher = _compile(func)
+    _stamp_cache_with_kernel_sources(dispatcher)
+    return dispatcher
+
+
 _inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath={"contract"})
+
+
+@_inline
+def _factor(a, m, perm):
+    """`_lu` of a[:m, :m] (the same operations in the same order), written out for the 1 × 1 and 2 × 2
+    blocks of dyads and single joints so that it is inlined where a position is solved; larger blocks
+    call `_lu`."""
+    if m == 2:
+        sign = 1.0
+        perm[0], perm[1] = 0, 1
+        if abs(a[1, 0]) > abs(a[0, 0]):
+            a[0, 0], a[1, 0] = a[1, 0], a[0, 0]
+            a[0, 1], a[1, 1] = a[1, 1], a[0, 1]
+            perm[0], perm[1] = 1, 0
+            sign = -1.0
+        a[1, 0] /= a[0, 0]
+        a[1, 1] -= a[1, 0] * a[0, 1]
+        p0, p1 = abs(a[0, 0]), abs(a[1, 1])
+        return sign * a[0, 0] * a[1, 1], min(p0, p1) / max(max(p0, p1), 1e-300)
+    if m == 1:
+        perm[0] = 0
+        p0 = abs(a[0, 0])
+        return a[0, 0], p0 / max(p0, 1e-300)
+    return _lu(a, m, perm)
+
+
+@_inline
+def _solve_factored(a, m, perm, b, x):
+    """`_lu_solve` (x = A⁻¹ b from the factors of `_factor`), written out for m ≤ 2 as `_factor` is."""
+    if m == 2:
+        x0 = b[perm[0]]
+        x1 = (b[perm[1]] - a[1, 0] * x0) / a[1, 1]
+        x[0], x[1] = (x0 - a[0, 1] * x1) / a[0, 0], x1
+    elif m == 1:
+        x[0] = b[0] / a[0, 0]
+    else:
+        _lu_solve(a, m, perm, b, x)
 
 
 @_inline
@@ -315,14 +364,30 @@ def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt,
             jac[i, j] = col[i]
 
 
-@_inline
+@_jit
 def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
-                 q_in_vel, rhs, out):
+                 q_in_vel, rhs, out, delta):
     """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
-    out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms)."""
+    out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms). It is
+    `_refine` from rates 0 (compiled on its own and called: it runs off the followed path only)."""
+    for i in range(m):
+        out[i] = 0.0
+    _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+            out, delta)
+
+
+@_inline
+def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+            out, delta):
+    """One step of iterative refinement of a block's rates out[:m] (and its links' rates in rt[slot]) with
+    the factors `lu` and the sensitivities rt[0 … m − 1] (those of the pose as placed, or of a nearby one,
+    the Newton iterate before the last): the rates of the block's links recomputed forward from out at
+    the pose as placed, the closure's rate residual r, out += δ with J δ = −r (δ in `delta`), the links'
+    rates moved by the sensitivities times δ. From out = 0 with the pose's own factors it is the rate
+    pass itself (`_block_rates`); the error left otherwise is bounded in `_lazy_rates`."""
     for k in range(k0, k1):
         var, sign = steps.var[k], steps.sign[k]
-        qd = 0.0 if var >= 0 else sign * q_in_rate
+        qd = out[var - var0] if var >= 0 else sign * q_in_rate
         qv = qd_vel[var - var0] if var >= 0 else sign * q_in_vel
         _step_rates(k, steps, sc, rt, slot, qd, vel, qv)
     if m == 0:
@@ -331,22 +396,57 @@ def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu
         _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
     for i in range(m):
         rhs[i] = -rhs[i]
-    _lu_solve(lu, m, perm, rhs, out)
+    _solve_factored(lu, m, perm, rhs, delta)
+    for i in range(m):
+        out[i] += delta[i]
     for k in range(k0, k1):
         link = steps.child[k]
         for j in range(m):
             for comp in range(3):
-                rt[slot, comp, link] += rt[j, comp, link] * out[j]
+                rt[slot, comp, link] += rt[j, comp, link] * delta[j]
 
 
+@_inline
+def _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+                out, delta, var_scale, unit, reach, polish):
+    """A block's rates (as `_block_rates`) from the factors `lu` and sensitivities of the Newton iterate
+    before the last, a scaled distance s away, starting from the guess in out[:m]: `_refine` steps until
+    the error left is below `polish` (relative to 1 + |rate|, in the input's `unit`). A step from a guess
+    e away leaves at most ‖J₀⁻¹(J₀ − J₁)‖·e ≤ `reach`·e (`reach` = 4·m·s / pivot ratio, a bound with a
+    safety factor of 4 on ‖J₀⁻¹‖·‖∂J/∂q‖·s), e being about the step's own size: with the followed
+    sweep's guesses (e ~ 1e-9 at 1° steps) and s ~ 3e-9 one step is enough for 98 % of the positions;
+    each further step gains a factor `reach` (≤ 2e-5 with s ≤ `LAZY_STEP`), so at most four are taken."""
+    for _ in range(4):
+        _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
+                out, delta)
+        done = True
+        for i in range(m):
+            vs = var_scale[var0 + i] * unit
+            if not reach * abs(delta[i]) * vs <= polish * (1.0 + abs(out[i]) * vs):
+                done = False
+        if done:
+            return
 
 @_jit
-def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, q, qd, qdd, dets, ps, rt, sc, cc,
-           jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
+def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, unit, gain, q, qd, qdd, dets,
+           ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
     """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
     input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
-    with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio)."""
+    with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio).
+
+    With `lazy`, a block whose last Newton step was below `LAZY_STEP` (scaled), taken from a Jacobian
+    whose pivot ratio is at least twice `pivot_polish`, and whose residual after it is below `polish`
+    is accepted without a new Jacobian: the iteration a converged block ends with only confirms the
+    rounding floor, and what it would compute besides, the Jacobian's determinant sign and pivot
+    ratio, cannot differ from the last one's by more than that step moves them (a relative ~1e-6 at
+    most against a ratio of 0.1 or more: the same sign, the same side of every threshold). Its rates
+    are solved with the last factors from the guesses the caller leaves in qd and qdd (the predicted
+    rates; anything finite will do) to within `polish` (`_lazy_rates`; `unit`: the input's unit, 1 for
+    a revolute input, the mechanism's size for a slider). The rates' guess is first moved by `gain`
+    times Newton's correction of the positions: a predictor's error in q' is that factor times its
+    error in q (to leading order), which Newton has just measured."""
     closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
+    lazy_ratio = 2 * pivot_polish
     n_blocks = len(blocks.m)
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
@@ -360,12 +460,17 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     for bk in range(n_blocks):
         k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
         var0, m = blocks.var0[bk], blocks.m[bk]
-        polished, ok, det, ratio, err = False, False, 1.0, 1.0, 0.0
+        polished, ok, det, ratio, err, small, stale, moved = False, False, 1.0, 1.0, 0.0, False, False, 0.0
+        if lazy:
+            for i in range(m):
+                qd_u[i] = q[var0 + i]  # the guess, for the rates' guess (qd_u is free until the rates)
         for it in range(max_newton + 1):
             for k in range(k0, k1):
                 if steps.prismatic[k]:
                     _place(k, steps, q, q_in, ps, sc)
-                else:  # turned from where the link is (the last iterate, or the position before)
+                elif not (it > 0 and _nudge(k, steps, q, q_in, ps, sc)):
+                    # turned from where the link is (the position before, or the last iterate), unless
+                    # moved by a step at the rounding floor (`_nudge`)
                     _turn(k, steps, q, q_in, ps, sc)
             err = 0.0
             for k in range(c0, c1):
@@ -375,15 +480,18 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             if m == 0:
                 ok = True
                 break
+            if small and err < polish:  # at the rounding floor after a tiny step (see the docstring)
+                ok, stale = True, True
+                break
             _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
                       sc, cc, rt, jac, step)
             if uniform[bk]:  # R·J·V⁻¹ a multiple of J: the same pivot ratio and sign
-                det, ratio = _lu(jac, m, perm)
+                det, ratio = _factor(jac, m, perm)
             else:  # the dimensionless Jacobian R·J·V⁻¹: its pivots and sign, as numpy's
                 for i in range(m):
                     for j in range(m):
                         jac_s[i, j] = jac[i, j] * row_scale[var0 + i] / var_scale[var0 + j]
-                det, ratio = _lu(jac_s, m, perm_s)
+                det, ratio = _lu(jac_s, m, perm_s)  # (called: blocks mixing R and P rows or unknowns)
                 _lu(jac, m, perm)
             ok = err < closure
             if ok:  # converged: polished to `polish` (as in a batch whose other positions still step), and
@@ -395,23 +503,41 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
                 break
             for i in range(m):
                 res[i] = -res[i]
-            _lu_solve(jac, m, perm, res, step)
+            _solve_factored(jac, m, perm, res, step)
+            small = lazy and ratio >= lazy_ratio
+            moved = 0.0
             for i in range(m):
                 if np.isfinite(step[i]):
                     q[var0 + i] += step[i]
+                moved = max(moved, abs(step[i]) * var_scale[var0 + i])
+            small = small and moved <= LAZY_STEP
         if not (ok and np.isfinite(err)):
             return False, smallest
         dets[bk] = det
         smallest = min(smallest, ratio)
-        _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, vel, -1, jac, perm, sense * rate, qd_u, 0.0,
-                     res, qd_u)
-        for i in range(m):
-            qd[var0 + i] = qd_u[i]
-        if accelerations:
-            _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, acc, vel, jac, perm, 0.0, qd_u,
-                         sense * rate, res, qdd_u)
+        reach = 4.0 * m * moved / ratio
+        # the velocities, then the accelerations: one pass of code for both (each inlined pass is compiled
+        # again wherever `_solve` is inlined); a block without unknowns is its forward pass (`_refine`)
+        fresh = m > 0 and not stale
+        for p in range(2 if accelerations else 1):
+            if p == 0:
+                slot, before, in_rate, in_vel, out, unit_p = vel, -1, sense * rate, 0.0, qd_u, unit
+            else:
+                slot, before, in_rate, in_vel, out, unit_p = acc, vel, 0.0, sense * rate, qdd_u, unit * unit
+            if fresh:
+                _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
+                             in_vel, res, out, step)
+            else:
+                for i in range(m):
+                    guess = qd[var0 + i] + gain * (q[var0 + i] - qd_u[i]) if p == 0 else qdd[var0 + i]
+                    out[i] = guess if np.isfinite(guess) else 0.0
+                _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
+                            in_vel, res, out, step, var_scale, unit_p, reach, polish)
             for i in range(m):
-                qdd[var0 + i] = qdd_u[i]
+                if p == 0:
+                    qd[var0 + i] = out[i]
+                else:
+                    qdd[var0 + i] = out[i]
     return True, smallest
 
 
@@ -440,7 +566,33 @@ def _turn(k, steps, q, q_in, ps, sc):
     sd = delta * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
                                                                          * (1.0 - d2 * (1.0 / 72.0)))))
     c0, s0 = ps[6, child], ps[7, child]
-    cc, ss = c0 * cd - s0 * sd, s0 * cd + c0 * sd
+    _pose_at(k, steps, ps, sc, parent, child, t, c0 * cd - s0 * sd, s0 * cd + c0 * sd)
+
+
+@_inline
+def _nudge(k, steps, q, q_in, ps, sc):
+    """`_turn` of a revolute step k whose child moved by less than `NUDGE` since it was placed (a Newton
+    step at the rounding floor): cos and sin from the placed ones to first order, cos(θ + ε) =
+    cos θ − ε sin θ, sin(θ + ε) = sin θ + ε cos θ (the terms left out, ε²/2, below 5e-17: a rounding
+    of its own, no more). Used only within one solve, after its first placement by `_turn`: a solve's
+    Newton steps below `NUDGE` are its last one or two, so a position is at most that many such
+    rotations from exactly computed values and nothing accumulates from one position to the next.
+    Returns False, placing nothing, for a larger move (placed by `_turn`)."""
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
+    value = q[var] if var >= 0 else steps.sign[k] * q_in
+    t = ps[0, parent] + value if rel else value
+    eps = t - ps[0, child]
+    if not abs(eps) < NUDGE:
+        return False
+    c0, s0 = ps[1, child], ps[2, child]
+    _pose_at(k, steps, ps, sc, parent, child, t, c0 - eps * s0, s0 + eps * c0)
+    return True
+
+
+@_inline
+def _pose_at(k, steps, ps, sc, parent, child, t, cc, ss):
+    """Step k's child at angle t (cos cc, sin ss): its frame origin from the parent's, and the cached
+    joint vectors in sc[k]."""
     cp, sp = ps[1, parent], ps[2, parent]
     s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
     rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
@@ -499,6 +651,7 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
     var_scale = blocks.var_scale
     span = abs(target - phi0) / scale
     rate = direction * scale
+    yes, no = start >= 0, start < 0  # run-time booleans for `_solve` (see `_designs`)
     for i in range(m_all):
         qc[i], qdc[i], qddc[i] = q0[i], qd0[i] * rate, qdd0[i] * scale * scale
     for b in range(n_blocks):
@@ -510,8 +663,9 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
         phi = target if end else phi0 + rate * (s + h_try)
         for i in range(m_all):
             q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, True, q, qd,
-                                  qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, yes,
+                                  no, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step,
+                                  qd_u, qdd_u)
         dist, jump = 0.0, 0.0
         for i in range(m_all):
             guess = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
@@ -582,11 +736,19 @@ def _store(d, n, ps, rt, reference, point_at, point_link, link_out, acceleration
 
 
 @_jit
-def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0, q0, qd0, qdd0, dets0,
-            reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd,
-            dets,
-            jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
-    """Design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
+def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense, ground, scale,
+          accelerations, x, phi0, q0, qd0, qdd0, dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq,
+          xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp,
+          signs, prev):
+    """Every requested position of design d, solved and written, in one loop around one inlined copy of
+    the block solver (each copy lengthens the kernel's first compile): with `follow`, the followed sweep
+    below (returns 1, or 0 when x[d] is not such a sweep or a position is not accepted); else every
+    position predicted by the interpolant of the march's `total` nodes (node_phi, node_q, node_sign and
+    the intervals' coefficients `coef`), its rates' guess the interpolant's derivative, corrected and
+    checked (converged, same signs as the nearer node, within `max_correction` of the prediction);
+    positions outside the nodes are blanked; returns 0, or 4 when a position cannot be vouched for.
+
+    Followed: design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
     drawn pose (q0, qd0, qdd0 per unit input; dets0) up through those above it and down through those
     below, every position a march node: predicted from the two positions before it (the cubic Hermite
     extrapolant of their q and dq/dφ; the first by the drawn pose's Taylor polynomial), corrected by the
@@ -601,25 +763,53 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
     var_scale = blocks.var_scale
     reach = h_max * scale
     up = n_pos  # the first position at or above the drawn one
-    for n in range(n_pos):
-        if n > 0 and not (x[d, n] > x[d, n - 1] and x[d, n] - x[d, n - 1] <= reach):
-            return False
-        if up == n_pos and x[d, n] >= phi0:
-            up = n
-    if (up < n_pos and not x[d, up] - phi0 <= reach) or (up > 0 and not phi0 - x[d, up - 1] <= reach):
-        return False
-    for side in range(2):
-        for i in range(m_all):
-            prev[1, 0, i], prev[1, 1, i] = q0[i], qd0[i]
-        for b in range(n_blocks):
-            signs[b] = _sign(dets0[b])
-        phi_a, phi_b, older = phi0, phi0, False
-        for k in range(n_pos - up if side == 0 else up):
-            n = up + k if side == 0 else up - 1 - k
+    if follow:
+        for n in range(n_pos):
+            if n > 0 and not (x[d, n] > x[d, n - 1] and x[d, n] - x[d, n - 1] <= reach):
+                return 0
+            if up == n_pos and x[d, n] >= phi0:
+                up = n
+        if (up < n_pos and not x[d, up] - phi0 <= reach) or (up > 0 and not phi0 - x[d, up - 1] <= reach):
+            return 0
+    first, last = node_phi[0], node_phi[max(total, 1) - 1]
+    phi_a, phi_b, older = phi0, phi0, False
+    for side in range(2 if follow else 1):
+        if follow:
+            for i in range(m_all):
+                prev[1, 0, i], prev[1, 1, i] = q0[i], qd0[i]
+            for b in range(n_blocks):
+                signs[b] = _sign(dets0[b])
+            phi_a, phi_b, older = phi0, phi0, False
+        for k in range((n_pos - up if side == 0 else up) if follow else n_pos):
+            n = (up + k if side == 0 else up - 1 - k) if follow else k
             xb = x[d, n]
-            if older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
+            gain, near = 0.0, 0
+            if not follow:  # the march's interpolant and its derivative (the rates' guess)
+                if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
+                    valid[d, n] = False
+                    _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations)
+                    continue
+                j, t, width = 0, 0.0, 0.0
+                if total > 1:
+                    j = _interval(node_phi, total, xb)
+                    width = node_phi[j + 1] - node_phi[j]
+                    t = (xb - node_phi[j]) / width if width > 0 else 0.0
+                    near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
+                for i in range(m_all):
+                    if total > 1:  # by Horner's rule
+                        value, slope = coef[j, 5, i], 5.0 * coef[j, 5, i]
+                        for c in range(4, 0, -1):
+                            value = value * t + coef[j, c, i]
+                            slope = slope * t + c * coef[j, c, i]
+                        value = value * t + coef[j, 0, i]
+                        slope = slope / width if width > 0 else node_q[near, 1, i]
+                    else:
+                        value, slope = node_q[0, 0, i], node_q[0, 1, i]
+                    guess[i], qdp[i] = value, slope
+            elif older:  # the cubic through (φa, qa, q'a) and (φb, qb, q'b), extended to xb
                 w = phi_b - phi_a
-                t = (xb - phi_a) / w
+                inv_w = 1.0 / w
+                t = (xb - phi_a) * inv_w
                 t2 = t * t
                 t3 = t2 * t
                 h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, 3 * t2 - 2 * t3, t3 - t2
@@ -627,28 +817,45 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
                 for i in range(m_all):
                     qa, qda, qb, qdb = prev[0, 0, i], prev[0, 1, i], prev[1, 0, i], prev[1, 1, i]
                     guess[i] = h00 * qa + h10 * w * qda + h01 * qb + h11 * w * qdb
-                    qdp[i] = g00 * (qa - qb) / w + g10 * qda + g11 * qdb
+                    qdp[i] = g00 * (qa - qb) * inv_w + g10 * qda + g11 * qdb
+                # the extrapolant's error ~ t²(t − 1)², its derivative's 2t(t − 1)(2t − 1)/w: their ratio
+                bend = t * (t - 1.0) * w
+                gain = 2.0 * (2.0 * t - 1.0) / bend if bend != 0.0 else 0.0
             else:  # from the drawn pose: its Taylor polynomial
                 h = xb - phi_b
                 for i in range(m_all):
                     guess[i] = prev[1, 0, i] + prev[1, 1, i] * h + 0.5 * qdd0[i] * h * h
                     qdp[i] = prev[1, 1, i] + qdd0[i] * h
+                gain = 3.0 / h if h != 0.0 else 0.0  # the errors ~ h³/6 and h²/2
             for i in range(m_all):
-                q[i] = guess[i]
+                q[i], qd[i] = guess[i], qdp[i]  # qd: the rates' guess (`_solve`'s lazy rates)
             converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
-                                             accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s,
-                                             res, step, qd_u, qdd_u)
+                                             accelerations, True, scale, gain, q, qd, qdd, dets, ps, rt, sc, cc, jac,
+                                             jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            if not follow:
+                ok = converged
+                for b in range(n_blocks):
+                    if _sign(dets[b]) != node_sign[near, b]:
+                        ok = False
+                for i in range(m_all):
+                    if abs(q[i] - guess[i]) * var_scale[i] > max_correction:
+                        ok = False
+                if not ok:
+                    return 4
+                _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy,
+                       vq, aq)
+                continue
             if not (converged and ratio >= pivot_cross):
-                return False
+                return 0
             for i in range(m_all):
                 vs = var_scale[i]
                 if not abs(q[i] - guess[i]) * vs <= max_correction:
-                    return False
+                    return 0
                 if not abs(qd[i] - qdp[i]) * vs * scale <= rate_jump * (1.0 + abs(qdp[i]) * vs * scale):
-                    return False
+                    return 0
             for b in range(n_blocks):
                 if _sign(dets[b]) != signs[b]:
-                    return False
+                    return 0
             _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
             if xb != phi_b:
                 phi_a, older = phi_b, True
@@ -657,7 +864,7 @@ def _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelera
             phi_b = xb
             for i in range(m_all):
                 prev[1, 0, i], prev[1, 1, i] = q[i], qd[i]
-    return True
+    return 1 if follow else 0
 
 
 @_jit
@@ -677,6 +884,10 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
     ps[:, :] = 0.0
     ps[1, :] = 1.0
     ps[6, :] = 1.0  # every link's anchor (`_turn`) at 0
+    # `_march`'s first node and sides as run-time integers: a constant 0 or 1 would be typed as a literal,
+    # and numba would compile `_march` once for each (a second first compile of it)
+    origin, down = n_pos - n_pos, n_pos - n_pos + 1
+    yes, no = n_pos >= 0, n_pos < 0  # and `_solve`'s flags as run-time booleans, for the same reason
     for d in range(n_designs):
         for k in range(len(steps.parent)):
             steps.s0[k, 0], steps.s0[k, 1] = step_s0[d, k, 0], step_s0[d, k, 1]
@@ -689,8 +900,8 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         # 1. the drawn pose
         for i in range(m_all):
             q0[i] = 0.0
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, True, q0, qd0, qdd0, dets0, ps,
-                                  rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, yes, no, 1.0, 0.0, q0, qd0,
+                                  qdd0, dets0, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
         if not converged:
             status[d] = 1
             continue
@@ -698,17 +909,17 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             status[d] = 2
             continue
         # 2. an ordered sweep at steps the march could take: followed position by position
-        if _follow(d, steps, cuts, blocks, uniform, tol, sense, ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0,
-                   dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q,
-                   guess, qd,
-                   qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev):
+        if _walk(d, yes, origin, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense, ground,
+                 scale, accelerations, x, phi0[d], q0, qd0, qdd0, dets0, reference, point_at, point_link, link_out, valid,
+                 angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s, perm, perm_s, res, step,
+                 qd_u, qdd_u, qdp, signs, prev):
             continue
         # 3. else the march down (stored reversed), the drawn pose, the march up
         total, state = 0, 0
         if lo[d] < phi0[d]:
             total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
-                                  qdd0, dets0, node_phi, node_q, node_sign, 0, limit[d], limit_phi[d], limit_h[d],
-                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 1, q, qd, qdd, dets, qc,
+                                  qdd0, dets0, node_phi, node_q, node_sign, origin, limit[d], limit_phi[d], limit_h[d],
+                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], down, q, qd, qdd, dets, qc,
                                   qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
             _reverse(node_phi, node_q, node_sign, total)
         if state != 0:
@@ -726,7 +937,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
         if hi[d] > phi0[d]:
             added, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], hi[d], 1.0, q0, qd0,
                                   qdd0, dets0, node_phi, node_q, node_sign, total, limit[d], limit_phi[d], limit_h[d],
-                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], 0, q, qd, qdd, dets, qc,
+                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], origin, q, qd, qdd, dets, qc,
                                   qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
             total += added
             if state != 0:
@@ -742,41 +953,9 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
                 for c in range(6):
                     coef[j, c, i] = (hermite[c, 0] * e0 + hermite[c, 1] * e1 + hermite[c, 2] * e2
                                      + hermite[c, 3] * e3 + hermite[c, 4] * e4 + hermite[c, 5] * e5)
-        first, last = node_phi[0], node_phi[total - 1]
         # 4. the requested positions
-        for n in range(n_pos):
-            xb = x[d, n]
-            if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
-                valid[d, n] = False
-                _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations)
-                continue
-            j, near, t = 0, 0, 0.0
-            if total > 1:
-                j = _interval(node_phi, total, xb)
-                width = node_phi[j + 1] - node_phi[j]
-                t = (xb - node_phi[j]) / width if width > 0 else 0.0
-                near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
-            for i in range(m_all):
-                if total > 1:
-                    value = coef[j, 5, i]
-                    for p in range(4, -1, -1):
-                        value = value * t + coef[j, p, i]
-                else:
-                    value = node_q[0, 0, i]
-                q[i] = value
-                guess[i] = value
-            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0[d]), 1.0,
-                                      accelerations, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res,
-                                      step, qd_u, qdd_u)
-            ok = converged
-            for b in range(n_blocks):
-                if _sign(dets[b]) != node_sign[near, b]:
-                    ok = False
-            for i in range(m_all):
-                if abs(q[i] - guess[i]) * var_scale[i] > max_correction:
-                    ok = False
-            if not ok:
-                status[d] = 4
-                break
-            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
+        status[d] = _walk(d, no, total, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense,
+                          ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0, dets0, reference, point_at, point_link,
+                          link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s,
+                          perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev)
     return 0

@@ -4,12 +4,16 @@ kinematics wrote (`Motion.rows`).
 
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
 blocks (one per Assur group, last attached first), their constant pivots and fill-in (`_Block.fill`)
-come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes and heavy links from
-`loads`. Once per engine (and record layout), `_program` writes numpy's formulas, in numpy's order, as a
-list of elementary ops on the rows of a work matrix, one row per value and one column per position of
-a chunk of `CHUNK` positions; `_kernel` runs the ops one after the other, each over the whole chunk in
-an inner loop (SIMD lanes), so the tables are read once per chunk, not once per position. The kernel is
-one small function of 18 kinds of op whatever the model, so numba compiles it once, in about 1.5 s.
+come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes (the diagrams'
+interpolated by `loads.guide_force_size`) and heavy links from `loads`. Once per engine (and record
+layout), `_program` writes numpy's formulas, in numpy's order, as a list of elementary ops on the rows
+of a work matrix, one row per value and one column per position of a chunk of 128 or 256 positions
+(`chunk_of`); `_kernel` runs the ops one after the other, each over the whole chunk in an inner loop
+(SIMD lanes), so the tables are read once per chunk, not once per position. The time goes with the
+rows the ops read and write, so `_Tape` reads constants from the op (not from a row of them), moves
+negations into the ops that read them, and drops what nothing reads, all without changing a rounding.
+The kernel is one small function of 26 kinds of op whatever the model, so numba compiles it once, in
+about 2 s.
 
 Two things differ from numpy by rounding only: the moments are divided by the model size as a product
 with its reciprocal, and the dense part of a class III or higher group (LU with partial pivoting, each
@@ -21,8 +25,10 @@ to rounding.
 from __future__ import annotations
 
 import math
+import sys
+import threading
 from collections import defaultdict
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -42,8 +48,8 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 class _KernelPlan:
     """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
     numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
-    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, and `scratch`, one
-    work matrix per thread."""
+    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
+    work matrix per thread, and `outputs`, the output blocks kept for reuse (`_output_block`)."""
 
     names: list
     links: list
@@ -51,6 +57,11 @@ class _KernelPlan:
     args: tuple
     rows: int
     scratch: list
+    outputs: list = field(default_factory=list)
+
+    def __getstate__(self) -> dict:
+        """Pickled (with its engine) without its work and output arrays, made again as needed."""
+        return dict(self.__dict__, scratch=[], outputs=[])
 
 
 def _load_table(engine, inertia):
@@ -92,6 +103,7 @@ class _Tape:
     def __init__(self):
         self.ops, self.consts, self.aux, self.rows = [], [], [], 0
         self._const, self._memo, self._uses, self._shared, self._known = {}, {}, {}, set(), {}
+        self._neg = {}  # row → the row it is the negative of (x·(−1) is −x exactly)
 
     def const(self, value) -> int:
         value = float(value)
@@ -123,8 +135,13 @@ class _Tape:
             return self.value(folded)
         key = (code, a, b, e, f, k)
         if key not in self._memo:
-            self._memo[key] = d = self.fresh(code, a, b, e, f, k)
+            op = self._with_constants(code, a, b, e, f, k)
+            if len(op) == 1:  # x·1, x/1: x itself
+                return op[0]
+            self._memo[key] = d = self.fresh(*op)
             self._shared.add(d)
+            if op[0] == MULK and self.consts[op[5]] == -1.0:
+                self._neg[d] = op[1]
             for r in (a, b, e, f) if code != GATHER and code != INPUT else ():
                 self._uses.setdefault(r, []).append(key)
         return self._memo[key]
@@ -145,6 +162,67 @@ class _Tape:
             return ((v[0] + v[1]) + self.consts[k]) * self.consts[k + 1]
         return _FOLD[code](*v)
 
+    def _with_constants(self, code, a, b, e, f, k) -> tuple:
+        """Op `code` with the constants it reads taken from K, not from rows of W (one row fewer to
+        read, and no row to fill): (code, a, b, e, f, k), or (row,) where the op gives row `row`
+        itself (x·1 = x and x/1 = x exactly). The same floating-point operations, in the same order."""
+        code, a, b, e, f = self._without_negations(code, a, b, e, f)
+        known = self._known
+        if code == MUL and (a in known or b in known):
+            x, c = (b, known[a]) if a in known else (a, known[b])
+            return (x,) if c == 1.0 and x in self._shared else (MULK, x, 0, 0, 0, self.const(c))
+        if code == DIV and known.get(b) == 1.0 and a in self._shared:
+            return (a,)
+        if code in (MADD, MSUB) and b in known and e in known and a not in known:  # a ± p, p = b·e
+            p = known[b] * known[e]
+            return ADDK, a, 0, 0, 0, self.const(p if code == MADD else -p)  # (a − p is a + (−p) exactly)
+        if code in (MADD, MSUB) and (b in known or e in known):
+            y, c = (e, known[b]) if b in known else (b, known[e])  # a ± c·y
+            if c == 1.0:
+                if a in known and code == MSUB:
+                    return KSUB, y, 0, 0, 0, self.const(known[a])
+                if a in known:  # (c + y, as y + c)
+                    return ADDK, y, 0, 0, 0, self.const(known[a])
+                if y in known and code == MADD:
+                    return ADDK, a, 0, 0, 0, self.const(known[y])
+                return (ADD if code == MADD else SUB), a, y
+            if a not in known and y not in known:
+                return (MADDK if code == MADD else MSUBK), a, y, 0, 0, self.const(c)
+        if code == DOT and (a in known or b in known) and (e in known or f in known):
+            x, c = (b, known[a]) if a in known else (a, known[b])
+            y, g = (f, known[e]) if e in known else (e, known[f])
+            if x not in known and y not in known:
+                return DOTK, x, y, 0, 0, self.consts2(c, g)
+        return code, a, b, e, f, k
+
+    def _without_negations(self, code, a, b, e, f) -> tuple:
+        """Op `code` reading x where it read −x (`_neg`), the sign moved into the op: a ± (−x)·y is
+        a ∓ x·y, p + (−x)·y is p − x·y, (−x)·(−y) is x·y; the same numbers, one op fewer to read
+        (the negation is dropped when nothing else reads it)."""
+        neg = self._neg
+        if code in (MADD, MSUB, MUL, DOT) and (b in neg or e in neg or a in neg or f in neg):
+            def product(x, y):  # (x, y, negated) of x·y
+                flip = (x in neg) != (y in neg)
+                return neg.get(x, x), neg.get(y, y), flip
+            if code == MUL:
+                x, y, flip = product(a, b)
+                if not flip:
+                    return MUL, x, y, e, f
+            elif code in (MADD, MSUB):
+                x, y, flip = product(b, e)
+                if flip or x != b or y != e:
+                    return (MSUB if (code == MADD) == flip else MADD), a, x, y, f
+            else:
+                x, y, flip = product(a, b)
+                u, v, flip2 = product(e, f)
+                if flip2 and not flip:
+                    return CROSS, x, y, u, v
+                if flip and not flip2:
+                    return CROSS, u, v, x, y
+                if not flip and not flip2:
+                    return DOT, x, y, u, v
+        return code, a, b, e, f
+
     def into(self, code, d, a=0, b=0, e=0, f=0, k=0) -> int:
         """Op `code` writing row d again: the values read from d are forgotten."""
         self.ops.append((code, d, a, b, e, f, k))
@@ -152,6 +230,7 @@ class _Tape:
         return d
 
     def written(self, d):
+        self._neg = {r: x for r, x in self._neg.items() if d not in (r, x)}
         for key in self._uses.pop(d, []):
             self._memo.pop(key, None)
         for key in [key for key, row in self._memo.items() if row == d]:
@@ -197,8 +276,10 @@ class _Tape:
     def finish(self) -> tuple:
         """(ops (T, 7) int, constants, aux, rows): the virtual rows mapped onto physical ones, a row
         taken again once the last op touching it has run."""
-        gathered = sorted((op[2], op[1]) for op in self.ops if op[0] == GATHER)  # (column, row)
-        ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in self.ops if op[0] != GATHER]
+        needed = _needed(self.ops, self.aux)
+        gathered = sorted((op[2], op[1]) for op in needed if op[0] == GATHER)  # (column, row)
+        gathered += gathered[-1:] * (len(gathered) % 2)  # (the kernel reads them two at a time)
+        ops = [(GATHER, 0, len(self.aux), len(gathered), 0, 0, 0)] + [op for op in needed if op[0] != GATHER]
         ops = np.array(ops, np.int64).reshape(-1, 7)
         aux = np.array(self.aux + [v for pair in gathered for v in pair], np.int64)
         touched = [_touches(op, aux) for op in ops]
@@ -226,6 +307,24 @@ class _Tape:
         return ops, np.array(self.consts + [0.0]), np.concatenate([mapped, np.zeros(1, np.int64)]), max(top, 1)
 
 
+def _needed(ops, aux) -> list:
+    """The ops whose value something reads (an output, or an op that is needed): a constant's row
+    that `_Tape._with_constants` took into K, for one, is not filled."""
+    live, kept = set(), []
+    for op in reversed(ops):
+        code, d = op[0], op[1]
+        reads = [op[f] for f in _W_FIELDS[code] if f != 1] + [aux[i] for i in _aux_rows(op)]
+        if code in (FLAG, PIVOT):  # (they change row d)
+            reads.append(d)
+        elif code != OUT:  # an op that only writes row d
+            if d not in live:
+                continue
+            live.discard(d)
+        live.update(reads)
+        kept.append(op)
+    return kept[::-1]
+
+
 def _touches(op, aux) -> list:
     """The virtual rows an op reads or writes."""
     return [op[f] for f in _W_FIELDS[op[0]]] + [aux[i] for i in _aux_rows(op)]
@@ -245,7 +344,8 @@ def _aux_rows(op) -> range:
 # with a row of ones, products by a constant MUL with a row of it, x·y − u·v is x·y + u·(−v): the same
 # numbers (x·1 = x, x − y = x + (−y) exactly).
 GATHER = 0   # W[d] = row[b, a]            (a: a column of the records; `finish` makes all of them one op,
-#              W[aux[a + 2i + 1]] = row[b, aux[a + 2i]] for i < b, reading each record once)
+#              W[aux[a + 2i + 1]] = row[b, aux[a + 2i]] for i < b, two fields a pass over the chunk's
+#              records: field by field, not record by record, the writes run along W's rows)
 INPUT = 1    # W[d] = inputs[a, b]         (ω, ε, then the guide-force sizes)
 SET = 2      # W[d] = K[k]
 MUL = 3      # W[d] = W[a] · W[b]
@@ -261,6 +361,20 @@ OUT = 12     # out[d, b] = W[a]
 FLAG = 13    # W[d] = 1 where not K[k] < W[a] <= K[k + 1] (a NaN too)
 PIVOT = 14   # the rows aux[a …] of a dense system (b of them, each its entries from the pivot column on and
 #              its right side): the first largest |entry| of the column brought first, W[d] negated if moved
+# the same with constants from K (`_Tape._with_constants`)
+ADD = 15     # W[d] = W[a] + W[b]
+SUB = 16     # W[d] = W[a] − W[b]
+ADDK = 17    # W[d] = W[a] + K[k]
+KSUB = 18    # W[d] = K[k] − W[a]
+MULK = 19    # W[d] = W[a] · K[k]
+MADDK = 20   # W[d] = W[a] + K[k] · W[b]
+MSUBK = 21   # W[d] = W[a] − K[k] · W[b]
+DOTK = 22    # W[d] = W[a] · K[k] + W[b] · K[k + 1]
+CROSS = 23   # W[d] = W[a] · W[b] − W[e] · W[f]   (DOT of a negated factor, `_Tape._without_negations`)
+GUIDE = 24   # W[d] = K[k] · (the unit against the motion: `_WHEN`[K[k + 1]]) of the joint rate W[a] turned
+#              round where ω = W[b] < 0 (`guide_force_size` of a load without a table)
+RESIDUAL = 25  # W[d] = |W[a]| / W[b], by 1 where W[b] <= 0 (the virtual-power residual, its bound)
+_WHEN = ("forward", "backward", "always")
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the ops `_Tape` computes itself on constants, as the kernel would
 _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max(a, b), SQRT: math.sqrt, ABS: abs,
@@ -268,7 +382,9 @@ _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max
          LEVER: None}
 # the fields of each op that name rows of W
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
-             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,)}
+             MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,),
+             ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO,
+             CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -281,7 +397,11 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
                 "fvx": ("fv", 2, 0), "fvy": ("fv", 2, 1), "fax": ("fa", 2, 0), "fay": ("fa", 2, 1),
                 "wq": ("wq", 1, 0), "eq": ("eq", 1, 0)}
 
-    def fr(k, name):  # a field of link k's frame
+    ground = engine.link_index[mech.ground]
+
+    def fr(k, name):  # a field of link k's frame (the ground's: the world's, at rest, as the kinematics writes it)
+        if k == ground:
+            return T.value(1.0 if name == "cos" else 0.0)
         base, width, part = per_link[name]
         return T.val(GATHER, field[base] + width * k + part)
 
@@ -317,6 +437,16 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     bvec = [T.value(0.0)] * n
     values = []
     om, ep = T.val(INPUT, 0), T.val(INPUT, 1)
+    tabled = [load for load in guides if load.table]  # (their sizes `solve` interpolates: inputs 2, 3, ...)
+    joint_index = {name: i for i, name in enumerate(mech.joints)}
+
+    def guide_size(load):  # loads.guide_force_size: against the joint's rate, signed by ω's direction
+        if load.table:
+            return T.val(INPUT, 2 + tabled.index(load))
+        size = load.magnitude if load.link != mech.joints[load.joint].carrier else -load.magnitude
+        rate = T.val(GATHER, field["rate_q"] + joint_index[load.joint])
+        return T.val(GUIDE, rate, om, k=T.consts2(size, _WHEN.index(load.when)))
+
     om2 = T.mul(om, om)
     for ld in range(len(loads.link)):
         k = int(loads.link[ld])
@@ -334,7 +464,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
             mz = T.mulk(er, -loads.moment_of_inertia[ld])
         elif loads.guide[ld] >= 0:  # along the guide of the carrier
             ux, uy = turn(int(loads.carrier[ld]), loads.u0[ld])
-            size = T.val(INPUT, 2 + int(loads.guide[ld]))
+            size = guide_size(guides[int(loads.guide[ld])])
             fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
         else:
             fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
@@ -353,7 +483,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     bad = T.set(0.0)
     for blk in ks_plan.blocks:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
-    out_bad = n + 5 * len(loads.link) + 2
+    out_bad = n + 5 * len(loads.link) + 1  # the row of `bad`, the residual's before it
     for i in range(n):
         if lay.scale[i] != 1.0:  # (x·1 = x)
             x[i] = T.mulk(x[i], lay.scale[i])
@@ -384,9 +514,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         term = T.mul(x[col], T.val(GATHER, field["rate_q"] + list(mech.joints).index(inp.joint)))
         total = T.val(MADD, total, term, T.value(1.0))
         bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
-    T.out(OUT, out_bad - 2, total)
-    T.out(OUT, out_bad - 1, bound)
-    return names, links, guides, T
+    T.out(OUT, out_bad - 1, T.val(RESIDUAL, total, bound))  # (relative to what the loads could do)
+    return names, links, tabled, T
 
 
 def _program_block(T, blk, feat, bvec, x, bad, min_measure):
@@ -472,13 +601,55 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     return cache[key]
 
 
-#: positions the kernel takes at once: each op of the program runs over them in an inner loop
-CHUNK = 128
+#: positions the kernel takes at once (each op of the program runs over them in an inner loop): the
+#: longest that keeps the work matrix within `WORK_BYTES`, half the core's L2 cache, else the last
+CHUNKS = (256, 128)
+WORK_BYTES = 256 * 1024
+
+
+def chunk_of(rows: int) -> int:
+    """Positions per chunk for a work matrix of `rows` rows (`CHUNKS`): a longer chunk runs each op's
+    loop over more positions for one dispatch (the six-bar press's kernel about 9 % faster at 256 than
+    at 128), until the matrix crowds the L2 cache."""
+    return next((c for c in CHUNKS if rows * c * 8 <= WORK_BYTES), CHUNKS[-1])
 
 
 def _scratch(rows: int) -> tuple:
-    """Work arrays of `_kernel`: the work matrix (rows, CHUNK)."""
-    return (np.zeros((rows, CHUNK)),)
+    """Work arrays of `_kernel`: the work matrix (rows, `chunk_of(rows)`)."""
+    return (np.zeros((rows, chunk_of(rows))),)
+
+
+#: output blocks a plan keeps for reuse
+KEEP_OUTPUTS = 2
+_outputs_lock = threading.Lock()
+
+
+def _output_block(plan, shape) -> np.ndarray:
+    """An array `shape` for the kernel's outputs: a block of an earlier call that no result holds any
+    more (every array of a result is a view of its block), else a new one, kept for reuse (up to
+    `KEEP_OUTPUTS` per plan). Reusing it spares the pages a new one faults in: glibc gives a freed
+    block of megabytes back to the system, and a sweep repeated over the same batch (a study, a
+    benchmark) would fault its few MB in again every call (~0.1 µs per position at N = 3600)."""
+    kept = plan.outputs
+    with _outputs_lock:
+        free = [i for i in range(len(kept)) if _references(kept, i) == _UNHELD]
+        for i in free:
+            if kept[i].shape == shape:
+                return kept[i]
+        block = np.empty(shape)
+        if free:
+            kept[free[0]] = block
+        elif len(kept) < KEEP_OUTPUTS:
+            kept.append(block)
+        return block
+
+
+def _references(blocks, i) -> int:
+    """The reference count of blocks[i] as this function sees it."""
+    return sys.getrefcount(blocks[i])
+
+
+_UNHELD = _references([np.empty(0)], 0)  # that of a block only its list holds
 
 
 def solve(engine, motion, ks_plan, inertia=True):
@@ -491,7 +662,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    out = np.empty((n + 5 * n_loads + 3, batch))  # x, the loads (fx, fy, x, y, moment), Σ power, its bound, bad
+    out = _output_block(plan, (n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
@@ -500,8 +671,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
     values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
               for i, (name, k) in enumerate(zip(plan.names, plan.links))]
-    x, singular, total, bound = out[:n], out[-1] != 0.0, out[-3], out[-2]
-    residual = np.abs(total) / np.where(bound > 0, bound, 1.0)
+    x, residual, singular = out[:n], out[-2], out[-1] != 0.0
     if singular.any():
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
@@ -522,17 +692,20 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
         for t in range(len(ops)):
             code, d, a, b, e, f, k = ops[t, 0], ops[t, 1], ops[t, 2], ops[t, 3], ops[t, 4], ops[t, 5], ops[t, 6]
             Wd, Wa, Wb, We, Wf = W[d], W[a], W[b], W[e], W[f]
-            if code == 0:  # GATHER
-                for c in range(nc):
-                    rec = row[b0 + c]
-                    for i in range(b):
-                        W[aux[a + 2 * i + 1], c] = rec[aux[a + 2 * i]]
+            k0, k1 = K[k], K[k + 1]  # (read once: the stores to W might alias K)
+            if code == 0:  # GATHER, two fields a pass (`finish` pads them to an even number)
+                for i in range(a, a + 2 * b, 4):
+                    s0, W0, s1, W1 = aux[i], W[aux[i + 1]], aux[i + 2], W[aux[i + 3]]
+                    for c in range(nc):
+                        rec = row[b0 + c]
+                        W0[c] = rec[s0]
+                        W1[c] = rec[s1]
             elif code == 1:  # INPUT
                 for c in range(nc):
                     Wd[c] = inputs[a, b0 + c]
             elif code == 2:  # SET
                 for c in range(nc):
-                    Wd[c] = K[k]
+                    Wd[c] = k0
             elif code == 3:  # MUL
                 for c in range(nc):
                     Wd[c] = Wa[c] * Wb[c]
@@ -559,14 +732,53 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
                     Wd[c] = Wa[c] * Wb[c] + We[c] * Wf[c]
             elif code == 11:  # LEVER
                 for c in range(nc):
-                    Wd[c] = ((Wa[c] + Wb[c]) + K[k]) * K[k + 1]
+                    Wd[c] = ((Wa[c] + Wb[c]) + k0) * k1
             elif code == 12:  # OUT
                 for c in range(nc):
                     out[d, b0 + c] = Wa[c]
-            elif code == 13:  # FLAG
+            elif code == 13:  # FLAG (a select, not a branch: the loop vectorises)
                 for c in range(nc):
-                    if not K[k] < Wa[c] <= K[k + 1]:
-                        Wd[c] = 1.0
+                    Wd[c] = Wd[c] if k0 < Wa[c] <= k1 else 1.0
+            elif code == 15:  # ADD
+                for c in range(nc):
+                    Wd[c] = Wa[c] + Wb[c]
+            elif code == 16:  # SUB
+                for c in range(nc):
+                    Wd[c] = Wa[c] - Wb[c]
+            elif code == 17:  # ADDK
+                for c in range(nc):
+                    Wd[c] = Wa[c] + k0
+            elif code == 18:  # KSUB
+                for c in range(nc):
+                    Wd[c] = k0 - Wa[c]
+            elif code == 19:  # MULK
+                for c in range(nc):
+                    Wd[c] = Wa[c] * k0
+            elif code == 20:  # MADDK
+                for c in range(nc):
+                    Wd[c] = Wa[c] + k0 * Wb[c]
+            elif code == 21:  # MSUBK
+                for c in range(nc):
+                    Wd[c] = Wa[c] - k0 * Wb[c]
+            elif code == 22:  # DOTK
+                for c in range(nc):
+                    Wd[c] = Wa[c] * k0 + Wb[c] * k1
+            elif code == 23:  # CROSS
+                for c in range(nc):
+                    Wd[c] = Wa[c] * Wb[c] - We[c] * Wf[c]
+            elif code == 24:  # GUIDE
+                for c in range(nc):
+                    rate = -Wa[c] if Wb[c] < 0 else Wa[c]
+                    if k1 == 0.0:  # forward
+                        along = -1.0 if rate >= 0 else 0.0
+                    elif k1 == 1.0:  # backward
+                        along = 1.0 if rate <= 0 else 0.0
+                    else:  # always: −sign(rate)
+                        along = -1.0 if rate > 0 else (1.0 if rate < 0 else -(rate * 0.0))
+                    Wd[c] = along * k0
+            elif code == 25:  # RESIDUAL
+                for c in range(nc):
+                    Wd[c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):

@@ -139,9 +139,10 @@ class DesignBatch:
         self.motion = None
 
     # -- engines over batches of designs --------------------------------------------------------------
-    def bound(self, index: np.ndarray) -> BlockSolver:
+    def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
         """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
-        per batch element: its Newton and rate passes then solve batches of exactly those designs."""
+        per batch element: its Newton and rate passes then solve batches of exactly those designs (with
+        tolerances `tol`, default the engine's)."""
         base, g = self.engine, self.geometry
         laws = {}
         for name, j in base.mech.joints.items():
@@ -152,7 +153,7 @@ class DesignBatch:
                 law.n0 = perp(law.u0)
             laws[name] = law
         return BlockSolver(base.mech, laws, base.topology.blocks, base.links, base.size, g.phi0[index][:, None],
-                           base.tol)
+                           base.tol if tol is None else tol)
 
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
@@ -449,75 +450,117 @@ class DesignBatch:
                            np.full((D, N, P, 2), np.nan), np.full((D, N, P, 2), np.nan) if acc else None)
         if not len(designs) or not nodes.parts:
             return out
-        rows = np.repeat(designs, N)
-        x = phi[designs].reshape(-1)
         arrays = self.nodes
-        step = max(N, CHUNK // N * N)  # whole designs per chunk: the working arrays stay in cache
-        for start in range(0, len(x), step):
-            part = slice(start, start + step)
-            self._correct(out, arrays, rows[part], x[part], N)
+        coefs = _interval_coefficients(arrays)
+        per = max(1, CHUNK // max(N, 1))  # whole designs per chunk: the working arrays stay in cache
+        for start in range(0, len(designs), per):
+            self._correct(out, arrays, coefs, designs[start:start + per], phi)
         out.ok[designs] = True
         return out
 
-    def _correct(self, out: DesignMotion, arrays, rows, x, N):
-        """Correct one chunk of (design, position) pairs (whole designs) and copy it into `out`; pairs
-        outside their design's march (past a limit) are left out of the Newton batch."""
-        guesses, inside, node_signs = _interpolate(arrays, rows, x)
+    def _correct(self, out: DesignMotion, arrays, coefs, chunk, phi):
+        """Correct the (design, position) pairs of designs `chunk` (C,) and copy them into `out`; pairs
+        outside their design's march (past a limit) are left out of the Newton batch.
+
+        A batched Newton takes as many iterations as its worst element needs, and the interpolant's
+        guesses are mostly within ~1e-9 (one step from the rounding floor) but a few are ~1e-6 away. So
+        the batch takes one step and one more evaluation (`_one_step`), and only the pairs not at the
+        rounding floor then (residual not below `polish`, or near a singular position, where the engine
+        polishes once more) go on, from where they are, in a batch of their own with the engine's full
+        iteration: each pair ends where the engine's Newton over the whole chunk would end it."""
+        tol = self.engine.tol
+        N = phi.shape[1]
+        rows = np.repeat(chunk, N)
+        x = phi[chunk].reshape(-1)
+        guesses, inside, node_signs = _interpolate(arrays, coefs, chunk, rows, x)
         take = np.flatnonzero(inside)
         good = np.zeros(len(x), bool)
         if not len(take):
             return
-        eng = self.bound(rows[take])
-        with np.errstate(all="ignore"):
-            sol = eng.solve_batch(x[take, None], [g[:, take] for g in guesses])
-            ok = sol.valid & np.all(eng.signs(sol) == node_signs[take], axis=1)
-            for bp, st, gk in zip(eng.blocks, sol.blocks, guesses):
-                if bp.m:
-                    ok &= np.max(np.abs(st.q - gk[:, take]) * bp.var_scale[:, None], axis=0) <= self.engine.tol.max_correction
-            eng.rates(sol, np.ones((len(take), 1)), np.zeros((len(take), 1)))
-        good[take] = ok
-        for d in np.unique(rows[take[~ok]]):
-            self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
-        self._fill(out, rows, take, eng, sol, good)
-
-    def _fill(self, out: DesignMotion, rows, take, eng, sol, good):
-        """Copy the solved link states and points of pairs `take` (of the chunk's rows (B,)) into `out`."""
-        pose, links = sol.pose, list(self.engine.links)
         where = rows[take]
+        if len(take) < len(x):
+            guesses = [g[:, take] for g in guesses]
+        eng = self.bound(where, _one_step(tol))
+        parts = []
+        with np.errstate(all="ignore"):
+            sol = eng.solve_batch(x[take, None], guesses)
+            done = sol.valid.copy()
+            for st in sol.blocks:
+                if st.lu is not None:
+                    r = st.lu.pivot_ratio
+                    done &= ~((r >= tol.pivot_cross * 1e3) & (r < tol.pivot_polish))
+            parts.append((np.arange(len(take)), eng, sol))
+            redo = np.flatnonzero(~done)
+            if len(redo):
+                eng2 = self.bound(where[redo])
+                parts.append((redo, eng2, eng2.solve_batch(x[take[redo], None], [st.q[:, redo] for st in sol.blocks])))
+            ok = np.zeros(len(take), bool)
+            for idx, e, sl in parts:
+                ok_part = sl.valid & np.all(e.signs(sl) == node_signs[take[idx]], axis=1)
+                for bp, st, gk in zip(e.blocks, sl.blocks, guesses):
+                    if bp.m:
+                        ok_part &= np.max(np.abs(st.q - gk[:, idx]) * bp.var_scale[:, None], axis=0) <= tol.max_correction
+                ok[idx] = ok_part
+                e.rates(sl, np.ones((len(idx), 1)), np.zeros((len(idx), 1)))
+        good[take] = ok
+        for d in np.unique(where[~ok]):
+            self.reasons[d] = self.reasons[d] or "a position the batch could not vouch for (left to its own engine)"
+        values = self._values(out, parts[0][2], where)
+        if len(parts) > 1:
+            for name, value in self._values(out, parts[1][2], where[redo]).items():
+                values[name][redo] = value
+        self._fill(out, chunk, take, values, good)
+
+    def _values(self, out: DesignMotion, sol, where) -> dict:
+        """What `out` holds (its links' angle, wq, eq and its points' xy, vq, aq) of a solved batch of
+        designs `where` (T,), batch first: (T, K) and (T, P, 2)."""
+        pose, links = sol.pose, list(self.engine.links)
+        T = len(where)
+        values = {}
         chosen = [links.index(n) for n in out.links]  # the links asked for
         if chosen:
-            th = np.stack([pose.th[links[i]] for i in chosen])  # (K, T)
-            th = th + np.stack([self.geometry.reference[links[i]][where] for i in chosen])
-        else:
-            th = np.zeros((0, len(take)))
-        wq, eqq = sol.w.T, sol.e.T  # (L, T)
-        vf, af = np.transpose(sol.v, (2, 1, 0)), np.transpose(sol.a, (2, 1, 0))  # (2, L, T)
-        at = np.stack([self.geometry.at[n][:, where] for n in out.points], axis=1)  # (2, P, T)
-        li = np.array([self.point_link[self.points.index(n)] for n in out.points], int)
-        cp = np.stack([pose.c[links[i]] for i in li])  # the points' links' cos and sin, as placed (P, T)
-        sp = np.stack([pose.s[links[i]] for i in li])
-        rho = np.stack([cp * at[0] - sp * at[1], sp * at[0] + cp * at[1]])
-        w, e = wq[li], eqq[li]
-        turned = np.stack([-rho[1], rho[0]])
-        xy = np.stack([pose.r[links[i]] for i in li], axis=1) + rho
-        vq = vf[:, li] + w * turned
-        d_idx, n_idx = where, take % out.phi.shape[1]  # a chunk holds whole designs
-        ok = good[take]
-        out.valid[d_idx, n_idx] = ok
-        bad = ~ok
-        links_out = [(out.angle, th), (out.wq, wq[chosen])]
-        points_out = [(out.xy, xy), (out.vq, vq)]
-        if out.eq is not None:
-            links_out.append((out.eq, eqq[chosen]))
-            points_out.append((out.aq, af[:, li] + e * turned - (w * w) * rho))
-        for target, value in links_out:
-            v = value.T.copy()
-            v[bad] = np.nan
-            target[d_idx, n_idx] = v
-        for target, value in points_out:
-            v = np.moveaxis(value, 0, -1).transpose(1, 0, 2).copy()  # (T, P, 2)
-            v[bad] = np.nan
-            target[d_idx, n_idx] = v
+            th = np.empty((T, len(chosen)))
+            for k, i in enumerate(chosen):
+                th[:, k] = pose.th[links[i]] + self.geometry.reference[links[i]][where]
+            values["angle"], values["wq"] = th, sol.w[:, chosen]
+            if out.eq is not None:
+                values["eq"] = sol.e[:, chosen]
+        P = len(out.points)
+        xy, vq = np.empty((T, P, 2)), np.empty((T, P, 2))
+        aq = np.empty((T, P, 2)) if out.aq is not None else None
+        for p, name in enumerate(out.points):
+            li = self.point_link[self.points.index(name)]
+            link = links[li]
+            at = self.geometry.at[name][:, where]
+            c, s = pose.c[link], pose.s[link]
+            rx, ry = c * at[0] - s * at[1], s * at[0] + c * at[1]
+            w = sol.w[:, li]
+            xy[:, p, 0], xy[:, p, 1] = pose.r[link][0] + rx, pose.r[link][1] + ry
+            vq[:, p, 0], vq[:, p, 1] = sol.v[:, li, 0] + w * -ry, sol.v[:, li, 1] + w * rx
+            if aq is not None:
+                e, ww = sol.e[:, li], w * w
+                aq[:, p, 0] = sol.a[:, li, 0] + e * -ry - ww * rx
+                aq[:, p, 1] = sol.a[:, li, 1] + e * rx - ww * ry
+        values["xy"], values["vq"] = xy, vq
+        if aq is not None:
+            values["aq"] = aq
+        return values
+
+    def _fill(self, out: DesignMotion, chunk, take, values: dict, good):
+        """Copy `values` (`_values`) of the pairs `take` of the C × N pairs of designs `chunk` into `out`,
+        whole designs at a time; the pairs not solved or not good are NaN."""
+        C, N = len(chunk), out.phi.shape[1]
+        rows = slice(chunk[0], chunk[-1] + 1) if chunk[-1] - chunk[0] + 1 == C else chunk
+        out.valid[rows] = good.reshape(C, N)
+        bad = ~good
+        for name, value in values.items():
+            if len(take) == C * N:
+                block = value
+            else:
+                block = np.empty((C * N,) + value.shape[1:])
+                block[take] = value
+            block[bad] = np.nan
+            getattr(out, name)[rows] = block.reshape((C, N) + value.shape[1:])
 
     def _limits(self, found, exact: bool) -> list:
         """The motion limits the march met, located by the engine's fold Newton when `exact`."""
@@ -569,6 +612,13 @@ class DesignBatch:
             motion.ok[d] = True
 
 
+def _one_step(tol):
+    """The engine's tolerances for a first pass over a batch of good guesses: one Newton step and one
+    more evaluation, a position counted converged when its residual is below `polish` (the level the
+    engine polishes a converged position to)."""
+    return replace(tol, closure=tol.polish, max_newton=1)
+
+
 def _take_geometry(g: DesignGeometry, index) -> DesignGeometry:
     """The designs `index` (B,) of a batch's geometry."""
     return DesignGeometry(len(index), {n: a[:, index] for n, a in g.at.items()},
@@ -586,34 +636,51 @@ def _take_solution(sol, mask):
     return out
 
 
-def _interpolate(arrays, rows, x):
-    """Guesses (per block (m, B)) for designs `rows` (B,) at x (B,) from their nodes: the quintic
-    Hermite interpolant between the two nodes around x. Also whether x lies within the design's nodes
-    and the signs of the node below it."""
+def _interval_coefficients(arrays) -> list:
+    """Per block, the quintic Hermite coefficients (6, m, K) of the interval from every node k to node
+    k + 1 (the same sums as `HERMITE5 @ ends`); a design's last node gets its own values as the first
+    coefficient (its interval, to the next design's first node, is used only at t = 0)."""
     design, phi, per_block, dets = arrays
-    first = np.searchsorted(design, rows, "left")
-    last = np.searchsorted(design, rows, "right") - 1
-    lo_phi, hi_phi = phi[first], phi[np.maximum(last, first)]
-    inside = (last >= first) & (x >= lo_phi) & (x <= hi_phi)
+    width = np.zeros(len(phi))
+    width[:-1] = np.diff(phi)
+    out = []
+    for q, qd, qdd in per_block:
+        def after(a):
+            return np.concatenate([a[:, 1:], a[:, -1:]], axis=1)
+        ends = np.stack([q, after(q), width * qd, width * after(qd), width * width * qdd,
+                         width * width * after(qdd)])  # (6, m, K)
+        out.append(np.einsum("ce,emk->cmk", HERMITE5, ends))
+    return out
+
+
+def _interpolate(arrays, coefs, chunk, rows, x):
+    """Guesses (per block (m, B)) for designs `rows` (B,) (whole designs `chunk`, each repeated) at x (B,)
+    from their nodes: the quintic Hermite interpolant between the two nodes around x (coefficients
+    `coefs` of `_interval_coefficients`). Also whether x lies within the design's nodes and the signs of
+    the node nearer to it."""
+    design, phi, per_block, dets = arrays
+    repeat = len(rows) // len(chunk)
+    first = np.repeat(np.searchsorted(design, chunk, "left"), repeat)
+    last = np.repeat(np.searchsorted(design, chunk, "right") - 1, repeat)
+    inside = (last >= first) & (x >= phi[first]) & (x <= phi[np.maximum(last, first)])
     # the interval of x within its design's nodes: a search in the (design, φ) order by offsetting φ
     span = float(phi.max() - phi.min()) + 1.0
     key = design * (2 * span) + (phi - phi.min())
     lo = np.searchsorted(key, rows * (2 * span) + (x - phi.min()), "right") - 1
     lo = np.clip(lo, first, np.maximum(last - 1, first))
     hi = np.minimum(lo + 1, last)
-    width = phi[hi] - phi[lo]
+    left = phi[lo]
+    width = phi[hi] - left
     with np.errstate(invalid="ignore", divide="ignore"):
-        t = np.where(width > 0, (x - phi[lo]) / np.where(width > 0, width, 1.0), 0.0)
+        t = np.where(width > 0, (x - left) / np.where(width > 0, width, 1.0), 0.0)
     guesses = []
-    for q, qd, qdd in per_block:
-        ends = np.stack([q[:, lo], q[:, hi], width * qd[:, lo], width * qd[:, hi],
-                         width * width * qdd[:, lo], width * width * qdd[:, hi]])  # (6, m, B)
-        coef = np.einsum("ce,emb->cmb", HERMITE5, ends)
-        inner = coef[5]
+    for coef in coefs:
+        c = coef.take(lo, axis=2)  # (6, m, B)
+        inner = c[5]
         for k in range(4, -1, -1):
-            inner = inner * t + coef[k]
+            inner = inner * t + c[k]
         guesses.append(inner)
-    near = np.where(np.abs(x - phi[lo]) <= np.abs(x - phi[hi]), lo, hi)
+    near = np.where(np.abs(x - left) <= np.abs(x - phi[hi]), lo, hi)
     return guesses, inside, np.sign(dets[near])
 
 
