@@ -187,13 +187,8 @@ def _kernel_sources_stamp() -> str:
     """The name, size and modification time of every module of this folder (read once per process)."""
     if not _sources:
         import os
-        folder = os.path.dirname(os.path.abspath(__file__))
-        stamps = []
-        for name in sorted(os.listdir(folder)):
-            if name.endswith(".py"):
-                info = os.stat(os.path.join(folder, name))
-                stamps.append(f"{name}:{info.st_size}:{info.st_mtime_ns}")
-        _sources.append(";".join(stamps))
+        from ..engine._cache import _stamp_of_files
+        _sources.append(_stamp_of_files(os.path.dirname(os.path.abspath(__file__))))
     return _sources[0]
 
 

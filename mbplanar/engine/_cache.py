@@ -109,8 +109,9 @@ def _code_stamp() -> str:
 _stamp: list = []
 
 
-def _stamp_of_files() -> str:
-    root, stamps = str(PACKAGE), []
+def _stamp_of_files(root=PACKAGE) -> str:
+    """The path, size and modification time of every module under the folder `root`, one per line."""
+    root, stamps = str(root), []
     for folder, dirs, files in os.walk(root):
         dirs[:] = sorted(d for d in dirs if d != "__pycache__")
         relative = folder[len(root) + 1:]  # (os.path.relpath took half the time of a stamp)
