@@ -231,6 +231,20 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # are turned from (`_numba_blocks._turned`). Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
 _jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
+LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which positions only keep the last Jacobian (`_sweep`)
+
+
+@_jit
+def _accepted(q, guess, var0, m, var_scale, max_correction, det, node_sign):
+    """The checks of `atlas.solve_along` on a block solved on the branch: its Jacobian's determinant
+    nonzero, finite and of the sign of the atlas node's, and no unknown corrected by more than
+    `max_correction` (scaled) from its prediction."""
+    if not (det != 0.0 and np.isfinite(det)) or (det > 0) != (node_sign > 0):
+        return False
+    for i in range(m):
+        if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
+            return False
+    return True
 
 
 @_jit
@@ -238,7 +252,18 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
            ep_any, rates, p_link, p_at, offsets, angle, xy, w_out, e_out, v_out, a_out, rows, valid,
            ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
-    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
+    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache).
+
+    Two savings on the engine's arithmetic, neither changing what is accepted. Every revolute link's cos
+    and sin are turned from its anchor (`_numba_blocks._turned`, a rounding or two from libm's); a
+    position with a block whose pivot ratio is below `pivot_polish` is solved again with libm's, as
+    numpy has them, since near a singular position the rates magnify every rounding of the pose. And
+    positions only (no rates), a block that converges after a Newton step of at most `LAZY_STEP`
+    (scaled) from a Jacobian whose pivot ratio is at least twice `pivot_polish` is accepted on its
+    residual alone: the Jacobian at the new point, which numpy forms to confirm it, cannot differ from
+    the last one by more than that step moves it (~1e-6 relative against a ratio of 0.1 or more: the
+    same determinant sign, the same side of every threshold); the checks (`_accepted`) take the last
+    one's determinant."""
     closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
         tol[0], int(tol[1]), tol[2], tol[3], tol[4])
     n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
@@ -287,7 +312,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
                 # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
                 phase, it, polished, err, finite = 0, 0, False, 0.0, True
-                det, ratio, inverted = 1.0, 1.0, False
+                det, ratio, inverted, settled = 1.0, 1.0, False, False
                 while True:
                     if phase == 0:
                         for k in range(k0, k1):  # place the child of tree step k (Revolute/Prismatic.place)
@@ -309,6 +334,12 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                                 r = abs(res[i]) * row_scale[var0 + i]
                                 finite = finite and np.isfinite(r)
                                 err = max(err, r)
+                            if settled and err < closure and finite:
+                                # positions only, converged after a step at the rounding floor (`LAZY_STEP`):
+                                # the Jacobian here would only confirm what the last one gave (see `_sweep`)
+                                if not _accepted(q, guess, var0, m, var_scale, max_correction, det, signs[near, bk]):
+                                    return 1
+                                break
                     # the rate passes, step by step: the sensitivities to each unknown (slots 0 … m − 1, the
                     # Jacobian's columns), or the velocities, or the accelerations (with the velocities' terms)
                     s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
@@ -410,13 +441,9 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                         elif ok or it == max_newton:
                             done = True
                         if done:  # the checks of atlas.solve_along; a position failing one goes to numpy
-                            if not ok:
+                            if not (ok and _accepted(q, guess, var0, m, var_scale, max_correction, det,
+                                                     signs[near, bk])):
                                 return 1
-                            if not (det != 0.0 and np.isfinite(det)) or (det > 0) != (signs[near, bk] > 0):
-                                return 1
-                            for i in range(m):
-                                if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
-                                    return 1
                             if not rates:
                                 break
                             phase = 1
@@ -450,9 +477,11 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                         if var_scale[var0 + i] != 1.0:
                             sol[i] = sol[i] / var_scale[var0 + i]
                     if phase == 0:
+                        settled = not rates and ratio >= 2.0 * pivot_polish
                         for i in range(m):
                             if np.isfinite(sol[i]):
                                 q[var0 + i] += sol[i]
+                            settled = settled and abs(sol[i]) * var_scale[var0 + i] <= LAZY_STEP
                         it += 1
                         continue
                     slot = vel if phase == 1 else acc
