@@ -25,3 +25,13 @@ def test_turned_cos_and_sin_are_libms_to_a_rounding_and_depend_on_the_angle_alon
     assert worst <= 2.3e-16
     t = 0.3 + 1 / 64 - 1e-12  # (the largest turn: cos δ and sin δ from their series at |δ| = 1/64)
     assert abs(_turned.py_func(t, fresh, 0)[1] - math.sin(t)) <= 2.3e-16
+
+
+def test_building_blocks_do_not_inherit_their_first_callers_fastmath():
+    """numba compiles a function without an explicit ``fastmath`` with its first caller's, and keeps
+    that copy in its cache for every kernel: the design kernel contracts multiplications and additions,
+    and the sweep's answers at a motion limit would depend on which kernel was compiled first."""
+    from mbplanar.backends import _numba_blocks
+
+    blocks = [getattr(_numba_blocks, name) for name in _numba_blocks.__all__ if name != "_part"]
+    assert blocks and all(block.options.get("fastmath") is False for block in blocks)

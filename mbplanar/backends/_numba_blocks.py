@@ -21,7 +21,10 @@ __all__ = ["_part", "_place", "_angle", "_turned", "_pose_at", "_slide", "_closu
 # Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
 # Compiled with numba's pipeline less the passes these kernels have nothing for (`_jit.lean_pipeline`).
-_part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
+# fastmath set (to off) rather than left out: numba lets a function compiled without it inherit its first
+# caller's, so the design kernel's (FMA contraction) would otherwise reach the copy every kernel shares
+# from numba's cache, and the sweep's results would depend on which kernel was compiled first.
+_part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True, fastmath=False)
 
 
 @_part
