@@ -109,13 +109,15 @@ def test_a_backend_whose_package_is_missing_is_refused_when_the_engine_is_made(m
 
 
 @pytest.mark.parametrize("argv, command", [
-    (["solve", "m.toml", "--at", "30"], ""),
-    (["--backend", "numba", "--threads", "2", "sweep", "m.toml"], ""),
+    (["solve", "m.toml", "--at", "30"], "solve"),
+    (["--backend", "numba", "--threads", "2", "sweep", "m.toml"], "sweep"),
     (["--debug", "--threads", "2", "cam", "c.toml"], "cam"),
     (["--no-cache", "study", "m.toml"], "study"),
     (["synth", "seed001"], "synth"),
     (["--back", "numba", "cam", "c.toml"], None),  # an abbreviated option: every command is built
     (["-h"], None),
+    (["--debug", "--help", "solve"], None),  # the global help lists every command
+    (["solve", "--help"], "solve"),
     (["nonsense"], None),
 ])
 def test_the_command_is_found_before_parsing(argv, command):
