@@ -76,6 +76,8 @@ def test_solve_imports_only_its_own_command():
     loaded = _loaded_after(solve)
     assert not loaded & set(HEAVY)
     assert not loaded & {"mbplanar.synthesis", "mbplanar.cam", "mbplanar.study", "mbplanar.viz"}
+    # nor what other commands print (the forces, the analysis), nor hashlib (the engine cache), nor csv
+    assert not loaded & {"mbplanar.forces", "mbplanar.analysis", "mbplanar.backends", "hashlib", "csv"}
 
 
 @pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba not installed")
@@ -122,6 +124,28 @@ def test_a_backend_whose_package_is_missing_is_refused_when_the_engine_is_made(m
 ])
 def test_the_command_is_found_before_parsing(argv, command):
     assert command_in(argv) == command
+
+
+def _help_of(parser, argv) -> str:
+    """What `parser` prints for argv (its help, or its usage and error)."""
+    import contextlib
+    import io
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out), pytest.raises(SystemExit):
+        parser.parse_args(argv)
+    return out.getvalue()
+
+
+@pytest.mark.parametrize("command", sorted(set(CORE_COMMANDS) | set(OWN_MODULE)))
+def test_the_parser_of_one_command_reads_as_the_whole_parser(command):
+    """Only the running command's parser is built; its help, and the usage line of a global option's
+    error, are those of the whole parser, and it parses the same."""
+    whole, one = build_parser(), build_parser(command)
+    assert _help_of(one, [command, "--help"]) == _help_of(whole, [command, "--help"])
+    assert _help_of(one, ["--threads", "0", command]) == _help_of(whole, ["--threads", "0", command])
+    argv = ["--backend", "numba", "solve", "m.toml", "--at", "30", "--omega", "2", "--json"]
+    if command == "solve":
+        assert vars(one.parse_args(argv)) == vars(whole.parse_args(argv))
 
 
 def test_every_command_is_listed_once():
