@@ -182,3 +182,24 @@ def test_the_command_line_runs_blas_on_one_thread_unless_told():
     assert _blas_threads_after(cli, OMP_NUM_THREADS="3") == "None"
     assert _blas_threads_after("import numpy\nimport mbplanar.cli") == "None"
     assert _blas_threads_after("import mbplanar\nmbplanar.Engine, mbplanar.analyse") == "None"
+
+
+def test_the_process_exits_with_the_commands_status_and_its_heap_frozen(tmp_path):
+    """`python -m mbplanar` (and the `mbplanar` script, `cli.run`) gives the command's exit status and
+    output; the heap is frozen before the interpreter's exit (no collection over it), the written file
+    whole."""
+    probe = ("import atexit, gc, sys\n"
+             "atexit.register(lambda: print('frozen', gc.get_freeze_count() > 0, file=sys.stderr))\n"
+             "from mbplanar.cli import run\nsys.exit(run())")
+    env = dict(os.environ, PYTHONPATH=str(ROOT), MBPLANAR_CACHE_DIR=str(tmp_path / "cache"))
+    out = tmp_path / "sweep.csv"
+    for argv, status in ([["sweep", "models/fourbar.toml", "--steps", "7", "-o", str(out)], 0],
+                         [["solve", "models/fourbar.toml", "--at", "30,40"], 2],
+                         [["solve", "models/crank_slider_rocker_locking.toml", "--at", "1e6"], 1]):
+        done = subprocess.run([sys.executable, "-c", probe, *argv], cwd=ROOT, env=env, capture_output=True, text=True)
+        assert done.returncode == status, done.stderr
+        assert done.stderr.endswith("frozen True\n"), done.stderr
+        module = subprocess.run([sys.executable, "-m", "mbplanar", *argv], cwd=ROOT, env=env, capture_output=True,
+                                text=True)
+        assert (module.returncode, module.stdout) == (done.returncode, done.stdout)
+    assert len(out.read_text().splitlines()) == 9
