@@ -56,10 +56,10 @@ def _builder_of(result, builders: dict, what: str):
     raise TypeError(f"no {what} for a {type(result).__name__}")
 
 
-def document(result, **options) -> dict:
+def document(result, *args, **options) -> dict:
     """The JSON-ready document of a result (the CLI's ``--json``); `options` go to its builder, and
     ``units="si"`` or ``"model"`` converts it as ``--units`` does (adding its "units" object)."""
-    return _builder_of(result, DOCUMENTS, "document")(result, **options)
+    return _builder_of(result, DOCUMENTS, "document")(result, *args, **options)
 
 
 def _in_units(convert, engine, doc: dict, units: str | None) -> dict:
@@ -101,10 +101,10 @@ DOCUMENTS = {ENGINE: _engine_document, MOTION: _motion_document, POSITION: _posi
              KINETOSTATICS: _forces_document, DYNAMICS: _dynamics_document, CHECK_REPORT: _check_document}
 
 
-def table(result, **options):
+def table(result, *args, **options):
     """(header, columns (B, k)) of a result over its batch (the CLI's CSV); `options` go to its builder,
     and ``units=`` converts the columns as ``--units`` does (`mech`: the model, for a Dynamics)."""
-    return _builder_of(result, TABLES, "table")(result, **options)
+    return _builder_of(result, TABLES, "table")(result, *args, **options)
 
 
 def _table_in_units(header, cols, mech, units):
