@@ -48,12 +48,15 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 class _KernelPlan:
     """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
     numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
-    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
+    ...); `sources` of their values (`_LoadOutputs.of`: (fx, fy, x, y, moment), each its row of the outputs
+    or a constant), `outputs_rows` of the outputs; `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
     work matrix per thread, and `outputs`, the output blocks kept for reuse (`_output_block`)."""
 
     names: list
     links: list
     guide_loads: list
+    sources: list
+    outputs_rows: int
     args: tuple
     rows: int
     scratch: list
@@ -448,6 +451,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         return T.val(GUIDE, rate, om, k=T.consts2(size, _WHEN.index(load.when)))
 
     om2 = T.mul(om, om)
+    outputs, sources = _LoadOutputs(T, n), []
     for ld in range(len(loads.link)):
         k = int(loads.link[ld])
         rx, ry = turn(k, loads.at[ld])
@@ -468,8 +472,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
             fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
         else:
             fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
-        for i, v in enumerate((fx, fy, px, py, mz)):
-            T.out(OUT, n + 5 * ld + i, v)
+        sources.append(outputs.of((fx, fy)) + outputs.of((px, py)) + outputs.of((mz,)))
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
@@ -483,11 +486,11 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     bad = T.set(0.0)
     for blk in ks_plan.blocks:
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
-    out_bad = n + 5 * len(loads.link) + 1  # the row of `bad`, the residual's before it
+    out_bad = outputs.top + 1  # the row of `bad`, the residual's before it
     for i in range(n):
         if lay.scale[i] != 1.0:  # (x·1 = x)
             x[i] = T.mulk(x[i], lay.scale[i])
-        T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
+    T.into(FLAG, bad, _nonfinite(T, x), k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
     for i in range(n):
         T.out(OUT, i, x[i])  # (`solve` writes NaN where singular)
     T.out(OUT, out_bad, bad)
@@ -515,7 +518,42 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         total = T.val(MADD, total, term, T.value(1.0))
         bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
     T.out(OUT, out_bad - 1, T.val(RESIDUAL, total, bound))  # (relative to what the loads could do)
-    return names, links, tabled, T
+    return names, links, tabled, sources, T
+
+
+class _LoadOutputs:
+    """The rows of the kernel's outputs that hold the loads' values, from row `top` on: a value the
+    program knows as a constant (gravity's force, a zero moment) is not written but made by `solve`, and
+    a value already written (the centre of a link, the point of its gravity and of its d'Alembert load)
+    is not written again; a pair (x, y) is given two rows next to each other where it can be."""
+
+    def __init__(self, T, top):
+        self.T, self.top, self.row = T, top, {}
+
+    def of(self, values) -> tuple:
+        """The sources of `values` (a pair or one): per value its output row (int) or constant (float)."""
+        known = self.T._known
+        new = [v for v in values if v not in known and v not in self.row]
+        if len(new) == 1 < len(values) and not any(v in known for v in values):
+            return tuple(self._write(v) for v in values)  # (one written before: both, next to each other)
+        for v in new:
+            self.row[v] = self._write(v)
+        return tuple(float(known[v]) if v in known else self.row[v] for v in values)
+
+    def _write(self, v) -> int:
+        self.T.out(OUT, self.top, v)
+        self.top += 1
+        return self.top - 1
+
+
+def _nonfinite(T, values) -> int:
+    """A row that is 0 where every one of `values` is finite and NaN where one is not: the sum of
+    x·0 (±0 for a finite x, NaN for an infinity or a NaN). One multiply-add per value, where a FLAG per
+    value (a select, read and written again) cost about twice as much."""
+    acc = T.mulk(values[0], 0.0)
+    for v in values[1:]:
+        acc = T.val(MADD, acc, v, T.value(0.0))
+    return acc
 
 
 def _program_block(T, blk, feat, bvec, x, bad, min_measure):
@@ -595,9 +633,10 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key not in cache:
-        names, links, guides, tape = _program(engine, ks_plan, row_dtype, inertia)
+        names, links, guides, sources, tape = _program(engine, ks_plan, row_dtype, inertia)
         ops, consts, aux, rows = tape.finish()
-        cache[key] = _KernelPlan(names, links, guides, (ops, consts, aux), rows, [])
+        top = max(int(op[1]) for op in ops if op[0] == OUT) + 1  # (the output rows)
+        cache[key] = _KernelPlan(names, links, guides, sources, top, (ops, consts, aux), rows, [])
     return cache[key]
 
 
@@ -657,25 +696,43 @@ def solve(engine, motion, ks_plan, inertia=True):
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
     rows = motion.rows
     plan = _plan(engine, ks_plan, motion, inertia)
-    batch, n, n_loads = len(rows), ks_plan.lay.size, len(plan.names)
+    batch, n = len(rows), ks_plan.lay.size
     inputs = np.empty((2 + len(plan.guide_loads), batch))
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    out = _output_block(plan, (n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, bad
+    out = _output_block(plan, (plan.outputs_rows, batch))  # x, the loads' values (`sources`), residual, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
     _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
                   for p, w in zip(parts, work)])
-    loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
-    values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
-              for i, (name, k) in enumerate(zip(plan.names, plan.links))]
+    values = [LoadValue(name, k, _pair(out, fx, fy), _pair(out, px, py), _single(out, mz))
+              for name, k, (fx, fy, px, py, mz) in zip(plan.names, plan.links, plan.sources)]
     x, residual, singular = out[:n], out[-2], out[-1] != 0.0
     if singular.any():
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
     return x, singular, residual, values
+
+
+def _pair(out, x, y) -> np.ndarray:
+    """The (B, 2) array of a load's sources x, y (rows of `out`, or constants): a view of two rows of
+    `out` next to each other, else a new array."""
+    if type(x) is int and y == x + 1:
+        return out[x:x + 2].T
+    pair = np.empty((out.shape[1], 2))
+    pair[:, 0], pair[:, 1] = _single(out, x), _single(out, y)
+    return pair
+
+
+def _single(out, source) -> np.ndarray:
+    """The (B,) array of a source: its row of `out`, or a new array of the constant."""
+    if type(source) is int:
+        return out[source]
+    values = np.empty(out.shape[1])
+    values.fill(source)
+    return values
 
 
 # -- kernel -------------------------------------------------------------------------------------------
