@@ -201,3 +201,30 @@ def test_a_held_result_keeps_its_values_and_a_dropped_one_lends_its_block():
     again = kinetostatics(engine, first)
     assert id(again.reactions["B"].fx.base) == block  # (still kept by the plan: not a new array at its address)
     np.testing.assert_array_equal(again.reactions["B"].fx, fx)
+
+
+def test_work_matrix_starts_a_cache_line():
+    """The kernel's work matrix starts on a 64-byte line whatever numpy's allocator gives (zeros, the
+    shape asked for), and its rows stay on lines."""
+    from mbplanar.backends import _numba_kinetostatics as nk
+    for rows in (1, 7, 98, 156, 400):
+        (work,) = nk._scratch(rows)
+        assert work.shape == (rows, nk.chunk_of(rows)) and not work.any() and work.flags.c_contiguous
+        assert work.ctypes.data % nk.LINE == 0 and work.strides[0] % nk.LINE == 0
+    for shape in ((3,), (5, 8), (2, 3, 4)):
+        assert nk.aligned_zeros(shape).ctypes.data % nk.LINE == 0
+
+
+def test_constant_and_repeated_load_values_are_not_written_twice():
+    """Gravity's force and zero moment are the program's constants and the centre of a link is written
+    once for its gravity and its d'Alembert load; the loads still read as numpy's, each force its own."""
+    mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, np.linspace(0.0, 2 * math.pi, 40, endpoint=False))
+    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
+    _assert_same(a, b)
+    loads = {ld.name: ld for ld in b.loads}
+    gravity, inertia = loads["G3"], loads["inertia of 3"]
+    assert np.shares_memory(gravity.point, inertia.point)
+    assert not np.shares_memory(gravity.force, inertia.force) and not np.shares_memory(gravity.force, b.reactions["B"].fx)
+    np.testing.assert_array_equal(gravity.force, np.broadcast_to(gravity.force[0], gravity.force.shape))
+    np.testing.assert_array_equal(gravity.moment, 0.0)
