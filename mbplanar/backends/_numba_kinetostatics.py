@@ -12,7 +12,7 @@ of a work matrix, one row per value and one column per position of a chunk of 12
 (SIMD lanes), so the tables are read once per chunk, not once per position. The time goes with the
 rows the ops read and write, so `_Tape` reads constants from the op (not from a row of them), moves
 negations into the ops that read them, and drops what nothing reads, all without changing a rounding.
-The kernel is one small function of 26 kinds of op whatever the model, so numba compiles it once, in
+The kernel is one small function of 27 kinds of op whatever the model, so numba compiles it once, in
 about 2 s.
 
 Two things differ from numpy by rounding only: the moments are divided by the model size as a product
@@ -48,8 +48,8 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 class _KernelPlan:
     """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
     numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
-    ...); `sources` of their values (`_LoadOutputs.of`: (fx, fy, x, y, moment), each its row of the outputs
-    or a constant), `outputs_rows` of the outputs; `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
+    ...); `sources` of their values, the first rows of the outputs that hold (fx, fy), (x, y) and the moment
+    (`_LoadOutputs`); `outputs_rows` of the outputs; `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
     work matrix per thread, and `outputs`, the output blocks kept for reuse (`_output_block`)."""
 
     names: list
@@ -239,8 +239,8 @@ class _Tape:
         for key in [key for key, row in self._memo.items() if row == d]:
             del self._memo[key]
 
-    def out(self, code, to, a=0, b=0):
-        self.ops.append((code, to, a, b, 0, 0, 0))
+    def out(self, code, to, a=0, b=0, k=0):
+        self.ops.append((code, to, a, b, 0, 0, k))
 
     def private(self, row) -> int:
         """`row`, or a copy of it where other values may be the same row (an op writing it again
@@ -319,7 +319,7 @@ def _needed(ops, aux) -> list:
         reads = [op[f] for f in _W_FIELDS[code] if f != 1] + [aux[i] for i in _aux_rows(op)]
         if code in (FLAG, PIVOT):  # (they change row d)
             reads.append(d)
-        elif code != OUT:  # an op that only writes row d
+        elif code != OUT and code != OUTK:  # an op that only writes row d
             if d not in live:
                 continue
             live.discard(d)
@@ -377,6 +377,7 @@ CROSS = 23   # W[d] = W[a] · W[b] − W[e] · W[f]   (DOT of a negated factor, 
 GUIDE = 24   # W[d] = K[k] · (the unit against the motion: `_WHEN`[K[k + 1]]) of the joint rate W[a] turned
 #              round where ω = W[b] < 0 (`guide_force_size` of a load without a table)
 RESIDUAL = 25  # W[d] = |W[a]| / W[b], by 1 where W[b] <= 0 (the virtual-power residual, its bound)
+OUTK = 26    # out[d, b] = K[k]               (a constant output: a store, no row of W read)
 _WHEN = ("forward", "backward", "always")
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the ops `_Tape` computes itself on constants, as the kernel would
@@ -387,7 +388,7 @@ _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,),
              ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO,
-             CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO}
+             CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO, OUTK: ()}
 
 
 def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
@@ -472,7 +473,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
             fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
         else:
             fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
-        sources.append(outputs.of((fx, fy)) + outputs.of((px, py)) + outputs.of((mz,)))
+        sources.append((outputs.of((fx, fy)), outputs.of((px, py)), outputs.of((mz,))))
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
@@ -522,28 +523,28 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
 
 
 class _LoadOutputs:
-    """The rows of the kernel's outputs that hold the loads' values, from row `top` on: a value the
-    program knows as a constant (gravity's force, a zero moment) is not written but made by `solve`, and
-    a value already written (the centre of a link, the point of its gravity and of its d'Alembert load)
-    is not written again; a pair (x, y) is given two rows next to each other where it can be."""
+    """The rows of the kernel's outputs that hold the loads' values, from row `top` on. A pair (x, y)
+    or a moment is written once: a link's centre, the point of its gravity and of its d'Alembert load,
+    is one pair of rows, every zero moment one row (their arrays are views of the same rows). A value
+    the program knows as a constant (gravity's force, a zero moment) is stored by `OUTK`, without a
+    row of the work matrix to read."""
 
     def __init__(self, T, top):
-        self.T, self.top, self.row = T, top, {}
+        self.T, self.top, self.start = T, top, {}
 
-    def of(self, values) -> tuple:
-        """The sources of `values` (a pair or one): per value its output row (int) or constant (float)."""
+    def of(self, values) -> int:
+        """The first of the output rows of `values` (a pair or one), next to each other."""
         known = self.T._known
-        new = [v for v in values if v not in known and v not in self.row]
-        if len(new) == 1 < len(values) and not any(v in known for v in values):
-            return tuple(self._write(v) for v in values)  # (one written before: both, next to each other)
-        for v in new:
-            self.row[v] = self._write(v)
-        return tuple(float(known[v]) if v in known else self.row[v] for v in values)
-
-    def _write(self, v) -> int:
-        self.T.out(OUT, self.top, v)
-        self.top += 1
-        return self.top - 1
+        key = tuple(("k", float(known[v]), bool(np.signbit(known[v]))) if v in known else v for v in values)
+        if key not in self.start:
+            self.start[key] = self.top
+            for v in values:
+                if v in known:
+                    self.T.out(OUTK, self.top, k=self.T.const(known[v]))
+                else:
+                    self.T.out(OUT, self.top, v)
+                self.top += 1
+        return self.start[key]
 
 
 def _nonfinite(T, values) -> int:
@@ -635,7 +636,7 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     if key not in cache:
         names, links, guides, sources, tape = _program(engine, ks_plan, row_dtype, inertia)
         ops, consts, aux, rows = tape.finish()
-        top = max(int(op[1]) for op in ops if op[0] == OUT) + 1  # (the output rows)
+        top = max(int(op[1]) for op in ops if op[0] in (OUT, OUTK)) + 1  # (the output rows)
         cache[key] = _KernelPlan(names, links, guides, sources, top, (ops, consts, aux), rows, [])
     return cache[key]
 
@@ -723,32 +724,13 @@ def solve(engine, motion, ks_plan, inertia=True):
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
     _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
                   for p, w in zip(parts, work)])
-    values = [LoadValue(name, k, _pair(out, fx, fy), _pair(out, px, py), _single(out, mz))
-              for name, k, (fx, fy, px, py, mz) in zip(plan.names, plan.links, plan.sources)]
+    values = [LoadValue(name, k, out[f:f + 2].T, out[p:p + 2].T, out[m])
+              for name, k, (f, p, m) in zip(plan.names, plan.links, plan.sources)]
     x, residual, singular = out[:n], out[-2], out[-1] != 0.0
     if singular.any():
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
     return x, singular, residual, values
-
-
-def _pair(out, x, y) -> np.ndarray:
-    """The (B, 2) array of a load's sources x, y (rows of `out`, or constants): a view of two rows of
-    `out` next to each other, else a new array."""
-    if type(x) is int and y == x + 1:
-        return out[x:x + 2].T
-    pair = np.empty((out.shape[1], 2))
-    pair[:, 0], pair[:, 1] = _single(out, x), _single(out, y)
-    return pair
-
-
-def _single(out, source) -> np.ndarray:
-    """The (B,) array of a source: its row of `out`, or a new array of the constant."""
-    if type(source) is int:
-        return out[source]
-    values = np.empty(out.shape[1])
-    values.fill(source)
-    return values
 
 
 # -- kernel -------------------------------------------------------------------------------------------
@@ -852,6 +834,9 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 25:  # RESIDUAL
                 for c in range(nc):
                     Wd[c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
+            elif code == 26:  # OUTK
+                for c in range(nc):
+                    out[d, b0 + c] = k0
             else:  # PIVOT
                 w = b + 1
                 for c in range(nc):
