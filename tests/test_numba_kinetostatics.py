@@ -137,13 +137,14 @@ def test_what_the_compiled_path_does_not_take_is_numpy():
 
 
 
-@pytest.mark.parametrize("batch", [2, 127, 129, 255, 257, 600])
-def test_batches_across_chunks_same_as_numpy(batch):
+@pytest.mark.parametrize("batch", [2, 319, 321, 383, 385, 800])
+def test_batches_across_chunks_same_as_numpy(batch, monkeypatch):
     """The kernel takes the positions a chunk at a time: a batch much shorter than a chunk, one position
     either side of a chunk's end, several chunks; on a class III group (its dense part pivots position
     by position), the six-bar press (a guide load) and the class IV group (a longer program)."""
-    from mbplanar.backends._numba_kinetostatics import CHUNKS, chunk_of
-    assert CHUNKS == (256, 128) and chunk_of(100) == 256 and chunk_of(156) == 128  # (straddled above)
+    from mbplanar.backends import _numba_kinetostatics as nk
+    monkeypatch.setattr(nk, "WORK_BYTES", 400 * 1024)  # (a 512 KiB L2 cache's, whatever this machine's)
+    assert nk.CHUNKS == (384, 320, 256, 128) and nk.chunk_of(100) == 384 and nk.chunk_of(156) == 320  # (straddled)
     for name in ("class3_triad", "six_bar_press", "class4_group"):
         mech = mbplanar.read_model(MODELS / f"{name}.toml")
         engine = mbplanar.Engine(mech)
@@ -201,6 +202,17 @@ def test_a_held_result_keeps_its_values_and_a_dropped_one_lends_its_block():
     again = kinetostatics(engine, first)
     assert id(again.reactions["B"].fx.base) == block  # (still kept by the plan: not a new array at its address)
     np.testing.assert_array_equal(again.reactions["B"].fx, fx)
+
+
+def test_work_bytes_from_the_l2_cache_size(tmp_path):
+    """The work matrix takes four fifths of the L2 cache sysfs names, 512 KiB's where it names none."""
+    from mbplanar.backends._numba_kinetostatics import _l2_bytes
+    size = tmp_path / "size"
+    for text, want in (("512K\n", 512 * 1024), ("2M", 2 * 1024 ** 2), ("1024K", 1024 ** 2), ("", 512 * 1024),
+                       ("big", 512 * 1024)):
+        size.write_text(text)
+        assert _l2_bytes(str(size)) == want
+    assert _l2_bytes(str(tmp_path / "none")) == 512 * 1024
 
 
 def test_work_matrix_starts_a_cache_line():
