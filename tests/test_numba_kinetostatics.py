@@ -221,7 +221,7 @@ def test_work_matrix_starts_a_cache_line():
     from mbplanar.backends import _numba_kinetostatics as nk
     for rows in (1, 7, 98, 156, 400):
         (work,) = nk._scratch(rows)
-        assert work.shape == (rows, nk.chunk_of(rows)) and not work.any() and work.flags.c_contiguous
+        assert work.shape == (rows + 2, nk.chunk_of(rows)) and not work.any() and work.flags.c_contiguous
         assert work.ctypes.data % nk.LINE == 0 and work.strides[0] % nk.LINE == 0
     for shape in ((3,), (5, 8), (2, 3, 4)):
         assert nk.aligned_zeros(shape).ctypes.data % nk.LINE == 0

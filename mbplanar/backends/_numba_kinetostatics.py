@@ -668,8 +668,9 @@ def chunk_of(rows: int) -> int:
 
 
 def _scratch(rows: int) -> tuple:
-    """Work arrays of `_kernel`: the work matrix (rows, `chunk_of(rows)`), on a cache line (`aligned_zeros`)."""
-    return (aligned_zeros((rows, chunk_of(rows))),)
+    """Work arrays of `_kernel`: the work matrix (rows + 2, `chunk_of(rows)`), on a cache line
+    (`aligned_zeros`); its last two rows are PIVOT's (the largest entry so far, and its row)."""
+    return (aligned_zeros((rows + 2, chunk_of(rows))),)
 
 
 #: bytes of a cache line, where the work matrix starts
@@ -850,13 +851,21 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 26:  # OUTK
                 for c in range(nc):
                     out[d, b0 + c] = k0
-            else:  # PIVOT
+            else:  # PIVOT: the search row by row over the chunk (selects: the loops vectorise), then the swaps
                 w = b + 1
+                big, at = W[W.shape[0] - 2], W[W.shape[0] - 1]  # (the two rows past the program's)
+                first = W[aux[a]]
                 for c in range(nc):
-                    p, big = 0, abs(W[aux[a], c])
-                    for i in range(1, b):
-                        if abs(W[aux[a + i * w], c]) > big:
-                            p, big = i, abs(W[aux[a + i * w], c])
+                    big[c], at[c] = abs(first[c]), 0.0
+                for i in range(1, b):
+                    Wi, fi = W[aux[a + i * w]], float(i)
+                    for c in range(nc):
+                        v = abs(Wi[c])
+                        larger = v > big[c]
+                        big[c] = v if larger else big[c]
+                        at[c] = fi if larger else at[c]
+                for c in range(nc):
+                    p = int(at[c])
                     if p:
                         for j in range(w):
                             s, t = aux[a + j], aux[a + p * w + j]
