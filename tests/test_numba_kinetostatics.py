@@ -240,3 +240,27 @@ def test_constant_and_repeated_load_values_are_not_written_twice():
     assert not np.shares_memory(gravity.force, inertia.force) and not np.shares_memory(gravity.force, b.reactions["B"].fx)
     np.testing.assert_array_equal(gravity.force, np.broadcast_to(gravity.force[0], gravity.force.shape))
     np.testing.assert_array_equal(gravity.moment, 0.0)
+
+
+def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch):
+    """The class IV group's dense part (6 moment rows) starts in the order its LU's partial pivoting
+    usually ends with (`pivot_orders`, a permutation of its rows), so the kernel's pivot steps seldom
+    swap; the pivots, and so every number, are those of the rows in the table's order."""
+    from mbplanar.backends import _numba_kinetostatics as nk
+    from mbplanar.forces._kinetostatics import pivot_orders, plan_of
+    mech = mbplanar.read_model(MODELS / "class4_group.toml")
+    phi = mbplanar.Engine(mech).phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 90, endpoint=False)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, phi)
+    orders = pivot_orders(fast_engine, fast)
+    dense = [i for i, blk in enumerate(plan_of(fast_engine).blocks) if len(blk.rest_rows) >= 3]
+    assert dense and sorted(orders) == dense
+    assert all(sorted(orders[i]) == list(range(len(plan_of(fast_engine).blocks[i].rest_rows))) for i in dense)
+    assert any(orders[i] != tuple(range(len(orders[i]))) for i in dense)  # (reordered: the usual order is not the table's)
+    learnt = kinetostatics(fast_engine, fast)
+    monkeypatch.setattr(nk, "pivot_orders", lambda engine, motion: {})
+    plain_engine = mbplanar.Engine(mech, backend="numba")
+    plain = kinetostatics(plain_engine, mbplanar.analyse(plain_engine, phi, 2.5, -0.7))
+    for name, r in plain.reactions.items():
+        for part in ("fx", "fy", "moment"):
+            np.testing.assert_array_equal(getattr(learnt.reactions[name], part), getattr(r, part))
+    _assert_same(kinetostatics(ref_engine, ref), learnt)

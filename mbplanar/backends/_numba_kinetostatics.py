@@ -36,6 +36,7 @@ from . import _threads
 from ._jit import njit
 from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
+from ..forces._kinetostatics import pivot_orders
 from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
@@ -391,7 +392,7 @@ _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO
              CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO, OUTK: ()}
 
 
-def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
+def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
     """The kernel's program for an engine, its record layout and `inertia`: (names, links and guide
     loads of the loads, the `_Tape`), numpy's formulas in numpy's order, op by op."""
     mech, lay, T = engine.mech, ks_plan.lay, _Tape()
@@ -485,8 +486,8 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
-    for blk in ks_plan.blocks:
-        _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
+    for index, blk in enumerate(ks_plan.blocks):
+        _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular), (orders or {}).get(index))
     out_bad = outputs.top + 1  # the row of `bad`, the residual's before it
     for i in range(n):
         if lay.scale[i] != 1.0:  # (x·1 = x)
@@ -557,10 +558,11 @@ def _nonfinite(T, values) -> int:
     return acc
 
 
-def _program_block(T, blk, feat, bvec, x, bad, min_measure):
+def _program_block(T, blk, feat, bvec, x, bad, min_measure, order=None):
     """One block of `kinetostatics._solve_block`: its entries, the constant pivots eliminated, the rest
     solved densely, the back-substitution into x (rows of the unknowns), and `bad` marked where its
-    measure |det| / Π‖row‖ is not above `min_measure`."""
+    measure |det| / Π‖row‖ is not above `min_measure`. `order`: the order the dense part's rows start
+    in for its LU (`kinetostatics.pivot_orders`; only |det| is read, so a reordering's sign is not)."""
     rows = [bvec[r] for r in blk.rows]  # the right side
     slot, norm = defaultdict(lambda: T.value(0.0)), [None] * len(blk.rows)  # (fill-in starts at 0)
     for i, j, f, coef in blk.entries:
@@ -595,6 +597,8 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
         det = T.val(MUL, det, d)
     elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
+        if order is not None:
+            a, r = [a[i] for i in order], [r[i] for i in order]
         a = [[T.private(v) for v in row] for row in a]  # (the pivots swap them in place)
         r, det = [T.private(v) for v in r], T.private(det)
         for k in range(nr):
@@ -634,11 +638,21 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key not in cache:
-        names, links, guides, sources, tape = _program(engine, ks_plan, row_dtype, inertia)
+        dense = any(len(blk.rest_rows) >= 3 for blk in ks_plan.blocks)
+        orders = pivot_orders(engine, _sample(engine, motion)) if dense else {}
+        names, links, guides, sources, tape = _program(engine, ks_plan, row_dtype, inertia, orders)
         ops, consts, aux, rows = tape.finish()
         top = max(int(op[1]) for op in ops if op[0] in (OUT, OUTK)) + 1  # (the output rows)
         cache[key] = _KernelPlan(names, links, guides, sources, top, (ops, consts, aux), rows, [])
     return cache[key]
+
+
+def _sample(engine, motion, size=32):
+    """The positions of up to `size` of the motion's input values, evenly spread (to learn the dense
+    parts' pivot orders from: `pivot_orders`)."""
+    from ..kinematics import analyse
+    phi = motion.phi[np.unique(np.linspace(0, len(motion.phi) - 1, size).astype(int))]
+    return analyse(engine, phi)
 
 
 #: positions the kernel takes at once (each op of the program runs over them in an inner loop): the
