@@ -264,3 +264,21 @@ def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch
         for part in ("fx", "fy", "moment"):
             np.testing.assert_array_equal(getattr(learnt.reactions[name], part), getattr(r, part))
     _assert_same(kinetostatics(ref_engine, ref), learnt)
+
+
+def test_the_kernel_is_looked_up_once_per_plan():
+    """A plan keeps the compiled kernel it looked up (per read-only flag of the records), calls it again
+    with the same answers, and a pickled plan leaves it behind."""
+    import pickle
+    from mbplanar.backends import _numba_kinetostatics as nk
+    from mbplanar.forces._kinetostatics import plan_of
+    mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
+    engine = mbplanar.Engine(mech, backend="numba", threads=1)
+    motion = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 1.0, 20))
+    first = kinetostatics(engine, motion).reactions["B"].fx.copy()
+    plan = nk._plan(engine, plan_of(engine), motion, True)
+    assert list(plan.entries) == [True]
+    found = plan.entries[True]
+    np.testing.assert_array_equal(kinetostatics(engine, motion).reactions["B"].fx, first)
+    assert plan.entries == {True: found}
+    assert pickle.loads(pickle.dumps(plan)).entries == {}

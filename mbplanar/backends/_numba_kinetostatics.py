@@ -62,10 +62,12 @@ class _KernelPlan:
     rows: int
     scratch: list
     outputs: list = field(default_factory=list)
+    entries: dict = field(default_factory=dict)  # the compiled `_kernel` per kind of records (`_run`)
 
     def __getstate__(self) -> dict:
-        """Pickled (with its engine) without its work and output arrays, made again as needed."""
-        return dict(self.__dict__, scratch=[], outputs=[])
+        """Pickled (with its engine) without its work and output arrays and compiled kernel, made again
+        as needed."""
+        return dict(self.__dict__, scratch=[], outputs=[], entries={})
 
 
 def _load_table(engine, inertia):
@@ -750,7 +752,7 @@ def solve(engine, motion, ks_plan, inertia=True):
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
-    _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
+    _threads.run([lambda p=p, w=w: _run(plan, (p.start, p.stop, *plan.args, row, inputs, out, *w))
                   for p, w in zip(parts, work)])
     values = [LoadValue(name, k, out[f:f + 2].T, out[p:p + 2].T, out[m])
               for name, k, (f, p, m) in zip(plan.names, plan.links, plan.sources)]
@@ -759,6 +761,18 @@ def solve(engine, motion, ks_plan, inertia=True):
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
     return x, singular, residual, values
+
+
+def _run(plan, args) -> None:
+    """`_kernel(*args)`. The first call of a plan looks the compiled function up for the arguments' types
+    (`_jit.Kernel.entry`, about 7 µs a call); later calls pass the same types (the plan's program, and
+    C-contiguous float64 arrays made here, of fixed dimensions) but for the records, which may be
+    read-only, so the function is kept per that flag and called directly."""
+    writeable = args[5].flags.writeable
+    entry = plan.entries.get(writeable)
+    if entry is None:
+        entry = plan.entries[writeable] = _kernel.entry(args)
+    entry(*args)
 
 
 # -- kernel -------------------------------------------------------------------------------------------
