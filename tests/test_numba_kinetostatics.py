@@ -237,7 +237,8 @@ def test_constant_and_repeated_load_values_are_not_written_twice():
     loads = {ld.name: ld for ld in b.loads}
     gravity, inertia = loads["G3"], loads["inertia of 3"]
     assert np.shares_memory(gravity.point, inertia.point)
-    assert not np.shares_memory(gravity.force, inertia.force) and not np.shares_memory(gravity.force, b.reactions["B"].fx)
+    assert not np.shares_memory(gravity.force, inertia.force)
+    assert not np.shares_memory(gravity.force, b.reactions["B"].fx)
     np.testing.assert_array_equal(gravity.force, np.broadcast_to(gravity.force[0], gravity.force.shape))
     np.testing.assert_array_equal(gravity.moment, 0.0)
 
@@ -255,7 +256,7 @@ def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch
     dense = [i for i, blk in enumerate(plan_of(fast_engine).blocks) if len(blk.rest_rows) >= 3]
     assert dense and sorted(orders) == dense
     assert all(sorted(orders[i]) == list(range(len(plan_of(fast_engine).blocks[i].rest_rows))) for i in dense)
-    assert any(orders[i] != tuple(range(len(orders[i]))) for i in dense)  # (reordered: the usual order is not the table's)
+    assert any(orders[i] != tuple(range(len(orders[i]))) for i in dense)  # (the usual order is not the table's)
     learnt = kinetostatics(fast_engine, fast)
     monkeypatch.setattr(nk, "pivot_orders", lambda engine, motion: {})
     plain_engine = mbplanar.Engine(mech, backend="numba")

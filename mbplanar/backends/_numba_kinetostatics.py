@@ -49,9 +49,10 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 class _KernelPlan:
     """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
     numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
-    ...); `sources` of their values, the first rows of the outputs that hold (fx, fy), (x, y) and the moment
-    (`_LoadOutputs`); `outputs_rows` of the outputs; `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
-    work matrix per thread, and `outputs`, the output blocks kept for reuse (`_output_block`)."""
+    ...); `sources` of their values, the first rows of the outputs that hold (fx, fy), (x, y) and the
+    moment (`_LoadOutputs`); `outputs_rows` of the outputs; `args` (ops (T, 7), constants, pivot row
+    lists); `rows` of the work matrix, `scratch`, one work matrix per thread, `outputs`, the output blocks
+    kept for reuse (`_output_block`), and `entries`, the compiled kernel per kind of records (`_run`)."""
 
     names: list
     links: list
