@@ -1,5 +1,7 @@
+"""``python -m mbplanar``: the command line as a process of its own (`mbplanar.cli.run`)."""
+
 import sys
 
-from .cli import main
+from .cli import run
 
-sys.exit(main())
+sys.exit(run())

@@ -128,3 +128,24 @@ def test_errors_name_the_file_as_without_the_cache(cache, tmp_path):
     model.write_bytes(b"name = \"\xff\"\n")
     with pytest.raises(ModelError, match="fourbar.toml: the model file is not UTF-8 text"):
         _cache.load_engine(model)
+
+
+def test_two_models_whose_entry_names_clash_each_get_their_own_engine(cache, monkeypatch):
+    """The entry's file name is a checksum; its whole key decides: a clash costs a build, never the other
+    model's engine."""
+    folder, model = cache
+    other = model.with_name("slider_crank.toml")
+    other.write_text((MODELS / "slider_crank.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    monkeypatch.setattr(_cache, "_entry_name", lambda *parts: "clash")
+    for path in (model, other, model, other):
+        engine = _cache.load_engine(path)
+        assert engine.mech.source == str(path) and engine.mech.name == mbplanar.read_model(path).name
+    assert [p.name for p in _entries(folder)] == ["clash.pickle"]
+
+
+def test_an_entry_name_is_a_checksum_of_the_model_path():
+    names = {_cache._entry_name("pkg", "/a/fourbar.toml", "fourbar.toml", "numpy"),
+             _cache._entry_name("pkg", "/b/fourbar.toml", "fourbar.toml", "numpy"),
+             _cache._entry_name("pkg", "/a/fourbar.toml", "fourbar.toml", "numba"),
+             _cache._entry_name("pkg", "/a/\udcff.toml", "\udcff.toml", "numpy")}  # (an undecodable file name)
+    assert len(names) == 4 and all(len(n) == 16 and int(n, 16) >= 0 for n in names)

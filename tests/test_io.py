@@ -68,3 +68,57 @@ def test_true_motion_lives_beside_machine_dynamics():
     from mbplanar.forces import machine_dynamics, true_motion
     assert true_motion.__module__ == machine_dynamics.__module__
     assert io  # (the standard library's io is not shadowed by mbplanar.io)
+
+
+def test_every_builder_is_found_by_the_home_of_its_public_class():
+    """The builders are keyed by "module:name" (io imports no result type): each key names the class the
+    public API exports, so a class moved to another module fails here, not silently in `document`."""
+    import importlib
+
+    from mbplanar.io import _export
+    public = {"Engine": mbplanar.Engine, "Motion": mbplanar.Motion, "Position": mbplanar.Position,
+              "Kinetostatics": mbplanar.Kinetostatics, "Dynamics": mbplanar.Dynamics,
+              "CheckReport": mbplanar.CheckReport}
+    homes = set(_export.DOCUMENTS) | set(_export.TABLES) | {_export.POSITION}
+    assert {home.split(":")[1] for home in homes} == set(public)
+    for home in homes:
+        module, name = home.split(":")
+        assert getattr(importlib.import_module(module), name) is public[name], home
+
+
+def test_document_and_table_of_every_result_type(shaper):
+    """Each type reaches its own builder (a subclass its parent's), with the builder's options."""
+    inp = shaper.inputs[0]
+    position = mbplanar.position(shaper, inp.to_si(30.0))
+    assert document(position, values=[30.0]) == solve_document(shaper, position, 0, [30.0])
+    motion = mbplanar.analyse(shaper, inp.to_si(np.array([30.0, 60.0])))
+
+    class Recorded(type(motion)):
+        pass
+    assert document(Recorded(**vars(motion)), row=1) == solve_document(shaper, motion, 1)
+    forces = mbplanar.kinetostatics(shaper, motion)
+    assert document(forces, row=1)["balancing"] == {n: float(q[1]) for n, q in forces.balancing.items()}
+    header, cols = table(forces, units="model")
+    assert header == forces_columns(shaper, forces)[0] and np.array_equal(cols, forces_columns(shaper, forces)[1])
+    dyn = mbplanar.machine_dynamics(shaper, steps=72, simulate_motion=False)
+    assert document(dyn, engine=shaper)["steps"] == 72
+    header, cols = table(dyn)
+    assert cols.shape == (73, len(header))
+    with pytest.raises(TypeError, match="needs its engine"):
+        document(dyn)
+    report = mbplanar.check(shaper, samples=72)
+    assert document(report) == json.loads(json.dumps(document(report)))
+    assert "units" in document(report, engine=shaper, units="model")
+
+
+def test_io_imports_no_result_type():
+    """`mbplanar.io` loads no layer below it at import: the command that prints one kind of result loads
+    only that result's code (`mbplanar solve` neither the forces nor the analysis)."""
+    import os
+    import subprocess
+    import sys
+    probe = "import json, sys, mbplanar.io\nprint(json.dumps(sorted(sys.modules)))"
+    out = subprocess.run([sys.executable, "-c", probe], cwd=MODELS.parent, capture_output=True, text=True, check=True,
+                         env=dict(os.environ, PYTHONPATH=str(MODELS.parent)))
+    loaded = {m.split(".")[1] for m in json.loads(out.stdout) if m.startswith("mbplanar.") and "." in m}
+    assert loaded <= {"io", "model", "errors", "_deprecated", "check", "kinetostatics"}, loaded

@@ -76,6 +76,8 @@ def test_solve_imports_only_its_own_command():
     loaded = _loaded_after(solve)
     assert not loaded & set(HEAVY)
     assert not loaded & {"mbplanar.synthesis", "mbplanar.cam", "mbplanar.study", "mbplanar.viz"}
+    # nor what other commands print (the forces, the analysis), nor hashlib (the engine cache), nor csv
+    assert not loaded & {"mbplanar.forces", "mbplanar.analysis", "mbplanar.backends", "hashlib", "csv"}
 
 
 @pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba not installed")
@@ -109,17 +111,41 @@ def test_a_backend_whose_package_is_missing_is_refused_when_the_engine_is_made(m
 
 
 @pytest.mark.parametrize("argv, command", [
-    (["solve", "m.toml", "--at", "30"], ""),
-    (["--backend", "numba", "--threads", "2", "sweep", "m.toml"], ""),
+    (["solve", "m.toml", "--at", "30"], "solve"),
+    (["--backend", "numba", "--threads", "2", "sweep", "m.toml"], "sweep"),
     (["--debug", "--threads", "2", "cam", "c.toml"], "cam"),
     (["--no-cache", "study", "m.toml"], "study"),
     (["synth", "seed001"], "synth"),
     (["--back", "numba", "cam", "c.toml"], None),  # an abbreviated option: every command is built
     (["-h"], None),
+    (["--debug", "--help", "solve"], None),  # the global help lists every command
+    (["solve", "--help"], "solve"),
     (["nonsense"], None),
 ])
 def test_the_command_is_found_before_parsing(argv, command):
     assert command_in(argv) == command
+
+
+def _help_of(parser, argv) -> str:
+    """What `parser` prints for argv (its help, or its usage and error)."""
+    import contextlib
+    import io
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out), pytest.raises(SystemExit):
+        parser.parse_args(argv)
+    return out.getvalue()
+
+
+@pytest.mark.parametrize("command", sorted(set(CORE_COMMANDS) | set(OWN_MODULE)))
+def test_the_parser_of_one_command_reads_as_the_whole_parser(command):
+    """Only the running command's parser is built; its help, and the usage line of a global option's
+    error, are those of the whole parser, and it parses the same."""
+    whole, one = build_parser(), build_parser(command)
+    assert _help_of(one, [command, "--help"]) == _help_of(whole, [command, "--help"])
+    assert _help_of(one, ["--threads", "0", command]) == _help_of(whole, ["--threads", "0", command])
+    argv = ["--backend", "numba", "solve", "m.toml", "--at", "30", "--omega", "2", "--json"]
+    if command == "solve":
+        assert vars(one.parse_args(argv)) == vars(whole.parse_args(argv))
 
 
 def test_every_command_is_listed_once():
@@ -156,3 +182,24 @@ def test_the_command_line_runs_blas_on_one_thread_unless_told():
     assert _blas_threads_after(cli, OMP_NUM_THREADS="3") == "None"
     assert _blas_threads_after("import numpy\nimport mbplanar.cli") == "None"
     assert _blas_threads_after("import mbplanar\nmbplanar.Engine, mbplanar.analyse") == "None"
+
+
+def test_the_process_exits_with_the_commands_status_and_its_heap_frozen(tmp_path):
+    """`python -m mbplanar` (and the `mbplanar` script, `cli.run`) gives the command's exit status and
+    output; the heap is frozen before the interpreter's exit (no collection over it), the written file
+    whole."""
+    probe = ("import atexit, gc, sys\n"
+             "atexit.register(lambda: print('frozen', gc.get_freeze_count() > 0, file=sys.stderr))\n"
+             "from mbplanar.cli import run\nsys.exit(run())")
+    env = dict(os.environ, PYTHONPATH=str(ROOT), MBPLANAR_CACHE_DIR=str(tmp_path / "cache"))
+    out = tmp_path / "sweep.csv"
+    for argv, status in ([["sweep", "models/fourbar.toml", "--steps", "7", "-o", str(out)], 0],
+                         [["solve", "models/fourbar.toml", "--at", "30,40"], 2],
+                         [["solve", "models/crank_slider_rocker_locking.toml", "--at", "1e6"], 1]):
+        done = subprocess.run([sys.executable, "-c", probe, *argv], cwd=ROOT, env=env, capture_output=True, text=True)
+        assert done.returncode == status, done.stderr
+        assert done.stderr.endswith("frozen True\n"), done.stderr
+        module = subprocess.run([sys.executable, "-m", "mbplanar", *argv], cwd=ROOT, env=env, capture_output=True,
+                                text=True)
+        assert (module.returncode, module.stdout) == (done.returncode, done.stdout)
+    assert len(out.read_text().splitlines()) == 9

@@ -23,6 +23,7 @@ import os
 import pickle
 import sys
 import warnings
+import zlib
 from pathlib import Path
 
 from ._solver import Engine
@@ -31,7 +32,7 @@ from ..model._table import read_model, read_model_text
 
 __all__ = ["load_engine", "cache_dir", "cache_enabled"]
 
-FORMAT = 1  # of an entry; bump when its layout changes
+FORMAT = 2  # of an entry; bump when its layout changes
 PACKAGE = Path(__file__).resolve().parent.parent
 
 
@@ -56,7 +57,7 @@ def load_engine(path, backend: str = "numpy", threads: int | None = None, use_ca
     if not (use_cache and cache_enabled()):
         return _build(text, str(path), backend, threads)[0]
     key = _key(text, str(path), backend)
-    entry = cache_dir() / f"{_digest(PACKAGE, os.path.abspath(path), str(path), backend)[:32]}.pickle"
+    entry = cache_dir() / f"{_entry_name(PACKAGE, os.path.abspath(path), str(path), backend)}.pickle"
     cached = _read_entry(entry, key)
     if cached is not None:
         engine, caught = cached
@@ -91,11 +92,20 @@ def _build(text: bytes, source: str, backend: str, threads) -> tuple[Engine, lis
     return engine, [w.message for w in caught]
 
 
-def _key(text: bytes, source: str, backend: str) -> str:
-    """What the cached engine depends on, as one digest."""
+def _key(text: bytes, source: str, backend: str) -> tuple:
+    """What the cached engine depends on, in full: an entry is used only when its key equals this one
+    (compared whole rather than as a digest, which would import hashlib, ~4 ms of every command's start)."""
     import numpy as np
-    return _digest(str(FORMAT), sys.implementation.cache_tag, np.__version__, _code_stamp(),
-                   source, backend, repr(Tolerances()), text)
+    return (FORMAT, sys.implementation.cache_tag, np.__version__, _code_stamp(), source, backend,
+            repr(Tolerances()), text)
+
+
+def _entry_name(*parts) -> str:
+    """The file name of the entry of these parts: two 32-bit checksums of them (zlib's, loaded with numpy).
+    Two model paths whose names clash share one entry, each rewriting it for the other: the entry's
+    whole key tells them apart, so a clash costs a build, never a wrong engine."""
+    data = "\0".join(str(part) for part in parts).encode("utf-8", "surrogateescape")
+    return f"{zlib.crc32(data):08x}{zlib.adler32(data):08x}"
 
 
 def _code_stamp() -> str:
@@ -123,6 +133,7 @@ def _stamp_of_files(root=PACKAGE) -> str:
 
 
 def _digest(*parts) -> str:
+    """The SHA-256 of the parts, each length-prefixed (the built kernels' key, `backends._aot`)."""
     import hashlib
     h = hashlib.sha256()
     for part in parts:
@@ -140,7 +151,7 @@ def _private(folder: Path) -> bool:
     return info.st_uid == os.getuid() and not info.st_mode & 0o022
 
 
-def _read_entry(entry: Path, key: str) -> tuple[Engine, list[Warning]] | None:
+def _read_entry(entry: Path, key: tuple) -> tuple[Engine, list[Warning]] | None:
     """The engine and warnings of a matching entry, or None (missing, another key, unreadable)."""
     try:
         if not _private(entry.parent):
@@ -154,7 +165,7 @@ def _read_entry(entry: Path, key: str) -> tuple[Engine, list[Warning]] | None:
         return None
 
 
-def _write_entry(entry: Path, key: str, engine: Engine, caught: list[Warning]) -> None:
+def _write_entry(entry: Path, key: tuple, engine: Engine, caught: list[Warning]) -> None:
     """Store an entry atomically (a whole file or none); any failure only leaves the cache unused."""
     temporary = entry.with_name(f"{entry.name}.{os.getpid()}.tmp")
     try:

@@ -5,103 +5,129 @@ and the report.
 a `Motion`: one position, or the sweep table; a `Kinetostatics`; a `Dynamics`; a `CheckReport`); the
 builders are public too, for their options. Documents hold plain floats (non-finite → None), ready for
 `json.dumps`; tables are (header, columns (B, k)), written by `write_csv`.
+
+The builders are found by the module and name of the result's class (`_builder_of`), not by importing the
+classes: a command that prints one kind of result (``mbplanar solve``) then loads neither the forces nor
+the analysis code, and this module imports nothing from the layers below it at its own import.
 """
 
 from __future__ import annotations
 
-import csv
-import functools
 import math
 import sys
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..analysis import CheckReport
-from ..engine import Engine
-from ..forces import Dynamics, Kinetostatics
-from ..kinematics import Motion, Position
 from ._tables import dynamics_table, forces_columns, sweep_table
 from ._units import (convert_check, convert_dynamics, convert_forces, convert_info, convert_solution,
                      convert_table, display_units)
 
+if TYPE_CHECKING:
+    from ..forces import Kinetostatics
+    from ..kinematics import Motion, Position
+
 __all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_document", "partials_document",
            "forces_document", "dynamics_document"]
 
+#: where each result type a builder takes is defined: "module:name" (the module that defines the class,
+#: so that an instance implies that module is loaded)
+ENGINE = "mbplanar.engine._solver:Engine"
+MOTION = "mbplanar.kinematics._motion:Motion"
+POSITION = "mbplanar.kinematics._single:Position"
+KINETOSTATICS = "mbplanar.forces._kinetostatics:Kinetostatics"
+DYNAMICS = "mbplanar.forces._dynamics:Dynamics"
+CHECK_REPORT = "mbplanar.analysis._check:CheckReport"
 
-@functools.singledispatch
-def document(result, **options) -> dict:
+
+def is_a(obj, home: str) -> bool:
+    """isinstance(obj, the class at `home` ("module:name")), without importing its module: an instance
+    of a class exists only once the module defining it is loaded."""
+    module, name = home.split(":")
+    loaded = sys.modules.get(module)
+    return loaded is not None and isinstance(obj, getattr(loaded, name))
+
+
+def _builder_of(result, builders: dict, what: str):
+    """The builder of `builders` (home → function) whose class `result` is an instance of."""
+    for home, build in builders.items():
+        if is_a(result, home):
+            return build
+    raise TypeError(f"no {what} for a {type(result).__name__}")
+
+
+def document(result, *args, **options) -> dict:
     """The JSON-ready document of a result (the CLI's ``--json``); `options` go to its builder, and
     ``units="si"`` or ``"model"`` converts it as ``--units`` does (adding its "units" object)."""
-    raise TypeError(f"no document for a {type(result).__name__}")
+    return _builder_of(result, DOCUMENTS, "document")(result, *args, **options)
 
 
 def _in_units(convert, engine, doc: dict, units: str | None) -> dict:
     return doc if units is None else convert(engine, doc, display_units(engine.mech, units))
 
 
-@document.register
-def _(result: Engine, units: str | None = None) -> dict:
+def _engine_document(result, units: str | None = None) -> dict:
     return _in_units(convert_info, result, info_document(result), units)
 
 
-@document.register
-def _(result: Motion, row: int = 0, values=None, units: str | None = None) -> dict:
+def _motion_document(result, row: int = 0, values=None, units: str | None = None) -> dict:
     return _in_units(convert_solution, result.engine, solve_document(result.engine, result, row, values), units)
 
 
-@document.register
-def _(result: Position, values=None, units: str | None = None) -> dict:
+def _position_document(result, values=None, units: str | None = None) -> dict:
     return _in_units(convert_solution, result.engine, solve_document(result.engine, result, 0, values), units)
 
 
-@document.register
-def _(result: Kinetostatics, row: int = 0, values=None, units: str | None = None) -> dict:
+def _forces_document(result, row: int = 0, values=None, units: str | None = None) -> dict:
     engine = result.motion.engine
     return _in_units(convert_forces, engine, forces_document(engine, result.motion, result, row, values), units)
 
 
-@document.register
-def _(result: Dynamics, engine=None, at=None, units: str | None = None) -> dict:
+def _dynamics_document(result, engine=None, at=None, units: str | None = None) -> dict:
     if engine is None:
         raise TypeError("the document of a Dynamics needs its engine: document(dyn, engine=engine)")
     return _in_units(convert_dynamics, engine, dynamics_document(engine, result, at), units)
 
 
-@document.register
-def _(result: CheckReport, engine=None, units: str | None = None) -> dict:
+def _check_document(result, engine=None, units: str | None = None) -> dict:
     doc = plain(result.as_dict())
     if units is not None and engine is None:
         raise TypeError("a check document in units needs its engine: document(report, engine=engine, units=...)")
     return _in_units(convert_check, engine, doc, units)
 
 
-@functools.singledispatch
-def table(result, **options):
+#: the builder of `document` for each result type (home → function)
+DOCUMENTS = {ENGINE: _engine_document, MOTION: _motion_document, POSITION: _position_document,
+             KINETOSTATICS: _forces_document, DYNAMICS: _dynamics_document, CHECK_REPORT: _check_document}
+
+
+def table(result, *args, **options):
     """(header, columns (B, k)) of a result over its batch (the CLI's CSV); `options` go to its builder,
     and ``units=`` converts the columns as ``--units`` does (`mech`: the model, for a Dynamics)."""
-    raise TypeError(f"no table for a {type(result).__name__}")
+    return _builder_of(result, TABLES, "table")(result, *args, **options)
 
 
 def _table_in_units(header, cols, mech, units):
     return (header, cols) if units is None else convert_table(header, cols, display_units(mech, units))
 
 
-@table.register
-def _(result: Motion, angle_unit: str = "deg", units: str | None = None):
+def _motion_table(result, angle_unit: str = "deg", units: str | None = None):
     return _table_in_units(*sweep_table(result.engine, result, angle_unit), result.engine.mech, units)
 
 
-@table.register
-def _(result: Kinetostatics, units: str | None = None):
+def _forces_table(result, units: str | None = None):
     engine = result.motion.engine
     return _table_in_units(*forces_columns(engine, result), engine.mech, units)
 
 
-@table.register
-def _(result: Dynamics, mech=None, units: str | None = None):
+def _dynamics_table(result, mech=None, units: str | None = None):
     if units is not None and mech is None:
         raise TypeError("a dynamics table in units needs its model: table(dyn, mech=engine.mech, units=...)")
     return _table_in_units(*dynamics_table(result), mech, units)
+
+
+#: the builder of `table` for each result type (home → function)
+TABLES = {MOTION: _motion_table, KINETOSTATICS: _forces_table, DYNAMICS: _dynamics_table}
 
 
 def _finite(x):
@@ -126,6 +152,7 @@ def plain(obj):
 
 def write_csv(path, header, rows):
     """A table as CSV to `path` (standard output when None); non-finite cells are left empty."""
+    import csv
     out = open(path, "w", newline="", encoding="utf-8") if path else sys.stdout
     try:
         writer = csv.writer(out)
@@ -166,7 +193,7 @@ def info_document(engine) -> dict:
 def _row_of(result, row: int):
     """The arrays of one position by name: a `Position`'s own, or row `row` of a `Motion`'s (None where
     the result has none)."""
-    if isinstance(result, Position):
+    if is_a(result, POSITION):
         return lambda name: getattr(result, name)
 
     def get(name):
