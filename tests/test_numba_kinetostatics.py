@@ -137,13 +137,14 @@ def test_what_the_compiled_path_does_not_take_is_numpy():
 
 
 
-@pytest.mark.parametrize("batch", [2, 127, 129, 255, 257, 600])
-def test_batches_across_chunks_same_as_numpy(batch):
+@pytest.mark.parametrize("batch", [2, 319, 321, 383, 385, 800])
+def test_batches_across_chunks_same_as_numpy(batch, monkeypatch):
     """The kernel takes the positions a chunk at a time: a batch much shorter than a chunk, one position
     either side of a chunk's end, several chunks; on a class III group (its dense part pivots position
     by position), the six-bar press (a guide load) and the class IV group (a longer program)."""
-    from mbplanar.backends._numba_kinetostatics import CHUNKS, chunk_of
-    assert CHUNKS == (256, 128) and chunk_of(100) == 256 and chunk_of(156) == 128  # (straddled above)
+    from mbplanar.backends import _numba_kinetostatics as nk
+    monkeypatch.setattr(nk, "WORK_BYTES", 400 * 1024)  # (a 512 KiB L2 cache's, whatever this machine's)
+    assert nk.CHUNKS == (384, 320, 256, 128) and nk.chunk_of(100) == 384 and nk.chunk_of(156) == 320  # (straddled)
     for name in ("class3_triad", "six_bar_press", "class4_group"):
         mech = mbplanar.read_model(MODELS / f"{name}.toml")
         engine = mbplanar.Engine(mech)
@@ -201,3 +202,84 @@ def test_a_held_result_keeps_its_values_and_a_dropped_one_lends_its_block():
     again = kinetostatics(engine, first)
     assert id(again.reactions["B"].fx.base) == block  # (still kept by the plan: not a new array at its address)
     np.testing.assert_array_equal(again.reactions["B"].fx, fx)
+
+
+def test_work_bytes_from_the_l2_cache_size(tmp_path):
+    """The work matrix takes four fifths of the L2 cache sysfs names, 512 KiB's where it names none."""
+    from mbplanar.backends._numba_kinetostatics import _l2_bytes
+    size = tmp_path / "size"
+    for text, want in (("512K\n", 512 * 1024), ("2M", 2 * 1024 ** 2), ("1024K", 1024 ** 2), ("", 512 * 1024),
+                       ("big", 512 * 1024)):
+        size.write_text(text)
+        assert _l2_bytes(str(size)) == want
+    assert _l2_bytes(str(tmp_path / "none")) == 512 * 1024
+
+
+def test_work_matrix_starts_a_cache_line():
+    """The kernel's work matrix starts on a 64-byte line whatever numpy's allocator gives (zeros, the
+    shape asked for), and its rows stay on lines."""
+    from mbplanar.backends import _numba_kinetostatics as nk
+    for rows in (1, 7, 98, 156, 400):
+        (work,) = nk._scratch(rows)
+        assert work.shape == (rows + 2, nk.chunk_of(rows)) and not work.any() and work.flags.c_contiguous
+        assert work.ctypes.data % nk.LINE == 0 and work.strides[0] % nk.LINE == 0
+    for shape in ((3,), (5, 8), (2, 3, 4)):
+        assert nk.aligned_zeros(shape).ctypes.data % nk.LINE == 0
+
+
+def test_constant_and_repeated_load_values_are_not_written_twice():
+    """Gravity's force and zero moment are the program's constants and the centre of a link is written
+    once for its gravity and its d'Alembert load; the loads still read as numpy's, each force its own."""
+    mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, np.linspace(0.0, 2 * math.pi, 40, endpoint=False))
+    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
+    _assert_same(a, b)
+    loads = {ld.name: ld for ld in b.loads}
+    gravity, inertia = loads["G3"], loads["inertia of 3"]
+    assert np.shares_memory(gravity.point, inertia.point)
+    assert not np.shares_memory(gravity.force, inertia.force)
+    assert not np.shares_memory(gravity.force, b.reactions["B"].fx)
+    np.testing.assert_array_equal(gravity.force, np.broadcast_to(gravity.force[0], gravity.force.shape))
+    np.testing.assert_array_equal(gravity.moment, 0.0)
+
+
+def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch):
+    """The class IV group's dense part (6 moment rows) starts in the order its LU's partial pivoting
+    usually ends with (`pivot_orders`, a permutation of its rows), so the kernel's pivot steps seldom
+    swap; the pivots, and so every number, are those of the rows in the table's order."""
+    from mbplanar.backends import _numba_kinetostatics as nk
+    from mbplanar.forces._kinetostatics import pivot_orders, plan_of
+    mech = mbplanar.read_model(MODELS / "class4_group.toml")
+    phi = mbplanar.Engine(mech).phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 90, endpoint=False)
+    (ref_engine, ref), (fast_engine, fast) = _motions(mech, phi)
+    orders = pivot_orders(fast_engine, fast)
+    dense = [i for i, blk in enumerate(plan_of(fast_engine).blocks) if len(blk.rest_rows) >= 3]
+    assert dense and sorted(orders) == dense
+    assert all(sorted(orders[i]) == list(range(len(plan_of(fast_engine).blocks[i].rest_rows))) for i in dense)
+    assert any(orders[i] != tuple(range(len(orders[i]))) for i in dense)  # (the usual order is not the table's)
+    learnt = kinetostatics(fast_engine, fast)
+    monkeypatch.setattr(nk, "pivot_orders", lambda engine, motion: {})
+    plain_engine = mbplanar.Engine(mech, backend="numba")
+    plain = kinetostatics(plain_engine, mbplanar.analyse(plain_engine, phi, 2.5, -0.7))
+    for name, r in plain.reactions.items():
+        for part in ("fx", "fy", "moment"):
+            np.testing.assert_array_equal(getattr(learnt.reactions[name], part), getattr(r, part))
+    _assert_same(kinetostatics(ref_engine, ref), learnt)
+
+
+def test_the_kernel_is_looked_up_once_per_plan():
+    """A plan keeps the compiled kernel it looked up (per read-only flag of the records), calls it again
+    with the same answers, and a pickled plan leaves it behind."""
+    import pickle
+    from mbplanar.backends import _numba_kinetostatics as nk
+    from mbplanar.forces._kinetostatics import plan_of
+    mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
+    engine = mbplanar.Engine(mech, backend="numba", threads=1)
+    motion = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 1.0, 20))
+    first = kinetostatics(engine, motion).reactions["B"].fx.copy()
+    plan = nk._plan(engine, plan_of(engine), motion, True)
+    assert list(plan.entries) == [True]
+    found = plan.entries[True]
+    np.testing.assert_array_equal(kinetostatics(engine, motion).reactions["B"].fx, first)
+    assert plan.entries == {True: found}
+    assert pickle.loads(pickle.dumps(plan)).entries == {}

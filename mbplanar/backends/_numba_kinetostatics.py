@@ -12,7 +12,7 @@ of a work matrix, one row per value and one column per position of a chunk of 12
 (SIMD lanes), so the tables are read once per chunk, not once per position. The time goes with the
 rows the ops read and write, so `_Tape` reads constants from the op (not from a row of them), moves
 negations into the ops that read them, and drops what nothing reads, all without changing a rounding.
-The kernel is one small function of 26 kinds of op whatever the model, so numba compiles it once, in
+The kernel is one small function of 27 kinds of op whatever the model, so numba compiles it once, in
 about 2 s.
 
 Two things differ from numpy by rounding only: the moments are divided by the model size as a product
@@ -36,6 +36,7 @@ from . import _threads
 from ._jit import njit
 from ._tables import LOAD_FIXED, LOAD_GUIDE, LOAD_INERTIA, load_tables
 from ..kinematics._motion import _tables
+from ..forces._kinetostatics import pivot_orders
 from ..forces._loads import LoadValue, constant_parts, guide_force_size, heavy_links
 
 __all__ = ["solve"]
@@ -48,20 +49,26 @@ _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
 class _KernelPlan:
     """The kernel's program for an engine and record layout: `names`, `links` of the loads in the order
     numpy lists them; `guide_loads`, those whose size `guide_force_size` gives (the kernel's inputs 2, 3,
-    ...); `args` (ops (T, 7), constants, pivot row lists); `rows` of the work matrix, `scratch`, one
-    work matrix per thread, and `outputs`, the output blocks kept for reuse (`_output_block`)."""
+    ...); `sources` of their values, the first rows of the outputs that hold (fx, fy), (x, y) and the
+    moment (`_LoadOutputs`); `outputs_rows` of the outputs; `args` (ops (T, 7), constants, pivot row
+    lists); `rows` of the work matrix, `scratch`, one work matrix per thread, `outputs`, the output blocks
+    kept for reuse (`_output_block`), and `entries`, the compiled kernel per kind of records (`_run`)."""
 
     names: list
     links: list
     guide_loads: list
+    sources: list
+    outputs_rows: int
     args: tuple
     rows: int
     scratch: list
     outputs: list = field(default_factory=list)
+    entries: dict = field(default_factory=dict)  # the compiled `_kernel` per kind of records (`_run`)
 
     def __getstate__(self) -> dict:
-        """Pickled (with its engine) without its work and output arrays, made again as needed."""
-        return dict(self.__dict__, scratch=[], outputs=[])
+        """Pickled (with its engine) without its work and output arrays and compiled kernel, made again
+        as needed."""
+        return dict(self.__dict__, scratch=[], outputs=[], entries={})
 
 
 def _load_table(engine, inertia):
@@ -236,8 +243,8 @@ class _Tape:
         for key in [key for key, row in self._memo.items() if row == d]:
             del self._memo[key]
 
-    def out(self, code, to, a=0, b=0):
-        self.ops.append((code, to, a, b, 0, 0, 0))
+    def out(self, code, to, a=0, b=0, k=0):
+        self.ops.append((code, to, a, b, 0, 0, k))
 
     def private(self, row) -> int:
         """`row`, or a copy of it where other values may be the same row (an op writing it again
@@ -316,7 +323,7 @@ def _needed(ops, aux) -> list:
         reads = [op[f] for f in _W_FIELDS[code] if f != 1] + [aux[i] for i in _aux_rows(op)]
         if code in (FLAG, PIVOT):  # (they change row d)
             reads.append(d)
-        elif code != OUT:  # an op that only writes row d
+        elif code != OUT and code != OUTK:  # an op that only writes row d
             if d not in live:
                 continue
             live.discard(d)
@@ -374,6 +381,7 @@ CROSS = 23   # W[d] = W[a] · W[b] − W[e] · W[f]   (DOT of a negated factor, 
 GUIDE = 24   # W[d] = K[k] · (the unit against the motion: `_WHEN`[K[k + 1]]) of the joint rate W[a] turned
 #              round where ω = W[b] < 0 (`guide_force_size` of a load without a table)
 RESIDUAL = 25  # W[d] = |W[a]| / W[b], by 1 where W[b] <= 0 (the virtual-power residual, its bound)
+OUTK = 26    # out[d, b] = K[k]               (a constant output: a store, no row of W read)
 _WHEN = ("forward", "backward", "always")
 _ONE, _TWO, _THREE, _FOUR = (1, 2), (1, 2, 3), (1, 2, 3, 4), (1, 2, 3, 4, 5)
 # the ops `_Tape` computes itself on constants, as the kernel would
@@ -384,10 +392,10 @@ _FOLD = {MUL: lambda a, b: a * b, DIV: lambda a, b: a / b, MAX: lambda a, b: max
 _W_FIELDS = {GATHER: (), INPUT: (1,), SET: (1,), MUL: _TWO, DIV: _TWO, MAX: _TWO, SQRT: _ONE, ABS: _ONE,
              MSUB: _THREE, MADD: _THREE, DOT: _FOUR, LEVER: _TWO, OUT: (2,), FLAG: _ONE, PIVOT: (1,),
              ADD: _TWO, SUB: _TWO, ADDK: _ONE, KSUB: _ONE, MULK: _ONE, MADDK: _TWO, MSUBK: _TWO, DOTK: _TWO,
-             CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO}
+             CROSS: _FOUR, GUIDE: _TWO, RESIDUAL: _TWO, OUTK: ()}
 
 
-def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
+def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
     """The kernel's program for an engine, its record layout and `inertia`: (names, links and guide
     loads of the loads, the `_Tape`), numpy's formulas in numpy's order, op by op."""
     mech, lay, T = engine.mech, ks_plan.lay, _Tape()
@@ -448,6 +456,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         return T.val(GUIDE, rate, om, k=T.consts2(size, _WHEN.index(load.when)))
 
     om2 = T.mul(om, om)
+    outputs, sources = _LoadOutputs(T, n), []
     for ld in range(len(loads.link)):
         k = int(loads.link[ld])
         rx, ry = turn(k, loads.at[ld])
@@ -468,8 +477,7 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
             fx, fy, mz = T.mul(size, ux), T.mul(size, uy), T.value(loads.moment[ld])
         else:
             fx, fy, mz = T.value(loads.force[ld, 0]), T.value(loads.force[ld, 1]), T.value(loads.moment[ld])
-        for i, v in enumerate((fx, fy, px, py, mz)):
-            T.out(OUT, n + 5 * ld + i, v)
+        sources.append((outputs.of((fx, fy)), outputs.of((px, py)), outputs.of((mz,))))
         values.append((k, fx, fy, px, py, mz))
         r = lay.rows.get(k)
         if r is not None:
@@ -481,13 +489,13 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
     # the blocks, last group first (kinetostatics._solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
-    for blk in ks_plan.blocks:
-        _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular))
-    out_bad = n + 5 * len(loads.link) + 1  # the row of `bad`, the residual's before it
+    for index, blk in enumerate(ks_plan.blocks):
+        _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular), (orders or {}).get(index))
+    out_bad = outputs.top + 1  # the row of `bad`, the residual's before it
     for i in range(n):
         if lay.scale[i] != 1.0:  # (x·1 = x)
             x[i] = T.mulk(x[i], lay.scale[i])
-        T.into(FLAG, bad, x[i], k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
+    T.into(FLAG, bad, _nonfinite(T, x), k=T.consts2(-np.inf, np.finfo(float).max))  # not finite
     for i in range(n):
         T.out(OUT, i, x[i])  # (`solve` writes NaN where singular)
     T.out(OUT, out_bad, bad)
@@ -515,13 +523,49 @@ def _program(engine, ks_plan, row_dtype, inertia) -> tuple:
         total = T.val(MADD, total, term, T.value(1.0))
         bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
     T.out(OUT, out_bad - 1, T.val(RESIDUAL, total, bound))  # (relative to what the loads could do)
-    return names, links, tabled, T
+    return names, links, tabled, sources, T
 
 
-def _program_block(T, blk, feat, bvec, x, bad, min_measure):
+class _LoadOutputs:
+    """The rows of the kernel's outputs that hold the loads' values, from row `top` on. A pair (x, y)
+    or a moment is written once: a link's centre, the point of its gravity and of its d'Alembert load,
+    is one pair of rows, every zero moment one row (their arrays are views of the same rows). A value
+    the program knows as a constant (gravity's force, a zero moment) is stored by `OUTK`, without a
+    row of the work matrix to read."""
+
+    def __init__(self, T, top):
+        self.T, self.top, self.start = T, top, {}
+
+    def of(self, values) -> int:
+        """The first of the output rows of `values` (a pair or one), next to each other."""
+        known = self.T._known
+        key = tuple(("k", float(known[v]), bool(np.signbit(known[v]))) if v in known else v for v in values)
+        if key not in self.start:
+            self.start[key] = self.top
+            for v in values:
+                if v in known:
+                    self.T.out(OUTK, self.top, k=self.T.const(known[v]))
+                else:
+                    self.T.out(OUT, self.top, v)
+                self.top += 1
+        return self.start[key]
+
+
+def _nonfinite(T, values) -> int:
+    """A row that is 0 where every one of `values` is finite and NaN where one is not: the sum of
+    x·0 (±0 for a finite x, NaN for an infinity or a NaN). One multiply-add per value, where a FLAG per
+    value (a select, read and written again) cost about twice as much."""
+    acc = T.mulk(values[0], 0.0)
+    for v in values[1:]:
+        acc = T.val(MADD, acc, v, T.value(0.0))
+    return acc
+
+
+def _program_block(T, blk, feat, bvec, x, bad, min_measure, order=None):
     """One block of `kinetostatics._solve_block`: its entries, the constant pivots eliminated, the rest
     solved densely, the back-substitution into x (rows of the unknowns), and `bad` marked where its
-    measure |det| / Π‖row‖ is not above `min_measure`."""
+    measure |det| / Π‖row‖ is not above `min_measure`. `order`: the order the dense part's rows start
+    in for its LU (`kinetostatics.pivot_orders`; only |det| is read, so a reordering's sign is not)."""
     rows = [bvec[r] for r in blk.rows]  # the right side
     slot, norm = defaultdict(lambda: T.value(0.0)), [None] * len(blk.rows)  # (fill-in starts at 0)
     for i, j, f, coef in blk.entries:
@@ -556,6 +600,8 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure):
         x[own[blk.rest_cols[1]]] = T.val(DOT, i10, r[0], i11, r[1])
         det = T.val(MUL, det, d)
     elif nr:  # LU with partial pivoting (_linalg.lu_factor), each position its own pivot rows
+        if order is not None:
+            a, r = [a[i] for i in order], [r[i] for i in order]
         a = [[T.private(v) for v in row] for row in a]  # (the pivots swap them in place)
         r, det = [T.private(v) for v in r], T.private(det)
         for k in range(nr):
@@ -595,28 +641,69 @@ def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key not in cache:
-        names, links, guides, tape = _program(engine, ks_plan, row_dtype, inertia)
+        dense = any(len(blk.rest_rows) >= 3 for blk in ks_plan.blocks)
+        orders = pivot_orders(engine, _sample(engine, motion)) if dense else {}
+        names, links, guides, sources, tape = _program(engine, ks_plan, row_dtype, inertia, orders)
         ops, consts, aux, rows = tape.finish()
-        cache[key] = _KernelPlan(names, links, guides, (ops, consts, aux), rows, [])
+        top = max(int(op[1]) for op in ops if op[0] in (OUT, OUTK)) + 1  # (the output rows)
+        cache[key] = _KernelPlan(names, links, guides, sources, top, (ops, consts, aux), rows, [])
     return cache[key]
 
 
+def _sample(engine, motion, size=32):
+    """The positions of up to `size` of the motion's input values, evenly spread (to learn the dense
+    parts' pivot orders from: `pivot_orders`)."""
+    from ..kinematics import analyse
+    phi = motion.phi[np.unique(np.linspace(0, len(motion.phi) - 1, size).astype(int))]
+    return analyse(engine, phi)
+
+
 #: positions the kernel takes at once (each op of the program runs over them in an inner loop): the
-#: longest that keeps the work matrix within `WORK_BYTES`, half the core's L2 cache, else the last
-CHUNKS = (256, 128)
-WORK_BYTES = 256 * 1024
+#: longest whose work matrix fits `WORK_BYTES`, else the last; all multiples of 8 (rows on cache lines)
+CHUNKS = (384, 320, 256, 128)
+
+
+def _l2_bytes(path="/sys/devices/system/cpu/cpu0/cache/index2/size") -> int:
+    """The size of a core's L2 cache (Linux's sysfs; 512 KiB where it does not say)."""
+    try:
+        with open(path, encoding="ascii") as f:
+            text = f.read().strip()
+        return int(text[:-1]) * {"K": 1024, "M": 1024 ** 2}[text[-1]]
+    except (OSError, ValueError, KeyError, IndexError):
+        return 512 * 1024
+
+
+#: bytes of the work matrix: four fifths of the core's L2 cache (at 512 KiB: the class IV group's
+#: kernel 7 % faster at 320 positions (400 KiB) than at 128, the six-bar press's 2 % at 384 than at 256)
+WORK_BYTES = _l2_bytes() * 4 // 5
 
 
 def chunk_of(rows: int) -> int:
     """Positions per chunk for a work matrix of `rows` rows (`CHUNKS`): a longer chunk runs each op's
-    loop over more positions for one dispatch (the six-bar press's kernel about 9 % faster at 256 than
-    at 128), until the matrix crowds the L2 cache."""
+    loop over more positions for one dispatch, until the matrix crowds the L2 cache."""
     return next((c for c in CHUNKS if rows * c * 8 <= WORK_BYTES), CHUNKS[-1])
 
 
 def _scratch(rows: int) -> tuple:
-    """Work arrays of `_kernel`: the work matrix (rows, `chunk_of(rows)`)."""
-    return (np.zeros((rows, chunk_of(rows))),)
+    """Work arrays of `_kernel`: the work matrix (rows + 2, `chunk_of(rows)`), on a cache line
+    (`aligned_zeros`); its last two rows are PIVOT's (the largest entry so far, and its row)."""
+    return (aligned_zeros((rows + 2, chunk_of(rows))),)
+
+
+#: bytes of a cache line, where the work matrix starts
+LINE = 64
+
+
+def aligned_zeros(shape) -> np.ndarray:
+    """Zeros of `shape` whose first element starts a cache line (`LINE`). The kernel's loops load and
+    store the rows of its work matrix 32 bytes at a time, and numpy's allocator aligns an array to 16
+    bytes only: a matrix 16 bytes off a line makes every other access straddle two lines, and the kernel
+    ran 14-15 % slower (six-bar press, class IV group; which of the two a process got was chance).
+    The rows stay on lines as `chunk_of` gives multiples of 8 positions."""
+    size = int(np.prod(shape))
+    block = np.zeros(size + LINE // 8)
+    start = (-block.ctypes.data % LINE) // 8
+    return block[start:start + size].reshape(shape)
 
 
 #: output blocks a plan keeps for reuse
@@ -657,25 +744,36 @@ def solve(engine, motion, ks_plan, inertia=True):
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
     rows = motion.rows
     plan = _plan(engine, ks_plan, motion, inertia)
-    batch, n, n_loads = len(rows), ks_plan.lay.size, len(plan.names)
+    batch, n = len(rows), ks_plan.lay.size
     inputs = np.empty((2 + len(plan.guide_loads), batch))
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(plan.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    out = _output_block(plan, (n + 5 * n_loads + 2, batch))  # x, the loads (fx, fy, x, y, moment), residual, bad
+    out = _output_block(plan, (plan.outputs_rows, batch))  # x, the loads' values (`sources`), residual, bad
     row = rows.view(np.float64).reshape(batch, -1)
     parts = _threads.chunks(batch, engine.threads)
     work = _threads.work_arrays(plan.scratch, lambda: _scratch(plan.rows), len(parts))
-    _threads.run([lambda p=p, w=w: _kernel(p.start, p.stop, *plan.args, row, inputs, out, *w)
+    _threads.run([lambda p=p, w=w: _run(plan, (p.start, p.stop, *plan.args, row, inputs, out, *w))
                   for p, w in zip(parts, work)])
-    loads = out[n:n + 5 * n_loads].reshape(n_loads, 5, batch)
-    values = [LoadValue(name, k, loads[i, 0:2].T, loads[i, 2:4].T, loads[i, 4])
-              for i, (name, k) in enumerate(zip(plan.names, plan.links))]
+    values = [LoadValue(name, k, out[f:f + 2].T, out[p:p + 2].T, out[m])
+              for name, k, (f, p, m) in zip(plan.names, plan.links, plan.sources)]
     x, residual, singular = out[:n], out[-2], out[-1] != 0.0
     if singular.any():
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
     return x, singular, residual, values
+
+
+def _run(plan, args) -> None:
+    """`_kernel(*args)`. The first call of a plan looks the compiled function up for the arguments' types
+    (`_jit.Kernel.entry`, about 7 µs a call); later calls pass the same types (the plan's program, and
+    C-contiguous float64 arrays made here, of fixed dimensions) but for the records, which may be
+    read-only, so the function is kept per that flag and called directly."""
+    writeable = args[5].flags.writeable
+    entry = plan.entries.get(writeable)
+    if entry is None:
+        entry = plan.entries[writeable] = _kernel.entry(args)
+    entry(*args)
 
 
 # -- kernel -------------------------------------------------------------------------------------------
@@ -779,13 +877,24 @@ def _kernel(start, stop, ops, K, aux, row, inputs, out, W):
             elif code == 25:  # RESIDUAL
                 for c in range(nc):
                     Wd[c] = abs(Wa[c]) / (Wb[c] if Wb[c] > 0 else 1.0)
-            else:  # PIVOT
-                w = b + 1
+            elif code == 26:  # OUTK
                 for c in range(nc):
-                    p, big = 0, abs(W[aux[a], c])
-                    for i in range(1, b):
-                        if abs(W[aux[a + i * w], c]) > big:
-                            p, big = i, abs(W[aux[a + i * w], c])
+                    out[d, b0 + c] = k0
+            else:  # PIVOT: the search row by row over the chunk (selects: the loops vectorise), then the swaps
+                w = b + 1
+                big, at = W[W.shape[0] - 2], W[W.shape[0] - 1]  # (the two rows past the program's)
+                first = W[aux[a]]
+                for c in range(nc):
+                    big[c], at[c] = abs(first[c]), 0.0
+                for i in range(1, b):
+                    Wi, fi = W[aux[a + i * w]], float(i)
+                    for c in range(nc):
+                        v = abs(Wi[c])
+                        larger = v > big[c]
+                        big[c] = v if larger else big[c]
+                        at[c] = fi if larger else at[c]
+                for c in range(nc):
+                    p = int(at[c])
                     if p:
                         for j in range(w):
                             s, t = aux[a + j], aux[a + p * w + j]

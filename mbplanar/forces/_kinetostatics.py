@@ -385,9 +385,10 @@ def _eliminate(table, live, i, j, update):
     return out
 
 
-def _solve_block(blk: _Block, features, b, x):
+def _solve_block(blk: _Block, features, b, x, perms: list | None = None):
     """Solve one block into x (n, B) (batch last), the earlier columns known; returns its singularity
-    measure (B,): |det| / Π‖row‖ (Hadamard's ratio, 1 for orthogonal rows, 0 when singular)."""
+    measure (B,): |det| / Π‖row‖ (Hadamard's ratio, 1 for orthogonal rows, 0 when singular). `perms`:
+    a list that gets the row order (n, B) its dense part's LU ended with, where it has one."""
     table = [{} for _ in blk.rows]
     for i, j, f, coef in blk.entries:
         table[i][j] = coef if f == 0 else coef * features[f]
@@ -412,6 +413,8 @@ def _solve_block(blk: _Block, features, b, x):
             for q, j in enumerate(blk.rest_cols):
                 a[p, q] = table[i].get(j, 0.0)
         f = factor(a)
+        if perms is not None and hasattr(f, "perm"):
+            perms.append(f.perm)
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
             x[own[blk.rest_cols]] = f.solve(np.array([rhs[i] for i in blk.rest_rows]))
         det = det * f.det
@@ -448,6 +451,27 @@ def _features(engine, motion, plan):
         uy[:] = s * u0[:, 0, None] + c * u0[:, 1, None]
         for k, (g, j) in enumerate(plan.p_inputs):
             out[base + 2 * n_guides + k] = lever_x[j] * uy[g] - lever_y[j] * ux[g]
+    return out
+
+
+def pivot_orders(engine, motion) -> dict:
+    """Per block whose dense part LU factorises (3 rows or more; index in `plan_of(engine).blocks`): the
+    order of its `rest_rows` that partial pivoting ended with at most of the positions of `motion` (a
+    tuple; the row of the first pivot first). Pivoting depends on the matrix alone, not on the loads.
+    The compiled kinetostatics lists the rows in this order, so that its pivot steps seldom swap rows:
+    partial pivoting chooses the same pivots whatever order the rows start in (but for ties), so the
+    numbers do not change."""
+    plan = plan_of(engine)
+    batch = len(motion.phi)
+    features, zero = _features(engine, motion, plan), np.zeros((plan.lay.size, batch))
+    x, out = np.zeros((plan.lay.size, batch)), {}
+    for i, blk in enumerate(plan.blocks):
+        perms = []
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            _solve_block(blk, features, zero, x, perms)
+        if perms and batch:
+            orders, counts = np.unique(perms[0].T, axis=0, return_counts=True)
+            out[i] = tuple(int(v) for v in orders[np.argmax(counts)])
     return out
 
 
