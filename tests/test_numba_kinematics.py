@@ -60,10 +60,8 @@ def _assert_same(ref, fast, size, rate_tol=1e-8):
         x, y = ref.frames[name], fast.frames[name]
         scale = 1.0 + np.max(np.abs(x), axis=tuple(range(1, x.ndim)), keepdims=True)
         np.testing.assert_allclose(y / scale, x / scale, rtol=0, atol=rate_tol, err_msg=f"frames[{name}]")
-    # the same links without a centre (ω = 0), except where ω is a rounding from 0 in either path (a
-    # centre ~1e16 sizes away, or none: the cos and sin of the kernel are turned, not called)
-    turning = np.abs(ref.w) > 1e-12 * (1.0 + np.abs(ref.w).max(initial=0.0))
-    assert np.array_equal(np.isfinite(ref.ic)[turning], np.isfinite(fast.ic)[turning])
+    finite = np.isfinite(ref.ic)
+    assert np.array_equal(finite, np.isfinite(fast.ic))
 
 
 @pytest.mark.parametrize("name", sorted(p.stem for p in linkage_models()))
@@ -196,33 +194,17 @@ def test_asked_points_and_positions_only_same_as_numpy(name):
 
 
 def test_differences_are_numpys_batch_coupling():
-    """Where the compiled kernel and numpy's batch differ (jansen: ~1e-12), the kernel gives what numpy
-    gives for that position alone, to the roundings of its turned cos and sin (`_numba_blocks._turned`):
-    a hundred times closer than to the batch."""
+    """Where the compiled kernel and numpy's batch differ (jansen: ~1e-12), the kernel gives exactly what
+    numpy gives for that position alone."""
     ref_engine, fast_engine = _pair(mbplanar.read_model(MODELS / "jansen.toml"))
     phi = ref_engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 361)
     ref, fast = mbplanar.analyse(ref_engine, phi, rates=False), mbplanar.analyse(fast_engine, phi, rates=False)
-    apart = np.abs(ref.angle - fast.angle).max(axis=1)
-    for row in np.argsort(apart)[-3:]:
+    worst = np.argsort(np.abs(ref.angle - fast.angle).max(axis=1))[-3:]
+    for row in worst:
         alone = mbplanar.analyse(ref_engine, phi[row:row + 1], rates=False)
-        near = max(np.abs(fast.angle[row] - alone.angle[0]).max(), np.abs(fast.xy[row] - alone.xy[0]).max() / ref_engine.size)
-        assert near <= 1e-14 and near <= apart[row] / 100, (near, apart[row])
+        np.testing.assert_array_equal(fast.angle[row], alone.angle[0])
+        np.testing.assert_array_equal(fast.xy[row], alone.xy[0])
 
-
-@pytest.mark.parametrize("name", ["fourbar", "crank_slider_rocker_locking", "shaper", "class4_group"])
-def test_positions_only_take_the_positions_of_the_full_solve(name):
-    """Positions only, a block converged after a tiny Newton step is accepted without the Jacobian that
-    confirms it: it accepts the same positions, bit for bit, as the solve with rates (which forms it), up
-    to a motion limit (crank_slider_rocker_locking) where the pivots fall and the full checks run, and
-    equal to numpy's to 1e-11 of the size."""
-    ref_engine, fast_engine, phi = _model_sweep(name, 361)
-    only, full = mbplanar.analyse(fast_engine, phi, rates=False), mbplanar.analyse(fast_engine, phi)
-    ref = mbplanar.analyse(ref_engine, phi, rates=False)
-    assert _compiled(only) and _compiled(full)
-    np.testing.assert_array_equal(only.angle, full.angle)
-    np.testing.assert_array_equal(only.xy, full.xy)
-    np.testing.assert_allclose(only.xy, ref.xy, rtol=0, atol=1e-11 * ref_engine.size)
-    assert [lim.phi[0] for lim in only.limits] == [lim.phi[0] for lim in ref.limits]
 
 
 def test_positions_only_write_no_records_and_give_joint_values_when_read():

@@ -12,7 +12,7 @@ import numpy as np
 
 from ._jit import njit
 
-__all__ = ["_part", "_place", "_angle", "_turned", "_pose_at", "_slide", "_closure", "_lu", "_lu_solve", "_interval"]
+__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
@@ -30,69 +30,26 @@ _part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True,
 @_part
 def _place(k, steps, q, q_in, ps, sc):
     """Place the child of tree step k; caches rho_parent, rho_child (R) or u, q (P) in sc[k]."""
-    if steps.prismatic[k]:
-        _slide(k, steps, q, q_in, ps, sc)
-        return
-    t = _angle(k, steps, q, q_in, ps)
-    _pose_at(k, steps, ps, sc, t, np.cos(t), np.sin(t))
-
-
-@_part
-def _turned(t, ps, child):
-    """cos t and sin t of link `child` (angle t) by turning its anchor: the nearest multiple a of
-    1/32 rad (exact in floating point, and so is δ = t − a, |δ| ≤ 1/64), whose cos and sin are computed
-    once and kept in ps[5:8, child] (a, cos a, sin a) while the link stays near it; cos δ and sin δ by
-    their series (the first terms left out, δ⁸/8! and δ⁹/9!, below 1e-19). A pure function of t, so
-    the answer does not depend on the positions solved before (or on the threads); it differs from
-    cos t and sin t by a rounding or two (the rotation's products). Saves the two calls of libm per
-    placement that cost most of a small block's Newton iteration."""
-    a = np.floor(t * 32.0 + 0.5) * 0.03125
-    if a != ps[5, child]:
-        ps[5, child], ps[6, child], ps[7, child] = a, np.cos(a), np.sin(a)
-    d = t - a
-    d2 = d * d
-    cd = 1.0 - d2 * (0.5 - d2 * ((1.0 / 24.0) - d2 * (1.0 / 720.0)))
-    sd = d * (1.0 - d2 * ((1.0 / 6.0) - d2 * ((1.0 / 120.0) - d2 * (1.0 / 5040.0))))
-    c0, s0 = ps[6, child], ps[7, child]
-    return c0 * cd - s0 * sd, s0 * cd + c0 * sd
-
-
-@_part
-def _angle(k, steps, q, q_in, ps):
-    """The angle of revolute step k's child: its unknown or input, relative to the parent's angle for a
-    relative input."""
-    var = steps.var[k]
-    value = q[var] if var >= 0 else steps.sign[k] * q_in
-    return ps[0, steps.parent[k]] + value if steps.relative[k] else value
-
-
-@_part
-def _pose_at(k, steps, ps, sc, t, cc, ss):
-    """Revolute step k's child at angle t (cos cc, sin ss): its frame origin from the parent's, and the
-    cached joint vectors rho_parent, rho_child in sc[k]."""
-    parent, child = steps.parent[k], steps.child[k]
-    cp, sp = ps[1, parent], ps[2, parent]
-    s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
-    rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
-    ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
-    rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
-    ps[3, child] = ps[3, parent] + rpx - rcx
-    ps[4, child] = ps[4, parent] + rpy - rcy
-    sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
-
-
-@_part
-def _slide(k, steps, q, q_in, ps, sc):
-    """Place the child of prismatic step k (the parent's frame moved along the guide); caches u, q in sc[k]."""
-    parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
+    parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
     value = q[var] if var >= 0 else steps.sign[k] * q_in
     cp, sp = ps[1, parent], ps[2, parent]
-    sign = steps.carrier[k]
-    ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
-    ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
-    ps[3, child] = ps[3, parent] + (sign * value) * ux
-    ps[4, child] = ps[4, parent] + (sign * value) * uy
-    sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
+    if not steps.prismatic[k]:
+        s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
+        rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
+        t = ps[0, parent] + value if rel else value
+        cc, ss = np.cos(t), np.sin(t)
+        ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
+        rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
+        ps[3, child] = ps[3, parent] + rpx - rcx
+        ps[4, child] = ps[4, parent] + rpy - rcy
+        sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
+    else:
+        sign = steps.carrier[k]
+        ux, uy = cp * steps.u0[k, 0] - sp * steps.u0[k, 1], sp * steps.u0[k, 0] + cp * steps.u0[k, 1]
+        ps[0, child], ps[1, child], ps[2, child] = ps[0, parent], cp, sp
+        ps[3, child] = ps[3, parent] + (sign * value) * ux
+        ps[4, child] = ps[4, parent] + (sign * value) * uy
+        sc[k, 0], sc[k, 1], sc[k, 4] = ux, uy, value
 
 
 @_part

@@ -36,7 +36,7 @@ import numpy as np
 
 from . import _threads
 from ._jit import _stamp_cache_with_kernel_sources
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place, _pose_at
+from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place
 from ._tables import kinematics_tables
 from ..engine._nodes import HERMITE5
 from ..kinematics._motion import _tables
@@ -566,7 +566,7 @@ def _turn(k, steps, q, q_in, ps, sc):
     sd = delta * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0)
                                                                          * (1.0 - d2 * (1.0 / 72.0)))))
     c0, s0 = ps[6, child], ps[7, child]
-    _pose_at(k, steps, ps, sc, t, c0 * cd - s0 * sd, s0 * cd + c0 * sd)
+    _pose_at(k, steps, ps, sc, parent, child, t, c0 * cd - s0 * sd, s0 * cd + c0 * sd)
 
 
 @_inline
@@ -585,8 +585,22 @@ def _nudge(k, steps, q, q_in, ps, sc):
     if not abs(eps) < NUDGE:
         return False
     c0, s0 = ps[1, child], ps[2, child]
-    _pose_at(k, steps, ps, sc, t, c0 - eps * s0, s0 + eps * c0)
+    _pose_at(k, steps, ps, sc, parent, child, t, c0 - eps * s0, s0 + eps * c0)
     return True
+
+
+@_inline
+def _pose_at(k, steps, ps, sc, parent, child, t, cc, ss):
+    """Step k's child at angle t (cos cc, sin ss): its frame origin from the parent's, and the cached
+    joint vectors in sc[k]."""
+    cp, sp = ps[1, parent], ps[2, parent]
+    s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
+    rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
+    ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
+    rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
+    ps[3, child] = ps[3, parent] + rpx - rcx
+    ps[4, child] = ps[4, parent] + rpy - rcy
+    sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3] = rpx, rpy, rcx, rcy
 
 
 @_jit

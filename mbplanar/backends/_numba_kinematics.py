@@ -28,7 +28,7 @@ import numpy as np
 
 from . import _threads
 from ._jit import njit
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _angle, _place, _pose_at, _turned  # (LLVM inlines these)
+from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ._tables import kinematics_tables
 from ..engine._atlas import _in_brackets
 
@@ -107,10 +107,10 @@ def record_dtype(engine, joint_table, rates: bool) -> np.dtype:
 
 
 def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
-    """Work arrays of `_sweep`: pose (8, L), rates (slots, 3, L), step and cut caches, unknowns and
+    """Work arrays of `_sweep`: pose (5, L), rates (slots, 3, L), step and cut caches, unknowns and
     their guesses, a block's Jacobian with its row permutation, and four vectors of a block's size."""
     vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
-    return (np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
+    return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
             np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
             np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))  # res, col, sol, qd_u
 
@@ -227,24 +227,9 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
 # atomic increments on every array passed or aliased would cost more than the arithmetic): nothing is
 # allocated here, the caller passes every work array (`_scratch`).
-# Pose ps (8, L): θ, cos θ, sin θ, r_x, r_y per link, and the anchor a, cos a, sin a its cos θ and sin θ
-# are turned from (`_numba_blocks._turned`). Rates rt (slots, 3, L): ω, v_x, v_y per link;
+# Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
 # slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
 _jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
-LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which positions only keep the last Jacobian (`_sweep`)
-
-
-@_jit
-def _accepted(q, guess, var0, m, var_scale, max_correction, det, node_sign):
-    """The checks of `atlas.solve_along` on a block solved on the branch: its Jacobian's determinant
-    nonzero, finite and of the sign of the atlas node's, and no unknown corrected by more than
-    `max_correction` (scaled) from its prediction."""
-    if not (det != 0.0 and np.isfinite(det)) or (det > 0) != (node_sign > 0):
-        return False
-    for i in range(m):
-        if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
-            return False
-    return True
 
 
 @_jit
@@ -252,18 +237,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
            ep_any, rates, p_link, p_at, offsets, angle, xy, w_out, e_out, v_out, a_out, rows, valid,
            ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
-    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache).
-
-    Two savings on the engine's arithmetic, neither changing what is accepted. Every revolute link's cos
-    and sin are turned from its anchor (`_numba_blocks._turned`, a rounding or two from libm's); a
-    position with a block whose pivot ratio is below `pivot_polish` is solved again with libm's, as
-    numpy has them, since near a singular position the rates magnify every rounding of the pose. And
-    positions only (no rates), a block that converges after a Newton step of at most `LAZY_STEP`
-    (scaled) from a Jacobian whose pivot ratio is at least twice `pivot_polish` is accepted on its
-    residual alone: the Jacobian at the new point, which numpy forms to confirm it, cannot differ from
-    the last one by more than that step moves it (~1e-6 relative against a ratio of 0.1 or more: the
-    same determinant sign, the same side of every threshold); the checks (`_accepted`) take the last
-    one's determinant."""
+    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
     closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
         tol[0], int(tol[1]), tol[2], tol[3], tol[4])
     n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
@@ -271,7 +245,6 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
     vel, acc = len(rt) - 2, len(rt) - 1
     for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
-        ps[5, l], ps[6, l], ps[7, l] = np.nan, np.nan, np.nan  # (no anchor yet)
         for sl in range(len(rt)):
             rt[sl, 0, l], rt[sl, 1, l], rt[sl, 2, l] = 0.0, 0.0, 0.0
     lo, lo_inv, inv = 0, -1, 1.0
@@ -303,208 +276,184 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
             q[i] = value
             guess[i] = value
         q_in = sense * (xb - phi_drawn)
-        exact = False  # libm's cos and sin, not turned ones: set where a block is near singular
-        while True:  # (a second time only for such a position)
-            restart = False
-            for bk in range(n_blocks):
-                k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
-                var0, m = blocks.var0[bk], blocks.m[bk]
-                # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
-                # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
-                phase, it, polished, err, finite = 0, 0, False, 0.0, True
-                det, ratio, inverted, settled = 1.0, 1.0, False, False
-                while True:
-                    if phase == 0:
-                        for k in range(k0, k1):  # place the child of tree step k (Revolute/Prismatic.place)
-                            if exact or steps.prismatic[k]:
-                                _place(k, steps, q, q_in, ps, sc)
-                            else:  # (cos and sin turned from the link's anchor)
-                                th = _angle(k, steps, q, q_in, ps)
-                                c_, s_ = _turned(th, ps, steps.child[k])
-                                _pose_at(k, steps, ps, sc, th, c_, s_)
-                        if m == 0:
-                            if not rates:
-                                break
-                            phase = 1
-                        else:
-                            err, finite = 0.0, True
-                            for k in range(c0, c1):  # closure rows of cut k (Revolute/Prismatic.closure)
-                                _closure(k, cuts, ps, cc, res, 2 * (k - c0))
-                            for i in range(m):
-                                r = abs(res[i]) * row_scale[var0 + i]
-                                finite = finite and np.isfinite(r)
-                                err = max(err, r)
-                            if settled and err < closure and finite:
-                                # positions only, converged after a step at the rounding floor (`LAZY_STEP`):
-                                # the Jacobian here would only confirm what the last one gave (see `_sweep`)
-                                if not _accepted(q, guess, var0, m, var_scale, max_correction, det, signs[near, bk]):
-                                    return 1
-                                break
-                    # the rate passes, step by step: the sensitivities to each unknown (slots 0 … m − 1, the
-                    # Jacobian's columns), or the velocities, or the accelerations (with the velocities' terms)
-                    s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
-                    s_hi = m if phase == 0 else s_lo + 1
-                    if phase == 0:
-                        for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed, moved by an earlier block
-                            link = blocks.anchors[t_]
-                            for sl in range(m):
-                                rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
-                    for k in range(k0, k1):  # (Revolute/Prismatic.place_rates)
-                        parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
-                        if var >= 0:
-                            qd, qv = 0.0, (qd_u[var - var0] if phase == 2 else 0.0)
-                        else:
-                            qd, qv = steps.sign[k] * (sense if phase == 1 else 0.0), steps.sign[k] * sense
-                        sign, rpx, rpy, rcx, rcy = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
-                        qq = sc[k, 4]  # (prismatic: the guide's direction in rpx, rpy, the displacement in qq)
-                        prismatic, relative = steps.prismatic[k], steps.relative[k]
-                        wvp = rt[vel, 0, parent]
-                        wvc = rt[vel, 0, child]
-                        for sl in range(s_lo, s_hi):
-                            if phase == 0 and var >= 0:
-                                qd = 1.0 if var - var0 == sl else 0.0
-                            wp, vpx, vpy = rt[sl, 0, parent], rt[sl, 1, parent], rt[sl, 2, parent]
-                            if not prismatic:
-                                wc = qd + wp if relative else qd
-                                cx = vpx + wp * -rpy - wc * -rcy
-                                cy = vpy + wp * rpx - wc * rcx
-                                if phase == 2:
-                                    cx = cx - (wvp * wvp) * rpx + (wvc * wvc) * rcx
-                                    cy = cy - (wvp * wvp) * rpy + (wvc * wvc) * rcy
-                            else:
-                                wc = wp
-                                cx = vpx + sign * (qd * rpx + (qq * wp) * -rpy)
-                                cy = vpy + sign * (qd * rpy + (qq * wp) * rpx)
-                                if phase == 2:
-                                    cx = cx + sign * ((2 * qv * wvp) * -rpy - (qq * wvp * wvp) * rpx)
-                                    cy = cy + sign * ((2 * qv * wvp) * rpx - (qq * wvp * wvp) * rpy)
-                            rt[sl, 0, child], rt[sl, 1, child], rt[sl, 2, child] = wc, cx, cy
-                    for k in range(c0, c1):  # the closure's rates (Revolute/Prismatic.closure_rates)
-                        row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
-                        rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
-                        nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
-                        prismatic = cuts.prismatic[k]
-                        wva, wvb = rt[vel, 0, a], rt[vel, 0, bb]
-                        for sl in range(s_lo, s_hi):
-                            wa, wb = rt[sl, 0, a], rt[sl, 0, bb]
-                            if not prismatic:
-                                ox = rt[sl, 1, a] + wa * -ray - rt[sl, 1, bb] - wb * -rby
-                                oy = rt[sl, 2, a] + wa * rax - rt[sl, 2, bb] - wb * rbx
-                                if phase == 2:
-                                    ox = ox - (wva * wva) * rax + (wvb * wvb) * rbx
-                                    oy = oy - (wva * wva) * ray + (wvb * wvb) * rby
-                            else:  # a carrier, bb slider
-                                drx = rt[sl, 1, bb] + wb * -rby - rt[sl, 1, a] - wa * -ray
-                                dry = rt[sl, 2, bb] + wb * rbx - rt[sl, 2, a] - wa * rax
-                                ox, oy = wb - wa, drx * nx + dry * ny + wa * pnd
-                                if phase == 2:
-                                    dvx = rt[vel, 1, bb] + wvb * -rby - rt[vel, 1, a] - wva * -ray
-                                    dvy = rt[vel, 2, bb] + wvb * rbx - rt[vel, 2, a] - wva * rax
-                                    bx = -(wvb * wvb) * rbx + (wva * wva) * rax
-                                    by = -(wvb * wvb) * rby + (wva * wva) * ray
-                                    oy += -(wva * wva) * (nx * dx + ny * dy) + 2 * wva * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
-                            if phase == 0:
-                                jac[row, sl], jac[row + 1, sl] = ox, oy
-                            else:
-                                col[row], col[row + 1] = ox, oy
-                    if phase == 0:
-                        # the Jacobian made dimensionless (BlockSolver's ScaledLU); its determinant and pivot
-                        # ratio as _linalg.factor has them: explicit inverse up to 2 × 2 (made when a solve
-                        # needs it), else LU
-                        for i in range(m):
-                            for j in range(m):
-                                jac[i, j] = jac[i, j] * row_scale[var0 + i]
-                                if var_scale[var0 + j] != 1.0:
-                                    jac[i, j] = jac[i, j] / var_scale[var0 + j]
-                        inverted = False
-                        if m == 1:
-                            det = jac[0, 0]
-                            ratio = abs(det) / max(abs(det), 1e-300)
-                        elif m == 2:
-                            det = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
-                            first = max(abs(jac[0, 0]), abs(jac[1, 0]))
-                            p0, p1 = abs(first), abs(det / first)
-                            ratio = min(p0, p1) / max(max(p0, p1), 1e-300)
-                        else:
-                            det, ratio = _lu(jac, m, perm)
-                        if ratio < pivot_polish and not exact:
-                            # near a singular position, where the rates magnify every rounding of the pose,
-                            # the position is solved again with the cos and sin numpy takes (`_turned`)
-                            restart = True
+        for bk in range(n_blocks):
+            k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
+            var0, m = blocks.var0[bk], blocks.m[bk]
+            # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
+            # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
+            phase, it, polished, err, finite = 0, 0, False, 0.0, True
+            det, ratio, inverted = 1.0, 1.0, False
+            while True:
+                if phase == 0:
+                    for k in range(k0, k1):  # place the child of tree step k (Revolute/Prismatic.place)
+                        _place(k, steps, q, q_in, ps, sc)
+                    if m == 0:
+                        if not rates:
                             break
-                        ok = err < closure and finite
-                        done = False
-                        if ok and not polished:
-                            # near a singular position one more step, as BlockSolver.newton does
-                            polished = True
-                            done = ratio >= pivot_polish or ratio < pivot_cross * 1e3
-                        elif ok or it == max_newton:
-                            done = True
-                        if done:  # the checks of atlas.solve_along; a position failing one goes to numpy
-                            if not (ok and _accepted(q, guess, var0, m, var_scale, max_correction, det,
-                                                     signs[near, bk])):
-                                return 1
-                            if not rates:
-                                break
-                            phase = 1
-                            continue
-                        rhs = res
-                    elif m == 0:
-                        phase += 1
-                        if phase == 3:
-                            break
-                        continue
+                        phase = 1
                     else:
-                        rhs = col
-                    # sol = J⁻¹ (−rhs): the Newton step, or the unknowns' rates (ScaledLU.solve)
-                    if m <= 2 and not inverted:
-                        inverted = True
-                        if m == 1:
-                            jac[0, 0] = 1.0 / det
+                        err, finite = 0.0, True
+                        for k in range(c0, c1):  # closure rows of cut k (Revolute/Prismatic.closure)
+                            _closure(k, cuts, ps, cc, res, 2 * (k - c0))
+                        for i in range(m):
+                            r = abs(res[i]) * row_scale[var0 + i]
+                            finite = finite and np.isfinite(r)
+                            err = max(err, r)
+                # the rate passes, step by step: the sensitivities to each unknown (slots 0 … m − 1, the
+                # Jacobian's columns), or the velocities, or the accelerations (with the velocities' terms)
+                s_lo = 0 if phase == 0 else (vel if phase == 1 else acc)
+                s_hi = m if phase == 0 else s_lo + 1
+                if phase == 0:
+                    for t_ in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # read, not placed, moved by an earlier block
+                        link = blocks.anchors[t_]
+                        for sl in range(m):
+                            rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
+                for k in range(k0, k1):  # (Revolute/Prismatic.place_rates)
+                    parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
+                    if var >= 0:
+                        qd, qv = 0.0, (qd_u[var - var0] if phase == 2 else 0.0)
+                    else:
+                        qd, qv = steps.sign[k] * (sense if phase == 1 else 0.0), steps.sign[k] * sense
+                    sign, rpx, rpy, rcx, rcy = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
+                    qq = sc[k, 4]  # (prismatic: the guide's direction in rpx, rpy, the displacement in qq)
+                    prismatic, relative = steps.prismatic[k], steps.relative[k]
+                    wvp = rt[vel, 0, parent]
+                    wvc = rt[vel, 0, child]
+                    for sl in range(s_lo, s_hi):
+                        if phase == 0 and var >= 0:
+                            qd = 1.0 if var - var0 == sl else 0.0
+                        wp, vpx, vpy = rt[sl, 0, parent], rt[sl, 1, parent], rt[sl, 2, parent]
+                        if not prismatic:
+                            wc = qd + wp if relative else qd
+                            cx = vpx + wp * -rpy - wc * -rcy
+                            cy = vpy + wp * rpx - wc * rcx
+                            if phase == 2:
+                                cx = cx - (wvp * wvp) * rpx + (wvc * wvc) * rcx
+                                cy = cy - (wvp * wvp) * rpy + (wvc * wvc) * rcy
                         else:
-                            a00, a01, a10, a11 = jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1]
-                            jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1] = a11 / det, -a01 / det, -a10 / det, a00 / det
+                            wc = wp
+                            cx = vpx + sign * (qd * rpx + (qq * wp) * -rpy)
+                            cy = vpy + sign * (qd * rpy + (qq * wp) * rpx)
+                            if phase == 2:
+                                cx = cx + sign * ((2 * qv * wvp) * -rpy - (qq * wvp * wvp) * rpx)
+                                cy = cy + sign * ((2 * qv * wvp) * rpx - (qq * wvp * wvp) * rpy)
+                        rt[sl, 0, child], rt[sl, 1, child], rt[sl, 2, child] = wc, cx, cy
+                for k in range(c0, c1):  # the closure's rates (Revolute/Prismatic.closure_rates)
+                    row, a, bb = 2 * (k - c0), cuts.a[k], cuts.b[k]
+                    rax, ray, rbx, rby = cc[k, 0], cc[k, 1], cc[k, 2], cc[k, 3]
+                    nx, ny, dx, dy, pnd = cc[k, 4], cc[k, 5], cc[k, 6], cc[k, 7], cc[k, 8]
+                    prismatic = cuts.prismatic[k]
+                    wva, wvb = rt[vel, 0, a], rt[vel, 0, bb]
+                    for sl in range(s_lo, s_hi):
+                        wa, wb = rt[sl, 0, a], rt[sl, 0, bb]
+                        if not prismatic:
+                            ox = rt[sl, 1, a] + wa * -ray - rt[sl, 1, bb] - wb * -rby
+                            oy = rt[sl, 2, a] + wa * rax - rt[sl, 2, bb] - wb * rbx
+                            if phase == 2:
+                                ox = ox - (wva * wva) * rax + (wvb * wvb) * rbx
+                                oy = oy - (wva * wva) * ray + (wvb * wvb) * rby
+                        else:  # a carrier, bb slider
+                            drx = rt[sl, 1, bb] + wb * -rby - rt[sl, 1, a] - wa * -ray
+                            dry = rt[sl, 2, bb] + wb * rbx - rt[sl, 2, a] - wa * rax
+                            ox, oy = wb - wa, drx * nx + dry * ny + wa * pnd
+                            if phase == 2:
+                                dvx = rt[vel, 1, bb] + wvb * -rby - rt[vel, 1, a] - wva * -ray
+                                dvy = rt[vel, 2, bb] + wvb * rbx - rt[vel, 2, a] - wva * rax
+                                bx = -(wvb * wvb) * rbx + (wva * wva) * rax
+                                by = -(wvb * wvb) * rby + (wva * wva) * ray
+                                oy += -(wva * wva) * (nx * dx + ny * dy) + 2 * wva * (-ny * dvx + nx * dvy) + (nx * bx + ny * by)
+                        if phase == 0:
+                            jac[row, sl], jac[row + 1, sl] = ox, oy
+                        else:
+                            col[row], col[row + 1] = ox, oy
+                if phase == 0:
+                    # the Jacobian made dimensionless (BlockSolver's ScaledLU); its determinant and pivot
+                    # ratio as _linalg.factor has them: explicit inverse up to 2 × 2 (made when a solve
+                    # needs it), else LU
                     for i in range(m):
-                        rhs[i] = -rhs[i] * row_scale[var0 + i]
+                        for j in range(m):
+                            jac[i, j] = jac[i, j] * row_scale[var0 + i]
+                            if var_scale[var0 + j] != 1.0:
+                                jac[i, j] = jac[i, j] / var_scale[var0 + j]
+                    inverted = False
                     if m == 1:
-                        sol[0] = jac[0, 0] * rhs[0]
+                        det = jac[0, 0]
+                        ratio = abs(det) / max(abs(det), 1e-300)
                     elif m == 2:
-                        sol[0] = jac[0, 0] * rhs[0] + jac[0, 1] * rhs[1]
-                        sol[1] = jac[1, 0] * rhs[0] + jac[1, 1] * rhs[1]
+                        det = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
+                        first = max(abs(jac[0, 0]), abs(jac[1, 0]))
+                        p0, p1 = abs(first), abs(det / first)
+                        ratio = min(p0, p1) / max(max(p0, p1), 1e-300)
                     else:
-                        _lu_solve(jac, m, perm, rhs, sol)
-                    for i in range(m):
-                        if var_scale[var0 + i] != 1.0:
-                            sol[i] = sol[i] / var_scale[var0 + i]
-                    if phase == 0:
-                        settled = not rates and ratio >= 2.0 * pivot_polish
+                        det, ratio = _lu(jac, m, perm)
+                    ok = err < closure and finite
+                    done = False
+                    if ok and not polished:
+                        # near a singular position one more step, as BlockSolver.newton does
+                        polished = True
+                        done = ratio >= pivot_polish or ratio < pivot_cross * 1e3
+                    elif ok or it == max_newton:
+                        done = True
+                    if done:  # the checks of atlas.solve_along; a position failing one goes to numpy
+                        if not ok:
+                            return 1
+                        if not (det != 0.0 and np.isfinite(det)) or (det > 0) != (signs[near, bk] > 0):
+                            return 1
                         for i in range(m):
-                            if np.isfinite(sol[i]):
-                                q[var0 + i] += sol[i]
-                            settled = settled and abs(sol[i]) * var_scale[var0 + i] <= LAZY_STEP
-                        it += 1
+                            if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
+                                return 1
+                        if not rates:
+                            break
+                        phase = 1
                         continue
-                    slot = vel if phase == 1 else acc
-                    for k in range(k0, k1):  # the block's links corrected by the sensitivities
-                        link = steps.child[k]
-                        for comp in range(3):
-                            total = rt[0, comp, link] * sol[0]
-                            for j in range(1, m):
-                                total += rt[j, comp, link] * sol[j]
-                            rt[slot, comp, link] += total
-                    if phase == 1:
-                        for i in range(m):
-                            qd_u[i] = sol[i]
+                    rhs = res
+                elif m == 0:
                     phase += 1
                     if phase == 3:
                         break
-                if restart:
+                    continue
+                else:
+                    rhs = col
+                # sol = J⁻¹ (−rhs): the Newton step, or the unknowns' rates (ScaledLU.solve)
+                if m <= 2 and not inverted:
+                    inverted = True
+                    if m == 1:
+                        jac[0, 0] = 1.0 / det
+                    else:
+                        a00, a01, a10, a11 = jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1]
+                        jac[0, 0], jac[0, 1], jac[1, 0], jac[1, 1] = a11 / det, -a01 / det, -a10 / det, a00 / det
+                for i in range(m):
+                    rhs[i] = -rhs[i] * row_scale[var0 + i]
+                if m == 1:
+                    sol[0] = jac[0, 0] * rhs[0]
+                elif m == 2:
+                    sol[0] = jac[0, 0] * rhs[0] + jac[0, 1] * rhs[1]
+                    sol[1] = jac[1, 0] * rhs[0] + jac[1, 1] * rhs[1]
+                else:
+                    _lu_solve(jac, m, perm, rhs, sol)
+                for i in range(m):
+                    if var_scale[var0 + i] != 1.0:
+                        sol[i] = sol[i] / var_scale[var0 + i]
+                if phase == 0:
+                    for i in range(m):
+                        if np.isfinite(sol[i]):
+                            q[var0 + i] += sol[i]
+                    it += 1
+                    continue
+                slot = vel if phase == 1 else acc
+                for k in range(k0, k1):  # the block's links corrected by the sensitivities
+                    link = steps.child[k]
+                    for comp in range(3):
+                        total = rt[0, comp, link] * sol[0]
+                        for j in range(1, m):
+                            total += rt[j, comp, link] * sol[j]
+                        rt[slot, comp, link] += total
+                if phase == 1:
+                    for i in range(m):
+                        qd_u[i] = sol[i]
+                phase += 1
+                if phase == 3:
                     break
-            if not restart:
-                break
-            exact = True  # the whole position again from its prediction, every link placed by cos and sin
-            for i in range(m_all):
-                q[i] = guess[i]
         # the outputs: angles, points, real rates (x' = x_q ω, x'' = x_qq ω² + x_q ε, as kinematics._real)
         omb, epb = om[b], ep[b]
         om2 = omb * omb

@@ -203,7 +203,7 @@ _jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 _inline = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
 
 # Scalar loops over arrays indexed in place, compiled without numba's reference counting, nothing
-# allocated (the caller passes every work array, `_numba_kinematics._scratch`). Pose ps (8, L): θ, cos θ,
+# allocated (the caller passes every work array, `_numba_kinematics._scratch`). Pose ps (5, L): θ, cos θ,
 # sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link; slots 0 … m−1 hold a block's
 # sensitivities to its unknowns, then the velocities, then the accelerations. The arithmetic is the
 # numpy engine's, operation for operation where it matters for rounding: the joint laws (`_constraints`),
