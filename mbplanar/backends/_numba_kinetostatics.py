@@ -7,7 +7,7 @@ blocks (one per Assur group, last attached first), their constant pivots and fil
 come from `kinetostatics._plan`; the loads' constant parts, guide-force sizes (the diagrams'
 interpolated by `loads.guide_force_size`) and heavy links from `loads`. Once per engine (and record
 layout), `_program` writes numpy's formulas, in numpy's order, as a list of elementary ops on the rows
-of a work matrix, one row per value and one column per position of a chunk of 128 or 256 positions
+of a work matrix, one row per value and one column per position of a chunk of 128 to 384 positions
 (`chunk_of`); `_kernel` runs the ops one after the other, each over the whole chunk in an inner loop
 (SIMD lanes), so the tables are read once per chunk, not once per position. The time goes with the
 rows the ops read and write, so `_Tape` reads constants from the op (not from a row of them), moves
