@@ -84,5 +84,7 @@ def progress_bar(total: int):
 
     def update(done, _total):
         bar.update(done - bar.n)
+        if done >= bar.total:
+            bar.refresh()  # tqdm draws at most every 0.1 s: the last count would otherwise depend on timing
 
     return update, bar.close
