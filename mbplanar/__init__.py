@@ -15,12 +15,7 @@ The public API is this module. The subpackages (`model`, `structure`, `engine`, 
 underscore are private. See ``docs/architecture.md``.
 """
 
-from . import _deprecated
 from .errors import MbplanarError, ModelError, MotionError
-
-_deprecated.install()  # old module paths (mbplanar.solver, ...) as warning aliases, for one release
-for _old in _deprecated.SHADOWED:  # the old module mbplanar.check gave way to the function, served below
-    globals().pop(_old, None)
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
            "Engine", "Limit", "analyse", "Motion", "position", "Position", "MbplanarError", "ModelError", "MotionError",

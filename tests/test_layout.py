@@ -1,6 +1,6 @@
 """The package layout: subpackages export their names, imports run one way (model → structure → engine →
-kinematics → forces → backends → analysis → io, viz → cam → cli), and the old module paths still work for one
-release, warning on every name read from them."""
+kinematics → forces → backends → analysis → io, viz → cam → cli), and the module paths of the old flat layout
+are gone."""
 
 import ast
 import importlib
@@ -10,10 +10,9 @@ import warnings
 import pytest
 
 import mbplanar
-from mbplanar import _deprecated
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
-LAYERS = ["errors", "_deprecated", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
+LAYERS = ["errors", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
           "study", "io", "viz", "cam", "synthesis", "cli"]  # cams, synthesis, studies use what precedes them
 
 
@@ -59,49 +58,30 @@ def test_imports_run_one_way():
     assert not wrong, wrong
 
 
-@pytest.mark.parametrize("old", sorted(_deprecated.MOVED))
-def test_an_old_module_path_warns_and_gives_the_same_objects(old):
-    moved = _deprecated.MOVED[old]
-    new = importlib.import_module("mbplanar." + (moved if isinstance(moved, str) else moved[0]))
-    shim = importlib.import_module("mbplanar." + old)
-    names = list(new.__all__)
-    assert names and sorted(dir(shim)) == sorted(names)
-    for name in names:
-        with pytest.warns(DeprecationWarning, match=rf"mbplanar\.{old}\.{name} is deprecated"):
-            assert getattr(shim, name) is getattr(new, name)
-    with pytest.raises(AttributeError):
-        getattr(shim, "no_such_name")
+@pytest.mark.parametrize("old", ["solver", "loads", "plotting", "check", "kinetostatics", "topology", "table",
+                                 "_numba_kinematics", "report"])
+def test_the_old_module_paths_are_gone(old):
+    """The module paths of the flat layout (never released) do not import: no import hook forwards them."""
+    with pytest.raises(ImportError):
+        importlib.import_module("mbplanar." + old)
 
 
-def test_old_import_statements_still_work():
-    with pytest.warns(DeprecationWarning, match="use mbplanar.engine.Engine"):
-        from mbplanar.solver import Engine
-    assert Engine is mbplanar.Engine
-    with pytest.warns(DeprecationWarning, match="use mbplanar.viz.register_figure"):
-        from mbplanar.plotting import register_figure  # noqa: F401
-    with pytest.warns(DeprecationWarning, match="use mbplanar.analysis.transmission_angles"):
-        from mbplanar.check import transmission_angles  # noqa: F401
-    with pytest.warns(DeprecationWarning, match=r"private now \(mbplanar.engine._tolerances.TOL\)"):
-        from mbplanar.solver import TOL  # noqa: F401
-
-
-def test_public_functions_are_not_shadowed_by_old_modules():
-    import mbplanar.check  # noqa: F401
-    import mbplanar.kinetostatics  # noqa: F401
-    assert callable(mbplanar.check) and mbplanar.check.__module__ == "mbplanar.analysis._check"
-    assert callable(mbplanar.kinetostatics)
-
-
-def test_subpackages_named_like_old_modules_keep_their_names():
-    from mbplanar.kinematics import Motion, analyse, positions_at_limits  # noqa: F401
-    from mbplanar.model import Mechanism  # noqa: F401
-    from mbplanar.structure import AssurGroup, Structure, decompose, roman  # noqa: F401
-    with pytest.warns(DeprecationWarning, match="kinematics._motion.describe_limit"):
-        from mbplanar.kinematics import describe_limit  # noqa: F401
+def test_a_misspelt_name_is_an_error_not_a_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        import mbplanar.kinematics as k
-        assert k.analyse is mbplanar.analyse
+        for module, name in ((mbplanar, "Engin"), (mbplanar.kinematics, "describe_limits"),
+                             (mbplanar.model, "read_modle"), (mbplanar.structure, "decompse"),
+                             (mbplanar.engine, "TOL"), (importlib.import_module("mbplanar.engine._tolerances"), "TOL")):
+            with pytest.raises(AttributeError):
+                getattr(module, name)
+        with pytest.raises(ImportError):
+            exec("from mbplanar.kinematics import analyze", {})
+
+
+def test_public_functions_are_not_shadowed_by_modules():
+    import mbplanar.analysis  # noqa: F401
+    assert callable(mbplanar.check) and mbplanar.check.__module__ == "mbplanar.analysis._check"
+    assert callable(mbplanar.kinetostatics)
 
 
 @pytest.mark.parametrize("package", ["model", "structure", "engine", "kinematics", "forces", "backends",
