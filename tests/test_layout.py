@@ -23,24 +23,72 @@ def _layer(module: str) -> int:
 
 
 def _imports(path: pathlib.Path):
-    """The package-internal modules imported by `path` (at module level or inside a function), as paths
-    under `mbplanar`."""
+    """The package-internal modules imported by `path` (at module level or inside a function, relative or
+    absolute, or by ``importlib.import_module`` with a name it can read), as paths under `mbplanar`."""
     rel = path.relative_to(PACKAGE).with_suffix("")
-    parts = list(rel.parts)
-    package = parts[:-1]                # the package a relative import starts from
-    tree = ast.parse(path.read_text())
+    yield from (target for target, _, _ in imports_in(path.read_text(), list(rel.parts)))
+
+
+def imports_in(source: str, module: list[str]):
+    """(target, names, line) of every package-internal import in `source`, the text of the module
+    `module` (its path under `mbplanar`, as parts); target is a path under `mbplanar` ('engine._solver'),
+    names the names imported from it (empty for ``import x`` and ``import_module``)."""
+    package = module[:-1] if module[-1] != "__init__" else module[:-1]
+    tree = ast.parse(source)
     typing_only = {id(n) for block in ast.walk(tree) if isinstance(block, ast.If)
                    and getattr(block.test, "id", None) == "TYPE_CHECKING" for n in ast.walk(block)}
     for node in ast.walk(tree):
         if id(node) in typing_only:     # names for annotations only
             continue
-        if isinstance(node, ast.ImportFrom) and node.level:
-            base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
-            target = base + (node.module.split(".") if node.module else [])
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                target = base + (node.module.split(".") if node.module else [])
+            elif node.module == "mbplanar" or (node.module or "").startswith("mbplanar."):
+                target = node.module.split(".")[1:]
+            else:
+                continue
+            names = [alias.name for alias in node.names]
             if target:
-                yield ".".join(target)
-            else:                       # from . import x (at the top level)
-                yield from (alias.name for alias in node.names)
+                yield ".".join(target), names, node.lineno
+            else:                       # from . import x (at the top level): the modules x
+                yield from ((name, [], node.lineno) for name in names)
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.startswith("mbplanar."):
+                    yield alias.name.split(".", 1)[1], [], node.lineno
+        elif isinstance(node, ast.Call) and getattr(node.func, "attr", getattr(node.func, "id", None)) == "import_module":
+            target = _module_named(node, package, module if module[-1] != "__init__" else package)
+            if target:
+                yield target, [], node.lineno
+
+
+def _module_named(call: ast.Call, package: list[str], name_of: list[str]) -> str | None:
+    """The module an ``import_module(...)`` call names, as a path under `mbplanar`, where the call spells it
+    out: "mbplanar.x.y", f"{__package__}.x" (`package`'s x) or f"{__name__}.x" (`name_of`'s); None
+    otherwise."""
+    if not call.args:
+        return None
+    name = call.args[0]
+    if isinstance(name, ast.Constant) and isinstance(name.value, str):
+        return name.value.split(".", 1)[1] if name.value.startswith("mbplanar.") else None
+    if isinstance(name, ast.JoinedStr) and len(name.values) == 2:
+        head, tail = name.values
+        if (isinstance(head, ast.FormattedValue) and getattr(head.value, "id", None) in ("__name__", "__package__")
+                and isinstance(tail, ast.Constant) and tail.value.startswith(".")):
+            base = package if head.value.id == "__package__" else name_of
+            return ".".join(base + tail.value[1:].split(".")) or None
+    return None
+
+
+def test_the_import_reader_follows_absolute_imports_and_import_module():
+    source = ("from .. import errors\nfrom ..engine._solver import Engine\nimport mbplanar.viz._plotting\n"
+              "from mbplanar.forces import kinetostatics\nimport importlib, numpy\n"
+              "def f(m):\n    importlib.import_module('mbplanar.cam.design')\n"
+              "    importlib.import_module(f'{__package__}._motion')\n    importlib.import_module(m)\n")
+    found = [(target, names) for target, names, _ in imports_in(source, ["kinematics", "_single"])]
+    assert found == [("errors", []), ("engine._solver", ["Engine"]), ("viz._plotting", []),
+                     ("forces", ["kinetostatics"]), ("cam.design", []), ("kinematics._motion", [])]
 
 
 def test_imports_run_one_way():
