@@ -41,10 +41,10 @@ class Motion:
     >>> import numpy as np
     >>> import mbplanar
     >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
-    >>> m = mbplanar.analyse(engine, np.radians([0.0, 90.0]), omega=10.0)
-    >>> m.point_names, m.v[:, m.point("A")].round(6)                # A on the crank: |v| = 0.1 m · 10 rad/s
-    (['O', 'A', 'B', 'C', 'M'], array([[ 0.,  1.],
-           [-1.,  0.]]))
+    >>> motion = mbplanar.analyse(engine, np.radians([30.0, 120.0]), omega=10.0)
+    >>> motion.point_names, motion.v[:, motion.point("A")].round(4)     # A on the crank: 0.1 m · 10 rad/s
+    (['O', 'A', 'B', 'C', 'M'], array([[-0.5  ,  0.866],
+           [-0.866, -0.5  ]]))
     """
 
     engine: Engine
