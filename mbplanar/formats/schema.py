@@ -71,11 +71,11 @@ def model_schema() -> dict:
     top = _object(DOCUMENT, value_of)
     top.pop("required")                  # (a model needs joints, a cam file a [cam]: below)
     cam_file = every["cam_file"]
+    top.pop("description")
     schema = {"$schema": DRAFT, "title": "mbplanar model table",
               "description": "A planar mechanism as a table of kinematic pairs (docs/format.md), or a cam file "
                              "whose [cam] names its model (docs/cam.md). Generated from the keys mbplanar's "
-                             "readers declare.",
-              **top,
+                             "readers declare.", **top,
               "anyOf": [{"required": ["joints"], "oneOf": [{"required": ["input"]}, {"required": ["inputs"]}]},
                         {"required": ["cam"], "propertyNames": {"enum": sorted(cam_file.names)}}],
               "$defs": {name: defs[name] for name in sorted(defs)}}
