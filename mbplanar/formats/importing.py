@@ -18,13 +18,13 @@ from ..errors import MbplanarError, ModelError
 
 __all__ = ["Imported", "FORMATS", "import_model", "import_object", "detect_format"]
 
-#: format → what it is (``--from`` takes these names)
+#: format → (what the model's header calls it, what it is); ``--from`` takes these names
 FORMATS = {
-    "pyslvs": "a Pyslvs mechanism expression M[J[...], ...] in a text file",
-    "pyslvs-yaml": "a Pyslvs YAML project (.pyslvs, .yml, .yaml)",
-    "pmks-csv": "a PMKS+ CSV linkage file (.csv)",
-    "pmks-link": "a PMKS+ link: a URL or its query (.txt, .url, .pmks)",
-    "pylinkage": "a pylinkage JSON file: Linkage.to_json or mechanism_to_json (.json)",
+    "pyslvs": ("a Pyslvs expression", "a Pyslvs mechanism expression M[J[...], ...] in a text file"),
+    "pyslvs-yaml": ("a Pyslvs project", "a Pyslvs YAML project (.pyslvs, .yml, .yaml)"),
+    "pmks-csv": ("a PMKS+ CSV file", "a PMKS+ CSV linkage file (.csv)"),
+    "pmks-link": ("a PMKS+ link", "a PMKS+ link: a URL or its query (.txt, .url, .pmks)"),
+    "pylinkage": ("a pylinkage JSON file", "a pylinkage JSON file: Linkage.to_json or mechanism_to_json (.json)"),
 }
 
 
@@ -43,14 +43,16 @@ class Imported:
 def detect_format(path, text: str) -> str:
     """The format of a file from its suffix and, for text files, its first characters."""
     suffix = Path(path).suffix.lower()
-    head = re.sub(r"#[^\n]*", "", text).lstrip()   # (Pyslvs' comments)
+    head = re.sub(r"#[^\n]*", "", re.sub(r"#\[[\s\S]*?#\]", "", text)).lstrip()   # (Pyslvs' comments)
     if suffix in (".pyslvs", ".yml", ".yaml"):
         return "pyslvs-yaml"
     if suffix == ".csv":
         return "pmks-csv"
     if suffix == ".json":
         return "pylinkage"
-    if suffix in ("", ".txt", ".url", ".pmks", ".expr", ".expression"):
+    if suffix == ".pmks":
+        return "pmks-link"
+    if suffix in ("", ".txt", ".url", ".expr", ".expression"):
         from .pmks import looks_like_link
         if head.startswith("M["):
             return "pyslvs"
@@ -125,8 +127,7 @@ def _finish(sketch, fmt: str) -> Imported:
     table = to_table(sketch)
     notes = tuple(dict.fromkeys(sketch.notes))
     _check(table, sketch.source)
-    head = [f"Imported from {Path(sketch.source).name} ({FORMATS[fmt].split(':')[0].split(' (')[0]}) by "
-            "mbplanar import."]
+    head = [f"Imported from {Path(sketch.source).name} ({FORMATS[fmt][0]}) by mbplanar import."]
     if notes:
         head.append("Not carried over, or guessed:")
         head += [f"- {n}" for n in notes]

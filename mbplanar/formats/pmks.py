@@ -137,10 +137,13 @@ class _Rows:
             mass = link.get("mass")
             if mass is None:
                 continue
-            if link.get("com") is None:
-                sk.notes.append(f"link {link['id']}: a piston's mass has no centre: left out")
-                continue
-            com = (link["com"][0] * scale, link["com"][1] * scale)
+            if link.get("com") is None:                 # a piston: its mass at its first joint
+                com = sk.points[link["joints"][0]] if link["joints"] else None
+                if com is None:
+                    continue
+                sk.notes.append(f"piston {link['id']}: its mass placed at its joint {link['joints'][0]}")
+            else:
+                com = (link["com"][0] * scale, link["com"][1] * scale)
             sk.masses[link["id"]] = (mass / 1000.0 if grams else mass, link.get("moi") or 0.0, com)
         if sk.masses:
             sk.notes.append("link masses, inertias and centres as PMKS+ holds them" +

@@ -58,7 +58,8 @@ def model_schema() -> dict:
             if free not in defs:           # [links.2] style: the table's key is the row's name
                 defs[free] = dict(_object(named, value_of), required=[k.name for k in named.keys
                                                                       if k.required and k.name != "name"])
-            return {"anyOf": [rows, {"type": "object", "additionalProperties": {"$ref": f"#/$defs/{free}"}}]}
+            return {"type": ["array", "object"], "items": rows["items"],       # (a list, or named tables)
+                    "additionalProperties": {"$ref": f"#/$defs/{free}"}}
         if section is DOCUMENT and key.name == "loads":
             return {"type": "array", "items": {"oneOf": [ref(s) for s in LOADS.values()]}}
         if section is DOCUMENT and key.name == "parameters":
@@ -152,3 +153,10 @@ def schema_text() -> str:
 def render(schema: dict) -> str:
     """The schema as the file holds it: indented JSON, keys in their order, a final newline."""
     return json.dumps(schema, indent=2, ensure_ascii=False) + "\n"
+
+
+if __name__ == "__main__":                 # python -m mbplanar.formats.schema: write the shipped file again
+    target = resources.files(__package__).joinpath(SCHEMA_FILE)
+    with resources.as_file(target) as path:
+        path.write_text(render(model_schema()), encoding="utf-8")
+    print(f"wrote {target}")

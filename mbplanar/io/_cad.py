@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import MbplanarError
+from ..errors import ModelError
 
 __all__ = ["Layer", "Sheet", "write_dxf", "write_svg", "require_ezdxf", "DXF_UNITS"]
 
@@ -100,7 +100,7 @@ def require_ezdxf():
     try:
         import ezdxf
     except ImportError:
-        raise MbplanarError("DXF export needs ezdxf: pip install 'mbplanar[cad]'") from None
+        raise ModelError("DXF export needs ezdxf: pip install 'mbplanar[cad]'") from None
     return ezdxf
 
 
