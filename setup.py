@@ -2,7 +2,7 @@
 
 The repository keeps its models in one place, the top-level `models/` folder. The build maps that folder
 into the package as `mbplanar.examples` (package data), so a wheel carries the models and an editable
-install finds them in `models/` itself, without a second copy (docs/formats.md, "Bundled examples").
+install finds them in `models/` itself, without a second copy (docs/import_export.md, "Bundled examples").
 """
 
 from setuptools import find_packages, setup

@@ -34,8 +34,8 @@ def schema():
 @pytest.fixture(scope="module")
 def validator(schema):
     jsonschema = pytest.importorskip("jsonschema")
-    jsonschema.Draft202012Validator.check_schema(schema)
-    return jsonschema.Draft202012Validator(schema)
+    jsonschema.Draft7Validator.check_schema(schema)
+    return jsonschema.Draft7Validator(schema)
 
 
 def test_the_shipped_schema_is_the_generated_one(schema, capsys):
@@ -79,7 +79,7 @@ def test_every_declared_key_is_in_the_schema_with_its_unit_and_default(schema):
     from mbplanar.formats.schema import sections
     from mbplanar.model._keys import MISSING
     for section in sections().values():
-        props = schema["$defs"].get(section.name, schema)["properties"]
+        props = schema["definitions"].get(section.name, schema)["properties"]
         for key in section.keys:
             assert key.name in props, (section.name, key.name)
             if key.kind in ("table", "rows"):
@@ -132,7 +132,7 @@ def test_every_key_the_reader_accepts_is_in_the_schema(schema, monkeypatch):
     assert len(seen) > 60
     for section, key in seen:
         assert section is not None, key
-        assert key in schema["$defs"].get(section, schema)["properties"], (section, key)
+        assert key in schema["definitions"].get(section, schema)["properties"], (section, key)
 
 
 def test_reading_an_undeclared_key_is_a_programming_error():

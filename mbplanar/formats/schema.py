@@ -2,7 +2,7 @@
 
 The table reader (`mbplanar.model._table`), the cam's (`mbplanar.cam.spec`) and the forces' sections
 (`[friction]`, `[simulate]`) read their keys through `Section`s of `Key`s (`mbplanar.model._keys`);
-`model_schema` turns those very sections into a JSON Schema (draft 2020-12): every section, key, type,
+`model_schema` turns those very sections into a JSON Schema (draft-07, the dialect editors read): every section, key, type,
 unit (in the description and as "x-unit"), default and bound. The package ships it as
 `mbplanar/formats/model.schema.json` (a test holds the file equal to this function's output), and
 ``mbplanar schema`` prints it. An editor that reads JSON Schemas for TOML (taplo, Even Better TOML)
@@ -21,7 +21,7 @@ from ..model._keys import DOCUMENT, LOADS, MISSING, PARAMETER, UNITS, Key, Secti
 __all__ = ["model_schema", "schema_text", "SCHEMA_FILE", "sections"]
 
 SCHEMA_FILE = "model.schema.json"   # beside this module, in the package
-DRAFT = "https://json-schema.org/draft/2020-12/schema"
+DRAFT = "http://json-schema.org/draft-07/schema#"   # the dialect taplo and VS Code read
 
 
 def sections() -> dict[str, Section]:
@@ -44,7 +44,7 @@ def model_schema() -> dict:
         if section.name not in defs:
             defs[section.name] = {}            # (placeholder: a section may refer to itself)
             defs[section.name] = _object(section, value_of)
-        return {"$ref": f"#/$defs/{section.name}"}
+        return {"$ref": f"#/definitions/{section.name}"}
 
     def value_of(key: Key, section: Section) -> dict:
         if key.kind == "table":
@@ -59,7 +59,7 @@ def model_schema() -> dict:
                 defs[free] = dict(_object(named, value_of), required=[k.name for k in named.keys
                                                                       if k.required and k.name != "name"])
             return {"type": ["array", "object"], "items": rows["items"],       # (a list, or named tables)
-                    "additionalProperties": {"$ref": f"#/$defs/{free}"}}
+                    "additionalProperties": {"$ref": f"#/definitions/{free}"}}
         if section is DOCUMENT and key.name == "loads":
             return {"type": "array", "items": {"oneOf": [ref(s) for s in LOADS.values()]}}
         if section is DOCUMENT and key.name == "parameters":
@@ -79,7 +79,7 @@ def model_schema() -> dict:
                              "readers declare.", **top,
               "anyOf": [{"required": ["joints"], "oneOf": [{"required": ["input"]}, {"required": ["inputs"]}]},
                         {"required": ["cam"], "propertyNames": {"enum": sorted(cam_file.names)}}],
-              "$defs": {name: defs[name] for name in sorted(defs)}}
+              "definitions": {name: defs[name] for name in sorted(defs)}}
     return schema
 
 

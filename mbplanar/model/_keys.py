@@ -132,8 +132,8 @@ LINK = Section("link", "links[]", "one moving link (the ground need not be liste
         unit="length", positive=True, parameter="length"),
     Key("lengths", "custom", "exact distances [P, Q, L] between points of the link (joints or points)",
         unit="length", default_doc="[]", schema={"type": "array", "items": {
-            "type": "array", "minItems": 3, "maxItems": 3,
-            "prefixItems": [_NAME_SCHEMA, _NAME_SCHEMA, {"type": ["number", "string"], "exclusiveMinimum": 0}]}}),
+            "type": "array", "minItems": 3, "maxItems": 3, "additionalItems": False,
+            "items": [_NAME_SCHEMA, _NAME_SCHEMA, {"type": ["number", "string"], "exclusiveMinimum": 0}]}}),
     Key("angle", "names", "the two points [P, Q] whose direction is reported as the link's angle",
         default_doc="its first two revolute joints"),
     Key("angle_offset", "number", "added to the reported angle (a body axis at an angle to P→Q)", unit="deg",
@@ -272,7 +272,7 @@ def _load(kind: str, doc: str, *keys: Key) -> Section:
     """A load type's row: the keys of every row, its own, and the switch's (a guide force has its joint)."""
     switch = () if kind in GUIDE_LOADS else SWITCH
     return Section(f"load_{kind}", f"loads[] ({kind})", doc, LOAD_COMMON + keys + switch,
-                   {"dependentRequired": {"switch": ["when"], "switch_direction": ["switch"]}} if switch else {})
+                   {"dependencies": {"switch": ["when"], "switch_direction": ["switch"]}} if switch else {})
 
 
 GUIDE_LOADS = ("resistance", "friction")   # forces along a prismatic pair
