@@ -1,6 +1,6 @@
 """The package layout: subpackages export their names, imports run one way (model → structure → engine →
-kinematics → forces → backends → analysis → io, viz → cam → cli), and the old module paths still work for one
-release, warning on every name read from them."""
+kinematics → forces → backends → analysis → io, viz → cam → synthesis → formats → cli), and the old module
+paths still work for one release, warning on every name read from them."""
 
 import ast
 import importlib
