@@ -31,23 +31,12 @@ def add_arguments(name: str, s) -> None:
         s.add_argument("--paths", help="joints or points whose paths over the input's sweep are drawn, comma-"
                                        "separated (default: the points of interest that are not centres of mass; "
                                        "'' for none)")
-        s.add_argument("--steps", type=_positive, default=360, help="positions along each path (default 360)")
+        s.add_argument("--steps", type=int, default=360, help="positions along each path (default 360)")
     elif name == "examples":
         s.add_argument("names", nargs="*", metavar="NAME", help="examples to copy out (default: list them)")
         s.add_argument("-o", "--output", metavar="DIR", help="copy into this folder (every example when no NAME)")
         s.add_argument("--json", action="store_true", help="the list as JSON")
         s.add_argument("--force", action="store_true", help="replace files that exist")
-
-
-def _positive(text) -> int:
-    import argparse
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}")
-    return value
 
 
 def run(name: str, args) -> int:
@@ -96,6 +85,8 @@ def _export(args) -> int:
     import numpy as np
     from ..engine._cache import load_engine
     from .drawing import export_drawing
+    if args.steps < 1:
+        raise ModelError(f"--steps must be a positive whole number, got {args.steps}")
     engine = load_engine(args.model, backend="numpy", use_cache=not getattr(args, "no_cache", False))
     if args.at is None:
         phi = np.asarray(engine.phi_drawn, float)

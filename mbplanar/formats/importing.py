@@ -103,13 +103,9 @@ def import_model(path, fmt: str | None = None) -> Imported:
     >>> imp.table["input"]["joint"], imp.table["length_unit"]
     ('P0', 'mm')
     """
+    from ..model._table import read_text
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ModelError(f"cannot read the file ({exc.strerror or exc})", source=str(path)) from None
-    except UnicodeDecodeError as exc:
-        raise ModelError(f"the file is not UTF-8 text ({exc.reason} at byte {exc.start})", source=str(path)) from None
+    text = read_text(path, "the file")
     fmt = fmt or detect_format(path, text)
     sketch = _sketch_of(fmt, text, str(path), _model_name(path))
     return _finish(sketch, fmt)

@@ -18,21 +18,24 @@ from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, INPUT, J
 from ._model import (ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input, Load,
                      Mechanism, Units)
 
-__all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
+__all__ = ["read_model", "read_model_text", "read_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
            "crank_input", "read_gravity_section", "read_dynamics_section"]
 
 
 def read_model(path) -> Mechanism:
     """Read a TOML model file into an (unassembled) `Mechanism`."""
+    return read_model_text(read_text(path), source=str(path))
+
+
+def read_text(path, what: str = "the model file") -> str:
+    """The UTF-8 text of `what` at `path`, or a `ModelError` naming the file and why it cannot be read."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise ModelError(f"cannot read the model file ({exc.strerror or exc})", source=str(path)) from None
+        raise ModelError(f"cannot read {what} ({exc.strerror or exc})", source=str(path)) from None
     except UnicodeDecodeError as exc:
-        raise ModelError(f"the model file is not UTF-8 text ({exc.reason} at byte {exc.start})",
-                         source=str(path)) from None
-    return read_model_text(text, source=str(path))
+        raise ModelError(f"{what} is not UTF-8 text ({exc.reason} at byte {exc.start})", source=str(path)) from None
 
 
 def read_model_text(text: str, source: str = "<table>") -> Mechanism:
