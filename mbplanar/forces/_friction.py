@@ -93,8 +93,10 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
     row = Row({} if raw is None else raw, where, section=FRICTION)
     scale = mech.units.length_scale  # lengths in the table's length_unit
     block = row.get("block_length")
-    default = PairFriction("", row.get("mu") if mu is None else float(mu),
-                           row.get("pin_radius") * scale, None if block is None else block * scale)
+    table_mu = row.number("mu", FRICTION["mu"].default)          # (bounds: checked per pair below)
+    default = PairFriction("", table_mu if mu is None else float(mu),
+                           row.number("pin_radius", FRICTION["pin_radius"].default) * scale,
+                           None if block is None else block * scale)
     tolerance = row.get("tolerance")
     max_iter = row.get("max_iterations")
     given = {}
