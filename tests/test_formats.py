@@ -171,8 +171,8 @@ def test_the_examples_are_the_models_folder():
     assert found["synthesis/motion_3poses.toml"].kind == "synthesis"
     assert found["fourbar.toml"].text() == (MODELS / "fourbar.toml").read_text(encoding="utf-8")
     if Path(mbplanar.__file__).resolve().parent == ROOT / "mbplanar":   # (this checkout: an editable install)
-        import mbplanar.examples
-        assert Path(mbplanar.examples.__file__).resolve().parent == MODELS.resolve()   # the folder itself, no copy
+        examples = importlib.import_module("mbplanar.examples")
+        assert Path(examples.__file__).resolve().parent == MODELS.resolve()            # the folder itself, no copy
 
 
 def test_examples_are_listed_and_copied_out(tmp_path, capsys):
