@@ -304,7 +304,7 @@ def _circles(a, ra, b, rb, side):
     return a + k * u + side * h * n
 
 
-def _four_bar_check(engine, o, a, b, c, crank, coupler_b, rocker_b, points=()):
+def _four_bar_check(engine, o, a, b, c, crank, coupler_b, points=()):
     """Positions of the imported four-bar (pivots o, c; crank tip a; coupler joint b) against the circles'
     intersection, over a whole turn; points rigid with the coupler keep their distances to a and b."""
     o, a0, b0, c = (np.array(v, float) for v in (o, a, b, c))
@@ -343,7 +343,7 @@ def test_a_pyslvs_project_becomes_the_four_bar_it_draws(tmp_path):
     assert imp.format == "pyslvs-yaml" and imp.table["length_unit"] == "mm" and imp.table["ground"] == "ground"
     assert any("no unit" in n for n in imp.notes) and any("colours" in n for n in imp.notes)
     assert imp.table["input"]["joint"] == "P0"
-    _four_bar_check(engine, (0, 0), (30, 40), (120, 80), (100, 0), "P1", "P2", "P2", [("P3", (80, 110))])
+    _four_bar_check(engine, (0, 0), (30, 40), (120, 80), (100, 0), "P1", "P2", [("P3", (80, 110))])
 
 
 def test_a_compressed_pyslvs_project_reads_the_same(tmp_path):
@@ -439,7 +439,7 @@ def test_a_pylinkage_linkage_json_gives_the_four_bar_and_its_fixed_point(tmp_pat
     imp, engine = _imported(tmp_path, "fourbar_pylinkage.json")
     doc = json.loads((PEERS / "fourbar_pylinkage.json").read_text())
     at = {j["name"]: (j["x"], j["y"]) for j in doc["joints"]}
-    _four_bar_check(engine, (0, 0), at["B"], at["D"], (3, 0), "B", "D", "D", [("E", at["E"])])
+    _four_bar_check(engine, (0, 0), at["B"], at["D"], (3, 0), "B", "D", [("E", at["E"])])
     assert any("per simulation step" in n for n in imp.notes)
 
 
@@ -454,7 +454,7 @@ def test_a_pylinkage_mechanism_json_gives_the_four_bar(tmp_path):
     imp, engine = _imported(tmp_path, "fourbar_mechanism.json")
     doc = json.loads((PEERS / "fourbar_mechanism.json").read_text())
     at = {j["id"]: j["position"] for j in doc["joints"]}
-    _four_bar_check(engine, at["O"], at["B"], at["D"], at["C"], "B", "D", "D")
+    _four_bar_check(engine, at["O"], at["B"], at["D"], at["C"], "B", "D")
 
 
 @pytest.mark.skipif(importlib.util.find_spec("pylinkage") is None, reason="pylinkage not installed (extra bench)")
@@ -506,6 +506,15 @@ def test_an_unreadable_peer_file_is_named_and_nothing_is_written(tmp_path, capsy
     err = capsys.readouterr().err
     assert words in err and str(src) in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_a_pyslvs_project_without_pyyaml_names_the_extra(tmp_path, monkeypatch, capsys):
+    import builtins
+    real = builtins.__import__
+    monkeypatch.setattr(builtins, "__import__", lambda name, *a, **k: (_ for _ in ()).throw(ImportError(name))
+                        if name == "yaml" else real(name, *a, **k))
+    assert main(["import", str(PEERS / "fourbar.pyslvs"), "-o", str(tmp_path / "m.toml")]) == 2
+    assert "pip install 'mbplanar[yaml]'" in capsys.readouterr().err and not (tmp_path / "m.toml").exists()
 
 
 def test_the_import_command_writes_the_model_and_says_what_it_left_out(tmp_path, capsys):

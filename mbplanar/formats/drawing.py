@@ -76,7 +76,8 @@ def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
     for name in paths:
         if name not in mech.joints and name not in mech.points:
             raise ModelError(f"no joint or point '{name}' to draw the path of", source=mech.source)
-    cycle = analyse(engine, sweep_values(engine, phi[0], steps), rates=False) if steps else None
+    sweep = sweep_values(engine, phi[0], steps)
+    cycle = analyse(engine, sweep, rates=False) if steps else None
     scene = build_scene(engine, motion, cycle)
     unit = mech.units.length_scale                  # drawn in the model's length unit
     size = scene.size / unit
@@ -116,7 +117,7 @@ def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
         if name not in scene.centres:
             sheet.text("LABELS", scene.point_xy[0, k] / unit + np.array([1.6 * r, 1.6 * r]), name, 1.1 * r)
     if cycle is not None and paths:
-        step = abs(sweep_values(engine, phi[0], steps)[1, 0] - sweep_values(engine, phi[0], steps)[0, 0])
+        step = abs(sweep[1, 0] - sweep[0, 0])
         inp = engine.inputs[0]
         full = inp.unit in ("deg", "rad") and np.isclose(abs(np.subtract(*inp.default_sweep())),
                                                          360.0 if inp.unit == "deg" else 2 * math.pi)
