@@ -1026,6 +1026,16 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _accuracy_options(s):
+    from .accuracy.command import add_arguments
+    add_arguments(s)
+
+
+def cmd_accuracy(args) -> int:
+    from .accuracy.command import run
+    return run(args)
+
+
 def _formats(name):
     """The options and the run of a command of `mbplanar.formats.command`, imported when it runs."""
     def add_options(s):
@@ -1062,14 +1072,16 @@ COMMANDS = {
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
+    "accuracy": ("tolerances and clearances: sensitivities, worst-case and statistical stacks, Monte Carlo",
+                 _accuracy_options, cmd_accuracy),
     "schema": ("the JSON Schema of the model table (for editors: completion and checks)", *_formats("schema")),
     "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)", *_formats("import")),
     "export": ("the mechanism at a position as a drawing: DXF (CAD layers) or SVG", *_formats("export")),
     "examples": ("list the bundled example models, or copy them out", *_formats("examples")),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "schema", "import", "export",
-                                                    "examples")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "accuracy", "schema", "import",
+                                                    "export", "examples")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")
