@@ -7,8 +7,9 @@ c·F̂ from the element of link `on`, F the reaction on `on` from `source` (the 
 for a prismatic pair its component across the guide, F·n, so the block sits at c·sign(F·n)·n). The
 pin centre then lies on the line of the force, on the side it pushes, whichever link holds the pin.
 The mechanism moves as one whose links are longer or shorter by these offsets, the effective links,
-so the output's error is, to first order, Σ_j S_j(φ)·Δ_j(φ), S_j the output's sensitivity to a move of
-pair j's element on `source` (a column of the exact sensitivity pass, `sensitivity.source_pass`).
+so the output's error is, to first order, Σ_j S_j(φ)·Δ_j(φ), S_j the output's sensitivity to the offset
+of pair j's elements (a column of the exact sensitivity pass, `sensitivity.source_pass`: the closure with
+the elements Δ apart is that of coincident points with the `on` link's point moved by Δ).
 
 Where a reaction turns through zero between two positions, the gap is crossed and the elements strike
 (the pair knocks): a revolute pair where F(φ_k)·F(φ_{k−1}) < 0, a prismatic one where F·n changes sign;
@@ -51,18 +52,19 @@ class ClearanceErrors:
 
 
 def _columns(engine, sol, pairs) -> tuple[Sources, list]:
-    """Unit moves of each pair's element on its `source` link: two columns (world x, y) for a revolute
-    pair, one (across the guide) for a prismatic pair."""
+    """Unit offsets of each pair's element on link `source` from its element on link `on`: two columns
+    (world x, y) for a revolute pair, one (across the guide) for a prismatic pair. (The closure with the
+    elements apart by Δ is the closure of coincident points with the `on` link's point moved by Δ.)"""
     B = len(sol.phi)
     cols = []
-    for name, source in pairs:
+    for name, on in pairs:
         j = engine.mech.joints[name]
         if j.kind == "R":
-            cols += [(name, source, np.array([1.0, 0.0])[:, None] * np.ones(B)),
-                     (name, source, np.array([0.0, 1.0])[:, None] * np.ones(B))]
+            cols += [(name, on, np.array([1.0, 0.0])[:, None] * np.ones(B)),
+                     (name, on, np.array([0.0, 1.0])[:, None] * np.ones(B))]
         else:
             u = sol.pose.rot(j.carrier, engine.laws[name].u0)
-            cols.append((name, j.carrier, np.stack([-u[1], u[0]])))
+            cols.append((name, j.slider, np.stack([-u[1], u[0]])))
     C = len(cols)
     side = {}
     for c, (name, link, vec) in enumerate(cols):
@@ -105,11 +107,7 @@ def clearance_errors(engine, phi, clearances, outputs, cyclic: bool = False) -> 
     pairs = []
     for c in clearances:
         j = engine.mech.joints[c.joint]
-        if loaded:
-            r = forces[c.joint]
-            pairs.append((c.joint, r.source))
-        else:
-            pairs.append((c.joint, j.slider if j.kind == "P" else j.links[0]))
+        pairs.append((c.joint, forces[c.joint].on if loaded else j.slider if j.kind == "P" else j.links[0]))
     src, cols = _columns(engine, sol, pairs)
     with np.errstate(all="ignore"):
         known = source_pass(engine, sol, src)
@@ -136,7 +134,7 @@ def clearance_errors(engine, phi, clearances, outputs, cyclic: bool = False) -> 
                 direction[:, k] = np.arctan2(unit[:, 1], unit[:, 0])
                 knocks[c.joint] = _knocks(f[keep], phi[keep], cyclic)
             else:
-                n = src.side[(c.joint, j.carrier)][:, c0, :].T         # (N, 2)
+                n = src.side[(c.joint, j.slider)][:, c0, :].T          # (N, 2)
                 normal = (f * n).sum(axis=1)
                 side = np.sign(normal)
                 part[:, :, k] = (sj[:, 0, :] * (c.value * side)).T

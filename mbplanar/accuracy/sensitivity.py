@@ -203,7 +203,8 @@ def source_pass(engine, sol, src: Sources) -> Rates:
             rows.append(r + _cut_source(law, cache, src, none))
         rhs = np.concatenate(rows)
         with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-            dq = np.stack([state.lu.solve(-rhs[:, k]) for k in range(C)], axis=1)    # (m, C, B)
+            dq = np.stack([state.lu.solve(-rhs[:, k]) for k in range(C)], axis=1) if C else \
+                np.zeros((bp.m, 0, B))                                                    # (m, C, B)
         for link in bp.links:
             w, v = known.get(link)
             sw, sv = state.sens.w[link], state.sens.v[link]
