@@ -871,6 +871,12 @@ def cmd_cam(args):
     return run_command(args)
 
 
+# -- gear -------------------------------------------------------------------------------------------
+def cmd_gear(args):
+    from .gears.command import run
+    return run(args)
+
+
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One line; an error raised without a `source` (an argument's) is located at the model file."""
@@ -1025,9 +1031,14 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _gear_options(s):
+    from .gears.command import add_arguments
+    add_arguments(s)
+
+
 #: every command in the order of `mbplanar --help`: its line there, the function that adds its options
 #: to its parser, and the function that runs it. The options are added for the running command only
-#: (`build_parser`): the cam, synthesis and study code is imported only when its command runs or shows
+#: (`build_parser`): the cam, gear, synthesis and study code is imported only when its command runs or shows
 #: its help. `study` builds its own parser (`study.command.add_parser`).
 COMMANDS = {
     "info": ("links, joints, DOF, loops, Assur groups", _info_options, cmd_info),
@@ -1047,11 +1058,13 @@ COMMANDS = {
     "compile": ("build the numba backend's compiled kernels ahead of time, once after installing mbplanar[fast]: "
                 "later runs start without numba's compile and load", _no_options, cmd_compile),
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
+    "gear": ("design gears: a spur pair with profile shift (checks, block contour, exact profiles), planetary "
+             "trains by tooth numbers", _gear_options, cmd_gear),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")

@@ -47,10 +47,11 @@ from .involute import arcinv, inv
 from .rack import Rack
 
 __all__ = ["Gear", "Check", "GearPair", "gear_pair", "mesh", "margins", "validate_teeth", "validate_module",
-           "shift_sum_for", "MIN_TIP", "MIN_CONTACT"]
+           "shift_sum_for", "MIN_TIP", "MIN_CONTACT", "MARGIN_TOLERANCE"]
 
 MIN_TIP = 0.25          # s_a ≥ 0.25 m
 MIN_CONTACT = 1.2       # ε_α ≥ 1.2
+MARGIN_TOLERANCE = 1e-12    # a margin ≥ −1e-12 (in its unit) counts as met: rounding of a limit met exactly
 
 
 @dataclass(frozen=True)
@@ -109,6 +110,7 @@ class GearPair:
     Attributes
     ----------
     module, rack, internal
+    ring_tip : "standard" or "cut" (internal pairs, see `mesh`)
     gears : (Gear, Gear)
     ratio : u = z₂/z₁
     working_pressure_angle, inv_working : α_w and inv α_w
@@ -128,6 +130,7 @@ class GearPair:
     module: float
     rack: Rack
     internal: bool
+    ring_tip: str
     gears: tuple
     ratio: float
     working_pressure_angle: float
@@ -199,19 +202,23 @@ def shift_sum_for(z1: int, z2: int, centre_distance: float, module: float, rack:
     return (inv(aw) - inv(rack.pressure_angle)) * ((z2 - z1) if internal else (z1 + z2)) / (2 * math.tan(rack.pressure_angle))
 
 
-def mesh(module: float, z1: int, z2: int, x1, x2, rack: Rack = Rack(), internal: bool = False) -> dict:
+def mesh(module: float, z1: int, z2: int, x1, x2, rack: Rack = Rack(), internal: bool = False,
+         ring_tip: str = "standard") -> dict:
     """Every quantity of the pair for arrays of shifts `x1`, `x2` (broadcast together), in SI units.
 
     Parameters
     ----------
     module : float
         m, metres.
-    z1, z2 : int
+    z1, z2 : int or array_like
         tooth numbers (an internal pair: z₂ > z₁, gear 2 the ring).
     x1, x2 : float or array_like
-        profile shift coefficients.
+        profile shift coefficients (broadcast with the tooth numbers).
     rack : Rack
     internal : bool
+    ring_tip : {"standard", "cut"}
+        an internal pair's ring tip: d_a2 = d₂ − 2m(h_a* − x₂), or that cut back (enlarged) where needed
+        so that the ring's tip meets the pinion on its involute, d_a2 ≥ 2√(r_b2² + (a_w sin α_w + ρ_l1)²).
 
     Returns
     -------
@@ -228,7 +235,8 @@ def mesh(module: float, z1: int, z2: int, x1, x2, rack: Rack = Rack(), internal:
     1.202
     """
     m, al = module, rack.pressure_angle
-    x1, x2 = np.broadcast_arrays(np.asarray(x1, float), np.asarray(x2, float))
+    z1, z2, x1, x2 = np.broadcast_arrays(np.asarray(z1, float), np.asarray(z2, float), np.asarray(x1, float),
+                                         np.asarray(x2, float))
     ta, ca, sa = math.tan(al), math.cos(al), math.sin(al)
     ha, c, hfe = rack.addendum, rack.clearance, rack.flank_end
     q = {}
@@ -253,6 +261,8 @@ def mesh(module: float, z1: int, z2: int, x1, x2, rack: Rack = Rack(), internal:
         q[f"dw{k}"] = d * ca / np.cos(q["alpha_w"])
         if ring:
             da = d - 2 * m * (ha - x)
+            if ring_tip == "cut":                               # contact to start on the pinion's involute
+                da = np.maximum(da, 2 * np.hypot(db / 2, q["L"] + np.maximum(q["rho_l1"], 0.0)))
             df = d + 2 * m * (ha + c + x)
             s = m * (math.pi / 2 - 2 * x * ta)
         else:
@@ -265,8 +275,8 @@ def mesh(module: float, z1: int, z2: int, x1, x2, rack: Rack = Rack(), internal:
         sign = -1.0 if ring else 1.0                            # a ring's tooth widens outwards
         q[f"da{k}"], q[f"df{k}"], q[f"s{k}"], q[f"alpha_a{k}"] = da, df, s, alpha_a
         q[f"sa{k}"] = da * (s / d + sign * (inv(al) - inv(alpha_a)))
-        q[f"xmin{k}"] = np.full_like(x, np.nan) if ring else np.full_like(x, hfe - z * sa * sa / 2)
-        q[f"rho_l{k}"] = np.full_like(x, np.nan) if ring else d / 2 * sa - (hfe - x) * m / sa
+        q[f"xmin{k}"] = np.full_like(x + z, np.nan) if ring else hfe - z * sa * sa / 2 + 0 * x
+        q[f"rho_l{k}"] = np.full_like(x + z, np.nan) if ring else d / 2 * sa - (hfe - x) * m / sa
     with np.errstate(invalid="ignore"):
         q["rho_E1"] = np.sqrt(q["da1"] ** 2 - q["db1"] ** 2) / 2
         q["rho_A2"] = np.sqrt(q["da2"] ** 2 - q["db2"] ** 2) / 2
@@ -343,7 +353,7 @@ def _finite_shift(x, name) -> float:
 
 
 def gear_pair(module: float, teeth, shifts=(0.0, 0.0), *, internal: bool = False, rack: Rack | None = None,
-              min_tip: float = MIN_TIP, min_contact: float = MIN_CONTACT) -> GearPair:
+              min_tip: float = MIN_TIP, min_contact: float = MIN_CONTACT, ring_tip: str = "standard") -> GearPair:
     """The geometry, path of contact, sliding and checks of a spur pair.
 
     Parameters
@@ -362,6 +372,9 @@ def gear_pair(module: float, teeth, shifts=(0.0, 0.0), *, internal: bool = False
         smallest tip thickness, in modules.
     min_contact : float
         smallest transverse contact ratio.
+    ring_tip : {"standard", "cut"}
+        an internal pair's ring tip (see `mesh`): "cut" enlarges its tip circle where the standard one
+        would meet the pinion below its involute.
 
     Returns
     -------
@@ -390,7 +403,10 @@ def gear_pair(module: float, teeth, shifts=(0.0, 0.0), *, internal: bool = False
         raise ModelError(f"the smallest tip thickness must be ≥ 0 (in modules), got {min_tip!r}")
     if not (math.isfinite(min_contact) and min_contact > 0):
         raise ModelError(f"the smallest contact ratio must be > 0, got {min_contact!r}")
-    q = {k: (float(v) if np.ndim(v) == 0 else v) for k, v in mesh(m, z1, z2, x1, x2, rack, internal).items()}
+    if ring_tip not in ("standard", "cut"):
+        raise ModelError(f"--ring-tip must be 'standard' or 'cut', got {ring_tip!r}")
+    q = {k: (float(v) if np.ndim(v) == 0 else v)
+         for k, v in mesh(m, z1, z2, x1, x2, rack, internal, ring_tip).items()}
     if not math.isfinite(q["alpha_w"]):
         what = "x2 − x1" if internal else "x1 + x2"
         raise ModelError(f"shifts x1 = {x1:g}, x2 = {x2:g}: {what} is so negative that inv α_w = "
@@ -412,13 +428,13 @@ def gear_pair(module: float, teeth, shifts=(0.0, 0.0), *, internal: bool = False
     checks = tuple(_check(name, gear, float(margin), q, gears, m, min_tip, min_contact)
                    for (name, gear), margin in margins(q, x1, x2, m, internal, min_tip, min_contact).items())
     failed = [c.message for c in checks if not c.ok]
-    return GearPair(m, rack, internal, tuple(gears), z2 / z1, q["alpha_w"], q["inv_w"], q["a"], q["aw"], q["y"],
+    return GearPair(m, rack, internal, ring_tip if internal else "standard", tuple(gears), z2 / z1, q["alpha_w"], q["inv_w"], q["a"], q["aw"], q["y"],
                     q["dy"], q["pb"], q["L"], (q["rho_A1"], q["rho_E1"]), q["rho_E1"] - q["rho_A1"], q["eps"],
                     checks, not failed, "; ".join(failed) if failed else "all checks met")
 
 
 def _check(name, k, margin, q, gears, m, min_tip, min_contact) -> Check:
-    ok = bool(margin >= -1e-12)
+    ok = bool(margin >= -MARGIN_TOLERANCE)
     mm = lambda v: f"{v * 1e3:.4g} mm"                       # noqa: E731
     g = gears[k - 1] if k else None
     if name == "undercut":
@@ -433,6 +449,8 @@ def _check(name, k, margin, q, gears, m, min_tip, min_contact) -> Check:
         limit = max(q[f"rho_l{k}"], 0.0)
         text = (f"interference: gear {3 - k}'s tip meets gear {k} at ρ = {mm(value)} from N{k}, below the "
                 f"start of its involute (ρ = {mm(limit)})")
+        if gears[1].internal and k == 1:
+            text += " (--ring-tip cut enlarges the ring's tip circle to avoid it)"
     elif name == "ring tip":
         value, limit = g.tip_diameter / 2, g.base_diameter / 2
         text = (f"the ring's tip circle (d_a = {mm(2 * value)}) lies inside its base circle "

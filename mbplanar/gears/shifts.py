@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .involute import inv
-from .pair import (MIN_CONTACT, MIN_TIP, GearPair, gear_pair, margins, mesh, shift_sum_for, validate_module,
+from .pair import (MARGIN_TOLERANCE, MIN_CONTACT, MIN_TIP, GearPair, gear_pair, margins, mesh, shift_sum_for, validate_module,
                    validate_teeth)
 from .rack import Rack
 
@@ -129,7 +129,7 @@ def _evaluate(module, z1, z2, x1, x2, rack, internal, min_tip, min_contact):
     mg = margins(q, x1, x2, module, internal, min_tip, min_contact)
     ok = np.ones(np.broadcast(x1, x2).shape, bool)
     for v in mg.values():
-        ok &= v >= 0
+        ok &= v >= -MARGIN_TOLERANCE
     return q, mg, ok
 
 
