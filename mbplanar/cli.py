@@ -824,11 +824,13 @@ def cmd_animate(args):
 
 def cmd_report(args):
     from .cam.present import register as register_cam_section
+    from .gears.report import register as register_gears_section
     from .synthesis.report import register as register_synthesis_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
     register_cam_section()  # (the report's sections of other packages: registered here, so that the other
-    register_synthesis_section()  # commands do not import those packages)
+    register_gears_section()  # commands do not import those packages)
+    register_synthesis_section()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)

@@ -392,6 +392,9 @@ def planetary_text(search, chosen=None, stage_pair=None, model=None, limit=10) -
     lines = [f"planetary trains for ratio {search.target:.6g} ± {search.tolerance:g}, k = {search.planets}, "
              f"{search.teeth_range[0]} ≤ z ≤ {search.teeth_range[1]}, schemes {', '.join(search.schemes)}: "
              f"{len(search.trains)} admissible"]
+    if stage_pair is not None:
+        lines.append(f"  (the whole drive's {search.target * stage_pair.ratio:.6g} over the pair's {stage_pair.ratio:.6g} "
+                     f"after the train)")
     rej = ", ".join(f"{k} {v}" for k, v in search.rejected.items() if v)
     if rej:
         lines.append(f"  (sets with the ratio rejected by: {rej})")

@@ -1,9 +1,11 @@
 """The involute function inv α = tan α − α and its inverse, accurate to a few units of the last place.
 
-`inv` sums the Taylor series of tan α − α below 0.3 rad (where tan α − α loses digits to cancellation)
-and uses tan α − α above; `arcinv` solves inv α = v by Newton's method from an upper bound of the root
-(inv is convex and increasing on [0, π/2), so Newton from above approaches the root monotonically and
-cannot overshoot), to a relative error below 1e-15. Both take numpy arrays (any shape) or floats.
+`inv` evaluates (sin α − α cos α)/cos α with the numerator summed as its Taylor series,
+Σ_{k≥1} (−1)^(k+1) 2k α^(2k+1)/(2k+1)!, whose terms decrease fast for every α < π/2 and which does not
+lose the digits that tan α − α loses to cancellation for small α. `arcinv` solves inv α = v by Newton's
+method from an upper bound of the root (inv is convex and increasing on [0, π/2), so Newton from above
+approaches the root monotonically and cannot overshoot), to a relative error below 1e-15. Both take
+numpy arrays (any shape) or floats.
 
     >>> from mbplanar.gears.involute import inv, arcinv
     >>> import math
@@ -16,37 +18,14 @@ cannot overshoot), to a relative error below 1e-15. Both take numpy arrays (any 
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["inv", "arcinv", "SERIES_LIMIT"]
+__all__ = ["inv", "arcinv"]
 
-SERIES_LIMIT = 0.3          # rad: below, the series; above, tan α − α (relative error ≲ 3·eps/α²)
-
-
-def _tan_series_coefficients(terms: int) -> tuple[float, ...]:
-    """Coefficients c_k of tan x − x = Σ c_k x^(2k+1), k = 1 … terms, from the tangent numbers
-    (exact integers: T₁ = 1, T₃ = 2, T₅ = 16, …; the coefficient of x^(2n−1) in tan x is T/(2n−1)!)."""
-    # Tangent numbers by the boustrophedon-like recurrence on the derivative polynomials of tan.
-    poly = [0, 1]                       # d^0 tan / dx^0 as a polynomial in t = tan x: t
-    out = []
-    for n in range(1, 2 * terms + 2):
-        # derivative of P(t) is P'(t)(1 + t²)
-        deriv = [0] * (len(poly) + 1)
-        for k, c in enumerate(poly):
-            if k and c:
-                deriv[k - 1] += k * c
-                deriv[k + 1] += k * c
-        poly = deriv
-        if n % 2 == 1 and n >= 3:       # odd derivative at 0: the tangent number of order n
-            out.append(float(Fraction(poly[0], math.factorial(n))))
-        if len(out) == terms:
-            break
-    return tuple(out)
-
-
-_COEFFICIENTS = _tan_series_coefficients(16)   # x³ … x³³: at 0.3 rad the last term is ~1e-19 of the sum
+# coefficients of sin α − α cos α = α³ Σ_k c_k α^(2(k−1)), c_k = (−1)^(k+1) 2k/(2k+1)!, k = 1 … 20:
+# at α = π/2 the last term is below 1e-30 of the sum
+_COEFFICIENTS = tuple((-1) ** (k + 1) * 2 * k / math.factorial(2 * k + 1) for k in range(1, 21))
 
 
 def inv(alpha):
@@ -60,7 +39,7 @@ def inv(alpha):
     Returns
     -------
     float or numpy.ndarray
-        tan α − α, with a relative error of a few 1e-16 (the series below `SERIES_LIMIT`).
+        tan α − α, with a relative error of a few 1e-16.
 
     Examples
     --------
@@ -69,14 +48,12 @@ def inv(alpha):
     (0.0, 0.046302489844)
     """
     a = np.asarray(alpha, dtype=float)
-    small = np.abs(a) < SERIES_LIMIT
     a2 = a * a
     series = np.zeros_like(a)
     for c in reversed(_COEFFICIENTS):
-        series = (series + c) * a2
-    series = series * a                 # Σ c_k a^(2k+1)
-    with np.errstate(invalid="ignore"):
-        out = np.where(small, series, np.tan(a) - a)
+        series = series * a2 + c
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = series * a2 * a / np.cos(a)
     return float(out) if np.ndim(alpha) == 0 else out
 
 

@@ -4,7 +4,8 @@ Coefficients are in modules: addendum h_a* (of the gear; the tool's dedendum), c
 addendum is h_a* + c*), the radius ρ_f* of the round at the tool's tip. Its straight flank ends at
 h_fe* = h_a* + c* − ρ_f*(1 − sin α) below the datum line; the default ρ_f* = c*/(1 − sin α) (0.37995 at
 20°; ISO 53 profile A rounds it to 0.38) makes h_fe* = h_a*, which is what the textbooks' undercut limit
-x_min = h_a* − z sin²α/2 assumes.
+x_min = h_a* − z sin²α/2 assumes; where that round does not fit on the tool's tooth (α = 25°, c* = 0.25)
+the default is the largest that does.
 
     >>> from mbplanar.gears.rack import Rack
     >>> r = Rack()
@@ -35,8 +36,8 @@ class Rack:
     clearance : float
         c* ≥ 0 (default 0.25).
     tip_radius : float, optional
-        ρ_f* of the tool's tip round (default c*/(1 − sin α)); at most the round that reaches the middle
-        of the tool's tooth.
+        ρ_f* of the tool's tip round (default c*/(1 − sin α), or the largest that fits if smaller); at
+        most the round that reaches the middle of the tool's tooth.
 
     Attributes
     ----------
@@ -63,8 +64,8 @@ class Rack:
             raise ModelError(f"addendum coefficient must be > 0, got {ha:g}")
         if not (math.isfinite(c) and c >= 0):
             raise ModelError(f"clearance coefficient must be ≥ 0, got {c:g}")
-        rho = c / (1 - math.sin(a)) if self.tip_radius is None else self.tip_radius
         largest = self.largest_tip_radius()
+        rho = min(c / (1 - math.sin(a)), largest) if self.tip_radius is None else self.tip_radius
         if not (math.isfinite(rho) and 0 <= rho <= largest * (1 + 1e-12)):
             raise ModelError(f"tool tip radius coefficient must be between 0 and {largest:.6g} "
                              f"(the round reaching the middle of the tool's tooth), got {rho:g}")
