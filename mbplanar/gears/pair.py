@@ -327,7 +327,7 @@ def margins(q: dict, x1, x2, module: float, internal: bool, min_tip: float = MIN
     >>> from mbplanar.gears.pair import mesh, margins
     >>> q = mesh(1e-3, 12, 30, 0.0, 0.0)
     >>> round(float(margins(q, 0.0, 0.0, 1e-3, False)[("undercut", 1)]), 4)   # x − x_min < 0: undercut
-    -0.2982
+    -0.2981
     """
     m = module
     x1, x2 = np.broadcast_arrays(np.asarray(x1, float), np.asarray(x2, float))
@@ -391,7 +391,7 @@ def gear_pair(module: float, teeth, shifts=(0.0, 0.0), *, internal: bool = False
     >>> from mbplanar.gears import gear_pair
     >>> p = gear_pair(10e-3, (12, 30), (0.3, 0.0))
     >>> [round(g.tip_diameter * 1e3, 3) for g in p.gears], round(p.contact_ratio, 4)
-    ([145.906, 319.906], 1.4549)
+    ([145.719, 319.719], 1.4146)
     >>> p.success
     True
     """
