@@ -158,11 +158,11 @@ def design_pair(s):
     validate_teeth(*s.teeth, internal=s.internal, where="--teeth")
     rack = _rack(s)
     common = dict(internal=s.internal, rack=rack, min_tip=s.min_tip, min_contact=s.min_contact)
+    if s.ring_tip not in ("standard", "cut"):
+        raise ModelError(f"--ring-tip must be 'standard' or 'cut', got {s.ring_tip!r}")
     if s.shifts == "auto":
-        if s.ring_tip != "standard":
-            raise ModelError("--ring-tip cut is for given shifts (--shift x1,x2)")
         choice = choose_shifts(s.module, s.teeth, s.criterion, centre_distance=s.centre_distance,
-                               shift_sum=s.shift_sum, **common)
+                               shift_sum=s.shift_sum, ring_tip=s.ring_tip, **common)
         return choice.pair, choice, choice.contour
     pair = gear_pair(s.module, s.teeth, s.shifts, ring_tip=s.ring_tip, **common)
     if s.centre_distance is not None and abs(pair.centre_distance - s.centre_distance) > 1e-9 * s.module:
@@ -170,7 +170,7 @@ def design_pair(s):
                          f"not the --centre-distance {s.centre_distance * 1e3:g} mm")
     shift_sum = (pair.shifts[1] - pair.shifts[0]) if s.internal else sum(pair.shifts)
     contour = block_contour(s.module, s.teeth, shift_sum=shift_sum if s.centre_distance is not None else None,
-                            **common)
+                            ring_tip=s.ring_tip, **common)
     return pair, None, contour
 
 

@@ -70,6 +70,13 @@ class Gear:
                   (None for a ring; ρ_l < 0 means undercut, then r_b)
     active_diameter : where the active profile ends on the root side (the mate's tip meets it)
     root_sliding, tip_sliding : specific sliding at the root-side and tip ends of the active profile
+
+    Examples
+    --------
+    >>> from mbplanar.gears import gear_pair
+    >>> g = gear_pair(3e-3, (12, 24), (0.6, 0.36)).gears[0]
+    >>> round(g.tip_diameter * 1e3, 3), round(g.min_shift, 4)
+    (44.84, 0.2981)
     """
 
     teeth: int
@@ -92,7 +99,15 @@ class Gear:
 
 @dataclass(frozen=True)
 class Check:
-    """One quality check: `margin` ≥ 0 when it is met (in modules, radians or plain numbers, as `value`)."""
+    """One quality check: `margin` ≥ 0 when it is met (in modules, radians or plain numbers, as `value`).
+
+    Examples
+    --------
+    >>> from mbplanar.gears import gear_pair
+    >>> c = gear_pair(10e-3, (12, 30), (0.0, 0.0)).checks[0]
+    >>> c.name, c.gear, c.ok, round(c.limit, 4)
+    ('undercut', 1, False, 0.2981)
+    """
 
     name: str
     gear: int | None
@@ -125,6 +140,13 @@ class GearPair:
     checks : tuple of `Check`
     success : every check met
     message : the failed checks, or "all checks met"
+
+    Examples
+    --------
+    >>> from mbplanar.gears import gear_pair
+    >>> p = gear_pair(3e-3, (12, 24), (0.6, 0.36))
+    >>> round(p.contact_ratio, 3), p.success, [c.name for c in p.failed()]
+    (1.202, True, [])
     """
 
     module: float

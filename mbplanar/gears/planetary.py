@@ -99,6 +99,13 @@ class Train:
     centre_distance : a_w of the planets' axes (m)
     diameter : overall diameter (m): the largest circle any gear reaches (a ring: its root circle)
     neighbour_gap : 2a_w sin(π/k) − d_a of the planet's larger row (m), > 0
+
+    Examples
+    --------
+    >>> from mbplanar.gears import planetary_trains
+    >>> t = planetary_trains(7.0, "A", planets=3).trains[0]
+    >>> t.teeth, round(t.ratio, 6), round(1 - t.willis, 6)
+    ((18, 45, 108), 7.0, 7.0)
     """
 
     scheme: str
@@ -129,6 +136,13 @@ class PlanetarySearch:
                counted under the first condition it fails)
     success : at least one train
     message
+
+    Examples
+    --------
+    >>> from mbplanar.gears import planetary_trains
+    >>> s = planetary_trains(4.0, "A", planets=3, tolerance=0.0, max_teeth=60)
+    >>> [t.teeth for t in s.trains], s.rejected["assembly"]
+    ([(18, 18, 54)], 2)
     """
 
     target: float

@@ -95,6 +95,13 @@ class GearProfile:
               inner outline)
     pieces : tuple of Piece, the outline piece by piece (for DXF)
     check : ProfileCheck
+
+    Examples
+    --------
+    >>> from mbplanar.gears import gear_pair, gear_profile
+    >>> prof = gear_profile(gear_pair(10e-3, (12, 30), (0.6, 0.5)), 1)
+    >>> [p.part for p in prof.pieces[:5]], prof.check.success
+    (['root', 'fillet', 'involute', 'tip', 'involute'], True)
     """
 
     teeth: int

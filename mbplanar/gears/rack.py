@@ -48,6 +48,13 @@ class Rack:
     ------
     ModelError
         a value out of its range, named with the value.
+
+    Examples
+    --------
+    >>> import math
+    >>> from mbplanar.gears import Rack
+    >>> round(Rack(math.radians(25)).tip_radius, 6)      # c*/(1 − sin 25°) does not fit: the largest that does
+    0.317883
     """
 
     pressure_angle: float = math.radians(20.0)

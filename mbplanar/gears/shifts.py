@@ -57,6 +57,13 @@ class BlockContour:
     contact_ratio : (N2, N1) ε_α
     internal : bool
     shift_sum : x_Σ of a fixed centre distance or given sum (None: free)
+
+    Examples
+    --------
+    >>> from mbplanar.gears import block_contour
+    >>> c = block_contour(10e-3, (12, 30), grid=41)
+    >>> c.admissible.shape, round(c.area, 2)
+    ((41, 41), 0.48)
     """
 
     x1: np.ndarray
@@ -87,6 +94,13 @@ class ShiftChoice:
     shift_sum : the x_Σ the choice was held to (None: free)
     success : the chosen pair meets every check
     message : how the point was found
+
+    Examples
+    --------
+    >>> from mbplanar.gears import choose_shifts
+    >>> c = choose_shifts(10e-3, (12, 30), "sum", centre_distance=0.215)
+    >>> round(c.pair.centre_distance, 12), round(sum(c.shifts), 6)
+    (0.215, 0.541619)
     """
 
     criterion: str
@@ -124,8 +138,8 @@ def _tip_alone(module, z, x, rack, ring=False):
         return da * (s / d + sign * (inv(al) - inv(alpha_a)))
 
 
-def _evaluate(module, z1, z2, x1, x2, rack, internal, min_tip, min_contact):
-    q = mesh(module, z1, z2, x1, x2, rack, internal)
+def _evaluate(module, z1, z2, x1, x2, rack, internal, min_tip, min_contact, ring_tip="standard"):
+    q = mesh(module, z1, z2, x1, x2, rack, internal, ring_tip)
     mg = margins(q, x1, x2, module, internal, min_tip, min_contact)
     ok = np.ones(np.broadcast(x1, x2).shape, bool)
     for v in mg.values():
@@ -139,7 +153,7 @@ def _label(name, gear):
 
 def block_contour(module: float, teeth, *, internal: bool = False, rack: Rack | None = None,
                   min_tip: float = MIN_TIP, min_contact: float = MIN_CONTACT, box=None, grid: int = GRID,
-                  shift_sum: float | None = None) -> BlockContour:
+                  shift_sum: float | None = None, ring_tip: str = "standard") -> BlockContour:
     """The block contour of a pair: every check's margin over a grid of (x₁, x₂).
 
     Parameters
@@ -157,6 +171,8 @@ def block_contour(module: float, teeth, *, internal: bool = False, rack: Rack | 
         points per axis.
     shift_sum : float, optional
         recorded for the picture (the line of a fixed centre distance).
+    ring_tip : {"standard", "cut"}
+        an internal pair's ring tip (see `pair.mesh`).
 
     Returns
     -------
@@ -176,7 +192,7 @@ def block_contour(module: float, teeth, *, internal: bool = False, rack: Rack | 
     x1 = np.linspace(a1, b1, grid)
     x2 = np.linspace(a2, b2, grid)
     X1, X2 = np.meshgrid(x1, x2)
-    q, mg, ok = _evaluate(m, z1, z2, X1, X2, rack, internal, min_tip, min_contact)
+    q, mg, ok = _evaluate(m, z1, z2, X1, X2, rack, internal, min_tip, min_contact, ring_tip)
     named = {_label(name, gear): v for (name, gear), v in mg.items()}
     with np.errstate(invalid="ignore"):
         gap = q["zeta1_A"] - q["zeta2_E"]
@@ -188,7 +204,7 @@ def _line(shift_sum, internal):
     return (lambda x1: shift_sum + x1) if internal else (lambda x1: shift_sum - x1)
 
 
-def _balanced_on_lines(module, z1, z2, sums, lo, hi, rack, internal, iterations=80):
+def _balanced_on_lines(module, z1, z2, sums, lo, hi, rack, internal, ring_tip="standard", iterations=80):
     """x₁ where ζ₁(A) = ζ₂(E) on each line x₁ + x₂ = S (internal: x₂ − x₁ = S), by bisection in x₁ on
     [lo, hi] for all S at once; NaN where the gap does not change sign."""
     sums = np.asarray(sums, float)
@@ -196,7 +212,7 @@ def _balanced_on_lines(module, z1, z2, sums, lo, hi, rack, internal, iterations=
 
     def gap(x1):
         x2 = sums + x1 if internal else sums - x1
-        q = mesh(module, z1, z2, x1, x2, rack, internal)
+        q = mesh(module, z1, z2, x1, x2, rack, internal, ring_tip)
         with np.errstate(invalid="ignore"):
             g = q["zeta1_A"] - q["zeta2_E"]
         return np.where(np.isfinite(g), g, np.where(q["zeta1_A"] == -np.inf, -1e300, 1e300))
@@ -256,7 +272,8 @@ def _refine_2d(score, box, points=161):
 
 def choose_shifts(module: float, teeth, criterion: str = "balanced", *, internal: bool = False,
                   rack: Rack | None = None, centre_distance: float | None = None, shift_sum: float | None = None,
-                  min_tip: float = MIN_TIP, min_contact: float = MIN_CONTACT, box=None) -> ShiftChoice:
+                  min_tip: float = MIN_TIP, min_contact: float = MIN_CONTACT, box=None,
+                  ring_tip: str = "standard") -> ShiftChoice:
     """Choose x₁, x₂ inside the block contour by `criterion`.
 
     Parameters
@@ -275,6 +292,8 @@ def choose_shifts(module: float, teeth, criterion: str = "balanced", *, internal
         the limits of the checks.
     box : optional
         the contour's grid extent (see `block_contour`).
+    ring_tip : {"standard", "cut"}
+        an internal pair's ring tip (see `pair.mesh`).
 
     Returns
     -------
@@ -311,11 +330,11 @@ def choose_shifts(module: float, teeth, criterion: str = "balanced", *, internal
     if criterion == "sum" and shift_sum is None:
         raise ModelError("--criterion sum needs --shift-sum or --centre-distance")
     contour = block_contour(m, (z1, z2), internal=internal, rack=rack, min_tip=min_tip, min_contact=min_contact,
-                            box=box, shift_sum=shift_sum)
+                            box=box, shift_sum=shift_sum, ring_tip=ring_tip)
     (a1, b1), (a2, b2) = (contour.x1[0], contour.x1[-1]), (contour.x2[0], contour.x2[-1])
 
     def evaluate(x1, x2):
-        return _evaluate(m, z1, z2, x1, x2, rack, internal, min_tip, min_contact)
+        return _evaluate(m, z1, z2, x1, x2, rack, internal, min_tip, min_contact, ring_tip)
 
     where = f"z = {z1}, {z2}" + (" (internal)" if internal else "")
     if shift_sum is not None:
@@ -334,7 +353,7 @@ def choose_shifts(module: float, teeth, criterion: str = "balanced", *, internal
             x1 = _refine_1d(score, lo, hi)
             how = f"the largest contact ratio on the line x_Σ = {shift_sum:.6g}"
         else:
-            x1 = float(_balanced_on_lines(m, z1, z2, [shift_sum], lo, hi, rack, internal)[0])
+            x1 = float(_balanced_on_lines(m, z1, z2, [shift_sum], lo, hi, rack, internal, ring_tip)[0])
             q, _, ok = evaluate(np.array([x1]), line(np.array([x1]))) if math.isfinite(x1) else (None, None, [False])
             if math.isfinite(x1) and ok[0]:
                 how = f"balanced specific sliding on the line x_Σ = {shift_sum:.6g}"
@@ -355,13 +374,14 @@ def choose_shifts(module: float, teeth, criterion: str = "balanced", *, internal
         x1, x2 = _refine_2d(score2, ((a1, b1), (a2, b2)))
         how = "the largest contact ratio inside the block contour"
     else:
-        x1, x2, how = _balanced_least_sliding(m, z1, z2, rack, internal, evaluate, contour, where)
-    pair = gear_pair(m, (z1, z2), (x1, x2), internal=internal, rack=rack, min_tip=min_tip, min_contact=min_contact)
+        x1, x2, how = _balanced_least_sliding(m, z1, z2, rack, internal, evaluate, contour, where, ring_tip)
+    pair = gear_pair(m, (z1, z2), (x1, x2), internal=internal, rack=rack, min_tip=min_tip, min_contact=min_contact,
+                     ring_tip=ring_tip)
     return ShiftChoice(criterion, (x1, x2), pair, contour, shift_sum, pair.success,
                        how if pair.success else f"{how}; but {pair.message}")
 
 
-def _balanced_least_sliding(m, z1, z2, rack, internal, evaluate, contour, where):
+def _balanced_least_sliding(m, z1, z2, rack, internal, evaluate, contour, where, ring_tip):
     """On the balanced-sliding curve, the admissible point with the least sliding |ζ₁(A)|: the curve is
     followed as x₁(x_Σ) (bisection on each line of constant sum), over grids of x_Σ refined around the
     best."""
@@ -370,7 +390,7 @@ def _balanced_least_sliding(m, z1, z2, rack, internal, evaluate, contour, where)
     lo, hi = (a2 - b1, b2 - a1) if internal else (a1 + a2, b1 + b2)
 
     def score(sums):
-        x1 = _balanced_on_lines(m, z1, z2, sums, a1, b1, rack, internal)
+        x1 = _balanced_on_lines(m, z1, z2, sums, a1, b1, rack, internal, ring_tip)
         x2 = sums + x1 if internal else sums - x1
         q, _, ok = evaluate(x1, x2)
         ok &= np.isfinite(x1) & (x2 >= a2) & (x2 <= b2)
@@ -380,6 +400,6 @@ def _balanced_least_sliding(m, z1, z2, rack, internal, evaluate, contour, where)
     if best is None:
         raise ModelError(f"no admissible shifts with balanced sliding for {where}: the balanced-sliding curve "
                          f"stays outside the block contour (choose --criterion contact, or give --shift-sum)")
-    x1 = float(_balanced_on_lines(m, z1, z2, [best], a1, b1, rack, internal)[0])
+    x1 = float(_balanced_on_lines(m, z1, z2, [best], a1, b1, rack, internal, ring_tip)[0])
     x2 = best + x1 if internal else best - x1
     return x1, float(x2), f"balanced specific sliding, least sliding inside the block contour (x_Σ = {best:.6g})"

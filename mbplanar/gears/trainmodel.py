@@ -18,23 +18,44 @@ r₁(θ₁ − θ_c) = ∓r₂(θ₂ − θ_c) (− external, + internal).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from .planetary import SCHEMES, Train
 
 __all__ = ["train_model", "write_train_model", "Stage"]
 
 
+@dataclass(frozen=True)
 class Stage:
     """A pair on fixed axes after the train's output: gear `teeth[0]` on the output shaft drives gear
-    `teeth[1]` (link "out"), whose axis is `centre_distance` below the train's; `radii` are the working
-    pitch radii (m), `shifts` recorded."""
+    `teeth[1]` (link "out"), whose axis is `centre_distance` below the train's.
 
-    def __init__(self, teeth, module, radii, centre_distance, shifts=(0.0, 0.0)):
-        self.teeth, self.module, self.radii = tuple(teeth), float(module), tuple(radii)
-        self.centre_distance, self.shifts = float(centre_distance), tuple(shifts)
+    Attributes
+    ----------
+    teeth : (z₁, z₂)
+    module : m (m)
+    radii : the working pitch radii (m)
+    centre_distance : a_w (m)
+    shifts : (x₁, x₂), recorded
+
+    Examples
+    --------
+    >>> from mbplanar.gears import gear_pair
+    >>> from mbplanar.gears.trainmodel import Stage
+    >>> s = Stage.from_pair(gear_pair(10e-3, (12, 30), (0.6, 0.5)))
+    >>> s.teeth, abs(sum(s.radii) - s.centre_distance) < 1e-15
+    ((12, 30), True)
+    """
+
+    teeth: tuple
+    module: float
+    radii: tuple
+    centre_distance: float
+    shifts: tuple = (0.0, 0.0)
 
     @classmethod
     def from_pair(cls, pair):
-        """The stage of a designed `GearPair` (external)."""
+        """The stage of a designed external `GearPair`."""
         z1, z2 = (g.teeth for g in pair.gears)
         radii = tuple(g.working_diameter / 2 for g in pair.gears)
         return cls((z1, z2), pair.module, radii, pair.centre_distance, pair.shifts)
