@@ -21,14 +21,8 @@ _COLOURS = ("#b03a2e", "#2a6fb0", "#7d3c98", "#1e8449", "#b9770e", "#5d6d7e", "#
 
 def _plt():
     """pyplot on the Agg backend; `PlotUnavailable` (exit 2) without matplotlib."""
-    from ..viz import PlotUnavailable
-    try:
-        import matplotlib
-    except ImportError:
-        raise PlotUnavailable("pictures need matplotlib: pip install 'mbplanar[plot]'") from None
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-    return plt
+    from ..viz._plotting import require_matplotlib
+    return require_matplotlib()
 
 
 def contour_figure(contour, chosen=None, title: str | None = None):
