@@ -254,7 +254,7 @@ def pair_text(pair, choice=None, profiles=()) -> str:
         rows.append((label, f(g1), f(g2)))
     width = max(len(a) for a, _, _ in rows)
     for a, b, c in rows:
-        lines.append(f"  {a:<{width}}  {b:>14}  {c:>14}")
+        lines.append(f"  {a:<{width}}  {b:>18}  {c:>18}")
     lines.append(f"path of contact g_α = {mm(pair.path_length)} mm, p_b = {mm(pair.base_pitch)} mm, "
                  f"ε_α = {pair.contact_ratio:.6f}")
     lines.append("checks:")
