@@ -154,3 +154,22 @@ def test_docstring_examples_run(module, monkeypatch):
     name = "mbplanar.gears" if module == "__init__" else f"mbplanar.gears.{module}"
     failed, tried = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert failed == 0 and tried > 0
+
+
+def test_tutorial_sessions_are_what_the_commands_print(tmp_path, capsys, monkeypatch):
+    """docs/gears.md's console blocks, run as shown (rounding noise below 1e-10 made equal, as
+    docs/sessions.py does for the README's)."""
+    import re
+    import shlex
+    import sys
+    sys.path.insert(0, str(ROOT / "docs"))
+    from sessions import _without_noise
+    (tmp_path / "models").symlink_to(ROOT / "models")
+    monkeypatch.chdir(tmp_path)
+    text = (ROOT / "docs" / "gears.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```console\n\$ (mbplanar gear .*?)\n(.*?)^```", text, flags=re.S | re.M)
+    assert len(blocks) == 2
+    for command, shown in blocks:
+        code, out, err = run(shlex.split(command)[1:], capsys)
+        assert code == 0, err
+        assert _without_noise(out.splitlines()) == _without_noise(shown.splitlines()), command
