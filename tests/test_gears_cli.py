@@ -173,3 +173,6 @@ def test_tutorial_sessions_are_what_the_commands_print(tmp_path, capsys, monkeyp
         code, out, err = run(shlex.split(command)[1:], capsys)
         assert code == 0, err
         assert _without_noise(out.splitlines()) == _without_noise(shown.splitlines()), command
+    shown_joints = re.search(r"^joints = \[\n.*?^\]\n", text, flags=re.S | re.M).group(0)
+    written = (tmp_path / "drive.toml").read_text(encoding="utf-8")
+    assert shown_joints in written                            # the model shown is the one written

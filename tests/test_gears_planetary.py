@@ -158,6 +158,7 @@ def test_model_with_a_stage_after_the_train():
     assert table["input"]["omega"] == 147.9 and table["gears"]["train"]["output"] == "out"
     g = next(j for j in table["joints"] if j["name"] == "G56")
     assert abs(sum(g["radii"]) - stage_pair.centre_distance) < 1e-15
+    assert g["pressure_angle"] == stage_pair.working_pressure_angle_deg      # the line of action's angle
 
 
 def test_velocity_diagram_lines():

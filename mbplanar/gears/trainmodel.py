@@ -6,7 +6,8 @@ planet; the other k − 1 are kinematically redundant and are recorded in `[gear
 carrier; the fixed central gear belongs to the frame "0". A `gear` row names its two links, their
 `teeth` and `module` (or `radii`, the working pitch radii, for a shifted pair), `mesh = "external"` or
 `"internal"` (the second link then has the internal teeth), the `carrier` on which both gears' axes are
-fixed, and `at`, the pitch point in the drawing. The relation it stands for is
+fixed, the `pressure_angle` of the line of action (degrees; a shifted pair's working one, α_w) and `at`,
+the pitch point in the drawing. The relation it stands for is
 r₁(θ₁ − θ_c) = ∓r₂(θ₂ − θ_c) (− external, + internal).
 
     >>> from mbplanar.gears import planetary_trains
@@ -37,6 +38,7 @@ class Stage:
     radii : the working pitch radii (m)
     centre_distance : a_w (m)
     shifts : (x₁, x₂), recorded
+    pressure_angle : the working pressure angle α_w, degrees (the line of action's)
 
     Examples
     --------
@@ -52,13 +54,14 @@ class Stage:
     radii: tuple
     centre_distance: float
     shifts: tuple = (0.0, 0.0)
+    pressure_angle: float = 20.0
 
     @classmethod
     def from_pair(cls, pair):
         """The stage of a designed external `GearPair`."""
         z1, z2 = (g.teeth for g in pair.gears)
         radii = tuple(g.working_diameter / 2 for g in pair.gears)
-        return cls((z1, z2), pair.module, radii, pair.centre_distance, pair.shifts)
+        return cls((z1, z2), pair.module, radii, pair.centre_distance, pair.shifts, pair.working_pressure_angle_deg)
 
 
 def _num(v: float) -> str:
@@ -66,7 +69,7 @@ def _num(v: float) -> str:
 
 
 def train_model(train: Train, *, name: str | None = None, title: str | None = None, omega: float | None = None,
-                stage: Stage | None = None) -> str:
+                stage: Stage | None = None, pressure_angle: float = 20.0) -> str:
     """The TOML text of a model of `train` with `gear` joints.
 
     Parameters
@@ -78,6 +81,9 @@ def train_model(train: Train, *, name: str | None = None, title: str | None = No
         the input speed (rad/s) for `[input]`.
     stage : Stage, optional
         a pair on fixed axes after the output (link "out").
+    pressure_angle : float
+        the train's (unshifted) meshes' pressure angle, degrees: the direction of the contact force along
+        the line of action.
 
     Returns
     -------
@@ -95,7 +101,7 @@ def train_model(train: Train, *, name: str | None = None, title: str | None = No
     (['O1', 'OH', 'O2', 'G12', 'G23'], 'O1')
     """
     sch = SCHEMES[train.scheme]
-    m = train.module
+    m, alpha = train.module, pressure_angle
     z1, z2, z3, z4 = (train.teeth[0], train.teeth[1], train.teeth[1], train.teeth[2]) if not sch.two_rows \
         else train.teeth
     aw = train.centre_distance
@@ -129,9 +135,9 @@ def train_model(train: Train, *, name: str | None = None, title: str | None = No
         '  { name = "OH", type = "R", links = ["0", "H"], at = [0.0, 0.0] },',
         f'  {{ name = "O2", type = "R", links = ["H", "2"], at = [{_num(aw)}, 0.0] }},',
         f'  {{ name = "G12", type = "gear", links = ["1", "2"], teeth = [{z1}, {z2}], module = {_num(m)}, '
-        f'mesh = "{sch.first}", carrier = "H", at = [{_num(r1)}, 0.0] }},',
+        f'mesh = "{sch.first}", carrier = "H", pressure_angle = {_num(alpha)}, at = [{_num(r1)}, 0.0] }},',
         f'  {{ name = "{second}", type = "gear", links = ["2", "0"], teeth = [{z3}, {z4}], module = {_num(m)}, '
-        f'mesh = "{sch.second}", carrier = "H", at = [{_num(r4)}, 0.0] }},',
+        f'mesh = "{sch.second}", carrier = "H", pressure_angle = {_num(alpha)}, at = [{_num(r4)}, 0.0] }},',
     ]
     total = train.ratio
     if stage is not None:
@@ -141,7 +147,8 @@ def train_model(train: Train, *, name: str | None = None, title: str | None = No
         lines += [
             f'  {{ name = "Oout", type = "R", links = ["0", "out"], at = [0.0, {_num(-a)}] }},',
             f'  {{ name = "G56", type = "gear", links = ["{out_link}", "out"], teeth = [{za}, {zb}], '
-            f'radii = [{_num(ra)}, {_num(rb)}], mesh = "external", carrier = "0", at = [0.0, {_num(-ra)}] }},',
+            f'radii = [{_num(ra)}, {_num(rb)}], mesh = "external", carrier = "0", '
+            f'pressure_angle = {_num(stage.pressure_angle)}, at = [0.0, {_num(-ra)}] }},',
         ]
         total = train.ratio * (-zb / za)
     lines += ["]", "", "[input]", f'joint = "{"OH" if sch.driven_by_carrier else "O1"}"', 'name = "phi"']
