@@ -10,6 +10,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .export import mesh_placement, placed
+from .pair import MARGIN_TOLERANCE
 
 __all__ = ["contour_figure", "mesh_figure", "gear_figure", "sliding_figure", "velocity_figure", "save_figure",
            "PAIR_PICTURES", "TRAIN_PICTURES"]
@@ -37,6 +38,9 @@ def contour_figure(contour, chosen=None, title: str | None = None):
     from matplotlib.lines import Line2D
     for k, (name, margin) in enumerate(sorted(c.margins.items())):
         values = np.where(np.isfinite(margin), margin, -1.0)
+        # a margin held at zero by construction (a ring's tip cut back to the pinion's form point) is met,
+        # not an edge: its rounding noise would draw a scatter of zero lines
+        values = np.where(np.abs(values) <= MARGIN_TOLERANCE, MARGIN_TOLERANCE, values)
         if values.min() < 0 < values.max():
             colour = _COLOURS[k % len(_COLOURS)]
             ax.contour(X1, X2, values, levels=[0.0], colors=[colour], linewidths=1.3)
