@@ -177,16 +177,22 @@ def test_dxf_holds_the_outline_exactly(tmp_path):
     assert {"GEAR1", "GEAR2", "PITCH", "CENTRES"} <= layers
     for k, (prof, (centre, turn)) in enumerate(zip(profs, mesh_placement(p)), 1):
         splines = [e for e in msp.query("SPLINE") if e.dxf.layer == f"GEAR{k}"]
-        arcs = [e for e in msp.query("ARC") if e.dxf.layer == f"GEAR{k}"]
+        arcs = [e for e in msp.query("LWPOLYLINE") if e.dxf.layer == f"GEAR{k}"]
         z = prof.teeth
         assert len(splines) == 4 * z and len(arcs) == 3 * z
         curves = [pc for pc in prof.pieces if pc.kind == "curve"]
         for spline, piece in zip(splines, curves):
             fit = np.array([pt[:2] for pt in spline.fit_points]) * 1e-3
             assert np.max(np.abs(fit - placed(piece.points, centre, turn))) < 1e-12
-        radii = sorted({round(a.dxf.radius, 9) for a in arcs})
+        radii = set()
+        for arc in arcs:                                      # a segment with a bulge: r = c(1 + b²)/(4|b|)
+            (x0, y0, _, _, b), (x1, y1, *_) = arc.get_points("xyseb")
+            c = math.hypot(x1 - x0, y1 - y0)
+            radii.add(round(c * (1 + b * b) / (4 * abs(b)), 9))
+            mid = np.array([(x0 + x1) / 2, (y0 + y1) / 2]) * 1e-3 - np.asarray(centre)
+            assert np.hypot(*mid) < (max(radii) + 1e-9) * 1e-3   # the arc's chord lies inside its circle
         g = p.gears[k - 1]
-        assert np.allclose(radii, sorted([g.root_diameter / 2 * 1e3, prof.tip_radius * 1e3]), atol=1e-9)
+        assert np.allclose(sorted(radii), sorted([g.root_diameter / 2 * 1e3, prof.tip_radius * 1e3]), atol=1e-9)
     # the curve a CAD program draws through the fit points stays on the exact involute
     spline = next(e for e in msp.query("SPLINE") if e.dxf.layer == "GEAR1")
     drawn = np.array(list(spline.construction_tool().approximate(2000)))[:, :2] * 1e-3
@@ -203,8 +209,11 @@ def test_svg_and_csv(tmp_path):
     profs = [gear_profile(p, 1), gear_profile(p, 2)]
     export.write_svg(p, profs, tmp_path / "pair.svg", "pair & <test>")
     root = ET.parse(tmp_path / "pair.svg").getroot()
-    paths = root.findall("{http://www.w3.org/2000/svg}path")
-    assert len(paths) == 4 and root.find("{http://www.w3.org/2000/svg}title").text == "pair & <test>"
+    svg = "{http://www.w3.org/2000/svg}"
+    layers = {g.get("id"): g for g in root.iter(svg + "g")}
+    assert set(layers) == {"GEAR1", "GEAR2", "PITCH", "CENTRES"}
+    assert len(list(layers["GEAR1"].iter(svg + "path"))) == 1 and len(list(layers["PITCH"].iter(svg + "circle"))) == 2
+    assert root.find(svg + "title").text == "pair & <test>"
     export.write_csv(profs, tmp_path / "pair.csv")
     rows = (tmp_path / "pair.csv").read_text().splitlines()
     assert rows[0] == "gear,piece,part,x[mm],y[mm]"

@@ -1,9 +1,5 @@
 """Writing the profile: CSV (pitch and working profile in mm, the seed's x.txt and y.txt), DXF (closed
-splines through the points, ezdxf; optional extra `cad`) and SVG (hand-written text).
-
-`write_dxf_entities` and `svg_text` are the writers themselves (layers of fit-point splines, arcs,
-circles and points; filled or dashed paths and dots); the cam's files and the gears' (`mbplanar.gears`)
-are made with them."""
+splines through the points, ezdxf; optional extra `cad`) and SVG, both through `mbplanar.io._cad`."""
 
 from __future__ import annotations
 
@@ -12,10 +8,12 @@ import math
 import numpy as np
 
 from ..errors import MbplanarError
+from ..io._cad import Layer, Sheet, require_ezdxf
+from ..io._cad import write_dxf as cad_dxf
+from ..io._cad import write_svg as cad_svg
 from .geometry import CamGeometry
 
-__all__ = ["write_csv", "write_dxf", "read_dxf_points", "write_svg", "dxf_deviation", "dxf_chordal_error",
-           "write_dxf_entities", "svg_text", "require_ezdxf"]
+__all__ = ["write_csv", "write_dxf", "read_dxf_points", "write_svg", "dxf_deviation", "dxf_chordal_error"]
 
 
 def write_csv(geometry: CamGeometry, path) -> None:
@@ -31,61 +29,23 @@ def write_csv(geometry: CamGeometry, path) -> None:
             fh.write(",".join("" if not math.isfinite(x) else f"{x:.9g}" for x in row) + "\n")
 
 
-def require_ezdxf():
-    """The ezdxf module, or an `MbplanarError` saying how to install it."""
-    try:
-        import ezdxf
-    except ImportError:
-        raise MbplanarError("DXF export needs ezdxf: pip install 'mbplanar[cad]'") from None
-    return ezdxf
-
-
-def write_dxf_entities(path, curves=(), arcs=(), circles=(), points=()) -> None:
-    """A DXF file (R2010, millimetres) of entities given in metres, each on its layer.
-
-    Parameters
-    ----------
-    path : str or Path
-    curves : iterable of (layer, points (N, 2), closed)
-        fit-point splines; a closed one repeats its first point at the end.
-    arcs : iterable of (layer, centre (2,), radius, start_deg, end_deg)
-        counter-clockwise from `start_deg` to `end_deg`.
-    circles : iterable of (layer, centre (2,), radius)
-    points : iterable of (layer, (x, y))
-    """
-    ezdxf = require_ezdxf()
-    doc = ezdxf.new("R2010")
-    doc.units = ezdxf.units.MM
-    msp = doc.modelspace()
-
-    def layer(name):
-        if name not in doc.layers:
-            doc.layers.add(name)
-        return {"layer": name}
-
-    for name, pts, closed in curves:
-        pts = np.asarray(pts, float) * 1e3
-        if closed:
-            pts = np.vstack([pts, pts[:1]])               # the first point repeated closes the curve
-        spline = msp.add_spline(fit_points=[(x, y, 0.0) for x, y in pts], dxfattribs=layer(name))
-        if closed:
-            spline.closed = True
-    for name, centre, radius, start, end in arcs:
-        msp.add_arc((centre[0] * 1e3, centre[1] * 1e3), radius * 1e3, start, end, dxfattribs=layer(name))
-    for name, centre, radius in circles:
-        msp.add_circle((centre[0] * 1e3, centre[1] * 1e3), radius * 1e3, dxfattribs=layer(name))
-    for name, xy in points:
-        msp.add_point((xy[0] * 1e3, xy[1] * 1e3), dxfattribs=layer(name))
-    doc.saveas(path)
+def _sheet(geometry: CamGeometry, title: str = "") -> Sheet:
+    """The profile (layer PROFILE), the pitch curve (PITCH) as closed fit-point splines in mm, the cam's
+    centre as a point (CENTRE)."""
+    sheet = Sheet("mm", title)
+    sheet.layer(Layer("PROFILE", 7, "#1a1a1a", "#dde6ee")).layer(Layer("PITCH", 5, "#2a6fb0", width=0.5, dash=(4, 2)))
+    sheet.layer(Layer("CENTRE", 1, "#b03a2e"))
+    sheet.spline("PROFILE", geometry.profile * 1e3, closed=True)
+    if geometry.pitch is not None:
+        sheet.spline("PITCH", geometry.pitch * 1e3, closed=True)
+    sheet.point("CENTRE", (0.0, 0.0))
+    return sheet
 
 
 def write_dxf(geometry: CamGeometry, path) -> None:
     """Closed fit-point splines (mm) of the working profile (layer PROFILE) and the pitch curve (PITCH),
     and the cam's centre as a point (layer CENTRE)."""
-    curves = [("PROFILE", geometry.profile, True)]
-    if geometry.pitch is not None:
-        curves.append(("PITCH", geometry.pitch, True))
-    write_dxf_entities(path, curves=curves, points=[("CENTRE", (0.0, 0.0))])
+    cad_dxf(_sheet(geometry), path)
 
 
 def read_dxf_points(path, layer: str = "PROFILE") -> np.ndarray:
@@ -127,59 +87,6 @@ def dxf_chordal_error(path, points, layer: str = "PROFILE", per_span: int = 64) 
     return float(best.max())
 
 
-def svg_text(title: str, paths, dots=(), extent=()) -> str:
-    """An SVG picture (millimetres, y up) of paths and dots given in metres.
-
-    Parameters
-    ----------
-    title : str
-    paths : iterable of (points (N, 2), closed, fill, stroke, width, dash)
-        `width` in units of the picture's line width (0.3 % of its size), `dash` a (on, off) pair in those
-        units or None.
-    dots : iterable of (centre (2,), radius, colour), radius in line widths
-    extent : iterable of (x, y)
-        more points the view must contain.
-    """
-    paths, dots = list(paths), list(dots)
-    allp = np.vstack([np.asarray(p[0], float) for p in paths] + [np.asarray(d[0], float).reshape(1, 2) for d in dots]
-                     + [np.asarray(list(extent), float).reshape(-1, 2)]) * 1e3
-    lo, hi = allp.min(axis=0), allp.max(axis=0)
-    pad = 0.05 * float(np.max(hi - lo))
-    x0, y0 = lo[0] - pad, -(hi[1] + pad)
-    w, h = hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
-    stroke = 0.003 * max(w, h)
-
-    def path_of(p, closed):
-        p = np.asarray(p, float) * 1e3
-        return "M " + " L ".join(f"{x:.6f},{-y:.6f}" for x, y in p) + (" Z" if closed else "")
-
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.4f} {y0:.4f} {w:.4f} {h:.4f}" '
-             f'width="{w:.2f}mm" height="{h:.2f}mm">', f"<title>{_escape(title)}</title>"]
-    for pts, closed, fill, colour, width, dash in paths:
-        style = (f'fill="{fill}" stroke="{colour}" stroke-width="{width * stroke:.4f}"'
-                 + (f' stroke-dasharray="{dash[0] * stroke:.4f} {dash[1] * stroke:.4f}"' if dash else ""))
-        parts.append(f'<path d="{path_of(pts, closed)}" {style}/>')
-    for centre, radius, colour in dots:
-        parts.append(f'<circle cx="{_coord(centre[0])}" cy="{_coord(-centre[1])}" r="{radius * stroke:.4f}" '
-                     f'fill="{colour}"/>')
-    parts.append("</svg>")
-    return "\n".join(parts) + "\n"
-
-
-def _coord(v):
-    """A coordinate in mm as the cam's centre was always written ("0" at the origin)."""
-    return "0" if v == 0 else f"{v * 1e3:.4f}"
-
-
 def write_svg(geometry: CamGeometry, path, title: str = "cam") -> None:
     """The working profile (solid), the pitch curve (dashed) and the centre, in mm, y up."""
-    g = geometry
-    paths = [(g.profile, True, "#dde6ee", "#1a1a1a", 1.0, None)]
-    if g.pitch is not None:
-        paths.append((g.pitch, True, "none", "#2a6fb0", 0.5, (4.0, 2.0)))
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(svg_text(title, paths, dots=[((0.0, 0.0), 2.0, "#b03a2e")]))
-
-
-def _escape(text):
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    cad_svg(_sheet(geometry, title), path)

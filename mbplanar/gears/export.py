@@ -1,5 +1,6 @@
 """Writing a pair's tooth profiles: CSV (each gear in its own frame), DXF and SVG (both gears placed in
-mesh), with the cam's writers (`mbplanar.cam.export.write_dxf_entities`, `svg_text`).
+mesh), through mbplanar's one CAD writer (`mbplanar.io._cad`: a `Sheet` of layers, `write_dxf`,
+`write_svg`).
 
 Placement (`mesh_placement`): gear 1's centre at the origin with a tooth pointing up at the pitch point
 P = (0, r_w1); gear 2's centre at (0, a_w) above it (an internal gear 2: at (0, −a_w), below), turned so
@@ -13,9 +14,14 @@ import math
 
 import numpy as np
 
-from ..cam.export import svg_text, write_dxf_entities
+from ..io._cad import Layer, Sheet
+from ..io._cad import write_dxf as cad_dxf
+from ..io._cad import write_svg as cad_svg
 
 __all__ = ["mesh_placement", "placed", "write_csv", "write_dxf", "write_svg"]
+
+_LAYERS = (Layer("GEAR1", 7, "#1a1a1a", "#dde6ee", width=0.5), Layer("GEAR2", 7, "#1a1a1a", "#f0e2cf", width=0.5),
+           Layer("PITCH", 5, "#2a6fb0", width=0.3, dash=(4, 2)), Layer("CENTRES", 1, "#b03a2e"))
 
 
 def mesh_placement(pair) -> tuple:
@@ -44,40 +50,39 @@ def write_csv(profiles, path) -> None:
                     fh.write(f"{k},{n},{piece.part},{x:.9g},{y:.9g}\n")
 
 
-def _entities(pair, profiles):
-    curves, arcs, circles, points = [], [], [], []
+def _sheet(pair, profiles, title, exact: bool) -> Sheet:
+    """Both gears in mesh, in mm: with `exact`, each flank a fit-point spline and each root or tip arc a
+    polyline segment with its bulge (tan of a quarter of its sweep); else each outline a closed polygon
+    (for a filled SVG). The working pitch circles and the centres on their layers."""
+    sheet = Sheet("mm", title)
+    for layer in _LAYERS:
+        sheet.layer(layer)
+    if pair.internal:                                         # a ring's outline bounds its hollow: not filled
+        sheet.layer(Layer("GEAR2", 7, "#1a1a1a", "none", width=0.5))
     for k, ((centre, turn), prof) in enumerate(zip(mesh_placement(pair), profiles), 1):
         layer = f"GEAR{k}"
-        for piece in prof.pieces:
+        if not exact:
+            sheet.polyline(layer, placed(prof.outline, centre, turn) * 1e3, closed=True)
+        for piece in prof.pieces if exact else ():
             if piece.kind == "arc":
                 c = placed(np.array([piece.centre]), centre, turn)[0]
-                arcs.append((layer, c, piece.radius, math.degrees(piece.start + turn), math.degrees(piece.end + turn)))
+                ends = c + piece.radius * np.array([[math.cos(piece.start + turn), math.sin(piece.start + turn)],
+                                                    [math.cos(piece.end + turn), math.sin(piece.end + turn)]])
+                sheet.polyline(layer, ends * 1e3, bulges=[math.tan((piece.end - piece.start) / 4), 0.0])
             else:
-                curves.append((layer, placed(piece.points, centre, turn), False))
-        g = pair.gears[k - 1]
-        circles.append(("PITCH", centre, g.working_diameter / 2))
-        points.append(("CENTRES", centre))
-    return curves, arcs, circles, points
+                sheet.spline(layer, placed(piece.points, centre, turn) * 1e3)
+        sheet.circle("PITCH", np.asarray(centre) * 1e3, pair.gears[k - 1].working_diameter / 2 * 1e3)
+        sheet.point("CENTRES", np.asarray(centre) * 1e3)
+    return sheet
 
 
 def write_dxf(pair, profiles, path) -> None:
-    """Both gears in mesh (mm): each on its layer (GEAR1, GEAR2) as fit-point splines (flanks: fillet and
-    involute) and arcs (root and tip circles); the working pitch circles (PITCH) and the centres (CENTRES)."""
-    curves, arcs, circles, points = _entities(pair, profiles)
-    write_dxf_entities(path, curves=curves, arcs=arcs, circles=circles, points=points)
+    """Both gears in mesh (mm): on layers GEAR1 and GEAR2 each flank (fillet, involute) a fit-point spline
+    through its generated points and each root or tip arc a polyline with a bulge; the working pitch
+    circles (PITCH) and the centres (CENTRES)."""
+    cad_dxf(_sheet(pair, profiles, "", exact=True), path)
 
 
 def write_svg(pair, profiles, path, title: str = "gear pair") -> None:
     """Both gears in mesh (mm, y up): filled outlines, the working pitch circles dashed, the centres."""
-    paths, dots = [], []
-    colours = ("#dde6ee", "#f0e2cf")
-    for k, ((centre, turn), prof) in enumerate(zip(mesh_placement(pair), profiles)):
-        paths.append((placed(prof.outline, centre, turn), True, "none" if prof.internal else colours[k],
-                      "#1a1a1a", 0.5, None))
-        t = np.linspace(0, 2 * math.pi, 721)
-        r = pair.gears[k].working_diameter / 2
-        paths.append((np.c_[centre[0] + r * np.cos(t), centre[1] + r * np.sin(t)], True, "none", "#2a6fb0", 0.3,
-                      (4.0, 2.0)))
-        dots.append((centre, 1.5, "#b03a2e"))
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(svg_text(title, paths, dots))
+    cad_svg(_sheet(pair, profiles, title, exact=False), path)

@@ -31,10 +31,61 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ModelError
+from ..model._keys import Key, Section
 
-__all__ = ["PairSpec", "PlanetarySpec", "GearsSpec", "parse_gears", "read_gears"]
+__all__ = ["PairSpec", "PlanetarySpec", "GearsSpec", "parse_gears", "read_gears", "GEARS", "GEARS_PAIR",
+           "GEARS_PLANETARY"]
 
 _UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+_LENGTH = "in [gears] length_unit"
+_TEETH = {"type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 2, "maxItems": 2}
+_COMMENT = Key("comment", "any", "free text, ignored")
+
+#: the keys of `[gears.pair]`, `[gears.planetary]` and `[gears]`: what `parse_gears` accepts and what the
+#: model's JSON Schema (`mbplanar schema`) describes
+GEARS_PAIR = Section("gears_pair", "[gears.pair]", "a spur pair with profile shift (docs/gears.md)", (
+    Key("module", "number", f"the module, {_LENGTH}", required=True, positive=True),
+    Key("teeth", "custom", "[z1, z2]: tooth numbers (internal: gear 2 the ring)", required=True, schema=_TEETH),
+    Key("internal", "boolean", "gear 2 has internal teeth", default=False),
+    Key("shifts", "custom", '"auto" (chosen by criterion) or [x1, x2]', default="auto",
+        schema={"anyOf": [{"const": "auto"}, {"type": "array", "items": {"type": "number"}, "minItems": 2,
+                                              "maxItems": 2}]}),
+    Key("criterion", "choice", "how \"auto\" chooses", choices=("balanced", "contact", "sum"), default="balanced"),
+    Key("shift_sum", "number", "x1 + x2 (internal: x2 − x1) to hold"),
+    Key("centre_distance", "number", f"a fixed working centre distance, {_LENGTH}", positive=True),
+    Key("pressure_angle", "number", "α of the basic rack", unit="deg", default=20.0, positive=True),
+    Key("addendum", "number", "h_a*", default=1.0, positive=True),
+    Key("clearance", "number", "c*", default=0.25, minimum=0.0),
+    Key("tip_radius", "number", "ρ_f* of the tool's tip round, in modules", minimum=0.0,
+        default_doc="c*/(1 − sin α), or the largest that fits"),
+    Key("min_tip", "number", "the smallest tip thickness, in modules", default=0.25, minimum=0.0),
+    Key("min_contact", "number", "the smallest contact ratio", default=1.2, positive=True),
+    Key("ring_tip", "choice", "an internal gear's tip circle: standard, or cut back to meet the pinion on its "
+        "involute", choices=("standard", "cut"), default="standard"),
+    _COMMENT))
+
+GEARS_PLANETARY = Section("gears_planetary", "[gears.planetary]", "a planetary train by tooth numbers", (
+    Key("ratio", "number", "input speed / output speed (with stage: of the whole drive)", required=True,
+        nonzero=True),
+    Key("scheme", "choice", "the schemes searched", choices=("A", "B", "C", "D", "all"), default="all"),
+    Key("planets", "integer", "k, equally spaced", default=3, minimum=1),
+    Key("tolerance", "number", "relative tolerance of the ratio", default=0.01, minimum=0.0),
+    Key("module", "number", f"the train's module, {_LENGTH}", positive=True, default_doc="1 mm"),
+    Key("min_teeth", "integer", "the smallest external gear", minimum=1,
+        default_doc="the smallest without undercut at x = 0 (18)"),
+    Key("max_teeth", "integer", "the largest gear, rings included", default=150, minimum=1, maximum=400),
+    Key("choose", "integer", "which train of the list is written and drawn", default=1, minimum=1),
+    Key("stage", "boolean", "the [gears.pair] follows the train's output", default=False),
+    _COMMENT))
+
+GEARS = Section("gears", "[gears]", "the drive's gears (docs/gears.md)", (
+    Key("title", "text", "a title for the report", default=""),
+    Key("length_unit", "choice", "the unit of the modules and the centre distance", choices=tuple(_UNITS),
+        default="m"),
+    Key("pair", "table", "a spur pair", section=GEARS_PAIR),
+    Key("planetary", "table", "a planetary train", section=GEARS_PLANETARY),
+    Key("train", "any", "the train mbplanar gear planetary -o chose, kept as a record"),
+    _COMMENT))
 
 
 @dataclass(frozen=True)
@@ -108,9 +159,7 @@ def _whole(table, key, where, default=None):
 
 
 def _pair(table, scale, where) -> PairSpec:
-    _check_keys(table, {"module", "teeth", "internal", "shifts", "criterion", "shift_sum", "centre_distance",
-                        "pressure_angle", "addendum", "clearance", "tip_radius", "min_tip", "min_contact",
-                        "ring_tip", "comment"}, where)
+    _check_keys(table, GEARS_PAIR.names, where)
     for key in ("module", "teeth"):
         if key not in table:
             raise ModelError(f"missing key {key!r}", where=where)
@@ -136,8 +185,7 @@ def _pair(table, scale, where) -> PairSpec:
 
 
 def _planetary(table, scale, where) -> PlanetarySpec:
-    _check_keys(table, {"ratio", "scheme", "planets", "tolerance", "module", "min_teeth", "max_teeth", "choose",
-                        "stage", "comment"}, where)
+    _check_keys(table, GEARS_PLANETARY.names, where)
     if "ratio" not in table:
         raise ModelError("missing key 'ratio'", where=where)
     stage = table.get("stage", False)
@@ -169,7 +217,7 @@ def parse_gears(data: dict, source: str = "<table>") -> GearsSpec:
     if "gears" not in data or not isinstance(data["gears"], dict):
         raise ModelError("no [gears] section", source=source)
     g = data["gears"]
-    _check_keys(g, {"title", "length_unit", "pair", "planetary", "train", "comment"}, f"{source}: [gears]")
+    _check_keys(g, GEARS.names, f"{source}: [gears]")
     unit = g.get("length_unit", "m")
     if unit not in _UNITS:
         raise ModelError(f"length_unit must be one of {', '.join(_UNITS)}, got {unit!r}", where=f"{source}: [gears]")
