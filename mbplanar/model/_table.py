@@ -13,8 +13,9 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning
-from ._model import (ELEMENT_TYPES, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
-                     FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
+from ._model import (ANGLE_UNITS, ELEMENT_TYPES, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL,
+                     DynamicsSpec, FlywheelSpec, Gravity, Input, Load, Mechanism, Units, unit_spelling)
+from ._scale import SCALE_FACTOR, SLACK, drawing_size, out_of_scale, scale_message
 
 __all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
            "crank_input", "read_gravity_section", "read_dynamics_section"]
@@ -116,6 +117,16 @@ class Row:
             self.fail(f"'{key}' must be a list of numbers, got {value!r}")
         return tuple(self._check_number(f"{key}[{k}]", v) for k, v in enumerate(value))
 
+    def unit(self, key, allowed, default=None) -> str | None:
+        """The unit named by `key`, spelt as in `allowed` whatever its case (see `unit_spelling`)."""
+        name = self.text(key, default)
+        if name is None:
+            return None
+        unit = unit_spelling(name, allowed)
+        if unit is None:
+            self.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)} (in any case), got {name!r}")
+        return unit
+
     def names(self, key, count=2, required=False) -> tuple[str, ...] | None:
         value = self._value(key, required)
         if value is _MISSING:
@@ -182,14 +193,12 @@ def _has_parameters(data: dict) -> bool:
 
 
 def _read_units(top: Row) -> Units:
-    """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`)."""
+    """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`), in any
+    case ("MM" is "mm")."""
     chosen = []
     for key, allowed, default in (("length_unit", LENGTH_UNITS, "m"), ("inertia_unit", INERTIA_UNITS, "kg*m^2"),
                                   ("moment_unit", MOMENT_UNITS, "N*m")):
-        name = top.text(key, default)
-        if name not in allowed:
-            top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
-        chosen.append(name)
+        chosen.append(top.unit(key, allowed, default))
     return Units(*chosen)
 
 
@@ -259,6 +268,24 @@ def _check_links(mech: Mechanism, labels: dict[str, str]):
             raise ModelError(f"a link with mass ({link.mass:g} kg) needs a 'centre' point",
                              source=mech.source, where=where)
         _check_extent(mech, name, where)
+        _warn_link_scale(mech, name, where)
+
+
+def _warn_link_scale(mech: Mechanism, name: str, where: str):
+    """Warn when a link's given lengths, or its drawn extent, are 1/100 of the drawing or less (a 0.1 mm
+    crank in a machine drawn in metres), or 100 times or more."""
+    size, units = drawing_size(mech), mech.units
+    row = Row({}, where, mech.source)
+    for p, q, value in mech.links[name].lengths:
+        if out_of_scale(value, size):
+            between = f" {p}-{q}" if p else ""
+            row.warn(scale_message(f"its length{between} =", value, size, units.length, units.length_scale))
+            return
+    spots = [(j.name, j.at) for j in mech.joints_of(name)]
+    spots += [(p.name, p.at) for p in mech.points.values() if p.link == name and p.at is not None]
+    extent, pair = max(((math.dist(a, b), (m, n)) for m, a in spots for n, b in spots), default=(0.0, None))
+    if out_of_scale(extent, size):
+        row.warn(scale_message(f"it is drawn {pair[0]}-{pair[1]} =", extent, size, units.length, units.length_scale))
 
 
 def _check_extent(mech: Mechanism, name: str, where: str):
@@ -397,11 +424,11 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
         default_unit = "deg" if joint.kind == "R" else mech.units.length
-        in_unit = row.text("unit", default_unit)
-        allowed = ("deg", "rad") if joint.kind == "R" else tuple(LENGTH_UNITS)
-        if in_unit not in allowed:
+        allowed = tuple(ANGLE_UNITS) if joint.kind == "R" else tuple(LENGTH_UNITS)
+        in_unit = unit_spelling(row.text("unit", default_unit), allowed)
+        if in_unit is None:
             row.fail(f"unit of a {'revolute' if joint.kind == 'R' else 'prismatic'} input must be "
-                     f"one of {', '.join(allowed)}, got '{in_unit}'")
+                     f"one of {', '.join(allowed)}, got '{row.data.get('unit')}'")
         sense = row.data.get("sense", 1)
         row.used.add("sense")
         if isinstance(sense, str):
@@ -481,7 +508,21 @@ def read_load_row(mech: Mechanism, i: int, raw, units: Units) -> Load:
         load = _link_load(mech, i, row, kind, units)
     if switched:
         load.update(_switch(mech, row))
+    for key in ("at", "other_at"):
+        if load.get(key) is not None:
+            _warn_far(mech, row, load[key], units)
     return Load(**{**load, "label": label})
+
+
+def _warn_far(mech, row: Row, at, units: Units):
+    """Warn when a load's drawn point lies `SCALE_FACTOR` drawings or more away from every joint."""
+    size = drawing_size(mech)
+    far = min((math.dist(at, j.at) for j in mech.joints.values()), default=0.0)
+    if size > 0 and far >= SCALE_FACTOR * size * (1 - SLACK):
+        u, k = units.length, units.length_scale
+        row.warn(f"'at' = [{at[0] / k:.6g}, {at[1] / k:.6g}] {u} lies {far / k:.6g} {u} from the nearest joint while "
+                 f"the drawing spans {size / k:.6g} {u} ({far / size:.3g} times that): is it in another unit? "
+                 f"(lengths here are read in {u})")
 
 
 def _switch(mech, row: Row) -> dict:
@@ -537,11 +578,14 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
         if len(ls) != len(fs) or len(ls) < 2 or any(q <= p for p, q in zip(ls, ls[1:])) or ls[0] < 0:
             row.fail(f"'length' (increasing, >= 0) and 'force' must be lists of equal length (at least 2), "
                      f"got {len(ls)} and {len(fs)}")
+        _warn_length(mech, row, "the spring's 'length' table reaches", ls[-1], units)
         return dict(fields, s=ls, table=fs)
     k = row.number("stiffness", required=True)
     free = row.number("free_length")
     if k < 0 or (free is not None and free < 0):
         row.fail("'stiffness' and 'free_length' must be >= 0")
+    if free is not None:
+        _warn_length(mech, row, "free_length =", free * units.length_scale, units)
     return dict(fields, stiffness=k, free_length=None if free is None else free * units.length_scale,
                 preload=row.number("preload", 0.0))
 
@@ -648,16 +692,17 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
 
 
 def _check_diagram_scale(mech, row: Row, s, units: Units):
-    """Warn when a resistance diagram spans less than 1 % or more than 100 times the drawing: a stroke
-    written in metres in a mm table, or the reverse."""
-    spots = [j.at for j in mech.joints.values()]
-    size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
-    span = s[-1] - s[0]
-    if size > 0 and not 1e-2 <= span / size <= 1e2:
-        unit = units.length_scale
-        row.warn(f"the s diagram spans {span / unit:.4g} {units.length} (s × stroke, in the table's "
-                 f"length_unit '{units.length}') while the drawing spans {size / unit:.4g} {units.length}: "
-                 f"is 's' or 'stroke' in another unit?")
+    """Warn when a resistance diagram spans 1/100 of the drawing or less, or 100 times or more: a stroke
+    written in metres in a mm table, or the reverse (`mbplanar.model._scale`)."""
+    _warn_length(mech, row, "the s diagram spans", s[-1] - s[0], units, "is 's' or 'stroke' (s × stroke)")
+
+
+def _warn_length(mech, row: Row, what: str, value: float, units: Units, which: str = "is it"):
+    """A `ModelWarning` on `row` when the length `value` (m) is out of scale with the drawing."""
+    size = drawing_size(mech)
+    if out_of_scale(value, size):
+        message = scale_message(what, value, size, units.length, units.length_scale)
+        row.warn(message.replace(": is it in another unit?", f": {which} in another unit?"))
 
 
 def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | None = None) -> dict:
