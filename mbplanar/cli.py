@@ -34,7 +34,7 @@ from .errors import MbplanarError, ModelError, ModelWarning, MotionError, Precis
 from .io import (dynamics_document, forces_document, info_document, partials_document, plain, solve_document,
                  write_csv)
 from .io._tables import dynamics_table, forces_columns, sweep_table
-from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
+from .io._units import (input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
                         convert_solution, convert_table, display_units)
 
 __all__ = ["main", "run"]
@@ -663,17 +663,21 @@ def simulate_document(engine, tr) -> dict:
     return plain(doc)
 
 
-def simulate_table(doc) -> tuple[list, np.ndarray]:
-    """Header and columns (N, k) of the simulated motion for CSV."""
+def simulate_table(doc, engine=None) -> tuple[list, np.ndarray]:
+    """Header (each column's unit in brackets, SI) and columns (N, k) of the simulated motion for CSV."""
+    prismatic = {} if engine is None else {n: j.kind == "P" for n, j in engine.mech.joints.items()}
     header, cols = ["t[s]"], [doc["t"]]
     for name, d in doc["inputs"].items():
-        header += [f"{name}", f"{name}.omega", f"{name}.epsilon", f"{name}.drive"]
+        p = prismatic.get(d["joint"], False)
+        units = ("m", "m/s", "m/s^2", "N") if p else ("rad", "rad/s", "rad/s2", "N*m")
+        header += [f"{name}[{units[0]}]", f"{name}.omega[{units[1]}]", f"{name}.epsilon[{units[2]}]",
+                   f"{name}.drive[{units[3]}]"]
         cols += [d["phi"], d["omega"], d["epsilon"], d["drive"]]
     for name, d in doc["links"].items():
         header += [f"angle.{name}[rad]", f"omega.{name}[rad/s]", f"epsilon.{name}[rad/s2]"]
         cols += [d["angle"], d["omega"], d["epsilon"]]
     for name, d in doc["joints"].items():
-        header += [f"{name}.value", f"F{name}.x[N]", f"F{name}.y[N]"]
+        header += [f"{name}.value[{'m' if prismatic.get(name) else 'rad'}]", f"F{name}.x[N]", f"F{name}.y[N]"]
         cols += [d["value"], d["fx"], d["fy"]]
     header += ["kinetic[J]", "potential[J]", "drive_work[J]"]
     cols += [doc["energy"]["kinetic"], doc["energy"]["potential"], doc["energy"]["drive_work"]]
@@ -693,7 +697,9 @@ def _from_state(path, engine) -> tuple[list, list]:
 
 
 def cmd_simulate(args):
+    from ._progress import Interrupted, Progress
     from .forces._simulation import read_simulate, simulate_motion
+    from .io._units import convert_simulation
     engine = _load(args)
     over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
     for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega),
@@ -702,19 +708,38 @@ def cmd_simulate(args):
     if args.start is not None:
         over["phi"], over["omega"] = _from_state(args.start, engine)
     spec = read_simulate(engine.mech, **over)
-    tr = simulate_motion(engine, spec)
+    display = display_units(engine.mech, args.units)
+    total = spec.t or 1.0
+    with Progress(total, "s of motion", show=args.progress, what=f"simulating {total:g} s of motion",
+                  yes=args.yes, source=engine.mech.source) as bar:
+        try:
+            tr = simulate_motion(engine, spec, progress=bar.update)
+        except Interrupted as exc:
+            if exc.partial is not None and args.output:
+                write_csv(args.output, *convert_table(*simulate_table(simulate_document(engine, exc.partial), engine),
+                                                      display))
+                exc.message += f"; wrote the motion up to t = {exc.partial.t[-1]:.6g} s to {args.output}"
+            raise
     doc = simulate_document(engine, tr)
     if args.output:
-        write_csv(args.output, *simulate_table(doc))
+        write_csv(args.output, *convert_table(*simulate_table(doc, engine), display))
+    doc = convert_simulation(engine, doc, display)
     if args.json:
         print(_dumps(doc, indent=2, ensure_ascii=False))
         return 0 if tr.success else 1
     last = -1
-    print(f"{doc['model']}: motion under the given forces from t = 0 to {tr.t[-1]:g} s "
+    machine = spec.torque is None and engine.mech.dynamics is not None
+    spec = tr.spec
+    forces = "the drive of [dynamics] (M_dr − slope·(ω − ω_m), from ω_m)" if machine else "the given forces"
+    print(f"{doc['model']}: motion under {forces} from t = 0 to {tr.t[-1]:g} s "
           f"({spec.method}, rtol {spec.rtol:g}, {tr.nfev} evaluations): {tr.message}")
-    for name, d in doc["inputs"].items():
-        print(f"  {name}: {d['phi'][last]:.12g}, speed {d['omega'][last]:.12g}, acceleration "
-              f"{d['epsilon'][last]:.12g}; drive {d['drive'][last]:.6g}, balancing {d['balancing'][last]:.6g}")
+    for k, (name, d) in enumerate(doc["inputs"].items()):
+        rate, accel, _ = input_kinds(engine, k)
+        kinds = (("length", rate, accel, "force") if rate == "velocity" else ("angle", rate, accel, "moment"))
+        unit = [_text_unit(display.name(kind)) for kind in kinds]
+        print(f"  {name}: {d['phi'][last]:.12g} {unit[0]}, speed {d['omega'][last]:.12g} {unit[1]}, acceleration "
+              f"{d['epsilon'][last]:.12g} {unit[2]}; drive {d['drive'][last]:.6g} {unit[3]}, balancing "
+              f"{d['balancing'][last]:.6g} {unit[3]}")
     e = doc["energy"]
     print(f"  energy: kinetic {e['kinetic'][last]:.9g} J, potential {e['potential'][last]:.9g} J, "
           f"work of the drive {e['drive_work'][last]:.9g} J")
@@ -894,10 +919,20 @@ def cmd_synth(args) -> int:
     return run(args)
 
 
+def _long_run_options(s):
+    """--progress / --no-progress and --yes of the commands that may run long."""
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--progress", action="store_true", default=None,
+                   help="a progress bar with the time left on stderr (default: when stderr is a terminal)")
+    g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    s.add_argument("--yes", action="store_true",
+                   help="run on even when the estimate from the first seconds exceeds 10 minutes (else: asked on "
+                        "a terminal, refused otherwise)")
+
+
 def _units_option(s):
-    s.add_argument("--units", choices=SYSTEMS, default="si",
-                   help="units of the output: si (m, N·m, kg·m²; the default) or model (the table's "
-                        "length_unit, moment_unit, inertia_unit)")
+    from .model._units import add_units_option
+    add_units_option(s)
 
 
 def _info_options(s):
@@ -970,6 +1005,8 @@ def _simulate_options(s):
     s.add_argument("--steps", type=int, help="output intervals (default 100)")
     s.add_argument("-o", "--output", help="CSV file of the motion")
     s.add_argument("--json", action="store_true")
+    _long_run_options(s)
+    _units_option(s)
 
 
 def _balance_options(s):
@@ -1151,6 +1188,10 @@ def _run(args) -> tuple[int, str | None]:
         return args.func(args), None
     except BrokenPipeError:
         return _quiet_broken_pipe(), None
+    except KeyboardInterrupt:  # (the long commands say what they wrote: `Interrupted`)
+        if args.debug:
+            raise
+        return 130, _located(MbplanarError("interrupted (Ctrl-C)"), args)
     except MbplanarError as exc:
         if args.debug:
             raise

@@ -13,7 +13,7 @@ import mbplanar
 from mbplanar import _deprecated
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
-LAYERS = ["errors", "_deprecated", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
+LAYERS = ["errors", "_progress", "_deprecated", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
           "study", "io", "viz", "cam", "synthesis", "cli"]  # cams, synthesis, studies use what precedes them
 
 

@@ -254,12 +254,15 @@ class Gravity:
 class FlywheelSpec:
     """Where the flywheel goes and what is already there: inertia on the crank shaft (kg·m²), the motor
     shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia
-    (kg·m²), the flywheel's density (kg/m³)."""
+    (kg·m²), the flywheel's density (kg/m³); `inertia`: the machine's first group as built, on the crank
+    shaft besides the crank's own (kg·m², flywheel included; None: not given), which `simulate` puts on
+    the input."""
 
     shaft_inertia: float = 0.0
     motor_rpm: float | None = None
     motor_inertia: float = 0.0
     density: float = RHO_STEEL
+    inertia: float | None = None
 
 
 @dataclass(frozen=True)

@@ -769,10 +769,15 @@ def read_dynamics_section(mech: Mechanism, raw) -> DynamicsSpec:
     flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0) * units.inertia_scale,
                             motor_rpm=fly.number("motor_rpm", positive=True),
                             motor_inertia=fly.number("motor_inertia", 0.0) * units.inertia_scale,
-                            density=fly.number("density", RHO_STEEL, positive=True))
-    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
-        fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")
+                            density=fly.number("density", RHO_STEEL, positive=True),
+                            inertia=_scaled(fly.number("inertia"), units.inertia_scale))
+    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0 or (flywheel.inertia or 0.0) < 0:
+        fly.fail("'shaft_inertia', 'motor_inertia' and 'inertia' must be >= 0")
     row.used.add("flywheel")
     row.check_unknown_keys({"comment"})
     fly.check_unknown_keys({"comment"})
     return DynamicsSpec(delta, omega, driving, slope, flywheel)
+
+
+def _scaled(value: float | None, scale: float) -> float | None:
+    return None if value is None else value * scale

@@ -72,19 +72,10 @@ def _size(part) -> int:
     return len(part[0]) if isinstance(part, tuple) else len(part)
 
 
-def progress_bar(total: int):
-    """A progress callback: tqdm's bar when tqdm is installed, else a counter on stderr."""
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        from .run import stderr_progress
+def progress_bar(total: int, unit: str = "designs"):
+    """A progress callback and its closer: tqdm's bar when tqdm is installed, else a plain line on stderr,
+    with the time left (`mbplanar._progress.Progress`)."""
+    from .._progress import Progress
 
-        return stderr_progress, lambda: None
-    bar = tqdm(total=total, unit="design", leave=False)
-
-    def update(done, _total):
-        bar.update(done - bar.n)
-        if done >= bar.total:
-            bar.refresh()  # tqdm draws at most every 0.1 s: the last count would otherwise depend on timing
-
-    return update, bar.close
+    bar = Progress(total, unit, show=True, guard=False)
+    return bar, bar.close
