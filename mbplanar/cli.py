@@ -62,10 +62,15 @@ def _numpy_unless_it_pays(engine, positions: int) -> None:
 
 
 def _positive_int(text) -> int:
+    """A whole number ≥ 1, also written as 1e6 (argparse type)."""
     try:
         value = int(text)
     except ValueError:
-        value = 0
+        try:
+            number = float(text)
+            value = int(number) if number.is_integer() else 0
+        except (ValueError, OverflowError):
+            value = 0
     if value < 1:
         raise argparse.ArgumentTypeError(f"a positive integer, not {text!r}")
     return value
@@ -431,8 +436,8 @@ class _Output:
     def __exit__(self, kind, exc, tb):
         if self.path and self.file is not None:
             self.file.close()
-            if kind is not None and not issubclass(kind, BrokenPipeError):
-                os.remove(self.path)
+            if kind is not None and not issubclass(kind, (BrokenPipeError, KeyboardInterrupt)):
+                os.remove(self.path)  # (Ctrl-C keeps the rows written: the message says how many)
         elif self.file is not None:
             self.file.flush()
         return False
@@ -451,8 +456,50 @@ def _cells(rows):
     return [["" if not math.isfinite(x) else f"{x:.12g}" for x in row] for row in rows.tolist()]
 
 
+def _sweep_block(engine, values, args, cache, with_forces, angle_unit, display, first):
+    """The table of one block of a sweep's rows `values` (k, n_in) (model units): header, rows, the motion
+    and the force analysis's failure message (or None)."""
+    from .forces._loads import warn_idle_resistances
+    n_in = len(engine.inputs)
+    phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(engine.inputs)])
+    omega, epsilon, inertia = _speeds(engine, phi[:, 0], args, cache=cache)
+    if args.input_inertia is not None:
+        inertia = args.input_inertia
+    motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
+    header, rows = sweep_table(engine, motion, angle_unit)
+    failed = None
+    if with_forces:
+        if first:
+            warn_idle_resistances(engine, motion)
+        f_header, f_rows, failed = _forces_columns(engine, motion, inertia)
+        header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
+    header, rows = convert_table(header, rows, display, skip=n_in)
+    return header, rows, motion, failed
+
+
+SWEEP_PROBE = 200_000  # a sweep of more positions first times one block of them (its time estimate)
+
+
+def _sweep_estimate(engine, count, values_of, block, args, source):
+    """Refuse (or ask about) a sweep estimated above 10 minutes, from a timed probe: one block computed
+    and formatted as CSV, not written (`_progress.confirm_long_run`)."""
+    import time
+    from ._progress import confirm_long_run
+    if count <= SWEEP_PROBE:
+        return
+    n = min(count, SWEEP_CHUNK)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # (the run itself gives them)
+        start = time.perf_counter()
+        _cells(block(values_of(0, n), {}, False)[1])
+        seconds = time.perf_counter() - start
+    confirm_long_run(seconds * count / n, f"a sweep of {count} positions",
+                     f"the first {n} took {seconds:.3g} s", args.yes, source)
+
+
 def cmd_sweep(args):
-    from .forces._loads import has_force_data, warn_idle_resistances
+    from ._progress import Interrupted, Progress
+    from .forces._loads import has_force_data
     engine = _load(args)
     n_in = len(engine.inputs)
     start = None if args.start is None else args.start
@@ -470,41 +517,42 @@ def cmd_sweep(args):
     angle_unit = args.angles or ("rad" if engine.inputs[0].unit == "rad" else "deg")
     display = display_units(engine.mech, args.units)
     cache, notes, written, missing, forces_failed, stopped = {}, [], 0, 0, None, None
-    with _Output(args.output) as out:
-        for i in range(0, count, SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])):
-            j = min(count, i + (SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])))
-            for a, b in ([(i, j)] if shape is None else [(k, k + shape[-1]) for k in range(i, j, shape[-1])]):
-                values = values_of(a, b)
-                phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(engine.inputs)])
-                omega, epsilon, inertia = _speeds(engine, phi[:, 0], args, cache=cache)
-                if args.input_inertia is not None:
-                    inertia = args.input_inertia
-                motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
-                header, rows = sweep_table(engine, motion, angle_unit)
-                if with_forces:
-                    if written == 0:
-                        warn_idle_resistances(engine, motion)
-                    f_header, f_rows, failed = _forces_columns(engine, motion, inertia)
-                    header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
+
+    def block(values, cache, first):
+        return _sweep_block(engine, values, args, cache, with_forces, angle_unit, display, first)
+
+    _sweep_estimate(engine, count, values_of, block, args, engine.mech.source)
+    size = SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])
+    with _Output(args.output) as out, Progress(count, "positions", show=args.progress, guard=False) as bar:
+        try:
+            for i in range(0, count, size):
+                j = min(count, i + size)
+                for a, b in ([(i, j)] if shape is None else [(k, k + shape[-1]) for k in range(i, j, shape[-1])]):
+                    values = values_of(a, b)
+                    header, rows, motion, failed = block(values, cache, written == 0)
                     forces_failed = forces_failed or failed
-                header, rows = convert_table(header, rows, display, skip=n_in)
-                if written == 0:
-                    out.write_rows([header])
-                notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
-                reached = len(motion.phi)
-                if shape is not None and reached < len(values):  # a grid line: the rest left empty
-                    full = np.full((len(values), len(header)), np.nan)
-                    full[:reached] = rows.reshape(reached, len(header))
-                    full[reached:, :n_in] = values[reached:]
-                    rows, missing = full, missing + len(values) - reached
-                    stopped = stopped or motion.message
-                out.write_rows(_cells(rows))
-                written += len(rows)
-                if shape is None and not motion.success:
-                    stopped = motion
+                    if written == 0:
+                        out.write_rows([header])
+                    notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
+                    reached = len(motion.phi)
+                    if shape is not None and reached < len(values):  # a grid line: the rest left empty
+                        full = np.full((len(values), len(header)), np.nan)
+                        full[:reached] = rows.reshape(reached, len(header))
+                        full[reached:, :n_in] = values[reached:]
+                        rows, missing = full, missing + len(values) - reached
+                        stopped = stopped or motion.message
+                    out.write_rows(_cells(rows))
+                    written += len(rows)
+                    if shape is None and not motion.success:
+                        stopped = motion
+                        break
+                bar.update(written)
+                if shape is None and stopped is not None:
                     break
-            if shape is None and stopped is not None:
-                break
+        except KeyboardInterrupt:
+            where = f" to {args.output}" if args.output else ""
+            raise Interrupted(f"interrupted (Ctrl-C): wrote the first {written} of {count} positions{where}",
+                              source=engine.mech.source) from None
     from .kinematics._motion import describe_crossing
     for c in notes:
         print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
@@ -966,6 +1014,7 @@ def _sweep_options(s):
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
                    help="reaction and balancing columns: auto = when the model has loads or masses")
     s.add_argument("--input-inertia", type=float, help="J_I on the input link for the force columns")
+    _long_run_options(s)
     _units_option(s)
 
 

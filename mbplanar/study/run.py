@@ -6,7 +6,7 @@ serial run bit for bit."""
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +14,7 @@ import numpy as np
 from .._progress import Interrupted
 from ..errors import MbplanarError, ModelError
 from ..model import parse_model
+from ..model._model import Units
 from ..model._parameters import Template
 from ..forces import has_force_data
 from ..kinematics import analyse
@@ -36,6 +37,7 @@ class Study:
     unit: str
     parameters: tuple
     designs: list[DesignSummary]
+    units: Units = field(default_factory=Units)   # the units the model was written in
 
     @property
     def counts(self) -> dict:
@@ -200,7 +202,7 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
                     progress(done, len(variants))
         except KeyboardInterrupt:
             partial = Study(base.mech.name, template.source, inp.name, inp.unit, template.names,
-                            [d for part in results for d in part])
+                            [d for part in results for d in part], base.mech.units)
             raise Interrupted(f"interrupted (Ctrl-C) after {done} of {len(variants)} designs",
                               source=template.source, partial=partial) from None
     else:
@@ -208,7 +210,7 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
 
         results = run_on_client(client, run_chunk, template.raw, template.source, parts, args, progress)
     designs = [d for part in results for d in part]
-    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs)
+    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs, base.mech.units)
 
 
 def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,
