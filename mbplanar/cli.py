@@ -818,25 +818,34 @@ def balance_document(engine, bal, count: int = 360) -> dict:
 
 def cmd_balance(args):
     from .forces._shaking import balance
+    from .io._units import convert_balance
+    from .model._scale import drawing_size, warn_scale
     engine = _load(args)
+    display = display_units(engine.mech, args.units)
+    length = display.scale("length")
     links = [n.strip() for n in args.links.split(",") if n.strip()]
-    radius = None if args.radius is None else _numbers_of(args.radius, "--radius")
+    radius = None if args.radius is None else [r * length for r in _numbers_of(args.radius, "--radius")]
     if radius is not None and not all(r > 0 for r in radius):
         raise ModelError("--radius must be positive")
+    for r in radius or ():
+        warn_scale("--radius", r, drawing_size(engine.mech), display.name("length"), length,
+                   source=engine.mech.source)
     bal = balance(engine, links, radius)
-    doc = balance_document(engine, bal)
+    doc = convert_balance(engine, balance_document(engine, bal), display)
     if args.json:
         print(_dumps(doc, indent=2, ensure_ascii=False))
         return 0
+    u = doc["units"]
+    lu, mu, fu = u["length"], _text_unit(u["moment"]), _text_unit(u["first_moment"])
     print(f"{doc['model']}: counterweights on {', '.join(links)} (shaking force RMS at 1 rad/s: "
           f"{bal.rms_before:.6g} -> {bal.rms_after:.3g} N)")
-    for cw in bal.counterweights:
-        print(f"  link {cw.link}: {cw.mass:.6g} kg at ({cw.at[0]:.6g}, {cw.at[1]:.6g}) m, first moment "
-              f"{cw.first_moment:.6g} kg·m about {cw.about} at {cw.angle_deg:.4f}° to the link's line")
+    for cw in doc["counterweights"]:
+        print(f"  link {cw['link']}: {cw['mass']:.6g} kg at ({cw['at'][0]:.6g}, {cw['at'][1]:.6g}) {lu}, first moment "
+              f"{cw['first_moment']:.6g} {fu} about {cw['about']} at {cw['angle_deg']:.4f}° to the link's line")
     for when in ("before", "after"):
         d = doc[when]
         print(f"  {when}: shaking force max {d['shaking_force_max']:.6g} N, RMS {d['shaking_force_rms']:.6g} N, "
-              f"shaking moment max {d['shaking_moment_max']:.6g} N·m; balancing max "
+              f"shaking moment max {d['shaking_moment_max']:.6g} {mu}; balancing max "
               + ", ".join(f"{n} {q:.6g}" for n, q in d["balancing_max"].items()))
         print("    largest reactions: " + ", ".join(f"{n} {f:.6g} N" for n, f in d["reaction_max"].items()))
     return 0
@@ -1061,8 +1070,10 @@ def _simulate_options(s):
 def _balance_options(s):
     s.add_argument("model")
     s.add_argument("--links", required=True, help="comma list of the links that get a counterweight")
-    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot, m (one or per link)")
+    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot (one or per link), "
+                                    "in the unit of --units: m, or the model's length_unit")
     s.add_argument("--json", action="store_true")
+    _units_option(s)
 
 
 def _plot_options(s):
