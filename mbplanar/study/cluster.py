@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..errors import MbplanarError
 
-__all__ = ["local_client", "connect", "run_on_client", "progress_bar"]
+__all__ = ["local_client", "connect", "run_on_client"]
 
 
 def _distributed():
@@ -70,12 +70,3 @@ def run_on_client(client, func, data, source, parts, args, progress=None) -> lis
 def _size(part) -> int:
     """Designs in a task's part (a Variants, or a (Variants, φ) pair)."""
     return len(part[0]) if isinstance(part, tuple) else len(part)
-
-
-def progress_bar(total: int, unit: str = "designs"):
-    """A progress callback and its closer: tqdm's bar when tqdm is installed, else a plain line on stderr,
-    with the time left (`mbplanar._progress.Progress`)."""
-    from .._progress import Progress
-
-    bar = Progress(total, unit, show=True, guard=False)
-    return bar, bar.close

@@ -66,6 +66,9 @@ def add_arguments(parser) -> None:
     g.add_argument("--workers", type=int, help="run the starts on a Dask LocalCluster of N worker processes")
     g.add_argument("--scheduler", help="run the starts on the Dask cluster of this scheduler")
     s.add_argument("--progress", action="store_true", help="a progress bar on stderr (default: when a terminal)")
+    s.add_argument("--yes", action="store_true",
+                   help="run on even when the estimate from the first starts exceeds 10 minutes (else: asked on a "
+                        "terminal, refused otherwise)")
     _common(s)
 
 

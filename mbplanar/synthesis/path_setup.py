@@ -40,13 +40,17 @@ class PathProblem:
     workers: int | None = None
     scheduler: str | None = None
     progress: bool = False
+    yes: bool = False
 
     def run(self):
-        """Synthesise (serially or on Dask, with the progress bar when asked)."""
-        from ..study.cluster import close, connect, local_client, progress_bar
+        """Synthesise (serially or on Dask, with the progress bar when asked, and the time estimate of
+        `mbplanar._progress.Progress` from the first starts)."""
+        from .._progress import Progress
+        from ..study.cluster import close, connect, local_client
         client = local_client(self.workers) if self.workers else connect(self.scheduler) if self.scheduler else None
-        update, done = progress_bar(self.search.get("starts", 8 if self.model is None else 2)) if self.progress \
-            else (None, lambda: None)
+        starts = self.search.get("starts", 8 if self.model is None else 2)
+        update = Progress(starts, "starts", show=self.progress, what=f"a search of {starts} starts", yes=self.yes)
+        done = update.close
         try:
             if self.model is None:
                 from .path import synthesise_path
@@ -162,7 +166,7 @@ def path_problem(args) -> PathProblem:
     if travel is not None and not sliding:
         travel = [math.radians(float(v)) for v in travel]   # degrees for a crank input
     return PathProblem(rows[:, :2], timing, c, model, point, bounds, travel, search, args.workers,
-                       args.scheduler, bool(args.progress or sys.stderr.isatty()))
+                       args.scheduler, bool(args.progress or sys.stderr.isatty()), bool(getattr(args, "yes", False)))
 
 
 def _model_of(model):
