@@ -129,8 +129,10 @@ class Progress:
                 self._plain = True
             else:
                 whole = float(total).is_integer()
+                fmt = None if whole else ("{percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} " + unit
+                                          + " [{elapsed}<{remaining}]")   # (a share of simulated time)
                 self.bar = tqdm(total=int(total) if whole else float(total), unit=f" {unit}" if unit else "it",
-                                leave=False, file=sys.stderr, dynamic_ncols=True)
+                                leave=False, file=sys.stderr, dynamic_ncols=True, bar_format=fmt)
 
     def update(self, done: float):
         """The run has done `done` of its total."""
@@ -149,7 +151,7 @@ class Progress:
         elif self._plain and (elapsed - self._last >= 0.5 or done >= self.total):
             self._last = elapsed
             left = elapsed * (self.total - done) / done if done else math.inf
-            print(f"\r{_amount(done, self.unit)}/{_amount(self.total, '')} ({100 * done / self.total:.0f} %), "
+            print(f"\r{_amount(done, '')}/{_amount(self.total, self.unit)} ({100 * done / self.total:.0f} %), "
                   f"{duration(elapsed)} elapsed, about {duration(left)} left ", end="", file=sys.stderr, flush=True)
 
     def __call__(self, done, total=None):

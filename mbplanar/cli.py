@@ -30,6 +30,7 @@ _blas_on_one_thread()
 
 import numpy as np  # noqa: E402  (after the BLAS threads are set)
 
+from ._progress import Interrupted
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError, PrecisionWarning
 from .io import (dynamics_document, forces_document, info_document, partials_document, plain, solve_document,
                  write_csv)
@@ -436,7 +437,7 @@ class _Output:
     def __exit__(self, kind, exc, tb):
         if self.path and self.file is not None:
             self.file.close()
-            if kind is not None and not issubclass(kind, (BrokenPipeError, KeyboardInterrupt)):
+            if kind is not None and not issubclass(kind, (BrokenPipeError, KeyboardInterrupt, Interrupted)):
                 os.remove(self.path)  # (Ctrl-C keeps the rows written: the message says how many)
         elif self.file is not None:
             self.file.flush()
@@ -498,7 +499,7 @@ def _sweep_estimate(engine, count, values_of, block, args, source):
 
 
 def cmd_sweep(args):
-    from ._progress import Interrupted, Progress
+    from ._progress import Progress
     from .forces._loads import has_force_data
     engine = _load(args)
     n_in = len(engine.inputs)
@@ -745,7 +746,7 @@ def _from_state(path, engine) -> tuple[list, list]:
 
 
 def cmd_simulate(args):
-    from ._progress import Interrupted, Progress
+    from ._progress import Progress
     from .forces._simulation import read_simulate, simulate_motion
     from .io._units import convert_simulation
     engine = _load(args)
