@@ -373,3 +373,39 @@ def test_study_units_model(tmp_path):
     a = next(e for e in si["designs"][0]["extremes"] if e["kind"] == "slider")
     b = next(e for e in model["designs"][0]["extremes"] if e["kind"] == "slider")
     assert model["units"]["length"] == "mm" and b["stroke"] == pytest.approx(1000 * a["stroke"], rel=1e-9)
+
+
+# -- slips beyond the issue's list ---------------------------------------------------------------------
+def test_gravity_in_mm_per_s2_warns():
+    doc = _doc("shaper.toml")
+    doc["gravity"]["g"] = 9810.0
+    _, got = _warnings_of(lambda: mbplanar.parse_model(doc, "s.toml"))
+    assert got == ["s.toml: gravity: g = 9810 m/s² is 1e+03 times the earth's 9.81 m/s²: is it in another unit? "
+                   "(g is in m/s² whatever the length_unit)"]
+
+
+def test_an_inertia_in_kg_mm2_in_a_kg_m2_file_warns():
+    """The shaper's lever (20 kg, 1.1 kg·m²: a radius of gyration of 0.23 m) with its inertia written in
+    kg·mm² (1.1e6) but no inertia_unit: a radius of gyration of 235 m."""
+    doc = _doc("shaper.toml")
+    doc["links"][2]["inertia"] = 1.1e6
+    _, got = _warnings_of(lambda: mbplanar.parse_model(doc, "s.toml"))
+    assert len(got) == 1 and got[0].startswith("s.toml: links[2] '3': its radius of gyration sqrt(inertia/mass) = "
+                                               "234.5 m while the drawing spans")
+    assert "is 'inertia' in another unit? (inertias here are read in kg*m^2" in got[0]
+
+
+def test_a_point_placed_100_drawings_away_warns():
+    doc = _doc("fourbar.toml")
+    doc["points"][0]["offset"] = 50.0            # 50 mm meant, in a metre model
+    _, got = _warnings_of(lambda: mbplanar.parse_model(doc, "f.toml"))
+    assert got and got[0].startswith("f.toml: links[1] '2': point 'M' has offset = 50 m while the drawing spans")
+
+
+def test_a_sliding_input_sweep_in_the_wrong_unit_warns():
+    text = (REPRO / "boom_at_xy_mm.toml").read_text(encoding="utf-8")
+    doc = tomllib.loads(text)
+    doc["input"]["sweep"] = [0.45, 0.55]          # metres, in a mm model
+    _, got = _warnings_of(lambda: mbplanar.parse_model(doc, "b.toml"))
+    assert got and got[0].startswith("b.toml: inputs[0] (joint 'Cp'): the sweep [0.45, 0.55] mm spans 0.1 mm while "
+                                     "the drawing spans")

@@ -286,6 +286,19 @@ def _warn_link_scale(mech: Mechanism, name: str, where: str):
     extent, pair = max(((math.dist(a, b), (m, n)) for m, a in spots for n, b in spots), default=(0.0, None))
     if out_of_scale(extent, size):
         row.warn(scale_message(f"it is drawn {pair[0]}-{pair[1]} =", extent, size, units.length, units.length_scale))
+        return
+    for p in mech.points.values():
+        for key in ("distance", "offset"):
+            value = getattr(p, key) if p.link == name else None
+            if value and abs(value) > size and out_of_scale(value, size):     # (a small offset is a detail)
+                row.warn(scale_message(f"point '{p.name}' has {key} =", value, size, units.length, units.length_scale))
+                return
+    link = mech.links[name]
+    if link.mass > 0 and link.inertia > 0 and size > 0 and out_of_scale(math.sqrt(link.inertia / link.mass), size):
+        k = math.sqrt(link.inertia / link.mass)
+        row.warn(f"its radius of gyration sqrt(inertia/mass) = {k:.4g} m while the drawing spans {size:.4g} m "
+                 f"({k / size:.3g} times that): is 'inertia' in another unit? (inertias here are read in "
+                 f"{units.inertia}; inertia_unit says otherwise)")
 
 
 def _check_extent(mech: Mechanism, name: str, where: str):
@@ -447,6 +460,10 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         for key, value, bound in (("omega", omega, 1e100), ("epsilon", epsilon, 1e200)):
             if abs(value) > bound:  # (as analyse's own check: squares and products must stay finite)
                 row.fail(f"{key} must be at most {bound:g} in size, got {value:g}")
+        if joint.kind == "P" and sweep is not None:
+            k = LENGTH_UNITS[in_unit]
+            _warn_length(mech, row, f"the sweep [{sweep[0]:g}, {sweep[1]:g}] {in_unit} spans",
+                         abs(sweep[1] - sweep[0]) * k, Units(in_unit), "is it")
         inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
                     zero=row.number("zero", 0.0), sense=float(sense),
                     omega=omega, epsilon=epsilon,
@@ -731,6 +748,9 @@ def read_gravity_section(mech: Mechanism, raw) -> Gravity:
     g = row.number("g", 9.81)
     if g < 0:
         row.fail(f"'g' must be >= 0 (turn 'direction' instead), got {g:g}")
+    if out_of_scale(g, 9.81):
+        row.warn(f"g = {g:g} m/s² is {g / 9.81:.3g} times the earth's 9.81 m/s²: is it in another unit? "
+                 "(g is in m/s² whatever the length_unit)")
     direction = row.number("direction", -90.0)
     row.check_unknown_keys({"comment"})
     return Gravity(g, math.radians(direction))
