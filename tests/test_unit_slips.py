@@ -406,3 +406,17 @@ def test_a_sliding_input_sweep_in_the_wrong_unit_warns():
     _, got = _warnings_of(lambda: mbplanar.parse_model(doc, "b.toml"))
     assert got and got[0].startswith("b.toml: inputs[0] (joint 'Cp'): the sweep [0.45, 0.55] mm spans 0.1 mm while "
                                      "the drawing spans")
+
+
+def test_seed001_in_mm_gives_the_same_design(tmp_path):
+    """The documented walking-foot target on the seed's chain, written in mm: the design in mm is the
+    metre design × 1000."""
+    code, si, _ = run("synth", "seed001", "--json")
+    mm = tmp_path / "mm.toml"
+    mm.write_text('length_unit = "MM"\n[chain]\na = 623.4\nb = 2562.8\npivot = [-1000.0, -666.8]\n'
+                  "[target]\nx_start = 0.0\ny0 = -2600.0\nlength = 1000.0\nheight = 200.0\n")
+    code_mm, model, _ = run("synth", "seed001", mm, "--json", "--units", "model")
+    si, model = json.loads(si), json.loads(model)
+    assert code == code_mm == 0 and model["units"]["length"] == "mm"
+    assert model["design"]["l"] == pytest.approx(1000 * si["design"]["l"], rel=1e-9)
+    assert model["design"]["gamma_deg"] == pytest.approx(si["design"]["gamma_deg"], rel=1e-9)

@@ -261,11 +261,13 @@ def _seed001(args):
     from .seed001 import synthesise_seed001
     data = read_toml(args.input) if args.input else {}
     src = args.input or "<default target>"
-    _known(data, ("chain", "target", "method"), src)
+    _known(data, ("chain", "target", "method", "length_unit"), src)
+    args.input_unit, k, _ = input_units(data, src)
     chain_t = _known(data.get("chain", {}), ("a", "b", "pivot"), f"{src}: [chain]")
     pivot = _pairs({"p": [chain_t.get("pivot", list(SEED001_CHAIN.pivot))]}, "p", f"{src}: [chain] pivot", 2)[0]
-    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a),
-                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b), (float(pivot[0]), float(pivot[1])))
+    pivot = pivot * (k if "pivot" in chain_t else 1.0)
+    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a / k) * k,
+                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b / k) * k, (float(pivot[0]), float(pivot[1])))
     if chain.a <= 0 or chain.b <= 0:
         raise ModelError(f"{src}: [chain] a and b must be positive")
     where = f"{src}: [target]"
@@ -273,11 +275,9 @@ def _seed001(args):
     direction = int(_number(t, "direction", where, -1))
     if direction not in (1, -1):
         raise ModelError(f"{where}: 'direction' must be 1 or -1")
-    target = WalkingTarget(_number(t, "x_start", where, DEFAULT_TARGET["x_start"]),
-                           _number(t, "y0", where, DEFAULT_TARGET["y0"]),
-                           _number(t, "length", where, DEFAULT_TARGET["length"]),
-                           _number(t, "height", where, DEFAULT_TARGET["height"]), direction,
-                           None if "top_x" not in t else _number(t, "top_x", where))
+    target = WalkingTarget(*(_number(t, key, where, DEFAULT_TARGET[key] / k) * k
+                             for key in ("x_start", "y0", "length", "height")), direction,
+                           None if "top_x" not in t else _number(t, "top_x", where) * k)
     method = _known(data.get("method", {}), ("form", "support_nodes", "spacing", "fit", "k_step_deg",
                                              "gamma_step_deg"), f"{src}: [method]")
     form = args.form or method.get("form", "b")
@@ -331,13 +331,14 @@ def _function(args):
         rows = csv_rows(src, 2)
         result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]))
         return summary_function(result, None), result, _plot_function
-    data = _known(read_toml(src), ("function",), src)
+    data = _known(read_toml(src), ("function", "length_unit"), src)
+    args.input_unit, k, _ = input_units(data, src)
     where = f"{src}: [function]"
     if "function" not in data:
         raise ModelError(f"{src}: a [function] table is required")
     f = _known(data["function"], ("expression", "x", "phi_deg", "psi_deg", "points", "spacing", "ground",
                                   "pairs_deg"), where)
-    ground = _number(f, "ground", where, 1.0)
+    ground = _number(f, "ground", where, 1.0 / k) * k
     if ground <= 0:
         raise ModelError(f"{where}: 'ground' must be positive")
     if "pairs_deg" in f:
