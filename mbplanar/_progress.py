@@ -19,7 +19,7 @@ import time
 from .errors import MbplanarError
 
 __all__ = ["Progress", "LongRun", "Interrupted", "LONG_RUN", "PROBE_SECONDS", "duration", "confirm_long_run",
-           "shown"]
+           "shown", "add_long_run_options"]
 
 LONG_RUN = 600.0       # s: a request estimated to take longer asks before it runs on
 PROBE_SECONDS = 2.0    # s of a run after which its pace is taken as known
@@ -63,6 +63,18 @@ def shown(flag: bool | None) -> bool:
         return sys.stderr.isatty()
     except (AttributeError, ValueError):
         return False
+
+
+def add_long_run_options(parser, counted: str = "the first seconds"):
+    """--progress / --no-progress and --yes of a command that may run long (`counted`: what its estimate
+    is taken from)."""
+    g = parser.add_mutually_exclusive_group()
+    g.add_argument("--progress", action="store_true", default=None,
+                   help="a progress bar with the time left on stderr (default: when stderr is a terminal)")
+    g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    parser.add_argument("--yes", action="store_true",
+                        help=f"run on even when the estimate from {counted} exceeds 10 minutes (else: asked on a "
+                             "terminal, refused otherwise)")
 
 
 def confirm_long_run(estimate: float, what: str, basis: str, yes: bool = False, source: str | None = None):

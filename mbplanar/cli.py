@@ -30,7 +30,7 @@ _blas_on_one_thread()
 
 import numpy as np  # noqa: E402  (after the BLAS threads are set)
 
-from ._progress import Interrupted
+from ._progress import Interrupted, add_long_run_options
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError, PrecisionWarning
 from .io import (dynamics_document, forces_document, info_document, partials_document, plain, solve_document,
                  write_csv)
@@ -977,17 +977,6 @@ def cmd_synth(args) -> int:
     return run(args)
 
 
-def _long_run_options(s):
-    """--progress / --no-progress and --yes of the commands that may run long."""
-    g = s.add_mutually_exclusive_group()
-    g.add_argument("--progress", action="store_true", default=None,
-                   help="a progress bar with the time left on stderr (default: when stderr is a terminal)")
-    g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
-    s.add_argument("--yes", action="store_true",
-                   help="run on even when the estimate from the first seconds exceeds 10 minutes (else: asked on "
-                        "a terminal, refused otherwise)")
-
-
 def _units_option(s):
     from .model._units import add_units_option
     add_units_option(s)
@@ -1024,7 +1013,7 @@ def _sweep_options(s):
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
                    help="reaction and balancing columns: auto = when the model has loads or masses")
     s.add_argument("--input-inertia", type=float, help="J_I on the input link for the force columns")
-    _long_run_options(s)
+    add_long_run_options(s)
     _units_option(s)
 
 
@@ -1064,7 +1053,7 @@ def _simulate_options(s):
     s.add_argument("--steps", type=int, help="output intervals (default 100)")
     s.add_argument("-o", "--output", help="CSV file of the motion")
     s.add_argument("--json", action="store_true")
-    _long_run_options(s)
+    add_long_run_options(s)
     _units_option(s)
 
 

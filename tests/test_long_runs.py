@@ -53,6 +53,16 @@ def _wait_for(path: Path, lines: int, proc, timeout: float = 60.0):
     raise AssertionError(f"{path} did not grow to {lines} lines")
 
 
+def _interrupted_after(proc, seconds: float) -> str:
+    """SIGINT to the running `proc` after `seconds`: it exits 130; its last line on stderr."""
+    time.sleep(seconds)
+    assert proc.poll() is None, proc.communicate()
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    return err.strip().splitlines()[-1]
+
+
 # -- simulate: stalls ----------------------------------------------------------------------------------
 def test_the_shaper_without_its_flywheel_stalls_at_once_and_says_why():
     """`simulate models/shaper.toml --t 0.05`: the machine of its [dynamics] (M_dr = 102.058 N·m, from
@@ -164,12 +174,7 @@ def test_ctrl_c_stops_a_simulation_writing_the_motion_so_far(tmp_path):
     out = tmp_path / "motion.csv"
     proc = _cli("simulate", SHAPER, "--t", "200", "--input-inertia", "147.141", "--steps", "2000", "-o", out,
                 "--yes", "--rtol", "1e-6")
-    time.sleep(4.0)
-    assert proc.poll() is None, proc.communicate()
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 130, err
-    last = err.strip().splitlines()[-1]
+    last = _interrupted_after(proc, 4.0)
     assert "interrupted (Ctrl-C) at t = " in last and f"wrote the motion up to t = " in last
     rows = list(csv.reader(io.StringIO(out.read_text())))
     assert rows[0][:2] == ["t[s]", "f[rad]"] and len(rows) > 2
@@ -184,12 +189,7 @@ def test_ctrl_c_stops_a_study_writing_the_designs_done(tmp_path):
     out = tmp_path / "summary.csv"
     proc = _cli("study", MODELS / "crank_slider_rocker.toml", "--variants", table, "-o", out, "--chunk", "4",
                 "--no-progress", "--yes")
-    time.sleep(6.0)
-    assert proc.poll() is None, proc.communicate()
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 130, err
-    last = err.strip().splitlines()[-1]
+    last = _interrupted_after(proc, 6.0)
     done = int(last.split("interrupted (Ctrl-C) after ")[1].split(" ")[0])
     assert f"wrote the {done} designs done to {out}" in last
     rows = list(csv.reader(io.StringIO(out.read_text())))

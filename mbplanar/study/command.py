@@ -9,7 +9,7 @@ import csv
 import json
 import math
 
-from .._progress import Interrupted, Progress
+from .._progress import Interrupted, Progress, add_long_run_options
 from ..model._units import add_units_option, display_units
 
 __all__ = ["add_parser", "cmd_study"]
@@ -39,13 +39,7 @@ def add_parser(sub):
     g.add_argument("--workers", type=_positive, help="run on a Dask LocalCluster of N worker processes")
     g.add_argument("--scheduler", help="run on the Dask cluster of this scheduler (e.g. tcp://host:8786)")
     s.add_argument("--chunk", type=_positive, default=None, help="designs per task (default 64)")
-    p = s.add_mutually_exclusive_group()
-    p.add_argument("--progress", action="store_true", default=None,
-                   help="a progress bar with the time left on stderr (default: when stderr is a terminal)")
-    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
-    s.add_argument("--yes", action="store_true",
-                   help="run on even when the estimate from the first seconds exceeds 10 minutes (else: asked on "
-                        "a terminal, refused otherwise)")
+    add_long_run_options(s, "the first chunks")
     add_units_option(s, "the strokes, extremes, samples and balancing loads")
     s.set_defaults(func=cmd_study)
     return s

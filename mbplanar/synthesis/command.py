@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._progress import add_long_run_options
 from ..errors import ModelError, ModelWarning, PlotUnavailable
 from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 from ..model._units import add_units_option
@@ -65,10 +66,7 @@ def add_arguments(parser) -> None:
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, help="run the starts on a Dask LocalCluster of N worker processes")
     g.add_argument("--scheduler", help="run the starts on the Dask cluster of this scheduler")
-    s.add_argument("--progress", action="store_true", help="a progress bar on stderr (default: when a terminal)")
-    s.add_argument("--yes", action="store_true",
-                   help="run on even when the estimate from the first starts exceeds 10 minutes (else: asked on a "
-                        "terminal, refused otherwise)")
+    add_long_run_options(s, "the first starts")
     _common(s)
 
 

@@ -10,12 +10,12 @@ bounds {name = [lower, upper]}, `[constraints]` (`constraints.read_constraints`)
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._progress import shown
 from ..errors import ModelError
 from .constraints import PathConstraints, read_constraints
 
@@ -166,7 +166,7 @@ def path_problem(args) -> PathProblem:
     if travel is not None and not sliding:
         travel = [math.radians(float(v)) for v in travel]   # degrees for a crank input
     return PathProblem(rows[:, :2], timing, c, model, point, bounds, travel, search, args.workers,
-                       args.scheduler, bool(args.progress or sys.stderr.isatty()), bool(getattr(args, "yes", False)))
+                       args.scheduler, shown(args.progress), bool(getattr(args, "yes", False)))
 
 
 def _model_of(model):
