@@ -779,7 +779,7 @@ def cmd_simulate(args):
     last = -1
     machine = spec.torque is None and engine.mech.dynamics is not None
     spec = tr.spec
-    forces = "the drive of [dynamics] (M_dr − slope·(ω − ω_m), from ω_m)" if machine else "the given forces"
+    forces = "the drive of [dynamics] (M_dr − slope·(ω − ω_m))" if machine else "the given forces"
     print(f"{doc['model']}: motion under {forces} from t = 0 to {tr.t[-1]:g} s "
           f"({spec.method}, rtol {spec.rtol:g}, {tr.nfev} evaluations): {tr.message}")
     for k, (name, d) in enumerate(doc["inputs"].items()):

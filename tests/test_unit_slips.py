@@ -420,3 +420,17 @@ def test_seed001_in_mm_gives_the_same_design(tmp_path):
     assert code == code_mm == 0 and model["units"]["length"] == "mm"
     assert model["design"]["l"] == pytest.approx(1000 * si["design"]["l"], rel=1e-9)
     assert model["design"]["gamma_deg"] == pytest.approx(si["design"]["gamma_deg"], rel=1e-9)
+
+
+def test_lengths_in_metres_in_a_mm_drawing_say_so_when_the_pose_cannot_be_assembled(tmp_path):
+    """The four-bar drawn in mm with its link lengths left in metres: it cannot be assembled (exit 1), and
+    the one line goes on with the scale warnings, the cause (they used to be lost with the error)."""
+    doc = _doc("fourbar.toml")
+    mm = rescale(doc, "mm")
+    for link, original in zip(mm["links"], doc["links"]):
+        link["length"] = original["length"]
+    path = _write(tmp_path, "f.toml", mm)
+    code, _, err = run("info", path)
+    lines = err.strip().splitlines()
+    assert code == 1 and len(lines) == 1
+    assert f"; warning: {path}: links[0] '1': its length = 0.1 mm while the drawing spans" in lines[0]
