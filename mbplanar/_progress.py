@@ -16,30 +16,13 @@ import math
 import sys
 import time
 
-from .errors import MbplanarError
+from .errors import Interrupted, LongRun
 
 __all__ = ["Progress", "LongRun", "Interrupted", "LONG_RUN", "PROBE_SECONDS", "duration", "confirm_long_run",
            "shown", "add_long_run_options"]
 
 LONG_RUN = 600.0       # s: a request estimated to take longer asks before it runs on
 PROBE_SECONDS = 2.0    # s of a run after which its pace is taken as known
-
-
-class LongRun(MbplanarError):
-    """A request estimated to run longer than `LONG_RUN`, not confirmed (exit status 2)."""
-
-    exit_code = 2
-
-
-class Interrupted(MbplanarError):
-    """The user stopped the run (Ctrl-C): exit status 130, as a shell reports SIGINT. `partial` holds the
-    part of the result done by then (or None)."""
-
-    exit_code = 130
-
-    def __init__(self, message: str = "", *, source=None, where=None, partial=None):
-        super().__init__(message, source=source, where=where)
-        self.partial = partial
 
 
 def duration(seconds: float) -> str:

@@ -174,7 +174,7 @@ def test_ctrl_c_stops_a_simulation_writing_the_motion_so_far(tmp_path):
     out = tmp_path / "motion.csv"
     proc = _cli("simulate", SHAPER, "--t", "200", "--input-inertia", "147.141", "--steps", "2000", "-o", out,
                 "--yes", "--rtol", "1e-6")
-    last = _interrupted_after(proc, 4.0)
+    last = _interrupted_after(proc, 3.0)
     assert "interrupted (Ctrl-C) at t = " in last and f"wrote the motion up to t = " in last
     rows = list(csv.reader(io.StringIO(out.read_text())))
     assert rows[0][:2] == ["t[s]", "f[rad]"] and len(rows) > 2
@@ -189,7 +189,7 @@ def test_ctrl_c_stops_a_study_writing_the_designs_done(tmp_path):
     out = tmp_path / "summary.csv"
     proc = _cli("study", MODELS / "crank_slider_rocker.toml", "--variants", table, "-o", out, "--chunk", "4",
                 "--no-progress", "--yes")
-    last = _interrupted_after(proc, 6.0)
+    last = _interrupted_after(proc, 3.0)
     done = int(last.split("interrupted (Ctrl-C) after ")[1].split(" ")[0])
     assert f"wrote the {done} designs done to {out}" in last
     rows = list(csv.reader(io.StringIO(out.read_text())))
