@@ -2,8 +2,8 @@
 
 `Progress` shows tqdm's bar on stderr when tqdm is installed (a plain line with the count, the elapsed
 time and the time left otherwise), and only when asked or when stderr is a terminal. It also guards
-against requests that would run for long: once a short part of the run (the probe: `PROBE_SECONDS` of
-it, or its first report) tells its pace, a run whose estimated total time exceeds `LONG_RUN` (10
+against requests that would run for long: once a short part of the run (the probe: `PROBE_SECONDS` after
+its first report, so that one-off costs such as a compile before it do not count) tells its pace, a run whose estimated total time exceeds `LONG_RUN` (10
 minutes) says so on stderr with the estimate, and goes on only when the user agreed (`--yes` on the
 command line, or "y" to the question when stdin and stderr are terminals); otherwise it stops with
 `LongRun` (exit status 2), before any output is written. Ctrl-C is the user's (`KeyboardInterrupt`);
@@ -105,8 +105,8 @@ class Progress:
     source : str, optional
         The file the run is about, for the messages.
     guard : bool
-        Estimate the total time from the first `PROBE_SECONDS` (or the first report) and ask before a
-        run longer than `LONG_RUN` goes on (`confirm_long_run`).
+        Estimate the total time from the pace over `PROBE_SECONDS` after the first report and ask before
+        a run longer than `LONG_RUN` goes on (`confirm_long_run`).
     start : float, optional
         When the run started (`time.perf_counter()`; default: now).
     """
@@ -116,7 +116,7 @@ class Progress:
         self.total, self.unit, self.what, self.yes, self.source = total, unit, what, yes, source
         self.guard, self.done = guard, 0.0
         self.start = time.perf_counter() if start is None else start   # (a perf_counter time)
-        self.bar, self._plain, self._last = None, False, 0.0
+        self.bar, self._plain, self._last, self._first = None, False, 0.0, None
         if shown(show):
             try:
                 from tqdm import tqdm
@@ -132,13 +132,17 @@ class Progress:
     def update(self, done: float):
         """The run has done `done` of its total."""
         self.done = done
-        elapsed = time.perf_counter() - self.start
-        if self.guard and 0 < done < self.total and elapsed >= PROBE_SECONDS:
+        now = time.perf_counter()
+        elapsed = now - self.start
+        if self._first is None:   # the pace is timed from the first report on: one-off costs (a compile) before
+            self._first = (now, done)
+        t0, d0 = self._first
+        if self.guard and d0 < done < self.total and now - t0 >= PROBE_SECONDS:
             self.guard = False
-            estimate = elapsed * self.total / done
+            estimate = elapsed + (now - t0) * (self.total - done) / (done - d0)
             confirm_long_run(estimate, self.what or f"this run of {self.total:g} {self.unit}",
-                             f"{_amount(done, self.unit)} of {_amount(self.total, self.unit)} took {duration(elapsed)}",
-                             self.yes, self.source)
+                             f"{_amount(float(f'{done - d0:.4g}'), self.unit)} took {duration(now - t0)}", self.yes,
+                             self.source)
         if self.bar is not None:
             self.bar.update(done - self.bar.n)
             if done >= self.total:

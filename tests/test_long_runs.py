@@ -299,3 +299,19 @@ def test_the_plain_progress_line_without_tqdm(monkeypatch, capsys):
             bar.update(k)
     err = capsys.readouterr().err
     assert "4/4 designs (100 %)" in err and "left" in err
+
+
+def test_the_estimate_leaves_one_off_costs_out(monkeypatch):
+    """A compile before the first report (9 s for one step) does not count: the pace is timed from the
+    first report on. 1000 steps of 10 ms after it: at 2 s past it (step 201) the run has taken 11 s and has
+    799 steps left at 10 ms, an estimate of 18.99 s (not 11 s × 1000/201 = 54.7 s)."""
+    import mbplanar._progress as progress
+    clock = [0.0]
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: clock[0])
+    asked = []
+    monkeypatch.setattr(progress, "confirm_long_run", lambda estimate, *a, **k: asked.append(estimate))
+    bar = Progress(1000, "steps", show=False, what="x")
+    for k in range(1, 400):
+        clock[0] = 9.0 + 0.01 * (k - 1)
+        bar.update(k)
+    assert asked == [pytest.approx(11.0 + 2.0 * 799 / 200, rel=1e-9)]
