@@ -1,12 +1,14 @@
 """`mbplanar accuracy MODEL [--samples N] [--seed S] [--positions N] [--outputs LIST] [--json | -o FILE.csv]
-[--units si|model] [--workers N | --scheduler ADDRESS] [--progress | --no-progress]`: the command-line
-side of the accuracy analysis (parsing, printing; the work is `accuracy`)."""
+[--units si|model] [--workers N | --scheduler ADDRESS] [--progress | --no-progress] [--yes]`: the
+command-line side of the accuracy analysis (parsing, printing; the work is `accuracy`)."""
 
 from __future__ import annotations
 
 import argparse
 import json
-import sys
+
+from .._progress import Progress, add_long_run_options
+from ..model._units import add_units_option
 
 __all__ = ["add_arguments", "run"]
 
@@ -35,22 +37,18 @@ def add_arguments(s):
     g = s.add_mutually_exclusive_group()
     g.add_argument("--json", action="store_true", help="everything as JSON (SI)")
     g.add_argument("-o", "--output", help="CSV file, one row per position")
-    s.add_argument("--units", choices=("si", "model"), default="si",
-                   help="lengths in the JSON and CSV: si (m) or model (the table's length_unit)")
+    add_units_option(s, "the lengths of the JSON and CSV")
     w = s.add_mutually_exclusive_group()
     w.add_argument("--workers", type=_count(1), help="run the Monte Carlo on a Dask LocalCluster of N workers")
     w.add_argument("--scheduler", help="run the Monte Carlo on the Dask cluster of this scheduler")
-    p = s.add_mutually_exclusive_group()
-    p.add_argument("--progress", action="store_true", default=None,
-                   help="a progress bar on stderr (default: when stderr is a terminal)")
-    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    add_long_run_options(s, "the Monte Carlo's first chunks")
 
 
 def run(args) -> int:
     """Run the analysis the arguments describe and print or write it."""
     from ..errors import ModelError
     from ..io._export import write_csv
-    from ..study.cluster import close, connect, local_client, progress_bar
+    from ..study.cluster import close, connect, local_client
     from .report import document, format_text, table
     from .run import accuracy
 
@@ -60,19 +58,13 @@ def run(args) -> int:
         if not outputs:
             raise ModelError("--outputs needs names separated by commas")
     client = local_client(args.workers) if args.workers else connect(args.scheduler) if args.scheduler else None
-    show = sys.stderr.isatty() if args.progress is None else args.progress
-    bar = _Bar(progress_bar) if show else None
+    bar = _Bar(args.progress, args.yes, args.model)
     try:
         result = accuracy(args.model, samples=args.samples, seed=args.seed, positions=args.positions,
                           outputs=outputs, backend=args.backend, client=client, progress=bar,
                           monte_carlo_run=not args.no_monte_carlo)
-    except KeyboardInterrupt:
-        done = f" after {bar.done} of {bar.total} samples" if bar is not None and bar.total else ""
-        print(f"mbplanar: {args.model}: accuracy interrupted{done}", file=sys.stderr)
-        return 130
     finally:
-        if bar is not None:
-            bar.close()
+        bar.close()
         if client is not None:
             close(client)
     if args.json:
@@ -88,17 +80,19 @@ def run(args) -> int:
 
 
 class _Bar:
-    """A progress callback that opens the bar at its first report (the total is known then)."""
+    """A progress callback that opens the bar at its first report (the total is known then); it also
+    estimates the whole Monte Carlo's time from its first chunks (`mbplanar._progress.Progress`)."""
 
-    def __init__(self, factory):
-        self.factory, self.bar, self.done, self.total = factory, None, 0, 0
+    def __init__(self, show, yes, source):
+        import time
+        self.show, self.yes, self.source, self.bar, self.start = show, yes, str(source), None, time.perf_counter()
 
     def __call__(self, done, total):
         if self.bar is None:
-            self.bar = self.factory(total)
-        self.done, self.total = done, total
-        self.bar[0](done, total)
+            self.bar = Progress(total, "samples", show=self.show, what=f"a Monte Carlo of {total} samples",
+                                yes=self.yes, source=self.source, start=self.start)
+        self.bar.update(done)
 
     def close(self):
         if self.bar is not None:
-            self.bar[1]()
+            self.bar.close()

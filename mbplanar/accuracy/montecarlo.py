@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import Interrupted
 from .made import made_geometry
 
 __all__ = ["MonteCarlo", "Cause", "draw", "monte_carlo", "CHUNK_VALUES"]
@@ -256,11 +257,14 @@ def monte_carlo(space, tolerances, phi, outputs, samples: int = 100_000, seed: i
                                 progress=progress)
     else:
         results, done = [], 0
-        for part in parts:
-            results.append(solve_chunk(space, space.source, part, phi, outputs))
-            done += len(part)
-            if progress is not None:
-                progress(done, samples)
+        try:
+            for part in parts:
+                results.append(solve_chunk(space, space.source, part, phi, outputs))
+                done += len(part)
+                if progress is not None:
+                    progress(done, samples)
+        except KeyboardInterrupt:
+            raise Interrupted(f"interrupted (Ctrl-C) after {done} of {samples} samples", source=space.source) from None
     total = results[0]
     for r in results[1:]:
         total = total.merge(r)
