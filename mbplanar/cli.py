@@ -862,7 +862,9 @@ def _suffix(path, allowed):
 
 
 def cmd_plot(args):
+    from .accuracy.plots import register as register_accuracy
     from .viz import _plotting as plotting
+    register_accuracy()  # (the pictures of other packages: registered here, as the report's sections are)
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
         raise ModelError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
@@ -907,6 +909,7 @@ def cmd_animate(args):
 
 
 def cmd_report(args):
+    from .accuracy.plots import register as register_accuracy
     from .cam.present import register as register_cam_section
     from .gears.report import register as register_gears_section
     from .synthesis.report import register as register_synthesis_section
@@ -915,6 +918,7 @@ def cmd_report(args):
     register_cam_section()  # (the report's sections of other packages: registered here, so that the other
     register_gears_section()  # commands do not import those packages)
     register_synthesis_section()
+    register_accuracy()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)

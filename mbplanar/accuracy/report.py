@@ -159,9 +159,10 @@ def _shown(o, value, length_name, length_scale) -> str:
 
 
 def format_text(result, length_name: str = "m", length_scale: float = 1.0, top: int = 3) -> str:
-    """The summary `mbplanar accuracy` prints: per output its largest worst-case and 3σ errors over the
-    cycle (Monte Carlo beside the RSS figure), the dimensions contributing most (share of the variance),
-    and the clearances' error; then the Monte Carlo's failures and the knocks."""
+    """The summary `mbplanar accuracy` prints: per output, over the cycle, its largest worst-case error
+    (about the mean shift), its largest standard deviation from the RSS of the exact sensitivities and from
+    the Monte Carlo, the Monte Carlo's largest deviation from nominal, the clearances' largest error, and the
+    dimensions contributing most (share of the variance); then the Monte Carlo's failures and the knocks."""
     sens, st, mc, cl = result.sensitivities, result.stack, result.monte_carlo, result.clearances
     inp_scale = _input_scale(result)
     where = "one turn" if result.full_turn else (
@@ -172,20 +173,23 @@ def format_text(result, length_name: str = "m", length_scale: float = 1.0, top: 
     if mc is not None:
         lines.append(f"Monte Carlo: {mc.samples} samples (seed {mc.seed}), {mc.count} assembled and reached every "
                      "position")
-    head = ["output", "worst case", "3σ (RSS)"] + (["3σ (MC)"] if mc is not None else []) + \
-        (["clearances"] if cl is not None else []) + ["largest contributions (share of variance)"]
+    head = ["output", "worst case", "σ (RSS)"] + (["σ (MC)", "MC range"] if mc is not None else []) + \
+        (["clearances" if cl.loaded else "clearances (worst)"] if cl is not None else []) + \
+        ["largest contributions (share of variance)"]
     rows = []
     for y, o in enumerate(result.outputs):
+        def shown(v):
+            return _shown(o, v, length_name, length_scale)
         worst = float(np.nanmax(np.abs(st.shift[:, y]) + st.worst[:, y])) if len(result.phi) else math.nan
-        row = [o.name, "±" + _shown(o, worst, length_name, length_scale),
-               "±" + _shown(o, 3 * float(np.nanmax(st.sigma[:, y])), length_name, length_scale)]
+        row = [o.name, "±" + shown(worst), shown(float(np.nanmax(st.sigma[:, y])))]
         if mc is not None:
-            row.append("±" + _shown(o, 3 * float(np.nanmax(mc.std[:, y])) if mc.count > 1 else math.nan,
-                                    length_name, length_scale))
+            good = mc.count > 1
+            row.append(shown(float(np.nanmax(mc.std[:, y])) if good else math.nan))
+            spread = np.fmax(np.abs(mc.low[:, y] - sens.value[:, y]), np.abs(mc.high[:, y] - sens.value[:, y]))
+            row.append("±" + shown(float(np.nanmax(spread)) if mc.count else math.nan))
         if cl is not None:
             err = cl.error[:, y] if cl.loaded else cl.worst[:, y]
-            row.append(("±" if not cl.loaded else "") + _shown(o, float(np.nanmax(np.abs(err))), length_name,
-                                                               length_scale))
+            row.append(("" if cl.loaded else "±") + shown(float(np.nanmax(np.abs(err)))))
         ranked = [k for k in st.ranked(y) if st.share[y, k] > 0][:top]
         row.append(", ".join(f"{result.dimensions[k].name} {100 * st.share[y, k]:.1f} %" for k in ranked) or "—")
         rows.append(row)
