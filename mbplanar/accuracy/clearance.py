@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .sensitivity import Sources, output_rates, source_pass
+from .sensitivity import Patch, Sources, output_rates, source_pass
 
 __all__ = ["ClearanceErrors", "clearance_errors"]
 
@@ -68,7 +68,9 @@ def _columns(engine, sol, pairs) -> tuple[Sources, list]:
     C = len(cols)
     side = {}
     for c, (name, link, vec) in enumerate(cols):
-        side.setdefault((name, link), np.zeros((2, C, B)))[:, c] = vec
+        side.setdefault((name, link), []).append((c, vec))
+    side = {key: Patch(np.array([c for c, _ in got]), np.stack([v for _, v in got], axis=1))
+            for key, got in side.items()}
     src = Sources(C, side, {}, {}, {}, np.zeros((len(engine.inputs), C, B)))
     return src, cols
 
@@ -134,7 +136,7 @@ def clearance_errors(engine, phi, clearances, outputs, cyclic: bool = False) -> 
                 direction[:, k] = np.arctan2(unit[:, 1], unit[:, 0])
                 knocks[c.joint] = _knocks(f[keep], phi[keep], cyclic)
             else:
-                n = src.side[(c.joint, j.slider)][:, c0, :].T          # (N, 2)
+                n = src.side[(c.joint, j.slider)].value[:, 0, :].T     # (N, 2): the guide's normal
                 normal = (f * n).sum(axis=1)
                 side = np.sign(normal)
                 part[:, :, k] = (sj[:, 0, :] * (c.value * side)).T

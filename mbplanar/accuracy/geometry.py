@@ -170,6 +170,7 @@ class DesignSpace:
         self.dimensions = tuple(self.dimensions)
         self.names = tuple(d.name for d in self.dimensions)
         self._nominal_template = None
+        self._derivatives = None
         if template is not None and any(d.kind == "parameter" for d in self.dimensions):
             self._nominal_template = _template_numbers(template, template.defaults())
         self._check_lengths()
@@ -237,9 +238,12 @@ class DesignSpace:
         return Sided(side, guide, point, zero, alpha, ok)
 
     def derivatives(self) -> Sided:
-        """d(made geometry)/d(each dimension) at nominal: arrays (2, K) and (K,), per SI unit."""
-        k = len(self.dimensions)
-        return self.sided(np.eye(k) * (1j * STEP)).imag()
+        """d(made geometry)/d(each dimension) at nominal: arrays (2, K) and (K,), per SI unit (computed
+        once, kept)."""
+        if self._derivatives is None:
+            k = len(self.dimensions)
+            self._derivatives = self.sided(np.eye(k) * (1j * STEP)).imag()
+        return self._derivatives
 
     def nominal(self) -> Sided:
         """The nominal geometry (one design)."""
