@@ -155,6 +155,10 @@ class DesignSpace:
     def __init__(self, engine, raw, template=None, names=()):
         self.engine, self.raw, self.template = engine, raw, template
         mech = engine.mech
+        other = [f"{n} ({j.kind})" for n, j in mech.joints.items() if j.kind not in ("R", "P")]
+        if other:
+            raise ModelError(f"the accuracy analysis takes revolute and prismatic pairs; the model has "
+                             f"{', '.join(other)}", source=mech.source)
         self.mech = mech
         self.source = mech.source
         self.exact = {n: np.array(j.at, float) for n, j in mech.joints.items()}

@@ -2,9 +2,10 @@
 coincide) closed in its drawn pose, and that pose written as the drawn geometry of a `DesignBatch`.
 
 The engine's joint laws hold one point per joint, shared by its two links; a made link holds its own.
-`_SidedRevolute` and `_SidedPrismatic` are the same laws with a point on each side (a revolute pair's two
-points, a prismatic pair's line point on the carrier and the slider's point), so that the engine's block
-Newton closes the made mechanism at the nominal drawn input from the nominal pose (q = 0): the nearest
+`_SidedRevolute` and `_SidedPrismatic` are the same laws with a point on each side (`JointLaw.point`: a
+revolute pair's two points, a prismatic pair's line point on the carrier and the slider's point), so that
+the engine's block Newton closes the made mechanism at the nominal drawn input from the nominal pose
+(q = 0): the nearest
 assembly, on the drawn branch (a design whose Jacobians change sign there, or that does not close, does
 not assemble). In the closed pose every joint's two points coincide again: those points, the guides'
 directions, the links' reference angles and the inputs' zeros are then the design's drawn geometry,
@@ -16,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine._blocks import BlockSolver
-from ..engine._constraints import Prismatic, Revolute, dot, perp
+from ..engine._constraints import Prismatic, Revolute, perp
 from ..study.geometry import DesignGeometry
 
 __all__ = ["made_geometry", "ASSEMBLY_REASON", "SHAPE_REASON"]
@@ -31,26 +32,21 @@ class _SidedRevolute(Revolute):
     def __init__(self, law, sides: dict):
         self.name, self.links, self.s0, self.sides = law.name, law.links, law.s0, sides
 
-    def place(self, pose, parent, child, q, relative):
-        rho_p = pose.rot(parent, self.sides[parent])
-        pose.place(child, pose.th[parent] + q if relative else q)
-        rho_c = pose.rot(child, self.sides[child])
-        pose.r[child] = pose.r[parent] + rho_p - rho_c
-        return rho_p, rho_c, perp(rho_p)[:, None], perp(rho_c)[:, None]
-
-    def closure(self, pose):
-        a, b = self.links
-        rho_a, rho_b = pose.rot(a, self.sides[a]), pose.rot(b, self.sides[b])
-        return pose.r[a] + rho_a - pose.r[b] - rho_b, (rho_a, rho_b, perp(rho_a)[:, None], perp(rho_b)[:, None])
+    def point(self, link):
+        return self.sides[link]
 
 
 class _SidedPrismatic(Prismatic):
     """A prismatic pair with the guide line through `line` (2, D) along `u0` (2, D) on the carrier and the
-    slider's point `slide` (2, D) on the slider (both links keep their drawn relative angle)."""
+    slider's point `slide` (2, D) on the slider (both links keep their drawn relative angle). As a tree
+    joint it places the child with the offset between the two points."""
 
     def __init__(self, law, line, slide, u0):
         self.name, self.links, self.s0 = law.name, law.links, law.s0
         self.line, self.slide, self.u0, self.n0 = line, slide, u0, perp(u0)
+
+    def point(self, link):
+        return self.line if link == self.carrier else self.slide
 
     def place(self, pose, parent, child, q, relative):
         sign = 1.0 if parent == self.carrier else -1.0
@@ -61,22 +57,11 @@ class _SidedPrismatic(Prismatic):
         return sign, u[:, None], q, perp(u)[:, None], perp(off)[:, None]
 
     def place_rates(self, cache, rates, parent, child, qd, relative, vel=None, qd_vel=None):
-        sign, u, q, pu, p_off = cache
-        wp, vp = rates.get(parent)
-        vc = vp + sign * (qd * u + (q * wp) * pu + wp * p_off)
         if vel is not None:
             raise NotImplementedError("a made prismatic pair closes positions only")
-        rates.set(child, wp, vc)
-
-    def closure(self, pose):
-        c, s = self.carrier, self.slider
-        n = pose.rot(c, self.n0)
-        rho_s, rho_c = pose.rot(s, self.slide), pose.rot(c, self.line)
-        delta = pose.r[s] + rho_s - pose.r[c] - rho_c
-        out = np.empty((2, pose.batch), dtype=delta.dtype)
-        out[0] = pose.th[s] - pose.th[c]
-        out[1] = dot(n, delta)
-        return out, (n, delta, rho_s, rho_c, (perp(rho_s)[:, None], perp(rho_c)[:, None]), dot(perp(n), delta))
+        sign, u, q, pu, p_off = cache
+        wp, vp = rates.get(parent)
+        rates.set(child, wp, vp + sign * (qd * u + (q * wp) * pu + wp * p_off))
 
 
 def _laws(engine, sided) -> dict:
