@@ -14,7 +14,7 @@ from mbplanar.synthesis.path_model import synthesise_model_path
 
 _M = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), np.radians(np.arange(0, 360, 30.0)))
 TARGETS = _M.xy[:, _M.point("M")]
-SMALL = {"starts": 1, "popsize": 6, "generations": 20, "keep": 1}
+SMALL = {"starts": 1, "shapes": 1024, "keep": 2}
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,8 @@ def test_errors_are_the_models_own(result):
         gap = lambda x: float(np.hypot(*(mbplanar.analyse(engine, [x]).xy[0, dense.point("P")] - target)))  # noqa: E731
         best = minimize_scalar(gap, bounds=(fine[max(i - 1, 0)], fine[min(i + 1, len(fine) - 1)]), method="bounded",
                                options={"xatol": 1e-10})
-        assert abs(result.errors[k] - best.fun) < 1e-11
+        assert result.errors[k] <= best.fun + 1e-11
+        assert best.fun < 1e-6 or abs(result.errors[k] - best.fun) < 1e-11
     assert result.rms < 0.1 * np.ptp(TARGETS, axis=0).max()
 
 
@@ -137,8 +138,9 @@ def test_any_model_timed_targets():
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda: synthesise_path(TARGETS[:4]), "at least 5"),
-    (lambda: synthesise_path(np.zeros((6, 2))), "coincide"),
+    (lambda: synthesise_path(TARGETS[:2]), "at least 3"),
+    (lambda: synthesise_path(np.zeros((6, 2))), "rows 1-6 are all the one point"),
+    (lambda: synthesise_path(np.r_[TARGETS[:2], [[np.nan, 0.1]], TARGETS[3:]]), "row 3"),
     (lambda: synthesise_path(TARGETS, timing=[0.0, 1.0]), "one finite input value per target"),
     (lambda: PathConstraints(min_transmission_deg=95.0), "min_transmission_deg"),
     (lambda: PathConstraints(max_ratio=0.5), "max_ratio"),
@@ -157,7 +159,10 @@ def test_bad_input_is_a_clear_error(call, message):
 
 
 def test_infeasible_constraints_say_so():
+    """Bounds no design can meet: the best design still comes back, with success False and a warning
+    naming the bound missed and by how much."""
     c = PathConstraints(pivots={"A0": [[50.0, 50.0], [50.1, 50.1]], "B0": [[-50.1, -50.1], [-50.0, -50.0]]},
                         max_ratio=1.05)
-    with pytest.raises(ModelError, match="no feasible design"):
-        synthesise_path(TARGETS, constraints=c, starts=1, popsize=5, generations=3, keep=1)
+    r = synthesise_path(TARGETS, constraints=c, starts=1, shapes=256, keep=1)
+    assert not r.success and r.ratio > 1.05
+    assert any("link ratio" in w and "exceeds the bound 1.05" in w for w in r.warnings)

@@ -29,7 +29,8 @@ from ..model import parse_model
 from ._models import table_toml
 from .constraints import PathConstraints, transmission_angles
 from .defects import check_defects
-from .path import PathOutcome, _order_penalty, _task, nearest_on_model, nearest_on_polyline, start_seeds
+from .path import PathOutcome, _task, nearest_on_model, start_seeds
+from .path_search import _order_penalty, nearest_on_polyline
 from .starts import run_starts
 
 __all__ = ["ModelPathResult", "synthesise_model_path"]
@@ -148,7 +149,7 @@ def _score(x, problem: _Problem) -> np.ndarray:
     xy, valid, _, geometry = problem.motion(values, phi)
     penalty = problem.violations(xy[:, -len(grid):], valid[:, -len(grid):], geometry, len(x)).sum(axis=1)
     if first is None:
-        near, index = nearest_on_polyline(xy[:, :, 0], valid, problem.targets, closed=problem.closed)
+        near, index, _ = nearest_on_polyline(xy[:, :, 0], valid, problem.targets, closed=problem.closed)
         if problem.closed:
             penalty = penalty + 0.1 * size * _order_penalty(index, len(grid))
         else:
@@ -288,7 +289,7 @@ def synthesise_model_path(model, point: str, bounds: dict, targets, *, timing=No
     """
     from ..study.run import load_template
     t0 = time.perf_counter()
-    base = _task(targets, timing, constraints)
+    base = _task(targets, timing, constraints, PathConstraints())
     template = load_template(model)
     problem = _problem(template, point, bounds, base, travel, popsize, generations, samples, keep)
     if starts < 1 or popsize < 5 or generations < 1 or samples < 12 or keep < 1:

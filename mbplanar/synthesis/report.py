@@ -18,9 +18,10 @@ from ._models import _key, _value
 
 __all__ = ["summary_table", "report_section", "register"]
 
-KEPT = ("problem", "form", "point", "timed", "rms_error", "max_error", "error_unit", "errors", "targets",
-        "target_phi_deg", "evaluations", "seed", "starts", "seconds", "delta1", "delta2", "delta", "parameters",
-        "design", "constraints", "defects")
+KEPT = ("problem", "form", "point", "timed", "success", "message", "warnings", "rms_error", "max_error",
+        "error_unit", "errors", "targets", "target_phi_deg", "evaluations", "seed", "starts", "seconds", "budget",
+        "stopped", "delta1", "delta2", "delta", "parameters", "design", "constraints", "order", "tradeoff",
+        "defects")
 
 
 def _plain(v):
