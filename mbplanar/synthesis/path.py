@@ -37,7 +37,7 @@ from .batch import design_toml, fourbar_coupler_paths
 from .constraints import PathConstraints, transmission_angles
 from .defects import Defects, check_defects
 from .path_order import order_report
-from .path_search import Candidate, PathTask, Setup, nearest_on_polyline, run_start
+from .path_search import Candidate, PathTask, Setup, deepened, nearest_on_polyline, run_start
 from .starts import run_starts
 
 __all__ = ["PathOutcome", "PathResult", "PathTask", "DESIGNER", "synthesise_path", "nearest_on_polyline",
@@ -102,20 +102,21 @@ class PathResult(PathOutcome):
 
 # -- the targets ------------------------------------------------------------------------------------------
 def validate_targets(targets, where: str = "target") -> np.ndarray:
-    """Target points as a (T, 2) float array, or a `ModelError` naming the row (1-based) at fault:
-    fewer than 3 points, a value that is not a finite number, or all points at one place."""
+    """Target points as a (T, 2) float array, or a `ModelError` naming the row (1-based, called
+    `where` + " row") at fault: fewer than 3 points, a value that is not a finite number, or all points
+    at one place."""
     try:
         t = np.array(targets, dtype=float)
     except (TypeError, ValueError):
-        raise ModelError(f"{where} points must be rows of two numbers x, y") from None
+        raise ModelError("target points must be rows of two numbers x, y") from None
     if t.ndim != 2 or t.shape[1] != 2:
-        raise ModelError(f"{where} points must be rows of two numbers x, y, got an array of shape {t.shape}")
+        raise ModelError(f"target points must be rows of two numbers x, y, got an array of shape {t.shape}")
     bad = np.flatnonzero(~np.all(np.isfinite(t), axis=1))
     if len(bad):
         k = int(bad[0])
         raise ModelError(f"{where} row {k + 1}: ({t[k, 0]}, {t[k, 1]}) is not a pair of finite numbers")
     if len(t) < 3:
-        raise ModelError(f"path generation needs at least 3 {where} points, got {len(t)}")
+        raise ModelError(f"path generation needs at least 3 target points, got {len(t)}")
     if np.ptp(t, axis=0).max() <= 0:
         raise ModelError(f"{where} rows 1-{len(t)} are all the one point ({t[0, 0]}, {t[0, 1]}): a path "
                          f"needs points at different places")
@@ -143,7 +144,7 @@ def start_seeds(seed: int, starts: int) -> list[int]:
 
 # -- the whole search ---------------------------------------------------------------------------------
 def synthesise_path(targets, *, timing=None, constraints: PathConstraints | None = None, seed: int = 0,
-                    starts: int = 2, shapes: int = 8192, keep: int = 6, budget: float | None = None,
+                    starts: int = 3, shapes: int = 8192, keep: int = 6, budget: float | None = None,
                     popsize: int = 15, generations: int = 200, samples: int = 60, reach: float = 2.0,
                     client=None, progress=None) -> PathResult:
     """A four-bar whose coupler point passes near `targets`, checked by mbplanar.
@@ -208,10 +209,14 @@ def synthesise_path(targets, *, timing=None, constraints: PathConstraints | None
     else:
         results = _within_budget(setup, seeds, t0 + budget - VERIFY_SECONDS, progress)
     evaluations = sum(r[1] for r in results)
-    found = [(cand.rank, k, i, cand) for k, r in enumerate(results) for i, cand in enumerate(r[0])]
+    found = [cand for r in results for cand in r[0]]
     stopped = budget is not None and time.perf_counter() - t0 > budget - VERIFY_SECONDS
-    main = [f[3] for f in sorted((f for f in found if f[3].pool == "main"), key=lambda f: f[:3])]
-    relaxed = [f[3] for f in sorted((f for f in found if f[3].pool == "relaxed"), key=lambda f: f[:3])]
+    if not stopped:
+        found, more = deepened(found, task)
+        evaluations += more
+    found = [(cand.rank, k, cand) for k, cand in enumerate(found)]
+    main = [f[2] for f in sorted((f for f in found if f[2].pool == "main"), key=lambda f: f[:2])]
+    relaxed = [f[2] for f in sorted((f for f in found if f[2].pool == "relaxed"), key=lambda f: f[:2])]
     chosen, rejected = _first_verified(main, task, evaluations, seed, starts)
     if chosen is None:
         why = f": {rejected[0]}" if rejected else ": no candidate assembles through the targets"
@@ -224,7 +229,7 @@ def synthesise_path(targets, *, timing=None, constraints: PathConstraints | None
     warnings = list(chosen.warnings)
     if stopped:
         warnings.append(f"the budget of {budget:g} s ran out: the best design found so far "
-                        f"({sum(len(r[0]) for r in results)} designs polished)")
+                        f"({len(found)} designs polished)")
     return dataclasses.replace(chosen, seconds=time.perf_counter() - t0, warnings=tuple(warnings),
                                tradeoff=tradeoff, stopped=stopped)
 

@@ -113,7 +113,7 @@ def meets(c: PathConstraints, design, size: float, travel=None) -> bool:
     return bool(np.all(v <= 1e-12 * size))
 
 
-def feet(design, targets, phi=None, grid: int = GRID, iterations: int = 4):
+def feet(design, targets, phi=None, grid: int = GRID, iterations: int = 3):
     """Feet of the perpendiculars from targets (T, 2) on the closed coupler curve of `design` (10,):
     crank angles (T,), the points (T, 2) and the curve's unit tangents there (T, 2). Each starts from the
     nearest of `grid` positions of a turn (or from `phi`, where nearer) and takes Newton steps on
@@ -130,9 +130,11 @@ def feet(design, targets, phi=None, grid: int = GRID, iterations: int = 4):
         x = np.where(there < gap.min(axis=0), phi, x)
     step_max = TWO_PI / grid
     h = 1e-5
-    for _ in range(iterations):
+    for k in range(iterations + 1):
         _, _, q, okq = fourbar_coupler_paths(d, np.concatenate([x, x - h, x + h]))
         q = q[0].reshape(3, len(t), 2)
+        if k == iterations:
+            break
         good = okq[0].reshape(3, len(t)).all(axis=0)
         v = (q[2] - q[1]) / (2 * h)
         acc = (q[2] - 2 * q[0] + q[1]) / (h * h)
@@ -141,8 +143,6 @@ def feet(design, targets, phi=None, grid: int = GRID, iterations: int = 4):
         grad = np.sum(miss * v, axis=1)
         step = np.where(good & (slope > 0), -grad / np.where(slope > 0, slope, 1.0), 0.0)
         x = x + np.clip(step, -step_max, step_max)
-    _, _, q, _ = fourbar_coupler_paths(d, np.concatenate([x, x - h, x + h]))
-    q = q[0].reshape(3, len(t), 2)
     tangent = q[2] - q[1]
     norm = np.hypot(*tangent.T)
     tangent = np.where(norm[:, None] > 0, tangent / np.where(norm > 0, norm, 1.0)[:, None], 0.0)

@@ -35,6 +35,9 @@ CURVE = 64              # points of a curve in the screen (crank positions, then
 RESCORED = 256          # screened designs measured by their true nearest-point distances
 RESCORE_SAMPLES = 96    # crank positions of the polyline they are measured on
 CHUNK = 4096            # shapes screened at once (a budget is looked at between chunks)
+POLISH_EVALUATIONS = 60     # residual evaluations of a start's polish, per penalty weight
+DEEP_EVALUATIONS = 400      # ... and of the final polish of the best few
+DEEPENED = 3                # distinct best candidates polished again at the end
 
 
 @dataclass(frozen=True)
@@ -206,16 +209,41 @@ def _timed_travel(task: PathTask, phase):
     return np.asarray(phase, float)[:, None] + np.linspace(lo, hi, 60)[None, :]
 
 
-def _polished(design, phase, task: PathTask, pool: str):
+def _polished(design, phase, task: PathTask, pool: str, evaluations: int = POLISH_EVALUATIONS):
     """Polish one design (untimed: orthogonal distances; timed: from the crank angle `phase` at the
-    first target) under the pool's constraints; (Candidate, evaluations)."""
+    first target) under the pool's constraints, with at most `evaluations` residual evaluations per
+    penalty weight; (Candidate, designs traced)."""
     t = task if pool == "main" else task.relaxed()
-    if task.timing is None:
-        p = polish_untimed(design, t.targets, t.constraints, t.size)
+    if task.timing is None and t.constraints.full_turn:
+        p = polish_untimed(design, t.targets, t.constraints, t.size, evaluations)
+    elif task.timing is None:
+        return _polish_limited(design, phase, t, evaluations)
     else:
         p = polish_timed(design, phase, t.targets, t.timing, t.constraints, t.size,
-                         travel=None if t.constraints.full_turn else (lambda ph: _timed_travel(t, ph)))
+                         travel=None if t.constraints.full_turn else (lambda ph: _timed_travel(t, ph)),
+                         max_nfev=evaluations)
     return assess(p.design, p.phi, p.errors, t, pool), p.evaluations
+
+
+def deepened(candidates: list, task: PathTask, count: int = DEEPENED) -> tuple[list, int]:
+    """The `count` best distinct candidates (each pool's, best first) polished again with
+    `DEEP_EVALUATIONS` residual evaluations (the search's polish stops early, for breadth): the
+    candidates with the deepened ones added, and the designs traced."""
+    out, traced_count = list(candidates), 0
+    for pool in ("main", "relaxed"):
+        ranked = sorted((c for c in candidates if c.pool == pool), key=lambda c: c.rank)
+        seen = []
+        for cand in ranked:
+            if len(seen) >= count:
+                break
+            if any(np.allclose(cand.design, s, rtol=0.0, atol=1e-3 * task.size) for s in seen):
+                continue
+            seen.append(cand.design)
+            phase = cand.phi if task.timing is None and not task.constraints.full_turn else cand.phi[0]
+            better, n = _polished(cand.design, phase, task, pool, DEEP_EVALUATIONS)
+            out.append(better)
+            traced_count += n
+    return out, traced_count
 
 
 # -- the shape screen (a crank that turns fully) --------------------------------------------------------
@@ -385,7 +413,7 @@ def _residuals(z, mode: float, task: PathTask, weight: float) -> np.ndarray:
     return np.column_stack([miss, weight * v])
 
 
-def _polish_limited(design, phi_t, task: PathTask) -> tuple[Candidate, int]:
+def _polish_limited(design, phi_t, task: PathTask, evaluations: int | None = None) -> tuple[Candidate, int]:
     """Least squares of untimed targets on a limited travel, in the design's 9 numbers and one crank
     angle per target (the angles converge to the feet of the perpendiculars)."""
     from scipy.optimize import least_squares
@@ -410,7 +438,7 @@ def _polish_limited(design, phi_t, task: PathTask) -> tuple[Candidate, int]:
             z = np.clip(z, lo + 1e-12 * task.size, hi - 1e-12 * task.size)
         res = least_squares(fun, z, jac=jac, method="trf" if bounded else "lm", x_scale="jac",
                             bounds=(lo, hi) if bounded else (-np.inf, np.inf),
-                            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=12 * len(z))
+                            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=evaluations or 12 * len(z))
         z = res.x
         count += res.nfev * (len(z) + 1)
         d, phi = positive_lengths(np.r_[z[:9], mode], z[9:])
