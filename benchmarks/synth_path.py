@@ -6,9 +6,10 @@ For each target and seed: the CPU time of `synthesise_path` (time.process_time, 
 threads) and its wall time, with the load average before and after (the machine may be shared); the
 error, transmission angle and link ratio **recomputed independently from the written model**: the model
 text is written to a file, read back with `mbplanar.read_model`, swept over a full turn by the engine
-(7201 positions), and each target's distance to the analysed coupler point is minimised by a bounded
-scalar search between its nearest sweep positions; the transmission angle is the angle at B between
-B→A and B→B0 over that sweep, the link ratio from the model's joint coordinates. pylinkage's path
+(7201 positions), and each target's distance to the analysed coupler point is taken at the foot of the
+perpendicular, a root of (P − t)·dP/dφ (Brent's method, the analogue dP/dφ from the engine) between its
+nearest sweep positions; the transmission angle is the angle at B between B→A and B→B0 over that sweep,
+the link ratio from the model's joint coordinates. pylinkage's path
 synthesis (`pylinkage.synthesis.path_generation`, where installed) is timed on the same targets and
 its designs, where it finds any, measured the same way.
 
@@ -86,7 +87,7 @@ def measured(toml_text: str, targets) -> dict:
     """Errors, transmission angle and link ratio of a written four-bar model (joints A0, A, B, B0, point
     P), from mbplanar's analysis of the model read back from a file."""
     import mbplanar
-    from scipy.optimize import minimize_scalar
+    from scipy.optimize import brentq
     targets = np.asarray(targets, float)
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "design.toml")
@@ -100,12 +101,22 @@ def measured(toml_text: str, targets) -> dict:
     p = sweep.xy[:, sweep.point("P")]
     grid = sweep.phi[:, 0]
     errors = []
-    for t in targets:
+    k = sweep.point("P")
+    for t in targets:    # the foot of the perpendicular: a root of (P − t)·dP/dφ between the nearest positions
         i = int(np.argmin(np.hypot(*(p - t).T)))
         lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
-        f = lambda x: float(np.hypot(*(mbplanar.analyse(engine, [x]).xy[0, sweep.point("P")] - t)))  # noqa: E731
-        best = minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
-        errors.append(min(best.fun, float(np.hypot(*(p[i] - t)))))
+
+        def slope(x, t=t):
+            m = mbplanar.analyse(engine, [x])
+            return float(np.dot(m.xy[0, k] - t, m.vq[0, k]))
+
+        def gap(x, t=t):
+            return float(np.hypot(*(mbplanar.analyse(engine, [x]).xy[0, k] - t)))
+        best = float(np.hypot(*(p[i] - t)))
+        for a_, b_ in ((lo, grid[i]), (grid[i], hi)):
+            if a_ < b_ and slope(a_) * slope(b_) < 0:
+                best = min(best, gap(brentq(slope, a_, b_, xtol=1e-15, rtol=4 * np.finfo(float).eps)))
+        errors.append(best)
     a, b, b0 = (sweep.xy[:, sweep.point(k)] for k in ("A", "B", "B0"))
     u, w = a - b, b0 - b
     angle = np.abs(np.arctan2(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0], np.sum(u * w, axis=1)))

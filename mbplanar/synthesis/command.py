@@ -146,7 +146,8 @@ def _print_path_constraints(summary: dict) -> None:
     t = summary.get("tradeoff")
     if t and t.get("without"):
         w = t["without"]
-        print(f"  without the {' and '.join(b.replace('_', ' ') for b in t['relaxed'])} bounds the best found: "
+        names = {"min_transmission_deg": "transmission-angle", "max_ratio": "link-ratio"}
+        print(f"  without the {' and '.join(names[b] for b in t['relaxed'])} bounds the best found: "
               f"RMS {w['rms']:.3e} {summary['error_unit']} (transmission angle {w['transmission_deg']:.3g}°, "
               f"link ratio {w['ratio']:.3g}) against RMS {summary['rms_error']:.3e} with them")
     elif t:

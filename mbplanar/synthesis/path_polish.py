@@ -28,7 +28,7 @@ from .constraints import PathConstraints, fourbar_violations
 from .path_screen import shape_bounds
 
 __all__ = ["Polished", "closed_form_violations", "violations", "feet", "polish_untimed", "polish_timed",
-           "meets", "positive_lengths"]
+           "meets", "positive_lengths", "least_squares_fit", "constraint_bounds"]
 
 TWO_PI = 2.0 * math.pi
 WEIGHTS = (10.0, 1e3, 1e5)
@@ -163,7 +163,7 @@ def _design(z, mode):
     return np.r_[z[:9], mode]
 
 
-def _lsq(fun, jac, z, lo, hi, max_nfev):
+def least_squares_fit(fun, jac, z, lo, hi, max_nfev):
     """scipy's least squares: MINPACK's Levenberg-Marquardt, or the trust-region reflective method where
     bounds apply; zero rows pad the residuals up to the unknowns (fewer targets than unknowns)."""
     from scipy.optimize import least_squares
@@ -183,7 +183,8 @@ def _lsq(fun, jac, z, lo, hi, max_nfev):
                          xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=max_nfev)
 
 
-def _bounds(c: PathConstraints, n: int):
+def constraint_bounds(c: PathConstraints, n: int):
+    """Bounds (n,) each of unknowns whose first four are the fixed pivots: their boxes, else none."""
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
     for name, col in (("A0", 0), ("B0", 2)):
         box = c.box(name)
@@ -212,7 +213,7 @@ def polish_untimed(design, targets, c: PathConstraints, size: float, max_nfev: i
         return state
 
     z = np.asarray(design, float)[:9].copy()
-    lo, hi = _bounds(c, 9)
+    lo, hi = constraint_bounds(c, 9)
     for weight in WEIGHTS:
         def fun(u, weight=weight):
             s = at(u)
@@ -236,7 +237,7 @@ def polish_untimed(design, targets, c: PathConstraints, size: float, max_nfev: i
             dv = ((v[1:] - v[0]) / h[:, None]).T * weight
             count[0] += len(rows)
             return np.vstack([dist, dv])
-        res = _lsq(fun, jac, z, lo, hi, max_nfev)
+        res = least_squares_fit(fun, jac, z, lo, hi, max_nfev)
         z = res.x
         if meets(c, _design(z, mode), size):
             break
@@ -266,7 +267,7 @@ def polish_timed(design, phase: float, targets, timing, c: PathConstraints, size
         return np.column_stack([miss, weight * v])
 
     z = np.r_[np.asarray(design, float)[:9], phase]
-    lo, hi = _bounds(c, 10)
+    lo, hi = constraint_bounds(c, 10)
     for weight in WEIGHTS:
         def fun(u, weight=weight):
             return residuals(u[None], weight)[0]
@@ -276,7 +277,7 @@ def polish_timed(design, phase: float, targets, timing, c: PathConstraints, size
             h[9] = 1e-7
             r = residuals(np.vstack([u, u + np.diag(h)]), weight)
             return ((r[1:] - r[0]) / h[:, None]).T
-        res = _lsq(fun, jac, z, lo, hi, max_nfev)
+        res = least_squares_fit(fun, jac, z, lo, hi, max_nfev)
         z = res.x
         span = None if travel is None else travel(z[9:10])
         if meets(c, _design(z, mode), size, span):

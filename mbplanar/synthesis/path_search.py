@@ -23,7 +23,8 @@ import numpy as np
 from .batch import fourbar_coupler_paths
 from .constraints import PathConstraints, fourbar_violations
 from .path_order import OrderReport, order_report
-from .path_polish import meets, polish_timed, polish_untimed, positive_lengths
+from .path_polish import (constraint_bounds, least_squares_fit, meets, polish_timed, polish_untimed,
+                          positive_lengths)
 from .path_screen import (arc_resample, placed_designs, procrustes_screen, sample_shapes, target_offsets,
                           traced)
 
@@ -34,7 +35,7 @@ WEIGHT = 10.0           # penalty per unit of violation (lengths) in the differe
 CURVE = 64              # points of a curve in the screen (crank positions, then arc-length points)
 RESCORED = 256          # screened designs measured by their true nearest-point distances
 RESCORE_SAMPLES = 96    # crank positions of the polyline they are measured on
-CHUNK = 4096            # shapes screened at once (a budget is looked at between chunks)
+CHUNK = 2048            # shapes screened at once (a budget is looked at between chunks)
 POLISH_EVALUATIONS = 60     # residual evaluations of a start's polish, per penalty weight
 DEEP_EVALUATIONS = 400      # ... and of the final polish of the best few
 DEEPENED = 3                # distinct best candidates polished again at the end
@@ -416,29 +417,19 @@ def _residuals(z, mode: float, task: PathTask, weight: float) -> np.ndarray:
 def _polish_limited(design, phi_t, task: PathTask, evaluations: int | None = None) -> tuple[Candidate, int]:
     """Least squares of untimed targets on a limited travel, in the design's 9 numbers and one crank
     angle per target (the angles converge to the feet of the perpendiculars)."""
-    from scipy.optimize import least_squares
     mode = float(design[9])
     z = np.r_[design[:9], phi_t]
+    lo, hi = constraint_bounds(task.constraints, len(z))
     count = 0
     for weight in (WEIGHT, 100 * WEIGHT, 1e4 * WEIGHT):
-        def fun(u):
+        def fun(u, weight=weight):
             return _residuals(u[None], mode, task, weight)[0]
 
-        def jac(u):
+        def jac(u, weight=weight):
             h = 1e-7 * np.maximum(task.size, np.abs(u))
             r = _residuals(np.vstack([u, u + np.diag(h)]), mode, task, weight)
             return ((r[1:] - r[0]) / h[:, None]).T
-        lo, hi = np.full(len(z), -np.inf), np.full(len(z), np.inf)
-        for name, col in (("A0", 0), ("B0", 2)):
-            box = task.constraints.box(name)
-            if box is not None:
-                lo[col:col + 2], hi[col:col + 2] = box
-        bounded = np.isfinite(np.r_[lo, hi]).any()
-        if bounded:
-            z = np.clip(z, lo + 1e-12 * task.size, hi - 1e-12 * task.size)
-        res = least_squares(fun, z, jac=jac, method="trf" if bounded else "lm", x_scale="jac",
-                            bounds=(lo, hi) if bounded else (-np.inf, np.inf),
-                            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=evaluations or 12 * len(z))
+        res = least_squares_fit(fun, jac, z, lo, hi, evaluations or 12 * len(z))
         z = res.x
         count += res.nfev * (len(z) + 1)
         d, phi = positive_lengths(np.r_[z[:9], mode], z[9:])
