@@ -194,7 +194,11 @@ def constraint_bounds(c: PathConstraints, n: int):
 
 
 def _steps(z, size):
-    return 1e-7 * np.maximum(np.abs(z), size)
+    """Finite-difference steps of the unknowns: 1e-7 of the targets' size for the design's nine numbers
+    (coordinates and lengths, whatever the distance from the origin), 1e-7 rad for an angle."""
+    h = np.full(len(z), 1e-7 * size)
+    h[9:] = 1e-7
+    return h
 
 
 def polish_untimed(design, targets, c: PathConstraints, size: float, max_nfev: int = 60) -> Polished:
@@ -274,7 +278,6 @@ def polish_timed(design, phase: float, targets, timing, c: PathConstraints, size
 
         def jac(u, weight=weight):
             h = _steps(u, size)
-            h[9] = 1e-7
             r = residuals(np.vstack([u, u + np.diag(h)]), weight)
             return ((r[1:] - r[0]) / h[:, None]).T
         res = least_squares_fit(fun, jac, z, lo, hi, max_nfev)

@@ -426,7 +426,7 @@ def _polish_limited(design, phi_t, task: PathTask, evaluations: int | None = Non
             return _residuals(u[None], mode, task, weight)[0]
 
         def jac(u, weight=weight):
-            h = 1e-7 * np.maximum(task.size, np.abs(u))
+            h = np.r_[np.full(9, 1e-7 * task.size), np.full(len(u) - 9, 1e-7)]
             r = _residuals(np.vstack([u, u + np.diag(h)]), mode, task, weight)
             return ((r[1:] - r[0]) / h[:, None]).T
         res = least_squares_fit(fun, jac, z, lo, hi, evaluations or 12 * len(z))
