@@ -180,7 +180,8 @@ def test_path_defaults_are_reported_and_can_be_dropped(tmp_path, capsys):
     assert c["min_transmission_deg"] is None and c["max_ratio"] == 20.0
     assert c["sources"] == {"full_turn": "default", "min_transmission_deg": "off", "max_ratio": "given"}
     code, out, _ = _run(capsys, ["synth", "path", str(targets), *FAST])
-    assert "transmission angle ≥ 30°, link ratio ≤ 10 (default" in out and "achieved: smallest transmission" in out
+    assert "transmission angle ≥ 30°, link ratio ≤ 10 (default: full turn, transmission angle, link ratio)" in out
+    assert "achieved: smallest transmission" in out
 
 
 def test_path_out_of_order_target_gets_a_design_and_a_warning(tmp_path, capsys):

@@ -132,10 +132,10 @@ def _print_path_constraints(summary: dict) -> None:
         parts.append(f"transmission angle ≥ {c['min_transmission_deg']:g}°")
     if c.get("max_ratio") is not None:
         parts.append(f"link ratio ≤ {c['max_ratio']:g}")
-    tags = {k: v for k, v in src.items() if v != "off"}
-    kinds = sorted(set(tags.values()))
-    print(f"  constraints: {', '.join(parts)} ({' and '.join(kinds) or 'none'}; "
-          f"off: {', '.join(k for k, v in src.items() if v == 'off') or 'none'})")
+    names = {"full_turn": "full turn", "min_transmission_deg": "transmission angle", "max_ratio": "link ratio"}
+    groups = [f"{kind}: {', '.join(names[k] for k, v in src.items() if v == kind)}"
+              for kind in ("default", "given", "off") if kind in src.values()]
+    print(f"  constraints: {', '.join(parts)} ({'; '.join(groups)})")
     got = []
     if mu is not None:
         got.append(f"smallest transmission angle {mu:.4g}°")
@@ -146,8 +146,8 @@ def _print_path_constraints(summary: dict) -> None:
     t = summary.get("tradeoff")
     if t and t.get("without"):
         w = t["without"]
-        names = {"min_transmission_deg": "transmission-angle", "max_ratio": "link-ratio"}
-        print(f"  without the {' and '.join(names[b] for b in t['relaxed'])} bounds the best found: "
+        bounds = {"min_transmission_deg": "transmission-angle", "max_ratio": "link-ratio"}
+        print(f"  without the {' and '.join(bounds[b] for b in t['relaxed'])} bounds the best found: "
               f"RMS {w['rms']:.3e} {summary['error_unit']} (transmission angle {w['transmission_deg']:.3g}°, "
               f"link ratio {w['ratio']:.3g}) against RMS {summary['rms_error']:.3e} with them")
     elif t:

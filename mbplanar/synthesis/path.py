@@ -306,7 +306,7 @@ def _verified(cand: Candidate, task: PathTask, evaluations, seed, starts) -> Pat
         errors = np.minimum(errors, nearest_on_model(engine, "P", targets, dense))
     mu = float(np.degrees(transmission_angles(xy["A"], xy["B"], xy["B0"]).min()))
     links = [design[4], design[5], design[6], float(np.hypot(*(design[2:4] - design[0:2])))]
-    ratio = max(links) / min(links)
+    ratio = float(max(links) / min(links))
     missed = []
     if c.min_transmission_deg is not None and mu < c.min_transmission_deg - 1e-9:
         missed.append(f"the smallest transmission angle {mu:.2f}° is below the bound {c.min_transmission_deg:g}°")
