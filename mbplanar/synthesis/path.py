@@ -195,8 +195,8 @@ def synthesise_path(targets, *, timing=None, constraints: PathConstraints | None
     t0 = time.perf_counter()
     task = _task(targets, timing, constraints)
     if starts < 1 or shapes < 16 or keep < 1 or popsize < 5 or generations < 1 or samples < 12:
-        raise ModelError("path generation needs starts ≥ 1, shapes ≥ 16, keep ≥ 1, popsize ≥ 5, generations ≥ 1, "
-                         "samples ≥ 12")
+        raise ModelError("path generation needs starts ≥ 1, shapes ≥ 16, keep ≥ 1, popsize ≥ 5, "
+                         "generations ≥ 1, samples ≥ 12")
     if budget is not None and not (isinstance(budget, (int, float)) and budget > 0 and math.isfinite(budget)):
         raise ModelError(f"the budget must be a positive number of seconds, got {budget!r}")
     c = task.constraints
@@ -212,20 +212,22 @@ def synthesise_path(targets, *, timing=None, constraints: PathConstraints | None
     found = [cand for r in results for cand in r[0]]
     stopped = budget is not None and time.perf_counter() - t0 > budget - VERIFY_SECONDS
     if not stopped:
-        found, more = deepened(found, task)
+        found, more = deepened(found, task, deadline=None if budget is None else t0 + budget - VERIFY_SECONDS)
         evaluations += more
+        stopped = budget is not None and time.perf_counter() - t0 > budget - VERIFY_SECONDS
     found = [(cand.rank, k, cand) for k, cand in enumerate(found)]
     main = [f[2] for f in sorted((f for f in found if f[2].pool == "main"), key=lambda f: f[:2])]
     relaxed = [f[2] for f in sorted((f for f in found if f[2].pool == "relaxed"), key=lambda f: f[:2])]
-    chosen, rejected = _first_verified(main, task, evaluations, seed, starts)
+    chosen, rejected = _first_verified(main + relaxed, task, evaluations, seed, starts)
     if chosen is None:
         why = f": {rejected[0]}" if rejected else ": no candidate assembles through the targets"
-        raise ModelError(f"no design found ({len(main)} candidates){why}")
+        raise ModelError(f"no design found ({len(main) + len(relaxed)} candidates){why}")
     tradeoff = None
-    if relaxed:
-        better = [r for r in relaxed if r.rms < chosen.rms * (1 - 1e-9) and r.meets]
+    if relaxed and not stopped:   # the best design without the angle and ratio bounds, where clearly better
+        margin = max(1e-6 * chosen.rms, 1e-9 * task.size)
+        better = [r for r in relaxed if r.rms < chosen.rms - margin and r.meets]
         other, _ = _first_verified(better, task.relaxed(), evaluations, seed, starts) if better else (None, [])
-        tradeoff = _tradeoff(chosen, other, c)
+        tradeoff = _tradeoff(chosen, other if other is not None and other.rms < chosen.rms - margin else None, c)
     warnings = list(chosen.warnings)
     if stopped:
         warnings.append(f"the budget of {budget:g} s ran out: the best design found so far "

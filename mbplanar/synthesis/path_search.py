@@ -226,16 +226,18 @@ def _polished(design, phase, task: PathTask, pool: str, evaluations: int = POLIS
     return assess(p.design, p.phi, p.errors, t, pool), p.evaluations
 
 
-def deepened(candidates: list, task: PathTask, count: int = DEEPENED) -> tuple[list, int]:
+def deepened(candidates: list, task: PathTask, count: int = DEEPENED,
+             deadline: float | None = None) -> tuple[list, int]:
     """The `count` best distinct candidates (each pool's, best first) polished again with
-    `DEEP_EVALUATIONS` residual evaluations (the search's polish stops early, for breadth): the
-    candidates with the deepened ones added, and the designs traced."""
+    `DEEP_EVALUATIONS` residual evaluations (the search's polish stops early, for breadth), until the
+    `deadline` (time.perf_counter) if one is given: the candidates with the deepened ones added, and the
+    designs traced."""
     out, traced_count = list(candidates), 0
     for pool in ("main", "relaxed"):
         ranked = sorted((c for c in candidates if c.pool == pool), key=lambda c: c.rank)
         seen = []
         for cand in ranked:
-            if len(seen) >= count:
+            if len(seen) >= count or (deadline is not None and time.perf_counter() > deadline):
                 break
             if any(np.allclose(cand.design, s, rtol=0.0, atol=1e-3 * task.size) for s in seen):
                 continue
@@ -280,7 +282,9 @@ def _rescored(task: PathTask, designs) -> tuple[np.ndarray, np.ndarray]:
     the length of the steps back beyond the order tolerance (untimed); RMS miss at the timed angles."""
     t = task.targets
     _, _, p, ok = fourbar_coupler_paths(designs, np.linspace(0.0, TWO_PI, RESCORE_SAMPLES, endpoint=False))
-    near, index, frac = nearest_on_polyline(p, ok, t)
+    rows = max(1, 4_000_000 // (RESCORE_SAMPLES * len(t)))         # bounded memory for long target lists
+    parts = [nearest_on_polyline(p[k:k + rows], ok[k:k + rows], t) for k in range(0, len(p), rows)]
+    near, index, frac = (np.concatenate([q[i] for q in parts]) for i in range(3))
     rms = np.sqrt(np.mean(near ** 2, axis=1))
     seg = np.hypot(*np.moveaxis(np.roll(p, -1, axis=1) - p, -1, 0))
     run = np.concatenate([np.zeros((len(p), 1)), np.cumsum(seg, axis=1)], axis=1)

@@ -64,8 +64,8 @@ def report_section(engine, ctx):
                      f" — {'none found' if not found else 'found: ' + html.escape(', '.join(found))}.</p>")
     warnings = s.get("warnings") or []
     if warnings:
-        parts.append("<p>Warnings of the synthesis:</p><ul>" + "".join(f"<li>{html.escape(str(w))}</li>" for w in warnings)
-                     + "</ul>")
+        items = "".join(f"<li>{html.escape(str(w))}</li>" for w in warnings)
+        parts.append(f"<p>Warnings of the synthesis:</p><ul>{items}</ul>")
     for key, title in (("design", "Design"), ("parameters", "Parameters found"), ("constraints", "Constraints")):
         if isinstance(s.get(key), dict):
             parts.append(html_table(("name", "value"), [(k, _text(v)) for k, v in s[key].items()], title))
