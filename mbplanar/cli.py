@@ -824,11 +824,13 @@ def cmd_animate(args):
 
 def cmd_report(args):
     from .cam.present import register as register_cam_section
+    from .gears.report import register as register_gears_section
     from .synthesis.report import register as register_synthesis_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
     register_cam_section()  # (the report's sections of other packages: registered here, so that the other
-    register_synthesis_section()  # commands do not import those packages)
+    register_gears_section()  # commands do not import those packages)
+    register_synthesis_section()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -870,6 +872,12 @@ def cmd_check(args):
 def cmd_cam(args):
     from .cam.present import run_command
     return run_command(args)
+
+
+# -- gear -------------------------------------------------------------------------------------------
+def cmd_gear(args):
+    from .gears.command import run
+    return run(args)
 
 
 # -- main -------------------------------------------------------------------------------------------
@@ -1026,6 +1034,11 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _gear_options(s):
+    from .gears.command import add_arguments
+    add_arguments(s)
+
+
 def _formats(name):
     """The options and the run of a command of `mbplanar.formats.command`, imported when it runs."""
     def add_options(s):
@@ -1040,7 +1053,7 @@ def _formats(name):
 
 #: every command in the order of `mbplanar --help`: its line there, the function that adds its options
 #: to its parser, and the function that runs it. The options are added for the running command only
-#: (`build_parser`): the cam, synthesis and study code is imported only when its command runs or shows
+#: (`build_parser`): the cam, gear, synthesis and study code is imported only when its command runs or shows
 #: its help. `study` builds its own parser (`study.command.add_parser`).
 COMMANDS = {
     "info": ("links, joints, DOF, loops, Assur groups", _info_options, cmd_info),
@@ -1060,6 +1073,8 @@ COMMANDS = {
     "compile": ("compile the numba backend's kernels into numba's cache, once after installing mbplanar[fast]: "
                 "later runs load them instead of compiling", _no_options, cmd_compile),
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
+    "gear": ("design gears: a spur pair with profile shift (checks, block contour, exact profiles), planetary "
+             "trains by tooth numbers", _gear_options, cmd_gear),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
     "schema": ("the JSON Schema of the model table (for editors: completion and checks)", *_formats("schema")),
@@ -1068,7 +1083,7 @@ COMMANDS = {
     "examples": ("list the bundled example models, or copy them out", *_formats("examples")),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "schema", "import", "export",
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "schema", "import", "export",
                                                     "examples")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value

@@ -337,6 +337,7 @@ DOCUMENT = Section("document", "top level", "a mechanism's table of kinematic pa
     Key("description", "any", "free text, kept and ignored"),
     Key("plot", "any", "settings kept for the pictures"),
     Key("cam", "table", "a cam timed by this linkage (see docs/cam.md)", section="cam"),
+    Key("gears", "table", "the drive's gears: a spur pair, a planetary train (see docs/gears.md)", section="gears"),
     Key("friction", "table", "friction in the pairs (see docs/forces.md)", section="friction"),
     Key("simulate", "table", "the motion under given forces (see docs/forces.md)", section="simulate"),
     Key("synthesis", "any", "the summary of the synthesis that made the model (written by mbplanar synth)"),
