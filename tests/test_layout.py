@@ -12,7 +12,7 @@ import pytest
 import mbplanar
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
-LAYERS = ["errors", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
+LAYERS = ["errors", "_progress", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
           "study", "io", "viz", "cam", "gears", "synthesis", "formats", "cli"]  # cams, gears, synthesis, studies use what precedes them
 
 

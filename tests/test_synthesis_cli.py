@@ -216,7 +216,7 @@ def test_path_targets_in_another_unit_than_the_model(tmp_path, capsys):
     path.write_text("130,210\n60,220\n-10,180\n-50,120\n-30,60\n20,60\n90,100\n150,170\n", encoding="utf-8")
     code, _, err = _run(capsys, ["synth", "path", str(path), "--model", "models/fourbar_design.toml", "--point", "M",
                                  "--vary", "m=0:1"])
-    assert code == 2 and "row 1: (130, 210) m" in err and "targets in another unit" in err, err
+    assert code == 2 and "row 1: (130, 210) m" in err and "is it in another unit?" in err, err
     code, _, err = _run(capsys, ["synth", "path", str(path), "--model", "models/fourbar_design.toml", "--point", "M",
                                  "--vary", "m=0:1", "--budget", "5"])
     assert code == 2

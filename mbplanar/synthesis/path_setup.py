@@ -20,12 +20,12 @@ from __future__ import annotations
 import csv
 import math
 import re
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._progress import shown
 from ..errors import ModelError
 from .constraints import PathConstraints, read_constraints
 
@@ -58,12 +58,17 @@ class PathProblem:
     scheduler: str | None = None
     progress: bool = False
     sources: dict = field(default_factory=dict)
+    yes: bool = False
 
     def run(self):
-        """Synthesise (serially or on Dask, with the progress bar when asked)."""
-        from ..study.cluster import close, connect, local_client, progress_bar
+        """Synthesise (serially or on Dask, with the progress bar when asked, and the time estimate of
+        `mbplanar._progress.Progress` from the first starts)."""
+        from .._progress import Progress
+        from ..study.cluster import close, connect, local_client
         client = local_client(self.workers) if self.workers else connect(self.scheduler) if self.scheduler else None
-        update, done = progress_bar(self.search.get("starts", 2)) if self.progress else (None, lambda: None)
+        starts = self.search.get("starts", 3 if self.model is None else 2)
+        update = Progress(starts, "starts", show=self.progress, what=f"a search of {starts} starts", yes=self.yes)
+        done = update.close
         try:
             if self.model is None:
                 from .path import synthesise_path
@@ -205,35 +210,24 @@ def _validated(rows, source: str, label: str) -> np.ndarray:
         raise ModelError(exc.message, source=source) from None
 
 
-def _against_model(targets, model: str, source: str, label: str) -> None:
-    """Refuse targets 100 times larger or smaller than the model's drawing, naming the row farthest off."""
-    from ..model import parse_model
-    from ..study.run import load_template
-    template = load_template(model)
-    mech = parse_model(template.bind(), source=template.source)
-    spots = np.array([j.at for j in mech.joints.values()], float)
-    size = float(np.ptp(spots, axis=0).max()) if len(spots) > 1 else 0.0
-    span = float(np.ptp(targets, axis=0).max())
-    centre = spots.mean(axis=0)
-    reach = float(np.hypot(*(targets - centre).T).max())
+def _against_model(targets, mech, source: str, label: str) -> None:
+    """Refuse targets (SI) spread 100 times wider or narrower than the model's drawing, or lying 100
+    drawing sizes from it (`mbplanar.model._scale`'s rule), naming the row farthest off."""
+    from ..model._scale import drawing_size, out_of_scale, scale_message
+    size = drawing_size(mech)
     if size <= 0:
         return
-    if not (1.0 / SCALE_LIMIT <= span / size <= SCALE_LIMIT and reach / size <= SCALE_LIMIT):
-        k = int(np.argmax(np.hypot(*(targets - centre).T)))
-        unit = mech.units.length
-        scale = mech.units.length_scale
-        raise ModelError(f"({targets[k, 0] / scale:.6g}, {targets[k, 1] / scale:.6g}) {unit}: the targets span "
-                         f"{span / scale:.4g} {unit} and reach {reach / scale:.4g} {unit} from the drawing, which "
-                         f"spans {size / scale:.4g} {unit} (the model's length_unit '{unit}'): targets in another "
-                         f"unit?", source=source, where=f"{label} {k + 1}")
-
-
-def _model_unit(model) -> tuple[str, float]:
-    from ..model import parse_model
-    from ..study.run import load_template
-    template = load_template(model)
-    mech = parse_model(template.bind(), source=template.source)
-    return mech.units.length, mech.units.length_scale
+    spots = np.array([j.at for j in mech.joints.values()], float)
+    away = np.hypot(*(targets - spots.mean(axis=0)).T)
+    spread = float(np.ptp(targets, axis=0).max())
+    if out_of_scale(spread, size) or (away.max() > size and out_of_scale(away.max(), size)):
+        k = int(np.argmax(away))
+        unit, scale = mech.units.length, mech.units.length_scale
+        what = "the target points spread over" if out_of_scale(spread, size) else "the target points lie up to"
+        value = spread if out_of_scale(spread, size) else float(away.max())
+        raise ModelError(f"({targets[k, 0] / scale:.6g}, {targets[k, 1] / scale:.6g}) {unit}: "
+                         + scale_message(what, value, size, unit, scale, reference=f"the model {mech.source} spans"),
+                         source=source, where=f"{label} {k + 1}")
 
 
 # -- constraints ----------------------------------------------------------------------------------------
@@ -299,15 +293,17 @@ def path_problem(args) -> PathProblem:
     point = args.point or model_t.get("point")
     if model is not None and not point:
         raise ModelError("name the model's point whose path is shaped (--point or [model] point)")
-    unit, scale = _model_unit(model) if model is not None else ("m", 1.0)
-    rows, source, label = _rows(src, data, width, unit)
-    targets = _validated(rows, source, label) * scale
-    if model is not None:
-        _against_model(targets, model, source, label)
-    sliding = model is not None and _sliding_input(model)
+    mech = None if model is None else _model_of(model)
+    rows, source, label = _rows(src, data, width, "m" if mech is None else mech.units.length)
+    _validated(rows, source, label)
+    sliding = mech is not None and mech.joints[mech.inputs[0].joint].kind == "P"
+    if mech is not None:    # targets (and a sliding input's values) in the model's length unit
+        _against_model(rows[:, :2] * mech.units.length_scale, mech, source, label)
+        rows = _in_model_units(rows, mech, sliding, src)
+        args.input_unit = mech.units.length
     timing = None
     if timed:
-        timing = rows[:, 2] * scale if sliding else np.radians(rows[:, 2])
+        timing = rows[:, 2] if sliding else np.radians(rows[:, 2])
     c, sources = _constraints(data, args, src, model is None)
     search = dict(data.get("search", {}))
     allowed = SEARCH_KEYS if model is None else MODEL_SEARCH_KEYS
@@ -327,15 +323,30 @@ def path_problem(args) -> PathProblem:
     if travel is not None and not sliding:
         travel = [math.radians(float(v)) for v in travel]   # degrees for a crank input
     elif travel is not None:
-        travel = [float(v) * scale for v in travel]
-    return PathProblem(targets, timing, c, model, point, bounds, travel, search, args.workers,
-                       args.scheduler, bool(args.progress or sys.stderr.isatty()), sources)
+        travel = [float(v) * mech.inputs[0].scale for v in travel]     # the sliding input's unit
+    return PathProblem(rows[:, :2], timing, c, model, point, bounds, travel, search, args.workers,
+                       args.scheduler, shown(args.progress), bool(getattr(args, "yes", False)), sources)
 
 
-def _sliding_input(model) -> bool:
-    """Whether the model's input drives a prismatic joint (its values then in metres, not degrees)."""
+def _model_of(model):
+    """The model (its declared parameters) whose path is synthesised."""
     from ..model import parse_model
     from ..study.run import load_template
     template = load_template(model)
-    mech = parse_model(template.bind(), source=template.source)
-    return mech.joints[mech.inputs[0].joint].kind == "P"
+    return parse_model(template.bind(), source=template.source)
+
+
+def _in_model_units(rows, mech, sliding: bool, src):
+    """Target rows (x, y[, input]) read in the model's length unit, in SI (a sliding input's values in its
+    own unit);
+    targets spread 100 times wider or narrower than the model's drawing warn (`mbplanar.model._scale`)."""
+    from ..model._scale import drawing_size, warn_scale
+    k = mech.units.length_scale
+    rows = np.array(rows, float)
+    rows[:, :2] *= k
+    if sliding and rows.shape[1] > 2:
+        rows[:, 2] *= mech.inputs[0].scale
+    spread = float(np.max(np.ptp(rows[:, :2], axis=0))) if len(rows) > 1 else 0.0
+    warn_scale("the target points spread over", spread, drawing_size(mech), mech.units.length, k,
+               source=str(src), reference=f"the model {mech.source} spans")
+    return rows
