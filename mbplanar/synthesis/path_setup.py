@@ -325,7 +325,7 @@ def path_problem(args) -> PathProblem:
     elif travel is not None:
         travel = [float(v) * mech.inputs[0].scale for v in travel]     # the sliding input's unit
     return PathProblem(rows[:, :2], timing, c, model, point, bounds, travel, search, args.workers,
-                       args.scheduler, shown(args.progress), bool(getattr(args, "yes", False)), sources)
+                       args.scheduler, shown(args.progress), sources=sources, yes=bool(getattr(args, "yes", False)))
 
 
 def _model_of(model):
