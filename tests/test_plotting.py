@@ -55,6 +55,10 @@ def test_every_model_renders_every_picture(model, tmp_path):
             with pytest.raises(mbplanar.ModelError, match=r"no \[dynamics\] section"):
                 plotting.make_figure(eng, what, count=13)
             continue
+        if what == "accuracy" and "tolerances" not in eng.mech.extras:  # (registered by `plot`, tests/test_accuracy.py)
+            with pytest.raises(mbplanar.ModelError, match=r"needs a \[tolerances\] section"):
+                plotting.make_figure(eng, what, count=13)
+            continue
         if what == "analogues" and len(eng.inputs) > 1:  # d/dφ of one input: see solve --json partials
             with pytest.raises(mbplanar.ModelError, match="analogues need a single input"):
                 plotting.make_figure(eng, what, count=13)

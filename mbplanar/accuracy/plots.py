@@ -129,9 +129,10 @@ def _draw_mechanism(ax, engine):
     draw_mechanism(ax, scene, 0, labels=True, alpha=0.35)
 
 
-def _result_of(engine, samples=None):
+def _result_of(engine, samples=None, positions=None):
     """The `Accuracy` of the engine's model file (None without `[tolerances]`), its Monte Carlo with the
-    section's samples, at most `PICTURE_SAMPLES` (or `samples`)."""
+    section's samples, at most `PICTURE_SAMPLES` (or `samples`), at the section's positions (or
+    `positions`)."""
     from ..model._keys import TOLERANCES
     from .run import accuracy
 
@@ -141,16 +142,16 @@ def _result_of(engine, samples=None):
     if samples is None:
         given = section.get("samples", TOLERANCES["samples"].default) if isinstance(section, dict) else None
         samples = min(given, PICTURE_SAMPLES) if isinstance(given, int) and given >= 1 else PICTURE_SAMPLES
-    return accuracy(engine.mech.source, samples=samples, backend=engine.backend)
+    return accuracy(engine.mech.source, samples=samples, positions=positions, backend=engine.backend)
 
 
-def figure_of_engine(engine, at=None, *, samples=None, **options):
+def figure_of_engine(engine, at=None, *, samples=None, count=None, **options):
     """`plot MODEL accuracy`: the figure of the model's `[tolerances]` (its Monte Carlo with at most
-    `PICTURE_SAMPLES` samples, unless `samples`)."""
+    `PICTURE_SAMPLES` samples, unless `samples`; `count` positions, default the section's)."""
     from ..errors import ModelError
     from ..model import Units
 
-    result = _result_of(engine, samples)
+    result = _result_of(engine, samples, count)
     if result is None:
         raise ModelError("the accuracy picture needs a [tolerances] section (docs/format.md)",
                          source=engine.mech.source)
