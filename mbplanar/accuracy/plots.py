@@ -16,7 +16,7 @@ import numpy as np
 
 __all__ = ["accuracy_figure", "figure_of_engine", "report_section", "register", "PICTURE_SAMPLES"]
 
-PICTURE_SAMPLES = 10_000   # the Monte Carlo of a picture or a report: the section's samples, at most this many
+PICTURE_SAMPLES = 5_000    # the Monte Carlo of a picture or a report: the section's samples, at most this many
 BANDS = 3                  # outputs with a panel of bands
 
 
