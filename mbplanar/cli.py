@@ -684,7 +684,7 @@ def _from_state(path, engine) -> tuple[list, list]:
     """φ and ω of every input at the last time of a previous `simulate --json` output."""
     import json
     try:
-        with open(path, encoding="utf-8") as fh:
+        with open(path, encoding="utf-8-sig") as fh:
             doc = json.load(fh)
         ins = [doc["inputs"][inp.name] for inp in engine.inputs]
         return [float(d["phi"][-1]) for d in ins], [float(d["omega"][-1]) for d in ins]
@@ -723,8 +723,10 @@ def cmd_simulate(args):
 
 def balance_document(engine, bal, count: int = 360) -> dict:
     """Counterweights, and before/after at the model's speed over a turn: the RMS and largest shaking
-    force, the largest reaction in every pair, the largest balancing moment (or force)."""
-    from .forces._shaking import shaking
+    force and the largest shaking moment (the resultant of the links' inertia forces, `inertia_shaking`:
+    the counterweights' static weight is no shaking), the largest reaction in every pair, the largest
+    balancing moment (or force)."""
+    from .forces._shaking import inertia_shaking
     from .engine._solver import Engine
     from .forces._kinetostatics import kinetostatics
     from .kinematics._motion import analyse
@@ -733,8 +735,9 @@ def balance_document(engine, bal, count: int = 360) -> dict:
     phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, count, endpoint=False)
     balanced = Engine(bal.mechanism, backend=engine.backend, threads=engine.threads)
     for when, eng in (("before", engine), ("after", balanced)):
-        ks = kinetostatics(eng, analyse(eng, phi))
-        sh = shaking(eng, ks)
+        motion = analyse(eng, phi)
+        ks = kinetostatics(eng, motion)
+        sh = inertia_shaking(eng, motion)
         doc[when] = {"shaking_force_max": float(np.max(sh.magnitude)),
                      "shaking_force_rms": float(np.sqrt(np.mean(sh.magnitude ** 2))),
                      "shaking_moment_max": float(np.max(np.abs(sh.moment))),

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 from . import laws
 from .dynamics import CamForces, cam_forces
 from .followers import Follower
@@ -119,7 +119,11 @@ def _linkage(spec):
 
 def _events(spec, engine) -> dict[str, EventResult]:
     out = {}
-    for ev in spec.events:
+    known = [*engine.mech.joints, *engine.mech.points]
+    for i, ev in enumerate(spec.events):
+        if ev.point not in known:
+            raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': '{ev.point}' is neither a joint nor a "
+                             f"point of {engine.mech.source}; {did_you_mean(ev.point, known, 'joint and point')}")
         out[ev.name] = solve_event(engine, ev.name, ev.point, ev.coordinate, ev.fraction, ev.measure,
                                    ev.direction)
     return out

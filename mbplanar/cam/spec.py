@@ -14,10 +14,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import ModelError
+from ..model._model import LENGTH_UNITS, unit_name
 
 __all__ = ["CamSpec", "PhaseSpec", "EventSpec", "DynamicsSpec", "read_cam", "parse_cam", "evaluate"]
 
-_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 
 
 @dataclass(frozen=True)
@@ -146,7 +146,7 @@ def read_cam(path) -> CamSpec:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise ModelError(f"{path}: cannot read the cam file ({exc.strerror or exc})") from None
     try:
@@ -170,10 +170,10 @@ def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
             raise ModelError(f"{source}: unknown key(s) {', '.join(sorted(unknown))} in a cam file")
     t = _Table(data["cam"], f"{source}: [cam]")
     # a model's [cam] measures in the model's length_unit unless it says otherwise
-    unit_name = t.get("length_unit", data.get("length_unit", "m") if linkage is not None else "m", str)
-    if unit_name not in _UNITS:
-        t.fail(f"length_unit must be one of {', '.join(_UNITS)}, got '{unit_name}'")
-    unit = _UNITS[unit_name]
+    written = t.get("length_unit", data.get("length_unit", "m") if linkage is not None else "m", str)
+    if unit_name(written, LENGTH_UNITS) is None:
+        t.fail(f"length_unit must be one of {', '.join(LENGTH_UNITS)} (in any case), got '{written}'")
+    unit = LENGTH_UNITS[unit_name(written, LENGTH_UNITS)]
     model = t.get("model", None, str)
     if model is not None:
         if linkage is not None:

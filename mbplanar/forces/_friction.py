@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
 from ..model._table import Row
@@ -90,7 +90,7 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
         pr = Row(raw_pair, f"{where}: pairs[{k}]")
         joint = pr.text("joint", required=True)
         if joint not in mech.joints:
-            pr.fail(f"'{joint}' is not a joint of the model")
+            pr.fail(f"'{joint}' is not a joint of the model; {did_you_mean(joint, mech.joints, 'joint')}")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
         radius, block = pr.number("pin_radius"), pr.number("block_length", positive=True)

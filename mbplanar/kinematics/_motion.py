@@ -14,7 +14,7 @@ from dataclasses import fields as dataclass_fields
 
 import numpy as np
 
-from ..errors import MbplanarError, ModelError
+from ..errors import MbplanarError, ModelError, did_you_mean
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp
 from ..engine._solver import Crossing, Engine, Limit
@@ -279,8 +279,9 @@ def point_selection(engine: Engine, points=None) -> PointSelection:
     index = {n: k for k, n in enumerate(names)}
     for k, name in enumerate(asked):
         if name not in index:
-            raise ModelError(f"analyse: points: no joint or point named {name!r} (the model has "
-                             f"{', '.join(names)})", source=engine.mech.source, where="analyse")
+            raise ModelError(f"analyse: points: no joint or point named {name!r}; "
+                             f"{did_you_mean(name, names, 'joint and point')}", source=engine.mech.source,
+                             where="analyse")
         if name in asked[:k]:
             raise ModelError(f"analyse: points: {name!r} is asked twice", source=engine.mech.source,
                              where="analyse")

@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import ModelError, ModelWarning, MotionError
+from ..errors import ModelError, ModelWarning, MotionError, did_you_mean
 from ._model import Joint, Link, Mechanism, Point
 
 __all__ = ["assemble", "reference_points", "input_reference"]
@@ -60,7 +60,8 @@ def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str,
             p, q = revolute
         for name in (p, q):
             if name not in names:
-                raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link",
+                raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link; "
+                                 f"{did_you_mean(name, names, 'joint and point of the link')}",
                                  source=mech.source, where=where)
         if p == q:
             raise ModelError(f"length {p}-{q} joins a point to itself", source=mech.source, where=where)
@@ -75,9 +76,13 @@ def _check_references(mech: Mechanism):
         if link.angle is not None:
             for name in link.angle:
                 if name not in names:
-                    raise ModelError(f"angle point '{name}' is not on this link", source=mech.source, where=where)
+                    raise ModelError(f"angle point '{name}' is not on this link; "
+                                     f"{did_you_mean(name, names, 'joint and point of the link')}",
+                                     source=mech.source, where=where)
         if link.centre is not None and link.centre not in names and link.centre not in mech.points:
-            raise ModelError(f"centre '{link.centre}' is not a point of this link", source=mech.source, where=where)
+            raise ModelError(f"centre '{link.centre}' is not a point of this link; "
+                             f"{did_you_mean(link.centre, names, 'joint and point of the link')}",
+                             source=mech.source, where=where)
         if link.centre is not None and link.centre in mech.points and mech.points[link.centre].link != link.name:
             raise ModelError(f"centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'",
                              source=mech.source, where=where)
@@ -87,7 +92,9 @@ def _check_references(mech: Mechanism):
             for name in j.guide_points:
                 if name not in names:
                     raise ModelError(f"joints '{j.name}': guide point '{name}' is not on "
-                                     f"its carrier link '{j.carrier}'", source=mech.source)
+                                     f"its carrier link '{j.carrier}'; "
+                                     f"{did_you_mean(name, names, 'joint and point of the carrier')}",
+                                     source=mech.source)
             a, b = (names[n] for n in j.guide_points)
             if math.dist(a, b) == 0:
                 raise ModelError(f"joints '{j.name}': guide points coincide", source=mech.source)
@@ -97,7 +104,9 @@ def _check_references(mech: Mechanism):
             for name in p.along:
                 if name not in names:
                     raise ModelError(f"points '{p.name}': '{name}' is not a joint or "
-                                     f"point (with 'at') of link '{p.link}'", source=mech.source)
+                                     f"point (with 'at') of link '{p.link}'; "
+                                     f"{did_you_mean(name, names, 'joint and point of the link')}",
+                                     source=mech.source)
 
 
 def _coincident(names: dict, tol: float) -> dict[str, str]:

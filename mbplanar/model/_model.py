@@ -16,11 +16,30 @@ import numpy as np
 from ..errors import ModelError
 
 __all__ = ["Units", "Link", "Joint", "Point", "Input", "Load", "Gravity", "FlywheelSpec", "DynamicsSpec",
-           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
+           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL",
+           "unit_name"]
 
-LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
+LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "in": 0.0254}
 INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6}
 MOMENT_UNITS = {"N*m": 1.0, "N*cm": 1e-2, "N*mm": 1e-3}
+
+
+def unit_name(text, allowed) -> str | None:
+    """The spelling in `allowed` of a unit written `text` in any case, with '·' or '.' for '*' and '²'
+    for '^2'; None when it is none of them.
+
+    Examples
+    --------
+    >>> unit_name("MM", LENGTH_UNITS), unit_name("N·mm", MOMENT_UNITS), unit_name("kg·m²", INERTIA_UNITS)
+    ('mm', 'N*mm', 'kg*m^2')
+    >>> unit_name("inch", LENGTH_UNITS) is None
+    True
+    """
+    if not isinstance(text, str):
+        return None
+    key = text.strip().replace("·", "*").replace("²", "^2").lower()
+    key = key.replace(".", "*") if "*" not in key and "." in key else key
+    return next((name for name in allowed if name.lower() == key), None)
 
 
 @dataclass(frozen=True)

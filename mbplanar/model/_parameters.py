@@ -34,10 +34,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
+from ._model import LENGTH_UNITS, unit_name
 
 __all__ = ["Parameter", "Template", "split_parameters"]
 
-LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 ANGLE_UNITS = ("deg", "rad")
 
 
@@ -71,10 +71,11 @@ def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter
                 raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
             if "value" not in spec:
                 raise ModelError(f"{where}: missing 'value'")
-            unit = spec.get("unit")
-            known = isinstance(unit, str) and (unit in LENGTH_UNITS or unit in ANGLE_UNITS)
-            if unit is not None and not known:
-                raise ModelError(f"{where}: unit must be one of m, mm, cm, deg, rad, got {unit!r}")
+            written = spec.get("unit")
+            unit = unit_name(written, (*LENGTH_UNITS, *ANGLE_UNITS))
+            if written is not None and unit is None:
+                raise ModelError(f"{where}: unit must be one of {', '.join((*LENGTH_UNITS, *ANGLE_UNITS))}, "
+                                 f"got {written!r}")
             spec = spec["value"]
         params[name] = Parameter(name, _number(spec, where), unit)
     rest = {k: v for k, v in data.items() if k != "parameters"}
@@ -105,7 +106,7 @@ class Template:
         for key in ("links", "joints", "points"):  # [links.1] style tables as rows with a name
             if isinstance(self.data.get(key), dict):
                 self.data[key] = _row_list(self.data, key)
-        self.length_unit = LENGTH_UNITS.get(self.data.get("length_unit", "m"), 1.0)
+        self.length_unit = LENGTH_UNITS.get(unit_name(self.data.get("length_unit", "m"), LENGTH_UNITS), 1.0)
         self.names = tuple(self.parameters)
         self.used: set[str] = set()
         self.bind(self.defaults())  # every reference checked once, and `used` filled in

@@ -12,9 +12,9 @@ import math
 import warnings
 from pathlib import Path
 
-from ..errors import ModelError, ModelWarning
+from ..errors import ModelError, ModelWarning, did_you_mean
 from ._model import (ELEMENT_TYPES, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
-                     FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
+                     FlywheelSpec, Gravity, Input, Load, Mechanism, Units, unit_name)
 
 __all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
            "crank_input", "read_gravity_section", "read_dynamics_section"]
@@ -24,7 +24,7 @@ def read_model(path) -> Mechanism:
     """Read a TOML model file into an (unassembled) `Mechanism`."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise ModelError(f"cannot read the model file ({exc.strerror or exc})", source=str(path)) from None
     except UnicodeDecodeError as exc:
@@ -37,7 +37,7 @@ def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     """Parse the TOML `text` of a model; a syntax error names the line and column."""
     import tomllib  # (here: an engine read from the cache needs no parser)
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))  # (a byte-order mark, as Excel and Notepad write)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"TOML syntax error: {exc}", source=source) from None
     return parse_model(data, source=source)
@@ -186,9 +186,10 @@ def _read_units(top: Row) -> Units:
     chosen = []
     for key, allowed, default in (("length_unit", LENGTH_UNITS, "m"), ("inertia_unit", INERTIA_UNITS, "kg*m^2"),
                                   ("moment_unit", MOMENT_UNITS, "N*m")):
-        name = top.text(key, default)
-        if name not in allowed:
-            top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
+        written = top.text(key, default)
+        name = unit_name(written, allowed)
+        if name is None:
+            top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)} (in any case), got {written!r}")
         chosen.append(name)
     return Units(*chosen)
 
@@ -253,7 +254,8 @@ def _check_links(mech: Mechanism, labels: dict[str, str]):
         where = labels.get(name, f"link '{name}'")
         own = {j.name for j in mech.joints_of(name)} | {p.name for p in mech.points.values() if p.link == name}
         if link.centre is not None and link.centre not in own:
-            raise ModelError(f"centre '{link.centre}' is not a joint or point of this link",
+            raise ModelError(f"centre '{link.centre}' is not a joint or point of this link; "
+                             f"{did_you_mean(link.centre, own, 'joint and point of the link')}",
                              source=mech.source, where=where)
         if link.mass and link.centre is None:
             raise ModelError(f"a link with mass ({link.mass:g} kg) needs a 'centre' point",
@@ -300,7 +302,8 @@ def _read_joints(mech: Mechanism, rows, unit):
             row.fail(f"joins link '{links[0]}' to itself")
         for link in links:
             if link != mech.ground and link not in mech.links:
-                row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}')")
+                row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
+                         f"{did_you_mean(link, mech.all_links, 'link')}")
         x, y = row.pair("at", required=True)
         guide = guide_points = None
         carrier = row.text("carrier")
@@ -335,7 +338,8 @@ def _read_points(mech: Mechanism, rows, unit):
         row.where = f"points[{i}] '{name}'"
         link = row.text("link", required=True)
         if link != mech.ground and link not in mech.links:
-            row.fail(f"link '{link}' is not in the links list")
+            row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
+                     f"{did_you_mean(link, mech.all_links, 'link')}")
         at = row.pair("at")
         along = row.names("along")
         fraction = row.number("fraction")
@@ -393,15 +397,16 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
         if joint is None:
-            row.fail(f"'{joint_name}' is not a joint of the table")
+            row.fail(f"'{joint_name}' is not a joint of the table; {did_you_mean(joint_name, mech.joints, 'joint')}")
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
         default_unit = "deg" if joint.kind == "R" else mech.units.length
-        in_unit = row.text("unit", default_unit)
+        written = row.text("unit", default_unit)
         allowed = ("deg", "rad") if joint.kind == "R" else tuple(LENGTH_UNITS)
-        if in_unit not in allowed:
+        in_unit = unit_name(written, allowed)
+        if in_unit is None:
             row.fail(f"unit of a {'revolute' if joint.kind == 'R' else 'prismatic'} input must be "
-                     f"one of {', '.join(allowed)}, got '{in_unit}'")
+                     f"one of {', '.join(allowed)}, got '{written}'")
         sense = row.data.get("sense", 1)
         row.used.add("sense")
         if isinstance(sense, str):
@@ -488,7 +493,8 @@ def _switch(mech, row: Row) -> dict:
     """`switch` (a joint or point), `switch_direction` (degrees, points) and `when` of any row."""
     name = row.text("switch")
     if name not in mech.joints and name not in mech.points:
-        row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model")
+        row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model; "
+                 f"{did_you_mean(name, [*mech.joints, *mech.points], 'joint and point')}")
     if row.has("switch_direction") and name not in mech.points:
         row.fail(f"'switch_direction' applies to a point; '{name}' is a joint")
     direction = math.radians(row.number("switch_direction", 0.0))
@@ -508,7 +514,8 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
         joint = row.text("joint")
         j = mech.joints.get(joint)
         if j is None or j.kind != "R":
-            row.fail(f"joint '{joint}' is not a revolute joint of the model")
+            row.fail(f"joint '{joint}' is not a revolute joint of the model; "
+                     f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'R'], 'revolute joint')}")
         c = row.number("damping", required=True)
         if c < 0:
             row.fail(f"'damping' must be >= 0, got {c}")
@@ -555,7 +562,7 @@ def _two_links(mech, row: Row, required=False) -> tuple[str, str] | None:
         row.fail(f"'links' must be two different links [a, b], got {value!r}")
     for name in value:
         if str(name) not in mech.links and str(name) != mech.ground:
-            row.fail(f"'{name}' in 'links' is not a link of the model")
+            row.fail(f"'{name}' in 'links' is not a link of the model; {did_you_mean(name, mech.all_links, 'link')}")
     return str(value[0]), str(value[1])
 
 
@@ -566,6 +573,12 @@ def _end_links(mech, row: Row, ends) -> tuple[str, str]:
         return given
     out = []
     for end in ends:
+        if isinstance(end, str) and end in mech.joints:
+            row.fail(f"'{end}' in 'at' is a joint, of links {' and '.join(mech.joints[end].links)}: say on which "
+                     "links the ends lie ('links = [a, b]')")
+        if isinstance(end, str) and end not in mech.points:
+            row.fail(f"'{end}' in 'at' is neither a point nor a joint of the model; "
+                     f"{did_you_mean(end, [*mech.points, *mech.joints], 'point and joint')}")
         if not (isinstance(end, str) and end in mech.points):
             row.fail(f"say on which links the ends lie ('links = [a, b]'): {end!r} is not a named point of "
                      "one link")
@@ -596,14 +609,15 @@ def _named_on(mech, row: Row, link: str, name: str, what: str) -> str:
         if link not in mech.joints[name].links:
             row.fail(f"joint '{name}' does not belong to link '{link}'")
     else:
-        row.fail(f"{what} is neither a point nor a joint of the model")
+        row.fail(f"{what} is neither a point nor a joint of the model; "
+                 f"{did_you_mean(name, [*mech.points, *mech.joints], 'point and joint')}")
     return name
 
 
 def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
     link = row.text("link", required=True)
     if link not in mech.links:
-        row.fail(f"'{link}' is not a moving link of the model")
+        row.fail(f"'{link}' is not a moving link of the model; {did_you_mean(link, mech.moving_links, 'moving link')}")
     fields = dict(index=i, kind=kind, link=link)
     if kind == "force":
         fields["force"] = row.pair("force", required=True)
@@ -618,7 +632,8 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
     joint = row.text("joint", required=True)
     j = mech.joints.get(joint)
     if j is None or j.kind != "P":
-        row.fail(f"joint '{joint}' is not a prismatic joint of the model")
+        row.fail(f"joint '{joint}' is not a prismatic joint of the model; "
+                 f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'P'], 'prismatic joint')}")
     link = row.text("link", j.slider)
     if link not in j.links or link == mech.ground:
         row.fail(f"link '{link}' must be the moving link of joint '{joint}' the force acts on")

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MbplanarError, ModelError
+from ..errors import MbplanarError, ModelError, did_you_mean
 from ..model import parse_model
 from ..model._parameters import Template
 from ..forces import has_force_data
@@ -54,7 +54,7 @@ def load_template(model) -> Template:
         return Template(model)
     path = Path(model)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelError(f"{path}: cannot read the model file ({exc})") from None
     try:
@@ -186,7 +186,8 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
         raise ModelError(f"{template.source}: a design study drives one input; this model has {len(base.inputs)}")
     for p in points:
         if p not in base.mech.joints and p not in base.mech.points:
-            raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model")
+            raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model; "
+                             f"{did_you_mean(p, [*base.mech.joints, *base.mech.points], 'joint and point')}")
     parts = [variants.take(s) for s in _chunks(len(variants), chunk)]
     args = (tuple(points), samples, forces, method)
     if client is None:
