@@ -10,6 +10,7 @@ import argparse
 import gc
 import math
 import os
+import re
 import sys
 import warnings
 
@@ -523,6 +524,10 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
+NO_FORCE_DATA = ("the model has no loads, gravity or masses, so every reaction and the balancing moment would "
+                 "be zero; add [[loads]], [gravity] or link masses")
+
+
 def cmd_forces(args):
     from .forces._dynamics import true_motion
     from .forces._kinetostatics import kinetostatics
@@ -531,8 +536,7 @@ def cmd_forces(args):
     _numpy_unless_it_pays(engine, 1)
     values = _inputs_at(engine, args.at)
     if not has_force_data(engine.mech):
-        raise ModelError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
-                        "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
+        raise ModelError(NO_FORCE_DATA, source=engine.mech.source)
     phi = _at_si(engine, values)
     phi = phi[:, 0] if len(engine.inputs) == 1 else phi
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
@@ -562,8 +566,9 @@ def cmd_forces(args):
                                   "balancing_without_friction": {n: float(q[0]) for n, q in
                                                                  fr.ideal.balancing.items()}})
         if not fr.converged:
-            raise MotionError(f"the friction iteration did not converge in {fr.iterations} iterations "
-                              f"(residual {fr.residual[0]:.3g}): self-locking?", source=engine.mech.source)
+            from .forces._friction import not_converged
+            at = "at " + ", ".join(f"{i.name} = {v:g} {i.unit}" for i, v in zip(engine.inputs, values))
+            raise MotionError(not_converged(engine, spec, fr, at), source=engine.mech.source)
     display = display_units(engine.mech, args.units)
     doc = convert_forces(engine, doc, display)
     if args.json:
@@ -784,7 +789,7 @@ def cmd_plot(args):
     from .viz import _plotting as plotting
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
-        raise ModelError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
+        raise ModelError(plotting.unknown_picture(args.what))
     if args.show is not None and args.what != "diagram":
         raise ModelError(f"--show applies to the diagram, not to '{args.what}'")
     if args.points is not None and args.what != "trajectories":
@@ -796,6 +801,9 @@ def cmd_plot(args):
             raise ModelError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args)
+    from .forces._loads import has_force_data
+    if args.what in ("forces", "shaking") and not has_force_data(engine.mech):
+        raise ModelError(f"nothing to draw for '{args.what}': {NO_FORCE_DATA}", source=engine.mech.source)
     at = None
     if args.at is not None:
         at = _at_reduced(engine, _inputs_at(engine, args.at))
@@ -1122,8 +1130,26 @@ def run() -> int:
     return code
 
 
+def negative_values_joined(argv) -> list[str]:
+    """`argv` with a negative number (or comma list) written after an option joined to it, as argparse
+    needs: ``--at -10,105`` → ``--at=-10,105`` (argparse takes a word starting with '-' for an option
+    unless it is a plain number). No positional argument of mbplanar is a number, so a negative number
+    after a flag is an error either way."""
+    out = []
+    for word in argv:
+        if out and NEGATIVE.match(word) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={word}"
+        else:
+            out.append(word)
+    return out
+
+
+NEGATIVE = re.compile(r"^-(\d|\.\d)")  # -10, -.5, -1e-3, -10,105
+
+
 def main(argv=None) -> int:
-    parser = build_parser(command_in(sys.argv[1:] if argv is None else argv))
+    argv = negative_values_joined(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(command_in(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)
@@ -1132,7 +1158,7 @@ def main(argv=None) -> int:
         warnings.simplefilter("always", ModelWarning)
         warnings.simplefilter("always", PrecisionWarning)
         code, message = _run(args)
-    notes = [str(w.message) for w in caught if issubclass(w.category, ModelWarning)]
+    notes = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, ModelWarning)))
     for w in caught:
         if issubclass(w.category, PrecisionWarning):
             print(f"mbplanar: note: {w.message}", file=sys.stderr)
@@ -1142,8 +1168,15 @@ def main(argv=None) -> int:
         for note in notes:
             print(f"mbplanar: warning: {note}", file=sys.stderr)
     else:                               # failure: one line, the warnings (often the cause) after the error
+        notes = [note for note in notes if not _said(note, message)]
         print("mbplanar: " + "; warning: ".join([message] + notes), file=sys.stderr)
     return code
+
+
+def _said(note: str, message: str) -> bool:
+    """Whether the error's `message` already says the warning `note` (its text after a 'source: where: '
+    prefix)."""
+    return any(note[k + 2:] in message for k in range(len(note)) if note.startswith(": ", k))
 
 
 def _run(args) -> tuple[int, str | None]:

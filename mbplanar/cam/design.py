@@ -119,7 +119,7 @@ def _linkage(spec):
 
 def _events(spec, engine) -> dict[str, EventResult]:
     out = {}
-    known = [*engine.mech.joints, *engine.mech.points]
+    known = [*engine.mech.joints, *engine.mech.points] if spec.events else []
     for i, ev in enumerate(spec.events):
         if ev.point not in known:
             raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': '{ev.point}' is neither a joint nor a "

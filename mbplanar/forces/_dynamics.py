@@ -60,6 +60,7 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
     and no `delta` is given; `delta` overrides the model's δ (a model without `[dynamics]` then runs at
     the input's ω)."""
     spec = mech.dynamics
+    crank_input(mech)  # (a machine of several inputs, or a slider input, says so first)
     if delta is None:
         return spec
     if not (math.isfinite(delta) and 0 < delta < 1):

@@ -148,6 +148,10 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     """
     if isinstance(data, str):
         return read_model_text(data, source)
+    if isinstance(data, dict) and "cam" in data and not data.get("joints"):
+        command = f"mbplanar cam {'FILE' if source.startswith('<') else source}"
+        raise ModelError(f"this is a cam file: use `{command}` (the linkage commands read a table of pairs)",
+                         source=source)
     if isinstance(data, dict) and _has_parameters(data):
         from ._parameters import Template  # named dimensions and polar placements, bound to their values
         data = Template(data, source).bind()
@@ -710,8 +714,10 @@ def crank_input(mech: Mechanism, where: str = "dynamics") -> Input:
     """The one input of a machine driven by a crank (a revolute input joint with the ground), else a
     `ModelError`."""
     if len(mech.inputs) != 1:
-        raise ModelError(f"machine dynamics needs a model with one input, this one has {len(mech.inputs)}",
-                         source=mech.source, where=where)
+        raise ModelError(f"machine dynamics (the energy–mass method, the flywheel) reduces a machine to its one "
+                         f"crank; this model has {len(mech.inputs)} inputs "
+                         f"({', '.join(i.name for i in mech.inputs)}): `mbplanar simulate` gives the motion of "
+                         "a machine with several inputs", source=mech.source, where=where)
     inp = mech.inputs[0]
     if mech.joints[inp.joint].kind != "R" or mech.ground not in mech.joints[inp.joint].links:
         raise ModelError(f"machine dynamics needs a crank (a revolute input joint with the ground); "
