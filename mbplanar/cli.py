@@ -579,7 +579,7 @@ def cmd_forces(args):
     print(f"{doc['model']}: " + "); ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
                                             f"ε = {i['epsilon']:g} {accel}" for i in doc["inputs"])
           + f", J_I = {doc['input']['input_inertia']:g} {inertia_kind}; {how})")
-    tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
+    tiny = 1e-12 * max([0.0] + [r["magnitude"] for r in doc["reactions"].values()])  # (relative: any scale)
     rows = []
     for name, r in doc["reactions"].items():
         fx, fy, moment = (_clean(r[k], tiny) for k in ("fx", "fy", "moment"))
@@ -1053,7 +1053,8 @@ COMMANDS = {
              _plot_options, cmd_plot),
     "animate": ("animation of a cycle: GIF or a browser page (SVG)", _animate_options, cmd_animate),
     "report": ("one self-contained HTML report of the model", _report_options, cmd_report),
-    "synth": ("synthesis: seed 001's guiding mechanism, function and motion generation", _synth_options, cmd_synth),
+    "synth": ("synthesis: seed 001's guiding mechanism, function, motion and path generation", _synth_options,
+              cmd_synth),
     "check": ("full turn?, dead points, extreme positions, transmission angles", _check_options, cmd_check),
     "compile": ("build the numba backend's compiled kernels ahead of time, once after installing mbplanar[fast]: "
                 "later runs start without numba's compile and load", _no_options, cmd_compile),

@@ -67,7 +67,12 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
         raise ModelError(f"delta = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)",
                          source=mech.source, where="dynamics")
     if spec is None:
-        return DynamicsSpec(delta, crank_input(mech).omega)
+        omega = crank_input(mech).omega
+        if not omega > 0:
+            raise ModelError(f"--delta without a [dynamics] section runs at the input's omega, which is {omega:g} "
+                             "rad/s: give the input's omega (or [dynamics] omega_mean), positive",
+                             source=mech.source, where="dynamics")
+        return DynamicsSpec(delta, omega)
     return replace(spec, delta=delta)
 
 

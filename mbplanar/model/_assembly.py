@@ -271,12 +271,37 @@ LENGTH_MISMATCH = 0.10        # a length more than 10 % off the sketch's distanc
 INPUT_MISMATCH_DEG = 1.0      # a drawn_at more than 1° off the sketch's angle is flagged
 
 
+#: every length given this many times off the sketch (or its inverse), all by one factor: another unit
+UNIFORM_SCALE = 5.0
+
+
+def _refuse_uniform_scale(mech: Mechanism, sketch: _Sketch):
+    """A `ModelError` when every length given (two or more) differs from what the sketch draws by one
+    factor, at least `UNIFORM_SCALE` either way (within 10 %): lengths and coordinates written in two
+    units (metres in a mm table: 1/1000), which no assembly can reconcile without moving the drawing by
+    its own size."""
+    ratios = [(value / math.dist(sketch.local[link][p], sketch.local[link][q]), link)
+              for link, p, q, value in sketch.lengths if math.dist(sketch.local[link][p], sketch.local[link][q]) > 0]
+    if len(ratios) < 2:
+        return
+    values = [r for r, _ in ratios]
+    lo, hi = min(values), max(values)
+    if hi > (1 + LENGTH_MISMATCH) * lo or 1 / UNIFORM_SCALE < math.sqrt(lo * hi) < UNIFORM_SCALE:
+        return
+    factor = math.sqrt(lo * hi)
+    shown = f"1/{1 / factor:.4g}" if factor < 1 else f"{factor:.4g}"
+    raise ModelError(f"every length given ({len(ratios)}, links {', '.join(dict.fromkeys(n for _, n in ratios))}) is "
+                     f"{shown} × what the sketch draws: the lengths and the coordinates are in different units "
+                     f"(both are read in length_unit '{mech.units.length}')", source=mech.source)
+
+
 def _warn_disagreements(mech: Mechanism, sketch: _Sketch):
     """A `ModelWarning` for a length that contradicts the drawn coordinates by more than 10 %, and for a
     revolute input's `drawn_at` more than 1° from the angle the sketch is drawn at (radians typed for
     degrees, a wrong `zero`): the assembly would move the drawing far, silently."""
     units = mech.units
     k = units.length_scale
+    _refuse_uniform_scale(mech, sketch)
     for link, p, q, value in sketch.lengths:
         drawn = math.dist(sketch.local[link][p], sketch.local[link][q])
         if abs(drawn - value) > LENGTH_MISMATCH * value:

@@ -269,14 +269,18 @@ def _check_links(mech: Mechanism, labels: dict[str, str]):
 
 def _check_extent(mech: Mechanism, name: str, where: str):
     """A link with two or more revolute joints, no guide and no other point, all drawn at one place,
-    has zero length: its angle is undefined."""
+    has zero length: its angle is undefined. "One place" is relative to the drawing (its coordinates'
+    size and extent), whatever its scale: a 1e-13 m four-bar is no zero-length link."""
     joints = mech.joints_of(name)
     revolute = [j for j in joints if j.kind == "R"]
     if len(revolute) < 2 or len(revolute) < len(joints):
         return
     spots = [j.at for j in revolute] + [p.at for p in mech.points.values() if p.link == name and p.at]
     size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
-    if size <= 1e-12 * max(1.0, max(abs(c) for xy in spots for c in xy)):
+    drawing = [j.at for j in mech.joints.values()] + [p.at for p in mech.points.values() if p.at]
+    extent = max(max(abs(c) for xy in drawing for c in xy), max(xy[0] for xy in drawing) - min(xy[0] for xy in drawing),
+                 max(xy[1] for xy in drawing) - min(xy[1] for xy in drawing))
+    if size <= 1e-12 * extent:
         raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
                          f"the same point", source=mech.source, where=where)
 

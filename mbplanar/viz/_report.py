@@ -202,7 +202,7 @@ def _reactions_section(engine, ctx):
     notes = [r.message for r in (table, cycle) if not r.success] + ([_limits(engine, ctx.cycle)]
                                                                      if ctx.cycle.limits else [])
     out += "".join(f"<p class=\"warn\">{html.escape(n)}</p>" for n in dict.fromkeys(notes))
-    tiny = 1e-12 * max([1.0] + [float(np.nanmax(r.magnitude, initial=0.0)) for r in table.reactions.values()])
+    tiny = 1e-12 * max([0.0] + [float(np.nanmax(r.magnitude, initial=0.0)) for r in table.reactions.values()])
     tiny_m = tiny * engine.size  # round-off of a moment: what is left of the forces' moments
 
     def clean(x, eps):
