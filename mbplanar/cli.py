@@ -565,10 +565,11 @@ def cmd_forces(args):
                                   "efficiency": float(fr.efficiency[0]),
                                   "balancing_without_friction": {n: float(q[0]) for n, q in
                                                                  fr.ideal.balancing.items()}})
-        if not fr.converged:
-            from .forces._friction import not_converged
+        if not fr.converged:  # bad input (2) when the friction is out of scale, else a mechanism that locks (1)
+            from .forces._friction import implausible_friction, not_converged
             at = "at " + ", ".join(f"{i.name} = {v:g} {i.unit}" for i, v in zip(engine.inputs, values))
-            raise MotionError(not_converged(engine, spec, fr, at), source=engine.mech.source)
+            error = ModelError if implausible_friction(engine.mech, spec) else MotionError
+            raise error(not_converged(engine, spec, fr, at), source=engine.mech.source)
     display = display_units(engine.mech, args.units)
     doc = convert_forces(engine, doc, display)
     if args.json:

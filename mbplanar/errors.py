@@ -70,6 +70,9 @@ class PrecisionWarning(UserWarning):
     by whole periods of the motion)."""
 
 
+ALIKE = str.maketrans("01", "ol")  # (lower case)
+
+
 def closest_names(name, known, count: int = 3) -> list[str]:
     """The names of `known` closest to a misspelt `name` (difflib's similarity ratio at least 0.6, or
     0.5 for a name of up to three characters, where one wrong character halves it; case ignored), best
@@ -81,6 +84,8 @@ def closest_names(name, known, count: int = 3) -> list[str]:
     ['S2']
     >>> closest_names("S4", ["A", "B", "S2", "S3"])
     ['S2', 'S3']
+    >>> closest_names("0", ["O", "A", "B", "C"])  # a zero for the letter O
+    ['O']
     """
     from difflib import SequenceMatcher
     name = str(name).lower()
@@ -88,7 +93,11 @@ def closest_names(name, known, count: int = 3) -> list[str]:
     by_lower = {}
     for k in known:
         by_lower.setdefault(str(k).lower(), str(k))
-    scored = [(SequenceMatcher(None, name, low).ratio(), k, by_lower[low]) for k, low in enumerate(by_lower)]
+
+    def score(low):  # also with the characters people mistype for each other read alike (0 and O, 1 and l)
+        return max(SequenceMatcher(None, name, low).ratio(),
+                   SequenceMatcher(None, name.translate(ALIKE), low.translate(ALIKE)).ratio())
+    scored = [(score(low), k, by_lower[low]) for k, low in enumerate(by_lower)]
     scored = sorted((s for s in scored if s[0] >= cutoff), key=lambda s: (-s[0], s[1]))
     return [s[2] for s in scored[:count]]
 

@@ -425,7 +425,7 @@ def show_options(text: str | None) -> dict:
     names = list(SHOW) if names == ["all"] else names
     bad = [n for n in names if n not in SHOW]
     if bad:
-        raise ModelError(f"unknown --show item '{bad[0]}'; choose from: {', '.join(SHOW)} (or all)")
+        raise ModelError(f"unknown --show item '{bad[0]}'; {did_you_mean(bad[0], SHOW, 'item')} (or all)")
     return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
             "centres": "centres" in names, "reactions": "reactions" in names, "loads": "loads" in names}
 
@@ -444,8 +444,8 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
     known = whole.joint_names + whole.point_names
     for name in points or ():
         if name not in known:
-            raise ModelError(f"no point or pair '{name}' to trace; the model has: "
-                             f"{', '.join(known)}", source=engine.mech.source)
+            raise ModelError(f"no point or pair '{name}' to trace; {did_you_mean(name, known, 'point and pair')}",
+                             source=engine.mech.source)
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
