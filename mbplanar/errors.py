@@ -102,22 +102,24 @@ def closest_names(name, known, count: int = 3) -> list[str]:
     return [s[2] for s in scored[:count]]
 
 
-def did_you_mean(name, known, what: str = "name", shown: int = 12) -> str:
+def did_you_mean(name, known, what: str = "names", shown: int = 12) -> str:
     """The end of a message about an unknown `name`: "did you mean 'S2'?" with the closest of `known`
-    (`closest_names`), else the `what`s there are (the first `shown`).
+    (`closest_names`), else what `known` holds (its first `shown`), `what` naming them in the plural.
 
     Examples
     --------
-    >>> did_you_mean("S_2", ["A", "B", "S2"], "point")
+    >>> did_you_mean("S_2", ["A", "B", "S2"], "points")
     "did you mean 'S2'?"
-    >>> did_you_mean("Z", ["A", "B"], "point")
+    >>> did_you_mean("Z", ["A", "B"], "points")
     'the points are A, B'
+    >>> did_you_mean("Z", [], "prismatic joints")
+    'there are no prismatic joints'
     """
     known = list(dict.fromkeys(str(k) for k in known))
     hits = closest_names(name, known)
     if hits:
         return "did you mean " + " or ".join(repr(h) for h in hits) + "?"
     if not known:
-        return f"there is no {what}"
+        return f"there are no {what}"
     more = f", … ({len(known)} in all)" if len(known) > shown else ""
-    return f"the {what}s are {', '.join(known[:shown])}{more}"
+    return f"the {what} are {', '.join(known[:shown])}{more}"

@@ -74,7 +74,7 @@ def test_a_byte_order_mark_is_read_in_toml_and_csv(tmp_path):
 def test_closest_names():
     assert closest_names("S_2", ["A", "B", "S2", "S3"]) == ["S2"]
     assert closest_names("s3", ["A", "S3"]) == ["S3"]                    # case ignored
-    assert did_you_mean("Q", ["A", "B"], "point") == "the points are A, B"
+    assert did_you_mean("Q", ["A", "B"], "points") == "the points are A, B"
 
 
 SPRING = FOURBAR.replace("moment = -5.0 },", 'moment = -5.0 },\n  { type = "spring", name = "spring", '
@@ -348,3 +348,34 @@ def test_the_readme_picture_caption():
     assert f"J_I = {true['input']['input_inertia']:.2f} kg·m²" in readme
     assert f"J_I·|ε| = {flywheel:.2f} N·m" in readme and f"by {own - picture:.2f} N·m" in readme
     assert own + flywheel == pytest.approx(true["balancing"]["O"], rel=1e-12)
+
+
+# -- similar cases found beyond the issue's examples ------------------------------------------------------
+@pytest.mark.parametrize("args, expected", [
+    (["--links", ""], "balance: give the links that get a counterweight (the moving links are 1, 2, 3)"),
+    (["--links", "1,1"], "balance: link '1' is listed twice"),
+    (["--links", "1,3", "--radius", "0.1,0.2,0.3"], "balance: 3 radii for 2 links: give one radius, or one per link"),
+])
+def test_balance_arguments(args, expected):
+    code, _, err = run("balance", MODELS / "fourbar_loaded.toml", *args)   # (were a ValueError's words, or exit 0)
+    assert code == 2 and one_line(err).endswith(expected)
+
+
+def test_balance_without_masses():
+    code, _, err = run("balance", MODELS / "fourbar.toml", "--links", "1")   # (printed 0 kg counterweights)
+    assert code == 2 and "the model's links have no mass: nothing shakes the frame, nothing to balance" in one_line(err)
+
+
+def test_dynamics_delta_at_a_zero_input_speed():
+    """The squeezer's input has ω = 0: `dynamics --delta` divided by zero (a ZeroDivisionError)."""
+    code, _, err = run("dynamics", MODELS / "squeezer.toml", "--delta", "0.1", "--steps", "36")
+    assert code == 2 and "--delta without a [dynamics] section runs at the input's omega, which is 0 rad/s" in one_line(err)
+
+
+def test_dynamics_at_gives_no_warning_of_its_own_positions(tmp_path):
+    """A resistance idle over the cycle is warned about once, over the cycle's positions, not again over
+    the two positions of `--at` (it said "does no work over the 2 positions")."""
+    text = (ROOT / "tests" / "data" / "repro" / "whit_stroke_160.toml").read_text(encoding="utf-8").replace(
+        "s = [-1, -0.9, -0.1, 0]", "s = [0, 0.1, 0.9, 1]")
+    code, _, err = run("dynamics", write(tmp_path, text), "--delta", "0.05", "--steps", "72", "--at", "10,20")
+    assert code == 0 and err.count("does no work") == 1 and "over the 73 positions" in err

@@ -214,7 +214,7 @@ CASES = [
                                                                                   "--steps", "72"], 0,
      "warning: {path}: cutting: the resistance does no work over the 73 positions: it acts (backward) over s ="),
     ("inertia_mm.toml", 'length_unit = "mm"', 'length_unit = "mm"\ninertia_unit = "g*mm^2"', ["info"], 2,
-     "{path}: inertia_unit must be one of 'kg*m^2', 'kg*cm^2', 'kg*mm^2', got 'g*mm^2'"),
+     "{path}: inertia_unit must be one of 'kg*m^2', 'kg*cm^2', 'kg*mm^2' (in any case), got 'g*mm^2'"),
     ("inertia_m.toml", "omega = 10.0", "omega = 10.0\nrpm = 95.5", ["info"], 2,
      "{path}: inputs[0] (joint 'O'): give either 'omega' (rad/s) or 'rpm' (rev/min), not both"),
     ("whit_stroke_160.toml", "", "", ["solve", "--at", "30", "--omega", "nan"], 2,

@@ -123,7 +123,7 @@ def _events(spec, engine) -> dict[str, EventResult]:
     for i, ev in enumerate(spec.events):
         if ev.point not in known:
             raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': '{ev.point}' is neither a joint nor a "
-                             f"point of {engine.mech.source}; {did_you_mean(ev.point, known, 'joint and point')}")
+                             f"point of {engine.mech.source}; {did_you_mean(ev.point, known, 'joints and points')}")
         out[ev.name] = solve_event(engine, ev.name, ev.point, ev.coordinate, ev.fraction, ev.measure,
                                    ev.direction)
     return out

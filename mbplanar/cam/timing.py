@@ -79,7 +79,7 @@ def _coordinate(engine, point, axis, values_si):
         k = motion.point(point)
     except KeyError:
         raise ModelError(f"timing: the model has no point or pair '{point}'; "
-                         f"{did_you_mean(point, motion.point_names, 'point and pair')}") from None
+                         f"{did_you_mean(point, motion.point_names, 'points and pairs')}") from None
     return motion.xy[:, k, axis], motion.vq[:, k, axis]
 
 

@@ -117,7 +117,6 @@ def reduce(engine, phi, omega: float = 1.0) -> Reduced:
         raise MotionError("machine dynamics needs every position of the cycle: "
                           f"{motion.message}", source=engine.mech.source)
     J_II, dJ_II, J_input = _reduced_inertia(engine, motion)
-    warn_idle_resistances(engine, motion)
     dampers = any(ld.kind == "damper" for ld in engine.mech.loads)
     at_speed = analyse(engine, phi, omega=omega, epsilon=0.0) if dampers and omega != 1.0 else motion
     loads = evaluate_loads(engine, at_speed)
@@ -324,6 +323,7 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
         raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)
     phi = cycle_grid(steps)
     red = reduce(engine, phi, spec.omega_mean)
+    warn_idle_resistances(engine, red.motion)  # (over the cycle only: not at a few positions asked for)
     A_c = _cumulative_trapezoid(red.M_red, phi)
     M_dr = -A_c[-1] / (2 * math.pi) if spec.driving_moment is None else spec.driving_moment
     dT = _energy_change(A_c, M_dr, phi, red.J_II, spec.omega_mean)

@@ -97,7 +97,7 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
         pr = Row(raw_pair, f"{where}: pairs[{k}]")
         joint = pr.text("joint", required=True)
         if joint not in mech.joints:
-            pr.fail(f"'{joint}' is not a joint of the model; {did_you_mean(joint, mech.joints, 'joint')}")
+            pr.fail(f"'{joint}' is not a joint of the model; {did_you_mean(joint, mech.joints, 'joints')}")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
         radius, block = pr.number("pin_radius"), pr.number("block_length", positive=True)

@@ -222,10 +222,22 @@ def balance(engine, links, radius=None, steps: int = 360) -> Balancing:
         raise ModelError(f"balancing turns one input through a cycle; the model has {len(engine.inputs)}",
                          source=mech.source)
     links = [str(n) for n in links]
+    if not links:
+        raise ModelError(f"give the links that get a counterweight (the moving links are "
+                         f"{', '.join(mech.moving_links)})", source=mech.source, where="balance")
+    twice = [n for k, n in enumerate(links) if n in links[:k]]
+    if twice:
+        raise ModelError(f"link '{twice[0]}' is listed twice", source=mech.source, where="balance")
+    if radius is not None and np.size(radius) not in (1, len(links)):
+        raise ModelError(f"{np.size(radius)} radii for {len(links)} links: give one radius, or one per link",
+                         source=mech.source, where="balance")
+    if not any(lk.mass for lk in mech.links.values()):
+        raise ModelError("the model's links have no mass: nothing shakes the frame, nothing to balance (give "
+                         "the links 'mass' and 'centre')", source=mech.source, where="balance")
     for name in links:
         if name not in mech.links or name == mech.ground:
             raise ModelError(f"'{name}' is not a moving link of the model; "
-                             f"{did_you_mean(name, mech.moving_links, 'moving link')}", source=mech.source,
+                             f"{did_you_mean(name, mech.moving_links, 'moving links')}", source=mech.source,
                              where="balance")
     radii = list(np.broadcast_to(np.asarray(radius if radius is not None else np.nan, float), (len(links),)))
     phi = np.linspace(0.0, 2 * math.pi, steps, endpoint=False) + engine.phi_drawn[0]

@@ -280,7 +280,7 @@ def point_selection(engine: Engine, points=None) -> PointSelection:
     for k, name in enumerate(asked):
         if name not in index:
             raise ModelError(f"analyse: points: no joint or point named {name!r}; "
-                             f"{did_you_mean(name, names, 'joint and point')}", source=engine.mech.source,
+                             f"{did_you_mean(name, names, 'joints and points')}", source=engine.mech.source,
                              where="analyse")
         if name in asked[:k]:
             raise ModelError(f"analyse: points: {name!r} is asked twice", source=engine.mech.source,

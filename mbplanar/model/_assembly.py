@@ -61,7 +61,7 @@ def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str,
         for name in (p, q):
             if name not in names:
                 raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link; "
-                                 f"{did_you_mean(name, names, 'joint and point of the link')}",
+                                 f"{did_you_mean(name, names, 'joints and points of the link')}",
                                  source=mech.source, where=where)
         if p == q:
             raise ModelError(f"length {p}-{q} joins a point to itself", source=mech.source, where=where)
@@ -77,11 +77,11 @@ def _check_references(mech: Mechanism):
             for name in link.angle:
                 if name not in names:
                     raise ModelError(f"angle point '{name}' is not on this link; "
-                                     f"{did_you_mean(name, names, 'joint and point of the link')}",
+                                     f"{did_you_mean(name, names, 'joints and points of the link')}",
                                      source=mech.source, where=where)
         if link.centre is not None and link.centre not in names and link.centre not in mech.points:
             raise ModelError(f"centre '{link.centre}' is not a point of this link; "
-                             f"{did_you_mean(link.centre, names, 'joint and point of the link')}",
+                             f"{did_you_mean(link.centre, names, 'joints and points of the link')}",
                              source=mech.source, where=where)
         if link.centre is not None and link.centre in mech.points and mech.points[link.centre].link != link.name:
             raise ModelError(f"centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'",
@@ -93,7 +93,7 @@ def _check_references(mech: Mechanism):
                 if name not in names:
                     raise ModelError(f"joints '{j.name}': guide point '{name}' is not on "
                                      f"its carrier link '{j.carrier}'; "
-                                     f"{did_you_mean(name, names, 'joint and point of the carrier')}",
+                                     f"{did_you_mean(name, names, 'joints and points of the carrier')}",
                                      source=mech.source)
             a, b = (names[n] for n in j.guide_points)
             if math.dist(a, b) == 0:
@@ -105,7 +105,7 @@ def _check_references(mech: Mechanism):
                 if name not in names:
                     raise ModelError(f"points '{p.name}': '{name}' is not a joint or "
                                      f"point (with 'at') of link '{p.link}'; "
-                                     f"{did_you_mean(name, names, 'joint and point of the link')}",
+                                     f"{did_you_mean(name, names, 'joints and points of the link')}",
                                      source=mech.source)
 
 

@@ -259,7 +259,7 @@ def _check_links(mech: Mechanism, labels: dict[str, str]):
         own = {j.name for j in mech.joints_of(name)} | {p.name for p in mech.points.values() if p.link == name}
         if link.centre is not None and link.centre not in own:
             raise ModelError(f"centre '{link.centre}' is not a joint or point of this link; "
-                             f"{did_you_mean(link.centre, own, 'joint and point of the link')}",
+                             f"{did_you_mean(link.centre, own, 'joints and points of the link')}",
                              source=mech.source, where=where)
         if link.mass and link.centre is None:
             raise ModelError(f"a link with mass ({link.mass:g} kg) needs a 'centre' point",
@@ -311,7 +311,7 @@ def _read_joints(mech: Mechanism, rows, unit):
         for link in links:
             if link != mech.ground and link not in mech.links:
                 row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
-                         f"{did_you_mean(link, mech.all_links, 'link')}")
+                         f"{did_you_mean(link, mech.all_links, 'links')}")
         x, y = row.pair("at", required=True)
         guide = guide_points = None
         carrier = row.text("carrier")
@@ -347,7 +347,7 @@ def _read_points(mech: Mechanism, rows, unit):
         link = row.text("link", required=True)
         if link != mech.ground and link not in mech.links:
             row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
-                     f"{did_you_mean(link, mech.all_links, 'link')}")
+                     f"{did_you_mean(link, mech.all_links, 'links')}")
         at = row.pair("at")
         along = row.names("along")
         fraction = row.number("fraction")
@@ -405,7 +405,7 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
         if joint is None:
-            row.fail(f"'{joint_name}' is not a joint of the table; {did_you_mean(joint_name, mech.joints, 'joint')}")
+            row.fail(f"'{joint_name}' is not a joint of the table; {did_you_mean(joint_name, mech.joints, 'joints')}")
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
         default_unit = "deg" if joint.kind == "R" else mech.units.length
@@ -502,7 +502,7 @@ def _switch(mech, row: Row) -> dict:
     name = row.text("switch")
     if name not in mech.joints and name not in mech.points:
         row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model; "
-                 f"{did_you_mean(name, [*mech.joints, *mech.points], 'joint and point')}")
+                 f"{did_you_mean(name, [*mech.joints, *mech.points], 'joints and points')}")
     if row.has("switch_direction") and name not in mech.points:
         row.fail(f"'switch_direction' applies to a point; '{name}' is a joint")
     direction = math.radians(row.number("switch_direction", 0.0))
@@ -523,7 +523,7 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
         j = mech.joints.get(joint)
         if j is None or j.kind != "R":
             row.fail(f"joint '{joint}' is not a revolute joint of the model; "
-                     f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'R'], 'revolute joint')}")
+                     f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'R'], 'revolute joints')}")
         c = row.number("damping", required=True)
         if c < 0:
             row.fail(f"'damping' must be >= 0, got {c}")
@@ -570,7 +570,7 @@ def _two_links(mech, row: Row, required=False) -> tuple[str, str] | None:
         row.fail(f"'links' must be two different links [a, b], got {value!r}")
     for name in value:
         if str(name) not in mech.links and str(name) != mech.ground:
-            row.fail(f"'{name}' in 'links' is not a link of the model; {did_you_mean(name, mech.all_links, 'link')}")
+            row.fail(f"'{name}' in 'links' is not a link of the model; {did_you_mean(name, mech.all_links, 'links')}")
     return str(value[0]), str(value[1])
 
 
@@ -586,7 +586,7 @@ def _end_links(mech, row: Row, ends) -> tuple[str, str]:
                      "links the ends lie ('links = [a, b]')")
         if isinstance(end, str) and end not in mech.points:
             row.fail(f"'{end}' in 'at' is neither a point nor a joint of the model; "
-                     f"{did_you_mean(end, [*mech.points, *mech.joints], 'point and joint')}")
+                     f"{did_you_mean(end, [*mech.points, *mech.joints], 'points and joints')}")
         if not (isinstance(end, str) and end in mech.points):
             row.fail(f"say on which links the ends lie ('links = [a, b]'): {end!r} is not a named point of "
                      "one link")
@@ -618,14 +618,14 @@ def _named_on(mech, row: Row, link: str, name: str, what: str) -> str:
             row.fail(f"joint '{name}' does not belong to link '{link}'")
     else:
         row.fail(f"{what} is neither a point nor a joint of the model; "
-                 f"{did_you_mean(name, [*mech.points, *mech.joints], 'point and joint')}")
+                 f"{did_you_mean(name, [*mech.points, *mech.joints], 'points and joints')}")
     return name
 
 
 def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
     link = row.text("link", required=True)
     if link not in mech.links:
-        row.fail(f"'{link}' is not a moving link of the model; {did_you_mean(link, mech.moving_links, 'moving link')}")
+        row.fail(f"'{link}' is not a moving link of the model; {did_you_mean(link, mech.moving_links, 'moving links')}")
     fields = dict(index=i, kind=kind, link=link)
     if kind == "force":
         fields["force"] = row.pair("force", required=True)
@@ -641,7 +641,7 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
     j = mech.joints.get(joint)
     if j is None or j.kind != "P":
         row.fail(f"joint '{joint}' is not a prismatic joint of the model; "
-                 f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'P'], 'prismatic joint')}")
+                 f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'P'], 'prismatic joints')}")
     link = row.text("link", j.slider)
     if link not in j.links or link == mech.ground:
         row.fail(f"link '{link}' must be the moving link of joint '{joint}' the force acts on")

@@ -187,7 +187,7 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
     for p in points:
         if p not in base.mech.joints and p not in base.mech.points:
             raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model; "
-                             f"{did_you_mean(p, [*base.mech.joints, *base.mech.points], 'joint and point')}")
+                             f"{did_you_mean(p, [*base.mech.joints, *base.mech.points], 'joints and points')}")
     parts = [variants.take(s) for s in _chunks(len(variants), chunk)]
     args = (tuple(points), samples, forces, method)
     if client is None:

@@ -49,7 +49,7 @@ def variants_from(template: Template, values: dict, names=None, source: str = "<
     arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in values.items()}
     unknown = sorted(set(arrays) - set(template.parameters))
     if unknown:
-        hints = "; ".join(f"'{u}': {did_you_mean(u, template.names, 'parameter')}" for u in unknown[:3]
+        hints = "; ".join(f"'{u}': {did_you_mean(u, template.names, 'parameters')}" for u in unknown[:3]
                           if closest_names(u, template.names))
         raise ModelError(f"{source}: column(s) {', '.join(unknown)} name no parameter of "
                          f"{template.source} (parameters: {', '.join(template.names) or 'none declared'})"

@@ -425,7 +425,7 @@ def show_options(text: str | None) -> dict:
     names = list(SHOW) if names == ["all"] else names
     bad = [n for n in names if n not in SHOW]
     if bad:
-        raise ModelError(f"unknown --show item '{bad[0]}'; {did_you_mean(bad[0], SHOW, 'item')} (or all)")
+        raise ModelError(f"unknown --show item '{bad[0]}'; {did_you_mean(bad[0], SHOW, 'items')} (or all)")
     return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
             "centres": "centres" in names, "reactions": "reactions" in names, "loads": "loads" in names}
 
@@ -444,7 +444,7 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
     known = whole.joint_names + whole.point_names
     for name in points or ():
         if name not in known:
-            raise ModelError(f"no point or pair '{name}' to trace; {did_you_mean(name, known, 'point and pair')}",
+            raise ModelError(f"no point or pair '{name}' to trace; {did_you_mean(name, known, 'points and pairs')}",
                              source=engine.mech.source)
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
@@ -691,7 +691,7 @@ PICTURE_SYNONYMS = {"friction": "efficiency", "reactions": "forces", "coupler": 
 def unknown_picture(what: str) -> str:
     """The message for a picture `what` that `FIGURES` lacks: the closest names, or the synonym's picture."""
     hint = (f"did you mean '{PICTURE_SYNONYMS[what.lower()]}'?" if what.lower() in PICTURE_SYNONYMS
-            else did_you_mean(what, FIGURES, "picture"))
+            else did_you_mean(what, FIGURES, "pictures"))
     return f"unknown picture '{what}'; {hint} (pictures: {', '.join(FIGURES)})"
 
 
