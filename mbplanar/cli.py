@@ -886,7 +886,7 @@ def cmd_cam(args):
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One line; an error raised without a `source` (an argument's) is located at the model file."""
-    model = getattr(args, "model", None)
+    model = getattr(args, "model", None) or getattr(args, "file", None)  # (cam names its file 'file')
     if isinstance(exc, MbplanarError) and exc.source is None and model is not None and str(model) not in str(exc):
         exc = type(exc)(exc.message, source=str(model), where=exc.where)
     return " ".join(str(exc).split())

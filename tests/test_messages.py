@@ -379,3 +379,18 @@ def test_dynamics_at_gives_no_warning_of_its_own_positions(tmp_path):
         "s = [-1, -0.9, -0.1, 0]", "s = [0, 0.1, 0.9, 1]")
     code, _, err = run("dynamics", write(tmp_path, text), "--delta", "0.05", "--steps", "72", "--at", "10,20")
     assert code == 0 and err.count("does no work") == 1 and "over the 73 positions" in err
+
+
+@pytest.mark.parametrize("old, new, expected", [
+    ('law = "constant_acceleration", k = 1.0, stroke = 0.045', 'law = "cycloid", stroke = 0.045',
+     "[cam] phases[0]: unknown motion law 'cycloid'; did you mean 'cycloidal'?"),
+    ('coordinate = "x", fraction = 0.05, direction = "rising"', 'coordinate = "z", fraction = 0.05, direction = "rising"',
+     "[cam] events[0] 'fp1': timing: coordinate must be 'x' or 'y', got 'z'"),
+])
+def test_a_cam_file_error_names_the_file_and_row(tmp_path, old, new, expected):
+    text = (MODELS / "shaper_cam.toml").read_text(encoding="utf-8")
+    assert old in text
+    write(tmp_path, (MODELS / "shaper.toml").read_text(encoding="utf-8"), "shaper.toml")
+    path = write(tmp_path, text.replace(old, new, 1), "cam.toml")
+    code, _, err = run("cam", path)
+    assert code == 2 and one_line(err) == f"mbplanar: {path}: {expected}"

@@ -124,8 +124,11 @@ def _events(spec, engine) -> dict[str, EventResult]:
         if ev.point not in known:
             raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': '{ev.point}' is neither a joint nor a "
                              f"point of {engine.mech.source}; {did_you_mean(ev.point, known, 'joints and points')}")
-        out[ev.name] = solve_event(engine, ev.name, ev.point, ev.coordinate, ev.fraction, ev.measure,
-                                   ev.direction)
+        try:
+            out[ev.name] = solve_event(engine, ev.name, ev.point, ev.coordinate, ev.fraction, ev.measure,
+                                       ev.direction)
+        except ModelError as exc:  # (named by the cam file's row)
+            raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': {exc.message}") from None
     return out
 
 
@@ -164,8 +167,11 @@ def _program(spec: CamSpec, names) -> laws.Program:
             segments.append(seg)
             s = ph.end[0]
         else:
-            law = laws.dwell() if ph.kind == "dwell" else laws.make_law(
-                ph.law, **({"k": ph.k} if ph.law == "constant_acceleration" else {}))
+            try:
+                law = laws.dwell() if ph.kind == "dwell" else laws.make_law(
+                    ph.law, **({"k": ph.k} if ph.law == "constant_acceleration" else {}))
+            except ModelError as exc:
+                raise ModelError(f"{ph.where}: {exc.message}") from None
             if ph.kind == "rise":
                 if ph.stroke is None:
                     raise ModelError(f"{ph.where}: a rise needs its 'stroke'")
