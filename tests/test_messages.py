@@ -269,11 +269,24 @@ def sweep_table(tmp_path, model, steps=7200):
     return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
 
 
+INCL = (ROOT / "tests" / "data" / "incl_slider.toml").read_text(encoding="utf-8")
+BLOCK = '{ name = "Bp", type = "P", links = ["0", "3"], at = [0.116954, 0.116954], guide = 45 }'
+OFF_SLOT = {  # the block's point off its slot line, three ways
+    "point off the guide line": INCL.replace(BLOCK, BLOCK.replace("at = [0.116954, 0.116954]", "at = [0.15, 0.10]")),
+    "guide through two points": INCL.replace(BLOCK, BLOCK.replace("guide = 45", 'guide = ["G1", "G2"]')).replace(
+        "[input]", 'points = [{ name = "G1", link = "0", at = [0.0, 0.02] }, { name = "G2", link = "0", at = [0.2, 0.22] }]'
+        "\n[input]"),
+    "pin off the block's point": INCL.replace('at = [0.116954, 0.116954] },', "at = [0.14, 0.09] },", 1),
+}
+
+
 @pytest.mark.parametrize("model", [MODELS / "fourbar.toml", MODELS / "shaper.toml",
-                                   ROOT / "tests" / "data" / "incl_slider.toml"])
+                                   ROOT / "tests" / "data" / "incl_slider.toml", *OFF_SLOT], ids=str)
 def test_check_extremes_agree_with_a_fine_sweep(tmp_path, model):
     """Every extreme `check` gives (link angles, slider strokes) against the sweep's at 0.05°, its input
-    value within one turn (398.6° read 38.6°)."""
+    value within one turn (398.6° read 38.6°); also for a block whose point lies off its slot line."""
+    if model in OFF_SLOT:
+        model = write(tmp_path, OFF_SLOT[model], "off.toml")
     code, out, _ = run("check", model, "--json")
     assert code == 0
     doc = json.loads(out)
