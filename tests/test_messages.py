@@ -407,3 +407,11 @@ def test_a_cam_file_error_names_the_file_and_row(tmp_path, old, new, expected):
     path = write(tmp_path, text.replace(old, new, 1), "cam.toml")
     code, _, err = run("cam", path)
     assert code == 2 and one_line(err) == f"mbplanar: {path}: {expected}"
+
+
+def test_a_table_header_above_the_lists(tmp_path):
+    """`[plot]` written under `name = ...` takes the links and joints in (TOML): said so, not 'no joints'."""
+    text = FOURBAR.replace('name = "fourbar_loaded"', 'name = "fourbar_loaded"\n[plot]\nscale = 1', 1)
+    code, _, err = run("info", write(tmp_path, text))
+    assert code == 2 and one_line(err).endswith("the 'joints' list is inside [plot]: a [table] header takes every key "
+                                                "below it; move [plot] after the lists")

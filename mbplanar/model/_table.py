@@ -148,6 +148,11 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     """
     if isinstance(data, str):
         return read_model_text(data, source)
+    if isinstance(data, dict) and "joints" not in data:  # a [table] header above the lists takes them in
+        inside = next((k for k, v in data.items() if isinstance(v, dict) and "joints" in v), None)
+        if inside is not None:
+            raise ModelError(f"the 'joints' list is inside [{inside}]: a [table] header takes every key below it; "
+                             f"move [{inside}] after the lists", source=source)
     if isinstance(data, dict) and "cam" in data and not data.get("joints"):
         command = f"mbplanar cam {'FILE' if source.startswith('<') else source}"
         raise ModelError(f"this is a cam file: use `{command}` (the linkage commands read a table of pairs)",
