@@ -195,7 +195,8 @@ def _unreachable(engine, at, motion) -> MotionError:
     if len(engine.inputs) == 1 and motion.limits:
         inp = engine.inputs[0]
         lo, hi = engine.reach()
-        where = f" (the input moves within {inp.from_si(lo):.10g} … {inp.from_si(hi):.10g} {inp.unit})"
+        from .kinematics._motion import reach_text
+        where = f" (the input moves within {reach_text(inp, lo, hi)})"
     return MotionError(f"{engine.mech.source}: cannot reach {at} on the drawn branch: {motion.message}{where}")
 
 

@@ -415,3 +415,15 @@ def test_a_table_header_above_the_lists(tmp_path):
     code, _, err = run("info", write(tmp_path, text))
     assert code == 2 and one_line(err).endswith("the 'joints' list is inside [plot]: a [table] header takes every key "
                                                 "below it; move [plot] after the lists")
+
+
+@pytest.mark.parametrize("model, far", [(MODELS / "crank_slider_rocker_locking.toml", "3"),
+                                        (ROOT / "tests" / "data" / "double_rocker.toml", "100")])
+def test_the_range_a_refusal_shows_can_be_asked_for(model, far):
+    """The ends of 'the input moves within a … b' were rounded to the nearest digit, past the motion limit:
+    `--at` with the value shown was refused (the engine resolves a position to ~3e-10 rad from a fold)."""
+    code, _, err = run("solve", model, "--at", far)
+    lo, hi = re.search(r"moves within (\S+) … (\S+) ", err).groups()
+    assert code == 1
+    for end in (lo, hi):
+        assert run("solve", model, "--at", end)[0] == 0, end

@@ -20,7 +20,8 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
+from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_limit, positions_at_limits,
+                                  range_text)
 from ..engine._atlas import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "RegionReport", "check", "check_region", "format_region",
@@ -553,8 +554,7 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
     if report.full_turn:
         lines.append("the input turns fully (numerically: a whole turn without a motion limit)")
     else:
-        lines.append(f"the input does NOT turn fully: it moves through {report.range[0]:.8g} … "
-                     f"{report.range[1]:.8g} {u}")
+        lines.append(f"the input does NOT turn fully: it moves through {range_text(*report.range, 8)} {u}")
     for lim in report.limits:
         lines.append(f"  dead point / limit: {lim['message']}")
     for c in report.change_points:
