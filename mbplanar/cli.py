@@ -610,6 +610,8 @@ def cmd_dynamics(args):
         raise ModelError("--steps must be at least 36")
     if args.delta is not None and not (math.isfinite(args.delta) and 0 < args.delta < 1):
         raise ModelError("--delta must be a number between 0 and 1")
+    from .model._table import crank_input
+    crank_input(engine.mech)  # (a machine of several inputs, or driven by a slider, says so first)
     spec = read_dynamics(engine.mech, args.delta)
     if spec is None:
         raise ModelError("the model has no [dynamics] section; give --delta", source=engine.mech.source)

@@ -60,7 +60,6 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
     and no `delta` is given; `delta` overrides the model's δ (a model without `[dynamics]` then runs at
     the input's ω)."""
     spec = mech.dynamics
-    crank_input(mech)  # (a machine of several inputs, or a slider input, says so first)
     if delta is None:
         return spec
     if not (math.isfinite(delta) and 0 < delta < 1):
@@ -318,6 +317,7 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
                      simulate_motion: bool = True) -> Dynamics:
     """The energy–mass method over one cycle of the crank (and, unless `simulate_motion` is False,
     the exact steady-state motion with the flywheel found). `spec` defaults to the model's section."""
+    crank_input(engine.mech)  # (a machine of several inputs, or driven by a slider, says so first)
     spec = spec or read_dynamics(engine.mech)
     if spec is None:
         raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)
