@@ -347,8 +347,8 @@ def test_every_model_a_page_runs_is_shipped():
 
 def test_the_readme_picture_caption():
     """The README's shaper picture: −188.25 N·m at the model's ω, ε = 0, J_I = 0; `forces` without --omega
-    takes the true motion and the flywheel and prints −102.06 N·m; the caption's split of the difference."""
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    takes the true motion and the flywheel and prints −102.06 N·m; docs/forces.md's split of the difference."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8") + (ROOT / "docs" / "forces.md").read_text(encoding="utf-8")
     shaper = MODELS / "shaper.toml"
     given = run("forces", shaper, "--at", "140.769", "--omega", "7.644542", "--epsilon", "0", "--json")[1]
     true = json.loads(run("forces", shaper, "--at", "140.769", "--json")[1])
