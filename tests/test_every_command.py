@@ -66,6 +66,8 @@ def linkage_runs(path: Path, tmp: Path) -> list[tuple[list, bool]]:
         (["animate", m, "--frames", "2", "-o", tmp / "a.html"], True),
         (["report", m, "--frames", "2", "-o", tmp / "r.html"], True),
         (["cam", m], False),
+        (["export", m, "--steps", "12", "-o", tmp / "e.svg"], True),
+        (["export", m, "--at", near, "--steps", "12", "--paths", first_point, "-o", tmp / "e.dxf"], True),
     ]
     if not several:
         runs.append((["check", m, "--json", "--units", "model"], True))
@@ -109,7 +111,8 @@ def cam_runs(path: Path, tmp: Path) -> list[tuple[list, bool]]:
     runs += [(["solve", m, "--at", "10"], False), (["sweep", m, "--steps", "2"], False),
              (["forces", m, "--at", "10"], False), (["balance", m, "--links", "1"], False),
              (["plot", m, "diagram", "-o", tmp / "p.png"], False),
-             (["animate", m, "-o", tmp / "a.html"], False), (["report", m, "-o", tmp / "r.html"], False)]
+             (["animate", m, "-o", tmp / "a.html"], False), (["report", m, "-o", tmp / "r.html"], False),
+             (["export", m, "-o", tmp / "e.svg"], False)]
     return runs + [(["cam", m], True), (["cam", m, "--json"], True)]
 
 
