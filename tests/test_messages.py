@@ -330,21 +330,6 @@ def test_help_names_path_generation_under_synth():
                                    r"generation", out)
 
 
-def test_every_model_a_page_runs_is_shipped():
-    """docs/forces.md ran `balance heavy_fourbar.toml`, a file not shipped: every model a `$ mbplanar ...`
-    line of the docs or the README reads is a file of the repository (at its path, or by its name in
-    models/ or tests/data/), unless the page writes it first (`-o FILE`)."""
-    files = {p.name for p in ROOT.glob("models/**/*.toml")} | {p.name for p in ROOT.glob("tests/data/**/*.toml")}
-    missing = []
-    for page in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
-        text = page.read_text(encoding="utf-8")
-        written = set(re.findall(r"-o (\S+\.toml)", text))
-        for name in re.findall(r"\$ mbplanar [^\n]*?(\S+\.toml)", text):
-            if name not in written and not (ROOT / name).exists() and Path(name).name not in files:
-                missing.append(f"{page.name}: {name}")
-    assert not missing, missing
-
-
 def test_the_readme_picture_caption():
     """The README's shaper picture: −188.25 N·m at the model's ω, ε = 0, J_I = 0; `forces` without --omega
     takes the true motion and the flywheel and prints −102.06 N·m; docs/forces.md's split of the difference."""
