@@ -41,6 +41,7 @@ from ..errors import ModelError, did_you_mean
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
 from ..model._keys import Key, Section
+from ..model._scale import drawing_size
 from ..model._table import Row
 
 __all__ = ["PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
@@ -140,12 +141,6 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
     return spec
 
 
-def _size(mech) -> float:
-    """The mechanism's size: the largest distance between its joints in the drawing (m)."""
-    spots = [j.at for j in mech.joints.values()]
-    return max((float(np.hypot(a[0] - b[0], a[1] - b[1])) for a in spots for b in spots), default=0.0)
-
-
 def _listed(values: dict, unit: str = "", scale: float = 1.0) -> str:
     """'10 in O, A; 0.5 in B' of {joint: value}, the same values together."""
     groups: dict = {}
@@ -158,7 +153,7 @@ def implausible_friction(mech, spec: FrictionSpec) -> list[str]:
     """What in `spec` lies outside plausible values, each with its numbers: a coefficient above
     `MU_PLAUSIBLE`, a pin radius or block length out of `PIN_SHARE` or `BLOCK_SHARE` of the mechanism's
     size (a length in another unit). Lengths are shown in the table's length unit."""
-    size, unit = _size(mech), mech.units
+    size, unit = drawing_size(mech), mech.units
     k, lu = unit.length_scale, f" {unit.length}"
     notes = []
     high = {p.joint: p.mu for p in spec.pairs if p.mu > MU_PLAUSIBLE}
