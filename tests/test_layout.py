@@ -14,7 +14,7 @@ from mbplanar import _deprecated
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
 LAYERS = ["errors", "_deprecated", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
-          "study", "io", "viz", "cam", "synthesis", "cli"]  # cams, synthesis, studies use what precedes them
+          "study", "io", "viz", "cam", "synthesis", "web", "cli"]  # cams, synthesis, studies, the workbench use what precedes them
 
 
 def _layer(module: str) -> int:

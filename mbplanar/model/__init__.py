@@ -7,12 +7,12 @@ This subpackage replaces the old module ``mbplanar.model`` and keeps its names; 
 ``mbplanar.assembly`` are deprecated aliases of ``mbplanar.model._table`` and ``mbplanar.model._assembly``.
 """
 
-from ._assembly import assemble
+from ._assembly import assemble, reference_points
 from ._model import Input, Joint, Link, Mechanism, Point
 from ._table import parse_model, read_model, read_model_text
 
 __all__ = ["Link", "Joint", "Point", "Input", "Mechanism", "read_model", "read_model_text", "parse_model",
-           "assemble"]
+           "assemble", "reference_points"]
 
 from .. import _deprecated  # noqa: E402  (after the names: the forwarder serves only the old module's others)
 
