@@ -60,6 +60,7 @@ class Workbench:
         self.engine, self.cycle = engine, None
         self.fixed = engine is not None and text is None
         self.saved_text = self.text
+        self.version = 0                # of the engine: a pose names the picture it belongs to
         if text is not None:
             self._record(text, "open")
 
@@ -184,13 +185,14 @@ class Workbench:
             yield self._document_message(errors, [_warning(w, doc.data) for w in notes])
             return
         self.engine, self.cycle = engine, cycle
+        self.version += 1
         yield self._document_message(errors, [_warning(w, doc.data) for w in notes])
         yield from self._views(stale)
 
     def _views(self, stale):
         if self.cycle is None:
             self.cycle = _cycle(self.engine, self.frames)
-        yield picture(self.engine, self.cycle)
+        yield {**picture(self.engine, self.cycle), "version": self.version}
         for make in (forces, series, marks):
             if stale():
                 return
@@ -232,7 +234,7 @@ class Workbench:
         from ..io import document
         numbers = document(one, values=values, units="si")
         return {"type": "pose", "id": request, "values": values, "frame": frames_of(engine, shown, self.cycle),
-                "numbers": numbers, "speed": speed}
+                "numbers": numbers, "speed": speed, "version": self.version}
 
 
 # -- the engine of a text ----------------------------------------------------------------------------

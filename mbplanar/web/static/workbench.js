@@ -249,7 +249,11 @@ export function mount(root, transport, options = {}) {
       case "error": return status(msg.message, true);
       case "refused": return status(`refused: ${msg.message}`, true);
       case "files": st.files = msg.files; return fillFiles();
-      case "saved": st.files = msg.files; fillFiles(); return status(`saved ${msg.path}`);
+      case "saved":
+        st.files = msg.files; fillFiles();
+        if (st.document) { st.document.name = msg.path; st.document.dirty = false; }
+        if (el.title) el.title.textContent = `mbplanar — ${msg.path}`;
+        return status(`saved ${msg.path}`);
       case "save_as_needed": status(msg.message, true); el.saveName && el.saveName.focus(); return;
       case "confirm_overwrite":
         if (confirm(`${msg.path} exists: overwrite it?`)) saveAs(true); return;
@@ -413,7 +417,8 @@ export function mount(root, transport, options = {}) {
   // -- the picture ------------------------------------------------------------------------------------
   const view = {};
   function showPicture(pic) {
-    const keepFrame = st.picture && st.picture.model === pic.model ? st.frame : null;
+    const same = st.picture && st.picture.source === pic.source && st.picture.model === pic.model;
+    const keepFrame = same ? st.frame : null;
     st.picture = pic; st.frames = pic.frames; st.drawn = pic.drawn; st.cycleForces = null;
     const n = pic.frames.count;
     el.range.max = Math.max(n - 1, 0);
@@ -423,7 +428,7 @@ export function mount(root, transport, options = {}) {
     title.textContent = `${pic.title}` + (pic.message ? ` — ${pic.message}` : "");
     renderMarks();
     if (st.editing) showDrawn();
-    else if (st.shown && st.shown.kind === "pose" && st.values.length === pic.inputs.length) solve(st.values);
+    else if (same && st.shown && st.shown.kind === "pose" && st.values.length === pic.inputs.length) solve(st.values);
     else showFrame(keepFrame !== null ? Math.min(keepFrame, n - 1) : 0, true);
   }
 
@@ -689,6 +694,7 @@ export function mount(root, transport, options = {}) {
   function solveShown() { if (st.values.length) solve(st.values, "numbers"); }
 
   function solve(values, why = "pose") {
+    clearTimeout(numbersTimer);
     st.pending = { values: values.slice(), why };
     pump();
   }
@@ -702,7 +708,9 @@ export function mount(root, transport, options = {}) {
 
   function showPose(msg) {
     st.inflight = false;
-    if (msg.error) {
+    if (!st.picture || (msg.version !== undefined && msg.version !== st.picture.version)) {
+      // the answer of a model that is no longer shown
+    } else if (msg.error) {
       status(msg.error, true);
       el.numbers.dataset.error = msg.error;
     } else if (st.picture && !st.editing) {
