@@ -9,6 +9,7 @@
     >>> mbplanar.check(engine).full_turn                            # motion limits, angles
     >>> mbplanar.kinetostatics(engine, motion).balancing["O"]       # reactions, balancing moment
     >>> mbplanar.machine_dynamics(engine).flywheel                  # flywheel, true ω(φ)
+    >>> mbplanar.widget("models/fourbar.toml")                      # Jupyter: the workbench's diagram and plots
 
 The public API is this module. The subpackages (`model`, `structure`, `engine`, `kinematics`, `forces`,
 `backends`, `analysis`, `io`, `viz`) export their own documented names; modules whose names start with an
@@ -24,7 +25,7 @@ for _old in _deprecated.SHADOWED:  # the old module mbplanar.check gave way to t
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
            "Engine", "Limit", "analyse", "Motion", "position", "Position", "MbplanarError", "ModelError", "MotionError",
-           "kinetostatics", "Kinetostatics", "check", "CheckReport", "machine_dynamics", "Dynamics"]
+           "kinetostatics", "Kinetostatics", "check", "CheckReport", "machine_dynamics", "Dynamics", "widget"]
 __version__ = "0.1.0"
 
 #: public name → the subpackage that defines it, imported on first use (PEP 562): ``import mbplanar``
@@ -33,9 +34,9 @@ _HOME = {**dict.fromkeys(["CheckReport", "check"], "analysis"), **dict.fromkeys(
          **dict.fromkeys(["Dynamics", "Kinetostatics", "kinetostatics", "machine_dynamics"], "forces"),
          **dict.fromkeys(["Motion", "Position", "analyse", "position"], "kinematics"),
          **dict.fromkeys(["Input", "Joint", "Link", "Mechanism", "Point", "assemble", "parse_model", "read_model"],
-                         "model")}
+                         "model"), "widget": "web"}
 _SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-                "study", "synthesis", "cli", "errors")
+                "study", "synthesis", "web", "cli", "errors")
 
 
 def __getattr__(name: str):

@@ -308,6 +308,7 @@ class _Session:
                     if packed is None:
                         break
                     await self.send_packed(*packed)
+                    await self._solves_first()
             except Exception as exc:       # a bug must not end the page's session: say it, go on
                 if isinstance(exc, (asyncio.CancelledError, RuntimeError)) and self.ws.client_state.name != "CONNECTED":
                     raise
@@ -320,6 +321,18 @@ class _Session:
         """Wait until every queued edit is made (a save writes the text they lead to)."""
         while self.busy or not self.queue.empty():
             await asyncio.sleep(0.005)
+
+    async def _solves_first(self):
+        """Answer a waiting `solve` (the latest) between the stages of a state: a pose the page asks for does
+        not wait for the plots and the check of the state before it."""
+        import anyio
+        waiting = [m for m in self.queue._queue if m.get("type") == "solve"]
+        if not waiting or self._stale():
+            return
+        for m in waiting:
+            self.queue._queue.remove(m)
+        answer = await anyio.to_thread.run_sync(lambda: pack(self.bench.pose(waiting[-1])))
+        await self.send_packed(*answer)
 
     def _superseded(self, message) -> bool:
         kind = message.get("type")

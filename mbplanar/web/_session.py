@@ -193,13 +193,14 @@ class Workbench:
         if self.cycle is None:
             self.cycle = _cycle(self.engine, self.frames)
         yield {**picture(self.engine, self.cycle), "version": self.version}
-        for make in (forces, series, marks):
+        for make in (forces, series, marks, dynamics_series):
             if stale():
                 return
             try:
                 yield make(self.engine, self.cycle)
             except MbplanarError as exc:
-                yield {"type": make.__name__, "error": _one_line(exc)}
+                yield {"type": "series" if make is dynamics_series else make.__name__,
+                       "more": make is dynamics_series, "groups": [], "marks": [], "error": _one_line(exc)}
 
     def _document_message(self, errors, notes, note=None) -> dict:
         sections = self.document.sections() if self.document is not None else []
@@ -418,8 +419,8 @@ def _full_turn(engine) -> bool:
 def series(engine, cycle) -> dict:
     """The ``series`` message: groups of columns against the input, as `mbplanar sweep` names them (the
     cycle at the model's speed, with reactions and balancing loads where the model has force data; the
-    analogues; the machine dynamics' J_II, reduced moments and ω(φ))."""
-    from ..io import dynamics_table, forces_columns, sweep_table
+    analogues; the machine dynamics follow in `dynamics_series`)."""
+    from ..io import forces_columns, sweep_table
     n_in = len(engine.inputs)
     header, rows = sweep_table(engine, cycle, "deg")
     groups = []
@@ -437,16 +438,24 @@ def series(engine, cycle) -> dict:
                 (".omega[", ".epsilon[", ".vx[", ".vy[", ".ax[", ".ay[", ".rate[", ".accel["))]
         groups.append({"name": "analogues (ω = 1, ε = 0: d/dφ, d²/dφ²)", "x": x, "cursor": "frame",
                        "columns": [{"name": a_header[k], "values": _array(a_rows[:, k])} for k in keep]})
-        if engine.mech.dynamics is not None:
-            from ..forces import machine_dynamics
-            dyn = machine_dynamics(engine, steps=FRAMES)
-            d_header, d_rows = dynamics_table(dyn)
-            inp = engine.inputs[0]
-            groups.append({"name": "machine dynamics", "cursor": "value",
-                           "x": [{"name": f"{inp.name}[{inp.unit}]", "values": _array(inp.from_si(d_rows[:, 0]))}],
-                           "columns": [{"name": h, "values": _array(d_rows[:, k])}
-                                       for k, h in enumerate(d_header) if k > 0]})
     return {"type": "series", "groups": groups}
+
+
+def dynamics_series(engine, cycle) -> dict:
+    """The ``series`` message of the machine dynamics (`more`: added to the plots' columns): J_II, the
+    reduced moments, the work, ΔT_I and ω(φ), ε(φ) over one cycle, as `mbplanar dynamics -o` writes them;
+    none for a model without a [dynamics] section."""
+    from ..io import dynamics_table
+    groups = []
+    if engine.mech.dynamics is not None and len(engine.inputs) == 1:
+        from ..forces import machine_dynamics
+        dyn = machine_dynamics(engine, steps=FRAMES)
+        d_header, d_rows = dynamics_table(dyn)
+        inp = engine.inputs[0]
+        groups.append({"name": "machine dynamics", "cursor": "value",
+                       "x": [{"name": f"{inp.name}[{inp.unit}]", "values": _array(inp.from_si(d_rows[:, 0]))}],
+                       "columns": [{"name": h, "values": _array(d_rows[:, k])} for k, h in enumerate(d_header) if k > 0]})
+    return {"type": "series", "more": True, "groups": groups}
 
 
 def marks(engine, cycle) -> dict:

@@ -242,7 +242,12 @@ export function mount(root, transport, options = {}) {
       case "document": return showDocument(msg);
       case "picture": return showPicture(msg);
       case "forces": st.cycleForces = msg; return redraw();
-      case "series": st.series = msg; return renderPlots();
+      case "series":
+        if (msg.more && st.series) {
+          st.series.groups = st.series.groups.filter(g => !msg.groups.some(m => m.name === g.name)).concat(msg.groups);
+          if (msg.error) st.series.error = msg.error;
+        } else st.series = msg;
+        return renderPlots();
       case "marks": st.marks = msg.marks || []; return renderMarks();
       case "pose": return showPose(msg);
       case "edit_error": return showEditError(msg);
@@ -803,21 +808,21 @@ export function mount(root, transport, options = {}) {
     el.marks.replaceChildren();
     if (!st.frames || !st.marks.length || st.picture.inputs.length !== 1) return;
     const F = st.frames, n = F.count;
+    const mark = (where, m) => el.marks.append(h("div", { class: `mbw-mark ${m.kind}`, title: m.text, "data-mark": m.kind,
+                                                         style: `left:${(100 * where).toFixed(3)}%` }));
     for (const m of st.marks) {
-      for (let b = 0; b + 1 < n; b++) {
+      let found = 0;
+      for (let b = 0; b + 1 < n; b++) {            // where the cycle's input passes the mark's value
         const a = F.phi[b], c = F.phi[b + 1];
-        if ((a - m.at) * (c - m.at) > 0 || a === c) continue;
-        if (b > 0 && F.phi[b] === m.at && (F.phi[b - 1] - m.at) * (c - m.at) > 0) continue;
-        const where = (b + (m.at - a) / (c - a)) / Math.max(n - 1, 1);
-        el.marks.append(h("div", { class: `mbw-mark ${m.kind}`, title: m.text, "data-mark": m.kind,
-                                  style: `left:${(100 * where).toFixed(3)}%` }));
+        if (a === c || (a - m.at) * (c - m.at) > 0 || c === m.at) continue;
+        mark((b + (m.at - a) / (c - a)) / Math.max(n - 1, 1), m); found++;
       }
-      if (n && F.phi[n - 1] === m.at) el.marks.append(h("div", { class: `mbw-mark ${m.kind}`, title: m.text,
-                                                               "data-mark": m.kind, style: "left:100%" }));
-      const near = Math.abs(F.phi[0] - m.at) <= 1e-9 * Math.max(1, Math.abs(m.at)) || Math.abs(F.phi[n - 1] - m.at) <= 1e-9 * Math.max(1, Math.abs(m.at));
-      if (m.kind === "limit" && near && !el.marks.querySelector(`[title="${CSS.escape(m.text)}"]`))
-        el.marks.append(h("div", { class: "mbw-mark limit", title: m.text, "data-mark": "limit",
-                                  style: `left:${Math.abs(F.phi[0] - m.at) < Math.abs(F.phi[n - 1] - m.at) ? 0 : 100}%` }));
+      if (F.phi[n - 1] === m.at) { mark(1, m); found++; }
+      if (!found && m.kind === "limit") {          // a limit the cycle stops just short of: its nearest frames
+        let best = Infinity;
+        for (let b = 0; b < n; b++) best = Math.min(best, Math.abs(F.phi[b] - m.at));
+        for (let b = 0; b < n; b++) if (Math.abs(F.phi[b] - m.at) <= best * (1 + 1e-9)) mark(b / Math.max(n - 1, 1), m);
+      }
     }
   }
 
