@@ -498,3 +498,42 @@ def test_the_animation_plays_offline(page, tmp_path):
     page.wait_for_timeout(500)
     assert page.evaluate(state) == paused
     assert _offline(page, path.as_uri()) == []
+
+
+# -- the Jupyter widget runs the page's own script ------------------------------------------------------
+def test_the_widget_draws_and_solves_through_its_comm(page, server):
+    """`mbplanar.widget`'s JavaScript is the page's file, run as anywidget runs it: its default export
+    renders into an element, talking to a model object; here the model's messages go to the Python
+    widget's own handler (the kernel's side) and its answers, buffers and all, come back."""
+    pytest.importorskip("anywidget", reason="mbplanar.widget needs anywidget (the widget extra)")
+    import base64
+    w = mbplanar.widget(ROOT / "models" / "six_bar_press.toml")
+    outbox = []
+    w.send = lambda content, buffers=None: outbox.append(
+        [content, base64.b64encode(bytes(buffers[0])).decode() if buffers else None])
+
+    def kernel(content):
+        outbox.clear()
+        w._answer(w, content)
+        return list(outbox)
+    page.expose_function("kernel", kernel)
+    page.goto(server.url)                  # (the page's cookie lets the module be imported)
+    page.evaluate("""async () => {
+        const module = await import('./static/workbench.js');
+        const listeners = [];
+        const model = { on(event, f) { listeners.push(f); },
+                        async send(content) { for (const [c, b] of await window.kernel(content)) {
+                            const buffers = b ? [new DataView(Uint8Array.from(atob(b), x => x.charCodeAt(0)).buffer)] : [];
+                            listeners.forEach(f => f(c, buffers)); } } };
+        const el = document.createElement('div'); el.id = 'widget'; document.body.prepend(el);
+        module.default.render({ model, el }); }""")
+    page.wait_for_function("() => document.querySelectorAll('#widget [data-role=diagram] [data-link]').length > 0")
+    assert page.locator("#widget [data-role=text]").count() == 0          # the widget has no editor
+    box = page.locator("#widget [data-role=value]").first
+    box.fill("120")
+    box.press("Enter")
+    page.wait_for_function("() => (document.querySelector('#widget [data-role=numbers]').dataset.values || '') === '[120]'")
+    solved = cli_json("solve", str(ROOT / "models" / "six_bar_press.toml"), "--at", "120", "--json")["points"]
+    x = float(page.get_attribute("#widget [data-role=points] tr[data-point=H] td[data-q=x]", "data-value"))
+    assert x == pytest.approx(solved["H"]["x"], abs=1e-9)
+    page.locator("#widget [data-role=plot]").first.wait_for()

@@ -39,7 +39,7 @@ def engine_of_text(text, source="t.toml"):
 
 
 def answers(bench, message):
-    return {m["type"]: m for m in bench.handle(message)}
+    return {m["type"]: m for m in bench.answers(message)}
 
 
 # -- the table and the text -------------------------------------------------------------------------------
@@ -130,7 +130,7 @@ def test_dragging_a_joint_rewrites_coordinates_lengths_and_drawn_at_so_the_model
     it was dropped (to the rounding of the table, 1e-4 of the drawing)."""
     text = (MODELS / "fourbar_loaded.toml").read_text(encoding="utf-8")
     bench = Workbench(text, "fourbar_loaded.toml")
-    list(bench.handle({"type": "hello"}))
+    list(bench.answers({"type": "hello"}))
     target = [0.03, 0.12]
     out = answers(bench, {"type": "move", "name": "A", "xy": target})
     data = tomllib.loads(bench.text)
@@ -142,7 +142,7 @@ def test_dragging_a_joint_rewrites_coordinates_lengths_and_drawn_at_so_the_model
     assert engine.mech.joints["B"].at == pytest.approx(bench_engine_b(text), abs=2e-4)
     assert "picture" in out and not out["document"]["errors"]
     assert "# crank OA" in bench.text                    # comments stay
-    list(bench.handle({"type": "undo"}))
+    list(bench.answers({"type": "undo"}))
     assert bench.text == text
 
 
@@ -153,16 +153,16 @@ def bench_engine_b(text):
 def test_undo_and_redo_walk_the_history_and_typing_is_one_step():
     text = (MODELS / "fourbar.toml").read_text(encoding="utf-8")
     bench = Workbench(text, "fourbar.toml")
-    list(bench.handle({"type": "hello"}))
+    list(bench.answers({"type": "hello"}))
     for k in range(1, 4):                                        # three keystrokes in a burst
-        list(bench.handle({"type": "text", "text": text + "#" * k}))
-    list(bench.handle({"type": "cell", "section": "links", "row": 0, "key": "length", "value": "0.12"}))
+        list(bench.answers({"type": "text", "text": text + "#" * k}))
+    list(bench.answers({"type": "cell", "section": "links", "row": 0, "key": "length", "value": "0.12"}))
     assert bench.at == 2 and "length = 0.12" in bench.text
     undo = answers(bench, {"type": "undo"})
     assert bench.text == text + "###" and undo["document"]["redo"]
-    list(bench.handle({"type": "undo"}))
+    list(bench.answers({"type": "undo"}))
     assert bench.text == text and not answers(bench, {"type": "undo"}).get("document")
-    list(bench.handle({"type": "redo"}))
+    list(bench.answers({"type": "redo"}))
     assert bench.text == text + "###"
 
 
@@ -180,7 +180,7 @@ def test_the_picture_and_a_pose_are_the_engines(path, capsys):
     xy = np.stack([cycle.xy[:, cycle.point(n)] for n in pic["joints"]], axis=1)
     assert np.array_equal(pic["frames"]["joint_xy"], xy)
     values = list(pic["frames"]["phi"][len(cycle.phi) // 3])
-    pose = next(bench.handle({"type": "solve", "values": values, "id": 7}))
+    pose = next(bench.answers({"type": "solve", "values": values, "id": 7}))
     assert pose["id"] == 7 and "error" not in pose
     assert mbplanar.cli.main(["solve", str(path), "--at", ",".join(repr(float(v)) for v in values), "--json"]) == 0
     solved = json.loads(capsys.readouterr().out)
@@ -195,8 +195,8 @@ def test_the_picture_and_a_pose_are_the_engines(path, capsys):
 def test_a_pose_past_a_motion_limit_is_refused_with_the_engines_message():
     path = MODELS / "crank_slider_rocker_locking.toml"
     bench = Workbench(path.read_text(encoding="utf-8"), str(path))
-    list(bench.handle({"type": "hello"}))
-    pose = next(bench.handle({"type": "solve", "values": [3.0], "id": 1}))
+    list(bench.answers({"type": "hello"}))
+    pose = next(bench.answers({"type": "solve", "values": [3.0], "id": 1}))
     assert "motion limit" in pose["error"] and "frame" not in pose
 
 
@@ -212,7 +212,7 @@ def test_marks_are_the_checks_limits_and_dead_centres():
 def test_the_series_are_the_columns_of_sweep(capsys, tmp_path):
     path = MODELS / "fourbar_loaded.toml"
     bench = Workbench(path.read_text(encoding="utf-8"), str(path))
-    series = next(m for m in bench.handle({"type": "hello"}) if m["type"] == "series")
+    series = next(m for m in bench.answers({"type": "hello"}) if m["type"] == "series")
     columns = {c["name"]: c["values"] for c in series["groups"][0]["columns"]}
     csv = tmp_path / "sweep.csv"
     assert mbplanar.cli.main(["sweep", str(path), "--steps", "359", "--to", "359", "--omega", "10",

@@ -23,7 +23,7 @@ from urllib.parse import parse_qs, urlsplit
 
 from ._files import MAX_UPLOAD, Folder, Refused
 from ._runs import EXPORTS, PANELS, Run, argv
-from ._session import FRAMES, Workbench
+from ._session import FRAMES, Later, Workbench
 from ._wire import dumps, frame, pack
 
 __all__ = ["create_app", "STATIC", "COOKIE"]
@@ -214,6 +214,7 @@ class _Session:
         self.tmp = Path(tempfile.mkdtemp(prefix="mbplanar-serve-"))
         self.send_lock = asyncio.Lock()
         self.busy = False
+        self.background = None
 
     # -- the connection --------------------------------------------------------------------------------
     async def serve(self):
@@ -301,12 +302,15 @@ class _Session:
 
             def step():
                 answer = next(answers, None)
-                return None if answer is None else pack(answer)
+                return answer if answer is None or isinstance(answer, Later) else pack(answer)
             try:
                 while True:
                     packed = await anyio.to_thread.run_sync(step)
                     if packed is None:
                         break
+                    if isinstance(packed, Later):
+                        self.later(packed)
+                        continue
                     await self.send_packed(*packed)
                     await self._solves_first()
             except Exception as exc:       # a bug must not end the page's session: say it, go on
@@ -321,6 +325,24 @@ class _Session:
         """Wait until every queued edit is made (a save writes the text they lead to)."""
         while self.busy or not self.queue.empty():
             await asyncio.sleep(0.005)
+
+    def later(self, later: Later):
+        """Make a state's slow answers in a task of their own (the poses asked for meanwhile are answered);
+        a newer state's ends the older's at its next answer."""
+        import anyio
+        if self.background is not None:
+            self.background.cancel()
+        version = self.bench.version
+
+        async def run():
+            while True:
+                answer = await anyio.to_thread.run_sync(lambda: next(later.answers, None))
+                if answer is None or self.bench.version != version:
+                    return
+                await self.send(answer)
+        self.background = asyncio.ensure_future(run())
+        self.tasks.add(self.background)
+        self.background.add_done_callback(self.tasks.discard)
 
     async def _solves_first(self):
         """Answer a waiting `solve` (the latest) between the stages of a state: a pose the page asks for does

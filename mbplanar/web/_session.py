@@ -14,6 +14,7 @@ and `stale()` (a newer edit waiting) stops the work on a state that is already o
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 import warnings
@@ -27,13 +28,21 @@ from ..errors import MbplanarError, ModelError, ModelWarning, MotionError
 from ..model import parse_model
 from ._document import EditError, ModelDocument, locate
 
-__all__ = ["Workbench", "FRAMES", "HISTORY"]
+__all__ = ["Workbench", "Later", "FRAMES", "HISTORY"]
 
 FRAMES = 360          # positions of the cycle drawn and plotted
 HISTORY = 200         # undo steps kept
 TYPING_PAUSE = 1.0    # text edits closer than this (s) are one undo step
 _ENGINES = OrderedDict()  # (source, text) → (engine, warnings): the states met lately, for undo and reopening
 _ENGINES_KEPT = 24
+
+
+class Later:
+    """Answers to make after the others, beside what comes next (`Workbench._slow_views`): the server runs
+    `answers` (a generator) in a task of its own; the widget runs it in turn."""
+
+    def __init__(self, answers):
+        self.answers = answers
 
 
 class Workbench:
@@ -96,6 +105,14 @@ class Workbench:
             yield {"type": "edit_error", "message": str(exc), "section": exc.section, "row": exc.row}
         except (ModelError, TypeError, ValueError, KeyError) as exc:
             yield {"type": "error", "message": _one_line(exc)}
+
+    def answers(self, message: dict):
+        """Every answer to `message` in turn, the slow ones (`Later`) included: the widget's way."""
+        for answer in self.handle(message):
+            if isinstance(answer, Later):
+                yield from answer.answers
+            else:
+                yield answer
 
     def open(self, text: str, name: str):
         """Start over with another file's text (a history of its own)."""
@@ -193,14 +210,24 @@ class Workbench:
         if self.cycle is None:
             self.cycle = _cycle(self.engine, self.frames)
         yield {**picture(self.engine, self.cycle), "version": self.version}
-        for make in (forces, series, marks, dynamics_series):
-            if stale():
-                return
-            try:
-                yield make(self.engine, self.cycle)
-            except MbplanarError as exc:
-                yield {"type": "series" if make is dynamics_series else make.__name__,
-                       "more": make is dynamics_series, "groups": [], "marks": [], "error": _one_line(exc)}
+        yield self._stage(forces, self.engine, self.cycle)
+        if stale():
+            return
+        engine, cycle = copy.deepcopy((self.engine, self.cycle))
+        yield Later(self._slow_views(engine, cycle, self.version))
+
+    def _slow_views(self, engine, cycle, version):
+        """The plots' columns, the check's marks and the machine dynamics, made on a copy of the state's
+        engine: the server makes them beside the poses the page asks for meanwhile."""
+        for make in (series, marks, dynamics_series):
+            yield {**self._stage(make, engine, cycle), "version": version}
+
+    def _stage(self, make, engine, cycle) -> dict:
+        try:
+            return make(engine, cycle)
+        except MbplanarError as exc:
+            return {"type": "series" if make in (series, dynamics_series) else make.__name__,
+                    "more": make is dynamics_series, "groups": [], "marks": [], "error": _one_line(exc)}
 
     def _document_message(self, errors, notes, note=None) -> dict:
         sections = self.document.sections() if self.document is not None else []
@@ -224,18 +251,19 @@ class Workbench:
         phi = np.array([inp.to_si(v) for inp, v in zip(engine.inputs, values)])
         speed = message.get("speed", "analogues")
         omega, epsilon = (1.0, 0.0) if speed == "analogues" else (None, None)
+        numbers = message.get("why") != "drag"   # a drag's poses are drawn; its numbers come when it stops
         try:
-            one = position(engine, phi if len(phi) > 1 else phi[0], omega, epsilon)
+            one = position(engine, phi if len(phi) > 1 else phi[0], omega, epsilon) if numbers else None
             shown = analyse(engine, phi[None, :] if len(phi) > 1 else phi)
         except MotionError as exc:
-            return {"type": "pose", "id": request, "values": values, "error": _one_line(exc)}
+            return {"type": "pose", "id": request, "values": values, "error": _one_line(exc), "version": self.version}
         if len(shown.phi) == 0:
-            return {"type": "pose", "id": request, "values": values,
+            return {"type": "pose", "id": request, "values": values, "version": self.version,
                     "error": f"{engine.mech.source}: cannot reach {_values_text(engine, values)}: {shown.message}"}
         from ..io import document
-        numbers = document(one, values=values, units="si")
-        return {"type": "pose", "id": request, "values": values, "frame": frames_of(engine, shown, self.cycle),
-                "numbers": numbers, "speed": speed, "version": self.version}
+        return {"type": "pose", "id": request, "values": values, "speed": speed, "version": self.version,
+                "frame": frames_of(engine, shown, self.cycle, forces=bool(message.get("forces", True))),
+                "numbers": document(one, values=values, units="si") if numbers else None}
 
 
 # -- the engine of a text ----------------------------------------------------------------------------

@@ -38,7 +38,7 @@ def _widget_class():
         def _answer(self, _widget, content, buffers=None):
             if not isinstance(content, dict):
                 return
-            for answer in self.bench.handle(content):
+            for answer in self.bench.answers(content):
                 header, buffer = pack(answer)
                 self.send(header, [buffer] if buffer else None)
 
