@@ -23,7 +23,7 @@ from urllib.parse import parse_qs, urlsplit
 
 from ._files import MAX_UPLOAD, Folder, Refused
 from ._runs import EXPORTS, PANELS, Run, argv
-from ._session import FRAMES, Later, Workbench
+from ._session import FRAMES, Later, Workbench, slow_answer
 from ._wire import dumps, frame, pack
 
 __all__ = ["create_app", "STATIC", "COOKIE"]
@@ -114,9 +114,11 @@ def create_app(folder, *, token: str | None = None, forms: dict | None = None, i
 
     @contextlib.asynccontextmanager
     async def lifespan(app):
+        state.pool().submit(int)           # start the worker process now, not at the first page's plots
         yield
         for session in list(state.sessions.values()):
             await session.close()
+        state.close()
 
     routes = [Route("/", index), Route("/api/files", files), Route("/api/upload", upload, methods=["POST"]),
               Route("/api/download/{session}/{run}/{name}", download), WebSocketRoute("/ws", socket),
@@ -125,6 +127,11 @@ def create_app(folder, *, token: str | None = None, forms: dict | None = None, i
     app.state.workbench = state
     app.state.token = state.token
     return _TokenGate(app, state)
+
+
+def _ignore_interrupts():
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _too_big(size) -> str:
@@ -136,6 +143,22 @@ class _State:
         self.folder, self.token, self.forms, self.initial, self.frames = folder, token, forms, initial, frames
         self.cookie = COOKIE
         self.sessions: dict[str, _Session] = {}
+        self._pool = None
+
+    def pool(self):
+        """The worker process that makes the states' slow answers (plots, check, machine dynamics) beside
+        the poses: one for the server, started on first use, ignoring Ctrl-C (the server stops it)."""
+        if self._pool is None:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+            self._pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
+                                             initializer=_ignore_interrupts)
+        return self._pool
+
+    def close(self):
+        if self._pool is not None:
+            self._pool.shutdown(wait=False, cancel_futures=True)
+            self._pool = None
 
     def first_model(self) -> str | None:
         """The model a new page opens: the one given, else the folder's first linkage model."""
@@ -327,17 +350,23 @@ class _Session:
             await asyncio.sleep(0.005)
 
     def later(self, later: Later):
-        """Make a state's slow answers in a task of their own (the poses asked for meanwhile are answered);
-        a newer state's ends the older's at its next answer."""
-        import anyio
+        """Make a state's slow answers in the server's worker process (the poses asked for meanwhile are
+        answered here); a newer state's make the older's stop at their next answer."""
         if self.background is not None:
             self.background.cancel()
-        version = self.bench.version
 
         async def run():
-            while True:
-                answer = await anyio.to_thread.run_sync(lambda: next(later.answers, None))
-                if answer is None or self.bench.version != version:
+            loop = asyncio.get_running_loop()
+            for kind in Later.KINDS:
+                if self.bench.version != later.version:
+                    return
+                try:
+                    answer = await loop.run_in_executor(self.state.pool(), slow_answer, kind, later.text,
+                                                        later.name, later.frames, later.version)
+                except Exception as exc:        # a worker that died: say so, the page goes on
+                    answer = {"type": "error", "message": f"the plots and the check could not be made: "
+                                                          f"{type(exc).__name__}: {exc}"}
+                if self.bench.version != later.version:
                     return
                 await self.send(answer)
         self.background = asyncio.ensure_future(run())

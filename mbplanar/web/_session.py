@@ -14,7 +14,6 @@ and `stale()` (a newer edit waiting) stops the work on a state that is already o
 
 from __future__ import annotations
 
-import copy
 import math
 import time
 import warnings
@@ -38,11 +37,47 @@ _ENGINES_KEPT = 24
 
 
 class Later:
-    """Answers to make after the others, beside what comes next (`Workbench._slow_views`): the server runs
-    `answers` (a generator) in a task of its own; the widget runs it in turn."""
+    """A state's slow answers (the plots' columns, the check's marks, the machine dynamics), made after the
+    others and beside what comes next: the server makes each in a worker process from the state's text
+    (`slow_answer`), so that the poses asked for meanwhile do not wait; the widget makes them in turn
+    (`answers`)."""
 
-    def __init__(self, answers):
-        self.answers = answers
+    KINDS = ("series", "marks", "dynamics")
+
+    def __init__(self, bench, version: int):
+        self.text, self.name, self.frames, self.version = bench.text, bench.name, bench.frames, version
+        self.fixed = bench.fixed
+        self._state = (bench.engine, bench.cycle)
+
+    @property
+    def answers(self):
+        engine, cycle = self._state
+        for kind in self.KINDS:
+            yield {**_stage(kind, engine, cycle), "version": self.version}
+
+
+_SLOW = {}   # in a worker process: the last state's (engine, cycle), made once for its three answers
+
+
+def slow_answer(kind: str, text: str, name: str, frames: int, version: int) -> dict:
+    """One slow answer of the state of `text` (in a worker process: it builds the state's engine and cycle
+    from the text, as the session did, and keeps them for the next answer)."""
+    key = (text, name, frames)
+    if key not in _SLOW:
+        _SLOW.clear()
+        data = ModelDocument(text, name).data
+        engine = _engine(text, data, name)[0]
+        _SLOW[key] = (engine, _cycle(engine, frames))
+    return {**_stage(kind, *_SLOW[key]), "version": version}
+
+
+def _stage(kind: str, engine, cycle) -> dict:
+    make = {"series": series, "marks": marks, "dynamics": dynamics_series}[kind]
+    try:
+        return make(engine, cycle)
+    except MbplanarError as exc:
+        return {"type": "marks" if kind == "marks" else "series", "more": kind == "dynamics", "groups": [],
+                "marks": [], "error": _one_line(exc)}
 
 
 class Workbench:
@@ -210,24 +245,9 @@ class Workbench:
         if self.cycle is None:
             self.cycle = _cycle(self.engine, self.frames)
         yield {**picture(self.engine, self.cycle), "version": self.version}
-        yield self._stage(forces, self.engine, self.cycle)
-        if stale():
-            return
-        engine, cycle = copy.deepcopy((self.engine, self.cycle))
-        yield Later(self._slow_views(engine, cycle, self.version))
-
-    def _slow_views(self, engine, cycle, version):
-        """The plots' columns, the check's marks and the machine dynamics, made on a copy of the state's
-        engine: the server makes them beside the poses the page asks for meanwhile."""
-        for make in (series, marks, dynamics_series):
-            yield {**self._stage(make, engine, cycle), "version": version}
-
-    def _stage(self, make, engine, cycle) -> dict:
-        try:
-            return make(engine, cycle)
-        except MbplanarError as exc:
-            return {"type": "series" if make in (series, dynamics_series) else make.__name__,
-                    "more": make is dynamics_series, "groups": [], "marks": [], "error": _one_line(exc)}
+        yield {**forces(self.engine, self.cycle), "version": self.version}
+        if not stale():
+            yield Later(self, self.version)
 
     def _document_message(self, errors, notes, note=None) -> dict:
         sections = self.document.sections() if self.document is not None else []

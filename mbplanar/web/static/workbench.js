@@ -245,6 +245,7 @@ export function mount(root, transport, options = {}) {
       case "forces": st.cycleForces = msg; return redraw();
       case "series":
         if (stale(msg)) return;
+        if (msg.more) st.settled = msg.version;   // the state's last answer (the machine dynamics)
         if (msg.more && st.series) {
           st.series.groups = st.series.groups.filter(g => !msg.groups.some(m => m.name === g.name)).concat(msg.groups);
           if (msg.error) st.series.error = msg.error;
@@ -844,6 +845,10 @@ export function mount(root, transport, options = {}) {
     return [p.x, p.y];
   }
 
+  function capture(ev) {
+    try { el.svg.setPointerCapture(ev.pointerId); } catch (e) { /* a pointer the browser does not track */ }
+  }
+
   function pointerDown(ev) {
     if (!st.picture) return;
     const target = ev.target;
@@ -851,7 +856,7 @@ export function mount(root, transport, options = {}) {
       const name = target.dataset.joint || target.dataset.point;
       if (!name) return;
       ev.preventDefault();
-      el.svg.setPointerCapture(ev.pointerId);
+      capture(ev);
       const handle = s("circle", { r: 0.022 * view.size, fill: "none", stroke: "#d35400", "stroke-width": view.lw * 0.5,
                                    "data-role": "handle" }, view.handles);
       let last = 0, timer = null, xy = toWorld(ev);
@@ -881,7 +886,7 @@ export function mount(root, transport, options = {}) {
     if (!grabbed) return;
     ev.preventDefault();
     setPlaying(false);
-    el.svg.setPointerCapture(ev.pointerId);
+    capture(ev);
     const k = +grabbed.dataset.input, inp = st.picture.inputs[k];
     const F = st.shown.kind === "pose" ? st.shown.pose.frame : st.frames;
     const b = st.shown.kind === "pose" ? 0 : st.frame;
