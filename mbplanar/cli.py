@@ -1025,6 +1025,18 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _formats(name):
+    """The options and the run of a command of `mbplanar.formats.command`, imported when it runs."""
+    def add_options(s):
+        from .formats.command import add_arguments
+        add_arguments(name, s)
+
+    def run_command(args):
+        from .formats.command import run
+        return run(name, args)
+    return add_options, run_command
+
+
 def _serve_options(s):
     from .web.command import add_arguments
     add_arguments(s)
@@ -1061,11 +1073,16 @@ COMMANDS = {
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
+    "schema": ("the JSON Schema of the model table (for editors: completion and checks)", *_formats("schema")),
+    "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)", *_formats("import")),
+    "export": ("the mechanism at a position as a drawing: DXF (CAD layers) or SVG", *_formats("export")),
+    "examples": ("list the bundled example models, or copy them out", *_formats("examples")),
     "serve": ("the workbench in the browser: edit the table, see it move, run every analysis "
               "(pip install 'mbplanar[web]')", _serve_options, cmd_serve),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "serve")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "schema", "import", "export",
+                                                    "examples", "serve")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")

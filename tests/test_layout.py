@@ -1,6 +1,6 @@
 """The package layout: subpackages export their names, imports run one way (model → structure → engine →
-kinematics → forces → backends → analysis → io, viz → cam → cli), and the old module paths still work for one
-release, warning on every name read from them."""
+kinematics → forces → backends → analysis → io, viz → cam → synthesis → formats → cli), and the old module
+paths still work for one release, warning on every name read from them."""
 
 import ast
 import importlib
@@ -14,7 +14,8 @@ from mbplanar import _deprecated
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
 LAYERS = ["errors", "_deprecated", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
-          "study", "io", "viz", "cam", "synthesis", "web", "cli"]  # cams, synthesis, studies, the workbench use what precedes them
+          "study", "io", "viz", "cam", "synthesis", "formats", "web", "cli"]  # cams, synthesis, formats, studies,
+# the workbench use what precedes them
 
 
 def _layer(module: str) -> int:

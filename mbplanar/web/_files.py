@@ -1,4 +1,5 @@
-"""The files a workbench may touch: the models of the folder it serves, and the bundled gallery.
+"""The files a workbench may touch: the models of the folder it serves, and the bundled gallery (the
+examples of `mbplanar.formats`).
 
 Every name the page sends is a path relative to the served folder (or ``gallery/NAME`` for a bundled
 model). `Folder.resolve` refuses anything else with a `Refused` naming the path: an absolute path, a
@@ -27,13 +28,10 @@ class Refused(Exception):
         self.status = status
 
 
-def gallery() -> dict[str, Path]:
-    """The bundled models by name: the TOML and CSV files of the package's models folder."""
-    here = Path(__file__).resolve().parents[2] / "models"
-    if not here.is_dir():
-        return {}
-    return {p.relative_to(here).as_posix(): p for p in sorted(here.rglob("*"))
-            if p.suffix in READABLE and p.is_file()}
+def gallery() -> dict:
+    """The bundled examples (`mbplanar.formats.list_examples`) by file: "fourbar.toml" → its `Example`."""
+    from ..formats import list_examples
+    return {e.file: e for e in list_examples()}
 
 
 class Folder:
@@ -59,11 +57,39 @@ class Folder:
                 path = Path(dirpath) / name
                 if path.suffix in READABLE and self.contains(path.resolve()):
                     out.append({"path": path.relative_to(self.root).as_posix(), "where": "folder"})
-        out += [{"path": f"{GALLERY}/{name}", "where": "gallery"} for name in gallery()]
+        out += [{"path": f"{GALLERY}/{e.file}", "where": "gallery", "kind": e.kind, "title": e.title}
+                for e in gallery().values()]
         return out
 
-    def resolve(self, name, *, write: bool = False) -> Path:
-        """The file `name` (relative to the folder, or gallery/NAME) names, or `Refused`."""
+    def read(self, name) -> tuple[str, str | None]:
+        """The text of file `name` and its path in the folder (None for the gallery's), or `Refused`."""
+        found = self.resolve(name)
+        if not isinstance(found, Path):
+            return found.text(), None
+        size = found.stat().st_size
+        if size > MAX_UPLOAD:
+            raise Refused(f"{name}: {size} bytes; the workbench opens files of at most 1 MB", 413)
+        try:
+            return found.read_text(encoding="utf-8"), self.relative(found)
+        except UnicodeDecodeError as exc:
+            raise Refused(f"{name} is not UTF-8 text ({exc.reason} at byte {exc.start})", 400) from None
+
+    def copy_into(self, name, folder: Path) -> Path:
+        """File `name` (and, for a bundled example, the files it needs) copied into `folder` for a command
+        to read; its path there."""
+        found = self.resolve(name)
+        if not isinstance(found, Path):
+            from ..formats import copy_examples
+            copy_examples([found.file], folder, overwrite=True)
+            return folder / found.file
+        target = folder / found.name
+        if not target.exists():
+            target.write_bytes(found.read_bytes())
+        return target
+
+    def resolve(self, name, *, write: bool = False):
+        """The file `name` (relative to the folder) names, or the bundled `Example` gallery/NAME names, or
+        `Refused`."""
         if not isinstance(name, str) or not name.strip() or "\0" in name:
             raise Refused("a file name is needed", 400)
         pure = PurePosixPath(name.replace("\\", "/"))
@@ -76,7 +102,7 @@ class Folder:
         if pure.parts and pure.parts[0] == GALLERY and not (self.root / GALLERY).exists():
             if write:
                 raise Refused(f"{name}: the gallery is read-only; save the model into the folder")
-            found = gallery().get(PurePosixPath(*pure.parts[1:]).as_posix())
+            found = gallery().get(PurePosixPath(*pure.parts[1:]).as_posix()) if len(pure.parts) > 1 else None
             if found is None:
                 raise Refused(f"{name}: no such model in the gallery", 404)
             return found

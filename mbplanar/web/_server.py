@@ -18,7 +18,7 @@ import json
 import secrets
 import shutil
 import tempfile
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 from urllib.parse import parse_qs, urlsplit
 
 from ._files import MAX_UPLOAD, Folder, Refused
@@ -280,12 +280,12 @@ class _Session:
                     raise Refused("no such model among the run's files", 404)
                 await self.settled()
                 self.origin = None
-                await self.submit({"type": "load", "text": _read_text(path), "name": path.name})
+                await self.submit({"type": "load", "text": path.read_text(encoding="utf-8", errors="replace"),
+                                   "name": path.name})
             elif kind == "open":
-                path = self.state.folder.resolve(message.get("path"))
-                text = _read_text(path)
+                text, origin = self.state.folder.read(message.get("path"))
                 await self.settled()
-                self.origin = self.state.folder.relative(path) if self.state.folder.contains(path) else None
+                self.origin = origin
                 await self.submit({"type": "load", "text": text, "name": message.get("path")})
             elif kind in ("save", "save_as"):
                 await self.save(message)
@@ -484,17 +484,38 @@ class _RunFiles:
         self.names = {}
 
     def model(self) -> str:
+        """The editor's model as a file of the run's folder, with the model a cam file names beside it."""
         if self.model_path is None:
             name = Path(self.session.bench.name or "model.toml").name
             self.model_path = self.folder / (name if name.endswith(".toml") else "model.toml")
             self.model_path.write_text(self.session.bench.text, encoding="utf-8")
             self.names[str(self.model_path)] = name
+            self._companion()
         return str(self.model_path)
+
+    def _companion(self):
+        """A cam file names its linkage model relative to itself: copy it from the folder or the gallery."""
+        import tomllib
+        try:
+            other = tomllib.loads(self.session.bench.text).get("cam", {}).get("model")
+        except (tomllib.TOMLDecodeError, AttributeError):
+            return
+        if not isinstance(other, str) or Path(other).name != other:
+            return
+        here = str(PurePosixPath(self.session.bench.name or "").parent)
+        for name in ([f"{here}/{other}"] if here not in ("", ".") else []) + [other]:
+            try:
+                found = self.session.state.folder.copy_into(name, self.folder)
+            except Refused:
+                continue
+            if found.parent != self.folder:
+                found.replace(self.folder / other)
+            return
 
     def read(self, name: str) -> str:
         if name in ("", "(editor)"):
             return self.model()
-        path = self.session.state.folder.resolve(name)
+        path = self.session.state.folder.copy_into(name, self.folder)
         self.names[str(path)] = name
         return str(path)
 
@@ -511,13 +532,3 @@ class _RunFiles:
 
 def _kind(suffix: str) -> str:
     return {".png": "image", ".svg": "image", ".gif": "image", ".toml": "model", ".html": "page"}.get(suffix, "file")
-
-
-def _read_text(path: Path) -> str:
-    size = path.stat().st_size
-    if size > MAX_UPLOAD:
-        raise Refused(f"{path.name}: {size} bytes; the workbench opens models of at most 1 MB", 413)
-    try:
-        return path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise Refused(f"{path.name} is not UTF-8 text ({exc.reason} at byte {exc.start})", 400) from None

@@ -286,8 +286,9 @@ export function mount(root, transport, options = {}) {
   function fillFiles() {
     if (!el.gallery) return;
     el.gallery.replaceChildren(h("option", { value: "" }, "Gallery …"),
-      ...st.files.filter(f => f.where === "gallery" && f.path.endsWith(".toml"))
-        .map(f => h("option", { value: f.path }, f.path.replace(/^gallery\//, ""))));
+      ...st.files.filter(f => f.where === "gallery" && ["model", "cam"].includes(f.kind))
+        .map(f => h("option", { value: f.path, title: f.title },
+                    `${f.path.replace(/^gallery\//, "").replace(/\.toml$/, "")} — ${f.title}`)));
     el.folder.replaceChildren(h("option", { value: "" }, "Folder …"),
       ...st.files.filter(f => f.where === "folder" && f.path.endsWith(".toml"))
         .map(f => h("option", { value: f.path }, f.path)));
