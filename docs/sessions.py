@@ -5,8 +5,8 @@ under them) are real: this module runs them and compares, and can refresh the sh
     python docs/sessions.py --write    # rewrite the shown output with what the commands print now
 
 `tests/test_docs.py` runs the check. Commands run from a scratch folder holding ``models`` (files they write
-land there); ``head`` looks at a file an earlier command wrote; picture commands and commands on files that
-are not shipped (``broken.toml``) are shown but not run.
+land there); ``head`` looks at a file an earlier command wrote; picture commands, ``serve`` and commands on files
+that are not shipped (``broken.toml``) are shown but not run.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = ["README.md", "docs/cli.md"]
-NOT_RUN = ("report", "plot", "animate")
+NOT_RUN = ("report", "plot", "animate", "serve")   # pictures; a server runs until Ctrl-C
 
 
 def sessions(text: str) -> list[tuple[int, str, list[str]]]:

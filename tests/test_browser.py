@@ -247,7 +247,8 @@ def test_a_screenshot_of_the_diagram_is_not_blank(page, server):
     assert np.ptp(rows) > 0.4 * image.shape[0] and np.ptp(cols) > 0.3 * image.shape[1]
     assert page.locator("[data-vector=v]").count() > 0 and page.locator("[data-reaction]").count() > 0
     assert "balancing moment at O" in page.inner_text("[data-role=legend]")
-    screenshot_to_docs(page, "workbench.png", full_page=True)
+    page.wait_for_function("() => window.workbench.state.settled === window.workbench.state.picture.version")
+    screenshot_to_docs(page, "workbench.png")
 
 
 # -- the table and the text ---------------------------------------------------------------------------------
@@ -292,6 +293,8 @@ def test_a_broken_row_shows_the_error_at_its_row_and_the_page_stays_usable(page,
     delay = page.evaluate("() => window.__shown - window.__edited")
     assert delay < 200, f"the error showed {delay:.0f} ms after the edit"
     message = error.inner_text()
+    error.scroll_into_view_if_needed()
+    screenshot_to_docs(page, "workbench_error.png")
     cli = io.StringIO()
     broken = server.folder / "broken.toml"
     broken.write_text(page.input_value("[data-role=text]"), encoding="utf-8")
@@ -414,6 +417,9 @@ def test_a_panel_runs_the_cli_command_and_shows_its_output(page, server):
     with contextlib.redirect_stdout(out):
         mbplanar.cli.main(["check", str(server.folder / "fourbar_loaded.toml")])
     assert shown.split("\n", 1)[1].strip() == out.getvalue().split("\n", 1)[1].strip()
+    where = os.environ.get("MBPLANAR_SCREENSHOTS")
+    if where:
+        page.locator("[data-panel-body=check]").locator("xpath=../..").screenshot(path=str(Path(where) / "workbench_panel.png"))
     page.click("[data-panel=forces]")
     page.click("[data-panel-body=forces] [data-role=run]")
     page.wait_for_function("() => document.querySelector('[data-panel-body=forces] [data-role=output]').dataset.code === '0'",

@@ -771,13 +771,16 @@ export function mount(root, transport, options = {}) {
 
   function renderNumbers(msg) {
     const doc = msg.numbers, unit = st.picture.length_unit;
+    // as mbplanar solve prints them: round-off below 1e-12 of the drawing's largest coordinate shown as 0
+    const size = Math.max(1e-300, ...Object.values(doc.points).flatMap(p => [Math.abs(p.x), Math.abs(p.y)]));
+    const shown = v => g6(Math.abs(v) < 1e-12 * size ? 0 : v);
     const at = msg.values.map(v => g6(v)).join(",");
     const caption = `mbplanar solve ${st.document ? st.document.name : ""} --at ${at}` +
       (msg.speed === "model" ? " --omega (the model's)" : "") + "   (SI units)";
     const points = h("table", { "data-role": "points" }, h("caption", {}, caption),
       h("tr", {}, ...["point", "x [m]", "y [m]", "vx [m/s]", "vy [m/s]", "ax [m/s²]", "ay [m/s²]"].map(t => h("th", {}, t))),
       ...Object.entries(doc.points).map(([name, p]) => h("tr", { "data-point": name }, h("td", {}, name),
-        ...["x", "y", "vx", "vy", "ax", "ay"].map(q => h("td", { "data-q": q, "data-value": String(p[q]) }, g6(p[q]))))));
+        ...["x", "y", "vx", "vy", "ax", "ay"].map(q => h("td", { "data-q": q, "data-value": String(p[q]) }, shown(p[q]))))));
     const links = h("table", { "data-role": "links" },
       h("tr", {}, ...["link", "angle [°]", "ω [rad/s]", "ε [rad/s²]"].map(t => h("th", {}, t))),
       ...Object.entries(doc.links).map(([name, l]) => h("tr", { "data-link": name }, h("td", {}, name),
