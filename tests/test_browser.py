@@ -543,3 +543,28 @@ def test_the_widget_draws_and_solves_through_its_comm(page, server):
     x = float(page.get_attribute("#widget [data-role=points] tr[data-point=H] td[data-q=x]", "data-value"))
     assert x == pytest.approx(solved["H"]["x"], abs=1e-9)
     page.locator("#widget [data-role=plot]").first.wait_for()
+
+
+def test_a_two_input_model_is_plotted_over_a_grid_in_input_space(page, server):
+    """The five-bar's two inputs: `mbplanar sweep --from --to --steps --grid` run from the plots, one line per
+    value of the first input; the plotted values are the sweep's own CSV."""
+    open_model(page, server, "five_bar.toml")
+    page.fill("[data-role=sweep-from]", "40,90")
+    page.fill("[data-role=sweep-to]", "100,150")
+    page.fill("[data-role=sweep-steps]", "6")
+    page.check("[data-role=sweep-grid]")
+    page.click("[data-role=sweep-run]")
+    page.wait_for_function("() => (window.workbench.state.extraGroups || []).some(g => g.name.startsWith('sweep grid'))",
+                           timeout=60_000)
+    path = page.locator("[data-role=plot]").last.locator("path[data-series]")
+    path.wait_for()
+    assert path.get_attribute("d").count("M") == 7                      # phi1 = 40, 50, ..., 100
+    name = path.get_attribute("data-series")
+    shown = page.evaluate("n => Array.from(window.workbench.state.extraGroups.find(g => g.name.startsWith('sweep grid'))"
+                          ".columns.find(c => c.name === n).values)", name)
+    csv = server.folder / "grid.csv"
+    assert mbplanar.cli.main(["sweep", str(server.folder / "five_bar.toml"), "--from", "40,90", "--to", "100,150",
+                              "--steps", "6", "--grid", "-o", str(csv)]) == 0
+    header = csv.read_text().splitlines()[0].split(",")
+    table = np.genfromtxt(csv, delimiter=",", skip_header=1)
+    assert np.allclose(shown, table[:, header.index(name)], rtol=0, atol=1e-9)

@@ -28,8 +28,9 @@ __all__ = ["PANELS", "EXPORTS", "form", "argv", "Run"]
 PANELS = ("info", "check", "forces", "dynamics", "cam", "study", "synth", "simulate", "balance")
 #: the exports of the file menu: the command each runs and the options the page fills in
 EXPORTS = ("report", "animate", "sweep", "plot")
-#: options whose value is a file the command reads (positional `model`/`file` is the editor's model)
-READS = {"variants", "start", "input", "model"}
+#: options whose value is a file the command reads (positional `model`/`file` is the editor's model), and
+#: the command they are a file of where another command's option of that name is not (`sweep --from` is a value)
+READS = {"variants": None, "start": "simulate", "input": None, "model": None}
 #: options whose value is a file the command writes, with the file's default name
 WRITES = {"output": "{model}.{ext}", "dxf": "profile.dxf", "svg": "profile.svg", "plot_output": "picture.png",
           "curve": "curves.csv"}
@@ -76,7 +77,7 @@ def _fields(parser, command) -> list[dict]:
             field["kind"] = "write"
             name = WRITES.get(action.dest, "picture.png")
             field["default"] = name.format(model="{model}", ext=OUTPUT_EXT.get(command, "csv"))
-        elif action.dest in READS:
+        elif action.dest in READS and READS[action.dest] in (None, command):
             field["kind"] = "read"
         elif action.choices:
             field["kind"], field["choices"] = "choice", [str(c) for c in action.choices]

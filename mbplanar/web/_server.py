@@ -114,7 +114,7 @@ def create_app(folder, *, token: str | None = None, forms: dict | None = None, i
 
     @contextlib.asynccontextmanager
     async def lifespan(app):
-        state.pool().submit(int)           # start the worker process now, not at the first page's plots
+        await asyncio.to_thread(state.pool)   # start the worker process now, not at the first page's plots
         yield
         for session in list(state.sessions.values()):
             await session.close()
@@ -143,17 +143,28 @@ class _State:
         self.folder, self.token, self.forms, self.initial, self.frames = folder, token, forms, initial, frames
         self.cookie = COOKIE
         self.sessions: dict[str, _Session] = {}
-        self._pool = None
+        self._pool, self._no_pool = None, False
 
     def pool(self):
         """The worker process that makes the states' slow answers (plots, check, machine dynamics) beside
-        the poses: one for the server, started on first use, ignoring Ctrl-C (the server stops it)."""
-        if self._pool is None:
+        the poses: one for the server, started on first use, ignoring Ctrl-C (the server stops it). None
+        where it cannot start (a script that starts a server without the ``if __name__ == "__main__":``
+        guard multiprocessing needs): the answers are then made in a thread of the server."""
+        if self._pool is None and not self._no_pool:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor
-            self._pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
-                                             initializer=_ignore_interrupts)
+            try:
+                self._pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
+                                                 initializer=_ignore_interrupts)
+                self._pool.submit(int).result(timeout=60)
+            except Exception as exc:
+                self.pool_failed(exc)
         return self._pool
+
+    def pool_failed(self, exc):
+        if self._pool is not None:
+            self._pool.shutdown(wait=False, cancel_futures=True)
+        self._pool, self._no_pool = None, True
 
     def close(self):
         if self._pool is not None:
@@ -360,10 +371,13 @@ class _Session:
             for kind in Later.KINDS:
                 if self.bench.version != later.version:
                     return
+                job = (slow_answer, kind, later.text, later.name, later.frames, later.version)
                 try:
-                    answer = await loop.run_in_executor(self.state.pool(), slow_answer, kind, later.text,
-                                                        later.name, later.frames, later.version)
+                    pool = self.state.pool()
+                    answer = await (loop.run_in_executor(pool, *job) if pool is not None else
+                                    asyncio.to_thread(*job))
                 except Exception as exc:        # a worker that died: say so, the page goes on
+                    self.state.pool_failed(exc)
                     answer = {"type": "error", "message": f"the plots and the check could not be made: "
                                                           f"{type(exc).__name__}: {exc}"}
                 if self.bench.version != later.version:

@@ -15,6 +15,7 @@ and `stale()` (a newer edit waiting) stops the work on a state that is already o
 from __future__ import annotations
 
 import math
+import threading
 import time
 import warnings
 from collections import OrderedDict
@@ -57,18 +58,20 @@ class Later:
 
 
 _SLOW = {}   # in a worker process: the last state's (engine, cycle), made once for its three answers
+_SLOW_LOCK = threading.Lock()
 
 
 def slow_answer(kind: str, text: str, name: str, frames: int, version: int) -> dict:
     """One slow answer of the state of `text` (in a worker process: it builds the state's engine and cycle
     from the text, as the session did, and keeps them for the next answer)."""
     key = (text, name, frames)
-    if key not in _SLOW:
-        _SLOW.clear()
-        data = ModelDocument(text, name).data
-        engine = _engine(text, data, name)[0]
-        _SLOW[key] = (engine, _cycle(engine, frames))
-    return {**_stage(kind, *_SLOW[key]), "version": version}
+    with _SLOW_LOCK:                      # (a server without its worker process makes them in threads)
+        if key not in _SLOW:
+            _SLOW.clear()
+            data = ModelDocument(text, name).data
+            engine = _engine(text, data, name)[0]
+            _SLOW[key] = (engine, _cycle(engine, frames))
+        return {**_stage(kind, *_SLOW[key]), "version": version}
 
 
 def _stage(kind: str, engine, cycle) -> dict:

@@ -211,7 +211,8 @@ export function mount(root, transport, options = {}) {
   el.plots = h("div", { class: "mbw-plots", "data-role": "plots" });
   el.addPlot = h("button", { "data-role": "add-plot", onclick: () => { st.plots.push({ columns: [] }); renderPlots(); } },
                  "+ plot");
-  grid.append(h("div", { class: "mbw-box" }, h("h3", {}, "Plots against the input ", el.addPlot), el.plots));
+  el.sweep = h("div", { class: "mbw-plot-head mbw-hidden", "data-role": "input-sweep" });
+  grid.append(h("div", { class: "mbw-box" }, h("h3", {}, "Plots against the input ", el.addPlot), el.sweep, el.plots));
 
   // table and text ------------------------------------------------------------------------------------
   if (!widget) {
@@ -430,11 +431,13 @@ export function mount(root, transport, options = {}) {
   function showPicture(pic) {
     const same = st.picture && st.picture.source === pic.source && st.picture.model === pic.model;
     const keepFrame = same ? st.frame : null;
+    if (!same) { st.extraGroups = null; st.plots = []; }
     st.picture = pic; st.frames = pic.frames; st.drawn = pic.drawn; st.cycleForces = null;
     const n = pic.frames.count;
     el.range.max = Math.max(n - 1, 0);
     buildScene(pic);
     renderValues(pic);
+    renderSweepForm(pic);
     const title = diagramBox.querySelector("[data-role=picture-title]");
     title.textContent = `${pic.title}` + (pic.message ? ` — ${pic.message}` : "");
     renderMarks();
@@ -752,6 +755,48 @@ export function mount(root, transport, options = {}) {
                           solve(vals); nearestFrame(vals); } }), ` ${inp.unit}`)));
   }
 
+  // several inputs: a path or a grid in input space, as `mbplanar sweep --from --to [--grid]` makes it
+  function renderSweepForm(pic) {
+    if (!el.sweep) return;
+    const several = pic.inputs.length > 1 && st.exports.includes("sweep");
+    el.sweep.classList.toggle("mbw-hidden", !several);
+    if (!several) return;
+    const list = k => pic.inputs.map(inp => String(+inp[k].toPrecision(8))).join(",");
+    const from = h("input", { type: "text", value: list("lo"), size: 14, "data-role": "sweep-from", title: "--from: one value per input" });
+    const to = h("input", { type: "text", value: list("hi"), size: 14, "data-role": "sweep-to", title: "--to: one value per input" });
+    const steps = h("input", { type: "text", value: "36", size: 5, "data-role": "sweep-steps", title: "--steps" });
+    const gridBox = h("input", { type: "checkbox", "data-role": "sweep-grid" });
+    const go = h("button", { "data-role": "sweep-run", onclick: () => {
+      const rid = `s${++st.requestId}`;
+      st.runs[rid] = { sweep: true, grid: gridBox.checked };
+      status("mbplanar sweep " + (gridBox.checked ? "(grid)" : "(path)") + " …");
+      send({ type: "run", id: rid, command: "sweep", values: { start: from.value, stop: to.value, steps: steps.value,
+                                                               grid: gridBox.checked, output: `${modelStem()}-inputs.csv` } });
+    } }, "sweep");
+    el.sweep.replaceChildren("inputs from ", from, " to ", to, " steps ", steps, h("label", {}, gridBox, " grid"), go);
+  }
+
+  async function sweepDone(msg, run) {
+    if (!msg.files.length) return status(msg.stderr || "the sweep wrote nothing", true);
+    const text = await (await fetch(fileUrl(msg.files[0]))).text();
+    const [head, ...rows] = text.trim().split(/\r?\n/);
+    const names = head.split(",");
+    const cells = rows.map(r => r.split(",").map(c => (c === "" ? NaN : +c)));
+    const column = k => Float64Array.from(cells, r => r[k]);
+    const n = st.picture.inputs.length;
+    const xk = run.grid ? n - 1 : 0;        // a grid: one line per value of the slower inputs, against the last
+    const group = { name: `sweep ${run.grid ? "grid" : "path"} in input space (${msg.argv.slice(3).join(" ")})`,
+                    grid: run.grid, x: [{ name: names[xk], values: column(xk) }],
+                    columns: names.map((c, k) => ({ name: c, values: column(k) })).filter((c, k) => k !== xk) };
+    st.extraGroups = [group];
+    const spread = c => { let lo = Infinity, hi = -Infinity; for (const v of c.values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); } return hi - lo; };
+    const coords = group.columns.filter(c => /\.[xy]\[/.test(c.name));   // the point that moves most
+    const first = coords.length ? coords.reduce((a, b) => (spread(b) > spread(a) ? b : a)) : group.columns[n - 1];
+    st.plots.push({ columns: [`${allGroups().length - 1}:${first.name}`] });
+    renderPlots();
+    status(`${(msg.argv || []).join(" ")}: ${rows.length} positions` + (msg.stderr ? ` — ${msg.stderr}` : ""), !!msg.code);
+  }
+
   function setValueBoxes(values) {
     el.values.querySelectorAll("input").forEach((box, k) => {
       if (document.activeElement !== box) box.value = String(+values[k].toPrecision(10));
@@ -951,10 +996,13 @@ export function mount(root, transport, options = {}) {
   }
 
   // plots ---------------------------------------------------------------------------------------------
+  function allGroups() {
+    return ((st.series && st.series.groups) || []).concat(st.extraGroups || []);
+  }
+
   function columnsOf() {
     const out = [];
-    if (!st.series || !st.series.groups) return out;
-    st.series.groups.forEach((g, gi) => g.columns.forEach((c, ci) => out.push({ key: `${gi}:${c.name}`, group: g, column: c, gi })));
+    allGroups().forEach((g, gi) => g.columns.forEach(c => out.push({ key: `${gi}:${c.name}`, group: g, column: c, gi })));
     return out;
   }
 
@@ -973,7 +1021,7 @@ export function mount(root, transport, options = {}) {
   }
 
   function renderPlots() {
-    if (!st.series) return;
+    if (!st.series && !st.extraGroups) return;
     if (!st.plots.length) st.plots = defaultPlots();
     const all = columnsOf();
     const byKey = Object.fromEntries(all.map(c => [c.key, c]));
@@ -982,7 +1030,7 @@ export function mount(root, transport, options = {}) {
       const select = h("select", { "data-role": "add-column", onchange: e => {
         if (e.target.value) { plot.columns.push(e.target.value); renderPlots(); } } },
         h("option", { value: "" }, "+ column …"),
-        ...st.series.groups.map((g, gi) => h("optgroup", { label: g.name },
+        ...allGroups().map((g, gi) => h("optgroup", { label: g.name },
           ...g.columns.map(c => h("option", { value: `${gi}:${c.name}` }, c.name)))));
       const chips = plot.columns.map((k, ci) => h("span", { class: "mbw-chip", style: `color:${COLORS[ci % COLORS.length]}` },
         byKey[k].column.name, h("button", { title: "remove", onclick: () => { plot.columns.splice(ci, 1); renderPlots(); } }, "×")));
@@ -992,7 +1040,7 @@ export function mount(root, transport, options = {}) {
       requestAnimationFrame(() => drawPlot(svg, plot, byKey));
       return box;
     }));
-    if (st.series.error) el.plots.append(h("p", { class: "bad" }, st.series.error));
+    if (st.series && st.series.error) el.plots.append(h("p", { class: "bad" }, st.series.error));
   }
 
   function drawPlot(svg, plot, byKey) {
@@ -1031,6 +1079,7 @@ export function mount(root, transport, options = {}) {
       let d = "", pen = false;
       for (let i = 0; i < y.length; i++) {
         if (!finite(x[i], y[i])) { pen = false; continue; }
+        if (c.group.grid && i > 0 && x[i] < x[i - 1]) pen = false;   // the next line of a grid
         d += (pen ? "L" : "M") + X(x[i]).toFixed(2) + "," + Y(y[i]).toFixed(2);
         pen = true;
       }
@@ -1171,12 +1220,13 @@ export function mount(root, transport, options = {}) {
 
   function runStarted(msg) {
     const p = st.runs[msg.id];
-    if (p) p.progress.textContent = msg.argv.join(" ");
+    if (p && p.progress) p.progress.textContent = msg.argv.join(" ");
   }
 
   function runProgress(msg) {
     const p = st.runs[msg.id];
-    if (p) p.progress.textContent = msg.line;
+    if (p && p.progress) p.progress.textContent = msg.line;
+    else if (p) status(msg.line);
   }
 
   function fileUrl(f, inline) {
@@ -1188,6 +1238,7 @@ export function mount(root, transport, options = {}) {
     delete st.runs[msg.id];
     if (!p) return;
     if (p.export) return exportDone(msg, p);
+    if (p.sweep) return sweepDone(msg, p);
     p.runButton.disabled = false; p.cancel.disabled = true; p.current = null;
     p.progress.textContent = (msg.argv || []).join(" ") + (msg.cancelled ? "  — cancelled" : `  — exit ${msg.code}`);
     const parts = [];
