@@ -838,10 +838,11 @@ def cmd_report(args):
 
 # -- compile ----------------------------------------------------------------------------------------
 def cmd_compile(args):
-    """Build the numba backend's kernels ahead of time (`backends._aot`): later processes load them
-    without importing numba."""
+    """Compile the numba backend's kernels into numba's cache (`backends._aot`), the design batch's too:
+    later processes load them."""
     from .backends._aot import build
-    build(sys.stderr)
+    from .study.batch import compile_sample
+    build(sys.stderr, samples=(compile_sample,))
     return 0
 
 
@@ -1068,8 +1069,8 @@ COMMANDS = {
     "report": ("one self-contained HTML report of the model", _report_options, cmd_report),
     "synth": ("synthesis: seed 001's guiding mechanism, function and motion generation", _synth_options, cmd_synth),
     "check": ("full turn?, dead points, extreme positions, transmission angles", _check_options, cmd_check),
-    "compile": ("build the numba backend's compiled kernels ahead of time, once after installing mbplanar[fast]: "
-                "later runs start without numba's compile and load", _no_options, cmd_compile),
+    "compile": ("compile the numba backend's kernels into numba's cache, once after installing mbplanar[fast]: "
+                "later runs load them instead of compiling", _no_options, cmd_compile),
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),

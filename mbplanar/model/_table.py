@@ -23,7 +23,34 @@ __all__ = ["read_model", "read_model_text", "read_text", "parse_model", "Row", "
 
 
 def read_model(path) -> Mechanism:
-    """Read a TOML model file into an (unassembled) `Mechanism`."""
+    """Read a TOML model file into an (unassembled) `Mechanism`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file (the table of kinematic pairs, docs/format.md).
+
+    Returns
+    -------
+    Mechanism
+        SI inside (m, rad, N, kg) whatever units the file is written in; the drawn pose is the file's
+        sketch until `assemble` (or `Engine`) closes it.
+
+    Raises
+    ------
+    ModelError
+        The file cannot be read, is not TOML, or a row is wrong: the message names the file, the row and
+        the value.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> mech = mbplanar.read_model("models/fourbar.toml")
+    >>> mech.name, sorted(mech.joints)
+    ('fourbar', ['A', 'B', 'C', 'O'])
+    >>> mech.joints["B"].at                     # the sketch's B, m
+    (0.3016, 0.25)
+    """
     return read_model_text(read_text(path), source=str(path))
 
 
@@ -197,6 +224,38 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
 
     Every section is read and checked here, once: links, joints, points, inputs, then `loads`,
     `[gravity]` and `[dynamics]` into `Mechanism.loads`, `.gravity` and `.dynamics` (SI units).
+
+    Parameters
+    ----------
+    data : dict or str
+        The parsed TOML document, or its text.
+    source : str
+        What the messages call the table (a file's name).
+
+    Returns
+    -------
+    Mechanism
+        SI inside, not yet assembled (`assemble`).
+
+    Raises
+    ------
+    ModelError
+        A missing or wrong row, named with `source`, the row and the value.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> crank = mbplanar.parse_model('''
+    ... name = "crank"
+    ... ground = "0"
+    ... links = [{ name = "1", length = 0.1 }]
+    ... joints = [{ name = "O", type = "R", links = ["0", "1"], at = [0.0, 0.0] }]
+    ... points = [{ name = "A", link = "1", at = [0.1, 0.0] }]
+    ... [input]
+    ... joint = "O"
+    ... ''')
+    >>> crank.name, list(crank.links), crank.inputs[0].joint
+    ('crank', ['1'], 'O')
     """
     if isinstance(data, str):
         return read_model_text(data, source)
