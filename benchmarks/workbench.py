@@ -26,6 +26,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -155,8 +156,8 @@ def main(argv=None) -> int:
             firsts = first_picture(browser, url, models)
             browser.close()
     finally:
-        proc.terminate()
-        proc.wait(10)
+        proc.send_signal(signal.SIGINT)      # Ctrl-C: the server stops its worker process too
+        proc.wait(30)
         shutil.rmtree(folder, ignore_errors=True)
     figures = {"drag": statistics.median(drags), "edit": statistics.median(edits), "first": max(firsts.values())}
     result = {"date": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "load": os.getloadavg()[0],

@@ -420,12 +420,26 @@ def test_serve_prints_its_url_refuses_without_the_token_and_stops_on_ctrl_c(tmp_
         with pytest.raises(urllib.error.HTTPError) as refused:
             urllib.request.urlopen(url.split("?")[0], timeout=10)
         assert refused.value.code == 403
+        children = _children(proc.pid)            # the worker process of the plots and the check
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=15)
     finally:
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 0 and "stopped" in err and "Traceback" not in err
+    end = time.monotonic() + 10
+    while any(os.path.exists(f"/proc/{pid}") for pid in children) and time.monotonic() < end:
+        time.sleep(0.1)
+    assert not [pid for pid in children if os.path.exists(f"/proc/{pid}")], "a process outlived the server"
+
+
+def _children(pid: int) -> list[int]:
+    """The processes `pid` started (Linux), waited for up to 10 s: the server starts its worker at once."""
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    end = time.monotonic() + 10
+    while path.exists() and not path.read_text().split() and time.monotonic() < end:
+        time.sleep(0.1)
+    return [int(p) for p in path.read_text().split()] if path.exists() else []
 
 
 def test_serve_warns_beyond_loopback_and_refuses_a_missing_folder(capsys):

@@ -167,9 +167,17 @@ class _State:
         self._pool, self._no_pool = None, True
 
     def close(self):
-        if self._pool is not None:
-            self._pool.shutdown(wait=False, cancel_futures=True)
-            self._pool = None
+        """Stop the worker process: it ends after the answer it is making (waited for 3 s), or is ended."""
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        import multiprocessing
+        pool.shutdown(wait=False, cancel_futures=True)
+        for child in multiprocessing.active_children():
+            child.join(3)
+            if child.is_alive():
+                child.terminate()
+                child.join(3)
 
     def first_model(self) -> str | None:
         """The model a new page opens: the one given, else the folder's first linkage model."""
