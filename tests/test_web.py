@@ -178,7 +178,8 @@ def test_the_picture_and_a_pose_are_the_engines(path, capsys):
     pic = out["picture"]
     cycle = cycle_motion(mbplanar.Engine(mbplanar.read_model(path)), 360)
     xy = np.stack([cycle.xy[:, cycle.point(n)] for n in pic["joints"]], axis=1)
-    assert np.array_equal(pic["frames"]["joint_xy"], xy)
+    assert np.allclose(pic["frames"]["joint_xy"], xy, rtol=0, atol=1e-12)   # (an engine met before may have
+    # walked further on its branch: the same positions to its closure tolerance)
     values = list(pic["frames"]["phi"][len(cycle.phi) // 3])
     pose = next(bench.answers({"type": "solve", "values": values, "id": 7}))
     assert pose["id"] == 7 and "error" not in pose

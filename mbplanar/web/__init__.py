@@ -7,6 +7,7 @@ lives in ``static/`` and works with no network; the server solves, the page draw
 """
 
 from ._session import FRAMES, Workbench
+from ._widget import widget
 
 __all__ = ["Workbench", "FRAMES", "create_app", "widget"]
 
@@ -15,9 +16,3 @@ def create_app(folder, **options):
     """The workbench's ASGI application serving `folder` (see `mbplanar.web._server.create_app`)."""
     from ._server import create_app as make
     return make(folder, **options)
-
-
-def widget(model, **options):
-    """The workbench's diagram, slider and plots inline in Jupyter (see `mbplanar.web._widget.widget`)."""
-    from ._widget import widget as make
-    return make(model, **options)

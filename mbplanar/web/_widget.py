@@ -46,26 +46,33 @@ def _widget_class():
 
 
 def widget(model, *, frames: int | None = None):
-    """The workbench's diagram of `model` with its slider, play/pause, dragging, vectors and plots, inline
-    in Jupyter (anywidget: ``pip install "mbplanar[widget]"``).
+    """The workbench's diagram of `model` with its slider, play/pause, dragging, vectors, numbers and plots,
+    inline in Jupyter (anywidget: ``pip install "mbplanar[widget]"``). Its JavaScript is the page's own file
+    (``mbplanar/web/static/workbench.js``); the kernel answers its messages as `mbplanar serve` does.
 
     Parameters
     ----------
     model : str, Path, Mechanism or Engine
         A model file, or a mechanism or engine made in Python (drawn from it, not edited).
     frames : int, optional
-        Positions of the cycle (default `mbplanar.web.FRAMES`).
+        Positions of the cycle (default `mbplanar.web.FRAMES`, 360).
 
     Returns
     -------
     anywidget.AnyWidget
-        Shown as the last expression of a cell.
+        The widget: shown inline as the last expression of a notebook's cell.
+
+    Raises
+    ------
+    ModelError
+        Without anywidget installed (naming the extra), or for a model file that cannot be read.
 
     Examples
     --------
     >>> import mbplanar
-    >>> w = mbplanar.widget("models/fourbar.toml")        # doctest: +SKIP
-    >>> w                                                  # doctest: +SKIP
+    >>> w = mbplanar.widget("models/fourbar.toml", frames=72)
+    >>> w.bench.name, w.bench.frames
+    ('models/fourbar.toml', 72)
     """
     from ..engine import Engine
     from ..model import Mechanism
@@ -77,5 +84,10 @@ def widget(model, *, frames: int | None = None):
         bench = Workbench(engine=Engine(model), name=model.source or model.name, frames=count)
     else:
         path = Path(model)
-        bench = Workbench(path.read_text(encoding="utf-8"), str(path), frames=count)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            from ..errors import ModelError
+            raise ModelError(f"cannot read the model file ({exc})", source=str(path)) from None
+        bench = Workbench(text, str(path), frames=count)
     return _widget_class()(bench)

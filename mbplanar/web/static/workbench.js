@@ -911,16 +911,18 @@ export function mount(root, transport, options = {}) {
       let last = 0, timer = null, xy = toWorld(ev);
       const move = e => {
         xy = toWorld(e);
+        moved = true;
         handle.setAttribute("cx", xy[0]); handle.setAttribute("cy", xy[1]);
         const now = performance.now();
         clearTimeout(timer);
         if (now - last > 60) { last = now; send({ type: "move", name, xy }); }
         else timer = setTimeout(() => { last = performance.now(); send({ type: "move", name, xy }); }, 60);
       };
-      move(ev);
+      handle.setAttribute("cx", xy[0]); handle.setAttribute("cy", xy[1]);
+      let moved = false;
       const up = () => {
         clearTimeout(timer);
-        send({ type: "move", name, xy });
+        if (moved) send({ type: "move", name, xy });
         handle.remove();
         el.svg.removeEventListener("pointermove", move);
         el.svg.removeEventListener("pointerup", up);
