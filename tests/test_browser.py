@@ -435,7 +435,7 @@ def test_a_long_run_shows_progress_and_can_be_cancelled(page, server):
     body = page.locator("[data-panel-body=synth]")
     body.locator("select[data-dest=problem]").select_option("path")
     body.locator("select[data-dest=input]").select_option("gallery/synthesis/path_bulatovic18.csv")
-    body.locator("input[data-dest=progress]").check()
+    body.locator("input[data-flag='--progress']").check()
     body.locator("[data-role=run]").click()
     page.wait_for_function("() => document.querySelector('[data-panel-body=synth] [data-role=progress]').textContent"
                            ".includes('mbplanar synth path')")

@@ -394,12 +394,14 @@ def test_the_panels_forms_follow_the_cli_parser():
 
         def write(self, name):
             return f"/run/{name}"
-    args = argv(fields, {"problem": "path", "input": "targets.csv", "vary": "a=1:2\nb=3:4", "progress": True,
+    args = argv(fields, {"problem": "path", "input": "targets.csv", "vary": "a=1:2\nb=3:4", "--progress": True,
                          "seed": "3", "output": "best.toml"}, Files())
     assert args[:2] == ["path", "/folder/targets.csv"]
     assert build_parser("synth").parse_args(["synth"] + args).vary == ["a=1:2", "b=3:4"]
     check = form(build_parser("check"), "check")
-    assert argv(check, {"json": True}, Files()) == ["/run/m.toml", "--json"]
+    assert argv(check, {"--json": True}, Files()) == ["/run/m.toml", "--json"]
+    study = form(build_parser("study"), "study")
+    assert "--no-progress" in argv(study, {"--no-progress": True, "variants": "v.csv"}, Files())
 
 
 # -- the command -----------------------------------------------------------------------------------------

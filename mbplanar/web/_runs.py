@@ -3,7 +3,8 @@
 `form(parser)` describes a command's argparse parser as fields the page draws (a flag, a choice, a
 number or text, a file to read, a file to write, the model in the editor; a sub-command switches the
 fields: `synth function|motion|path|seed001`). `argv(fields, values, files)` turns what the page sends
-back into the command's arguments, every file checked against the served folder. `Run` runs
+back into the command's arguments ({dest: text}, a flag by its option string: {"--json": true}), every file
+checked against the served folder. `Run` runs
 ``python -m mbplanar COMMAND ...`` in a process of its own, in a temporary folder holding the model as the
 editor has it: the page gets the CLI's own output and messages, the progress the command writes on its
 standard error line by line, and the files it wrote (pictures shown, models opened, tables downloaded);
@@ -96,7 +97,7 @@ def _help_of(action, name) -> str:
 
 
 def argv(fields: list[dict], values: dict, files) -> list[str]:
-    """The command's arguments from the page's `values` ({dest: text or bool}). `files` maps a file to
+    """The command's arguments from the page's `values` ({dest: text}, {"--flag": bool}). `files` maps a file to
     read or write to the path the run uses: files.model() (the editor's model), files.read(name),
     files.write(name)."""
     out, later = [], []
@@ -112,8 +113,8 @@ def argv(fields: list[dict], values: dict, files) -> list[str]:
             out.append(choice)
             out += argv(field["choices"][choice]["fields"], values, files)
             continue
-        if kind == "flag":
-            if _true(value) != bool(field.get("default")) and _true(value) == field.get("store", True):
+        if kind == "flag":                 # by its own option string: --progress and --no-progress share a dest
+            if _true(values.get(field["flag"])):
                 out.append(field["flag"])
             continue
         if kind == "model":

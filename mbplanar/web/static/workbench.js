@@ -771,7 +771,7 @@ export function mount(root, transport, options = {}) {
       st.runs[rid] = { sweep: true, grid: gridBox.checked };
       status("mbplanar sweep " + (gridBox.checked ? "(grid)" : "(path)") + " …");
       send({ type: "run", id: rid, command: "sweep", values: { start: from.value, stop: to.value, steps: steps.value,
-                                                               grid: gridBox.checked, output: `${modelStem()}-inputs.csv` } });
+                                                               "--grid": gridBox.checked, output: `${modelStem()}-inputs.csv` } });
     } }, "sweep");
     el.sweep.replaceChildren("inputs from ", from, " to ", to, " steps ", steps, h("label", {}, gridBox, " grid"), go);
   }
@@ -1156,8 +1156,8 @@ export function mount(root, transport, options = {}) {
       const label = (f.flag || f.dest) + (f.required && !f.flag ? " *" : "");
       let input;
       if (f.kind === "flag") {
-        input = h("input", { type: "checkbox", checked: !!f.default === f.store ? false : false, "data-dest": f.dest,
-                             onchange: e => { values[f.dest] = e.target.checked ? f.store : !f.store; } });
+        input = h("input", { type: "checkbox", "data-dest": f.dest, "data-flag": f.flag,
+                             onchange: e => { values[f.flag] = e.target.checked; } });
       } else if (f.kind === "choice") {
         input = h("select", { "data-dest": f.dest, onchange: e => { values[f.dest] = e.target.value || null; } },
           h("option", { value: "" }, f.default !== null && f.default !== undefined ? `(default: ${f.default})` : "(none)"),
