@@ -153,7 +153,7 @@ def figure_of_engine(engine, at=None, *, samples=None, count=None, **options):
 
     result = _result_of(engine, samples, count)
     if result is None:
-        raise ModelError("the accuracy picture needs a [tolerances] section (docs/format.md)",
+        raise ModelError("no [tolerances] section: the accuracy picture needs one (docs/format.md)",
                          source=engine.mech.source)
     unit = result.length_unit
     return accuracy_figure(result, unit, Units(length=unit).length_scale, engine=engine, **options)
