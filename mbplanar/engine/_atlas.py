@@ -142,7 +142,7 @@ class Atlas:
 
 
 def _origin(solver: BlockSolver, direction) -> Node:
-    node = node_at(solver, solver.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in solver.blocks])
+    node = node_at(solver, solver.phi_drawn, direction, [bp.q0[:, None] for bp in solver.blocks])
     if node is None:
         raise MotionError("the drawn pose does not close: it cannot be assembled", source=solver.mech.source)
     if node.pivot < solver.tol.pivot_cross:
@@ -298,14 +298,21 @@ def far_span(solver: BlockSolver) -> float:
 
 
 def _period_shift(solver: BlockSolver, q0: list, q1: list) -> list | None:
-    """Per block the change q1 − q0 of its unknowns when it is whole turns of the relative angles and
-    nothing else (within `PERIOD_TOL`, scaled), else None."""
+    """Per block the change q1 − q0 of its unknowns when it is whole turns of the relative angles, whole
+    periods of a closed curve's contact parameter, and any turn of a wheel (a gear's angle, which places
+    nothing but the gear itself), and nothing else (within `PERIOD_TOL`, scaled), else None."""
     out = []
+    wheels = getattr(solver, "wheels", frozenset())
     for bp, a, b in zip(solver.blocks, q0, q1):
-        angle = np.array([solver.mech.joints[st.law.name].kind == "R" for st in bp.steps if st.var is not None],
-                         bool)
+        period = bp.var_period
+        free = np.zeros(bp.m, bool)
+        for st in bp.steps:
+            if st.var is not None and st.child in wheels:
+                free[st.var] = True
         d = b - a
-        whole = np.where(angle, 2 * math.pi * np.round(d / (2 * math.pi)), 0.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            whole = np.where(period > 0, period * np.round(d / np.where(period > 0, period, 1.0)), 0.0)
+        whole = np.where(free, d, whole)
         if np.any(np.abs(d - whole) * bp.var_scale > PERIOD_TOL):
             return None
         out.append(whole)

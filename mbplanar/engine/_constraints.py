@@ -50,12 +50,13 @@ def rotate(c: np.ndarray, s: np.ndarray, vec: np.ndarray) -> np.ndarray:
 
 
 class Pose:
-    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (2, B)."""
+    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (2, B); and the
+    contact parameters u (B,) of the higher pairs that have one (by the pair's name)."""
 
     def __init__(self, batch: int):
         zero = np.zeros(batch)
         self.batch = batch
-        self.th, self.c, self.s, self.r = {}, {}, {}, {}
+        self.th, self.c, self.s, self.r, self.u = {}, {}, {}, {}, {}
         self._ground = (zero, np.ones(batch), zero, np.zeros((2, batch)))
 
     def set_ground(self, name: str):
@@ -71,10 +72,11 @@ class Pose:
 
 
 class Rates:
-    """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest."""
+    """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest. The
+    rates p (C, B) of the higher pairs' contact parameters, by the pair's name (absent: 0)."""
 
     def __init__(self, batch: int, columns: int):
-        self.w, self.v = {}, {}
+        self.w, self.v, self.p = {}, {}, {}
         self._rest = (np.zeros((columns, batch)), np.zeros((2, columns, batch)))
 
     def get(self, link):
@@ -84,6 +86,12 @@ class Rates:
 
     def set(self, link, w, v):
         self.w[link], self.v[link] = w, v
+
+    def param(self, name):
+        return self.p.get(name, self._rest[0])
+
+    def set_param(self, name, rate):
+        self.p[name] = rate
 
 
 class JointLaw:

@@ -43,13 +43,41 @@ from ._backend import check as check_backend
 from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
 from ._constraints import make_law
+from ._higher import make_higher_law
 from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
 from ..structure._topology import analyse_topology, check_mobility
 
-__all__ = ["Engine", "Solution", "Limit", "Crossing"]
+__all__ = ["Engine", "Solution", "Limit", "Crossing", "higher_laws", "wheels"]
+
+
+def higher_laws(mech: Mechanism) -> dict:
+    """The joint laws of the higher pairs of an assembled mechanism, checked against its drawing
+    (`mbplanar.model._drawn`: a `ModelError` names a pair that does not fit)."""
+    if not mech.higher:
+        return {}
+    from ..model._drawn import drawn_pairs
+    return {name: make_higher_law(g) for name, g in drawn_pairs(mech).items()}
+
+
+def wheels(mech: Mechanism) -> frozenset:
+    """The links that are wheels: every revolute joint, point and gear of theirs at one centre, no other
+    pair. A wheel's angle places nothing but itself, so it need not come back to whole turns when the
+    rest of the mechanism repeats (a gear train of any ratio)."""
+    out = set()
+    for name in mech.moving_links:
+        joints, pairs = mech.joints_of(name), mech.higher_of(name)
+        if not joints or any(j.kind != "R" for j in joints) or any(h.kind not in ("gear", "rack") for h in pairs):
+            continue
+        if any(h.kind == "rack" and h.links[0] != name for h in pairs):
+            continue  # the rack itself slides
+        centre = joints[0].at
+        spots = [j.at for j in joints] + [p.at for p in mech.points.values() if p.link == name]
+        if all(p is not None and math.dist(p, centre) <= 1e-9 * (1 + math.hypot(*centre)) for p in spots):
+            out.add(name)
+    return frozenset(out)
 
 
 class Engine:
@@ -83,6 +111,7 @@ class Engine:
         self.links = mech.all_links
         self.link_index = {name: k for k, name in enumerate(self.links)}
         self.laws = {name: make_law(j) for name, j in mech.joints.items()}
+        self.laws.update(higher_laws(mech))
         self.size = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
                         + [0.0]) or 1.0  # (no floor: every tolerance is relative to it)
         self.inputs = mech.inputs
@@ -90,6 +119,7 @@ class Engine:
         self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
         self.joint_value_drawn = {name: self._drawn_joint_value(name) for name in mech.joints}
         self.solver = BlockSolver(mech, self.laws, self.topology.blocks, self.links, self.size, self.phi_drawn, tol)
+        self.solver.wheels = wheels(mech)
         self.blocks = self.solver.blocks
         self._atlas = None
 

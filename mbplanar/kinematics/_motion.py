@@ -206,13 +206,24 @@ def describe_crossing(engine: Engine, c: Crossing) -> str:
 
 
 def _point_table(engine: Engine):
-    """(names, link index, drawn coordinates) of every joint (its slider point for P) and point."""
+    """(names, link index, drawn coordinates) of every joint (its slider point for P), higher pair (a
+    gear's pitch point, a point of its carrier; a cam's follower point; a slot's pin) and point."""
     mech = engine.mech
     names, links, at = [], [], []
     for j in mech.joints.values():
         names.append(j.name)
         links.append(engine.link_index[j.slider if j.kind == "P" else j.links[0]])
         at.append(j.at)
+    for h in mech.higher.values():
+        law = engine.laws[h.name]
+        if h.kind == "gear":
+            names.append(h.name)
+            links.append(engine.link_index[law.carrier])
+            at.append(law.geometry.pitch)
+        elif h.kind in ("cam", "slot"):
+            names.append(h.name)
+            links.append(engine.link_index[h.links[1]])
+            at.append(h.at)
     for p in mech.points.values():
         names.append(p.name)
         links.append(engine.link_index[p.link])
@@ -379,6 +390,17 @@ def _link_states(engine: Engine, sol):
     return th, c, s, r
 
 
+def _contact_parameters(engine: Engine, sol) -> np.ndarray:
+    """The contact parameter of every higher pair (B, H) (engine.mech.higher order; 0 for gears and
+    racks, which have none): where on its curve a cam's or a slot's contact is."""
+    names = list(engine.mech.higher)
+    out = np.zeros((len(sol.phi), len(names)))
+    for bp, state in zip(engine.blocks, sol.blocks):
+        for law, k in bp.params:
+            out[:, names.index(law.name)] = state.q[k]
+    return out
+
+
 def _real(xq, xqq, om, ep):
     """Real rate and acceleration from the analogues: x' = x_q ω, x'' = x_qq ω² + x_q ε.
     om (B,) broadcasts against xq (batch axis last); ep (B,), or None for a constant input speed."""
@@ -527,7 +549,7 @@ def positions_at_limits(engine: Engine, limits: list) -> Motion:
     for name in ("w", "e", "v", "a", "rate", "accel", "ic", "wq", "eq", "vq", "aq", "rate_q", "accel_q"):
         if getattr(m, name) is not None:
             setattr(m, name, np.full_like(getattr(m, name), np.nan))
-    m.frames = {name: (x if name in ("th", "r") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
+    m.frames = {name: (x if name in ("th", "r", "contact") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
     return m
 
 
@@ -548,11 +570,14 @@ def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Mot
     common = dict(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep], link_names=list(engine.links),
                   angle=(th.T + alpha)[keep], point_names=list(sel.names), joint_names=list(engine.mech.joints),
                   requested=batch, limits=sol.limits, crossings=sol.crossings)
+    frames = {"th": th.T[keep], "r": _first(r)[keep]}
+    if engine.mech.higher:
+        frames["contact"] = _contact_parameters(engine, sol)[keep]
     if not rates:
         value = _joint_values(joints, th, c, s, r, None, None, None, None)[0]
         return Motion(**common, w=None, e=None, xy=_first(_placed_points(c, s, r, links, at))[keep], v=None, a=None,
                       value=value.T[keep], rate=None, accel=None, ic=None, vq=None, aq=None,
-                      frames={"th": th.T[keep], "r": _first(r)[keep]}, has_rates=False)
+                      frames=frames, has_rates=False)
     analog = n_in == 1
     if analog:
         engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
@@ -572,7 +597,7 @@ def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Mot
         value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
     m = Motion(**common, w=w.T[keep], e=e.T[keep], xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
                vq=None, aq=None, value=value.T[keep], rate=rate.T[keep], accel=accel.T[keep],
-               ic=_first(_instant_centres(r, v, w))[keep], frames={"th": th.T[keep], "r": _first(r)[keep]})
+               ic=_first(_instant_centres(r, v, w))[keep], frames=frames)
     if analog:
         m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
         m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]

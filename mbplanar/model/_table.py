@@ -13,8 +13,8 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning
-from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, INPUT, JOINT, LINK, LOADS, MISSING, POINT,
-                    SWITCH, Section)
+from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, HIGHER, INPUT, JOINT, LINK, LOADS, MISSING,
+                    POINT, SWITCH, Section)
 from ._model import (ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input, Load,
                      Mechanism, Units)
 
@@ -209,8 +209,9 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.get("ground"),
                      title=top.get("title"), source=source, units=units)
     link_rows = _read_links(mech, _rows(data, "links", source), unit)
-    _read_joints(mech, _rows(data, "joints", source), unit)
+    higher = _read_joints(mech, _rows(data, "joints", source), unit)
     _read_points(mech, _rows(data, "points", source), unit)
+    _read_higher(mech, higher, unit)
     _check_links(mech, link_rows)
     _read_inputs(mech, data, source, unit)
     mech.loads = _read_loads(mech, data.get("loads", []))
@@ -337,13 +338,19 @@ def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, 
 def _read_joints(mech: Mechanism, rows, unit):
     if not rows:
         raise ModelError("no joints (a 'joints' list of pairs is required)", source=mech.source)
+    higher = []
     for i, raw in enumerate(rows):
         row = Row(raw, f"joints[{i}]", mech.source, JOINT)
+        kind = row.data.get("type")
+        if isinstance(kind, str) and kind.lower() in HIGHER:
+            higher.append((i, raw, kind.lower()))  # (after the lower pairs: they may name their joints)
+            continue
         name = row.get("name")
         row.where = f"joints[{i}] '{name}'"
         kind = (row.get("type") or "").upper()
         if kind not in JOINT["type"].choices:
-            row.fail(f"type must be 'R' (revolute) or 'P' (prismatic), got '{kind}'")
+            row.fail(f"type must be 'R' (revolute), 'P' (prismatic) or a higher pair ({', '.join(HIGHER)}), "
+                     f"got '{kind}'")
         links = row.get("links")
         if links[0] == links[1]:
             row.fail(f"joins link '{links[0]}' to itself")
@@ -374,6 +381,16 @@ def _read_joints(mech: Mechanism, rows, unit):
             mech.add_joint(name, kind, links[0], links[1], (x * unit, y * unit), guide, guide_points)
         except ModelError as exc:
             row.fail(exc.message)
+    return higher
+
+
+def _read_higher(mech: Mechanism, rows, unit):
+    """The higher pairs (gear, rack, cam, slot rows), after the joints and points they may name."""
+    from ._pairs import read_higher_row
+    for i, raw, kind in rows:
+        row = Row(raw, f"joints[{i}]", mech.source, HIGHER[kind])
+        row.where = f"joints[{i}] '{row.get('name')}'"
+        read_higher_row(mech, row, kind, unit)
 
 
 def _read_points(mech: Mechanism, rows, unit):
