@@ -137,6 +137,13 @@ class DesignBatch:
         self._want = (list(self.points), True, list(engine.links))  # the points, rates and links asked for
         self.nodes = None
         self.motion = None
+        # a model with higher pairs: its laws hold curves and radii the batch's laws cannot vary over the
+        # designs, so each design is solved by its own engine, made from its own table (`model_of`)
+        self.own = bool(mech.higher)
+        self.model_of = None
+        if self.own:
+            for d in np.flatnonzero(geometry.ok):
+                self.reasons[d] = "a model with higher pairs (each design solved by its own engine)"
 
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
@@ -158,7 +165,10 @@ class DesignBatch:
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
         if design not in self._engines:
-            mech = mechanism_of(self.engine.mech, self.geometry, design)
+            if self.model_of is not None:
+                mech = self.model_of(design)
+            else:
+                mech = mechanism_of(self.engine.mech, self.geometry, design)
             self._engines[design] = with_dimensions(self.engine, mech)
         return self._engines[design]
 
@@ -323,7 +333,7 @@ class DesignBatch:
         unknown = [n for n in link_names if n not in self.engine.links]
         if unknown:
             raise ValueError(f"{', '.join(unknown)}: not a link of the model")
-        if self.engine.backend == "numba":
+        if self.engine.backend == "numba" and not self.own:
             return self._solve_compiled(phi, exact_limits, fallback, names, accelerations, link_names)
         return self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names)
 
@@ -333,7 +343,7 @@ class DesignBatch:
         self._want = (list(self.points) if names is None else list(names), accelerations,
                       list(self.engine.links) if links is None else list(links))
         D = self.count
-        designs = np.flatnonzero(self.geometry.ok)
+        designs = np.flatnonzero(self.geometry.ok & ~self.own)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
         if len(designs):
             origin, dets = self._origin(designs)
@@ -717,4 +727,7 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
         engine = Engine(parse_model(template.bind(), source=template.source), backend=backend)
     if len(engine.inputs) != 1:
         raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
-    return DesignBatch(engine, design_geometry(template, variants, engine.mech))
+    batch = DesignBatch(engine, design_geometry(template, variants, engine.mech))
+    if batch.own:
+        batch.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
+    return batch
