@@ -338,9 +338,11 @@ def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0,
     reactions = {}
     for name, r in result.reactions.items():
         fx, fy = float(r.fx[row]), float(r.fy[row])
-        reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
+        reactions[name] = {"type": engine.mech.kind_of(name), "on": r.on, "from": r.source,
                            "fx": fx, "fy": fy, "moment": float(r.moment[row]),
                            "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
+        if name in result.contact_forces:   # a higher pair: the signed size along its direction
+            reactions[name]["contact_force"] = float(result.contact_forces[name][row])
     inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name,
            "input": inputs[0], "inputs": inputs,           # one balancing load per input

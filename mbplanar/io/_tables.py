@@ -52,7 +52,10 @@ def forces_columns(engine, result):
     for name, r in result.reactions.items():
         header += [f"{name}.fx[N]", f"{name}.fy[N]"]
         cols += [r.fx, r.fy]
-        if engine.mech.joints[name].kind == "P":
+        if name in result.contact_forces:
+            header.append(f"{name}.contact[N]")
+            cols.append(result.contact_forces[name])
+        elif engine.mech.joints[name].kind == "P":
             header.append(f"{name}.moment[N*m]")
             cols.append(r.moment)
     for name, q in result.balancing.items():

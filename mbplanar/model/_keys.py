@@ -302,6 +302,8 @@ FLYWHEEL = Section("flywheel", "[dynamics.flywheel]", "where the flywheel goes a
     Key("shaft_inertia", "number", "inertia already on the crank shaft (gears, couplings)", unit="inertia",
         default=0.0, minimum=0.0, message=_SHAFT),
     Key("motor_rpm", "number", "put the flywheel on a motor shaft turning this fast", unit="rpm", positive=True),
+    Key("link", "text", "or: put the flywheel on this link, a shaft the model's gears turn at a constant ratio "
+        "to the crank (its speed ratio comes from the gears)"),
     Key("motor_inertia", "number", "the motor rotor's inertia, on the motor shaft", unit="inertia", default=0.0,
         minimum=0.0, message=_SHAFT),
     Key("density", "number", "the flywheel's material", unit="kg/m^3", default=RHO_STEEL, positive=True),

@@ -334,12 +334,14 @@ class Gravity:
 class FlywheelSpec:
     """Where the flywheel goes and what is already there: inertia on the crank shaft (kg·m²), the motor
     shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia
-    (kg·m²), the flywheel's density (kg/m³)."""
+    (kg·m²), the flywheel's density (kg/m³); or `link`, a link of the model the gears turn at a constant
+    ratio to the crank (the flywheel sits on it, the ratio from the gears)."""
 
     shaft_inertia: float = 0.0
     motor_rpm: float | None = None
     motor_inertia: float = 0.0
     density: float = RHO_STEEL
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -477,6 +479,10 @@ class Mechanism:
 
     def joints_of(self, link: str) -> list[Joint]:
         return [j for j in self.joints.values() if link in j.links]
+
+    def kind_of(self, pair: str) -> str:
+        """The type of the pair `pair`: "R" or "P" (a joint), or a higher pair's kind (gear, rack, cam, slot)."""
+        return self.joints[pair].kind if pair in self.joints else self.higher[pair].kind
 
     def higher_of(self, link: str) -> list[HigherPair]:
         return [h for h in self.higher.values() if link in h.links]

@@ -756,10 +756,16 @@ def read_dynamics_section(mech: Mechanism, raw) -> DynamicsSpec:
     driving = None if driving is None else driving * units.moment_scale
     slope = row.get("motor_slope") * units.moment_scale
     fly = Row(row.raw("flywheel", {}), "dynamics.flywheel", mech.source, FLYWHEEL)
+    link = fly.get("link")
+    if link is not None:
+        if link not in mech.links:
+            fly.fail(f"'link' = '{link}' is not a moving link of the model")
+        if fly.has("motor_rpm"):
+            fly.fail("give either 'link' (the gears give its speed) or 'motor_rpm', not both")
     flywheel = FlywheelSpec(shaft_inertia=fly.get("shaft_inertia") * units.inertia_scale,
                             motor_rpm=fly.get("motor_rpm"),
                             motor_inertia=fly.get("motor_inertia") * units.inertia_scale,
-                            density=fly.get("density"))
+                            density=fly.get("density"), link=link)
     row.check_unknown_keys({"comment"})
     fly.check_unknown_keys({"comment"})
     return DynamicsSpec(delta, omega, driving, slope, flywheel)

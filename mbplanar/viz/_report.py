@@ -194,14 +194,15 @@ def _reactions_section(engine, ctx):
     out += html_table(head, np.column_stack(cols).tolist(), "Balancing load")
     grid = []
     for joint, r in table.reactions.items():
-        prismatic = engine.mech.joints[joint].kind == "P"
+        kind = engine.mech.kind_of(joint)
+        prismatic = kind == "P"
         fx, fy = clean(r.fx, tiny), clean(r.fy, tiny)
         mag = np.hypot(fx, fy)
         direction = np.where(mag > 0, np.degrees(np.arctan2(fy, fx)) % 360.0, np.nan)
         head = [coord, "Fx [N]", "Fy [N]", "|F| [N]", "direction [°]"] + (["M [N·m]"] if prismatic else [])
         rows = np.column_stack([phi, fx, fy, mag, direction] + ([clean(r.moment, tiny_m)] if prismatic else []))
         grid.append(html_table(head, rows.tolist(), f"{reaction_label(r)}: pair {joint} "
-                                                    f"({'prismatic' if prismatic else 'revolute'}), on link "
+                                                    f"({ {'R': 'revolute', 'P': 'prismatic'}.get(kind, kind)}), on link "
                                                     f"{r.on} from link {r.source}"))
     out += '<div class="grid">' + "".join(grid) + "</div>"
     out += ctx.figure(diagram_figure(engine, reactions=True, cycle=ctx.cycle),
