@@ -495,6 +495,7 @@ def _extremes(engine, motion, full_turn, at_limits=None):
                 value = end_q[e, n]
                 local.append((float(end_phi[e]), float(value), "max" if value > q[other, n] else "min", True))
         local.sort(key=lambda c: c[0])
+        local = _significant(local, 1e-9 * (engine.size if kind == "slider" else 1.0))
         values_n = np.array([c[1] for c in local]) if local else q[[0, -1], n]
         ats_n = np.array([c[0] for c in local]) if local else end_phi
         lo, hi = int(np.argmin(values_n)), int(np.argmax(values_n))
@@ -506,6 +507,19 @@ def _extremes(engine, motion, full_turn, at_limits=None):
         ext = Extreme(name, kind, vmin, float(inp.from_si(ats_n[lo])), vmax, float(inp.from_si(ats_n[hi])))
         ext.local = [_local(c[2], c[1] - shift, inp.from_si(c[0]), len(c) > 3) for c in local]
         out.append(ext)
+    return out
+
+
+def _significant(local: list, tol: float) -> list:
+    """The local extremes (φ, value, kind[, end]) in order, without the wiggles of a dwell: an interior
+    maximum and minimum next to each other that differ by no more than `tol` (the rounding of a profile
+    given by points) are dropped in pairs."""
+    out = []
+    for c in local:
+        if out and len(c) == 3 and len(out[-1]) == 3 and abs(c[1] - out[-1][1]) <= tol:
+            out.pop()
+            continue
+        out.append(c)
     return out
 
 
