@@ -564,6 +564,13 @@ def _virtual_power(engine, motion, loads, drive):
     # that a position where most links stand still (an extreme position) is not judged on round-off
     point_v = motion.vq if motion.vq is not None else motion.v
     vscale = np.hypot(point_v[..., 0], point_v[..., 1]).max(axis=1, initial=0.0)
+    if engine.mech.higher:  # and the higher pairs' contacts on both their links (a cam's rim at a dwell)
+        for g in contact_geometry(engine, motion).values():
+            for link in g.links:
+                k = engine.link_index[link]
+                d = g.point - r[:, k]
+                speed = np.hypot(v[:, k, 0] - w[:, k] * d[:, 1], v[:, k, 1] + w[:, k] * d[:, 0])
+                vscale = np.maximum(vscale, speed)
     wscale = np.abs(w).max(axis=1)
     for ld in loads:
         total += load_power(ld, w, v, r)

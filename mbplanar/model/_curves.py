@@ -139,12 +139,13 @@ def curvature(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray | None = None):
     """Signed curvature κ (B,) of a curve from c', c'' (2, B) (positive turning left), and with c'''
     its derivative dκ/du."""
     speed2 = d1[0] ** 2 + d1[1] ** 2
+    speed3 = speed2 * np.sqrt(speed2)      # (no fifth power: it would underflow on a tiny drawing)
     cross = d1[0] * d2[1] - d1[1] * d2[0]
-    kappa = cross / speed2 ** 1.5
+    kappa = cross / speed3
     if d3 is None:
         return kappa
     dot12 = d1[0] * d2[0] + d1[1] * d2[1]
-    dkappa = (d1[0] * d3[1] - d1[1] * d3[0]) / speed2 ** 1.5 - 3.0 * cross * dot12 / speed2 ** 2.5
+    dkappa = ((d1[0] * d3[1] - d1[1] * d3[0]) - 3.0 * cross * (dot12 / speed2)) / speed3
     return kappa, dkappa
 
 
