@@ -2,14 +2,15 @@
 
 `ModelError` is bad input (a table that cannot describe a mechanism, a bad argument): exit status 2.
 `MotionError` is a mechanism that cannot move as asked (cannot be assembled, locks): exit status 1.
-`PlotUnavailable`: a picture was asked for without matplotlib (exit 2). Every error carries a message
+`PlotUnavailable`: a picture was asked for without matplotlib (exit 2). `LongRun`: a request estimated
+above 10 minutes, not confirmed (exit 2); `Interrupted`: Ctrl-C (exit 130). Every error carries a message
 that names the file (`source`), the row, joint or link (`where`) at fault; ``str(error)`` composes
 them once, as "source: where: message". `ModelWarning` flags input that is valid but probably not
 what the author meant (a drawn input value far from the sketch, a length that contradicts the
 coordinates, a load diagram out of scale); the CLI prints it on stderr.
 """
 
-__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "ModelWarning",
+__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "LongRun", "Interrupted", "ModelWarning",
            "PrecisionWarning"]
 
 
@@ -24,6 +25,15 @@ class MbplanarError(Exception):
         The model file (or "<python>", "<table>").
     where : str, optional
         The row, joint, link or argument at fault, e.g. "loads[2] 'cutting'".
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> try:
+    ...     mbplanar.read_model("models/no_such_model.toml")
+    ... except mbplanar.MbplanarError as error:      # ModelError and MotionError alike
+    ...     print(error)
+    models/no_such_model.toml: cannot read the model file (No such file or directory)
     """
 
     exit_code = 1
@@ -44,13 +54,35 @@ def _rebuild(cls, message, source, where):
 
 
 class ModelError(MbplanarError, ValueError):
-    """The table, the model or an argument is wrong: unknown names, bad values, wrong DOF, ..."""
+    """The table, the model or an argument is wrong: unknown names, bad values, wrong DOF, ...
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> try:
+    ...     mbplanar.parse_model({"name": "empty", "ground": "0"}, source="empty.toml")
+    ... except mbplanar.ModelError as error:
+    ...     print(error.source)
+    empty.toml
+    """
 
     exit_code = 2
 
 
 class MotionError(MbplanarError):
-    """The mechanism cannot be assembled or cannot move as asked."""
+    """The mechanism cannot be assembled or cannot move as asked.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml"))
+    >>> try:
+    ...     mbplanar.position(engine, np.radians(180.0))
+    ... except mbplanar.MotionError as error:
+    ...     print(str(error).split(":")[1])
+     cannot reach t = 3.141592654 rad on the drawn branch
+    """
 
     exit_code = 1
 
@@ -59,6 +91,24 @@ class PlotUnavailable(MbplanarError):
     """A picture was asked for but matplotlib (the `plot` extra) is not installed."""
 
     exit_code = 2
+
+
+class LongRun(MbplanarError):
+    """A request estimated to run longer than 10 minutes that the user did not agree to (`--yes`): exit
+    status 2 (see `mbplanar._progress`)."""
+
+    exit_code = 2
+
+
+class Interrupted(MbplanarError):
+    """The user stopped a long run (Ctrl-C): exit status 130, as a shell reports SIGINT. `partial` holds
+    the part of the result done by then (or None)."""
+
+    exit_code = 130
+
+    def __init__(self, message: str = "", *, source=None, where=None, partial=None):
+        super().__init__(message, source=source, where=where)
+        self.partial = partial
 
 
 class ModelWarning(UserWarning):

@@ -233,7 +233,7 @@ def test_the_dxf_audits_clean_and_its_joint_circles_sit_where_solve_puts_the_joi
 
 def test_the_path_is_the_points_positions_over_the_cycle(tmp_path, engine_of):
     pytest.importorskip("ezdxf")
-    from mbplanar.formats.drawing import drawing, sweep_values
+    from mbplanar.formats.sheet import drawing, sweep_values
     engine = engine_of("fourbar")
     sheet = drawing(engine, np.radians([30.0]), paths=["M", "B"], steps=72)
     paths = [data for kind, layer, data in sheet.entities if layer == "PATHS"]

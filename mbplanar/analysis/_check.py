@@ -61,6 +61,33 @@ class AngleRange:
 
 @dataclass
 class CheckReport:
+    """What `check` finds over the input's range (angles and lengths in the model's input unit).
+
+    Attributes
+    ----------
+    model, input, unit : str
+        The model's name, the input's name and its unit.
+    full_turn : bool
+        Whether the input turns a whole revolution from the drawn pose.
+    range : tuple
+        (lo, hi): the input values the input moves through.
+    limits, change_points : list of dict
+        Motion limits and branch crossings: "phi", "direction", "links", "joints", "kind", "message".
+    extremes : list
+        Each output's extreme positions, strokes and quick-return ratio.
+    transmission, pressure : list
+        Transmission angles of the R–R–R pairs, pressure angles of the sliders, over the range.
+    grashof : dict or None
+        For a four-bar: the lengths, s + l and p + q, its kind.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml")))
+    >>> report.full_turn, len(report.limits)
+    (False, 2)
+    """
+
     model: str
     input: str
     unit: str
@@ -543,7 +570,34 @@ def _angle_ranges(engine, motion, at_limits, angles_of, name_of):
 
 def check(engine, samples: int = SAMPLES) -> CheckReport:
     """Sweep the whole input range of a one-input mechanism and report its motion limits, extreme
-    positions, transmission and pressure angles (see the module docstring)."""
+    positions, transmission and pressure angles (see the module docstring).
+
+    Parameters
+    ----------
+    engine : Engine
+        A one-input mechanism.
+    samples : int
+        Positions sampled over a turn (or the travel) before the limits and the extremes are solved
+        exactly.
+
+    Returns
+    -------
+    CheckReport
+        Whether the input turns fully, its range, the motion limits and change points, the extreme
+        positions of every output, the transmission and pressure angles and, for a four-bar, Grashof.
+
+    Raises
+    ------
+    ModelError
+        A model with more than one input (`check_region` takes two).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    >>> report.full_turn, report.grashof["kind"]
+    (True, 'crank-rocker')
+    """
     if len(engine.inputs) != 1:
         raise ModelError("check drives one input; this model has "
                          f"{len(engine.inputs)}", source=engine.mech.source)

@@ -11,16 +11,12 @@ from ..forces._kinetostatics import plan_of, result
 from ..forces._loads import heavy_links, needs_numpy
 from ..kinematics._motion import Motion, _per_position, _tables, point_selection
 
-__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "PAYS_FROM_BUILT", "declines"]
+__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "declines"]
 
 #: positions from which a new process gains by loading the compiled kernels: importing numba and loading
-#: the kernels from its cache costs about 0.6 s per process (numba's own start included), the kernels
-#: save about 1 µs per position
+#: the kernels from its cache (``mbplanar compile`` fills it) costs about 0.4 s of CPU per process (numba's
+#: own start included), the kernels save about 1 µs per position
 PAYS_FROM = 500_000
-#: the same where the kernels are built ahead of time (``mbplanar compile``, `_aot`): loading them and
-#: making an engine's kernel tables cost ~10 ms (measured on a loaded four-bar's `sweep`), the kernels save
-#: ~0.5 µs per position of kinematics and kinetostatics
-PAYS_FROM_BUILT = 20_000
 
 
 def _kernels():
@@ -56,13 +52,9 @@ class NumbaBackend:
 
     def pays(self, positions: int) -> bool:
         """Whether a process that has not loaded the kernels yet gains by loading them for a batch of
-        `positions` (the command line runs one batch per process: it takes numpy below `PAYS_FROM`, or
-        below `PAYS_FROM_BUILT` where the kernels are built ahead of time)."""
+        `positions` (the command line runs one batch per process: it takes numpy below `PAYS_FROM`)."""
         import sys
-        if positions >= PAYS_FROM or "numba" in sys.modules:
-            return True
-        from . import _aot
-        return positions >= PAYS_FROM_BUILT and _aot.available()
+        return positions >= PAYS_FROM or "numba" in sys.modules
 
     def kinematics(self, engine, phi, omega, epsilon, points=None, rates=True) -> Motion | None:
         """`analyse` of one input's values (of the points `points`, a `PointSelection` or None for every

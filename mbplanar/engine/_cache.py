@@ -86,9 +86,14 @@ def _build(text: bytes, source: str, backend: str, threads) -> tuple[Engine, lis
     except UnicodeDecodeError:
         read_model(source)  # raises the error that names the file and the byte
         raise
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        engine = Engine(read_model_text(decoded, source=source), backend=backend, threads=threads)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            engine = Engine(read_model_text(decoded, source=source), backend=backend, threads=threads)
+    except Exception:
+        for w in caught:   # (often the cause: a length in another unit than the file's)
+            warnings.warn(w.message, stacklevel=3)
+        raise
     return engine, [w.message for w in caught]
 
 
@@ -110,7 +115,7 @@ def _entry_name(*parts) -> str:
 
 def _code_stamp() -> str:
     """The size and modification time of every module of the package: any edit changes it (read once per
-    process: the engine cache and the built kernels' key, `backends._aot`, share it)."""
+    process)."""
     if not _stamp:
         _stamp.append(_stamp_of_files())
     return _stamp[0]
@@ -130,17 +135,6 @@ def _stamp_of_files(root=PACKAGE) -> str:
                 info = os.stat(os.path.join(folder, name))
                 stamps.append(f"{os.path.join(relative, name)}:{info.st_size}:{info.st_mtime_ns}")
     return "\n".join(stamps)
-
-
-def _digest(*parts) -> str:
-    """The SHA-256 of the parts, each length-prefixed (the built kernels' key, `backends._aot`)."""
-    import hashlib
-    h = hashlib.sha256()
-    for part in parts:
-        data = part if isinstance(part, bytes) else str(part).encode("utf-8")
-        h.update(len(data).to_bytes(8, "little"))
-        h.update(data)
-    return h.hexdigest()
 
 
 def _private(folder: Path) -> bool:

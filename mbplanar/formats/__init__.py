@@ -17,7 +17,7 @@ __all__ = ["model_schema", "import_model", "import_object", "Imported", "drawing
            "list_examples", "example_text", "copy_examples", "Example"]
 
 _HOME = {"model_schema": "schema", "import_model": "importing", "import_object": "importing",
-         "Imported": "importing", "drawing": "drawing", "export_drawing": "drawing",
+         "Imported": "importing", "drawing": "sheet", "export_drawing": "sheet",
          "list_examples": "examples", "example_text": "examples", "copy_examples": "examples",
          "Example": "examples"}
 

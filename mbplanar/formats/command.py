@@ -84,7 +84,7 @@ def _values(engine, text) -> list[float]:
 def _export(args) -> int:
     import numpy as np
     from ..engine._cache import load_engine
-    from .drawing import export_drawing
+    from .sheet import export_drawing
     if args.steps < 1:
         raise ModelError(f"--steps must be a positive whole number, got {args.steps}")
     engine = load_engine(args.model, backend="numpy", use_cache=not getattr(args, "no_cache", False))

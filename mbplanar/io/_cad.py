@@ -2,7 +2,7 @@
 
 A `Sheet` collects entities (polylines with arc segments, fit-point splines, circles, points, lines,
 texts) on named `Layer`s in one length unit; `write_dxf` and `write_svg` write it. The cam's profile
-(`mbplanar.cam.export`) and the linkage's drawing (`mbplanar.formats.drawing`) are both written through
+(`mbplanar.cam.export`) and the linkage's drawing (`mbplanar.formats.drawing`, in `mbplanar/formats/sheet.py`) are both written through
 these two functions: there is one DXF writer and one SVG writer.
 
 SVG has y down: the writer turns y over, and keeps texts upright. Each layer is a group `<g id=NAME>`

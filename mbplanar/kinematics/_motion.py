@@ -35,6 +35,16 @@ class Motion:
     The compiled backend passes None for the arrays of `DERIVED`: the points' analogues from the link
     frames, the joints' real rates from their analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...), computed
     when first read, and kept.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([30.0, 120.0]), omega=10.0)
+    >>> motion.point_names, motion.v[:, motion.point("A")].round(4)     # A on the crank: 0.1 m · 10 rad/s
+    (['O', 'A', 'B', 'C', 'M'], array([[-0.5  ,  0.866],
+           [-0.866, -0.5  ]]))
     """
 
     engine: Engine
@@ -433,15 +443,18 @@ CHUNK = 25_000  # positions solved at once: bounds the working memory of very lo
 
 
 def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates: bool = True) -> Motion:
-    """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
-    hold no solution, are dropped before anything is returned). The engine's compiled backend takes the
-    batch where it can (`engine._backend.dispatch`); numpy, the reference, does the rest.
+    """Solve `phi` and return the kinematics of the positions reached.
+
+    Rows past a motion limit, which hold no solution, are dropped before anything is returned (the
+    limit is in `Motion.limits`). The engine's compiled backend takes the batch where it can
+    (`engine._backend.dispatch`); numpy, the reference, does the rest.
 
     Parameters
     ----------
     engine : Engine
+        The mechanism, compiled once.
     phi : array_like
-        Input values (SI): (B,) for one input, (B, n_in) for several.
+        Input values (SI: rad, or m for a slider): (B,) for one input, (B, n_in) for several.
     omega, epsilon : float or array_like, optional
         Input speed and acceleration, one value or one per position (default: the model's).
     points : list of str, optional
@@ -451,9 +464,28 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
         False: positions only (link angles, points, joint values); the velocities and accelerations
         are not computed and reading one raises `RatesNotComputed`.
 
-    Raises `ModelError` for input values that are not finite, for a point the model does not have, and
-    for a speed `omega` or acceleration `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``,
-    ``|ε| ≤ 1e200`` (their squares and products must stay finite).
+    Returns
+    -------
+    Motion
+        Batch first: link angles (B, L), points' positions, velocities, accelerations (B, P, 2), ...
+
+    Raises
+    ------
+    ModelError
+        Input values that are not finite, a point the model does not have, a speed `omega` or
+        acceleration `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``, ``|ε| ≤ 1e200`` (their
+        squares and products must stay finite).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> m = mbplanar.analyse(engine, np.radians([0.0, 90.0]), omega=10.0)
+    >>> m.xy.shape                                   # (B, P, 2): two positions of five points
+    (2, 5, 2)
+    >>> m.w[:, m.link_names.index("3")].round(4)     # the rocker's angular velocity, rad/s
+    array([-5.    ,  3.7222])
     """
     phi = np.asarray(phi, float)
     if not np.all(np.isfinite(phi)):

@@ -90,6 +90,15 @@ class Position:
     ic (L, 2) instantaneous centres (NaN for a link that does not turn). Points: xy, v, a (P, 2).
     Joints: value, rate, accel (J,). Analogues (one input; None with several): wq, eq (L,), vq, aq
     (P, 2), rate_q, accel_q (J,). Every array is a view of `record`, this position's own buffer.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> p = mbplanar.position(engine, np.radians(90.0))
+    >>> p.xy[p.point("A")].round(6)                    # the crank's end, m
+    array([0. , 0.1])
     """
 
     record: np.ndarray  # 0-d structured array (`FIELDS`)
@@ -161,13 +170,26 @@ def made(record: np.ndarray, layout: Layout) -> Position:
 
 
 def position(engine, phi, omega=None, epsilon=None) -> Position:
-    """The kinematics of one position: input value(s) `phi` (SI: a number for one input, one value per
-    input for several), speed `omega` and acceleration `epsilon` of the input(s) (default: the model's).
+    """The kinematics of one position, without the batch machinery.
 
     Equal to ``analyse(engine, [phi], omega, epsilon)`` (its only row) to rounding, and much cheaper per
     call on the compiled backend (``Engine(mech, backend="numba")``): no batch is built, the prediction
     comes from the engine's atlas and the work arrays are the engine's, so one engine serves one caller
     at a time.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism, compiled once.
+    phi : float or sequence of float
+        The input value (SI): a number for one input, one value per input for several.
+    omega, epsilon : float or sequence of float, optional
+        Speed and acceleration of the input(s) (default: the model's).
+
+    Returns
+    -------
+    Position
+        Positions, velocities, accelerations of every point (P, 2) and link (L,), for this position.
 
     Raises
     ------
@@ -175,6 +197,15 @@ def position(engine, phi, omega=None, epsilon=None) -> Position:
         The position lies past a motion limit, or the drawn branch does not reach it.
     ModelError
         A value that is not finite, or a speed or acceleration out of range (as `analyse`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> p = mbplanar.position(engine, np.radians(30.0), omega=10.0)
+    >>> p.xy[p.point("B")].round(4), p.w.round(4)      # B (m); the links' ω (rad/s)
+    (array([0.3104, 0.2498]), array([ 0.    , 10.    , -3.9224, -1.1355]))
     """
     solver = engine.prepared.get("position")
     if solver is None:

@@ -28,6 +28,7 @@ import numpy as np
 from ..errors import ModelError
 from ._curves import Offset, Shape, curvature, shape
 from ._model import HigherPair, Mechanism
+from ._scale import drawing_size
 
 __all__ = ["PairGeometry", "drawn_pairs", "drawn_pair", "replacement", "mechanism_size", "CONTACT_TOL"]
 
@@ -60,9 +61,8 @@ class PairGeometry:
 
 
 def mechanism_size(mech: Mechanism) -> float:
-    """The largest distance between two joints (the length every tolerance is relative to), 1 if none."""
-    spots = [j.at for j in mech.joints.values()]
-    return max([math.dist(a, b) for a in spots for b in spots] + [0.0]) or 1.0
+    """The drawing's size (`_scale.drawing_size`), the length every tolerance is relative to; 1 if none."""
+    return drawing_size(mech) or 1.0
 
 
 def drawn_pairs(mech: Mechanism) -> dict[str, PairGeometry]:

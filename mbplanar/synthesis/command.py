@@ -11,9 +11,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError, PlotUnavailable
+from .._progress import add_long_run_options
+from ..errors import ModelError, ModelWarning, PlotUnavailable
+from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
+from ..model._units import add_units_option
 
-__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion", "csv_rows", "read_toml"]
+__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion", "csv_rows", "read_toml",
+           "shown", "input_units"]
 
 
 def add_arguments(parser) -> None:
@@ -62,7 +66,7 @@ def add_arguments(parser) -> None:
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, help="run the starts on a Dask LocalCluster of N worker processes")
     g.add_argument("--scheduler", help="run the starts on the Dask cluster of this scheduler")
-    s.add_argument("--progress", action="store_true", help="a progress bar on stderr (default: when a terminal)")
+    add_long_run_options(s, "the first starts")
     _common(s)
 
 
@@ -70,11 +74,13 @@ def _common(s):
     s.add_argument("-o", "--output", help="the synthesised model (TOML)")
     s.add_argument("--json", action="store_true", help="print the JSON summary")
     s.add_argument("--plot", help="picture of the target against the achieved motion (PNG, SVG, PDF)")
+    add_units_option(s, "the summary's lengths (model: the input's length_unit, or the --model's)")
 
 
 def run(args) -> int:
     problem = {"seed001": _seed001, "function": _function, "motion": _motion, "path": _path}[args.problem]
     summary, result, picture = problem(args)
+    summary = shown(summary, getattr(args, "input_unit", "m") if args.units == "model" else "m")
     if args.output:
         from .report import summary_table
         summary["model"] = str(args.output)
@@ -115,6 +121,63 @@ def _print_text(summary: dict) -> None:
     print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
     if summary.get("model"):
         print(f"  model written to {summary['model']}")
+
+
+# -- units ---------------------------------------------------------------------------------------------
+#: the summaries' keys whose numbers are lengths (in "design", "target"), besides targets, poses, errors in m
+_LENGTHS = {"a", "b", "c", "d", "l", "rho", "crank", "coupler", "rocker", "ground", "a0x", "a0y", "b0x", "b0y", "u",
+            "v", "crank_pivot", "crank_joint", "slider_joint", "rocker_joint", "rocker_pivot", "x_start", "y0",
+            "length", "height", "top_x", "nodes"}
+
+
+def input_units(data: dict, src, angles: bool = False) -> tuple[str, float, float]:
+    """The input's `length_unit` (any case; default m) and, with `angles`, its `angle_unit` (deg or rad):
+    the unit's name, metres per unit, radians per angle unit."""
+    where = f"{src}"
+    unit = unit_spelling(data.get("length_unit", "m"), LENGTH_UNITS)
+    if unit is None:
+        raise ModelError(f"length_unit must be one of {', '.join(LENGTH_UNITS)} (in any case), got "
+                         f"{data.get('length_unit')!r}", source=where)
+    angle = unit_spelling(data.get("angle_unit", "deg"), ANGLE_UNITS) if angles else "deg"
+    if angle is None:
+        raise ModelError(f"angle_unit must be deg or rad, got {data.get('angle_unit')!r}", source=where)
+    return unit, LENGTH_UNITS[unit], ANGLE_UNITS[angle]
+
+
+def shown(summary: dict, unit: str) -> dict:
+    """The summary with its lengths in `unit` (a length unit's name) and a ``"units"`` object."""
+    k = LENGTH_UNITS[unit]
+
+    def scale(v):
+        if isinstance(v, (list, tuple)):
+            return [scale(x) for x in v]
+        return v / k if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+    if not summary.get("source_model"):
+        summary["design"] = {key: scale(v) if key in _LENGTHS else v for key, v in summary["design"].items()}
+    if isinstance(summary.get("target"), dict):
+        summary["target"] = {key: scale(v) if key in _LENGTHS else v for key, v in summary["target"].items()}
+    if "targets" in summary:
+        summary["targets"] = scale(summary["targets"])
+    if "poses" in summary:
+        summary["poses"] = [[*scale(p[:2]), p[2]] for p in summary["poses"]]
+    if "burmester_points" in summary:
+        summary["burmester_points"] = [{key: scale(v) for key, v in b.items()} for b in summary["burmester_points"]]
+    if summary.get("error_unit") == "m":
+        summary.update(errors=scale(summary["errors"]), max_error=scale(summary["max_error"]),
+                       rms_error=scale(summary["rms_error"]), error_unit=unit)
+    summary["units"] = {"system": "si" if unit == "m" else "model", "length": unit, "angle": "deg"}
+    return summary
+
+
+def _check_pose_angles(angles, src, unit: str):
+    """Warn when pose angles read in degrees all lie within ±2π and turn through less than 2π: radians?"""
+    angles = np.asarray(angles, float)
+    if unit == "deg" and len(angles) > 1 and np.all(np.abs(angles) <= 2 * math.pi) and np.ptp(angles) > 0:
+        import warnings
+        warnings.warn(ModelWarning(str(ModelError(
+            f"the poses turn through {np.ptp(angles):.4g}° in all (angles {angles.min():.4g} … {angles.max():.4g}, "
+            "read in degrees): are they in radians? give angle_unit = \"rad\" in a TOML input, or the angles in "
+            "degrees", source=str(src)))), stacklevel=3)
 
 
 # -- inputs -------------------------------------------------------------------------------------------
@@ -196,11 +259,13 @@ def _seed001(args):
     from .seed001 import synthesise_seed001
     data = read_toml(args.input) if args.input else {}
     src = args.input or "<default target>"
-    _known(data, ("chain", "target", "method"), src)
+    _known(data, ("chain", "target", "method", "length_unit"), src)
+    args.input_unit, k, _ = input_units(data, src)
     chain_t = _known(data.get("chain", {}), ("a", "b", "pivot"), f"{src}: [chain]")
     pivot = _pairs({"p": [chain_t.get("pivot", list(SEED001_CHAIN.pivot))]}, "p", f"{src}: [chain] pivot", 2)[0]
-    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a),
-                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b), (float(pivot[0]), float(pivot[1])))
+    pivot = pivot * (k if "pivot" in chain_t else 1.0)
+    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a / k) * k,
+                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b / k) * k, (float(pivot[0]), float(pivot[1])))
     if chain.a <= 0 or chain.b <= 0:
         raise ModelError(f"{src}: [chain] a and b must be positive")
     where = f"{src}: [target]"
@@ -208,11 +273,9 @@ def _seed001(args):
     direction = int(_number(t, "direction", where, -1))
     if direction not in (1, -1):
         raise ModelError(f"{where}: 'direction' must be 1 or -1")
-    target = WalkingTarget(_number(t, "x_start", where, DEFAULT_TARGET["x_start"]),
-                           _number(t, "y0", where, DEFAULT_TARGET["y0"]),
-                           _number(t, "length", where, DEFAULT_TARGET["length"]),
-                           _number(t, "height", where, DEFAULT_TARGET["height"]), direction,
-                           None if "top_x" not in t else _number(t, "top_x", where))
+    target = WalkingTarget(*(_number(t, key, where, DEFAULT_TARGET[key] / k) * k
+                             for key in ("x_start", "y0", "length", "height")), direction,
+                           None if "top_x" not in t else _number(t, "top_x", where) * k)
     method = _known(data.get("method", {}), ("form", "support_nodes", "spacing", "fit", "k_step_deg",
                                              "gamma_step_deg"), f"{src}: [method]")
     form = args.form or method.get("form", "b")
@@ -266,13 +329,14 @@ def _function(args):
         rows = csv_rows(src, 2)
         result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]))
         return summary_function(result, None), result, _plot_function
-    data = _known(read_toml(src), ("function",), src)
+    data = _known(read_toml(src), ("function", "length_unit"), src)
+    args.input_unit, k, _ = input_units(data, src)
     where = f"{src}: [function]"
     if "function" not in data:
         raise ModelError(f"{src}: a [function] table is required")
     f = _known(data["function"], ("expression", "x", "phi_deg", "psi_deg", "points", "spacing", "ground",
                                   "pairs_deg"), where)
-    ground = _number(f, "ground", where, 1.0)
+    ground = _number(f, "ground", where, 1.0 / k) * k
     if ground <= 0:
         raise ModelError(f"{where}: 'ground' must be positive")
     if "pairs_deg" in f:
@@ -328,16 +392,20 @@ def _motion(args):
     src = args.input
     circle = centre = slider = None
     full_turn = args.full_turn
-    if str(src).lower().endswith(".csv"):
+    data = {} if str(src).lower().endswith(".csv") else _known(
+        read_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn", "length_unit",
+                         "angle_unit"), src)
+    args.input_unit, k, rad = input_units(data, src, angles=True)
+    if not data:
         rows = csv_rows(src, 3)
     else:
-        data = _known(read_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn"), src)
         rows = _pairs(data, "poses", src, 3)
-        circle = _pairs(data, "circle_points", src, 2, required=False)
-        centre = _pairs(data, "centre_points", src, 2, required=False)
-        slider = _pairs(data, "slider_points", src, 2, required=False)
+        circle, centre, slider = (None if v is None else v * k for v in
+                                  (_pairs(data, key, src, 2, required=False)
+                                   for key in ("circle_points", "centre_points", "slider_points")))
         full_turn = full_turn or bool(data.get("full_turn", False))
-    poses = np.column_stack([rows[:, :2], np.radians(rows[:, 2])])
+    _check_pose_angles(rows[:, 2], src, "deg" if rad != 1.0 else "rad")
+    poses = np.column_stack([rows[:, :2] * k, rows[:, 2] * rad])
     result = synthesise_motion(poses, circle, centre, slider, full_turn)
     summary = summary_motion(result)
     if args.curve:

@@ -97,7 +97,7 @@ class _Problem:
         from ..study.geometry import design_geometry
         from ..study.variants import variants_from
         template, engine = self.base()
-        variants = variants_from(template, {n: values[:, i] for i, n in enumerate(self.names)})
+        variants = variants_from(template, {n: values[:, i] for i, n in enumerate(self.names)}, check=False)
         batch = DesignBatch(engine, design_geometry(template, variants, engine.mech))
         phi0 = np.where(np.isfinite(batch.geometry.phi0), batch.geometry.phi0, 0.0)
         with np.errstate(all="ignore"):

@@ -10,12 +10,12 @@ bounds {name = [lower, upper]}, `[constraints]` (`constraints.read_constraints`)
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._progress import shown
 from ..errors import ModelError
 from .constraints import PathConstraints, read_constraints
 
@@ -40,13 +40,17 @@ class PathProblem:
     workers: int | None = None
     scheduler: str | None = None
     progress: bool = False
+    yes: bool = False
 
     def run(self):
-        """Synthesise (serially or on Dask, with the progress bar when asked)."""
-        from ..study.cluster import close, connect, local_client, progress_bar
+        """Synthesise (serially or on Dask, with the progress bar when asked, and the time estimate of
+        `mbplanar._progress.Progress` from the first starts)."""
+        from .._progress import Progress
+        from ..study.cluster import close, connect, local_client
         client = local_client(self.workers) if self.workers else connect(self.scheduler) if self.scheduler else None
-        update, done = progress_bar(self.search.get("starts", 8 if self.model is None else 2)) if self.progress \
-            else (None, lambda: None)
+        starts = self.search.get("starts", 8 if self.model is None else 2)
+        update = Progress(starts, "starts", show=self.progress, what=f"a search of {starts} starts", yes=self.yes)
+        done = update.close
         try:
             if self.model is None:
                 from .path import synthesise_path
@@ -130,7 +134,11 @@ def path_problem(args) -> PathProblem:
     point = args.point or model_t.get("point")
     if model is not None and not point:
         raise ModelError("name the model's point whose path is shaped (--point or [model] point)")
-    sliding = model is not None and _sliding_input(model)
+    mech = None if model is None else _model_of(model)
+    sliding = mech is not None and mech.joints[mech.inputs[0].joint].kind == "P"
+    if mech is not None:    # targets (and a sliding input's values) in the model's length unit
+        rows = _in_model_units(rows, mech, sliding, src)
+        args.input_unit = mech.units.length
     timing = None
     if timed:
         timing = rows[:, 2] if sliding else np.radians(rows[:, 2])
@@ -158,13 +166,28 @@ def path_problem(args) -> PathProblem:
     if travel is not None and not sliding:
         travel = [math.radians(float(v)) for v in travel]   # degrees for a crank input
     return PathProblem(rows[:, :2], timing, c, model, point, bounds, travel, search, args.workers,
-                       args.scheduler, bool(args.progress or sys.stderr.isatty()))
+                       args.scheduler, shown(args.progress), bool(getattr(args, "yes", False)))
 
 
-def _sliding_input(model) -> bool:
-    """Whether the model's input drives a prismatic joint (its values then in metres, not degrees)."""
+def _model_of(model):
+    """The model (its declared parameters) whose path is synthesised."""
     from ..model import parse_model
     from ..study.run import load_template
     template = load_template(model)
-    mech = parse_model(template.bind(), source=template.source)
-    return mech.joints[mech.inputs[0].joint].kind == "P"
+    return parse_model(template.bind(), source=template.source)
+
+
+def _in_model_units(rows, mech, sliding: bool, src):
+    """Target rows (x, y[, input]) read in the model's length unit, in SI (a sliding input's values in its
+    own unit);
+    targets spread 100 times wider or narrower than the model's drawing warn (`mbplanar.model._scale`)."""
+    from ..model._scale import drawing_size, warn_scale
+    k = mech.units.length_scale
+    rows = np.array(rows, float)
+    rows[:, :2] *= k
+    if sliding and rows.shape[1] > 2:
+        rows[:, 2] *= mech.inputs[0].scale
+    spread = float(np.max(np.ptp(rows[:, :2], axis=0))) if len(rows) > 1 else 0.0
+    warn_scale("the target points spread over", spread, drawing_size(mech), mech.units.length, k,
+               source=str(src), reference=f"the model {mech.source} spans")
+    return rows
