@@ -83,6 +83,24 @@ def test_a_written_train_reads_and_solves_by_willis():
     assert engine.mech.higher["G34"].internal and engine.laws["G12"].carrier == "H"
 
 
+@pytest.mark.parametrize("scheme, ratio", [("A", 7.0), ("B", 7.7392), ("C", 30.0), ("D", 19.348)])
+def test_the_trains_mbplanar_gear_writes_solve_by_willis(scheme, ratio):
+    """Every scheme of `mbplanar gear planetary`'s trains (two rows, internal meshes named either way round)
+    and a train with its stage: the model it writes reads and solves, and the engine's ratio of the input
+    to the output is the train's, u_1H = 1 − u^H_14 by Willis, to 1e-12."""
+    from mbplanar.gears import gear_pair, planetary_trains
+    from mbplanar.gears.planetary import SCHEMES
+    from mbplanar.gears.trainmodel import Stage, train_model
+    train = planetary_trains(ratio, scheme, planets=3, module=2e-3).trains[0]
+    sch = SCHEMES[scheme]
+    stage = Stage.from_pair(gear_pair(10e-3, (12, 30), (0.5923, 0.5278))) if scheme == "B" else None
+    engine = mbplanar.Engine(mbplanar.parse_model(train_model(train, stage=stage), "train.toml"))
+    m = mbplanar.analyse(engine, _turn_of(engine, 13))
+    out = _wq(m, "out") if stage else _wq(m, "1" if sch.driven_by_carrier else "H")
+    willis = (1 / (1 - train.willis)) if sch.driven_by_carrier else 1 - train.willis
+    np.testing.assert_allclose(1 / out, willis * (-2.5 if stage else 1.0), rtol=1e-12)
+
+
 def test_compound_train_of_the_geared_shaper_by_willis():
     """Three pairs on fixed axes, 20/66, 18/72, 73/107: the motor turns (−1)³·(66/20)(72/18)(107/73) =
     −7062/365 times the crank (n_d/n1 = 23.54·60/73 exactly), each shaft by its own product. To 1e-12."""

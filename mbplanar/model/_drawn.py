@@ -42,7 +42,8 @@ class PairGeometry:
 
     `centres` (gear: both gears' centres; rack: the pinion's), `carrier` (gear), `pitch` the pitch point
     (gear, rack) or the contact point (cam, slot), `normal` the unit common normal there, from the first
-    link's side into the second's (gear, rack: from the first gear's centre outwards), `tangent` the line's
+    link's side into the second's (a gear: on the line of centres, from the first gear's teeth into the
+    second's; a rack: from the pinion's centre), `tangent` the line's
     direction (rack), `path` the curve the follower's or the pin's point runs on, drawn on the first link
     (a `Shape`), `profile` the cam's profile itself, `u0` the contact's parameter on `path` (on `profile`
     for a flat face), `side` the side of the profile the follower is on (+1 left of its direction).
@@ -99,7 +100,7 @@ def _gear(mech, h, size) -> PairGeometry:
     a, b = h.links
     ra, rb = h.radii
     tol = CONTACT_TOL * size
-    need = rb - ra if h.internal else ra + rb
+    need = abs(rb - ra) if h.internal else ra + rb
     links = [h.carrier] if h.carrier is not None else [c for c in mech.all_links if c not in h.links]
     found = []
     for c in links:
@@ -127,14 +128,19 @@ def _gear(mech, h, size) -> PairGeometry:
     if miss > tol:
         _fail(mech, h, f"the gears' centres are {_length(mech, math.dist(pa, pb))} apart, but their pitch radii "
               f"{_length(mech, ra)} and {_length(mech, rb)} need {_length(mech, need)} "
-              f"({'r_b − r_a, internal' if h.internal else 'r_a + r_b'}): they cannot mesh in the drawn pose")
-    m = (pb - pa) / np.linalg.norm(pb - pa)
-    pitch = pa - ra * m if h.internal else pa + ra * m
+              f"({'the difference, internal' if h.internal else 'their sum'}): they cannot mesh in the drawn pose")
+    if h.internal:   # the larger gear has the internal teeth (a ring), whichever is named first
+        (pin, r_pin), ring = ((pa, ra), pb) if ra < rb else ((pb, rb), pa)
+        pitch = pin + r_pin * (pin - ring) / np.linalg.norm(pin - ring)
+    else:
+        pitch = pa + ra * (pb - pa) / np.linalg.norm(pb - pa)
     if h.at is not None and math.dist(h.at, pitch) > tol:
         _fail(mech, h, f"the pitch point 'at' = ({_length(mech, h.at[0])}, {_length(mech, h.at[1])}) is not where "
               f"the centres and radii put it, ({_length(mech, pitch[0])}, {_length(mech, pitch[1])})")
-    outward = -m if h.internal else m          # from gear a's centre through the pitch point
-    return PairGeometry(h, tuple(pitch), tuple(outward), (tuple(pa), tuple(pb)), carrier)
+    # the normal from gear a's teeth into gear b's: towards b's centre, away from it for a ring
+    towards_b = (pb - pitch) / np.linalg.norm(pb - pitch)
+    normal = -towards_b if h.internal and rb > ra else towards_b
+    return PairGeometry(h, tuple(pitch), tuple(normal), (tuple(pa), tuple(pb)), carrier)
 
 
 def _rack(mech, h, size) -> PairGeometry:

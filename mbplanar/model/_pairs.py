@@ -71,8 +71,8 @@ def _gear(mech, row, links, unit) -> dict:
     else:
         row.fail("a gear pair needs its pitch radii: 'radii' = [r_a, r_b], or 'teeth' = [z_a, z_b] and 'module'")
     internal = row.get("mesh") == "internal"
-    if internal and not radii[1] > radii[0]:
-        row.fail(f"an internal pair's second gear (the one with internal teeth) must be the larger: radii "
+    if internal and radii[0] == radii[1]:
+        row.fail(f"an internal pair's gears differ in size (the larger has the internal teeth): radii "
                  f"{radii[0] / unit:g} and {radii[1] / unit:g}")
     carrier = row.get("carrier")
     if carrier is not None and carrier != mech.ground and carrier not in mech.links:
