@@ -635,3 +635,18 @@ def test_a_design_batch_solves_each_design_of_a_higher_pair_model():
     for d, cx in enumerate((0.24, 0.25, 0.26)):
         ref = mbplanar.analyse(mbplanar.Engine(mbplanar.parse_model(dict(data, parameters={"cx": cx}))), phi)
         np.testing.assert_allclose(got.xy[d], ref.xy[:, [ref.point(p) for p in got.points]], atol=1e-12)
+
+
+def test_path_synthesis_on_a_higher_pair_models_parameters():
+    """`synth path --model` on [parameters] of a model with a slot: the slot's centre (and the rocker's
+    point there) found again from the timed path of that point, to 1e-9 m."""
+    import tomllib
+    from mbplanar.synthesis.path_model import synthesise_model_path
+    text = (MODELS / "slot_arc.toml").read_text(encoding="utf-8").replace("[0.25, 0.31]", '["cx", 0.31]')
+    data = dict(tomllib.loads(text), parameters={"cx": 0.25})
+    truth = mbplanar.Engine(mbplanar.parse_model(dict(data, parameters={"cx": 0.255})))
+    phi = np.radians(np.arange(0.0, 360.0, 40.0))
+    m = mbplanar.analyse(truth, phi)
+    found = synthesise_model_path(data, "D", {"cx": (0.2, 0.3)}, m.xy[:, m.point("D")], timing=phi, starts=1,
+                                  popsize=5, generations=3, samples=12)
+    assert found.values["cx"] == pytest.approx(0.255, abs=1e-9) and found.errors.max() < 1e-9

@@ -33,6 +33,7 @@ from ..engine._constraints import perp
 from ..engine._nodes import HERMITE5, Node
 from ..engine._singular import limit_after
 from ..kinematics import analyse
+from ..model import parse_model
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 
@@ -121,9 +122,12 @@ class DesignBatch:
         The reference design's engine (its structure serves every design). One input.
     geometry : DesignGeometry
         The designs' drawn coordinates (`design_geometry`).
+    template, variants : Template, Variants, optional
+        The model and the designs' values: a model with higher pairs solves each design from its own
+        table (`model_of`).
     """
 
-    def __init__(self, engine, geometry: DesignGeometry):
+    def __init__(self, engine, geometry: DesignGeometry, template=None, variants=None):
         self.engine = engine
         self.geometry = geometry
         self.count = geometry.count
@@ -144,6 +148,8 @@ class DesignBatch:
         if self.own:
             for d in np.flatnonzero(geometry.ok):
                 self.reasons[d] = "a model with higher pairs (each design solved by its own engine)"
+            if template is not None:
+                self.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
 
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
@@ -365,7 +371,7 @@ class DesignBatch:
         motion = self._positions(phi, nodes, designs)
         motion.limits = self._limits(limits, exact_limits)
         self._past_limits(motion)
-        if fallback:
+        if fallback or self.own:   # (a model with higher pairs: its designs' own engines are the only way)
             self._fall_back(motion, phi)
         motion.ok = np.array([r is None for r in self.reasons], bool)
         self.motion = motion
@@ -713,7 +719,6 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
     DesignBatch
     """
     from ..engine import Engine
-    from ..model import parse_model
     from .geometry import design_geometry
     from .run import load_template
     from .variants import Variants, read_variants, variants_from
@@ -727,10 +732,7 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
         engine = Engine(parse_model(template.bind(), source=template.source), backend=backend)
     if len(engine.inputs) != 1:
         raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
-    batch = DesignBatch(engine, design_geometry(template, variants, engine.mech))
-    if batch.own:
-        batch.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
-    return batch
+    return DesignBatch(engine, design_geometry(template, variants, engine.mech), template, variants)
 
 
 def compile_sample() -> None:
