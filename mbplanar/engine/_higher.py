@@ -37,17 +37,7 @@ def _on_link(rates, vel, link, rho, name=None, d1=None, d2=None):
     """Rate (2, C, B) of the point X = r + R·c(u) of `link` (ρ = R·c(u), d1 = R·c'(u), d2 = R·c''(u),
     (2, B); without `name` a material point, ρ = R·s): v + ω·perp(ρ) + d1·u̇, and with `vel` the terms
     −Ω²ρ + 2Ω·U·perp(d1) + U²·d2 of the acceleration (Ω, U the velocities)."""
-    w, v = rates.get(link)
-    out = v + w * perp(rho)[:, None]
-    if name is not None:
-        out = out + d1[:, None] * rates.param(name)
-    if vel is not None:
-        big_w = vel.get(link)[0]
-        out = out - (big_w * big_w) * rho[:, None]
-        if name is not None:
-            big_u = vel.param(name)
-            out = out + (2 * big_w * big_u) * perp(d1)[:, None] + (big_u * big_u) * d2[:, None]
-    return out
+    return rates.get(link)[1] + _turning(rates, vel, link, rho, name, d1, d2)
 
 
 def _turning(rates, vel, link, vec, name=None, d1=None, d2=None):
@@ -163,25 +153,34 @@ class Rack(HigherLaw):
         return (out + self.sigma_r * (rates.get(p)[0] - rates.get(k)[0]))[None]
 
 
-class PointOnCurve(HigherLaw):
+class _OnCurve(HigherLaw):
+    """A contact along the curve `path` of the pair's first link, at the parameter u (a closed curve's
+    repeats, an open curve's ends); the second link's point `at`."""
+
+    equations = 2
+    parameters = 1
+
+    def __init__(self, geometry: PairGeometry, path):
+        super().__init__(geometry)
+        self.path = path
+        self.at = np.array(self.pair.at, float)
+        self.param0 = geometry.u0
+        self.param_period = path.period if path.closed else 0.0
+        self.param_range = (-math.inf, math.inf) if path.closed else (path.lo, path.hi)
+
+    def param_scale(self, size):
+        return self.path.scale / size
+
+
+class PointOnCurve(_OnCurve):
     """A point P of link F on a curve c(u) of link C: X_F(P) − X_C(c(u)) = 0 (a knife, a roller's or a
     circle's centre on the profile or its offset, a pin in a slot)."""
 
     kind = "point"
-    equations = 2
-    parameters = 1
 
     def __init__(self, geometry: PairGeometry):
-        super().__init__(geometry)
+        super().__init__(geometry, geometry.path)
         self.curve_link, self.point_link = self.links
-        self.path = geometry.path
-        self.at = np.array(self.pair.at, float)
-        self.param0 = geometry.u0
-        self.param_period = self.path.period if self.path.closed else 0.0
-        self.param_range = (-math.inf, math.inf) if self.path.closed else (self.path.lo, self.path.hi)
-
-    def param_scale(self, size):
-        return self.path.scale / size
 
     def closure(self, pose):
         c, f = self.curve_link, self.point_link
@@ -197,29 +196,19 @@ class PointOnCurve(HigherLaw):
                 - _on_link(rates, vel, self.curve_link, o0, self.name, o1, o2))
 
 
-class FaceOnCurve(HigherLaw):
+class FaceOnCurve(_OnCurve):
     """A flat face of link F (through its point A, normal n) touching a curve c(u) of link C:
     N·(X_C(c(u)) − X_F(A)) = 0 and N·R_C·c'(u) = 0."""
 
     kind = "face"
-    equations = 2
-    parameters = 1
 
     def __init__(self, geometry: PairGeometry):
-        super().__init__(geometry)
+        super().__init__(geometry, geometry.profile)
         self.curve_link, self.face_link = self.links
-        self.path = geometry.profile
-        self.at = np.array(self.pair.at, float)
         self.n0 = np.array(geometry.normal, float)
-        self.param0 = geometry.u0
-        self.param_period = self.path.period if self.path.closed else 0.0
-        self.param_range = (-math.inf, math.inf) if self.path.closed else (self.path.lo, self.path.hi)
 
     def row_scale(self, size):
         return [1.0 / size, 1.0 / self.path.scale]
-
-    def param_scale(self, size):
-        return self.path.scale / size
 
     def closure(self, pose):
         c, f = self.curve_link, self.face_link

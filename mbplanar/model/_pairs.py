@@ -22,14 +22,10 @@ __all__ = ["read_higher_row"]
 def read_higher_row(mech: Mechanism, row, kind: str, unit: float):
     """Add the higher pair of `row` (a `_table.Row` of section `HIGHER[kind]`, `unit` metres per length
     unit) to `mech`."""
+    from ._table import joined_links
     name = row.get("name")
     row.raw("type")
-    links = row.get("links")
-    if links[0] == links[1]:
-        row.fail(f"joins link '{links[0]}' to itself")
-    for link in links:
-        if link != mech.ground and link not in mech.links:
-            row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}')")
+    links = joined_links(mech, row)
     fields = {"gear": _gear, "rack": _rack, "cam": _cam, "slot": _slot}[kind](mech, row, links, unit)
     row.check_unknown_keys({"comment"})
     try:

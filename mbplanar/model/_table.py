@@ -451,12 +451,7 @@ def _read_joints(mech: Mechanism, rows, unit):
         if kind not in JOINT["type"].choices:
             row.fail(f"type must be 'R' (revolute), 'P' (prismatic) or a higher pair ({', '.join(HIGHER)}), "
                      f"got '{kind}'")
-        links = row.get("links")
-        if links[0] == links[1]:
-            row.fail(f"joins link '{links[0]}' to itself")
-        for link in links:
-            if link != mech.ground and link not in mech.links:
-                row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}')")
+        links = joined_links(mech, row)
         x, y = row.pair("at", required=JOINT["at"].required)
         guide = guide_points = None
         carrier = row.get("carrier")
@@ -482,6 +477,17 @@ def _read_joints(mech: Mechanism, rows, unit):
         except ModelError as exc:
             row.fail(exc.message)
     return higher
+
+
+def joined_links(mech: Mechanism, row: Row) -> tuple[str, str]:
+    """A pair's `links`: two links of the model, not one link twice."""
+    links = row.get("links")
+    if links[0] == links[1]:
+        row.fail(f"joins link '{links[0]}' to itself")
+    for link in links:
+        if link != mech.ground and link not in mech.links:
+            row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}')")
+    return links
 
 
 def _read_higher(mech: Mechanism, rows, unit):
