@@ -55,13 +55,20 @@ def add_arguments(parser) -> None:
                    help="a parameter searched within [LO, HI] (its unit); repeat for each")
     s.add_argument("--timed", action="store_true", help="the CSV's third column is the input at each target")
     s.add_argument("--open", action="store_true", help="no full turn: the targets on one branch between limits")
-    s.add_argument("--min-transmission", type=float, metavar="DEG", help="smallest transmission angle (degrees)")
-    s.add_argument("--max-ratio", type=float, help="largest ratio longest/shortest link (four-bar)")
+    s.add_argument("--min-transmission", metavar="DEG|none",
+                   help="smallest transmission angle in degrees (four-bar default 30; none: no bound)")
+    s.add_argument("--max-ratio", metavar="R|none",
+                   help="largest ratio longest/shortest link (four-bar default 10; none: no bound)")
     s.add_argument("--pivot", action="append", default=[], metavar="NAME=XMIN,YMIN,XMAX,YMAX",
                    help="a box for a fixed pivot (four-bar: A0 crank, B0 rocker); repeat for each")
+    s.add_argument("--budget", type=float, metavar="SECONDS",
+                   help="stop the search in time and answer with the best design so far (four-bar)")
     s.add_argument("--seed", type=int, help="random seed (default 0): the same seed gives the same design")
-    s.add_argument("--starts", type=int, help="independent starts (default 8; 2 for a model)")
-    s.add_argument("--generations", type=int, help="differential evolution's generations per start")
+    s.add_argument("--starts", type=int, help="independent starts (default 2; 2 for a model)")
+    s.add_argument("--shapes", type=int, help="crank-rocker shapes screened per start (four-bar, default 8192)")
+    s.add_argument("--keep", type=int, help="designs polished per start (four-bar default 6, a model 2)")
+    s.add_argument("--generations", type=int, help="differential evolution's generations per start (a limited "
+                                                   "travel or a model)")
     s.add_argument("--popsize", type=int, help="differential evolution's population factor")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, help="run the starts on a Dask LocalCluster of N worker processes")
@@ -96,7 +103,8 @@ def run(args) -> int:
 
 
 def _print_text(summary: dict) -> None:
-    print(f"synth {summary['problem']}: defect-free design found in {summary['seconds']:.2f} s "
+    verdict = "defect-free design found" if summary.get("success", True) else "design found with warnings"
+    print(f"synth {summary['problem']}: {verdict} in {summary['seconds']:.2f} s "
           f"({summary['evaluations']} candidate designs scored)")
     for key, value in summary["design"].items():
         print(f"  {key} = {value}")
@@ -111,16 +119,45 @@ def _print_text(summary: dict) -> None:
     if "structural_error" in summary:
         se = summary["structural_error"]
         print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
-    c = summary.get("constraints")
-    if c:
-        ratio = f", link ratio {c['ratio']:.4g}" if c.get("ratio") is not None else ""
-        mu = c.get("transmission_deg")
-        if mu is not None and math.isfinite(mu):
-            print(f"  smallest transmission angle {mu:.4g}°{ratio} (seed {summary['seed']}, "
-                  f"{summary['starts']} start{'s' if summary['starts'] != 1 else ''})")
-    print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
+    if summary["problem"] == "path":
+        _print_path_constraints(summary)
+    print(f"  defects checked: {', '.join(summary['defects']['checked'])}: "
+          f"{'none' if summary['defects'].get('ok', True) else 'see the warnings'}")
     if summary.get("model"):
         print(f"  model written to {summary['model']}")
+
+
+def _print_path_constraints(summary: dict) -> None:
+    """The path generator's bounds (default, given or off) with what the design achieved, and what the
+    transmission and ratio bounds cost."""
+    c = summary["constraints"]
+    src = c.get("sources", {})
+    mu, ratio = c.get("transmission_deg"), c.get("ratio")
+    parts = ["crank turns fully" if c["full_turn"] else "no full turn"]
+    if c.get("min_transmission_deg") is not None:
+        parts.append(f"transmission angle ≥ {c['min_transmission_deg']:g}°")
+    if c.get("max_ratio") is not None:
+        parts.append(f"link ratio ≤ {c['max_ratio']:g}")
+    names = {"full_turn": "full turn", "min_transmission_deg": "transmission angle", "max_ratio": "link ratio"}
+    groups = [f"{kind}: {', '.join(names[k] for k, v in src.items() if v == kind)}"
+              for kind in ("default", "given", "off") if kind in src.values()]
+    print(f"  constraints: {', '.join(parts)} ({'; '.join(groups)})")
+    got = []
+    if mu is not None:
+        got.append(f"smallest transmission angle {mu:.4g}°")
+    if ratio is not None:
+        got.append(f"link ratio {ratio:.4g}")
+    print(f"  achieved: {', '.join(got)} (seed {summary['seed']}, {summary['starts']} "
+          f"start{'s' if summary['starts'] != 1 else ''})")
+    t = summary.get("tradeoff")
+    if t and t.get("without"):
+        w = t["without"]
+        bounds = {"min_transmission_deg": "transmission-angle", "max_ratio": "link-ratio"}
+        print(f"  without the {' and '.join(bounds[b] for b in t['relaxed'])} bounds the best found: "
+              f"RMS {w['rms']:.3e} {summary['error_unit']} (transmission angle {w['transmission_deg']:.3g}°, "
+              f"link ratio {w['ratio']:.3g}) against RMS {summary['rms_error']:.3e} with them")
+    elif t:
+        print("  the transmission and ratio bounds cost nothing here (no better design found without them)")
 
 
 # -- units ---------------------------------------------------------------------------------------------
@@ -165,6 +202,14 @@ def shown(summary: dict, unit: str) -> dict:
     if summary.get("error_unit") == "m":
         summary.update(errors=scale(summary["errors"]), max_error=scale(summary["max_error"]),
                        rms_error=scale(summary["rms_error"]), error_unit=unit)
+        order = summary.get("order")
+        if isinstance(order, dict):       # path generation: the order's lengths, the trade-off's errors
+            order.update(tolerance=scale(order["tolerance"]), curve_length=scale(order["curve_length"]),
+                         steps_back=[{**b, "length": scale(b["length"])} for b in order["steps_back"]])
+        for side in ("with", "without"):
+            errors = (summary.get("tradeoff") or {}).get(side)
+            if errors:
+                errors.update(rms=scale(errors["rms"]), max=scale(errors["max"]))
     summary["units"] = {"system": "si" if unit == "m" else "model", "length": unit, "angle": "deg"}
     return summary
 
@@ -493,23 +538,49 @@ def _plot_motion(r, path):
 
 
 def _path(args):
+    import warnings
+    from ..errors import ModelWarning
     from .path_setup import path_problem
     problem = path_problem(args)
     r = problem.run()
-    per, mx, rms = _errors(r.errors)
-    summary = {"problem": "path", "model": None, "design": problem.design(r), "targets": r.targets.tolist(),
-               "target_phi_deg": [math.degrees(p) for p in r.phi], "timed": r.timed, "error_unit": "m",
-               "errors": per, "max_error": mx, "rms_error": rms,
-               "constraints": {**r.constraints.as_dict(),
-                               "transmission_deg": r.transmission_deg if math.isfinite(r.transmission_deg) else None,
-                               "ratio": getattr(r, "ratio", None)},
-               "defects": {"checked": ["circuit", "branch", "order"] + (["full_turn"] if r.constraints.full_turn
-                                                                         else []), **r.defects.as_dict()},
-               "evaluations": r.evaluations, "seed": r.seed, "starts": r.starts, "seconds": r.seconds,
-               "point": r.point}
-    if problem.model:
-        summary["source_model"] = problem.model
+    summary = summary_path(r, problem)
+    for w in r.warnings:
+        warnings.warn(w, ModelWarning)
     return summary, r, _plot_path
+
+
+def summary_path(r, problem) -> dict:
+    """The JSON summary of a path-generation result (`problem`: its `path_setup.PathProblem`)."""
+    per, mx, rms = _errors(r.errors)
+    c = r.constraints
+    bounds = {**c.as_dict(), "transmission_deg": r.transmission_deg if math.isfinite(r.transmission_deg) else None,
+              "ratio": _finite(getattr(r, "ratio", None)), "sources": dict(problem.sources)}
+    out = {"problem": "path", "model": None, "design": problem.design(r), "targets": r.targets.tolist(),
+           "target_phi_deg": [math.degrees(p) for p in r.phi], "timed": r.timed, "error_unit": "m",
+           "errors": per, "max_error": mx, "rms_error": rms, "success": r.success, "message": r.message,
+           "warnings": list(r.warnings), "constraints": bounds, "order": r.order, "tradeoff": _plain(r.tradeoff),
+           "defects": {"checked": ["circuit", "branch", "order"] + (["full_turn"] if c.full_turn else []),
+                       **r.defects.as_dict()},
+           "evaluations": r.evaluations, "seed": r.seed, "starts": r.starts, "seconds": r.seconds,
+           "budget": problem.search.get("budget"), "stopped": r.stopped, "point": r.point}
+    if problem.model:
+        out["source_model"] = problem.model
+    return out
+
+
+def _finite(v):
+    return float(v) if v is not None and math.isfinite(float(v)) else None
+
+
+def _plain(v):
+    """JSON-ready copy (numpy numbers as floats, non-finite as None)."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, (float, np.floating, np.integer)) and not isinstance(v, bool):
+        return _finite(v)
+    return v
 
 
 def _plot_path(r, path):
