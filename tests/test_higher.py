@@ -650,3 +650,27 @@ def test_path_synthesis_on_a_higher_pair_models_parameters():
     found = synthesise_model_path(data, "D", {"cx": (0.2, 0.3)}, m.xy[:, m.point("D")], timing=phi, starts=1,
                                   popsize=5, generations=3, samples=12)
     assert found.values["cx"] == pytest.approx(0.255, abs=1e-9) and found.errors.max() < 1e-9
+
+
+def test_a_pin_stops_at_the_end_of_its_slot():
+    """An arc of 20° (215° … 235° about D): the crank turns until the pin reaches an end, where the angle
+    of D→A in the rocker's frame is 215° or 235° (the four-bar's closed form, solved by brentq here): the
+    motion limits named for the slot, to 1e-9 rad."""
+    from scipy.optimize import brentq
+    text = (MODELS / "slot_arc.toml").read_text(encoding="utf-8").replace("arc = [190.0, 260.0]", "arc = [215.0, 235.0]")
+    engine = mbplanar.Engine(mbplanar.parse_model(text, "slot_end.toml"))
+    a0, d0, c = np.array([0.0, 0.06]), np.array([0.25, 0.31]), np.array([0.3, 0.0])
+    radius, arm = np.linalg.norm(a0 - d0), np.linalg.norm(c - d0)
+    drawn = math.atan2(d0[1] - c[1], d0[0] - c[0])
+
+    def slot_angle(phi):
+        a = 0.06 * np.array([[math.cos(phi), math.sin(phi)]])
+        d = _circles(a, c[None], radius, arm, left=True)[0]
+        turn = math.atan2(d[1] - c[1], d[0] - c[0]) - drawn
+        return math.degrees(math.atan2(a[0, 1] - d[1], a[0, 0] - d[0]) - turn) % 360.0
+
+    lo, hi = engine.reach()
+    assert math.isclose(lo, brentq(lambda p: slot_angle(p) - 235.0, 0.3, 1.2), abs_tol=1e-9)
+    assert math.isclose(hi, brentq(lambda p: slot_angle(p) - 215.0, 2.0, 3.0), abs_tol=1e-9)
+    m = mbplanar.analyse(engine, np.linspace(lo - 0.1, hi + 0.1, 50))
+    assert not m.success and all("the pin of 'S' at the end of its slot" in lim.kind for lim in m.limits)

@@ -89,7 +89,15 @@ def _diagram_section(engine, ctx):
 def _structure_section(engine, ctx):
     topo = engine.topology
     s = topo.structure
-    text = (f"<p>Degrees of freedom W = {topo.dof} (Chebyshev–Grübler), independent loops: {len(topo.loops)}"
+    mech = engine.mech
+    if mech.higher:
+        n, p5, p4 = len(mech.moving_links), len(mech.joints), len(mech.higher)
+        count = (f"W = 3·{n} − 2·{p5} − {p4} = {topo.dof} (Chebyshev, with {p4} higher pair(s): "
+                 f"{html.escape(', '.join(f'{h.name} ({h.kind})' for h in mech.higher.values()))}; the Assur groups "
+                 "are the equivalent lower-pair mechanism's, each higher pair replaced by a primed link)")
+    else:
+        count = f"W = {topo.dof} (Chebyshev–Grübler)"
+    text = (f"<p>Degrees of freedom {count}, independent loops: {len(topo.loops)}"
             + (f"; loops: {html.escape('; '.join(' – '.join(loop) for loop in topo.loops))}" if topo.loops else "")
             + ".</p>")
     if s is None:
