@@ -585,20 +585,17 @@ def test_the_compiled_backend_declines_higher_pairs_and_says_why(capsys):
 
 
 # -- every command ------------------------------------------------------------------------------------
-@pytest.mark.parametrize("command", [["solve", "--at", "30"], ["sweep", "--steps", "8"], ["check"], ["forces", "--at", "30"],
-                                     ["report", "-o", "{tmp}/r.html"], ["plot", "diagram", "-o", "{tmp}/d.png"],
+# (info, solve, forces, sweep, check and dynamics run on every bundled model in tests/test_units.py)
+@pytest.mark.parametrize("command", [["report", "-o", "{tmp}/r.html"], ["plot", "diagram", "-o", "{tmp}/d.png"],
                                      ["plot", "diagram", "--show", "reactions", "-o", "{tmp}/f.png"],
                                      ["animate", "-o", "{tmp}/a.html"]])
-@pytest.mark.parametrize("name", ["rack_pinion", "cam_follower", "slot_arc", "planetary"])
-def test_every_command_on_the_higher_pair_models(command, name, tmp_path, capsys):
-    if command[0] in ("plot", "report"):
-        pytest.importorskip("matplotlib")
+@pytest.mark.parametrize("name", ["cam_follower", "planetary"])
+def test_the_pictures_of_the_higher_pair_models(command, name, tmp_path, capsys):
+    pytest.importorskip("matplotlib")
     argv = [c.replace("{tmp}", str(tmp_path)) for c in command]
     code = main([argv[0], str(MODELS / f"{name}.toml")] + argv[1:])
-    out, err = capsys.readouterr()
-    forces_without_loads = command[0] == "forces" and name in ("rack_pinion", "slot_arc", "planetary")
-    assert code == (2 if forces_without_loads else 0), err
-    assert "Traceback" not in err
+    err = capsys.readouterr().err
+    assert code == 0 and "Traceback" not in err, err
 
 
 def test_the_diagram_draws_the_pairs():
