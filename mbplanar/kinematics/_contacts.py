@@ -49,7 +49,17 @@ class ContactGeometry:
 class Contact:
     """A higher pair's contact over a batch (B,): its `ContactGeometry`'s arrays, the sliding speed `slip`
     (m/s, of the second link on the first along the tangent, at the real speed of the motion; 0 for
-    pitch circles that roll), the `pressure_angle` (rad, see the module) and the driven link (`driven`)."""
+    pitch circles that roll), the `pressure_angle` (rad, see the module) and the driven link (`driven`).
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import contacts
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/geared_five_bar.toml"))
+    >>> gear = contacts(engine, mbplanar.analyse(engine, [1.0]))["G"]
+    >>> gear.point.round(6), float(np.degrees(gear.pressure_angle[0])), bool(abs(gear.slip[0]) < 1e-15)
+    (array([[0.04, 0.  ]]), 20.0, True)
+    """
 
     name: str
     kind: str
@@ -123,7 +133,34 @@ def contact_geometry(engine: Engine, motion) -> dict[str, ContactGeometry]:
 def contacts(engine: Engine, motion) -> dict[str, Contact]:
     """Every higher pair's `Contact` over the positions of `motion`: its geometry, the sliding speed at
     the motion's real speed and the pressure angle (the positions are solved again for the Jacobians the
-    released motions come from)."""
+    released motions come from).
+
+    Parameters
+    ----------
+    engine : Engine
+        A mechanism with higher pairs (an empty dict without).
+    motion : Motion
+        Its positions (`analyse`).
+
+    Returns
+    -------
+    dict
+        Higher pair name → `Contact`.
+
+    Raises
+    ------
+    MotionError
+        Never for the positions of a `Motion` (they are solved); a `ModelError` for a motion of another engine.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import contacts
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/cam_eccentric.toml"))
+    >>> found = contacts(engine, mbplanar.analyse(engine, np.radians([0.0, 90.0])))
+    >>> np.degrees(found["K"].pressure_angle).round(4)
+    array([18.0322, -7.4005])
+    """
     geometry = contact_geometry(engine, motion)
     if not geometry or not len(motion.phi):
         return {name: Contact(g.name, g.kind, g.links, g.links[1], g.point, g.normal, g.tangent, g.parameter,

@@ -145,7 +145,14 @@ class Curve:
     `kind` "circle": centre `centre`, radius `radius`, the whole circle or the arc `arc` (rad, from +x
     at the centre, counter-clockwise from the first to the second). `kind` "spline": a smooth spline of
     degree `degree` through `points`, closed (periodic) or open, at the spline parameter values
-    `parameter` (default: the cumulative chord length)."""
+    `parameter` (default: the cumulative chord length).
+
+    Examples
+    --------
+    >>> from mbplanar.model import Curve
+    >>> Curve("circle", centre=(0.015, 0.0), radius=0.04).moved(lambda p: (p[0] + 1.0, p[1])).centre
+    (1.015, 0.0)
+    """
 
     kind: str
     centre: tuple[float, float] | None = None
@@ -198,6 +205,14 @@ class HigherPair:
     `links` (slot link, pin link), the slot's `curve` (its centre line) and the pin's centre `at`.
     `point` names the point or joint `at` came from (it then follows that point through the assembly).
     `pressure_angle` (gears, racks): the line of action's angle to the common tangent.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> mech = mbplanar.read_model("models/planetary.toml")
+    >>> g = mech.higher["G23"]
+    >>> g.kind, g.links, g.radii, g.internal, g.carrier, g.equations, g.parameters
+    ('gear', ('2', '0'), (0.046, 0.112), True, 'H', 1, 0)
     """
 
     name: str
@@ -474,7 +489,14 @@ class Mechanism:
 
     def add_higher(self, name, kind, a, b, **kw) -> HigherPair:
         """Add a higher pair (`HigherPair`'s fields as keywords, SI units); the table's rows of type
-        gear, rack, cam and slot come here."""
+        gear, rack, cam and slot come here.
+
+        Examples
+        --------
+        ``m.add_higher("G", "gear", "1", "4", radii=(0.04, 0.08))`` (two cranks in mesh, their carrier the
+        link that holds both their pivots), ``m.add_higher("S", "slot", "2", "1", at=(0.0, 0.06),
+        curve=Curve("circle", centre=(0.25, 0.31), radius=0.3536))``.
+        """
         name, a, b = str(name), str(a), str(b)
         if name in self.joints or name in self.higher or name in self.points:
             raise ModelError(f"joint '{name}' is defined twice (or is a point's name)", source=self.source)
