@@ -549,7 +549,7 @@ BAD = [
     ("rack_pinion", ('teeth = 25', 'teeth = 25, guide = 10.0'), "must be square to the line from the pinion's centre"),
     ("cam_follower", ('follower = "roller", radius = 10.0', 'follower = "knife", radius = 10.0'),
      "a knife follower takes no 'radius'"),
-    ("geared_five_bar", ('joint = "O"', 'joint = "G"'), "'G' is not a joint of the table"),
+    ("geared_five_bar", ('joint = "O"', 'joint = "G"'), "'G' is a higher pair (gear): an input drives a revolute"),
 ]
 
 

@@ -556,6 +556,9 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         joint_name = row.get("joint")
         row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
+        if joint_name in mech.higher:
+            row.fail(f"'{joint_name}' is a higher pair ({mech.higher[joint_name].kind}): an input drives a revolute "
+                     "or prismatic joint")
         if joint is None:
             row.fail(f"'{joint_name}' is not a joint of the table")
         if any(inp.joint == joint_name for inp in mech.inputs):
