@@ -556,12 +556,16 @@ def transmission_series(engine, motion) -> dict:
 
 
 def pressure_series(engine, motion) -> dict:
-    """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
-    {'ϑ at Bp (A–B)': (B,) array}."""
+    """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod and of every cam's or slot's
+    contact, as `mbplanar check` computes them: {'ϑ at Bp (A–B)': (B,) array, 'ϑ at K (contact)': ...}."""
+    from ..analysis._check import contact_angles
     from ..analysis._check import pressure_angles as angles
     pairs, values = angles(engine, motion)
-    return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
-            for k, (a, b, s) in enumerate(pairs)}
+    out = {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
+           for k, (a, b, s) in enumerate(pairs)}
+    names, values = contact_angles(engine, motion)
+    out.update({f"ϑ at {n} (contact)": np.degrees(np.abs(values[:, k])) for k, n in enumerate(names)})
+    return out
 
 
 # the names these had (`mbplanar.analysis` has functions of those names returning labels and radians)
@@ -585,10 +589,10 @@ def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
         top.text(0.5, 0.5, "no revolute pair between two rods in an Assur group", transform=top.transAxes,
                  ha="center")
     _plot_lines(bottom, x, list(pressure.values()), list(pressure), "ϑ [°]", xlabel,
-                "Pressure angles of the sliders (0° ideal)", _xstep(engine, x))
+                "Pressure angles of the sliders and contacts (0° ideal)", _xstep(engine, x))
     bottom.set_ylim(0, 90)
     if not pressure:
-        bottom.text(0.5, 0.5, "no slider driven by a rod", transform=bottom.transAxes, ha="center")
+        bottom.text(0.5, 0.5, "no slider driven by a rod, no cam or slot", transform=bottom.transAxes, ha="center")
     limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
     fig.suptitle(f"{engine.mech.title or engine.mech.name}: transmission and pressure angles{limit}", fontsize=10)
     return fig
