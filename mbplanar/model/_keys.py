@@ -235,8 +235,8 @@ HIGHER = {
         Key("guide", "number", "the direction of the rack's pitch line in the drawing", unit="deg",
             parameter="angle", default_doc="square to the pinion's centre and the pitch point"),
         _PRESSURE,
-        Key("at", "custom", "a point of the rack's pitch line (the pitch point) in the drawing", unit="length",
-            default_doc="the foot of the pinion's centre on the line", schema=_XY_OR_PARAMETER)),
+        Key("at", "custom", "the pitch point (on the rack's pitch line, a pitch radius from the pinion's centre) in "
+            "the drawing", unit="length", required=True, schema=_XY_OR_PARAMETER)),
     "cam": _higher(
         "cam", "a cam and its follower (a higher pair): the follower's element touches the profile",
         Key("links", "names", "[cam, follower]", required=True),

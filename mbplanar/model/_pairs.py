@@ -89,10 +89,11 @@ def _rack(mech, row, links, unit) -> dict:
     elif teeth is not None and module is not None and not math.isclose(radius, module * teeth[0] / 2):
         row.fail(f"'radius' = {radius:g} differs from module·teeth/2 = {module * teeth[0] / 2:g}: give one of them")
     guide = row.get("guide")
+    at = row.pair("at", required=True)
     return dict(radius=radius * unit, teeth=None if teeth is None else (teeth[0], 0),
                 module=None if module is None else module * unit,
                 guide=None if guide is None else math.radians(guide),
-                pressure_angle=math.radians(row.get("pressure_angle")), at=_xy(row, "at", unit))
+                pressure_angle=math.radians(row.get("pressure_angle")), at=(at[0] * unit, at[1] * unit))
 
 
 def _point_of(mech, row, link: str, unit) -> dict:
