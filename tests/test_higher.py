@@ -331,17 +331,35 @@ def test_virtual_power_residual_everywhere(name):
 
 
 def test_friction_in_a_cam_contact():
-    """μ·|N| against the sliding at the eccentric's contact: the virtual power still balances (the friction
-    is a load), and the drive gives more power than without it."""
-    from mbplanar.forces import FrictionSpec, friction_kinetostatics
+    """μ·|N| against the sliding at a flat-faced follower's contact with an eccentric (a spring presses
+    it on): the virtual power still balances (the friction is a load), the friction's power is a loss,
+    and the drive does work over the cycle, none without it. A roller rolls: no friction there."""
+    from mbplanar.forces import FrictionSpec, friction_kinetostatics, read_friction
     from mbplanar.forces._friction import PairFriction
-    engine = _engine("cam_eccentric")
+    mech = mbplanar.parse_model("""
+        name = "flat_face"
+        links = [ { name = "cam" }, { name = "f", mass = 0.3, centre = "F" } ]
+        joints = [
+          { name = "O", type = "R", links = ["0", "cam"], at = [0.0, 0.0] },
+          { name = "F", type = "P", links = ["0", "f"], at = [0.0, 0.06], guide = 90.0 },
+          { name = "K", type = "cam", links = ["cam", "f"], follower = "flat", face = 0.0, at = [0.0, 0.06], profile = { centre = [0.02, 0.0], radius = 0.06 } },
+        ]
+        loads = [ { type = "force", link = "f", at = "F", force = [0.0, -40.0] } ]
+        [input]
+        joint = "O"
+        """, "flat.toml")
+    engine = mbplanar.Engine(mech)
     m = mbplanar.analyse(engine, _turn_of(engine, 73), omega=8.0)
     fr = friction_kinetostatics(engine, m, FrictionSpec((PairFriction("K", 0.15),)))
     assert fr.converged and fr.iterations > 1
     assert fr.kinetostatics.virtual_power_residual.max() < 1e-9
     assert np.all(fr.losses <= 1e-12) and fr.losses.min() < 0
-    assert fr.cycle_efficiency < 1.0
+    q, phi = fr.kinetostatics.balancing["O"], m.phi[:, 0]
+    work, ideal = (float(np.sum((y[1:] + y[:-1]) * np.diff(phi)) / 2) for y in (q, fr.ideal.balancing["O"]))
+    assert work > 0 and abs(ideal) < 1e-12 * work         # a conservative load: only the friction takes work
+    rolling = mbplanar.read_model(MODELS / "cam_eccentric.toml")
+    rolling.extras["friction"] = {"mu": 0.1, "pin_radius": 0.005}
+    assert [p.joint for p in read_friction(rolling).pairs] == ["O", "C"]     # the roller's cam pair: none
 
 
 # -- the geared shaper's dynamics ---------------------------------------------------------------------

@@ -8,8 +8,8 @@ the block's length b given, the pair's moment M is carried by two normal forces 
 N/2 ∓ M/b, and the friction is μ·(|N/2 − M/b| + |N/2 + M/b|) = μ·max(|N|, 2|M|/b).
 
 A cam's or a slot's contact with friction adds, to its normal force N, a force μ·|N| along the contact's
-tangent against the sliding of its surfaces; gears and racks roll at their pitch point (no sliding there),
-and the model gives them no friction.
+tangent against the sliding of its surfaces; gears and racks roll at their pitch point, a roller on its cam
+(no sliding there), and the model gives them no friction.
 
 The reactions depend on the friction and the friction on the reactions: the kinetostatics becomes
 nonlinear. It is solved by fixed-point iteration over the whole batch at once: reactions without
@@ -114,9 +114,11 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
         joint = pr.get("joint")
         if joint not in mech.joints and joint not in mech.higher:
             pr.fail(f"'{joint}' is not a joint of the model")
-        if joint in mech.higher and mech.higher[joint].kind in ("gear", "rack"):
-            pr.fail(f"'{joint}' is a {mech.higher[joint].kind} pair: its pitch circles roll without sliding, so "
-                    "the model gives it no friction")
+        if joint in mech.higher and (mech.higher[joint].kind in ("gear", "rack") or mech.higher[joint].follower == "roller"
+                                     and mech.higher[joint].kind == "cam"):
+            what = "roller rolls on its cam" if mech.higher[joint].kind == "cam" else "pitch circles roll"
+            pr.fail(f"'{joint}' is a {mech.higher[joint].kind} pair whose {what} without sliding: the model gives "
+                    "it no friction")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
         radius, block = pr.number("pin_radius"), pr.get("block_length")
@@ -133,9 +135,9 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
             raise ModelError(f"{where}: joint '{name}' is revolute with mu = {p.mu}: give its pin_radius")
         if p.mu > 0:
             pairs.append(p)
-    for name, h in mech.higher.items():   # a cam's or a slot's contact slides; gears roll
+    for name, h in mech.higher.items():   # a cam's or a slot's contact slides; gears and rollers roll
         p = given.get(name, PairFriction(name, default.mu))
-        if p.mu > 0 and h.kind in ("cam", "slot"):
+        if p.mu > 0 and (h.kind == "slot" or h.kind == "cam" and h.follower != "roller"):
             pairs.append(PairFriction(name, p.mu))
     if int(max_iter) != max_iter:
         row.fail(f"'max_iterations' must be a whole number, got {max_iter}")
