@@ -1173,6 +1173,18 @@ def _formats(name):
     return add_options, run_command
 
 
+def _serve_options(s):
+    from .web.command import add_arguments
+    add_arguments(s)
+
+
+def cmd_serve(args) -> int:
+    """The workbench; its panels' forms are made from this command line's parsers."""
+    from .web import command
+    from .web._runs import EXPORTS, PANELS, form
+    return command.run(args, forms={name: form(build_parser(name), name) for name in PANELS + EXPORTS})
+
+
 #: every command in the order of `mbplanar --help`: its line there, the function that adds its options
 #: to its parser, and the function that runs it. The options are added for the running command only
 #: (`build_parser`): the cam, gear, synthesis and study code is imported only when its command runs or shows
@@ -1203,10 +1215,12 @@ COMMANDS = {
     "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)", *_formats("import")),
     "export": ("the mechanism at a position as a drawing: DXF (CAD layers) or SVG", *_formats("export")),
     "examples": ("list the bundled example models, or copy them out", *_formats("examples")),
+    "serve": ("the workbench in the browser: edit the table, see it move, run every analysis "
+              "(pip install 'mbplanar[web]')", _serve_options, cmd_serve),
 }
 #: commands whose options live in a package of their own
 OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "schema", "import", "export",
-                                                    "examples")}
+                                                    "examples", "serve")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")
