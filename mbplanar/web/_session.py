@@ -398,6 +398,9 @@ def frames_of(engine, motion, cycle, forces: bool = True, scene=None) -> dict:
         "moving": moving, "v": _array(motion.v[:, index]), "a": _array(motion.a[:, index]),
         "ic": _array(motion.ic[:, 1:]), "ic_links": list(motion.link_names[1:]),
         "omega": _array(np.atleast_1d(motion.omega).reshape(len(motion.phi), -1)),
+        "pairs": [{"name": pr.name, "kind": pr.kind, "marks": _array(pr.marks), "contact": _array(pr.contact),
+                   "lines": [{"kind": kind, "closed": bool(closed), "xy": _array(xy)} for kind, _, xy, closed in pr.lines]}
+                  for pr in scene.pairs],
     }
     if forces:
         out.update(reactions(engine, motion))
@@ -412,9 +415,14 @@ def reactions(engine, motion) -> dict:
     out = {}
     if has_force_data(engine.mech):
         result = kinetostatics(engine, motion)
+        contact = {}
+        if engine.mech.higher:   # a higher pair's force acts at its contact
+            from ..kinematics._contacts import contact_geometry
+            contact = {n: _array(g.point) for n, g in contact_geometry(engine, motion).items()}
         out["reactions"] = {name: {"label": reaction_label(r), "on": r.on, "from": r.source,
                                    "f": _array(np.column_stack([r.fx, r.fy])),
-                                   "moment": _array(r.moment) if engine.mech.joints[name].kind == "P" else None}
+                                   "moment": _array(r.moment) if engine.mech.kind_of(name) == "P" else None,
+                                   **({"at": contact[name]} if name in contact else {})}
                             for name, r in result.reactions.items()}
         out["balancing"] = {name: {"values": _array(q), "unit": "N·m" if engine.mech.joints[name].kind == "R"
                                    else "N"} for name, q in result.balancing.items()}
