@@ -689,3 +689,19 @@ def test_a_pin_stops_at_the_end_of_its_slot():
     assert math.isclose(hi, brentq(lambda p: slot_angle(p) - 215.0, 2.0, 3.0), abs_tol=1e-9)
     m = mbplanar.analyse(engine, np.linspace(lo - 0.1, hi + 0.1, 50))
     assert not m.success and all("the pin of 'S' at the end of its slot" in lim.kind for lim in m.limits)
+
+
+def test_the_workbench_frames_carry_the_pairs():
+    """The workbench's frames: each higher pair's lines, tooth marks and contact (the scene's), and a
+    higher pair's reaction placed at its contact."""
+    pytest.importorskip("tomlkit")
+    from mbplanar.web._session import frames_of
+    engine = _engine("rack_pinion")
+    mech = engine.mech
+    mech.add_load("moment", link="4", moment=2.0)
+    engine = mbplanar.Engine(mech)
+    m = mbplanar.analyse(engine, _turn_of(engine, 7))
+    frames = frames_of(engine, m, m)
+    (pair,) = frames["pairs"]
+    assert [line["kind"] for line in pair["lines"]] == ["pitch", "rack"] and pair["marks"].shape[1] > 25
+    np.testing.assert_allclose(frames["reactions"]["K"]["at"], pair["contact"])
