@@ -1,7 +1,7 @@
 """Kinematics: `analyse(engine, phi, omega, epsilon)` → `Motion`, positions, analogues and real
 velocities and accelerations of every link, joint and point (batch first, SI); `positions_at_limits`;
 `position(engine, phi, omega, epsilon)` → `Position`, one position without the batch machinery;
-`contacts(engine, motion)` → the higher pairs' `Contact`s (where they touch, their normal, sliding and
+`contacts(engine, motion)` → a `Contact` per higher pair (where it touches, its normal, sliding and
 pressure angle).
 """
 
