@@ -705,3 +705,20 @@ def test_the_workbench_frames_carry_the_pairs():
     (pair,) = frames["pairs"]
     assert [line["kind"] for line in pair["lines"]] == ["pitch", "rack"] and pair["marks"].shape[1] > 25
     np.testing.assert_allclose(frames["reactions"]["K"]["at"], pair["contact"])
+
+
+def test_a_profile_file_is_read_beside_the_model_in_the_workbench_and_copied_with_it(tmp_path):
+    """The workbench reads a gallery model's profile from the gallery and a served file's beside it (not
+    from the working folder); `copy_examples` writes the profile with the model."""
+    pytest.importorskip("tomlkit")
+    from mbplanar.formats import copy_examples
+    from mbplanar.web._session import Workbench
+    written = copy_examples(["cam_follower"], tmp_path / "served" / "cams")
+    assert sorted(p.name for p in written) == ["cam_follower.toml", "cam_roller_profile.csv"]
+    text = written[0].read_text(encoding="utf-8")
+    for name in ("gallery/cam_follower.toml", "cams/cam_follower.toml"):
+        bench = Workbench(text, name, frames=12, folder=str(tmp_path / "served"))
+        first = next(bench.refresh())
+        assert not first["errors"] and "K" in bench.engine.mech.higher, name
+    with pytest.raises(ModelError, match="cam_roller_profile.csv"):
+        mbplanar.parse_model(text, source="cams/cam_follower.toml", folder=tmp_path)

@@ -19,14 +19,17 @@ from ._model import Curve, Mechanism
 __all__ = ["read_higher_row"]
 
 
-def read_higher_row(mech: Mechanism, row, kind: str, unit: float):
+def read_higher_row(mech: Mechanism, row, kind: str, unit: float, folder=None):
     """Add the higher pair of `row` (a `_table.Row` of section `HIGHER[kind]`, `unit` metres per length
-    unit) to `mech`."""
+    unit) to `mech`; a curve's `file` is read from `folder` (None: the folder of the table's source)."""
     from ._table import joined_links
     name = row.get("name")
     row.raw("type")
     links = joined_links(mech, row)
-    fields = {"gear": _gear, "rack": _rack, "cam": _cam, "slot": _slot}[kind](mech, row, links, unit)
+    if kind in ("cam", "slot"):
+        fields = {"cam": _cam, "slot": _slot}[kind](mech, row, links, unit, folder)
+    else:
+        fields = {"gear": _gear, "rack": _rack}[kind](mech, row, links, unit)
     row.check_unknown_keys({"comment"})
     try:
         mech.add_higher(name, kind, links[0], links[1], **fields)
@@ -115,7 +118,7 @@ def _point_of(mech, row, link: str, unit) -> dict:
     row.fail(f"'at' = '{name}' is neither a point nor a joint (listed before this row) of the model, nor [x, y]")
 
 
-def _cam(mech, row, links, unit) -> dict:
+def _cam(mech, row, links, unit, folder) -> dict:
     follower = row.get("follower")
     where = _point_of(mech, row, links[1], unit)
     radius = row.get("radius")
@@ -127,20 +130,21 @@ def _cam(mech, row, links, unit) -> dict:
     face = row.get("face")
     if face is not None and follower != "flat":
         row.fail("'face' is the direction of a flat face (follower = \"flat\")")
-    curve = read_curve(mech, row, "profile", unit, closed=True)
+    curve = read_curve(mech, row, "profile", unit, closed=True, folder=folder)
     return dict(follower=follower, radius=0.0 if radius is None else radius * unit,
                 face=None if face is None else math.radians(face), curve=curve, **where)
 
 
-def _slot(mech, row, links, unit) -> dict:
+def _slot(mech, row, links, unit, folder) -> dict:
     where = _point_of(mech, row, links[1], unit)
-    curve = read_curve(mech, row, "path", unit, closed=False, pin=where["at"])
+    curve = read_curve(mech, row, "path", unit, closed=False, pin=where["at"], folder=folder)
     return dict(curve=curve, **where)
 
 
-def read_curve(mech, row, key: str, unit: float, closed: bool, pin=None) -> Curve:
+def read_curve(mech, row, key: str, unit: float, closed: bool, pin=None, folder=None) -> Curve:
     """The curve in table `key` of `row` (section `CURVE`) in SI: a circle (its radius by default the
-    pin's distance from the centre), a spline through points, or the points of a CSV file."""
+    pin's distance from the centre), a spline through points, or the points of a CSV file (in `folder`,
+    None: the folder of the table's source)."""
     from ._table import Row
     raw = row.raw(key)
     sub = Row(raw, f"{row.where}: {key}", row.source, CURVE)
@@ -150,7 +154,7 @@ def read_curve(mech, row, key: str, unit: float, closed: bool, pin=None) -> Curv
     if given[0] == "centre":
         out = _circle(sub, unit, pin)
     else:
-        out = _spline(mech, sub, unit, closed, given[0])
+        out = _spline(mech, sub, unit, closed, given[0], folder)
     sub.check_unknown_keys({"comment"})
     return out
 
@@ -177,7 +181,7 @@ def _circle(sub, unit, pin) -> Curve:
     return Curve("circle", centre=centre, radius=radius, arc=arc)
 
 
-def _spline(mech, sub, unit, closed_default: bool, source: str) -> Curve:
+def _spline(mech, sub, unit, closed_default: bool, source: str, folder) -> Curve:
     if sub.has("radius") or sub.has("arc"):
         sub.fail("'radius' and 'arc' belong to a circle ('centre'), not a spline")
     parameter = sub.get("parameter")
@@ -187,7 +191,7 @@ def _spline(mech, sub, unit, closed_default: bool, source: str) -> Curve:
                 sub.fail(f"'{key}' goes with 'file'")
         points = _point_list(sub, unit)
     else:
-        points, from_file = _points_from_file(mech, sub, unit)
+        points, from_file = _points_from_file(mech, sub, unit, folder)
         if parameter is None:
             parameter = from_file
     closed = sub.raw("closed", closed_default)
@@ -213,11 +217,14 @@ def _point_list(sub, unit) -> list:
     return out
 
 
-def _points_from_file(mech, sub, unit):
+def _points_from_file(mech, sub, unit, folder):
     """The points of a CSV file: `mbplanar cam`'s profile (mm; its cam angles, in radians, become the
     spline's parameter) or two columns x, y in the table's length unit; moved by `rotate` and `offset`."""
     name = sub.get("file")
-    base = Path(mech.source).parent if mech.source and not mech.source.startswith("<") else Path.cwd()
+    if folder is not None:
+        base = folder
+    else:
+        base = Path(mech.source).parent if mech.source and not mech.source.startswith("<") else Path.cwd()
     path = base / name
     try:
         text = path.read_text(encoding="utf-8")

@@ -66,14 +66,15 @@ def read_text(path, what: str = "the model file") -> str:
         raise ModelError(f"{what} is not UTF-8 text ({exc.reason} at byte {exc.start})", source=str(path)) from None
 
 
-def read_model_text(text: str, source: str = "<table>") -> Mechanism:
-    """Parse the TOML `text` of a model; a syntax error names the line and column."""
+def read_model_text(text: str, source: str = "<table>", folder=None) -> Mechanism:
+    """Parse the TOML `text` of a model; a syntax error names the line and column. `folder`: as in
+    `parse_model`."""
     import tomllib  # (here: an engine read from the cache needs no parser)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"TOML syntax error: {exc}", source=source) from None
-    return parse_model(data, source=source)
+    return parse_model(data, source=source, folder=folder)
 
 
 _MISSING = object()
@@ -230,7 +231,7 @@ def _rows(data, key, source) -> list:
     return rows
 
 
-def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
+def parse_model(data: dict | str, source: str = "<table>", folder=None) -> Mechanism:
     """Build a `Mechanism` from the parsed TOML document `data`, or from TOML text.
 
     Every section is read and checked here, once: links, joints, points, inputs, then `loads`,
@@ -242,6 +243,9 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
         The parsed TOML document, or its text.
     source : str
         What the messages call the table (a file's name).
+    folder : path, optional
+        Where the files the table names (a curve's `file`) are read; by default the folder of `source`
+        (the working folder for a table without a file).
 
     Returns
     -------
@@ -269,7 +273,7 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     ('crank', ['1'], 'O')
     """
     if isinstance(data, str):
-        return read_model_text(data, source)
+        return read_model_text(data, source, folder)
     if isinstance(data, dict) and _has_parameters(data):
         from ._parameters import Template  # named dimensions and polar placements, bound to their values
         data = Template(data, source).bind()
@@ -281,7 +285,7 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     link_rows = _read_links(mech, _rows(data, "links", source), unit)
     higher = _read_joints(mech, _rows(data, "joints", source), unit)
     _read_points(mech, _rows(data, "points", source), unit)
-    _read_higher(mech, higher, unit)
+    _read_higher(mech, higher, unit, folder)
     _check_links(mech, link_rows)
     _read_inputs(mech, data, source, unit)
     mech.loads = _read_loads(mech, data.get("loads", []))
@@ -490,13 +494,13 @@ def joined_links(mech: Mechanism, row: Row) -> tuple[str, str]:
     return links
 
 
-def _read_higher(mech: Mechanism, rows, unit):
+def _read_higher(mech: Mechanism, rows, unit, folder=None):
     """The higher pairs (gear, rack, cam, slot rows), after the joints and points they may name."""
     from ._pairs import read_higher_row
     for i, raw, kind in rows:
         row = Row(raw, f"joints[{i}]", mech.source, HIGHER[kind])
         row.where = f"joints[{i}] '{row.get('name')}'"
-        read_higher_row(mech, row, kind, unit)
+        read_higher_row(mech, row, kind, unit, folder)
 
 
 def _read_points(mech: Mechanism, rows, unit):
