@@ -1,9 +1,15 @@
 """Joint laws: how a revolute or prismatic joint places a link (as a tree joint) or closes a loop (as a
 cut joint), with the time derivatives of both, vectorised over a batch of positions.
 
-Coordinates. Every link k carries a frame that coincides with the world frame in the drawn pose; its
-state is the rotation θ_k from the drawn pose and the position r_k of its frame origin, so a point drawn
-at s on link k is at  X = r_k + R(θ_k) s.  Ground has θ = 0, r = 0.
+Coordinates. The engine solves in its own frame: the world frame moved to the engine's centre c (the
+mean of the drawn joints), so that every position it compares is a vector within the mechanism, of the
+mechanism's size, however far from the world's origin it is drawn (a closure residual formed from world
+coordinates 1000 sizes away carries rounding of 1000 times the closure tolerance). Every link k carries
+a frame that coincides with that frame in the drawn pose; its state is the rotation θ_k from the drawn
+pose and the position r_k of its frame origin, so a point drawn at p (world) on link k is at
+X = c + r_k + R(θ_k) s with s = p − c (the joint law's `s0`).  Ground has θ = 0, r = 0.
+`world_frames` gives the link frames in the world convention (the frame that coincides with the world
+frame in the drawn pose), as results report them.
 
 Tree joints place a child link from its parent with one variable: a revolute joint sets the child's
 rotation (absolute; relative to the parent for a driving joint between moving links), a prismatic joint
@@ -25,7 +31,8 @@ import numpy as np
 
 from ..model._model import Joint
 
-__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot"]
+__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot", "world_frames",
+           "engine_centre"]
 
 
 def perp(v: np.ndarray) -> np.ndarray:
@@ -92,10 +99,10 @@ class JointLaw:
 
     kind = ""
 
-    def __init__(self, joint: Joint):
+    def __init__(self, joint: Joint, centre=(0.0, 0.0)):
         self.name = joint.name
         self.links = joint.links
-        self.s0 = np.array(joint.at, dtype=float)
+        self.s0 = np.array(joint.at, dtype=float) - np.asarray(centre, float)  # in the engine's frame
 
     def place(self, pose: Pose, parent: str, child: str, q, relative: bool):
         raise NotImplementedError
@@ -154,8 +161,8 @@ class Prismatic(JointLaw):
 
     kind = "P"
 
-    def __init__(self, joint: Joint):
-        super().__init__(joint)
+    def __init__(self, joint: Joint, centre=(0.0, 0.0)):
+        super().__init__(joint, centre)
         angle = np.radians(joint.guide_deg)
         self.u0 = np.array([np.cos(angle), np.sin(angle)])
         self.n0 = perp(self.u0)
@@ -217,5 +224,36 @@ class Prismatic(JointLaw):
         return out
 
 
-def make_law(joint: Joint) -> JointLaw:
-    return Revolute(joint) if joint.kind == "R" else Prismatic(joint)
+def engine_centre(mech) -> np.ndarray:
+    """The origin of the frame an engine solves in: the mean of the drawn joints (world, (2,))."""
+    spots = [j.at for j in mech.joints.values()]
+    return np.mean(np.array(spots, float), axis=0) if spots else np.zeros(2)
+
+
+def make_law(joint: Joint, centre=(0.0, 0.0)) -> JointLaw:
+    """The joint's law in the frame centred on `centre` (world coordinates, (2,))."""
+    return Revolute(joint, centre) if joint.kind == "R" else Prismatic(joint, centre)
+
+
+def world_frames(centre: np.ndarray, c: np.ndarray, s: np.ndarray, r: np.ndarray, w=None, v=None, e=None, a=None):
+    """The link frames of the engine's frame (centred on `centre` (2,)) in the world convention: the
+    motion of each link's point drawn at the world's origin. From cos θ, sin θ (L, B) and r (2, L, B),
+    with w, e (C, L, B) or (L, B) and v, a (2, ...) when given; returns (r, v, a) (None where not given).
+    Far from the origin the answer carries the rounding of world coordinates (~1e-16 of them)."""
+    cx, cy = float(centre[0]), float(centre[1])
+    rho = np.empty(r.shape)  # −R(θ)·c: from the frame's origin to the world origin's point
+    rho[0] = s * cy - c * cx
+    rho[1] = -(s * cx + c * cy)
+    out_r = r + rho
+    out_r[0] += cx
+    out_r[1] += cy
+    out_v = out_a = None
+    if v is not None:
+        out_v = v.copy()  # v + ω·perp(ρ)
+        out_v[0] -= w * rho[1]
+        out_v[1] += w * rho[0]
+    if a is not None:
+        out_a = a.copy()  # a + ε·perp(ρ) − ω²ρ
+        out_a[0] -= e * rho[1] + w * w * rho[0]
+        out_a[1] += e * rho[0] - w * w * rho[1]
+    return out_r, out_v, out_a

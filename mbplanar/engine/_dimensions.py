@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from ._blocks import BlockSolver
-from ._constraints import make_law
+from ._constraints import engine_centre, make_law
 from ..errors import ModelError
 from ..model._assembly import assemble
 from ..model._model import Mechanism
@@ -60,8 +60,9 @@ def with_dimensions(engine, mechanism: Mechanism):
     new._atlas = None
     new.mech = mech = assemble(mechanism)
     new.inputs = mech.inputs
-    new.laws = {name: make_law(j) for name, j in mech.joints.items()}
     new.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()])
+    new.centre = engine_centre(mech)
+    new.laws = {name: make_law(j, new.centre) for name, j in mech.joints.items()}
     new.reference_angle = {link: new._drawn_link_angle(link) for link in new.links}
     new.phi_drawn = np.array([new._drawn_phi(inp) for inp in new.inputs])
     new.joint_value_drawn = {name: new._drawn_joint_value(name) for name in mech.joints}

@@ -42,7 +42,7 @@ from ._atlas import Atlas, far_span, solve_along, solve_sequence
 from ._backend import check as check_backend
 from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
-from ._constraints import make_law
+from ._constraints import engine_centre, make_law, world_frames
 from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
@@ -93,9 +93,10 @@ class Engine:
         mech = self.mech
         self.links = mech.all_links
         self.link_index = {name: k for k, name in enumerate(self.links)}
-        self.laws = {name: make_law(j) for name, j in mech.joints.items()}
         self.size = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
                         + [0.0]) or 1.0  # (no floor: every tolerance is relative to it)
+        self.centre = engine_centre(mech)
+        self.laws = {name: make_law(j, self.centre) for name, j in mech.joints.items()}
         self.inputs = mech.inputs
         self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
         self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
@@ -182,8 +183,24 @@ class Engine:
     # -- the façade: block Newton and rates (`_blocks`), continuation (`_atlas`), limits (`_singular`) ----
     def rates(self, sol: Solution, phi_rate, phi_accel) -> Solution:
         """Fill the velocities and accelerations of every link for input rates (B, n_in) and input
-        accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues."""
-        return self.solver.rates(sol, phi_rate, phi_accel)
+        accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues. The link frames'
+        `v`, `a` are in the world convention (as `Motion.frames`); `sol.pose` stays in the engine's frame
+        (`centre`)."""
+        self.solver.rates(sol, phi_rate, phi_accel)
+        c, s, r = self.link_frames(sol)
+        _, v, a = world_frames(self.centre, c, s, r, sol.w.T, sol.v.T, sol.e.T, sol.a.T)
+        sol.v, sol.a = v.T, a.T
+        return sol
+
+    def link_frames(self, sol: Solution):
+        """cos θ, sin θ (L, B) and the frame origins r (2, L, B) of every link (`links` order) in the
+        engine's frame, centred on `centre`."""
+        pose, names = sol.pose, self.links
+        c, s = np.empty((len(names), len(sol.phi))), np.empty((len(names), len(sol.phi)))
+        r = np.empty((2,) + c.shape)
+        for k, n in enumerate(names):
+            c[k], s[k], r[:, k] = pose.c[n], pose.s[n], pose.r[n]
+        return c, s, r
 
     def dets(self, sol: Solution) -> np.ndarray:
         """Each block's Jacobian determinant (B, n_blocks); 1 for a block without unknowns."""
