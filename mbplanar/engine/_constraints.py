@@ -2,8 +2,9 @@
 cut joint), with the time derivatives of both, vectorised over a batch of positions.
 
 Coordinates. The engine solves in its own frame: the world frame moved to the engine's centre c (the
-mean of the drawn joints), so that every position it compares is a vector within the mechanism, of the
-mechanism's size, however far from the world's origin it is drawn (a closure residual formed from world
+mean of the drawn joints on a coarse grid, `model._scale.frame_origin`; 0 for a mechanism drawn near
+the world's origin), so that every position it compares is a vector within the mechanism, a few of its
+sizes long, however far from the world's origin it is drawn (a closure residual formed from world
 coordinates 1000 sizes away carries rounding of 1000 times the closure tolerance). Every link k carries
 a frame that coincides with that frame in the drawn pose; its state is the rotation θ_k from the drawn
 pose and the position r_k of its frame origin, so a point drawn at p (world) on link k is at
@@ -31,8 +32,7 @@ import numpy as np
 
 from ..model._model import Joint
 
-__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot", "world_frames",
-           "engine_centre"]
+__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot", "world_frames"]
 
 
 def perp(v: np.ndarray) -> np.ndarray:
@@ -222,12 +222,6 @@ class Prismatic(JointLaw):
             accel_bias = -(Ws * Ws) * rho_s + (Wc * Wc) * rho_c
             out[1] += -(Wc * Wc) * dot(n, delta) + 2 * Wc * dot(perp(n), d_vel) + dot(n, accel_bias)
         return out
-
-
-def engine_centre(mech) -> np.ndarray:
-    """The origin of the frame an engine solves in: the mean of the drawn joints (world, (2,))."""
-    spots = [j.at for j in mech.joints.values()]
-    return np.mean(np.array(spots, float), axis=0) if spots else np.zeros(2)
 
 
 def make_law(joint: Joint, centre=(0.0, 0.0)) -> JointLaw:

@@ -9,10 +9,11 @@ import math
 import numpy as np
 
 from ._blocks import BlockSolver
-from ._constraints import engine_centre, make_law
+from ._constraints import make_law
 from ..errors import ModelError
 from ..model._assembly import assemble
 from ..model._model import Mechanism
+from ..model._scale import frame_origin
 
 __all__ = ["with_dimensions", "same_structure"]
 
@@ -61,7 +62,7 @@ def with_dimensions(engine, mechanism: Mechanism):
     new.mech = mech = assemble(mechanism)
     new.inputs = mech.inputs
     new.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()])
-    new.centre = engine_centre(mech)
+    new.centre = frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], new.size)
     new.laws = {name: make_law(j, new.centre) for name, j in mech.joints.items()}
     new.reference_angle = {link: new._drawn_link_angle(link) for link in new.links}
     new.phi_drawn = np.array([new._drawn_phi(inp) for inp in new.inputs])

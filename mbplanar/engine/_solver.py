@@ -42,11 +42,12 @@ from ._atlas import Atlas, far_span, solve_along, solve_sequence
 from ._backend import check as check_backend
 from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
-from ._constraints import engine_centre, make_law, world_frames
+from ._constraints import make_law, world_frames
 from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
+from ..model._scale import frame_origin
 from ..structure._topology import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
@@ -95,7 +96,7 @@ class Engine:
         self.link_index = {name: k for k, name in enumerate(self.links)}
         self.size = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
                         + [0.0]) or 1.0  # (no floor: every tolerance is relative to it)
-        self.centre = engine_centre(mech)
+        self.centre = frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], self.size)
         self.laws = {name: make_law(j, self.centre) for name, j in mech.joints.items()}
         self.inputs = mech.inputs
         self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}

@@ -20,10 +20,12 @@ from __future__ import annotations
 import math
 import warnings
 
+import numpy as np
+
 from ..errors import ModelError, ModelWarning
 
 __all__ = ["SCALE_FACTOR", "SLACK", "drawing_size", "out_of_scale", "scale_ratio", "scale_message",
-           "warn_scale"]
+           "warn_scale", "FRAME_GRID", "frame_origin"]
 
 SCALE_FACTOR = 100.0   # a length this many times larger or smaller than the drawing is flagged
 SLACK = 1e-9           # relative rounding allowed at a boundary: a ratio of 100 (or 1/100) to rounding warns
@@ -72,3 +74,24 @@ def warn_scale(what: str, value: float, size: float, unit: str, unit_scale: floa
     message = scale_message(what, value, size, unit, unit_scale, reference)
     warnings.warn(ModelWarning(str(ModelError(message, source=source, where=where))), stacklevel=stacklevel)
     return True
+
+
+# -- where the engine measures from ------------------------------------------------------------------
+FRAME_GRID = 16.0  # the origin of a mechanism's own frame lies on a grid of at least this many sizes
+
+
+def frame_origin(points, size: float) -> np.ndarray:
+    """The origin of the frame a mechanism is solved in: the mean of its drawn joints `points` ((N, 2),
+    or (N, 2, D) for D designs) rounded to a grid whose spacing is the power of two at or above
+    `FRAME_GRID` × `size` ((2,), or (2, D)).
+
+    Positions measured from it are vectors within the mechanism (a few sizes long), so that closure
+    residuals and their tolerances mean the same wherever the mechanism is drawn. On that grid it is 0
+    for a mechanism drawn within a few sizes of the world's origin (the world frame itself, exactly),
+    and moving a drawn coordinate into the frame (p − origin) is exact (Sterbenz: the two are within a
+    factor 2 of each other, or the origin's component is 0)."""
+    mean = np.mean(np.asarray(points, float), axis=0)
+    if not (size > 0 and math.isfinite(size)):
+        return np.zeros_like(mean)
+    grid = 2.0 ** math.ceil(math.log2(FRAME_GRID * size))
+    return np.round(mean / grid) * grid + 0.0  # (+ 0.0: no −0)
