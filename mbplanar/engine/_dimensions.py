@@ -13,7 +13,7 @@ from ._constraints import make_law
 from ..errors import ModelError
 from ..model._assembly import assemble
 from ..model._model import Mechanism
-from ..model._scale import frame_origin
+from ..model._scale import check_far, frame_origin
 
 __all__ = ["with_dimensions", "same_structure"]
 
@@ -59,6 +59,7 @@ def with_dimensions(engine, mechanism: Mechanism):
     new = copy.copy(engine)
     new.prepared = {}  # tables of the old dimensions
     new._atlas = None
+    check_far(mechanism)
     new.mech = mech = assemble(mechanism)
     new.inputs = mech.inputs
     new.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()])

@@ -47,7 +47,7 @@ from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
 from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
-from ..model._scale import frame_origin
+from ..model._scale import check_far, frame_origin
 from ..structure._topology import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing"]
@@ -89,6 +89,7 @@ class Engine:
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
         check_mobility(mech)
+        check_far(mech)
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech
