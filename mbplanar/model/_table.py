@@ -419,7 +419,8 @@ def _check_extent(mech: Mechanism, name: str, where: str):
         return
     spots = [j.at for j in revolute] + [p.at for p in mech.points.values() if p.link == name and p.at]
     size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
-    if size <= 1e-12 * max(1.0, max(abs(c) for xy in spots for c in xy)):
+    # one place to rounding: the coordinates' own (~1e-16 of them, so far from the origin too), or 1e-12
+    if size <= max(1e-12, 8 * 2.0 ** -52 * max(abs(c) for xy in spots for c in xy)):
         raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
                          f"the same point", source=mech.source, where=where)
 
