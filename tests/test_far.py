@@ -15,7 +15,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import mbplanar
@@ -160,7 +160,8 @@ def _at_origin(path, backend):
                 rel = np.linspace(-3.0, 3.0, 25)
             else:
                 lo, hi = engine.reach()
-                d0, margin = float(engine.phi_drawn[0]), 1e-3 * (hi - lo)
+                # (away from the limits, where the rates grow without bound and amplify any change of shape)
+                d0, margin = float(engine.phi_drawn[0]), 0.05 * (hi - lo)
                 rel = np.linspace(lo + margin - d0, hi - margin - d0, 25)
             motion = mbplanar.analyse(engine, engine.phi_drawn + (rel if rel.ndim == 2 else rel[:, None]))
             forces = mbplanar.kinetostatics(engine, motion) if _loaded(mech) else None
@@ -175,9 +176,10 @@ def _loaded(mech) -> bool:
 
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("path", linkage_models(), ids=lambda p: p.name)
-@settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=2, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(angle=st.floats(-math.pi, math.pi), exponent=st.floats(0.0, math.log10(FAR_GUARANTEED)),
        direction=st.floats(-math.pi, math.pi))
+@example(angle=2.0, exponent=math.log10(FAR_GUARANTEED), direction=-2.3)  # at the guarantee's edge
 def test_a_model_moved_and_turned_gives_the_origins_answers(path, backend, angle, exponent, direction):
     """Every bundled model, turned by any angle and moved up to the guaranteed ratio from the origin:
     the same check verdicts and limits, link angles (turned), joint values, points (turned and moved),
@@ -185,8 +187,8 @@ def test_a_model_moved_and_turned_gives_the_origins_answers(path, backend, angle
     the distance."""
     mech, e0, rel, m0, k0, c0 = _at_origin(path, backend)
     size = e0.size
-    ratio = 10.0 ** exponent * 0.999
-    distance = ratio * size  # (the drawn joints lie within a size of the model's own origin)
+    ratio = 10.0 ** exponent
+    distance = 0.99 * max(ratio - 1.0, 0.0) * size  # (the drawn joints lie within a size of the model's origin)
     offset = (distance * math.cos(direction), distance * math.sin(direction))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", mbplanar.errors.ModelWarning)

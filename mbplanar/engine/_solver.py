@@ -63,6 +63,9 @@ class Engine:
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
     or the environment variable MBPLANAR_THREADS); the answers do not depend on it.
     tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them.
+    centre: the origin (world coordinates, (2,)) of the frame it solves in, on the mechanism
+    (`model._scale.frame_origin`; 0 near the world's origin), so that what it judges does not depend on
+    where the mechanism is drawn; results are in world coordinates.
 
     Examples
     --------
