@@ -232,22 +232,36 @@ def make_law(joint: Joint, centre=(0.0, 0.0)) -> JointLaw:
 def world_frames(centre: np.ndarray, c: np.ndarray, s: np.ndarray, r: np.ndarray, w=None, v=None, e=None, a=None):
     """The link frames of the engine's frame (centred on `centre` (2,)) in the world convention: the
     motion of each link's point drawn at the world's origin. From cos θ, sin θ (L, B) and r (2, L, B),
-    with w, e (C, L, B) or (L, B) and v, a (2, ...) when given; returns (r, v, a) (None where not given).
-    Far from the origin the answer carries the rounding of world coordinates (~1e-16 of them)."""
+    with w, e (L, B) and v, a (2, L, B) when given; returns (r, v, a) (None where not given), the
+    arrays given themselves when `centre` is 0 (the engine's frame is then the world's). Far from the
+    origin the answer carries the rounding of world coordinates (~1e-16 of them)."""
     cx, cy = float(centre[0]), float(centre[1])
-    rho = np.empty(r.shape)  # −R(θ)·c: from the frame's origin to the world origin's point
-    rho[0] = s * cy - c * cx
-    rho[1] = -(s * cx + c * cy)
-    out_r = r + rho
+    if cx == 0.0 and cy == 0.0:
+        return r, v, a
+    # ρ = −R(θ)·c, from the frame's origin to the world origin's point (operation for operation as the
+    # compiled kernel, `backends._numba_kinematics`)
+    rho_x = s * cy
+    rho_x -= c * cx
+    rho_y = s * cx
+    rho_y += c * cy
+    np.negative(rho_y, out=rho_y)
+    out_r = np.empty(r.shape)
+    np.add(r[0], rho_x, out=out_r[0])
+    np.add(r[1], rho_y, out=out_r[1])
     out_r[0] += cx
     out_r[1] += cy
     out_v = out_a = None
-    if v is not None:
-        out_v = v.copy()  # v + ω·perp(ρ)
-        out_v[0] -= w * rho[1]
-        out_v[1] += w * rho[0]
-    if a is not None:
-        out_a = a.copy()  # a + ε·perp(ρ) − ω²ρ
-        out_a[0] -= e * rho[1] + w * w * rho[0]
-        out_a[1] += e * rho[0] - w * w * rho[1]
+    if v is not None:  # v + ω·perp(ρ)
+        out_v = np.empty(v.shape)
+        np.subtract(v[0], w * rho_y, out=out_v[0])
+        np.add(v[1], w * rho_x, out=out_v[1])
+    if a is not None:  # a + ε·perp(ρ) − ω²ρ
+        out_a = np.empty(a.shape)
+        w2 = w * w
+        t = e * rho_y
+        t += w2 * rho_x
+        np.subtract(a[0], t, out=out_a[0])
+        np.multiply(e, rho_x, out=t)
+        t -= w2 * rho_y
+        np.add(a[1], t, out=out_a[1])
     return out_r, out_v, out_a

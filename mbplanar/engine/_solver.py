@@ -192,9 +192,10 @@ class Engine:
         `v`, `a` are in the world convention (as `Motion.frames`); `sol.pose` stays in the engine's frame
         (`centre`)."""
         self.solver.rates(sol, phi_rate, phi_accel)
-        c, s, r = self.link_frames(sol)
-        _, v, a = world_frames(self.centre, c, s, r, sol.w.T, sol.v.T, sol.e.T, sol.a.T)
-        sol.v, sol.a = v.T, a.T
+        if self.centre.any():  # (else the engine's frame is the world's)
+            c, s, r = self.link_frames(sol)
+            _, v, a = world_frames(self.centre, c, s, r, sol.w.T, sol.v.T, sol.e.T, sol.a.T)
+            sol.v, sol.a = v.T, a.T
         return sol
 
     def link_frames(self, sol: Solution):
