@@ -13,7 +13,8 @@ import mbplanar
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
 LAYERS = ["errors", "_progress", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
-          "study", "io", "viz", "cam", "gears", "synthesis", "formats", "cli"]  # cams, gears, synthesis, studies use what precedes them
+          "study", "io", "viz", "cam", "gears", "synthesis", "formats", "web",
+          "cli"]  # cams, gears, synthesis, formats, studies, the workbench use what precedes them
 
 
 def _layer(module: str) -> int:
