@@ -193,12 +193,12 @@ class Engine:
         (`centre`)."""
         self.solver.rates(sol, phi_rate, phi_accel)
         if self.centre.any():  # (else the engine's frame is the world's)
-            c, s, r = self.link_frames(sol)
+            c, s, r = self._link_frames(sol)
             _, v, a = world_frames(self.centre, c, s, r, sol.w.T, sol.v.T, sol.e.T, sol.a.T)
             sol.v, sol.a = v.T, a.T
         return sol
 
-    def link_frames(self, sol: Solution):
+    def _link_frames(self, sol: Solution):
         """cos θ, sin θ (L, B) and the frame origins r (2, L, B) of every link (`links` order) in the
         engine's frame, centred on `centre`."""
         pose, names = sol.pose, self.links

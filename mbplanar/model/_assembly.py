@@ -390,7 +390,7 @@ def assemble(mech: Mechanism) -> Mechanism:
     # assembled in the mechanism's own frame (`frame_origin`: the residuals compare coordinates of the
     # mechanism's size, not ones 1000 sizes from the origin whose rounding exceeds the tolerance; 0 near
     # the origin) and at unit size, scaled by a power of two (exact both ways): every tolerance is relative
-    centre = tuple(frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], size))
+    centre = tuple(float(c) for c in frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], size))
     near = translated(mech, (-centre[0], -centre[1]))
     if not size:
         return translated(_assemble(near), centre)
