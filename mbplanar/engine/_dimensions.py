@@ -13,6 +13,7 @@ from ._constraints import make_law
 from ..errors import ModelError
 from ..model._assembly import assemble
 from ..model._model import Mechanism
+from ..model._scale import check_far, frame_origin
 
 __all__ = ["with_dimensions", "same_structure"]
 
@@ -61,11 +62,13 @@ def with_dimensions(engine, mechanism: Mechanism):
     new = copy.copy(engine)
     new.prepared = {}  # tables of the old dimensions
     new._atlas = None
+    check_far(mechanism)
     new.mech = mech = assemble(mechanism)
     new.inputs = mech.inputs
-    new.laws = {name: make_law(j) for name, j in mech.joints.items()}
-    new.laws.update(higher_laws(mech))
     new.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()])
+    new.centre = frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], new.size)
+    new.laws = {name: make_law(j, new.centre) for name, j in mech.joints.items()}
+    new.laws.update(higher_laws(mech, new.centre))
     new.reference_angle = {link: new._drawn_link_angle(link) for link in new.links}
     new.phi_drawn = np.array([new._drawn_phi(inp) for inp in new.inputs])
     new.joint_value_drawn = {name: new._drawn_joint_value(name) for name in mech.joints}

@@ -79,8 +79,9 @@ class HigherLaw:
     param_period = 0.0
     param_range = (-math.inf, math.inf)
 
-    def __init__(self, geometry: PairGeometry):
-        self.geometry = geometry
+    def __init__(self, geometry: PairGeometry, local: PairGeometry | None = None):
+        self.geometry = geometry          # as drawn, in world coordinates
+        self.local = local or geometry    # the same in the engine's frame (`Engine.centre`): what it solves with
         self.pair = geometry.pair
         self.name = self.pair.name
         self.links = self.pair.links
@@ -102,8 +103,8 @@ class Gear(HigherLaw):
 
     kind = "gear"
 
-    def __init__(self, geometry: PairGeometry):
-        super().__init__(geometry)
+    def __init__(self, geometry: PairGeometry, local: PairGeometry | None = None):
+        super().__init__(geometry, local)
         ra, rb = self.pair.radii
         sb = -1.0 if self.pair.internal else 1.0
         self.carrier = geometry.carrier
@@ -122,10 +123,10 @@ class Rack(HigherLaw):
 
     kind = "rack"
 
-    def __init__(self, geometry: PairGeometry):
-        super().__init__(geometry)
-        self.centre = np.array(geometry.centres[0], float)
-        self.at = np.array(geometry.pitch, float)
+    def __init__(self, geometry: PairGeometry, local: PairGeometry | None = None):
+        super().__init__(geometry, local)
+        self.centre = np.array(self.local.centres[0], float)
+        self.at = np.array(self.local.pitch, float)
         self.line = np.array(geometry.tangent, float)
         out = np.array(geometry.normal, float)                 # from the centre to the pitch point
         # σ = perp(out)·U: d/dt (X_C − X_A)·U = −σ·r·(ω_p − ω_k) when the pitch circle rolls on the line
@@ -160,10 +161,10 @@ class _OnCurve(HigherLaw):
     equations = 2
     parameters = 1
 
-    def __init__(self, geometry: PairGeometry, path):
-        super().__init__(geometry)
+    def __init__(self, geometry: PairGeometry, local: PairGeometry | None, path):
+        super().__init__(geometry, local)
         self.path = path
-        self.at = np.array(self.pair.at, float)
+        self.at = np.array(self.local.pair.at, float)
         self.param0 = geometry.u0
         self.param_period = path.period if path.closed else 0.0
         self.param_range = (-math.inf, math.inf) if path.closed else (path.lo, path.hi)
@@ -178,8 +179,8 @@ class PointOnCurve(_OnCurve):
 
     kind = "point"
 
-    def __init__(self, geometry: PairGeometry):
-        super().__init__(geometry, geometry.path)
+    def __init__(self, geometry: PairGeometry, local: PairGeometry | None = None):
+        super().__init__(geometry, local, (local or geometry).path)
         self.curve_link, self.point_link = self.links
 
     def closure(self, pose):
@@ -202,8 +203,8 @@ class FaceOnCurve(_OnCurve):
 
     kind = "face"
 
-    def __init__(self, geometry: PairGeometry):
-        super().__init__(geometry, geometry.profile)
+    def __init__(self, geometry: PairGeometry, local: PairGeometry | None = None):
+        super().__init__(geometry, local, (local or geometry).profile)
         self.curve_link, self.face_link = self.links
         self.n0 = np.array(geometry.normal, float)
 
@@ -242,13 +243,14 @@ class FaceOnCurve(_OnCurve):
         return out
 
 
-def make_higher_law(geometry: PairGeometry) -> HigherLaw:
-    """The law of a higher pair from its drawn geometry (`mbplanar.model._drawn.drawn_pair`)."""
+def make_higher_law(geometry: PairGeometry, local: PairGeometry | None = None) -> HigherLaw:
+    """The law of a higher pair from its drawn geometry (`mbplanar.model._drawn.drawn_pair`), solving
+    with `local`, the same geometry in the engine's frame (`Engine.centre`; None: the world's)."""
     h = geometry.pair
     if h.kind == "gear":
-        return Gear(geometry)
+        return Gear(geometry, local)
     if h.kind == "rack":
-        return Rack(geometry)
+        return Rack(geometry, local)
     if h.kind == "cam" and h.follower == "flat":
-        return FaceOnCurve(geometry)
-    return PointOnCurve(geometry)
+        return FaceOnCurve(geometry, local)
+    return PointOnCurve(geometry, local)

@@ -257,8 +257,8 @@ def limit_kind(solver: BlockSolver, bp: BlockPlan, sol: Solution) -> str:
             continue
         for ja in (o for o in revolute if a in o.links and o.name != j.name):
             for jb in (o for o in revolute if b in o.links and o.name != j.name):
-                pa = _world(sol.pose, a, ja.at) - _world(sol.pose, a, j.at)
-                pb = _world(sol.pose, b, jb.at) - _world(sol.pose, b, j.at)
+                pa = _turned(sol.pose, a, ja.at, j.at)
+                pb = _turned(sol.pose, b, jb.at, j.at)
                 norm = np.linalg.norm(pa) * np.linalg.norm(pb)
                 if norm == 0:
                     continue
@@ -269,7 +269,9 @@ def limit_kind(solver: BlockSolver, bp: BlockPlan, sol: Solution) -> str:
     return best[1] if best is not None and best[0] < 1e-3 else "singular position (dead point)"
 
 
-def _world(pose: Pose, link: str, at) -> np.ndarray:
-    return pose.r[link][:, 0] + pose.rot(link, np.array(at, float))[:, 0]
+def _turned(pose: Pose, link: str, p, q) -> np.ndarray:
+    """The vector from q to p (drawn points of `link`) in the solved pose: the drawn vector turned
+    with the link (a relative vector, whatever the world coordinates)."""
+    return pose.rot(link, np.array(p, float) - np.array(q, float))[:, 0]
 
 

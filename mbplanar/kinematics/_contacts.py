@@ -216,10 +216,10 @@ def _released(engine: Engine, sol, geometry) -> dict:
             k = engine.link_index[driven]
             w = np.einsum("jb,bj->b", sens.w[driven], free)
             v = np.einsum("ijb,bj->bi", sens.v[driven], free)
-            if law.kind == "face" or driven == a:
-                point = g.point
+            if law.kind == "face" or driven == a:                     # in the engine's frame, as sol.pose
+                point = g.point - np.asarray(engine.centre)
             else:
-                point = sol.pose.r[driven].T + _turn(sol.pose.th[driven], law.pair.at)
+                point = sol.pose.r[driven].T + _turn(sol.pose.th[driven], law.at)
             lever = v + w[:, None] * _perp(point - sol.pose.r[driven].T)
             normal = g.normal if driven == b else -g.normal
             along = np.einsum("bi,bi->b", lever, normal)

@@ -427,8 +427,9 @@ def _warn_link_scale(mech: Mechanism, name: str, where: str):
 
 def _check_extent(mech: Mechanism, name: str, where: str):
     """A link with two or more revolute joints, no guide and no other point, all drawn at one place,
-    has zero length: its angle is undefined. "One place" is relative to the drawing (its coordinates'
-    size and extent), whatever its scale: a 1e-13 m four-bar is no zero-length link."""
+    has zero length: its angle is undefined. "One place" is relative to the drawing (its extent, or the
+    rounding of its coordinates), whatever its scale or distance from the origin: a 1e-13 m four-bar, or
+    a 0.1 m one 1e11 m out, is no zero-length link."""
     joints = mech.joints_of(name)
     revolute = [j for j in joints if j.kind == "R"]
     if len(revolute) < 2 or len(revolute) < len(joints):
@@ -436,9 +437,11 @@ def _check_extent(mech: Mechanism, name: str, where: str):
     spots = [j.at for j in revolute] + [p.at for p in mech.points.values() if p.link == name and p.at]
     size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
     drawing = [j.at for j in mech.joints.values()] + [p.at for p in mech.points.values() if p.at]
-    extent = max(max(abs(c) for xy in drawing for c in xy), max(xy[0] for xy in drawing) - min(xy[0] for xy in drawing),
-                 max(xy[1] for xy in drawing) - min(xy[1] for xy in drawing))
-    if size <= 1e-12 * extent:
+    span = max(max(xy[0] for xy in drawing) - min(xy[0] for xy in drawing),
+               max(xy[1] for xy in drawing) - min(xy[1] for xy in drawing))
+    # at one place: within 1e-12 of the drawing's own size, or within the rounding of its coordinates
+    # (~1e-16 of them: a link far from the origin is judged by its own length, not by the distance)
+    if size <= max(1e-12 * span, 8 * 2.0 ** -52 * max(abs(c) for xy in drawing for c in xy)):
         raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
                          f"the same point", source=mech.source, where=where)
 

@@ -34,6 +34,7 @@ from ..engine._nodes import HERMITE5, Node
 from ..engine._singular import limit_after
 from ..kinematics import analyse
 from ..model import parse_model
+from ..model._scale import frame_origin
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 
@@ -137,6 +138,10 @@ class DesignBatch:
         self.point_link = [engine.link_index[j.slider if j.kind == "P" else j.links[0]] for j in mech.joints.values()]
         self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
         self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
+        # each design is solved in its own frame, centred on its drawn joints as an engine's is
+        # (`Engine.centre`): its positions are vectors within the mechanism, wherever it is drawn
+        self.centre = frame_origin([geometry.at[name] for name in mech.joints], engine.size)  # (2, D)
+        self.local = {name: at - self.centre for name, at in geometry.at.items()}
         self._engines = {}
         self._want = (list(self.points), True, list(engine.links))  # the points, rates and links asked for
         self.nodes = None
@@ -154,13 +159,13 @@ class DesignBatch:
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
         """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
-        per batch element: its Newton and rate passes then solve batches of exactly those designs (with
-        tolerances `tol`, default the engine's)."""
+        per batch element, each in its design's frame (`centre`): its Newton and rate passes then solve
+        batches of exactly those designs (with tolerances `tol`, default the engine's)."""
         base, g = self.engine, self.geometry
         laws = {}
         for name, j in base.mech.joints.items():
             law = copy.copy(base.laws[name])
-            law.s0 = g.at[name][:, index]
+            law.s0 = self.local[name][:, index]
             if j.kind == "P":
                 law.u0 = g.guide[name][:, index]
                 law.n0 = perp(law.u0)
@@ -393,10 +398,11 @@ class DesignBatch:
         self.nodes = None
         whole = len(designs) == D
         if len(designs):
-            tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
+            tables = kernel.design_tables(eng, self.local, g.guide, g.phi0, g.reference, names, point_link, designs,
                                           [eng.link_index[n] for n in links])
             got = kernel.solve(eng, tables, out.phi if whole else phi[designs], self.scale, accelerations,
                                eng.threads)
+            got.xy += self.centre.T[designs][:, None, None, :]  # (solved in each design's frame)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
@@ -547,11 +553,11 @@ class DesignBatch:
         for p, name in enumerate(out.points):
             li = self.point_link[self.points.index(name)]
             link = links[li]
-            at = self.geometry.at[name][:, where]
+            at, centre = self.local[name][:, where], self.centre[:, where]  # (in each design's frame)
             c, s = pose.c[link], pose.s[link]
             rx, ry = c * at[0] - s * at[1], s * at[0] + c * at[1]
             w = sol.w[:, li]
-            xy[:, p, 0], xy[:, p, 1] = pose.r[link][0] + rx, pose.r[link][1] + ry
+            xy[:, p, 0], xy[:, p, 1] = (pose.r[link][0] + rx) + centre[0], (pose.r[link][1] + ry) + centre[1]
             vq[:, p, 0], vq[:, p, 1] = sol.v[:, li, 0] + w * -ry, sol.v[:, li, 1] + w * rx
             if aq is not None:
                 e, ww = sol.e[:, li], w * w
