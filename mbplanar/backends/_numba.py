@@ -11,7 +11,7 @@ from ..forces._kinetostatics import plan_of, result
 from ..forces._loads import heavy_links, needs_numpy
 from ..kinematics._motion import Motion, _per_position, _tables, point_selection
 
-__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM"]
+__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "declines"]
 
 #: positions from which a new process gains by loading the compiled kernels: importing numba and loading
 #: the kernels from its cache (``mbplanar compile`` fills it) costs about 0.4 s of CPU per process (numba's
@@ -30,10 +30,25 @@ def _kernels():
 _loaded: list = []
 
 
+def declines(engine) -> str | None:
+    """Why the compiled kernels take none of this engine's batches (None: they may take them): the
+    kernels hold the laws of the revolute and prismatic pairs only, so a model with higher pairs (gear,
+    rack, cam, slot) is solved by numpy, the reference, whatever its backend."""
+    if engine.mech.higher:
+        return ("the model has higher pairs (" + ", ".join(sorted({h.kind for h in engine.mech.higher.values()}))
+                + "), whose laws the compiled kernels do not hold: numpy solves it")
+    return None
+
+
 class NumbaBackend:
     """Compiled per-position loops for one-input sweeps (`_numba_kinematics`, `_numba_kinetostatics`)."""
 
     name = "numba"
+
+    @staticmethod
+    def declines(engine) -> str | None:
+        """Why this backend takes none of the engine's batches, or None (`declines`)."""
+        return declines(engine)
 
     def pays(self, positions: int) -> bool:
         """Whether a process that has not loaded the kernels yet gains by loading them for a batch of
@@ -45,8 +60,8 @@ class NumbaBackend:
         """`analyse` of one input's values (of the points `points`, a `PointSelection` or None for every
         point; with or without `rates`), or None: several inputs, no positions, a non-finite value, or a
         position the kernel hands back (a change point's bracket, one the corrector would repair)."""
-        if len(engine.inputs) != 1 or not phi.size:  # (analyse has checked that phi is finite)
-            return None
+        if len(engine.inputs) != 1 or not phi.size or engine.mech.higher:  # (analyse checked that phi is finite)
+            return None  # (higher pairs: `declines`)
         return _motion(engine, phi.reshape(-1, 1), omega, epsilon, points, rates)
 
     def kinetostatics(self, engine, motion, input_inertia, loads, inertia):
@@ -54,7 +69,7 @@ class NumbaBackend:
         model's own loads (no springs, dampers, torques or switched rows) and no input inertia, or None."""
         no_inertia = input_inertia == 0 if type(input_inertia) in (int, float) else not np.any(input_inertia)
         if not (motion.has_rates and loads is None and len(engine.inputs) == 1 and no_inertia
-                and not needs_numpy(engine.mech)):  # (np.any of the default 0 costs ~4 µs a call)
+                and not needs_numpy(engine.mech) and not engine.mech.higher):  # (np.any of the default 0: ~4 µs)
             return None
         rows = motion.rows  # (a compiled sweep that did not write them solves again for them, once)
         if not (rows is not None and len(rows) == len(motion.phi) > 0 and np.may_share_memory(rows, motion.wq)):
@@ -64,7 +79,9 @@ class NumbaBackend:
         return result(engine, motion, plan.lay, x, singular, residual, values)
 
     def single(self, engine):
-        """The lean solver of one position (`mbplanar.position`), or None (several inputs)."""
+        """The lean solver of one position (`mbplanar.position`), or None (several inputs, higher pairs)."""
+        if engine.mech.higher:
+            return None
         from . import _numba_single
         return _numba_single.single(engine)
 

@@ -93,7 +93,7 @@ def _make_plan(engine, joint_table) -> _KernelPlan:
     steps, cuts, blocks, joints = kinematics_tables(engine, joint_table)
     alpha = np.array([engine.reference_angle[n] for n in engine.links], float)
     args = (steps, cuts, blocks, joints, alpha, float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
-            engine.link_index[engine.mech.ground], engine.tol.as_array())
+            engine.link_index[engine.mech.ground], engine.tol.as_array(), np.array(engine.centre, float))
     per = {"L": len(engine.links), "J": len(joints.drawn)}
     rows = {False: _record(per, FIELDS), True: _record(per, FIELDS + RATE_FIELDS)}
     m_max = max([1] + [bp.m for bp in engine.blocks])
@@ -233,16 +233,21 @@ _jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
 
 
 @_jit
-def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, grid, coef, signs, limits, x, om, ep,
-           ep_any, rates, p_link, p_at, offsets, angle, xy, w_out, e_out, v_out, a_out, rows, valid,
+def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, centre, grid, coef, signs, limits, x,
+           om, ep, ep_any, rates, p_link, p_at, offsets, angle, xy, w_out, e_out, v_out, a_out, rows, valid,
            ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u):
     """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
-    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache)."""
+    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache).
+    The pose is solved in the engine's frame (centred on `centre` (2,), `Engine.centre`; the tables'
+    points are in it, `p_at` is drawn in the world), and so are the joint values; the records'
+    link frames converted to the world convention (`engine._constraints.world_frames`), and the points
+    follow from those."""
     closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
         tol[0], int(tol[1]), tol[2], tol[3], tol[4])
     n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
+    cx0, cy0 = centre[0], centre[1]
     for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
         for sl in range(len(rt)):
@@ -464,22 +469,20 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
                 wq, eq = rt[vel, 0, l], rt[acc, 0, l]
                 w_out[b, l] = wq * omb
                 e_out[b, l] = eq * om2 + wq * epb if ep_any else eq * om2
-        if not rates:
-            for p in range(len(p_link)):
-                k = p_link[p]
-                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + (c * atx - s * aty), ps[4, k] + (s * atx + c * aty)
-        else:
-            for p in range(len(p_link)):
-                k = p_link[p]
-                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-                rx, ry = c * atx - s * aty, s * atx + c * aty
-                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
+        # the points from the link frames in the world convention (as the records hold them, see below)
+        for p in range(len(p_link)):
+            k = p_link[p]
+            c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+            rhx, rhy = s * cy0 - c * cx0, -(s * cx0 + c * cy0)
+            rx, ry = c * atx - s * aty, s * atx + c * aty
+            xy[b, p, 0], xy[b, p, 1] = ((ps[3, k] + rhx) + cx0) + rx, ((ps[4, k] + rhy) + cy0) + ry
+            if rates:
                 # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
                 wl, el = rt[vel, 0, k], rt[acc, 0, k]
                 w2 = wl * wl
-                vx, vy = rt[vel, 1, k] - wl * ry, rt[vel, 2, k] + wl * rx
-                ax, ay = rt[acc, 1, k] - el * ry - w2 * rx, rt[acc, 2, k] + el * rx - w2 * ry
+                vx, vy = (rt[vel, 1, k] - wl * rhy) - wl * ry, (rt[vel, 2, k] + wl * rhx) + wl * rx
+                ax = (rt[acc, 1, k] - (el * rhy + w2 * rhx)) - el * ry - w2 * rx
+                ay = (rt[acc, 2, k] + (el * rhx - w2 * rhy)) + el * rx - w2 * ry
                 v_out[b, p, 0], v_out[b, p, 1] = vx * omb, vy * omb
                 if ep_any:
                     a_out[b, p, 0], a_out[b, p, 1] = ax * om2 + vx * epb, ay * om2 + vy * epb
@@ -489,15 +492,18 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, gr
             continue
         # the record: frames and joints (offsets in _ORDER)
         o_th, o_cos, o_sin, o_r, o_val = offsets[0], offsets[1], offsets[2], offsets[3], offsets[4]
+        # the link frames in the world convention, as `world_frames`: ρ = −R(θ)·c
+        o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
         for l in range(n_l):  # noqa: E741
             rows[b, o_th + l], rows[b, o_cos + l], rows[b, o_sin + l] = ps[0, l], ps[1, l], ps[2, l]
-            rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
-        if rates:
-            o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
-            for l in range(n_l):  # noqa: E741
-                rows[b, o_wq + l], rows[b, o_eq + l] = rt[vel, 0, l], rt[acc, 0, l]
-                rows[b, o_fv + 2 * l], rows[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
-                rows[b, o_fa + 2 * l], rows[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
+            rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+            rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = (ps[3, l] + rhx) + cx0, (ps[4, l] + rhy) + cy0
+            if rates:
+                wl, el = rt[vel, 0, l], rt[acc, 0, l]
+                rows[b, o_wq + l], rows[b, o_eq + l] = wl, el
+                rows[b, o_fv + 2 * l], rows[b, o_fv + 2 * l + 1] = rt[vel, 1, l] - wl * rhy, rt[vel, 2, l] + wl * rhx
+                rows[b, o_fa + 2 * l] = rt[acc, 1, l] - (el * rhy + wl * wl * rhx)
+                rows[b, o_fa + 2 * l + 1] = rt[acc, 2, l] + (el * rhx - wl * wl * rhy)
         o_rq, o_aq = offsets[9], offsets[10]
         for j in range(len(joints.a)):
             la, lb = joints.a[j], joints.b[j]

@@ -237,7 +237,7 @@ def _position(x, omega, epsilon, out, tables, fb, ib, bb, ab, lay):
     ω = 1, ε = 0 (so that its rates are the analogues). far: the walk's reach, the period T, the largest
     float spacing of a reduced value and the largest uncertainty of a reduction
     (`engine._atlas._periods_away`); shift (M,): the unknowns' change over one period."""
-    steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol = tables
+    steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, centre = tables
     far, shift, p_at, xs, ones, zeros = _v1(fb, lay, 0), _v1(fb, lay, 1), _v2(fb, lay, 2), _v1(fb, lay, 3), \
         _v1(fb, lay, 4), _v1(fb, lay, 5)
     angle, xy, wq, eq, vq, aq, rows = _v2(fb, lay, 6), _v3(fb, lay, 7), _v2(fb, lay, 8), _v2(fb, lay, 9), \
@@ -276,8 +276,8 @@ def _position(x, omega, epsilon, out, tables, fb, ib, bb, ab, lay):
     if reduced:
         # solved and checked at the equivalent value near the drawn pose, then moved on by whole periods:
         # the prediction at x of a one-interval atlas, corrected there (`engine._atlas._solve_periodic`)
-        if _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, grid, coef, signs, limits, xs,
-                  ones, zeros, no, no, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt,
+        if _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, centre, grid, coef, signs, limits,
+                  xs, ones, zeros, no, no, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt,
                   sc, cc, q, guess, jac, perm, res, col, sol, qd_u) or not valid[0]:
             return 1
         lo = min(max(np.searchsorted(grid, near_x) - 1, 0), n_grid - 2)  # (as `atlas._interpolate`)
@@ -290,8 +290,8 @@ def _position(x, omega, epsilon, out, tables, fb, ib, bb, ab, lay):
             one_signs[0, k], one_signs[1, k] = signs[near, k], signs[near, k]
         xs[0] = x
         grid, coef, signs, limits = one_grid, one_coef, one_signs, no_limits
-    if _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, grid, coef, signs, limits, xs, ones,
-              zeros, no, yes, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt, sc, cc, q,
+    if _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, centre, grid, coef, signs, limits, xs,
+              ones, zeros, no, yes, p_link, p_at, row_off, angle, xy, wq, eq, vq, aq, rows, valid, ps, rt, sc, cc, q,
               guess, jac, perm, res, col, sol, qd_u) or not valid[0]:
         return 1
     _outputs(x, omega, epsilon, out, off, rec_off, len(joints.a), angle, xy, wq, eq, vq, aq, rows)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import MbplanarError, ModelError, did_you_mean
 from ..engine._backend import dispatch
-from ..engine._constraints import dot, perp
+from ..engine._constraints import dot, perp, world_frames
 from ..engine._solver import Crossing, Engine, Limit
 
 __all__ = ["Motion", "RatesNotComputed", "analyse", "positions_at_limits", "point_selection"]
@@ -243,13 +243,24 @@ def describe_crossing(engine: Engine, c: Crossing) -> str:
 
 
 def _point_table(engine: Engine):
-    """(names, link index, drawn coordinates) of every joint (its slider point for P) and point."""
+    """(names, link index, drawn coordinates) of every joint (its slider point for P), higher pair (a
+    gear's pitch point, a point of its carrier; a cam's follower point; a slot's pin) and point."""
     mech = engine.mech
     names, links, at = [], [], []
     for j in mech.joints.values():
         names.append(j.name)
         links.append(engine.link_index[j.slider if j.kind == "P" else j.links[0]])
         at.append(j.at)
+    for h in mech.higher.values():
+        law = engine.laws[h.name]
+        if h.kind == "gear":
+            names.append(h.name)
+            links.append(engine.link_index[law.carrier])
+            at.append(law.geometry.pitch)
+        elif h.kind in ("cam", "slot"):
+            names.append(h.name)
+            links.append(engine.link_index[h.links[1]])
+            at.append(h.at)
     for p in mech.points.values():
         names.append(p.name)
         links.append(engine.link_index[p.link])
@@ -260,8 +271,9 @@ def _point_table(engine: Engine):
 @dataclass
 class _JointTable:
     """Index maps of the joints, built once per engine: revolute columns `r_col` with their links
-    (`r_a`, `r_b`), prismatic columns `p_col` with carrier `p_c`, slider `p_s`, point `p_at` (Pp, 2)
-    and guide direction `p_u0` (Pp, 2); `drawn` (J,) joint values in the drawn pose."""
+    (`r_a`, `r_b`), prismatic columns `p_col` with carrier `p_c`, slider `p_s`, point `p_at` (Pp, 2,
+    drawn, in the engine's frame: minus `Engine.centre`) and guide direction `p_u0` (Pp, 2); `drawn`
+    (J,) joint values in the drawn pose."""
 
     r_col: np.ndarray
     r_a: np.ndarray
@@ -285,7 +297,7 @@ def _joint_table(engine: Engine) -> _JointTable:
         r_b=ints([idx[j.links[1]] for _, j in rev]),
         p_col=ints([k for k, _ in pri]), p_c=ints([idx[j.links[0]] for _, j in pri]),
         p_s=ints([idx[j.links[1]] for _, j in pri]),
-        p_at=np.array([j.at for _, j in pri], float).reshape(-1, 2),
+        p_at=np.array([j.at for _, j in pri], float).reshape(-1, 2) - engine.centre,  # (the engine's frame)
         p_u0=np.array([engine.laws[j.name].u0 for _, j in pri], float).reshape(-1, 2),
         drawn=np.array([engine.joint_value_drawn[j.name] for j in joints]))
 
@@ -408,13 +420,25 @@ def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
 
 
 def _link_states(engine: Engine, sol):
-    """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order."""
+    """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order, in the engine's
+    frame (centred on `Engine.centre`; `world_frames` converts)."""
     names, pose = engine.links, sol.pose
     th, c, s = (np.empty((len(names), len(sol.phi))) for _ in range(3))
     r = np.empty((2,) + th.shape)
     for k, n in enumerate(names):  # row by row: cheaper than np.stack for a small batch
         th[k], c[k], s[k], r[:, k] = pose.th[n], pose.c[n], pose.s[n], pose.r[n]
     return th, c, s, r
+
+
+def _contact_parameters(engine: Engine, sol) -> np.ndarray:
+    """The contact parameter of every higher pair (B, H) (engine.mech.higher order; 0 for gears and
+    racks, which have none): where on its curve a cam's or a slot's contact is."""
+    names = list(engine.mech.higher)
+    out = np.zeros((len(sol.phi), len(names)))
+    for bp, state in zip(engine.blocks, sol.blocks):
+        for law, k in bp.params:
+            out[:, names.index(law.name)] = state.q[k]
+    return out
 
 
 def _real(xq, xqq, om, ep):
@@ -587,7 +611,7 @@ def positions_at_limits(engine: Engine, limits: list) -> Motion:
     for name in ("w", "e", "v", "a", "rate", "accel", "ic", "wq", "eq", "vq", "aq", "rate_q", "accel_q"):
         if getattr(m, name) is not None:
             setattr(m, name, np.full_like(getattr(m, name), np.nan))
-    m.frames = {name: (x if name in ("th", "r") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
+    m.frames = {name: (x if name in ("th", "r", "contact") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
     return m
 
 
@@ -600,7 +624,10 @@ def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Mot
     keep = slice(None) if sol.valid.all() else np.flatnonzero(sol.valid)
     omega = _per_position(omega, [i.omega for i in engine.inputs], batch, n_in)
     epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, n_in)
-    th, c, s, r = _link_states(engine, sol)
+    # the joint values are relative: computed in the engine's frame (`Engine.centre`), where positions
+    # are vectors within the mechanism; the link frames are converted to the world convention
+    # (`world_frames`) and the points follow from them, as `Motion.frames` reports them
+    th, c, s, r_engine = _link_states(engine, sol)
     sel = points if points is not None else point_selection(engine)
     links, at = sel.links, sel.at
     joints = _tables(engine)[1]
@@ -608,31 +635,39 @@ def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Mot
     common = dict(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep], link_names=list(engine.links),
                   angle=(th.T + alpha)[keep], point_names=list(sel.names), joint_names=list(engine.mech.joints),
                   requested=batch, limits=sol.limits, crossings=sol.crossings)
+    frames = {"th": th.T[keep]}
+    if engine.mech.higher:
+        frames["contact"] = _contact_parameters(engine, sol)[keep]
     if not rates:
-        value = _joint_values(joints, th, c, s, r, None, None, None, None)[0]
+        value = _joint_values(joints, th, c, s, r_engine, None, None, None, None)[0]
+        r = world_frames(engine.centre, c, s, r_engine)[0]
+        frames["r"] = _first(r)[keep]
         return Motion(**common, w=None, e=None, xy=_first(_placed_points(c, s, r, links, at))[keep], v=None, a=None,
                       value=value.T[keep], rate=None, accel=None, ic=None, vq=None, aq=None,
-                      frames={"th": th.T[keep], "r": _first(r)[keep]}, has_rates=False)
+                      frames=frames, has_rates=False)
     analog = n_in == 1
     if analog:
-        engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
-        wq, vq_f, eq, aq_f = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        engine.solver.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
+        wq, eq = sol.w.T, sol.e.T
+        value, rq, accq = _joint_values(joints, th, c, s, r_engine, wq, _last(sol.v), eq, _last(sol.a))
+        r, vq_f, aq_f = world_frames(engine.centre, c, s, r_engine, wq, _last(sol.v), eq, _last(sol.a))
         om, ep = omega[:, 0], epsilon[:, 0]
         ep = ep if ep.any() else None  # constant input speed: x'' = x_qq ω²
         w, e = _real(wq, eq, om, ep)
         v, a = _real(vq_f, aq_f, om, ep)
         xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)
         pv, pa = _real(pvq, paq, om, ep)
-        value, rq, accq = _joint_values(joints, th, c, s, r, wq, vq_f, eq, aq_f)
         rate, accel = _real(rq, accq, om, ep)
     else:
-        engine.rates(sol, omega, epsilon)
-        w, v, e, a = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        engine.solver.rates(sol, omega, epsilon)
+        w, e = sol.w.T, sol.e.T
+        value, rate, accel = _joint_values(joints, th, c, s, r_engine, w, _last(sol.v), e, _last(sol.a))
+        r, v, a = world_frames(engine.centre, c, s, r_engine, w, _last(sol.v), e, _last(sol.a))
         xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
-        value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
+    frames["r"] = _first(r)[keep]
     m = Motion(**common, w=w.T[keep], e=e.T[keep], xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
                vq=None, aq=None, value=value.T[keep], rate=rate.T[keep], accel=accel.T[keep],
-               ic=_first(_instant_centres(r, v, w))[keep], frames={"th": th.T[keep], "r": _first(r)[keep]})
+               ic=_first(_instant_centres(r, v, w))[keep], frames=frames)
     if analog:
         m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
         m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]

@@ -33,6 +33,8 @@ from ..engine._constraints import perp
 from ..engine._nodes import HERMITE5, Node
 from ..engine._singular import limit_after
 from ..kinematics import analyse
+from ..model import parse_model
+from ..model._scale import frame_origin
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 
@@ -121,9 +123,12 @@ class DesignBatch:
         The reference design's engine (its structure serves every design). One input.
     geometry : DesignGeometry
         The designs' drawn coordinates (`design_geometry`).
+    template, variants : Template, Variants, optional
+        The model and the designs' values: a model with higher pairs solves each design from its own
+        table (`model_of`).
     """
 
-    def __init__(self, engine, geometry: DesignGeometry):
+    def __init__(self, engine, geometry: DesignGeometry, template=None, variants=None):
         self.engine = engine
         self.geometry = geometry
         self.count = geometry.count
@@ -133,21 +138,34 @@ class DesignBatch:
         self.point_link = [engine.link_index[j.slider if j.kind == "P" else j.links[0]] for j in mech.joints.values()]
         self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
         self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
+        # each design is solved in its own frame, centred on its drawn joints as an engine's is
+        # (`Engine.centre`): its positions are vectors within the mechanism, wherever it is drawn
+        self.centre = frame_origin([geometry.at[name] for name in mech.joints], engine.size)  # (2, D)
+        self.local = {name: at - self.centre for name, at in geometry.at.items()}
         self._engines = {}
         self._want = (list(self.points), True, list(engine.links))  # the points, rates and links asked for
         self.nodes = None
         self.motion = None
+        # a model with higher pairs: its laws hold curves and radii the batch's laws cannot vary over the
+        # designs, so each design is solved by its own engine, made from its own table (`model_of`)
+        self.own = bool(mech.higher)
+        self.model_of = None
+        if self.own:
+            for d in np.flatnonzero(geometry.ok):
+                self.reasons[d] = "a model with higher pairs (each design solved by its own engine)"
+            if template is not None:
+                self.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
 
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
         """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
-        per batch element: its Newton and rate passes then solve batches of exactly those designs (with
-        tolerances `tol`, default the engine's)."""
+        per batch element, each in its design's frame (`centre`): its Newton and rate passes then solve
+        batches of exactly those designs (with tolerances `tol`, default the engine's)."""
         base, g = self.engine, self.geometry
         laws = {}
         for name, j in base.mech.joints.items():
             law = copy.copy(base.laws[name])
-            law.s0 = g.at[name][:, index]
+            law.s0 = self.local[name][:, index]
             if j.kind == "P":
                 law.u0 = g.guide[name][:, index]
                 law.n0 = perp(law.u0)
@@ -158,7 +176,10 @@ class DesignBatch:
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
         if design not in self._engines:
-            mech = mechanism_of(self.engine.mech, self.geometry, design)
+            if self.model_of is not None:
+                mech = self.model_of(design)
+            else:
+                mech = mechanism_of(self.engine.mech, self.geometry, design)
             self._engines[design] = with_dimensions(self.engine, mech)
         return self._engines[design]
 
@@ -323,7 +344,7 @@ class DesignBatch:
         unknown = [n for n in link_names if n not in self.engine.links]
         if unknown:
             raise ValueError(f"{', '.join(unknown)}: not a link of the model")
-        if self.engine.backend == "numba":
+        if self.engine.backend == "numba" and not self.own:
             return self._solve_compiled(phi, exact_limits, fallback, names, accelerations, link_names)
         return self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names)
 
@@ -333,7 +354,7 @@ class DesignBatch:
         self._want = (list(self.points) if names is None else list(names), accelerations,
                       list(self.engine.links) if links is None else list(links))
         D = self.count
-        designs = np.flatnonzero(self.geometry.ok)
+        designs = np.flatnonzero(self.geometry.ok & ~self.own)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
         if len(designs):
             origin, dets = self._origin(designs)
@@ -355,7 +376,7 @@ class DesignBatch:
         motion = self._positions(phi, nodes, designs)
         motion.limits = self._limits(limits, exact_limits)
         self._past_limits(motion)
-        if fallback:
+        if fallback or self.own:   # (a model with higher pairs: its designs' own engines are the only way)
             self._fall_back(motion, phi)
         motion.ok = np.array([r is None for r in self.reasons], bool)
         self.motion = motion
@@ -377,10 +398,11 @@ class DesignBatch:
         self.nodes = None
         whole = len(designs) == D
         if len(designs):
-            tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
+            tables = kernel.design_tables(eng, self.local, g.guide, g.phi0, g.reference, names, point_link, designs,
                                           [eng.link_index[n] for n in links])
             got = kernel.solve(eng, tables, out.phi if whole else phi[designs], self.scale, accelerations,
                                eng.threads)
+            got.xy += self.centre.T[designs][:, None, None, :]  # (solved in each design's frame)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
@@ -531,11 +553,11 @@ class DesignBatch:
         for p, name in enumerate(out.points):
             li = self.point_link[self.points.index(name)]
             link = links[li]
-            at = self.geometry.at[name][:, where]
+            at, centre = self.local[name][:, where], self.centre[:, where]  # (in each design's frame)
             c, s = pose.c[link], pose.s[link]
             rx, ry = c * at[0] - s * at[1], s * at[0] + c * at[1]
             w = sol.w[:, li]
-            xy[:, p, 0], xy[:, p, 1] = pose.r[link][0] + rx, pose.r[link][1] + ry
+            xy[:, p, 0], xy[:, p, 1] = (pose.r[link][0] + rx) + centre[0], (pose.r[link][1] + ry) + centre[1]
             vq[:, p, 0], vq[:, p, 1] = sol.v[:, li, 0] + w * -ry, sol.v[:, li, 1] + w * rx
             if aq is not None:
                 e, ww = sol.e[:, li], w * w
@@ -703,7 +725,6 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
     DesignBatch
     """
     from ..engine import Engine
-    from ..model import parse_model
     from .geometry import design_geometry
     from .run import load_template
     from .variants import Variants, read_variants, variants_from
@@ -717,7 +738,7 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
         engine = Engine(parse_model(template.bind(), source=template.source), backend=backend)
     if len(engine.inputs) != 1:
         raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
-    return DesignBatch(engine, design_geometry(template, variants, engine.mech))
+    return DesignBatch(engine, design_geometry(template, variants, engine.mech), template, variants)
 
 
 def compile_sample() -> None:
