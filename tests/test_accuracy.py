@@ -27,6 +27,16 @@ from mbplanar.study.batch import DesignBatch
 from conftest import MODELS, linkage_models
 
 
+def _has_higher_pairs(path) -> bool:
+    import tomllib
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    return any(j.get("type", "R") not in ("R", "P") for j in data.get("joints", []))
+
+
+LOWER = [p for p in linkage_models() if not _has_higher_pairs(p)]
+HIGHER = [p for p in linkage_models() if _has_higher_pairs(p)]
+
+
 def _space(model, names=None, backend="numpy"):
     template, raw, engine = load(model, backend)
     every = catalogue(engine, raw, template)
@@ -125,7 +135,7 @@ def _positions(engine):
 STEPS = {"jansen": 2e-5}    # (a mechanism near a toggle: its fifth derivatives are large)
 
 
-@pytest.mark.parametrize("path", linkage_models(), ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", LOWER, ids=lambda p: p.stem)
 def test_sensitivities_match_central_differences_of_made_designs(path):
     """Every dimension of every bundled model, every joint, point and link: the exact sensitivities
     against the 5-point central difference of made designs (closed at the drawn input, solved by a design
@@ -465,3 +475,76 @@ def test_the_accuracy_picture_and_the_report_section(tmp_path):
     assert "<table>" in html and "points.M.offset" in html and "<img" in html
     plain = mbplanar.Engine(mbplanar.read_model(MODELS / "slider_crank.toml"))
     assert report_section(plain, ReportContext(plain, None, None)) is None
+
+
+# -- higher pairs and far from the origin ---------------------------------------------------------------
+@pytest.mark.parametrize("path", HIGHER, ids=lambda p: p.stem)
+def test_a_model_with_higher_pairs_is_refused_naming_them(tmp_path, capsys, path):
+    """A gear, rack, cam or slot: the made geometry and the sources cover the lower pairs only, so the
+    analysis refuses the model naming each higher pair and its kind (API and command, exit 2), even with a
+    [tolerances] section it could read."""
+    import tomllib
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    higher = [(j["name"], j["type"]) for j in data["joints"] if j.get("type", "R") not in ("R", "P")]
+    with pytest.raises(ModelError) as info:
+        accuracy(path, samples=10, positions=4)
+    for name, kind in higher:
+        assert f"{name} ({kind})" in str(info.value)
+    data["tolerances"] = {"dimensions": [{"name": "input.zero", "band": 0.1}]}
+    bad = tmp_path / path.name
+    bad.write_text(_toml(data))
+    for profile in MODELS.glob("*.csv"):     # (a cam's profile is read beside its model)
+        (tmp_path / profile.name).write_bytes(profile.read_bytes())
+    for p in (str(path), str(bad)):
+        assert main(["accuracy", p, "--samples", "10"]) == 2
+        err = capsys.readouterr().err
+        assert f"{higher[0][0]} ({higher[0][1]})" in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def _moved(tmp_path, name, offset):
+    """models/NAME.toml with every drawn coordinate (joints, points, loads) moved by (offset, offset)."""
+    import re
+    text = (MODELS / f"{name}.toml").read_text(encoding="utf-8")
+    number = r"(-?[0-9.]+(?:e-?[0-9]+)?)"
+    text = re.sub(rf"at = \[{number}, {number}\]",
+                  lambda m: f"at = [{float(m[1]) + offset!r}, {float(m[2]) + offset!r}]", text)
+    path = tmp_path / f"{name}_{offset:g}.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+@pytest.mark.parametrize("name", ["shaper", "six_bar_press"])
+def test_far_from_the_origin_the_analysis_gives_the_origins_answers(tmp_path, name, backend):
+    """The shaper (loaded: clearances under load, knocks) and the six-bar press (a slider's value) moved
+    1e6 m from the origin (the engine's frame, `Engine.centre`): the same sensitivities, stacks, Monte
+    Carlo (same seed) and clearances, the positions moved by the offset. The tolerances allow the
+    rounding of the drawn coordinates there (1.2e-10 m, on links of 0.1-2 m: 1.4e-8 of the press's largest
+    sensitivity measured)."""
+    if backend == "numba":
+        pytest.importorskip("numba")
+    near = accuracy(MODELS / f"{name}.toml", samples=400, positions=24, backend=backend)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        far = accuracy(_moved(tmp_path, name, 1e6), samples=400, positions=24, backend=backend)
+    assert far.success and near.success
+
+    def close(a, b, rel):
+        assert np.abs(a - b).max() <= rel * np.abs(b).max()
+
+    close(far.sensitivities.d, near.sensitivities.d, 1e-6)
+    close(far.stack.worst, near.stack.worst, 1e-6)
+    close(far.stack.sigma, near.stack.sigma, 1e-6)
+    shift = np.array([1e6 if o.kind in ("x", "y") else 0.0 for o in near.outputs])
+    assert np.abs(far.sensitivities.value - shift - near.sensitivities.value).max() <= 1e-7
+    assert far.monte_carlo.count == near.monte_carlo.count
+    close(far.monte_carlo.std, near.monte_carlo.std, 1e-5)
+    assert np.abs(far.monte_carlo.mean - shift - near.monte_carlo.mean).max() <= 1e-7
+    if near.clearances is not None:
+        close(far.clearances.worst, near.clearances.worst, 1e-6)
+        # (the shaper's cutting resistance starts at φ = 0: its reactions jump there, and the rounding of
+        # the position decides the side, so the errors under load are compared past that position)
+        close(far.clearances.error[1:], near.clearances.error[1:], 1e-6)
+        assert far.clearances.knocks.keys() == near.clearances.knocks.keys()
+        for joint, at in near.clearances.knocks.items():
+            assert np.allclose(far.clearances.knocks[joint], at, atol=1e-6), joint

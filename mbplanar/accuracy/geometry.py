@@ -4,7 +4,7 @@ nominal dimensions, link by link.
 A made mechanism differs from the drawn one link by link: each link carries its joints' points (a
 revolute pair's hole or pin, a prismatic pair's guide line on its carrier and the block's point on the
 slider) and its points of interest, in its own frame. `Sided` holds them for a batch of D designs, in
-the frames of the nominal drawn pose (link frames that coincide with the world there): `side[(J, L)]`
+the frames of the nominal drawn pose (link frames that coincide there with the engine's, centred on `Engine.centre`): `side[(J, L)]`
 (2, D) is joint J's point on link L, `guide[J]` (2, D) a prismatic pair's direction on its carrier,
 `point[P]` (2, D) a point of interest on its link, `zero` (n_in, D) each input's zero (the joint value
 at φ = 0, SI) and `alpha[L]` (D,) the direction of link L's reference line in its frame (its reported
@@ -131,6 +131,29 @@ class _LinkShape:
         return np.sqrt(dx * dx + dy * dy)
 
 
+def refuse_higher(mech):
+    """Raise `ModelError` naming the higher pairs (gear, rack, cam, slot) of `mech`, if it has any: the
+    made geometry and the sensitivities' source terms cover the lower pairs only.
+
+    Examples
+    --------
+    >>> from mbplanar.model import parse_model
+    >>> try:
+    ...     refuse_higher(parse_model(open("models/geared_five_bar.toml").read()))
+    ... except Exception as e:
+    ...     print("higher pair G (gear)" in str(e))
+    True
+    """
+    other = [f"{n} ({j.kind})" for n, j in mech.joints.items() if j.kind not in ("R", "P")]
+    other += [f"{n} ({h.kind})" for n, h in getattr(mech, "higher", {}).items()]
+    if other:
+        word = "pair" if len(other) == 1 else "pairs"
+        raise ModelError(f"the accuracy analysis takes revolute and prismatic pairs; the model has the higher "
+                         f"{word} {', '.join(other)}, whose dimensions (pitch radii, profiles, slots) and "
+                         f"contact it does not differentiate yet: analyse a model without them",
+                         source=mech.source)
+
+
 class DesignSpace:
     """The dimensions of one model and the geometry of designs made with deviations from them.
 
@@ -155,15 +178,14 @@ class DesignSpace:
     def __init__(self, engine, raw, template=None, names=()):
         self.engine, self.raw, self.template = engine, raw, template
         mech = engine.mech
-        other = [f"{n} ({j.kind})" for n, j in mech.joints.items() if j.kind not in ("R", "P")]
-        if other:
-            raise ModelError(f"the accuracy analysis takes revolute and prismatic pairs; the model has "
-                             f"{', '.join(other)}", source=mech.source)
+        refuse_higher(mech)
         self.mech = mech
         self.source = mech.source
-        self.exact = {n: np.array(j.at, float) for n, j in mech.joints.items()}
-        self.exact.update({n: np.array(p.at, float) for n, p in mech.points.items()})
-        self.shapes = {s.link: s for s in (_shape(mech, raw, link) for link in raw.links) if s is not None}
+        self.centre = np.asarray(engine.centre, float)    # the made geometry sits in the engine's frame
+        self.exact = {n: np.array(j.at, float) - self.centre for n, j in mech.joints.items()}
+        self.exact.update({n: np.array(p.at, float) - self.centre for n, p in mech.points.items()})
+        self.shapes = {s.link: s for s in (_shape(mech, raw, link, self.centre) for link in raw.links)
+                       if s is not None}
         every = catalogue(engine, raw, template, self.shapes)
         self.dimensions = []
         for name in names:
@@ -417,14 +439,15 @@ def _resolved(raw, link, p, q):
     return p, q
 
 
-def _shape(mech, raw, link) -> _LinkShape | None:
-    """The length-fixed points of `link` (None when it declares no lengths)."""
+def _shape(mech, raw, link, centre=(0.0, 0.0)) -> _LinkShape | None:
+    """The length-fixed points of `link` (None when it declares no lengths), in the frame centred on
+    `centre` (world coordinates, (2,))."""
     entries = [(_resolved(raw, link, p, q), v) for p, q, v in raw.links[link].lengths]
     entries = [(pq, v) for pq, v in entries if pq is not None]
     if not entries:
         return None
-    own = {j.name: np.array(j.at, float) for j in mech.joints_of(link)}
-    own.update({n: np.array(p.at, float) for n, p in mech.points.items() if p.link == link})
+    own = {j.name: np.array(j.at, float) - centre for j in mech.joints_of(link)}
+    own.update({n: np.array(p.at, float) - centre for n, p in mech.points.items() if p.link == link})
     size = max([1e-300] + [float(np.hypot(*(a - b))) for a in own.values() for b in own.values()])
     first = {}
     for name, xy in own.items():

@@ -111,6 +111,8 @@ def made_geometry(engine, sided) -> DesignGeometry:
         at[name] = pose.r[link] + pose.rot(link, sided.side[(name, link)])
     for name, p in engine.mech.points.items():
         at[name] = pose.r[p.link] + pose.rot(p.link, sided.point[name])
+    centre = np.asarray(engine.centre, float)[:, None]   # (solved in the engine's frame; a batch reads the world's)
+    at = {name: xy + centre for name, xy in at.items()}
     guide = {name: pose.rot(j.carrier, sided.guide[name]) for name, j in engine.mech.joints.items() if j.kind == "P"}
     reference = {link: pose.th[link] + sided.alpha[link] for link in engine.links}
     zero = np.stack([sided.zero[i] / inp.scale for i, inp in enumerate(engine.inputs)])

@@ -310,8 +310,10 @@ def _cut_source(law, cache, src: Sources, r):
 
 
 def _places(engine, outputs) -> list:
-    """The joints and points whose x or y is an output: (name, link, drawn point (2,), source key)."""
+    """The joints and points whose x or y is an output: (name, link, drawn point (2,) in the engine's
+    frame (`Engine.centre`), source key)."""
     mech, out, seen = engine.mech, [], set()
+    centre = np.asarray(engine.centre, float)
     for o in outputs:
         if o.kind not in ("x", "y") or o.target in seen:
             continue
@@ -319,10 +321,10 @@ def _places(engine, outputs) -> list:
         if o.target in mech.joints:
             j = mech.joints[o.target]
             link = j.slider if j.kind == "P" else j.links[0]
-            out.append((o.target, link, np.array(j.at, float), ("side", (j.name, link))))
+            out.append((o.target, link, np.array(j.at, float) - centre, ("side", (j.name, link))))
         else:
             p = mech.points[o.target]
-            out.append((o.target, p.link, np.array(p.at, float), ("point", p.name)))
+            out.append((o.target, p.link, np.array(p.at, float) - centre, ("point", p.name)))
     return out
 
 
@@ -369,7 +371,7 @@ def output_rates(engine, sol, known: Rates, src: Sources, outputs, frames=None) 
 def _slider_change(engine, pose, known, src, j):
     """The change (C, B) of a prismatic joint's displacement u·(X_s − X_l): u·(δX_s − δX_l) + (ω_c + δγ)·perp(u)·Δ."""
     car, sli = j.carrier, j.slider
-    at = np.array(j.at)
+    at = np.array(j.at) - engine.centre
 
     def moved(link, extra):
         w, v = known.get(link)
@@ -399,8 +401,9 @@ def nominal_values(engine, sol, outputs, frames=None) -> np.ndarray:
         links = np.array([engine.link_index[link] for _, link, _, _ in places])
         at = np.stack([a for _, _, a, _ in places])
         cl, sl = c[links], s[links]
-        xy = np.stack([r[0, links] + cl * at[:, 0, None] - sl * at[:, 1, None],
-                       r[1, links] + sl * at[:, 0, None] + cl * at[:, 1, None]], axis=1)   # (T, 2, B)
+        cx, cy = (float(v) for v in engine.centre)      # (the engine's frame to the world's)
+        xy = np.stack([(r[0, links] + cl * at[:, 0, None] - sl * at[:, 1, None]) + cx,
+                       (r[1, links] + sl * at[:, 0, None] + cl * at[:, 1, None]) + cy], axis=1)   # (T, 2, B)
         row = {name: t for t, (name, _, _, _) in enumerate(places)}
     for y, o in enumerate(outputs):
         if o.kind in ("x", "y"):
@@ -412,7 +415,7 @@ def nominal_values(engine, sol, outputs, frames=None) -> np.ndarray:
             if j.kind == "R":
                 out[:, y] = pose.th[j.links[1]] - pose.th[j.links[0]] + engine.joint_value_drawn[j.name]
             else:
-                at = np.array(j.at)
+                at = np.array(j.at) - engine.centre
                 d = pose.r[j.slider] + pose.rot(j.slider, at) - pose.r[j.carrier] - pose.rot(j.carrier, at)
                 u = pose.rot(j.carrier, engine.laws[j.name].u0)
                 out[:, y] = u[0] * d[0] + u[1] * d[1]
