@@ -160,14 +160,19 @@ def figure_of_engine(engine, at=None, *, samples=None, count=None, **options):
 
 
 def report_section(engine, ctx):
-    """The report's Accuracy section: None for a model without `[tolerances]`."""
+    """The report's Accuracy section: None for a model without `[tolerances]`; the reason, for a model the
+    analysis refuses (higher pairs: the rest of the report stands)."""
+    from ..errors import ModelError
     from ..model import Units
     from ..viz._report import html_table
     from .report import format_text
 
     if engine.mech.extras.get("tolerances") is None:
         return None
-    result = _result_of(engine)
+    try:
+        result = _result_of(engine)
+    except ModelError as exc:
+        return f'<p class="warn">{html.escape(str(exc))}</p>'
     unit = result.length_unit
     scale = Units(length=unit).length_scale
     lines = format_text(result, unit, scale).splitlines()
