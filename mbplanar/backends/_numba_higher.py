@@ -1,0 +1,214 @@
+"""The higher pairs' laws as compiled building blocks: the curves c(u) and their derivatives, each pair's
+closure residuals, and their rates (a Jacobian column, the velocity's or the acceleration's right-hand
+side), per position as scalar code, for the kernels to call where they call the lower pairs' (`_numba_blocks`).
+
+They are the laws of `engine._higher` and the curves of `model._curves`, written again per position, in
+the same order of operations (the tests hold them equal to numpy's to rounding); like `_numba_blocks`,
+each is compiled on its own with fastmath off and inlined by LLVM where it is called, and nothing is
+allocated here. The tables are `engine._higher_tables`' (`HigherTables` hp, `CurveTables` cv).
+
+Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link; rates rt (slots, 3, L): ω, v_x, v_y per link (as
+`_numba_blocks`). The cache hc (H, `CACHE`) holds, per pair, what its rates read from its closure:
+a rack ρ_C, ρ_A, d, U; a point on a curve ρ_F, R·c, R·c', R·c''; a flat face R·c … R·c''', ρ_F, N, d
+(pairs of columns, x then y). wk (`WORK`,) is the Cox–de Boor recursion's work vector.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._numba_blocks import _part
+
+__all__ = ["CACHE", "WORK", "_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]
+
+CACHE = 14   # columns of a pair's cache
+WORK = 12    # 2·(degree + 1) for the highest degree a curve takes (5)
+
+
+@_part
+def _deboor(knots, coefs, k0, k1, c0, k, x, wk):
+    """(x, y) of the B-spline of degree k with the knots knots[k0:k1] and coefficients from coefs[c0] on
+    at x, as scipy's `BSpline` (extrapolated from the end intervals): the knot interval l with
+    t[l] <= x < t[l + 1] (k <= l < n), the k + 1 basis functions there (Cox–de Boor), their sum."""
+    if x != x:
+        return np.nan, np.nan
+    n = k1 - k0 - k - 1
+    ell = k
+    while ell + 1 < n and x >= knots[k0 + ell + 1]:
+        ell += 1
+    h = 0           # h = wk[0 … k], hh = wk[k + 1 … 2k + 1]
+    hh = k + 1
+    wk[h] = 1.0
+    for j in range(1, k + 1):
+        for i in range(j):
+            wk[hh + i] = wk[h + i]
+        wk[h] = 0.0
+        for i in range(1, j + 1):
+            xb, xa = knots[k0 + ell + i], knots[k0 + ell + i - j]
+            if xb == xa:
+                wk[h + i] = 0.0
+                continue
+            w = wk[hh + i - 1] / (xb - xa)
+            wk[h + i - 1] += w * (xb - x)
+            wk[h + i] = w * (x - xa)
+    ox, oy = 0.0, 0.0
+    for i in range(k + 1):
+        ox += coefs[c0 + ell + i - k, 0] * wk[h + i]
+        oy += coefs[c0 + ell + i - k, 1] * wk[h + i]
+    return ox, oy
+
+
+@_part
+def _base(cv, j, u, n, wk):
+    """(x, y) of dⁿc/duⁿ (n = 0 … 3) of curve j without its offset (`Circle.point`, `Spline.point`)."""
+    if cv.circle[j]:
+        r, c, s = cv.radius[j], np.cos(u), np.sin(u)
+        turn = n % 4      # the n-th derivative of (cos u, sin u) is the vector turned by n·90°
+        if turn == 0:   # (n = 0: the point, about the centre)
+            return r * c + cv.centre[j, 0], r * s + cv.centre[j, 1]
+        if turn == 1:
+            return r * -s, r * c
+        if turn == 2:
+            return r * -c, r * -s
+        return r * s, r * -c
+    k0, k1, c0, k = cv.knot0[j, n], cv.knot1[j, n], cv.coef0[j, n], cv.degree[j] - n
+    x = u
+    if cv.closed[j]:
+        lo, period = cv.lo[j], cv.hi[j] - cv.lo[j]
+        x = lo + (x - lo) % period                          # Shape.wrap
+        first, last = cv.knots[k0 + k], cv.knots[k1 - k - 1]
+        x = first + (x - first) % (last - first)            # BSpline's periodic extrapolation
+    return _deboor(cv.knots, cv.coefs, k0, k1, c0, k, x, wk)
+
+
+@_part
+def _path(cv, j, u, n, wk):
+    """(x, y) of dⁿc/duⁿ of curve j (n = 0 … 3; 0 … 2 for an offset curve, `Offset.point`)."""
+    if not cv.offset[j]:
+        return _base(cv, j, u, n, wk)
+    dist = cv.distance[j]
+    d1x, d1y = _base(cv, j, u, 1, wk)
+    if n == 0:
+        speed = np.hypot(d1x, d1y)
+        bx, by = _base(cv, j, u, 0, wk)
+        return bx + dist * -d1y / speed, by + dist * d1x / speed
+    d2x, d2y = _base(cv, j, u, 2, wk)
+    d3x, d3y = _base(cv, j, u, 3, wk)
+    speed2 = d1x * d1x + d1y * d1y                           # model._curves.curvature
+    speed3 = speed2 * np.sqrt(speed2)
+    cross = d1x * d2y - d1y * d2x
+    kappa = cross / speed3
+    dot12 = d1x * d2x + d1y * d2y
+    dkappa = ((d1x * d3y - d1y * d3x) - 3.0 * cross * (dot12 / speed2)) / speed3
+    f = 1.0 - dist * kappa
+    if n == 1:
+        return d1x * f, d1y * f
+    return d2x * f - dist * dkappa * d1x, d2y * f - dist * dkappa * d1y
+
+
+@_part
+def _curve_on(cv, j, u, n, link, ps, wk):
+    """(x, y) of R(θ_link)·dⁿc/duⁿ of curve j: the curve's derivative on its link, turned with it."""
+    x, y = _path(cv, j, u, n, wk)
+    c, s = ps[1, link], ps[2, link]
+    return c * x - s * y, s * x + c * y
+
+
+@_part
+def _higher_closure(h, hp, cv, ps, q, hc, wk, res):
+    """Residual rows hp.row[h] … of higher pair h in its block's residual `res` (`Gear`, `Rack`,
+    `PointOnCurve`, `FaceOnCurve`.closure), its contact parameter read from q; caches hc[h]."""
+    row, a, b = hp.row[h], hp.a[h], hp.b[h]
+    if hp.gear[h]:
+        res[row] = hp.coef[h, 0] * ps[0, a] + hp.coef[h, 1] * ps[0, b] + hp.coef[h, 2] * ps[0, hp.carrier[h]]
+        return
+    if hp.rack[h]:   # a pinion, b rack
+        cx, cy, ax, ay, lx, ly = hp.centre[h, 0], hp.centre[h, 1], hp.at[h, 0], hp.at[h, 1], hp.axis[h, 0], hp.axis[h, 1]
+        rcx, rcy = ps[1, a] * cx - ps[2, a] * cy, ps[2, a] * cx + ps[1, a] * cy
+        rax, ray = ps[1, b] * ax - ps[2, b] * ay, ps[2, b] * ax + ps[1, b] * ay
+        dx, dy = ps[3, a] + rcx - ps[3, b] - rax, ps[4, a] + rcy - ps[4, b] - ray
+        ux, uy = ps[1, b] * lx - ps[2, b] * ly, ps[2, b] * lx + ps[1, b] * ly
+        res[row] = (dx * ux + dy * uy) + hp.sigma_r[h] * (ps[0, a] - ps[0, b])
+        hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3] = rcx, rcy, rax, ray
+        hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7] = dx, dy, ux, uy
+        return
+    j, u = hp.curve[h], q[hp.var[h]]
+    px, py = hp.at[h, 0], hp.at[h, 1]
+    rfx, rfy = ps[1, b] * px - ps[2, b] * py, ps[2, b] * px + ps[1, b] * py
+    if not hp.flat[h]:   # a curve, b point
+        for n in range(3):
+            hc[h, 2 + 2 * n], hc[h, 3 + 2 * n] = _curve_on(cv, j, u, n, a, ps, wk)
+        res[row] = ps[3, b] + rfx - ps[3, a] - hc[h, 2]
+        res[row + 1] = ps[4, b] + rfy - ps[4, a] - hc[h, 3]
+        hc[h, 0], hc[h, 1] = rfx, rfy
+        return
+    for n in range(4):  # a curve, b face
+        hc[h, 2 * n], hc[h, 2 * n + 1] = _curve_on(cv, j, u, n, a, ps, wk)
+    ex, ey = hp.axis[h, 0], hp.axis[h, 1]
+    nx, ny = ps[1, b] * ex - ps[2, b] * ey, ps[2, b] * ex + ps[1, b] * ey
+    dx, dy = ps[3, a] + hc[h, 0] - ps[3, b] - rfx, ps[4, a] + hc[h, 1] - ps[4, b] - rfy
+    res[row] = nx * dx + ny * dy
+    res[row + 1] = nx * hc[h, 2] + ny * hc[h, 3]
+    hc[h, 8], hc[h, 9], hc[h, 10], hc[h, 11], hc[h, 12], hc[h, 13] = rfx, rfy, nx, ny, dx, dy
+
+
+@_part
+def _turning(w, x, y, pu, d1x, d1y, d2x, d2y, big_w, big_u, accel):
+    """Rate (x, y) of a vector V = R·f(u) of a link turning at w (`_higher._turning`): ω·perp(V) + d1·u̇
+    (d1 = R·f', u̇ = pu; 0 for a fixed vector), and in an acceleration pass (`accel`, the link's angular
+    velocity big_w, the parameter's big_u) −Ω²V + 2ΩU·perp(d1) + U²·d2 (d2 = R·f'')."""
+    ox, oy = w * -y + d1x * pu, w * x + d1y * pu
+    if accel:
+        ww, wu2, uu = big_w * big_w, 2 * big_w * big_u, big_u * big_u
+        ox, oy = ox - ww * x + wu2 * -d1y + uu * d2x, oy - ww * y + wu2 * d1x + uu * d2y
+    return ox, oy
+
+
+@_part
+def _higher_rates(h, hp, hc, rt, sl, pu, vel, big_u):
+    """Rates (r₀, r₁) of higher pair h's residual rows (r₁ = 0 for one row; `_higher`'s `closure_rates`)
+    from the link rates in slot sl of rt and its contact parameter's rate pu: a Jacobian column (the
+    unknowns' unit rates), the velocity's or (vel >= 0: the velocities in slot vel, the parameter's big_u)
+    the acceleration's right-hand side."""
+    a, b = hp.a[h], hp.b[h]
+    accel = vel >= 0
+    wa, wb = rt[sl, 0, a], rt[sl, 0, b]
+    if hp.gear[h]:
+        return hp.coef[h, 0] * wa + hp.coef[h, 1] * wb + hp.coef[h, 2] * rt[sl, 0, hp.carrier[h]], 0.0
+    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
+    if hp.rack[h]:
+        rcx, rcy, rax, ray = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3]
+        dx, dy, ux, uy = hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
+        tcx, tcy = _turning(wa, rcx, rcy, 0.0, 0.0, 0.0, 0.0, 0.0, va, 0.0, accel)
+        tax, tay = _turning(wb, rax, ray, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+        drx, dry = (rt[sl, 1, a] + tcx) - (rt[sl, 1, b] + tax), (rt[sl, 2, a] + tcy) - (rt[sl, 2, b] + tay)
+        urx, ury = _turning(wb, ux, uy, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+        out = (drx * ux + dry * uy) + (dx * urx + dy * ury)
+        if accel:
+            dvx = (rt[vel, 1, a] + va * -rcy) - (rt[vel, 1, b] + vb * -ray)
+            dvy = (rt[vel, 2, a] + va * rcx) - (rt[vel, 2, b] + vb * rax)
+            out = out + 2 * (dvx * (vb * -uy) + dvy * (vb * ux))
+        return out + hp.sigma_r[h] * (wa - wb), 0.0
+    if not hp.flat[h]:  # a curve, b point: X_F(P) − X_C(c(u))
+        tfx, tfy = _turning(wb, hc[h, 0], hc[h, 1], 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+        tcx, tcy = _turning(wa, hc[h, 2], hc[h, 3], pu, hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7], va, big_u, accel)
+        return (rt[sl, 1, b] + tfx) - (rt[sl, 1, a] + tcx), (rt[sl, 2, b] + tfy) - (rt[sl, 2, a] + tcy)
+    # a curve, b face: N·(X_C(c(u)) − X_F(A)), N·T
+    o0x, o0y, o1x, o1y, o2x, o2y, o3x, o3y = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3], hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
+    rfx, rfy, nx, ny, dx, dy = hc[h, 8], hc[h, 9], hc[h, 10], hc[h, 11], hc[h, 12], hc[h, 13]
+    tcx, tcy = _turning(wa, o0x, o0y, pu, o1x, o1y, o2x, o2y, va, big_u, accel)
+    tfx, tfy = _turning(wb, rfx, rfy, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+    drx, dry = (rt[sl, 1, a] + tcx) - (rt[sl, 1, b] + tfx), (rt[sl, 2, a] + tcy) - (rt[sl, 2, b] + tfy)
+    nrx, nry = _turning(wb, nx, ny, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+    trx, try_ = _turning(wa, o1x, o1y, pu, o2x, o2y, o3x, o3y, va, big_u, accel)
+    out0 = (nrx * dx + nry * dy) + (nx * drx + ny * dry)
+    out1 = (nrx * o1x + nry * o1y) + (nx * trx + ny * try_)
+    if accel:   # 2·Ṅ·ḋ and 2·Ṅ·Ṫ from the velocities
+        vcx, vcy = _turning(va, o0x, o0y, big_u, o1x, o1y, 0.0, 0.0, 0.0, 0.0, False)
+        vfx, vfy = _turning(vb, rfx, rfy, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, False)
+        dvx, dvy = (rt[vel, 1, a] + vcx) - (rt[vel, 1, b] + vfx), (rt[vel, 2, a] + vcy) - (rt[vel, 2, b] + vfy)
+        nvx, nvy = vb * -ny, vb * nx
+        tvx, tvy = _turning(va, o1x, o1y, big_u, o2x, o2y, 0.0, 0.0, 0.0, 0.0, False)
+        out0 = out0 + 2 * (nvx * dvx + nvy * dvy)
+        out1 = out1 + 2 * (nvx * tvx + nvy * tvy)
+    return out0, out1

@@ -1,0 +1,202 @@
+"""The higher pairs' compiled building blocks (`backends._numba_higher`) against numpy's laws
+(`engine._higher`) and curves (`model._curves`): the curves' points and derivatives, each pair's closure
+residuals, the rates that make a Jacobian column, the velocity's and the acceleration's right-hand side,
+on random states of every kind of pair (gear, internal gear, rack, knife, roller, circular face, flat
+face, pin in a slot), to 1e-12."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mbplanar
+from conftest import MODELS
+
+pytest.importorskip("numba")
+
+from mbplanar.backends._numba_higher import CACHE, WORK, _higher_closure, _higher_rates, _path  # noqa: E402
+from mbplanar.engine._constraints import Pose, Rates  # noqa: E402
+from mbplanar.engine._higher_tables import curve_tables, higher_tables  # noqa: E402
+from mbplanar.model._curves import Circle, Offset, Spline  # noqa: E402
+
+TOL = 1e-12
+
+
+def _close(got, want, scale):
+    """|got − want| <= 1e-12 of the larger of |want| and `scale` (componentwise)."""
+    got, want = np.asarray(got, float), np.asarray(want, float)
+    assert np.all(np.abs(got - want) <= TOL * np.maximum(np.abs(want), scale)), (got, want)
+
+
+# -- curves ---------------------------------------------------------------------------------------------
+@st.composite
+def shapes(draw):
+    """A circle, an arc, or a spline (closed or open, degree 3 or 5, by chord length or a given
+    parameter) through random points around a circle; offset by a random distance or not."""
+    kind = draw(st.sampled_from(["circle", "arc", "closed", "open"]))
+    centre = (draw(st.floats(-0.1, 0.1)), draw(st.floats(-0.1, 0.1)))
+    radius = draw(st.floats(0.02, 0.2))
+    if kind == "circle":
+        base = Circle(centre, radius)
+    elif kind == "arc":
+        lo = draw(st.floats(-math.pi, math.pi))
+        base = Circle(centre, radius, (lo, lo + draw(st.floats(0.2, 2 * math.pi))))
+    else:
+        count = draw(st.integers(8, 40))
+        wobble = draw(st.lists(st.floats(-0.15, 0.15), min_size=count, max_size=count))
+        span = 2 * math.pi if kind == "closed" else draw(st.floats(0.5, 4.0))
+        t = np.linspace(0.0, span, count + 1 if kind == "closed" else count)[:count]
+        rad = radius * (1.0 + np.array(wobble) * 0.3)
+        pts = np.stack([centre[0] + rad * np.cos(t), centre[1] + rad * np.sin(t)], axis=1)
+        parameter = None
+        if draw(st.booleans()):     # a parameter of its own (a cam angle), strictly increasing
+            steps = np.array(draw(st.lists(st.floats(0.5, 2.0), min_size=count, max_size=count)))
+            parameter = np.concatenate([[0.0], np.cumsum(steps)])[:count + 1 if kind == "closed" else count]
+        base = Spline(pts, parameter, kind == "closed", draw(st.sampled_from([3, 5])))
+    if draw(st.booleans()):
+        return Offset(base, draw(st.floats(-0.3, 0.3)) * radius)
+    return base
+
+
+@given(shapes(), st.lists(st.floats(-1.5, 1.5), min_size=1, max_size=12))
+@settings(max_examples=120, deadline=None)
+def test_the_curves_and_their_derivatives_equal_numpys(shape, where):
+    """c(u), c'(u), c''(u) (and c''' of a curve without offset) at random parameter values across its
+    range and beyond it (a closed curve's repeats, an open one's extrapolated ends), to 1e-12 of each
+    derivative's size along the curve."""
+    cv = curve_tables([shape])
+    wk = np.zeros(WORK)
+    u = shape.lo + (np.array(where) + 0.5) * shape.period * (3.0 if shape.closed else 1.2)
+    for n in range(3 if isinstance(shape, Offset) else 4):
+        want = shape.point(u, n)
+        got = np.array([_path(cv, 0, float(x), n, wk) for x in u]).T
+        scale = np.max(np.hypot(*shape.point(np.linspace(shape.lo, shape.hi, 64), n)))
+        _close(got, want, scale)
+
+
+# -- laws -----------------------------------------------------------------------------------------------
+FLAT = """
+name = "flat_face"
+links = [ { name = "cam" }, { name = "f" } ]
+joints = [
+  { name = "O", type = "R", links = ["0", "cam"], at = [0.0, 0.0] },
+  { name = "F", type = "P", links = ["0", "f"], at = [0.0, 0.06], guide = 90.0 },
+  { name = "K", type = "cam", links = ["cam", "f"], follower = "flat", face = 0.0, at = [0.0, 0.06], profile = { centre = [0.02, 0.0], radius = 0.06 } },
+]
+[input]
+joint = "O"
+"""
+
+
+def _on_eccentric(follower: str, gap: float) -> str:
+    """FLAT with a follower of another kind whose point is `gap` from the eccentric (centre (0.02, 0),
+    radius 0.06) on the guide x = 0."""
+    y = repr(math.sqrt((0.06 + gap) ** 2 - 0.02 ** 2))
+    pair = f'follower = "{follower}"' + (f", radius = {gap}" if gap else "")
+    return (FLAT.replace('follower = "flat", face = 0.0, at = [0.0, 0.06]', f"{pair}, at = [0.0, {y}]")
+            .replace("at = [0.0, 0.06], guide", f"at = [0.0, {y}], guide"))
+
+
+CIRCLE, KNIFE = _on_eccentric("circle", 0.01), _on_eccentric("knife", 0.0)
+
+MODELS_WITH_PAIRS = ["geared_five_bar", "planetary", "rack_pinion", "cam_eccentric", "cam_follower", "slot_arc",
+                     "scotch_yoke", "shaper_geared", "flat", "circle", "knife"]
+
+
+def _engine(name: str):
+    if name in ("flat", "circle", "knife"):
+        mech = mbplanar.parse_model({"flat": FLAT, "circle": CIRCLE, "knife": KNIFE}[name], f"{name}.toml")
+    else:
+        mech = mbplanar.read_model(MODELS / f"{name}.toml")
+    return mbplanar.Engine(mech)
+
+
+_ENGINES: dict = {}
+
+
+def _cached(name: str):
+    if name not in _ENGINES:
+        engine = _ENGINES[name] = _engine(name)
+        engine.prepared["test tables"] = higher_tables(engine)
+    return _ENGINES[name]
+
+
+def _pairs(engine):
+    """(block, law, index in the tables) of every higher pair, in the tables' order."""
+    out = []
+    for bp in engine.blocks:
+        out += [(bp, law) for law in bp.cuts if law.kind not in ("R", "P")]
+    return [(bp, law, h) for h, (bp, law) in enumerate(out)]
+
+
+def test_the_tables_hold_every_pair_of_the_models():
+    """Every bundled model's higher pairs are in the tables, each with its rows and its parameter."""
+    kinds = set()
+    for name in MODELS_WITH_PAIRS:
+        engine = _cached(name)
+        hp, cv = engine.prepared["test tables"]
+        pairs = _pairs(engine)
+        assert len(hp.a) == len(pairs) == len(engine.mech.higher) and hp.first[-1] == len(pairs)
+        for bp, law, h in pairs:
+            kinds.add(law.kind if law.kind != "point" else "slot" if law.pair.kind == "slot" else law.pair.follower)
+            assert hp.equations[h] == law.equations and (hp.var[h] >= 0) == bool(law.parameters)
+    assert kinds == {"gear", "rack", "roller", "slot", "face", "circle", "knife"}
+
+
+def _state(engine, rng):
+    """A random pose, rates and velocities of every link (numpy's `Pose`, `Rates` and the kernel's ps, rt
+    with the rates in slot 0 and the velocities in slot 1), a random contact parameter per pair that has
+    one (within its curve's range) with a random rate and velocity."""
+    n_l = len(engine.links)
+    th, r = rng.uniform(-math.pi, math.pi, n_l), rng.uniform(-0.2, 0.2, (2, n_l))
+    w, v = rng.uniform(-3, 3, (2, n_l)), rng.uniform(-1, 1, (2, 2, n_l))
+    ps = np.stack([th, np.cos(th), np.sin(th), r[0], r[1]])
+    rt = np.zeros((2, 3, n_l))
+    rt[:, 0], rt[:, 1], rt[:, 2] = w, v[:, 0], v[:, 1]
+    pose, rates, vel = Pose(1), Rates(1, 1), Rates(1, 1)
+    for k, name in enumerate(engine.links):
+        pose.place(name, th[k:k + 1], r[:, k:k + 1])
+        rates.set(name, w[0, k].reshape(1, 1), v[0, :, k].reshape(2, 1, 1))
+        vel.set(name, w[1, k].reshape(1, 1), v[1, :, k].reshape(2, 1, 1))
+    hp, _ = engine.prepared["test tables"]
+    q = np.zeros(max(1, int(hp.var.max()) + 1) if len(hp.var) else 1)
+    param = {}
+    for _, law, h in _pairs(engine):
+        if law.parameters:
+            lo, hi = law.param_range if not law.path.closed else (law.path.lo - 1.0, law.path.hi + 1.0)
+            pose.u[law.name] = rng.uniform(lo, hi, 1)
+            q[hp.var[h]] = pose.u[law.name][0]
+            param[law.name] = rng.uniform(-2, 2, 2)
+            rates.set_param(law.name, param[law.name][:1].reshape(1, 1))
+            vel.set_param(law.name, param[law.name][1:].reshape(1, 1))
+    return ps, rt, q, pose, rates, vel, param
+
+
+@pytest.mark.parametrize("name", MODELS_WITH_PAIRS)
+@given(st.integers(0, 2 ** 32 - 1))
+@settings(max_examples=25, deadline=None)
+def test_the_laws_and_their_rates_equal_numpys(name, seed):
+    """Per pair on a random state: the closure rows, their rates (a Jacobian column: the links' rates and
+    the parameter's), and with the velocities the acceleration's terms, to 1e-12 of the size of the
+    terms (the mechanism's size times the rates)."""
+    engine = _cached(name)
+    hp, cv = engine.prepared["test tables"]
+    ps, rt, q, pose, rates, vel, param = _state(engine, np.random.default_rng(seed))
+    hc, wk, res = np.zeros((len(hp.a), CACHE)), np.zeros(WORK), np.zeros(8)
+    size = engine.size
+    for bp, law, h in _pairs(engine):
+        want, cache = law.closure(pose)
+        row = int(hp.row[h])
+        _higher_closure(h, hp, cv, ps, q, hc, wk, res)
+        _close(res[row:row + law.equations], want[:, 0], size)
+        pu, big_u = param.get(law.name, (0.0, 0.0))
+        first = law.closure_rates(cache, rates)[:, 0, 0]
+        got = _higher_rates(h, hp, hc, rt, 0, float(pu), -1, 0.0)[:law.equations]
+        _close(got, first, 10 * size)
+        second = law.closure_rates(cache, rates, vel)[:, 0, 0]
+        got = _higher_rates(h, hp, hc, rt, 0, float(pu), 1, float(big_u))[:law.equations]
+        _close(got, second, 100 * size)
