@@ -15,7 +15,7 @@ a rack ρ_C, ρ_A, d, U; a point on a curve ρ_F, R·c, R·c', R·c''; a flat fa
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
 from ._numba_blocks import _part
 
@@ -31,7 +31,7 @@ def _deboor(knots, coefs, k0, k1, c0, k, x, wk):
     at x, as scipy's `BSpline` (extrapolated from the end intervals): the knot interval l with
     t[l] <= x < t[l + 1] (k <= l < n), the k + 1 basis functions there (Cox–de Boor), their sum."""
     if x != x:
-        return np.nan, np.nan
+        return math.nan, math.nan
     n = k1 - k0 - k - 1
     ell = k
     while ell + 1 < n and x >= knots[k0 + ell + 1]:
@@ -62,7 +62,7 @@ def _deboor(knots, coefs, k0, k1, c0, k, x, wk):
 def _base(cv, j, u, n, wk):
     """(x, y) of dⁿc/duⁿ (n = 0 … 3) of curve j without its offset (`Circle.point`, `Spline.point`)."""
     if cv.circle[j]:
-        r, c, s = cv.radius[j], np.cos(u), np.sin(u)
+        r, c, s = cv.radius[j], math.cos(u), math.sin(u)
         turn = n % 4      # the n-th derivative of (cos u, sin u) is the vector turned by n·90°
         if turn == 0:   # (n = 0: the point, about the centre)
             return r * c + cv.centre[j, 0], r * s + cv.centre[j, 1]
@@ -89,13 +89,13 @@ def _path(cv, j, u, n, wk):
     dist = cv.distance[j]
     d1x, d1y = _base(cv, j, u, 1, wk)
     if n == 0:
-        speed = np.hypot(d1x, d1y)
+        speed = math.hypot(d1x, d1y)
         bx, by = _base(cv, j, u, 0, wk)
         return bx + dist * -d1y / speed, by + dist * d1x / speed
     d2x, d2y = _base(cv, j, u, 2, wk)
     d3x, d3y = _base(cv, j, u, 3, wk)
     speed2 = d1x * d1x + d1y * d1y                           # model._curves.curvature
-    speed3 = speed2 * np.sqrt(speed2)
+    speed3 = speed2 * math.sqrt(speed2)
     cross = d1x * d2y - d1y * d2x
     kappa = cross / speed3
     dot12 = d1x * d2x + d1y * d2y
