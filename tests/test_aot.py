@@ -61,8 +61,9 @@ def _results(name: str) -> dict:
     engine = mbplanar.Engine(mbplanar.read_model(MODELS / f"{name}.toml"), backend="numba", threads=1)
     phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * np.pi, 90, endpoint=False)
     m, bare = mbplanar.analyse(engine, phi, 3.0, -2.0), mbplanar.analyse(engine, phi, rates=False)
-    out = dict(xy=m.xy, v=m.v, a=m.a, w=m.w, e=m.e, rows=m.rows.view(np.float64), bare=bare.xy, value=bare.value)
-    assert m.rows is not None  # (the compiled path took the sweep)
+    out = dict(xy=m.xy, v=m.v, a=m.a, w=m.w, e=m.e, vq=m.vq, ic=m.ic, rate=m.rate,
+               rows=m.records.view(np.float64), bare=bare.xy, value=bare.value)
+    assert m.records is not None  # (the compiled path took the sweep)
     if engine.mech.loads or any(link.mass for link in engine.mech.links.values()):
         k = mbplanar.kinetostatics(engine, m)
         out.update(balancing=np.asarray(list(k.balancing.values())[0]), residual=k.virtual_power_residual,
@@ -73,10 +74,10 @@ def _results(name: str) -> dict:
 
 
 def _kernel_functions() -> set:
-    """Whether the compiled functions the three kernels use now are the built module's (a set of bools)."""
-    from mbplanar.backends import _numba_kinematics, _numba_kinetostatics, _numba_single
+    """Whether the compiled functions the kernels use now are the built module's (a set of bools)."""
+    from mbplanar.backends import _numba_kinematics, _numba_kinetostatics
     found = set()
-    for kernel in (_numba_kinematics._sweep, _numba_kinetostatics._kernel, _numba_single._position):
+    for kernel in (_numba_kinematics._sweep, _numba_kinetostatics._kernel):
         found.update(getattr(f, "__module__", None) == _aot.MODULE for f in kernel._entries.values())
     return found
 
@@ -101,7 +102,7 @@ def test_a_new_process_runs_them_without_numba(built):
               "e = mbplanar.Engine(mbplanar.read_model(sys.argv[1]), backend='numba', threads=2)\n"
               "m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 6.2, 1000))\n"
               "k = mbplanar.kinetostatics(e, m)\n"
-              "print('numba' in sys.modules, m.rows is not None, repr(float(m.a.sum() + k.balancing['O'].sum())))")
+              "print('numba' in sys.modules, m.records is not None, repr(float(m.a.sum() + k.balancing['O'].sum())))")
     env = dict(os.environ, MBPLANAR_CACHE_DIR=str(built.parent.parent), PYTHONPATH=str(ROOT))
     out = subprocess.run([sys.executable, "-c", script, str(MODELS / "fourbar_loaded.toml")], env=env,
                          capture_output=True, text=True, check=True)
@@ -138,7 +139,7 @@ def test_stale_broken_or_switched_off_modules_are_not_loaded(built, monkeypatch,
     _jit.forget()
     assert not _aot.available()
     engine = mbplanar.Engine(mbplanar.read_model(MODELS / "fourbar.toml"), backend="numba", threads=1)
-    assert mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0, 1, 5)).rows is not None
+    assert mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0, 1, 5)).records is not None
     assert _kernel_functions() == {False}
     # a folder others can write into: not loaded
     monkeypatch.setattr(_aot, "folder", lambda: built)
@@ -153,11 +154,10 @@ def test_stale_broken_or_switched_off_modules_are_not_loaded(built, monkeypatch,
 
 def test_arguments_of_other_types_go_to_numba(built):
     """A kernel asked for types the module was not built for gets numba's kernel for them."""
-    from mbplanar.backends import _numba_kinematics, _numba_single
+    from mbplanar.backends import _numba_kinematics
     _jit.forget()
     assert _aot.function(_numba_kinematics._sweep.name, "?") is None
     assert _aot.function("mbplanar.backends.nothing", "") is None
-    assert _aot.function(_numba_single._position.name, "") is None
 
 
 def test_build_without_numba_pycc_is_a_clear_error(monkeypatch, capsys):

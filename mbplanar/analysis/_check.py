@@ -268,7 +268,7 @@ def pressure_angles(engine, motion: Motion):
     if not pairs:
         return pairs, np.zeros((len(motion.phi), 0))
     mech = engine.mech
-    th = motion.frames["th"]
+    th = motion.frames.th
 
     def guide_angle(name):
         j = mech.joints[name]

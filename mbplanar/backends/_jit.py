@@ -23,9 +23,11 @@ bit where they were.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
-__all__ = ["Kernel", "njit", "lean_pipeline", "signature", "capture", "forget"]
+__all__ = ["Kernel", "njit", "lean_pipeline", "signature", "capture", "forget", "interpret", "plain"]
 
 
 def njit(**options):
@@ -78,6 +80,8 @@ class Kernel:
         return found
 
     def __call__(self, *args):
+        if _plain.on:
+            return self.py_func(*args)
         return self.entry(args)(*args)
 
     def _captured(self, *args):
@@ -104,6 +108,39 @@ class Kernel:
 
 _kernels: list = []  # every kernel made
 _capturing: list = []
+_plain = threading.local()  # `interpret`: this thread runs the kernels as plain Python
+_plain.on = False
+
+
+def interpret(kernel: Kernel, args: tuple, viewed: tuple = ()):
+    """`kernel(*args)` run as plain Python, with the kernels it calls: every array of `args` (and of the
+    named tuples among them) read through a memoryview (`plain`), whose elements are Python floats, ints
+    and bools (a numpy scalar's arithmetic costs several times a float's); `viewed`: arguments already
+    made `plain`, passed first. The kernels use only element access, len(), .shape and `math` on their
+    arrays, so the same function runs either way, with the same floating-point operations in the same
+    order. A division by zero or an overflow Python raises, where the compiled code gives inf or NaN,
+    propagates (as ArithmeticError)."""
+    plain_args = viewed + tuple(_viewed(a) for a in args)
+    before, _plain.on = getattr(_plain, "on", False), True
+    try:
+        return kernel.py_func(*plain_args)
+    finally:
+        _plain.on = before
+
+
+def plain(value):
+    """`value` as `interpret` hands it to a kernel: its arrays (and those of its named tuples) as
+    memoryviews."""
+    return _viewed(value)
+
+
+def _viewed(value):
+    """`value` with its arrays as memoryviews (named tuples and tuples member by member)."""
+    if value.__class__ is np.ndarray:
+        return memoryview(value)
+    if isinstance(value, tuple):
+        return value.__class__(*map(_viewed, value)) if hasattr(value, "_fields") else tuple(map(_viewed, value))
+    return value
 
 
 def forget() -> None:

@@ -8,7 +8,7 @@ every caller, which made the kinematics kernel's first compile about 0.5 s (5 %)
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
 from ._jit import njit
 
@@ -37,7 +37,7 @@ def _place(k, steps, q, q_in, ps, sc):
         s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
         rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
         t = ps[0, parent] + value if rel else value
-        cc, ss = np.cos(t), np.sin(t)
+        cc, ss = math.cos(t), math.sin(t)
         ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
         rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
         ps[3, child] = ps[3, parent] + rpx - rcx
@@ -94,7 +94,7 @@ def _lu(a, m, perm):
             a[i, k] /= a[k, k]
             for j in range(k + 1, m):
                 a[i, j] -= a[i, k] * a[k, j]
-    det, lo, hi = sign, np.inf, 0.0
+    det, lo, hi = sign, math.inf, 0.0
     for i in range(m):
         det *= a[i, i]
         lo, hi = min(lo, abs(a[i, i])), max(hi, abs(a[i, i]))

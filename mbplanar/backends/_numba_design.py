@@ -29,7 +29,6 @@ unchanged.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 
 import numba
 import numpy as np
@@ -37,104 +36,16 @@ import numpy as np
 from . import _threads
 from ._jit import _stamp_cache_with_kernel_sources
 from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place
-from ._tables import kinematics_tables
+from ..engine._tables import DesignResult
 from ..engine._nodes import HERMITE5
-from ..kinematics._motion import _tables
 
-__all__ = ["DesignTables", "design_tables", "solve", "STATUS"]
+__all__ = ["solve"]
 
-#: per-design status the kernel returns
-STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
 TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
 NUDGE = 1e-8  # largest move (rad) of a link within a solve placed by `_nudge` (to first order) rather than `_turn`
 LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which a converged block keeps its Jacobian (`_solve`)
-
-
-@dataclass
-class DesignTables:
-    """An engine's kernel tables and, per design (D designs), the constants that differ.
-
-    step_s0, step_u0 (D, S, 2): each tree step's joint point and guide direction; cut_s0, cut_n0
-    (D, C, 2): each cut's point and guide normal; phi0 (D,): the drawn input value (SI); reference (D, L):
-    each link's drawn angle; point_at (D, P, 2) and point_link (P,): the chosen points, drawn, and their
-    links; link_out (K,): the links whose angle and rates are written."""
-
-    steps: tuple
-    cuts: tuple
-    blocks: tuple
-    step_s0: np.ndarray
-    step_u0: np.ndarray
-    cut_s0: np.ndarray
-    cut_n0: np.ndarray
-    phi0: np.ndarray
-    reference: np.ndarray
-    point_at: np.ndarray
-    point_link: np.ndarray
-    link_out: np.ndarray
-
-
-def _step_joints(engine) -> tuple[list, list]:
-    """The joint of every tree step and of every cut, in the kernel tables' order."""
-    steps = [st.law.name for bp in engine.blocks for st in bp.steps]
-    cuts = [law.name for bp in engine.blocks for law in bp.cuts]
-    return steps, cuts
-
-
-def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
-                  designs, link_out=None) -> DesignTables:
-    """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
-    guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
-    `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
-    wanted (default all)."""
-    steps, cuts, blocks, _ = kinematics_tables(engine, _tables(engine)[1])
-    step_names, cut_names = _step_joints(engine)
-    kind = {name: j.kind for name, j in engine.mech.joints.items()}
-
-    def stacked(names, table):
-        out = np.zeros((len(designs), len(names), 2))
-        for k, n in enumerate(names):
-            if table is at or kind[n] == "P":
-                out[:, k] = table[n][:, designs].T
-        return out
-
-    u0 = stacked(step_names, guide)
-    n = stacked(cut_names, guide)
-    cut_n0 = np.stack([-n[..., 1], n[..., 0]], axis=-1)  # perp(u0)
-    return DesignTables(steps, cuts, blocks, stacked(step_names, at), u0, stacked(cut_names, at), cut_n0,
-                        np.ascontiguousarray(phi0[designs], float),
-                        np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
-                        np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
-                                             .reshape(len(designs), len(points), 2)),
-                        np.asarray(point_link, np.int64),
-                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
-
-
-@dataclass
-class DesignResult:
-    """What the kernel gives per design (B designs × N positions).
-
-    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, K) of the links `link_out`; eq (B, N, K) or None;
-    xy, vq (B, N, P, 2); aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
-    phi (B, 2) the last node's input value, h (B, 2) the last step tried, q, qd, qdd (B, 2, M) the last
-    node's unknowns and their derivatives along the march parameter, signs (B, 2, n_blocks)."""
-
-    status: np.ndarray
-    valid: np.ndarray
-    angle: np.ndarray
-    wq: np.ndarray
-    eq: np.ndarray | None
-    xy: np.ndarray
-    vq: np.ndarray
-    aq: np.ndarray | None
-    limit: np.ndarray
-    limit_phi: np.ndarray
-    limit_h: np.ndarray
-    limit_q: np.ndarray
-    limit_qd: np.ndarray
-    limit_qdd: np.ndarray
-    limit_signs: np.ndarray
 
 
 def _march_tolerances(tol) -> np.ndarray:
@@ -162,28 +73,17 @@ def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
             np.zeros((2, 2, m1)), vec(m_all))
 
 
-def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = True, threads=None) -> DesignResult:
-    """The kernel over designs (B,) at input values x (B, N) (SI): march, then every position.
-
-    Parameters
-    ----------
-    engine : Engine
-        The reference design's engine (its blocks and tolerances serve every design).
-    tables : DesignTables
-        The designs' constants (`design_tables`).
-    x : ndarray (B, N)
-        Input values per design.
-    scale : float
-        The march parameter's unit: 1 for a revolute input, the mechanism's size for a slider.
-    accelerations : bool
-        Also the acceleration analogues (eq, aq).
-    threads : int, optional
-        Threads the designs are split over (default: `_threads.available()`).
+def solve(request) -> DesignResult:
+    """The kernel over a design request's designs (D,) at their input values x (D, N) (SI): march, then
+    every position (`engine._tables.DesignJob`); the designs split over `request.threads` threads.
 
     Returns
     -------
     DesignResult
     """
+    tables, x, scale, accelerations, threads = request.tables, request.x, request.scale, request.accelerations, \
+        request.threads
+    sense, ground, uniform = request.sense, request.ground, request.uniform
     x = np.ascontiguousarray(x, float)
     count, n = x.shape
     n_links, n_points = tables.link_out.shape[0], tables.point_link.shape[0]
@@ -201,18 +101,14 @@ def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = T
     limit_q, limit_qd, limit_qdd = (np.zeros((count, 2, m1)) for _ in range(3))
     limit_signs = np.zeros((count, 2, n_blocks))
     lo, hi = x.min(axis=1) if n else tables.phi0, x.max(axis=1) if n else tables.phi0
-    sense = float(engine.inputs[0].sense)
-    tol = _march_tolerances(engine.tol)
-    ground = engine.link_index[engine.mech.ground]
+    tol = _march_tolerances(request.tol)
     sizes = (len(tables.reference[0]), m_all, m_max, n_blocks, len(tables.steps.parent), len(tables.cuts.a))
     k = 1 if count < 2 * MIN_DESIGNS else max(1, min(threads or _threads.available(), count // MIN_DESIGNS))
     cuts_at = [count * i // k for i in range(k + 1)]
     parts = [slice(a, b) for a, b in zip(cuts_at[:-1], cuts_at[1:])]
-    store = engine.prepared.setdefault("numba design scratch", {}).setdefault(sizes, [])
+    store = request.store.setdefault(sizes, [])
     work = _threads.work_arrays(store, lambda: _scratch(tables.steps, tables.cuts, *sizes), len(parts))
     t = tables
-    uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1])) and bool(np.all(bp.var_scale == bp.var_scale[:1]))
-                        for bp in engine.blocks], np.bool_)
 
     def call(p, w):
         return _designs(w[0], w[1], t.blocks, uniform, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
@@ -874,7 +770,7 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
              perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
              qc, qdc, qddc, signs, prev, qdp):
     """Every design of a part: its drawn pose, its march both ways, then its positions (see the module
-    docstring); status (B,) as `STATUS`."""
+    docstring); status (B,) as `engine._tables.DESIGN_STATUS`."""
     max_correction = tol[4]
     n_designs, n_pos = x.shape
     m_all = len(blocks.var_scale)

@@ -637,7 +637,7 @@ def _program_block(T, blk, feat, bvec, x, bad, min_measure, order=None):
 
 def _plan(engine, ks_plan, motion, inertia) -> _KernelPlan:
     """The kernel's plan for the engine, the record layout of `motion` and `inertia`, made once."""
-    row_dtype = motion.rows.dtype
+    row_dtype = motion.records.dtype
     key = (row_dtype, inertia)
     cache = engine.prepare("numba kinetostatics", dict)  # per row layout and inertia
     if key not in cache:
@@ -742,7 +742,7 @@ _UNHELD = _references([np.empty(0)], 0)  # that of a block only its list holds
 def solve(engine, motion, ks_plan, inertia=True):
     """x (n, B) (the unknowns, NaN where singular), singular (B,), the virtual-power residual (B,) and
     the loads (`LoadValue`s, numpy's order) over the positions of a compiled `motion`."""
-    rows = motion.rows
+    rows = motion.records
     plan = _plan(engine, ks_plan, motion, inertia)
     batch, n = len(rows), ks_plan.lay.size
     inputs = np.empty((2 + len(plan.guide_loads), batch))

@@ -96,7 +96,7 @@ class Atlas:
         parts = np.ceil(np.diff(grid) / width).astype(int)
         x = np.concatenate([grid[i] + (grid[i + 1] - grid[i]) * np.arange(1, k) / k
                             for i, k in enumerate(parts) if k > 1] or [np.zeros(0)])
-        x = x[~_in_brackets(self.crossings, x)]  # nothing between the two nodes around a change point
+        x = x[~in_brackets(self.crossings, x)]  # nothing between the two nodes around a change point
         if not len(x):
             return
         inside = np.ones(len(x), bool)
@@ -397,7 +397,7 @@ def solve_along(atlas: Atlas, phi: np.ndarray) -> Solution:
     with np.errstate(invalid="ignore", over="ignore"):
         guesses = _interpolate(nodes_phi, per_block, x, idx, inside)
     sol = solver.solve_batch(phi, guesses)
-    at_crossing = _in_brackets(atlas.crossings, x) & inside
+    at_crossing = in_brackets(atlas.crossings, x) & inside
     good = sol.valid & inside & (np.all(solver.signs(sol) == node_signs[idx], axis=1) | at_crossing)
     for state, g, bp in zip(sol.blocks, guesses, solver.blocks):
         if bp.m:
@@ -425,7 +425,7 @@ def met_along(atlas: Atlas, lo: float, hi: float) -> tuple[list, list]:
     return limits, [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
 
 
-def _in_brackets(crossings: list, x: np.ndarray) -> np.ndarray:
+def in_brackets(crossings: list, x: np.ndarray) -> np.ndarray:
     """Which of x (B,) lie between the atlas nodes on either side of a change point."""
     out = np.zeros(len(x), bool)
     for c in crossings:

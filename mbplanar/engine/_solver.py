@@ -40,7 +40,6 @@ import numpy as np
 
 from ._atlas import Atlas, far_span, solve_along, solve_sequence
 from ._backend import check as check_backend
-from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
 from ._constraints import make_law
 from ._singular import Crossing, Limit
@@ -72,7 +71,7 @@ class Engine:
         self.tol = tol
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise ValueError(f"threads must be a positive integer, not {threads!r}")
-        check_backend(backend)  # (loaded on first use: `compiled`)
+        check_backend(backend)  # (loaded on first use: `engine._backend.candidates`)
         self.threads = threads
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
@@ -110,24 +109,11 @@ class Engine:
             table = self.prepared[name] = make()
         return table
 
-    @property
-    def compiled(self):
-        """The compiled backend (None: numpy alone), loaded when a batch first reaches it, so that a
-        command that never dispatches to it does not import numba (~0.4 s)."""
-        try:
-            return self._compiled
-        except AttributeError:
-            self._compiled = load_backend(self.backend)
-            return self._compiled
-
-    @compiled.setter
-    def compiled(self, backend):
-        self._compiled = backend
-
     def __getstate__(self) -> dict:
-        """Pickled without the compiled backend (a module's object), which is loaded again on first use."""
+        """Pickled without the tables made on first use (`prepared`: kernels' tables, backends, compiled
+        entries), which are made again where it is unpickled."""
         state = dict(self.__dict__)
-        state.pop("_compiled", None)
+        state["prepared"] = {}
         return state
 
     # -- compile --------------------------------------------------------------------------------

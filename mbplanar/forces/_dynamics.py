@@ -117,7 +117,7 @@ def reduce(engine, phi, omega: float = 1.0) -> Reduced:
     loads = evaluate_loads(engine, at_speed)
     kinds = {ld.name: ld.kind for ld in engine.mech.loads}  # LoadValue names are the rows' names
     moments, kind_of = {}, {}
-    w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
+    w, v, r = motion.frames.w, motion.frames.v, motion.frames.r
     for ld in loads:
         moments[ld.name] = moments.get(ld.name, 0.0) + load_power(ld, w, v, r)  # a spring: both ends
         kind = kinds.get(ld.name, "gravity")
@@ -141,8 +141,8 @@ def _reduced_inertia(engine, motion):
             continue
         k = engine.link_index[name]
         at = np.array([centre_of(mech, name)]) if lk.mass else np.zeros((1, 2))
-        _, vq, aq = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], np.array([k]), at)
-        vq, aq, wq, eq = vq[:, 0], aq[:, 0], f["w"][:, k], f["e"][:, k]
+        _, vq, aq = material_points(f.th, f.r, f.w, f.v, f.e, f.a, np.array([k]), at)
+        vq, aq, wq, eq = vq[:, 0], aq[:, 0], f.w[:, k], f.e[:, k]
         J = lk.mass * np.einsum("bi,bi->b", vq, vq) + lk.inertia * wq * wq
         if name in inputs:
             J_input += J

@@ -201,7 +201,7 @@ def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
 def _losses(engine, motion, spec, ks) -> np.ndarray:
     """The friction's power (B,) (W, ≤ 0) at the reactions `ks`: −μ·r·|F|·|ω_rel| and −(friction)·|v_rel|."""
     w, v, _, _ = real_frames(engine, motion)
-    r = motion.frames["r"]
+    r = motion.frames.r
     return sum((load_power(ld, w, v, r) for ld in friction_loads(engine, motion, spec, ks.reactions)),
                np.zeros(len(motion.phi)))
 

@@ -35,15 +35,16 @@ from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
 from ..kinematics._motion import Motion, material_points
-from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, real_frames,
+from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, needs_numpy, real_frames,
                      world_points)
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Reaction:
-    """Force (fx, fy) (B,) and moment (B,) on link `on` from link `source` in joint `joint`."""
+    """Force (fx, fy) (B,) (N) and moment (B,) (N·m; a prismatic pair's, else 0) on link `on` from link
+    `source` in joint `joint`. `magnitude` and `direction_deg` are functions of fx, fy."""
 
     joint: str
     on: str
@@ -62,13 +63,28 @@ class Reaction:
         return np.degrees(np.arctan2(self.fy, self.fx)) % 360.0
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Kinetostatics:
-    """Reactions and balancing loads over a batch (the positions of `motion`).
+    """Reactions and balancing loads over a batch of B positions (those of `motion`), SI.
 
-    reactions: joint name → Reaction (as reported: on the moving link for pairs with the ground);
-    balancing: input joint name → (B,) moment (N·m) or force (N) the drive applies to the input link;
-    virtual_power_residual (B,): relative residual of the virtual-power balance; loads: what acted.
+    Attributes
+    ----------
+    motion : Motion
+        The positions.
+    reactions : dict of str to Reaction
+        Joint name → its reaction (as reported: on the moving link for pairs with the ground).
+    balancing : dict of str to ndarray (B,)
+        Input joint name → the moment (N·m) or force (N) the drive applies to the input link.
+    virtual_power_residual : ndarray (B,)
+        Relative residual of the virtual-power balance.
+    loads : list of LoadValue
+        What acted (the model's loads, gravity, the d'Alembert loads).
+    singular : ndarray (B,) of bool
+        Positions where the force system is singular (their reactions NaN).
+    success : bool
+        No position is singular.
+    message : str
+        "solved", or where the system is singular.
     """
 
     motion: Motion
@@ -77,21 +93,12 @@ class Kinetostatics:
     virtual_power_residual: np.ndarray
     loads: list = field(default_factory=list)
     singular: np.ndarray | None = None
+    success: bool = True
+    message: str = "solved"
 
-    @property
-    def success(self) -> bool:
-        return self.singular is None or not bool(np.any(self.singular))
-
-    @property
-    def message(self) -> str:
-        if self.success:
-            return "solved"
-        bad = np.flatnonzero(self.singular)
-        inp = self.motion.engine.inputs[0]
-        where = ", ".join(f"{inp.from_si(self.motion.phi[k, 0]):.6g}" for k in bad[:5])
-        return (f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where}"
-                f"{', ...' if len(bad) > 5 else ''}): links in line at a dead point, where the drive cannot "
-                "balance the loads, or at a change point, where the reactions are statically indeterminate")
+    def __repr__(self) -> str:
+        return (f"Kinetostatics({len(self.motion.phi)} positions, reactions at {', '.join(self.reactions)}, "
+                f"balancing at {', '.join(self.balancing)}, success={self.success}, message={self.message!r})")
 
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]
@@ -108,12 +115,19 @@ class Kinetostatics:
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
+def _frames_of(motion):
+    """The motion's link frames with rates, or ModelError: the forces need them."""
+    f = motion.frames
+    if f is None or f.w is None:
+        raise ModelError("kinetostatics needs the motion's link frames and rates: analyse(engine, phi) with "
+                         "rates=True and 'frames' among its outputs (the default)", where="kinetostatics")
+    return f
+
+
 def _virtual_frames(engine, motion):
     """Virtual velocities (w, v) of every link frame: the analogues with one input, else real."""
-    if "v" in motion.frames and motion.wq is not None:
-        return motion.wq, motion.frames["v"]
-    w, v, _, _ = real_frames(engine, motion)
-    return w, v
+    f = _frames_of(motion)
+    return f.w, f.v
 
 
 def _input_link(engine, inp) -> tuple[str, str]:
@@ -134,7 +148,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     if heavy:
         w, v, e, a = real_frames(engine, motion, ks)
         at = np.array([centre for _, _, centre in heavy], float)
-        th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
+        th, r = motion.frames.th[:, ks], motion.frames.r[:, ks]
         xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
         for i, ((name, lk, _), k) in enumerate(zip(heavy, ks)):
             out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i],
@@ -431,7 +445,7 @@ def _solve_block(blk: _Block, features, b, x, perms: list | None = None):
 def _features(engine, motion, plan):
     """The per-position scalars (F, B) (batch last) the entries of the system are made of."""
     L = engine.size
-    th = motion.frames["th"].T  # (L, B) view
+    th = motion.frames.th.T  # (L, B) view
     # the joints' points are the motion's own (a revolute pair's point is common to both its links)
     xy = motion.xy[:, [motion.point(name) for name in plan.joints]].transpose(2, 1, 0)  # (2, J, B)
     n_joints, n_guides, batch = xy.shape[1], len(plan.guides), th.shape[1]
@@ -502,7 +516,7 @@ def _right_side(lay, loads, centre, L, batch):
 def _virtual_power(engine, motion, loads, drive):
     """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
     w, v = _virtual_frames(engine, motion)
-    r = motion.frames["r"]
+    r = motion.frames.r
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
     total = np.zeros(len(motion.phi))  # Σ of the terms
     scale = np.zeros(len(motion.phi))  # what they could be
@@ -549,7 +563,32 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     reference, does the rest. Raises `ModelError` for an `input_inertia` that is not finite and >= 0.
     """
     _check_input_inertia(engine, input_inertia)
-    return dispatch(engine, "kinetostatics", _reference, motion, input_inertia, loads, inertia)
+    _frames_of(motion)
+    return dispatch(engine, "kinetostatics", len(motion.phi),
+                    lambda: _reference(engine, motion, input_inertia, loads, inertia),
+                    lambda: KinetostaticsJob(engine, motion, plan_of(engine), inertia, loads, needs_numpy(engine.mech),
+                                             _no_input_inertia(input_inertia)),
+                    lambda job, answer: result(engine, motion, job.plan.lay, *answer))
+
+
+@dataclass(frozen=True)
+class KinetostaticsJob:
+    """A request of the kinetostatics job (`engine._backend.dispatch`): the motion, the engine's system
+    (`_Plan`), whether the d'Alembert loads act, the loads given by the caller (None: the model's),
+    whether the model has loads only numpy evaluates, and whether no input inertia acts."""
+
+    engine: object
+    motion: Motion
+    plan: object
+    inertia: bool
+    loads: list | None
+    needs_numpy: bool
+    no_inertia: bool
+
+
+def _no_input_inertia(input_inertia) -> bool:
+    """Whether `input_inertia` is 0 (the default 0 recognised without np.any, ~4 µs a call)."""
+    return input_inertia == 0 if type(input_inertia) in (int, float) else not np.any(input_inertia)
 
 
 def _check_input_inertia(engine, input_inertia):
@@ -591,6 +630,18 @@ def result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
     balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}
+    success = not bool(np.any(singular))
     return Kinetostatics(motion=motion, reactions=_report(engine, lay, x), balancing=balancing,
-                         virtual_power_residual=residual, loads=loads, singular=singular)
+                         virtual_power_residual=residual, loads=loads, singular=singular, success=success,
+                         message="solved" if success else _singular_message(engine, motion, singular))
+
+
+def _singular_message(engine, motion, singular) -> str:
+    """`Kinetostatics.message` where the force system is singular."""
+    bad = np.flatnonzero(singular)
+    inp = engine.inputs[0]
+    where = ", ".join(f"{inp.from_si(motion.phi[k, 0]):.6g}" for k in bad[:5])
+    return (f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where}"
+            f"{', ...' if len(bad) > 5 else ''}): links in line at a dead point, where the drive cannot "
+            "balance the loads, or at a change point, where the reactions are statically indeterminate")
 

@@ -137,7 +137,7 @@ def inertia_shaking_force(engine, motion) -> np.ndarray:
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
     w, v, e, a = real_frames(engine, motion, ks)
     at = np.array([c for _, _, c in heavy], float)
-    _, _, acc = material_points(motion.frames["th"][:, ks], motion.frames["r"][:, ks], w, v, e, a,
+    _, _, acc = material_points(motion.frames.th[:, ks], motion.frames.r[:, ks], w, v, e, a,
                                 np.arange(len(ks)), at)
     for i, (_, lk, _) in enumerate(heavy):
         out -= lk.mass * acc[:, i]
@@ -160,9 +160,9 @@ def _columns(engine, motion, link: str):
     k = engine.link_index[link]
     j = _reference_joint(mech, link)
     f = motion.frames
-    _, _, acc = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], np.array([k]),
+    _, _, acc = material_points(f.th, f.r, f.w, f.v, f.e, f.a, np.array([k]),
                                 np.array([j.at], float))
-    th, w, e = f["th"][:, k], f["w"][:, k], f["e"][:, k]
+    th, w, e = f.th[:, k], f.w[:, k], f.e[:, k]
     c, s = np.cos(th), np.sin(th)
     out = np.empty((len(th), 2, 3))
     out[:, :, 0] = -acc[:, 0]

@@ -161,9 +161,9 @@ def _columns(engine, q, qd) -> _Columns:
     if not m.success:
         raise MotionError(f"the motion reaches a position it cannot pass: {m.message}", source=engine.mech.source)
     f = m.frames
-    if n == 1 and "v" in f:
+    if f.analogues:
         om = qd[0]
-        return _Columns(m, [(f["w"], f["v"])], f["e"] * om * om, f["a"] * om * om)
+        return _Columns(m, [(f.w, f.v)], f.e * om * om, f.a * om * om)
     sol = engine.solve(q[None, :])
     cols = []
     for k in range(n):
@@ -192,7 +192,7 @@ def _mass_and_forces(engine, c: _Columns, qd, spec: SimulateSpec, input_inertia)
     heavy = heavy_links(engine.mech)
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
     at = np.array([centre for _, _, centre in heavy], float).reshape(-1, 2)
-    th, r = m.frames["th"], m.frames["r"]
+    th, r = m.frames.th, m.frames.r
     mass = np.array([lk.mass for _, lk, _ in heavy])
     inertia = np.array([lk.inertia for _, lk, _ in heavy])
     zero_w, zero_v = np.zeros_like(c.cols[0][0]), np.zeros_like(c.cols[0][1])
@@ -315,11 +315,11 @@ def _kinetic(engine, motion, omega, J_in) -> np.ndarray:
     at = np.array([centre for _, _, centre in heavy], float)
     f = motion.frames
     w = motion.w
-    if "v" in f and motion.wq is not None:
-        v = f["v"] * motion.omega[:, :1, None]
+    if f.analogues:
+        v = f.v * motion.omega[:, :1, None]
     else:
         w, v, _, _ = real_frames(engine, motion)
-    _, vel, _ = material_points(f["th"], f["r"], w, v, np.zeros_like(w), np.zeros_like(v), ks, at)
+    _, vel, _ = material_points(f.th, f.r, w, v, np.zeros_like(w), np.zeros_like(v), ks, at)
     for i, (_, lk, _) in enumerate(heavy):
         out += 0.5 * (lk.mass * np.einsum("bi,bi->b", vel[:, i], vel[:, i]) + lk.inertia * w[:, ks[i]] ** 2)
     return out

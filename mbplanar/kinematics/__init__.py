@@ -7,10 +7,10 @@ names are forwarded from ``mbplanar.kinematics._motion`` with a DeprecationWarni
 """
 
 from .. import _deprecated
-from ._motion import Motion, RatesNotComputed, analyse, material_points, positions_at_limits
+from ._motion import OUTPUTS, Frames, Motion, analyse, material_points, positions_at_limits
 from ._single import Position, position
 
-__all__ = ["Motion", "RatesNotComputed", "analyse", "positions_at_limits", "material_points", "Position",
+__all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "Position",
            "position"]
 
 __getattr__ = _deprecated.forwarder(__name__, __name__ + "._motion")

@@ -28,10 +28,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..engine._atlas import Atlas
+from ..engine._backend import dispatch
 from ..engine._blocks import BlockSolver
 from ..engine._constraints import perp
 from ..engine._nodes import HERMITE5, Node
 from ..engine._singular import limit_after
+from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, sweep_tables
 from ..kinematics import analyse
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
@@ -323,9 +325,11 @@ class DesignBatch:
         unknown = [n for n in link_names if n not in self.engine.links]
         if unknown:
             raise ValueError(f"{', '.join(unknown)}: not a link of the model")
-        if self.engine.backend == "numba":
-            return self._solve_compiled(phi, exact_limits, fallback, names, accelerations, link_names)
-        return self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names)
+        return dispatch(self.engine, "design", int(phi.size),
+                        lambda: self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names),
+                        lambda: self._design_request(phi, names, accelerations, link_names),
+                        lambda job, got: self._from_compiled(job, got, phi, exact_limits, fallback, names,
+                                                             accelerations, link_names))
 
     def _solve_numpy(self, phi, exact_limits: bool, fallback: bool, names=None,
                      accelerations: bool = True, links=None) -> DesignMotion:
@@ -362,25 +366,34 @@ class DesignBatch:
         motion.reasons = [None if motion.ok[d] else self.reasons[d] for d in range(D)]
         return motion
 
-    def _solve_compiled(self, phi, exact_limits: bool, fallback: bool, names: list,
-                        accelerations: bool, links: list) -> DesignMotion:
-        """`solve` by the compiled kernel: designs × positions in one call; the designs it hands back
-        (a change point passed, a position it cannot vouch for) are solved by numpy's batch."""
-        from ..backends import _numba_design as kernel
-
-        D, N = phi.shape
+    def _design_request(self, phi, names: list, accelerations: bool, links: list) -> DesignJob | str:
+        """The compiled design job's request: the designs that can be analysed, their tables and input
+        values (or why no kernel can take them)."""
         g, eng = self.geometry, self.engine
         designs = np.flatnonzero(g.ok)
+        if not len(designs):
+            return "no design can be assembled"
         point_link = [self.point_link[self.points.index(p)] for p in names]
+        tables = design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
+                               [eng.link_index[n] for n in links])
+        x = np.ascontiguousarray(phi if len(designs) == self.count else phi[designs], float)
+        uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1]) and np.all(bp.var_scale == bp.var_scale[:1]))
+                            for bp in eng.blocks], np.bool_)
+        return DesignJob(tables, x, float(self.scale), bool(accelerations), eng.threads, float(eng.inputs[0].sense),
+                         eng.link_index[eng.mech.ground], eng.tol.kernel(), uniform,
+                         eng.prepare("design kernel store", dict), designs)
+
+    def _from_compiled(self, job, got, phi, exact_limits: bool, fallback: bool, names: list,
+                       accelerations: bool, links: list) -> DesignMotion:
+        """`solve` from the compiled kernel's answer (designs × positions in one call); the designs it
+        hands back (a change point passed, a position it cannot vouch for) are solved by numpy's batch."""
+        D, N = phi.shape
+        eng = self.engine
+        designs = job.designs
         out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, links, names,
                            *[None] * 6)
         self.nodes = None
         whole = len(designs) == D
-        if len(designs):
-            tables = kernel.design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
-                                          [eng.link_index[n] for n in links])
-            got = kernel.solve(eng, tables, out.phi if whole else phi[designs], self.scale, accelerations,
-                               eng.threads)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
@@ -389,20 +402,14 @@ class DesignBatch:
                 setattr(out, name, getattr(got, name))
             else:
                 arr = np.full((D, N) + shape, np.nan)
-                if len(designs):
-                    arr[designs] = getattr(got, name)
+                arr[designs] = getattr(got, name)
                 setattr(out, name, arr)
-        if not len(designs):
-            out.ok = np.array([r is None for r in self.reasons], bool)
-            out.reasons = list(self.reasons)
-            self.motion = out
-            return out
         if whole:
             out.valid = got.valid
         else:
             out.valid[designs] = got.valid
-        words = {kernel.STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
-                 kernel.STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
+        words = {DESIGN_STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
+                 DESIGN_STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
                                              "or a change point)")}
         for k in np.flatnonzero(got.status):
             self.reasons[designs[k]] = words.get(int(got.status[k]))
@@ -415,7 +422,7 @@ class DesignBatch:
                           float(got.limit_h[k, side]), per, got.limit_signs[k, side].copy()))
         out.limits = self._limits(found, exact_limits)
         self._past_limits(out)
-        handed = designs[(got.status == kernel.STATUS["crossing"]) | (got.status == kernel.STATUS["numpy"])]
+        handed = designs[(got.status == DESIGN_STATUS["crossing"]) | (got.status == DESIGN_STATUS["numpy"])]
         if len(handed):
             self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
         out.ok = np.array([r is None for r in self.reasons], bool)
@@ -610,6 +617,43 @@ class DesignBatch:
                               for lim in m.limits]
             self.reasons[d] = None
             motion.ok[d] = True
+
+
+def _step_joints(engine) -> tuple[list, list]:
+    """The joint of every tree step and of every cut, in the kernel tables' order."""
+    steps = [st.law.name for bp in engine.blocks for st in bp.steps]
+    cuts = [law.name for bp in engine.blocks for law in bp.cuts]
+    return steps, cuts
+
+
+def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
+                  designs, link_out=None) -> DesignTables:
+    """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
+    guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
+    `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
+    wanted (default all)."""
+    base = sweep_tables(engine)
+    steps, cuts, blocks = base.steps, base.cuts, base.blocks
+    step_names, cut_names = _step_joints(engine)
+    kind = {name: j.kind for name, j in engine.mech.joints.items()}
+
+    def stacked(names, table):
+        out = np.zeros((len(designs), len(names), 2))
+        for k, n in enumerate(names):
+            if table is at or kind[n] == "P":
+                out[:, k] = table[n][:, designs].T
+        return out
+
+    u0 = stacked(step_names, guide)
+    n = stacked(cut_names, guide)
+    cut_n0 = np.stack([-n[..., 1], n[..., 0]], axis=-1)  # perp(u0)
+    return DesignTables(steps, cuts, blocks, stacked(step_names, at), u0, stacked(cut_names, at), cut_n0,
+                        np.ascontiguousarray(phi0[designs], float),
+                        np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
+                        np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
+                                             .reshape(len(designs), len(points), 2)),
+                        np.asarray(point_link, np.int64),
+                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
 
 
 def _one_step(tol):
