@@ -80,7 +80,7 @@ def test_rocker_driven_crank_rocker_limits_and_crank_extremes_are_exact():
     report = check(engine)
     want = np.degrees([psi_lo, psi_hi])
     assert np.abs(np.subtract(report.range, want)).max() < 1e-10
-    assert np.abs(np.subtract(sorted(lim["phi"] for lim in report.limits), want)).max() < 1e-10
+    assert np.abs(np.subtract(sorted(lim.phi for lim in report.limits), want)).max() < 1e-10
     crank = next(e for e in report.extremes if e.name == "1")
     assert not crank.turns
     extremes = sorted([(crank.at_min, crank.minimum), (crank.at_max, crank.maximum)])
@@ -165,8 +165,8 @@ def test_seed_002_lock_against_its_closure_equation():
     down, up = lock_closed_form()
     assert up == pytest.approx(1.799912, abs=5e-7)   # the seed's printed lock
     assert np.abs(np.subtract(report.range, (down, up))).max() < 1e-13
-    lock = next(lim for lim in report.limits if lim["direction"] == 1)
-    assert "stretched at B" in lock["kind"] and lock["phi"] == report.range[1]
+    lock = next(lim for lim in report.limits if lim.direction == 1)
+    assert "stretched at B" in lock.kind and lock.phi == report.range[1]
     mu = next(a for a in report.transmission if a.points == ("C", "B", "D"))
     assert mu.minimum < 1e-6 and mu.at_min in report.range   # C, B, D in line at the lock
 

@@ -15,7 +15,7 @@ to degrees at its edge (`as_dict`).
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
@@ -30,10 +30,23 @@ SAMPLES = 721          # sweep resolution of a full turn (0.5°)
 FULL_TURN = 2 * math.pi
 
 
-@dataclass
+@dataclass(frozen=True)
+class LocalExtreme:
+    """A local extreme of an output over the input's range: "min" or "max", its value (rad or m), where
+    (the input's value, model unit), and `end`: an end of the range (a motion limit), where the output
+    reverses with the input."""
+
+    kind: str
+    value: float
+    at: float
+    end: bool = False
+
+
+@dataclass(frozen=True)
 class Extreme:
     """Extreme positions of one output quantity: a link angle (rad) or a slider displacement (m).
-    `at_min`/`at_max` are the input values (model unit) where they occur; `turns` marks a full rotation."""
+    `at_min`/`at_max` are the input values (model unit) where they occur; `turns` marks a full rotation;
+    `local` every local extreme, sorted by input value."""
 
     name: str
     kind: str               # "link" or "slider"
@@ -42,12 +55,10 @@ class Extreme:
     maximum: float | None
     at_max: float | None
     turns: bool = False
-    # every local extreme, sorted by input value: {"kind": "min" | "max", "value", "at", "end"}; `end`
-    # marks an end of the input's range (a motion limit), where the output reverses with the input
     local: list = field(default_factory=list)
 
 
-@dataclass
+@dataclass(frozen=True)
 class AngleRange:
     """Min/max over the cycle of a transmission or pressure angle (rad), with the input values."""
 
@@ -59,19 +70,82 @@ class AngleRange:
     at_max: float
 
 
-@dataclass
+@dataclass(frozen=True)
+class LimitReport:
+    """A motion limit as `check` reports it: the input value (model unit), the direction it is met in
+    (+1 going up, −1 going down), the links and joints in line, its kind, and the sentence."""
+
+    phi: float
+    direction: int
+    links: list
+    joints: list
+    kind: str
+    message: str
+
+
+@dataclass(frozen=True)
+class ChangePointReport:
+    """A change point (two assembly branches cross) as `check` reports it: the input value (model unit),
+    the links and joints in line, its kind, and the sentence."""
+
+    phi: float
+    links: list
+    joints: list
+    kind: str
+    message: str
+
+
+@dataclass(frozen=True)
+class Grashof:
+    """The Grashof verdict of a four-bar (`grashof`): link lengths (m), s + l and p + q, whether the
+    criterion holds (`grashof`), whether s + l = p + q (`change_point`), the shortest link, the input and
+    output links, the kind (crank-rocker, double crank, ...) and whether the input and output turn fully."""
+
+    lengths: dict
+    s_plus_l: float
+    p_plus_q: float
+    grashof: bool
+    change_point: bool
+    shortest: str
+    input_link: str
+    output_link: str
+    kind: str
+    input_turns: bool
+    output_turns: bool
+
+
+@dataclass(frozen=True)
 class CheckReport:
+    """What `check` finds over the whole input range of a one-input mechanism.
+
+    Attributes
+    ----------
+    model, input, unit : str
+        The model's name, its input's name and unit.
+    full_turn : bool
+        The input turns fully (a whole turn without a motion limit).
+    range : tuple of float
+        (lo, hi) the input moves through (model unit).
+    limits : list of LimitReport
+    change_points : list of ChangePointReport
+    extremes : list of Extreme
+        Every output link's angle and slider's displacement.
+    transmission, pressure : list of AngleRange
+    grashof : Grashof or None
+        A four-bar's verdict (None for another mechanism).
+    """
+
     model: str
     input: str
     unit: str
     full_turn: bool
-    range: tuple            # (lo, hi) the input can move through, model unit
-    limits: list            # [{"phi", "direction", "links", "joints", "kind", "message"}]
-    change_points: list = field(default_factory=list)  # [{"phi", "links", "joints", "kind", "message"}]
+    range: tuple
+    limits: list
+    change_points: list = field(default_factory=list)
     extremes: list = field(default_factory=list)
     transmission: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
-    grashof: dict | None = None
+    grashof: Grashof | None = None
 
     def as_dict(self) -> dict:
         """JSON-ready document, angles in degrees."""
@@ -131,10 +205,8 @@ def grashof(engine) -> dict | None:
     turns = holds and bool(ties & {input_link, mech.ground})
     output_turns = holds and bool(ties & {output_link, mech.ground})
     kind = _grashof_kind(mech, lengths, holds, change_point, ties, input_link, output_link, coupler, tol)
-    return {"lengths": lengths, "s_plus_l": s + l_, "p_plus_q": p + q, "grashof": bool(holds),
-            "change_point": bool(change_point), "shortest": shortest, "input_link": input_link,
-            "output_link": output_link, "kind": kind, "input_turns": bool(turns),
-            "output_turns": bool(output_turns)}
+    return Grashof(lengths, s + l_, p + q, bool(holds), bool(change_point), shortest, input_link, output_link, kind,
+                   bool(turns), bool(output_turns))
 
 
 def _grashof_kind(mech, lengths, holds, change_point, ties, input_link, output_link, coupler, tol) -> str:
@@ -420,8 +492,8 @@ def _rate_at(engine, x, which):
     return _quantities(engine, motion)[3][np.arange(len(x)), which]
 
 
-def _local(kind, value, at, end=False):
-    return {"kind": kind, "value": float(value), "at": float(at), "end": bool(end)}
+def _local(kind, value, at, end=False) -> LocalExtreme:
+    return LocalExtreme(kind, float(value), float(at), bool(end))
 
 
 def _extremes(engine, motion, full_turn, at_limits=None):
@@ -466,9 +538,8 @@ def _extremes(engine, motion, full_turn, at_limits=None):
         if kind == "link":  # report angles in (−π, π] around the minimum
             shift = FULL_TURN * math.floor((vmin + math.pi) / FULL_TURN)
             vmin, vmax = vmin - shift, vmax - shift
-        ext = Extreme(name, kind, vmin, float(inp.from_si(ats_n[lo])), vmax, float(inp.from_si(ats_n[hi])))
-        ext.local = [_local(c[2], c[1] - shift, inp.from_si(c[0]), len(c) > 3) for c in local]
-        out.append(ext)
+        out.append(Extreme(name, kind, vmin, float(inp.from_si(ats_n[lo])), vmax, float(inp.from_si(ats_n[hi])),
+                           local=[_local(c[2], c[1] - shift, inp.from_si(c[0]), len(c) > 3) for c in local]))
     return out
 
 
@@ -506,21 +577,19 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     report = CheckReport(
         model=engine.mech.name, input=inp.name, unit=inp.unit, full_turn=full,
         range=(float(inp.from_si(lo)), float(inp.from_si(hi))),
-        limits=[{"phi": float(inp.from_si(lim.phi[0])), "direction": lim.direction,
-                 "links": list(lim.links), "joints": list(lim.joints), "kind": lim.kind,
-                 "message": describe_limit(engine, lim)} for lim in limits],
-        change_points=[{"phi": float(inp.from_si(c.phi[0])), "links": list(c.links), "joints": list(c.joints),
-                        "kind": c.kind, "message": describe_crossing(engine, c)} for c in crossings],
+        limits=[LimitReport(float(inp.from_si(lim.phi[0])), lim.direction, list(lim.links), list(lim.joints),
+                            lim.kind, describe_limit(engine, lim)) for lim in limits],
+        change_points=[ChangePointReport(float(inp.from_si(c.phi[0])), list(c.links), list(c.joints), c.kind,
+                                         describe_crossing(engine, c)) for c in crossings],
         grashof=grashof(engine))
     if len(motion.phi) < 2:
         return report
-    report.extremes = _extremes(engine, motion, full, at_limits)
-    report.transmission = _angle_ranges(engine, motion, at_limits, transmission_angles,
-                                        lambda t: f"{t[0]}-{t[1]}-{t[2]}")
-    report.pressure = _angle_ranges(engine, motion, at_limits, pressure_angles,
-                                    lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
-                                    f"{t[2]} (normal of {t[0]})")
-    return report
+    return replace(report, extremes=_extremes(engine, motion, full, at_limits),
+                   transmission=_angle_ranges(engine, motion, at_limits, transmission_angles,
+                                              lambda t: f"{t[0]}-{t[1]}-{t[2]}"),
+                   pressure=_angle_ranges(engine, motion, at_limits, pressure_angles,
+                                          lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
+                                          f"{t[2]} (normal of {t[0]})"))
 
 
 def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -> str:
@@ -530,18 +599,18 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
     lines = [f"{report.model}: input {report.input} [{u}]"]
     if report.grashof is not None:
         g = report.grashof
-        lines.append(f"Grashof: s + l = {g['s_plus_l'] / k:.6g} {lu} {'≤' if g['grashof'] else '>'} p + q = "
-                     f"{g['p_plus_q'] / k:.6g} {lu}: {g['kind']}; the input "
-                     f"{'turns fully' if g['input_turns'] else 'does not turn fully'}")
+        lines.append(f"Grashof: s + l = {g.s_plus_l / k:.6g} {lu} {'≤' if g.grashof else '>'} p + q = "
+                     f"{g.p_plus_q / k:.6g} {lu}: {g.kind}; the input "
+                     f"{'turns fully' if g.input_turns else 'does not turn fully'}")
     if report.full_turn:
         lines.append("the input turns fully (numerically: a whole turn without a motion limit)")
     else:
         lines.append(f"the input does NOT turn fully: it moves through {report.range[0]:.8g} … "
                      f"{report.range[1]:.8g} {u}")
     for lim in report.limits:
-        lines.append(f"  dead point / limit: {lim['message']}")
+        lines.append(f"  dead point / limit: {lim.message}")
     for c in report.change_points:
-        lines.append(f"  {c['message']}")
+        lines.append(f"  {c.message}")
     for e in report.extremes:
         if e.turns:
             lines.append(f"  link {e.name}: turns fully")
@@ -561,23 +630,34 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
     return "\n".join(lines)
 
 
-def _format_local(ext: Extreme, loc: dict, unit: str, lu: str = "m", k: float = 1.0) -> str:
+def _format_local(ext: Extreme, loc: LocalExtreme, unit: str, lu: str = "m", k: float = 1.0) -> str:
     """One local extreme: 'max 61.601550° at 315 deg' (an end of the range marked '(limit)'); lengths
     in `lu`, k metres each."""
-    value = f"{math.degrees(loc['value']):.6f}°" if ext.kind == "link" else f"{loc['value'] / k:.9g} {lu}"
-    return f"{loc['kind']} {value} at {loc['at']:.8g} {unit}" + (" (limit)" if loc["end"] else "")
+    value = f"{math.degrees(loc.value):.6f}°" if ext.kind == "link" else f"{loc.value / k:.9g} {lu}"
+    return f"{loc.kind} {value} at {loc.at:.8g} {unit}" + (" (limit)" if loc.end else "")
 
 
 # -- two inputs: the reachable region and the singular curves ----------------------------------------
 REGION_SAMPLES = 19    # grid points per input (20° over a full turn)
 
 
-@dataclass
+@dataclass(frozen=True)
+class SingularPoint:
+    """A point of a singular curve of a two-input mechanism: where (the inputs' values, model units),
+    the links and joints in line, its kind."""
+
+    at: list
+    links: list
+    joints: list
+    kind: str
+
+
+@dataclass(frozen=True, eq=False)
 class RegionReport:
     """What a two-input mechanism can reach: a grid over both inputs' sweeps (model units), which grid
-    points the drawn branch reaches, the range each input reaches, and the points of the singular
-    curves (a block's Jacobian determinant changes sign between neighbouring reached grid points:
-    there the branch folds, the links line up)."""
+    points the drawn branch reaches (`reachable` (n_1, n_2) bool), the range each input reaches, and the
+    points of the singular curves (`SingularPoint`s: a block's Jacobian determinant changes sign
+    between neighbouring reached grid points: there the branch folds, the links line up)."""
 
     model: str
     inputs: list            # names
@@ -593,7 +673,7 @@ class RegionReport:
                 "grid": [list(map(float, g)) for g in self.grid],
                 "reachable": self.reachable.tolist(), "reached": int(self.reachable.sum()),
                 "ranges": [list(r) if r is not None else None for r in self.ranges],
-                "singular": self.singular}
+                "singular": [asdict(p) for p in self.singular]}
 
 
 def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
@@ -621,14 +701,14 @@ def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
             ok = sol.valid[1:]
             reach[i, part] = ok
             dets[i, part] = np.where(ok[:, None], engine.dets(sol)[1:], np.nan)
-            folds += [{"at": [float(inp.from_si(p)) for inp, p in zip(inputs, lim.phi)], "links": list(lim.links),
-                       "joints": list(lim.joints), "kind": lim.kind} for lim in sol.limits]
+            folds += [SingularPoint([float(inp.from_si(p)) for inp, p in zip(inputs, lim.phi)], list(lim.links),
+                                    list(lim.joints), lim.kind) for lim in sol.limits]
     ranges = []
     for axis in (0, 1):
         hit = np.flatnonzero(reach.any(axis=1 - axis))
         ranges.append((float(grid[axis][hit[0]]), float(grid[axis][hit[-1]])) if len(hit) else None)
     return RegionReport(engine.mech.name, [i.name for i in inputs], [i.unit for i in inputs], grid, reach,
-                        ranges, sorted(_singular_points(engine, grid, dets) + folds, key=lambda s: s["at"]))
+                        ranges, sorted(_singular_points(engine, grid, dets) + folds, key=lambda s: s.at))
 
 
 def _singular_points(engine, grid, dets) -> list:
@@ -644,8 +724,8 @@ def _singular_points(engine, grid, dets) -> list:
             nxt = grid[axis][(a if axis == 0 else b) + 1]
             p[axis] = p[axis] + t * (nxt - p[axis])
             bp = engine.blocks[blk]
-            out.append({"at": [float(p[0]), float(p[1])], "links": list(bp.links), "joints": list(bp.joints),
-                        "kind": "change of assembly sign between grid points"})
+            out.append(SingularPoint([float(p[0]), float(p[1])], list(bp.links), list(bp.joints),
+                                     "change of assembly sign between grid points"))
     return out
 
 
@@ -663,8 +743,8 @@ def format_region(report: RegionReport) -> str:
     if report.singular:
         lines.append(f"  singular curves ({len(report.singular)} points, links in line):")
         for s in report.singular:
-            lines.append(f"    {report.inputs[0]} = {s['at'][0]:.8g}, {report.inputs[1]} = {s['at'][1]:.8g}: "
-                         f"links {', '.join(s['links'])} — {s['kind']}")
+            lines.append(f"    {report.inputs[0]} = {s.at[0]:.8g}, {report.inputs[1]} = {s.at[1]:.8g}: "
+                         f"links {', '.join(s.links)} — {s.kind}")
     return "\n".join(lines)
 
 

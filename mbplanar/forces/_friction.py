@@ -112,7 +112,7 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
     return FrictionSpec(tuple(pairs), tolerance, int(max_iter))
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class FrictionResult:
     """Kinetostatics with friction: `kinetostatics` (reactions and balancing loads with friction),
     `ideal` (without), `iterations` (fixed-point iterations made), `residual` (B,) (the last relative

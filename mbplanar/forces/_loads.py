@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -51,10 +51,10 @@ __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evalua
            "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class LoadValue:
-    """A load evaluated over a batch: `force` (B, 2) at `point` (B, 2) and `moment` (B,) on link index
-    `link` (engine.links order)."""
+    """A load evaluated over a batch: `force` (B, 2) (N) at `point` (B, 2) (m) and `moment` (B,) (N·m) on
+    link index `link` (engine.links order)."""
 
     name: str
     link: int
@@ -197,10 +197,8 @@ def _evaluate_switched(engine, motion, load: Load) -> list[LoadValue]:
         return out
     speed = _switch_speed(engine, motion, load)
     on = (speed >= 0) if load.when == "forward" else (speed <= 0)
-    for value in out:
-        value.force = np.where(on[:, None], value.force, 0.0)
-        value.moment = np.where(on, value.moment, 0.0)
-    return out
+    return [replace(value, force=np.where(on[:, None], value.force, 0.0), moment=np.where(on, value.moment, 0.0))
+            for value in out]
 
 
 def _switch_speed(engine, motion, load: Load) -> np.ndarray:

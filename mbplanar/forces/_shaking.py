@@ -35,9 +35,9 @@ __all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balanci
            "inertia_shaking_force"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Shaking:
-    """Force (B, 2) (N) and moment (B,) (N·m, about `about`) on the frame."""
+    """Force (B, 2) (N) and moment (B,) (N·m, about `about`) on the frame; `magnitude` is |force|."""
 
     force: np.ndarray
     moment: np.ndarray
@@ -115,7 +115,7 @@ class Counterweight:
     angle_deg: float
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Balancing:
     """Counterweights found, the balanced `mechanism` (the counterweights added to the links' mass,
     centre and inertia), and the RMS of the inertia shaking force at unit speed (N per (rad/s)²) before

@@ -237,7 +237,7 @@ def _solve_mass(engine, M, rhs):
 
 
 # -- integration ------------------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Trajectory:
     """The motion over time: t (N,), phi, omega, epsilon (N, n) of the inputs; `motion` (a Motion with
     the real rates at every t), `kinetostatics` (the reactions along it, the balancing loads equal to

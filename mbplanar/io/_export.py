@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import sys
+from dataclasses import asdict
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -348,7 +349,7 @@ def dynamics_document(engine, dyn, at=None) -> dict:
            "simulation": None if sim is None else {
                "omega_min": sim.omega_min, "omega_max": sim.omega_max, "omega_time_mean": sim.omega_time_mean,
                "period": sim.period, "success": sim.success, "message": sim.message},
-           "flywheel": dyn.flywheel}
+           "flywheel": {k: v for k, v in asdict(dyn.flywheel).items() if v is not None}}
     if at is not None:
         state = dyn.state_at(engine, at)
         doc["at"] = [{"value": inp.from_si(float(p)), "J_II": state["J_II"][k], "dJ_II": state["dJ_II"][k],

@@ -43,7 +43,7 @@ __all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch"]
 CHUNK = 25_000  # (design, position) pairs corrected at once
 
 
-@dataclass
+@dataclass(frozen=True)
 class DesignLimit:
     """A motion limit of design `design`: input value φ (SI), direction (+1 up, −1 down), the block's
     links and joints, its kind (as `Engine` words it) and, when located, the configuration there."""
@@ -57,15 +57,15 @@ class DesignLimit:
     limit: object = None  # the engine's `Limit` when located by the fold Newton
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class DesignMotion:
     """Kinematics of D designs at N input values each (batch first: design, then position).
 
     phi (D, N) SI; valid (D, N): solved on the drawn branch; ok (D,): the design could be analysed,
     else reasons[d] says why. Links (`links` order, default engine.links): angle, wq (D, N, L) (rad, rad/rad);
-    eq (D, N, L).
-    Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²). limits: [DesignLimit] met
-    inside the requested range, per design in `limits_of(d)`.
+    eq (D, N, L) or None (``accelerations=False``).
+    Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²; aq None without accelerations).
+    limits: [DesignLimit] met inside the requested range, per design in `limits_of(d)`.
     """
 
     phi: np.ndarray
@@ -356,15 +356,17 @@ class DesignBatch:
                         self._march(designs[side], _take_solution(origin, side), dets[side], target[side],
                                     direction, nodes, limits)
         self.nodes = nodes.arrays() if nodes.parts else None
-        motion = self._positions(phi, nodes, designs)
-        motion.limits = self._limits(limits, exact_limits)
+        motion = replace(self._positions(phi, nodes, designs), limits=self._limits(limits, exact_limits))
         self._past_limits(motion)
         if fallback:
-            self._fall_back(motion, phi)
-        motion.ok = np.array([r is None for r in self.reasons], bool)
-        self.motion = motion
-        motion.reasons = [None if motion.ok[d] else self.reasons[d] for d in range(D)]
-        return motion
+            motion = self._fall_back(motion, phi)
+        return self._finished(motion, D)
+
+    def _finished(self, motion: DesignMotion, count: int) -> DesignMotion:
+        """The motion with every design's verdict (`ok`, `reasons`), kept as the batch's last."""
+        ok = np.array([r is None for r in self.reasons], bool)
+        self.motion = replace(motion, ok=ok, reasons=[None if ok[d] else self.reasons[d] for d in range(count)])
+        return self.motion
 
     def _design_request(self, phi, names: list, accelerations: bool, links: list) -> DesignJob | str:
         """The compiled design job's request: the designs that can be analysed, their tables and input
@@ -390,24 +392,21 @@ class DesignBatch:
         D, N = phi.shape
         eng = self.engine
         designs = job.designs
-        out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, links, names,
-                           *[None] * 6)
         self.nodes = None
         whole = len(designs) == D
+        arrays = dict.fromkeys(("angle", "wq", "eq", "xy", "vq", "aq"))
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
                 continue
             if whole:
-                setattr(out, name, getattr(got, name))
+                arrays[name] = getattr(got, name)
             else:
-                arr = np.full((D, N) + shape, np.nan)
-                arr[designs] = getattr(got, name)
-                setattr(out, name, arr)
-        if whole:
-            out.valid = got.valid
-        else:
-            out.valid[designs] = got.valid
+                arrays[name] = np.full((D, N) + shape, np.nan)
+                arrays[name][designs] = getattr(got, name)
+        valid = got.valid if whole else np.zeros((D, N), bool)
+        if not whole:
+            valid[designs] = got.valid
         words = {DESIGN_STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
                  DESIGN_STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
                                              "or a change point)")}
@@ -420,30 +419,29 @@ class DesignBatch:
                          (got.limit_q, got.limit_qd, got.limit_qdd)) for b in range(len(eng.blocks))]
             found.append((int(designs[k]), 1 if side == 0 else -1, float(got.limit_phi[k, side]),
                           float(got.limit_h[k, side]), per, got.limit_signs[k, side].copy()))
-        out.limits = self._limits(found, exact_limits)
+        out = DesignMotion(phi.copy(), valid, np.zeros(D, bool), [None] * D, links, names, **arrays,
+                           limits=self._limits(found, exact_limits))
         self._past_limits(out)
         handed = designs[(got.status == DESIGN_STATUS["crossing"]) | (got.status == DESIGN_STATUS["numpy"])]
         if len(handed):
-            self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
-        out.ok = np.array([r is None for r in self.reasons], bool)
-        out.reasons = [None if out.ok[d] else self.reasons[d] for d in range(D)]
-        self.motion = out
-        return out
+            out = self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
+        return self._finished(out, D)
 
-    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations, links):
-        """Designs `handed` solved by numpy's batch (a batch of their own) and copied into `out`."""
+    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations,
+                  links) -> DesignMotion:
+        """`out` with the designs `handed` solved by numpy's batch (a batch of their own)."""
         sub = DesignBatch(self.engine, _take_geometry(self.geometry, handed))
         got = sub._solve_numpy(phi[handed], exact_limits, fallback, names, accelerations, links)
         out.valid[handed] = got.valid
         for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
             if getattr(out, name) is not None:
                 getattr(out, name)[handed] = getattr(got, name)
-        out.limits = [lim for lim in out.limits if lim.design not in set(handed.tolist())]
-        out.limits += [replace(lim, design=int(handed[lim.design])) for lim in got.limits]
         for k, d in enumerate(handed):
             self.reasons[d] = got.reasons[k]
             if sub._engines.get(k) is not None:
                 self._engines[int(d)] = sub._engines[k]
+        kept = [lim for lim in out.limits if lim.design not in set(handed.tolist())]
+        return replace(out, limits=kept + [replace(lim, design=int(handed[lim.design])) for lim in got.limits])
 
     def _positions(self, phi, nodes: _Nodes, designs) -> DesignMotion:
         """Predict every (design, position) from its design's nodes, correct in one batch, check."""
@@ -581,8 +579,8 @@ class DesignBatch:
                 node = Node(np.array([phi_node]), dirs, q, qd, qdd, signs, 1.0)
                 with np.errstate(all="ignore"):
                     located = limit_after(eng.solver, node, dirs, h)
-                lim.phi, lim.links, lim.joints, lim.kind, lim.limit = (float(located.phi[0]), located.links,
-                                                                     located.joints, located.kind, located)
+                lim = replace(lim, phi=float(located.phi[0]), links=located.links, joints=located.joints,
+                              kind=located.kind, limit=located)
             out.append(lim)
         return out
 
@@ -592,8 +590,8 @@ class DesignBatch:
             past = (motion.phi[lim.design] - lim.phi) * lim.direction > 0
             motion.valid[lim.design] &= ~past
 
-    def _fall_back(self, motion: DesignMotion, phi):
-        """Designs the batch left to their own engines: solved one by one (`analyse`)."""
+    def _fall_back(self, motion: DesignMotion, phi) -> DesignMotion:
+        """`motion` with the designs the batch left to their own engines solved one by one (`analyse`)."""
         for d in range(self.count):
             reason = self.reasons[d]
             if reason is None or not reason.endswith("own engine)") or not self.geometry.ok[d]:
@@ -612,11 +610,11 @@ class DesignBatch:
                 if getattr(motion, name) is not None:
                     getattr(motion, name)[d] = np.nan
                     getattr(motion, name)[d, idx] = getattr(m, name)[:, [m.point(p) for p in motion.points]]
-            motion.limits = [lim for lim in motion.limits if lim.design != d]
-            motion.limits += [DesignLimit(d, float(lim.phi[0]), lim.direction, lim.links, lim.joints, lim.kind, lim)
-                              for lim in m.limits]
+            motion = replace(motion, limits=[lim for lim in motion.limits if lim.design != d] + [
+                DesignLimit(d, float(lim.phi[0]), lim.direction, lim.links, lim.joints, lim.kind, lim)
+                for lim in m.limits])
             self.reasons[d] = None
-            motion.ok[d] = True
+        return motion
 
 
 def _step_joints(engine) -> tuple[list, list]:

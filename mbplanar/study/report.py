@@ -17,7 +17,7 @@ def study_document(study: Study) -> dict:
 
 
 def _limit(design, direction):
-    return next((lim for lim in design.limits if lim["direction"] == direction), None)
+    return next((lim for lim in design.limits if lim.direction == direction), None)
 
 
 def _cell(value):
@@ -35,8 +35,8 @@ def study_table(study: Study) -> tuple[list[str], list[list[str]]]:
     outputs = []
     for d in study.designs:
         for e in d.extremes:
-            if (e["name"], e["kind"]) not in outputs:
-                outputs.append((e["name"], e["kind"]))
+            if (e.name, e.kind) not in outputs:
+                outputs.append((e.name, e.kind))
     unit = study.unit
     header = (["variant"] + list(study.parameters) + ["assembles", "full_turn", f"range_lo[{unit}]", f"range_hi[{unit}]",
               "limit_lo[deg]", "limit_lo_kind", "limit_hi[deg]", "limit_hi_kind", "min_transmission[deg]",
@@ -51,13 +51,13 @@ def study_table(study: Study) -> tuple[list[str], list[list[str]]]:
         row = [d.name] + [_cell(d.parameters.get(p)) for p in study.parameters]
         row += [_cell(d.assembles), _cell(d.full_turn), _cell(d.range[0] if d.range else None),
                 _cell(d.range[1] if d.range else None),
-                _cell(lo and lo["phi_deg"]), lo["kind"] if lo else "", _cell(hi and hi["phi_deg"]),
-                hi["kind"] if hi else "", _cell(d.transmission_min_deg), _cell(d.transmission_at)]
-        by_name = {(e["name"], e["kind"]): e for e in d.extremes}
+                _cell(lo and lo.phi_deg), lo.kind if lo else "", _cell(hi and hi.phi_deg),
+                hi.kind if hi else "", _cell(d.transmission_min_deg), _cell(d.transmission_at)]
+        by_name = {(e.name, e.kind): e for e in d.extremes}
         for key in outputs:
-            e = by_name.get(key, {})
-            row += [_cell(e.get("minimum")), _cell(e.get("maximum")), _cell(e.get("stroke")),
-                    _cell(e.get("quick_return"))]
+            e = by_name.get(key)
+            row += ([_cell(e.minimum), _cell(e.maximum), _cell(e.stroke), _cell(e.quick_return)] if e is not None
+                    else ["", "", "", ""])
         row += [_cell(d.max_reaction), d.max_reaction_joint or "", _cell(d.mean_balancing), d.reason or ""]
         rows.append(row)
     return header, rows
@@ -78,7 +78,7 @@ def format_study(study: Study) -> str:
         if d.full_turn:
             what = "full turn"
         else:
-            what = "; ".join(f"{lim['phi_deg']:.7f}°: {lim['kind']}" for lim in d.limits) or "—"
+            what = "; ".join(f"{lim.phi_deg:.7f}°: {lim.kind}" for lim in d.limits) or "—"
         tmin = "" if d.transmission_min_deg is None else f"  {d.transmission_min_deg:.4f}"
         lines.append(f"{d.name:<{width}}  {'yes' if d.full_turn else 'no':<5}  {what}{tmin}")
     return "\n".join(lines)

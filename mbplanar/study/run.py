@@ -17,7 +17,7 @@ from ..model import parse_model
 from ..model._parameters import Template
 from ..forces import has_force_data
 from ..kinematics import analyse
-from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design
+from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design, with_forces
 from .variants import Variants, read_variants
 
 __all__ = ["Study", "run_study", "solve_designs", "load_template", "join_motions", "CHUNK"]
@@ -26,9 +26,11 @@ CHUNK = 64  # designs per task
 FULL_TURN = 2 * np.pi
 
 
-@dataclass
+@dataclass(frozen=True)
 class Study:
-    """The summaries of a study's designs (in table order) and what they were computed for."""
+    """The summaries of a study's designs (in table order) and what they were computed for: the model's
+    name and source, its input's name and unit, the parameters' names, the designs' `DesignSummary`s and
+    how many there are (`counts`: designs, assembled, full_turn, locking)."""
 
     model: str
     source: str
@@ -36,14 +38,14 @@ class Study:
     unit: str
     parameters: tuple
     designs: list[DesignSummary]
+    counts: dict  # how many designs: in all, assembled, turning fully, stopping at a motion limit
 
-    @property
-    def counts(self) -> dict:
-        """How many designs: in all, assembled, turning fully, stopping at a motion limit."""
-        ok = [d for d in self.designs if d.assembles]
-        return {"designs": len(self.designs), "assembled": len(ok),
-                "full_turn": sum(bool(d.full_turn) for d in ok),
-                "locking": sum(bool(d.limits) and not d.full_turn for d in ok)}
+
+def _counts(designs: list) -> dict:
+    """`Study.counts` of the summaries `designs`."""
+    ok = [d for d in designs if d.assembles]
+    return {"designs": len(designs), "assembled": len(ok), "full_turn": sum(bool(d.full_turn) for d in ok),
+            "locking": sum(bool(d.limits) and not d.full_turn for d in ok)}
 
 
 def load_template(model) -> Template:
@@ -124,20 +126,19 @@ def _batch_forces(batch, template: Template, variants: Variants, out: list):
     sub = DesignBatch(batch.engine, _take_geometry(batch.geometry, idx))
     with np.errstate(invalid="ignore"):
         motion = sub.solve(phi)
-        motion.valid &= np.arange(width) < np.array([len(r) for r in rows])[:, None]  # not the padding
+        motion.valid[...] &= np.arange(width) < np.array([len(r) for r in rows])[:, None]  # not the padding
         got = design_kinetostatics(sub, motion, template, variants.take(idx))
     if got is None:
         for k in idx:
             engine = batch.seeded_engine(int(k))
-            out[k].max_reaction, out[k].max_reaction_joint, out[k].mean_balancing = _forces(
-                engine, analyse(engine, inp.to_si(np.asarray(out[k].samples_phi, float))))
+            out[k] = with_forces(out[k], *_forces(engine, analyse(engine, inp.to_si(np.asarray(out[k].samples_phi,
+                                                                                                float)))))
         return
     largest, joints = got.largest()
     mean = got.mean_balancing()
     for i, k in enumerate(idx):
-        out[k].max_reaction = None if joints[i] is None else float(largest[i])
-        out[k].max_reaction_joint = joints[i]
-        out[k].mean_balancing = None if not np.isfinite(mean[i]) else float(mean[i])
+        out[k] = with_forces(out[k], None if joints[i] is None else float(largest[i]), joints[i],
+                             None if not np.isfinite(mean[i]) else float(mean[i]))
 
 
 def _chunks(count: int, size: int) -> list[slice]:
@@ -202,7 +203,7 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
         results = run_on_client(client, run_chunk, template.raw, template.source, parts, args, progress)
     inp = base.inputs[0]
     designs = [d for part in results for d in part]
-    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs)
+    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs, _counts(designs))
 
 
 def stderr_progress(done: int, total: int):

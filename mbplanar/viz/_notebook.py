@@ -126,8 +126,8 @@ def dynamics_html(dyn) -> str:
 def check_html(report) -> str:
     rows = [("input", f"{report.input} [{report.unit}]"), ("full turn", "yes" if report.full_turn else "no"),
             ("range", f"{_g(report.range[0])} … {_g(report.range[1])} {report.unit}")]
-    rows += [("motion limit", lim["message"]) for lim in report.limits]
-    rows += [("change point", c["message"]) for c in report.change_points]
+    rows += [("motion limit", lim.message) for lim in report.limits]
+    rows += [("change point", c.message) for c in report.change_points]
     for ang in report.transmission:
         rows.append((f"transmission angle {ang.name}", f"{math.degrees(ang.minimum):.4g}° … "
                      f"{math.degrees(ang.maximum):.4g}°"))
