@@ -425,11 +425,11 @@ def process_cases(rounds, cold):
                     "first_use": ([py, "-c", FIRST_USE], env), "solve": (solve, env)}
         cold_s = None
         if cold and BEST == "numba":
-            # installed with its install step: `mbplanar compile` (into the empty caches: numba's and the
-            # built kernels'), then the first run after it (cold) and the next ones (warm); and without it:
-            # numba compiles on the first run, into another empty cache (MBPLANAR_AOT=0: nothing built)
+            # installed with its install step: `mbplanar compile` (into an empty numba cache), then the first
+            # run after it (cold) and the next ones (warm); and without it: numba compiles on the first run,
+            # into another empty cache
             numba_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba"))
-            jit_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba-jit"), MBPLANAR_AOT="0")
+            jit_env = dict(env, NUMBA_CACHE_DIR=str(Path(cache) / "numba-jit"))
             jit_cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], jit_env)
             install_s = run_process([py, "-m", "mbplanar", "compile"], numba_env)
             cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], numba_env)

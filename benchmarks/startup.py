@@ -12,8 +12,11 @@ main | tar -x -C DIR`) in the same rounds, so that a load from other processes f
 case the baseline cannot run (an option it lacks) is left out for it.
 
 Cases: `import numpy` (the floor), `import mbplanar`, `mbplanar solve models/fourbar.toml --at 30` with
-the engine cache and without it (`--no-cache`), the same with `--backend numba`, and numba's own floor: a
-process that calls a cached one-line kernel once (what any use of numba costs, mbplanar or not).
+the engine cache and without it (`--no-cache`), the same with `--backend numba`, numba's own floor: a
+process that calls a cached one-line kernel once (what any use of numba costs, mbplanar or not), and the
+first use of the compiled backend after `mbplanar compile` (run once before the rounds): a new process
+that sweeps 3600 positions of `models/fourbar_loaded.toml` with its kinetostatics and one position, on
+numpy and on numba; its line "numba over numpy" is the difference of the two.
 """
 
 from __future__ import annotations
@@ -39,7 +42,16 @@ CASES = {
     "solve (numba, cached engine)": ["-m", "mbplanar", "--backend", "numba", *SOLVE],
     "solve (numba, --no-cache)": ["-m", "mbplanar", "--no-cache", "--backend", "numba", *SOLVE],
     "numba's floor (a one-line kernel)": ["-c", "import numpy, startup_floor; startup_floor.total(numpy.ones(3))"],
+    "first use (numpy)": ["-c", "import sys; sys.argv.append('numpy'); import startup_use"],
+    "first use (numba, after mbplanar compile)": ["-c", "import sys; sys.argv.append('numba'); import startup_use"],
 }
+#: the first use: a new process that sweeps a loaded four-bar with its kinetostatics and one position
+USE = """import sys, numpy as np, mbplanar
+e = mbplanar.Engine(mbplanar.read_model('models/fourbar_loaded.toml'), backend=sys.argv[-1])
+m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 2 * np.pi, 3600, endpoint=False))
+k = mbplanar.kinetostatics(e, m)
+p = mbplanar.position(e, 0.3, omega=2.0)
+"""
 #: numba's own start in a new process, whatever the package: a cached one-line kernel called once
 FLOOR_KERNEL = """import numba
 
@@ -106,6 +118,11 @@ def main(argv=None) -> int:
         for which in checkouts:
             os.makedirs(os.path.join(cache_dir, which))
             Path(cache_dir, which, "startup_floor.py").write_text(FLOOR_KERNEL)
+            Path(cache_dir, which, "startup_use.py").write_text(USE)
+        if any("after mbplanar compile" in name for name in cases):
+            for which, package in checkouts.items():  # the install step, into numba's cache of the checkout
+                subprocess.run([sys.executable, "-m", "mbplanar", "compile"], check=True, capture_output=True,
+                               cwd=package, env=environment(os.path.join(cache_dir, which), package))
         runs = {(which, name): (case, environment(os.path.join(cache_dir, which), package))
                 for which, package in checkouts.items() for name, case in cases.items()
                 if which == "this" or "floor" not in name}
@@ -114,9 +131,14 @@ def main(argv=None) -> int:
         floor = figures[(which, "import numpy")]
         for (where, name), got in figures.items():
             if where == which:
-                print(f"{which:8s} {name:34s} wall {got['wall_s']:.3f} s "
+                print(f"{which:8s} {name:42s} wall {got['wall_s']:.3f} s "
                       f"(numpy + {got['wall_s'] - floor['wall_s']:.3f})   cpu {got['cpu_s']:.3f} s "
                       f"(numpy + {got['cpu_s'] - floor['cpu_s']:.3f})")
+        numpy_use, numba_use = figures.get((which, "first use (numpy)")), \
+            figures.get((which, "first use (numba, after mbplanar compile)"))
+        if numpy_use and numba_use:
+            print(f"{which:8s} {'first use: numba over numpy':42s} wall {numba_use['wall_s'] - numpy_use['wall_s']:.3f} s"
+                  f"   cpu {numba_use['cpu_s'] - numpy_use['cpu_s']:.3f} s")
     if args.json:
         document = {"runs": args.runs, "checkouts": {k: str(v) for k, v in checkouts.items()},
                     "cases": [{"checkout": which, "case": name, **got} for (which, name), got in figures.items()]}

@@ -1,26 +1,32 @@
 """mbplanar: planar linkages analysed from a table of kinematic pairs.
 
+    >>> import numpy as np
     >>> import mbplanar
     >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
-    >>> motion = mbplanar.analyse(engine, np.radians([0, 90]))     # batch of input values, SI
-    >>> motion.xy[:, motion.point("B")]                             # (B, 2) positions
-    >>> mbplanar.position(engine, np.radians(30)).xy                # one position, lean: (P, 2)
-    >>> engine.topology.structure.formula                           # Assur groups
-    >>> mbplanar.check(engine).full_turn                            # motion limits, angles
-    >>> mbplanar.kinetostatics(engine, motion).balancing["O"]       # reactions, balancing moment
-    >>> mbplanar.machine_dynamics(engine).flywheel                  # flywheel, true ω(φ)
+    >>> motion = mbplanar.analyse(engine, np.radians([0, 90]))        # a batch of input values, SI
+    >>> motion.xy[:, motion.point("B")].round(4)                       # (B, 2) positions of B, m
+    array([[0.2687, 0.248 ],
+           [0.2615, 0.247 ]])
+    >>> mbplanar.position(engine, np.radians(30)).xy.shape             # one position, lean: (P, 2)
+    (5, 2)
+    >>> engine.topology.structure.formula                              # Assur groups
+    'I(0,1) → II(2,3)'
+    >>> mbplanar.check(engine).full_turn                               # motion limits, angles
+    True
+    >>> loaded = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> forces = mbplanar.kinetostatics(loaded, mbplanar.analyse(loaded, np.radians([60.0]), omega=10.0))
+    >>> round(float(forces.balancing["O"][0]), 5)                      # reactions, balancing moment (N·m)
+    2.69865
+    >>> shaper = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> round(float(mbplanar.machine_dynamics(shaper).driving_moment), 3)   # flywheel, true ω(φ): N·m
+    102.058
 
 The public API is this module. The subpackages (`model`, `structure`, `engine`, `kinematics`, `forces`,
 `backends`, `analysis`, `io`, `viz`) export their own documented names; modules whose names start with an
 underscore are private. See ``docs/architecture.md``.
 """
 
-from . import _deprecated
 from .errors import MbplanarError, ModelError, MotionError
-
-_deprecated.install()  # old module paths (mbplanar.solver, ...) as warning aliases, for one release
-for _old in _deprecated.SHADOWED:  # the old module mbplanar.check gave way to the function, served below
-    globals().pop(_old, None)
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
            "Engine", "Limit", "analyse", "Motion", "position", "Position", "MbplanarError", "ModelError", "MotionError",
@@ -35,7 +41,7 @@ _HOME = {**dict.fromkeys(["CheckReport", "check"], "analysis"), **dict.fromkeys(
          **dict.fromkeys(["Input", "Joint", "Link", "Mechanism", "Point", "assemble", "parse_model", "read_model"],
                          "model")}
 _SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-                "study", "synthesis", "cli", "errors")
+                "study", "synthesis", "formats", "cli", "errors")
 
 
 def __getattr__(name: str):

@@ -839,10 +839,11 @@ def cmd_report(args):
 
 # -- compile ----------------------------------------------------------------------------------------
 def cmd_compile(args):
-    """Build the numba backend's kernels ahead of time (`backends._aot`): later processes load them
-    without importing numba."""
+    """Compile the numba backend's kernels into numba's cache (`backends._aot`), the design batch's too:
+    later processes load them."""
     from .backends._aot import build
-    build(sys.stderr)
+    from .study.batch import compile_sample
+    build(sys.stderr, samples=(compile_sample,))
     return 0
 
 
@@ -1026,6 +1027,18 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _formats(name):
+    """The options and the run of a command of `mbplanar.formats.command`, imported when it runs."""
+    def add_options(s):
+        from .formats.command import add_arguments
+        add_arguments(name, s)
+
+    def run_command(args):
+        from .formats.command import run
+        return run(name, args)
+    return add_options, run_command
+
+
 #: every command in the order of `mbplanar --help`: its line there, the function that adds its options
 #: to its parser, and the function that runs it. The options are added for the running command only
 #: (`build_parser`): the cam, synthesis and study code is imported only when its command runs or shows
@@ -1045,14 +1058,19 @@ COMMANDS = {
     "report": ("one self-contained HTML report of the model", _report_options, cmd_report),
     "synth": ("synthesis: seed 001's guiding mechanism, function and motion generation", _synth_options, cmd_synth),
     "check": ("full turn?, dead points, extreme positions, transmission angles", _check_options, cmd_check),
-    "compile": ("build the numba backend's compiled kernels ahead of time, once after installing mbplanar[fast]: "
-                "later runs start without numba's compile and load", _no_options, cmd_compile),
+    "compile": ("compile the numba backend's kernels into numba's cache, once after installing mbplanar[fast]: "
+                "later runs load them instead of compiling", _no_options, cmd_compile),
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
+    "schema": ("the JSON Schema of the model table (for editors: completion and checks)", *_formats("schema")),
+    "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)", *_formats("import")),
+    "export": ("the mechanism at a position as a drawing: DXF (CAD layers) or SVG", *_formats("export")),
+    "examples": ("list the bundled example models, or copy them out", *_formats("examples")),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "schema", "import", "export",
+                                                    "examples")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")

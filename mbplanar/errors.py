@@ -24,6 +24,15 @@ class MbplanarError(Exception):
         The model file (or "<python>", "<table>").
     where : str, optional
         The row, joint, link or argument at fault, e.g. "loads[2] 'cutting'".
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> try:
+    ...     mbplanar.read_model("models/no_such_model.toml")
+    ... except mbplanar.MbplanarError as error:      # ModelError and MotionError alike
+    ...     print(error)
+    models/no_such_model.toml: cannot read the model file (No such file or directory)
     """
 
     exit_code = 1
@@ -44,13 +53,35 @@ def _rebuild(cls, message, source, where):
 
 
 class ModelError(MbplanarError, ValueError):
-    """The table, the model or an argument is wrong: unknown names, bad values, wrong DOF, ..."""
+    """The table, the model or an argument is wrong: unknown names, bad values, wrong DOF, ...
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> try:
+    ...     mbplanar.parse_model({"name": "empty", "ground": "0"}, source="empty.toml")
+    ... except mbplanar.ModelError as error:
+    ...     print(error.source)
+    empty.toml
+    """
 
     exit_code = 2
 
 
 class MotionError(MbplanarError):
-    """The mechanism cannot be assembled or cannot move as asked."""
+    """The mechanism cannot be assembled or cannot move as asked.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml"))
+    >>> try:
+    ...     mbplanar.position(engine, np.radians(180.0))
+    ... except mbplanar.MotionError as error:
+    ...     print(str(error).split(":")[1])
+     cannot reach t = 3.141592654 rad on the drawn branch
+    """
 
     exit_code = 1
 

@@ -1,12 +1,14 @@
-"""The kernels built ahead of time (`mbplanar.backends._aot`, ``mbplanar compile``): built once for this
-module, they give the just-in-time kernels' results bit for bit on several models, load in a new process
-without numba, and a stale, broken or switched-off module falls back to numba's kernels."""
+"""The kernels compiled ahead of time (`mbplanar.backends._aot`, ``mbplanar compile``): numba's own on-disk
+cache, filled with every kernel (the design batch's included), which a new process then loads without
+compiling; mbplanar's index of that cache, which removes kernels compiled from other sources; and no
+private attribute of numba written, no ``numba.pycc``."""
 
+import ast
+import json
 import os
-import shutil
+import re
 import subprocess
 import sys
-import sysconfig
 from collections import namedtuple
 from pathlib import Path
 
@@ -17,166 +19,187 @@ import mbplanar
 from mbplanar.errors import MbplanarError
 
 numba = pytest.importorskip("numba")
-pytest.importorskip("numba.pycc")
 
 from mbplanar.backends import _aot, _jit  # noqa: E402
 
-MODELS = Path(__file__).resolve().parent.parent / "models"
-ROOT = MODELS.parent
-COMPARED = ("fourbar_loaded", "slider_crank", "six_bar_press", "class4_group")
-
-
-def _has_compiler() -> bool:
-    return shutil.which((sysconfig.get_config_var("CC") or "cc").split()[0]) is not None
+ROOT = Path(__file__).resolve().parent.parent
+PACKAGE = ROOT / "mbplanar"
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    """The module built into a cache folder of its own; afterwards the rest of the run uses numba's kernels."""
-    if not _has_compiler():
-        pytest.skip("no C compiler: the kernels cannot be built ahead of time")
-    before = os.environ.get("MBPLANAR_CACHE_DIR")
-    os.environ["MBPLANAR_CACHE_DIR"] = str(tmp_path_factory.mktemp("aot-cache"))
-    try:
-        yield _aot.build()
-    finally:
-        if before is None:
-            os.environ.pop("MBPLANAR_CACHE_DIR", None)
+def built():
+    """`mbplanar compile`'s build into numba's cache folder of this checkout (what the other numba tests use:
+    the kernels it compiles are not compiled again by them)."""
+    from mbplanar.study.batch import compile_sample
+    return _aot.build(samples=(compile_sample,))
+
+
+def test_compile_reaches_every_kernel_the_design_batch_included(built):
+    import importlib
+    for module in _aot.KERNEL_MODULES:
+        importlib.import_module(f"mbplanar.backends.{module}")
+    names = {kernel.name for kernel in _aot.entries(_jit.kernels())}
+    assert {"mbplanar.backends._numba_kinetostatics._kernel", "mbplanar.backends._numba_kinematics._sweep",
+            "mbplanar.backends._numba_design._designs"} <= names
+    index = json.loads((built / _aot.INDEX).read_text())
+    assert index["digest"] == _aot.digest() and index["kernels"] == sorted(names)
+    assert _aot.status()["kernels"] == sorted(names)
+    for kernel in _aot.entries(_jit.kernels()):  # compiled or loaded here (the kernels they call with them)
+        assert kernel.dispatcher.signatures, kernel.name
+    # every kernel module is one of the sources the index covers, and numba's cache is where `_jit` says
+    backends = {p.stem for p in (PACKAGE / "backends").glob("*.py")}
+    with_kernels = {m for m in backends if re.search(r"^\w+ = njit\(", (PACKAGE / "backends" / f"{m}.py").read_text(), re.M)}
+    assert with_kernels == set(_aot.KERNEL_MODULES) and set(_aot.KERNEL_MODULES) <= {p.stem for p in _aot.sources()}
+    assert Path(_jit.cache_path()) == built
+
+
+CHILD = """import sys, json, numpy as np, mbplanar
+from mbplanar.backends import _jit
+from mbplanar.study import design_batch
+e = mbplanar.Engine(mbplanar.read_model(sys.argv[1]), backend="numba", threads=1)
+m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 6.2, 500), 2.0, 1.0)
+k = mbplanar.kinetostatics(e, m)
+p = mbplanar.position(e, 0.3, omega=2.0)
+b = design_batch(sys.argv[2], {"a": np.linspace(0.09, 0.11, 8)}, backend="numba")
+d = b.solve(np.radians(np.arange(0.0, 360.0, 30.0)))
+made = [kernel for kernel in _jit.kernels() if kernel.made]
+print(json.dumps(dict(misses=sum(kernel.dispatcher.stats.cache_misses.total() for kernel in made),
+                      hits=sum(kernel.dispatcher.stats.cache_hits.total() for kernel in made),
+                      rows=m.records is not None, total=float(m.a.sum() + k.balancing["O"].sum() + p.xy.sum()),
+                      designs=float(np.nansum(d.xy)))))
+"""
+
+
+def test_a_new_process_after_compile_loads_every_kernel_without_compiling(built):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = subprocess.run([sys.executable, "-c", CHILD, str(ROOT / "models" / "fourbar_loaded.toml"),
+                          str(ROOT / "models" / "fourbar_design.toml")], env=env, capture_output=True, text=True,
+                         check=True, cwd=ROOT)
+    got = json.loads(out.stdout)
+    assert got["misses"] == 0 and got["hits"] >= 4 and got["rows"], (got, out.stderr)
+    assert "compiling" not in out.stderr  # (no compile notice)
+    engine = mbplanar.Engine(mbplanar.read_model(ROOT / "models" / "fourbar_loaded.toml"))
+    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0, 6.2, 500), 2.0, 1.0)
+    reference = (m.a.sum() + mbplanar.kinetostatics(engine, m).balancing["O"].sum()
+                 + mbplanar.position(engine, 0.3, omega=2.0).xy.sum())
+    assert got["total"] == pytest.approx(reference, rel=1e-12, abs=1e-9)
+
+
+def _fake_cache(folder: Path) -> dict:
+    """A cache folder with numba's files of two kernels, and files that are not the kernels'."""
+    folder.mkdir(parents=True, exist_ok=True)
+    files = {name: folder / name for name in (
+        "_numba_kinematics._sweep-235.py311.nbi", "_numba_kinematics._sweep-235.py311.1.nbc",
+        "_numba_design._designs-870.py311.nbi", "_numba.cpython-311.pyc", "other_module.f-3.py311.nbi")}
+    for path in files.values():
+        path.write_bytes(b"x")
+    return files
+
+
+def test_an_index_of_other_sources_removes_the_kernels_cache_files(tmp_path):
+    files = _fake_cache(tmp_path / "cache")
+    folder = tmp_path / "cache"
+    (folder / _aot.INDEX).write_text(json.dumps({"format": _aot.FORMAT, "digest": "other sources", "kernels": ["k"]}))
+    index = _aot._checked(folder, "these sources")
+    assert index == {"format": _aot.FORMAT, "digest": "these sources", "kernels": None}
+    assert json.loads((folder / _aot.INDEX).read_text()) == index
+    left = {name for name, path in files.items() if path.exists()}
+    assert left == {"_numba.cpython-311.pyc", "other_module.f-3.py311.nbi"}  # only the kernels' files went
+    # the same sources: nothing removed, the index kept
+    files = _fake_cache(folder)
+    assert _aot._checked(folder, "these sources") == index and all(p.exists() for p in files.values())
+    # no index, or an unreadable one: as other sources
+    for text in (None, "not json", "[1, 2]"):
+        _fake_cache(folder)
+        if text is None:
+            (folder / _aot.INDEX).unlink()
         else:
-            os.environ["MBPLANAR_CACHE_DIR"] = before
-        _jit.forget()
+            (folder / _aot.INDEX).write_text(text)
+        assert _aot._checked(folder, "these sources")["digest"] == "these sources"
+        assert not (folder / "_numba_design._designs-870.py311.nbi").exists()
 
 
-@pytest.fixture(autouse=True)
-def looked_up_again():
-    """Each test finds the kernels afresh, and leaves them to be found afresh."""
-    _jit.forget()
-    yield
-    _jit.forget()
+def test_a_new_process_checks_numbas_cache_folder_before_loading(tmp_path):
+    """With NUMBA_CACHE_DIR (numba's documented setting) the kernels' cache is there; a process that
+    makes a kernel finds the stale index and removes the stale kernel files before numba reads them."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT), NUMBA_CACHE_DIR=str(tmp_path))
+    probe = "from mbplanar.backends import _jit; print(_jit.cache_path())"
+    folder = Path(subprocess.run([sys.executable, "-c", probe], env=env, capture_output=True, text=True,
+                                 check=True).stdout.strip())
+    assert folder.is_relative_to(tmp_path) and json.loads((folder / _aot.INDEX).read_text())["kernels"] is None
+    files = _fake_cache(folder)
+    index = json.loads((folder / _aot.INDEX).read_text())
+    subprocess.run([sys.executable, "-c", probe], env=env, check=True, capture_output=True)
+    assert all(p.exists() for p in files.values())  # these sources: kept
+    (folder / _aot.INDEX).write_text(json.dumps(dict(index, digest="an older mbplanar")))
+    subprocess.run([sys.executable, "-c", probe], env=env, check=True, capture_output=True)
+    assert not files["_numba_kinematics._sweep-235.py311.nbi"].exists() and files["other_module.f-3.py311.nbi"].exists()
+    assert json.loads((folder / _aot.INDEX).read_text())["digest"] == index["digest"]
 
 
-def _results(name: str) -> dict:
-    """Every output of the kernels on model `name` (a sweep with and without rates, its kinetostatics, one
-    position) on a new engine, with the kernels `_jit` finds now."""
-    engine = mbplanar.Engine(mbplanar.read_model(MODELS / f"{name}.toml"), backend="numba", threads=1)
-    phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * np.pi, 90, endpoint=False)
-    m, bare = mbplanar.analyse(engine, phi, 3.0, -2.0), mbplanar.analyse(engine, phi, rates=False)
-    out = dict(xy=m.xy, v=m.v, a=m.a, w=m.w, e=m.e, vq=m.vq, ic=m.ic, rate=m.rate,
-               rows=m.records.view(np.float64), bare=bare.xy, value=bare.value)
-    assert m.records is not None  # (the compiled path took the sweep)
-    if engine.mech.loads or any(link.mass for link in engine.mech.links.values()):
-        k = mbplanar.kinetostatics(engine, m)
-        out.update(balancing=np.asarray(list(k.balancing.values())[0]), residual=k.virtual_power_residual,
-                   reactions=np.array([(r.fx, r.fy, r.moment) for r in k.reactions.values()]))
-    one = mbplanar.position(engine, float(phi[7]))
-    out.update(one_xy=np.asarray(one.xy), one_a=np.asarray(one.a))
-    return out
+def test_the_digest_follows_every_source(monkeypatch, tmp_path):
+    before = _aot.digest()
+    copies = []
+    for path in _aot.sources():
+        copy = tmp_path / path.name
+        copy.write_bytes(path.read_bytes())
+        copies.append(copy)
+    monkeypatch.setattr(_aot, "sources", lambda: copies)
+    monkeypatch.setattr(_aot, "_digest", [])
+    assert _aot.digest() == before
+    copies[-1].write_bytes(copies[-1].read_bytes() + b"\n")
+    monkeypatch.setattr(_aot, "_digest", [])
+    assert _aot.digest() != before
 
 
-def _kernel_functions() -> set:
-    """Whether the compiled functions the kernels use now are the built module's (a set of bools)."""
-    from mbplanar.backends import _numba_kinematics, _numba_kinetostatics
-    found = set()
-    for kernel in (_numba_kinematics._sweep, _numba_kinetostatics._kernel):
-        found.update(getattr(f, "__module__", None) == _aot.MODULE for f in kernel._entries.values())
-    return found
+def test_kernels_read_no_global_from_outside_the_sources():
+    """numba freezes the globals a kernel reads into the compiled code: each must be defined in one of
+    the index's sources (not imported from another module), else an edit there would not be seen."""
+    import importlib
+    sources = {p.stem for p in _aot.sources()}
+    for module in _aot.KERNEL_MODULES:
+        importlib.import_module(f"mbplanar.backends.{module}")
+    imported = {}
+    for name in _aot.KERNEL_MODULES:
+        tree = ast.parse((PACKAGE / "backends" / f"{name}.py").read_text())
+        for node in tree.body:
+            if isinstance(node, ast.ImportFrom) and not (node.level == 1 and (node.module or "") in sources | {""}):
+                imported.update({(name, alias.asname or alias.name): node.module for alias in node.names})
+    wrong = []
+    for kernel in _jit.kernels():
+        module = kernel.py_func.__module__.rpartition(".")[2]
+        for name in kernel.py_func.__code__.co_names:
+            value = kernel.py_func.__globals__.get(name)
+            if value is None or type(value).__name__ == "module":
+                continue
+            if (module, name) in imported:
+                wrong.append(f"{kernel.name} reads {name} from {imported[module, name]}")
+    assert not wrong, wrong
 
 
-def test_built_kernels_equal_numbas_bit_for_bit(built, monkeypatch):
-    assert (built / _aot.MANIFEST).is_file() and _aot.available()
-    _jit.forget()
-    mine = {name: _results(name) for name in COMPARED}
-    assert _kernel_functions() == {True}  # the built module's functions, not numba's
-    monkeypatch.setenv("MBPLANAR_AOT", "0")
-    _jit.forget()
-    theirs = {name: _results(name) for name in COMPARED}
-    assert _kernel_functions() == {False}
-    for name in COMPARED:
-        assert mine[name].keys() == theirs[name].keys()
-        for key, value in mine[name].items():
-            assert np.array_equal(value, theirs[name][key], equal_nan=True), (name, key)
-
-
-def test_a_new_process_runs_them_without_numba(built):
-    script = ("import sys, numpy as np, mbplanar\n"
-              "e = mbplanar.Engine(mbplanar.read_model(sys.argv[1]), backend='numba', threads=2)\n"
-              "m = mbplanar.analyse(e, e.phi_drawn[0] + np.linspace(0, 6.2, 1000))\n"
-              "k = mbplanar.kinetostatics(e, m)\n"
-              "print('numba' in sys.modules, m.records is not None, repr(float(m.a.sum() + k.balancing['O'].sum())))")
-    env = dict(os.environ, MBPLANAR_CACHE_DIR=str(built.parent.parent), PYTHONPATH=str(ROOT))
-    out = subprocess.run([sys.executable, "-c", script, str(MODELS / "fourbar_loaded.toml")], env=env,
-                         capture_output=True, text=True, check=True)
-    imported, compiled, total = out.stdout.split()
-    assert (imported, compiled) == ("False", "True"), out.stderr
-    assert out.stderr == ""  # (no compile notice)
-    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "fourbar_loaded.toml"))
-    m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0, 6.2, 1000))
-    reference = m.a.sum() + mbplanar.kinetostatics(engine, m).balancing["O"].sum()
-    assert float(total) == pytest.approx(reference, rel=1e-12, abs=1e-9)
-
-
-def test_stale_broken_or_switched_off_modules_are_not_loaded(built, monkeypatch, tmp_path):
-    assert _aot.available()
-    monkeypatch.setenv("MBPLANAR_AOT", "0")
-    _aot.reset()
-    assert not _aot.available()
-    monkeypatch.delenv("MBPLANAR_AOT")
-    # the code changed: another key, another folder; the old module is not looked at
-    monkeypatch.setattr(_aot, "_code_stamp", lambda: "edited")
-    _aot.reset()
-    assert _aot.folder() != built and not _aot.available()
-    # the manifest's key does not match this copy: not loaded
-    monkeypatch.setattr(_aot, "folder", lambda: built)
-    _aot.reset()
-    assert not _aot.available()
-    monkeypatch.undo()
-    # a broken module with the right key: not loaded, and the kernels compile with numba
-    broken = tmp_path / "broken"
-    broken.mkdir(mode=0o700)
-    shutil.copy(built / _aot.MANIFEST, broken / _aot.MANIFEST)
-    (broken / next(p.name for p in built.iterdir() if p.name.startswith(_aot.MODULE))).write_bytes(b"not a module")
-    monkeypatch.setattr(_aot, "folder", lambda: broken)
-    _jit.forget()
-    assert not _aot.available()
-    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "fourbar.toml"), backend="numba", threads=1)
-    assert mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0, 1, 5)).records is not None
-    assert _kernel_functions() == {False}
-    # a folder others can write into: not loaded
-    monkeypatch.setattr(_aot, "folder", lambda: built)
-    os.chmod(built, 0o777)
-    try:
-        _aot.reset()
-        assert not _aot.available()
-    finally:
-        os.chmod(built, 0o700)
-    _jit.forget()
-
-
-def test_arguments_of_other_types_go_to_numba(built):
-    """A kernel asked for types the module was not built for gets numba's kernel for them."""
-    from mbplanar.backends import _numba_kinematics
-    _jit.forget()
-    assert _aot.function(_numba_kinematics._sweep.name, "?") is None
-    assert _aot.function("mbplanar.backends.nothing", "") is None
-
-
-def test_build_without_numba_pycc_is_a_clear_error(monkeypatch, capsys):
-    monkeypatch.setitem(sys.modules, "numba.pycc", None)
-    with pytest.raises(MbplanarError, match="building the compiled kernels needs numba"):
+def test_compile_without_numba_is_a_clear_error(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "numba", None)
+    with pytest.raises(MbplanarError, match="compiling the kernels needs numba"):
         _aot.build()
     from mbplanar.cli import main
     assert main(["compile"]) == 1
     err = capsys.readouterr().err
-    assert err.startswith("mbplanar: building the compiled kernels needs numba") and err.count("\n") == 1
+    assert err.startswith("mbplanar: compiling the kernels needs numba") and err.count("\n") == 1
+
+
+def test_no_numba_pycc_and_no_private_attribute_of_numba_written():
+    for path in PACKAGE.rglob("*.py"):
+        text = path.read_text()
+        assert "numba.pycc" not in text and "_source_stamp" not in text and "_cache_file" not in text, path
 
 
 Pair = namedtuple("Pair", "a b")
 
 
 def test_signature_tells_apart_what_numba_types_apart():
-    """`_jit.signature` (made without numba) equal exactly where `numba.typeof` is: dtypes, dimensions,
-    layouts, read-only arrays, scalars, tuples and named tuples; an unaligned array has a signature of its
-    own (the built kernels are for aligned ones)."""
+    """`_jit.signature` (made without numba, the key of a kernel's compiled functions) equal exactly where
+    `numba.typeof` is: dtypes, dimensions, layouts, read-only arrays, scalars, tuples and named tuples; an
+    unaligned array has a signature of its own."""
     base = np.zeros((3, 4))
     readonly = np.zeros(3)
     readonly.flags.writeable = False

@@ -109,18 +109,14 @@ def test_compiled_only_where_it_pays(monkeypatch):
     small to repay numba's own start, unless numba is loaded already; without a plan (a program using
     the library) it always runs."""
     pytest.importorskip("numba")
-    from mbplanar.backends import _aot, _numba
+    from mbplanar.backends import _numba
     numba = load("numba")
     assert numba.should_run("kinematics", 10) is True
     monkeypatch.delitem(__import__("sys").modules, "numba")
-    monkeypatch.setattr(_aot, "available", lambda: False)
     with planned(1):
         assert "pays from 500000" in numba.should_run("kinematics", 1)
     with planned(_numba.PAYS_FROM):
         assert numba.should_run("kinetostatics", 1) is True
-    monkeypatch.setattr(_aot, "available", lambda: True)
-    with planned(_numba.PAYS_FROM_BUILT):
-        assert numba.should_run("kinematics", 100) is True
     assert planned.positions is None
     assert "no compiled simulation" in numba.should_run("simulation", 10)
 

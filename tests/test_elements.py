@@ -1,5 +1,5 @@
-"""Springs, dampers, torques between links and switched rows (`mbplanar.loads`); the link's angle offset
-and a centre of mass by coordinates (`mbplanar.table`)."""
+"""Springs, dampers, torques between links and switched rows (`mbplanar.forces`); the link's angle offset
+and a centre of mass by coordinates (`mbplanar.model`)."""
 
 import math
 import tomllib

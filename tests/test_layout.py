@@ -1,6 +1,6 @@
 """The package layout: subpackages export their names, imports run one way (model → structure → engine →
-kinematics → forces → backends → analysis → io, viz → cam → cli), and the old module paths still work for one
-release, warning on every name read from them."""
+kinematics → forces → backends → analysis → io, viz → cam → synthesis → formats → cli), and the module paths of
+the old flat layout are gone."""
 
 import ast
 import importlib
@@ -10,11 +10,10 @@ import warnings
 import pytest
 
 import mbplanar
-from mbplanar import _deprecated
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
-LAYERS = ["errors", "_deprecated", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
-          "study", "io", "viz", "cam", "synthesis", "cli"]  # cams, synthesis, studies use what precedes them
+LAYERS = ["errors", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
+          "study", "io", "viz", "cam", "synthesis", "formats", "cli"]  # cams, synthesis, studies use what precedes them
 
 
 def _layer(module: str) -> int:
@@ -24,24 +23,72 @@ def _layer(module: str) -> int:
 
 
 def _imports(path: pathlib.Path):
-    """The package-internal modules imported by `path` (at module level or inside a function), as paths
-    under `mbplanar`."""
+    """The package-internal modules imported by `path` (at module level or inside a function, relative or
+    absolute, or by ``importlib.import_module`` with a name it can read), as paths under `mbplanar`."""
     rel = path.relative_to(PACKAGE).with_suffix("")
-    parts = list(rel.parts)
-    package = parts[:-1]                # the package a relative import starts from
-    tree = ast.parse(path.read_text())
+    yield from (target for target, _, _ in imports_in(path.read_text(), list(rel.parts)))
+
+
+def imports_in(source: str, module: list[str]):
+    """(target, names, line) of every package-internal import in `source`, the text of the module
+    `module` (its path under `mbplanar`, as parts); target is a path under `mbplanar` ('engine._solver'),
+    names the names imported from it (empty for ``import x`` and ``import_module``)."""
+    package = module[:-1] if module[-1] != "__init__" else module[:-1]
+    tree = ast.parse(source)
     typing_only = {id(n) for block in ast.walk(tree) if isinstance(block, ast.If)
                    and getattr(block.test, "id", None) == "TYPE_CHECKING" for n in ast.walk(block)}
     for node in ast.walk(tree):
         if id(node) in typing_only:     # names for annotations only
             continue
-        if isinstance(node, ast.ImportFrom) and node.level:
-            base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
-            target = base + (node.module.split(".") if node.module else [])
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                target = base + (node.module.split(".") if node.module else [])
+            elif node.module == "mbplanar" or (node.module or "").startswith("mbplanar."):
+                target = node.module.split(".")[1:]
+            else:
+                continue
+            names = [alias.name for alias in node.names]
             if target:
-                yield ".".join(target)
-            else:                       # from . import x (at the top level)
-                yield from (alias.name for alias in node.names)
+                yield ".".join(target), names, node.lineno
+            else:                       # from . import x (at the top level): the modules x
+                yield from ((name, [], node.lineno) for name in names)
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.startswith("mbplanar."):
+                    yield alias.name.split(".", 1)[1], [], node.lineno
+        elif isinstance(node, ast.Call) and getattr(node.func, "attr", getattr(node.func, "id", None)) == "import_module":
+            target = _module_named(node, package, module if module[-1] != "__init__" else package)
+            if target:
+                yield target, [], node.lineno
+
+
+def _module_named(call: ast.Call, package: list[str], name_of: list[str]) -> str | None:
+    """The module an ``import_module(...)`` call names, as a path under `mbplanar`, where the call spells it
+    out: "mbplanar.x.y", f"{__package__}.x" (`package`'s x) or f"{__name__}.x" (`name_of`'s); None
+    otherwise."""
+    if not call.args:
+        return None
+    name = call.args[0]
+    if isinstance(name, ast.Constant) and isinstance(name.value, str):
+        return name.value.split(".", 1)[1] if name.value.startswith("mbplanar.") else None
+    if isinstance(name, ast.JoinedStr) and len(name.values) == 2:
+        head, tail = name.values
+        if (isinstance(head, ast.FormattedValue) and getattr(head.value, "id", None) in ("__name__", "__package__")
+                and isinstance(tail, ast.Constant) and tail.value.startswith(".")):
+            base = package if head.value.id == "__package__" else name_of
+            return ".".join(base + tail.value[1:].split(".")) or None
+    return None
+
+
+def test_the_import_reader_follows_absolute_imports_and_import_module():
+    source = ("from .. import errors\nfrom ..engine._solver import Engine\nimport mbplanar.viz._plotting\n"
+              "from mbplanar.forces import kinetostatics\nimport importlib, numpy\n"
+              "def f(m):\n    importlib.import_module('mbplanar.cam.design')\n"
+              "    importlib.import_module(f'{__package__}._motion')\n    importlib.import_module(m)\n")
+    found = [(target, names) for target, names, _ in imports_in(source, ["kinematics", "_single"])]
+    assert found == [("errors", []), ("engine._solver", ["Engine"]), ("viz._plotting", []),
+                     ("forces", ["kinetostatics"]), ("cam.design", []), ("kinematics._motion", [])]
 
 
 def test_imports_run_one_way():
@@ -59,49 +106,30 @@ def test_imports_run_one_way():
     assert not wrong, wrong
 
 
-@pytest.mark.parametrize("old", sorted(_deprecated.MOVED))
-def test_an_old_module_path_warns_and_gives_the_same_objects(old):
-    moved = _deprecated.MOVED[old]
-    new = importlib.import_module("mbplanar." + (moved if isinstance(moved, str) else moved[0]))
-    shim = importlib.import_module("mbplanar." + old)
-    names = list(new.__all__)
-    assert names and sorted(dir(shim)) == sorted(names)
-    for name in names:
-        with pytest.warns(DeprecationWarning, match=rf"mbplanar\.{old}\.{name} is deprecated"):
-            assert getattr(shim, name) is getattr(new, name)
-    with pytest.raises(AttributeError):
-        getattr(shim, "no_such_name")
+@pytest.mark.parametrize("old", ["solver", "loads", "plotting", "check", "kinetostatics", "topology", "table",
+                                 "_numba_kinematics", "report"])
+def test_the_old_module_paths_are_gone(old):
+    """The module paths of the flat layout (never released) do not import: no import hook forwards them."""
+    with pytest.raises(ImportError):
+        importlib.import_module("mbplanar." + old)
 
 
-def test_old_import_statements_still_work():
-    with pytest.warns(DeprecationWarning, match="use mbplanar.engine.Engine"):
-        from mbplanar.solver import Engine
-    assert Engine is mbplanar.Engine
-    with pytest.warns(DeprecationWarning, match="use mbplanar.viz.register_figure"):
-        from mbplanar.plotting import register_figure  # noqa: F401
-    with pytest.warns(DeprecationWarning, match="use mbplanar.analysis.transmission_angles"):
-        from mbplanar.check import transmission_angles  # noqa: F401
-    with pytest.warns(DeprecationWarning, match=r"private now \(mbplanar.engine._tolerances.TOL\)"):
-        from mbplanar.solver import TOL  # noqa: F401
-
-
-def test_public_functions_are_not_shadowed_by_old_modules():
-    import mbplanar.check  # noqa: F401
-    import mbplanar.kinetostatics  # noqa: F401
-    assert callable(mbplanar.check) and mbplanar.check.__module__ == "mbplanar.analysis._check"
-    assert callable(mbplanar.kinetostatics)
-
-
-def test_subpackages_named_like_old_modules_keep_their_names():
-    from mbplanar.kinematics import Motion, analyse, positions_at_limits  # noqa: F401
-    from mbplanar.model import Mechanism  # noqa: F401
-    from mbplanar.structure import AssurGroup, Structure, decompose, roman  # noqa: F401
-    with pytest.warns(DeprecationWarning, match="kinematics._motion.describe_limit"):
-        from mbplanar.kinematics import describe_limit  # noqa: F401
+def test_a_misspelt_name_is_an_error_not_a_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        import mbplanar.kinematics as k
-        assert k.analyse is mbplanar.analyse
+        for module, name in ((mbplanar, "Engin"), (mbplanar.kinematics, "describe_limits"),
+                             (mbplanar.model, "read_modle"), (mbplanar.structure, "decompse"),
+                             (mbplanar.engine, "TOL"), (importlib.import_module("mbplanar.engine._tolerances"), "TOL")):
+            with pytest.raises(AttributeError):
+                getattr(module, name)
+        with pytest.raises(ImportError):
+            exec("from mbplanar.kinematics import analyze", {})
+
+
+def test_public_functions_are_not_shadowed_by_modules():
+    import mbplanar.analysis  # noqa: F401
+    assert callable(mbplanar.check) and mbplanar.check.__module__ == "mbplanar.analysis._check"
+    assert callable(mbplanar.kinetostatics)
 
 
 @pytest.mark.parametrize("package", ["model", "structure", "engine", "kinematics", "forces", "backends",

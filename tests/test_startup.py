@@ -38,8 +38,7 @@ def test_import_mbplanar_loads_the_public_names_on_first_use():
     """`import mbplanar` loads neither numpy nor a subpackage; a public name loads its own subpackage."""
     loaded = _loaded_after("import mbplanar")
     ours = {m for m in loaded if m.startswith("mbplanar.")}
-    assert "numpy" not in loaded and ours <= {"mbplanar.errors", "mbplanar._deprecated", "mbplanar.check",
-                                              "mbplanar.kinetostatics"}  # (the last two: deprecated aliases)
+    assert "numpy" not in loaded and ours <= {"mbplanar.errors"}
     loaded = _loaded_after("import mbplanar\nmbplanar.Engine")
     assert {"numpy", "mbplanar.engine"} <= loaded and not loaded & {"mbplanar.forces", "mbplanar.analysis"}
 
@@ -56,7 +55,6 @@ def test_a_forces_name_loads_only_its_own_module():
 
 def test_the_lazy_public_names_are_the_subpackages_own():
     import mbplanar
-    import mbplanar.check  # the deprecated module of that name must not shadow the function
     from mbplanar import analysis, engine, errors, forces, kinematics, model
     homes = (errors, analysis, engine, forces, kinematics, model)
     for name in mbplanar.__all__:

@@ -1,8 +1,5 @@
 """Analysis of a mechanism's motion: `check` (motion range, limit and change points, extremes,
 transmission and pressure angles, Grashof), `transmission_angles`, `pressure_angles`.
-
-``mbplanar.check`` the module is a deprecated alias of ``mbplanar.analysis._check``; ``mbplanar.check``
-the function stays.
 """
 
 from ._check import (AngleRange, CheckReport, Extreme, RegionReport, check, check_region, format_region,

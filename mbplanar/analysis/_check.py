@@ -133,6 +133,13 @@ class CheckReport:
     transmission, pressure : list of AngleRange
     grashof : Grashof or None
         A four-bar's verdict (None for another mechanism).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml")))
+    >>> report.full_turn, len(report.limits)
+    (False, 2)
     """
 
     model: str
@@ -563,7 +570,34 @@ def _angle_ranges(engine, motion, at_limits, angles_of, name_of):
 
 def check(engine, samples: int = SAMPLES) -> CheckReport:
     """Sweep the whole input range of a one-input mechanism and report its motion limits, extreme
-    positions, transmission and pressure angles (see the module docstring)."""
+    positions, transmission and pressure angles (see the module docstring).
+
+    Parameters
+    ----------
+    engine : Engine
+        A one-input mechanism.
+    samples : int
+        Positions sampled over a turn (or the travel) before the limits and the extremes are solved
+        exactly.
+
+    Returns
+    -------
+    CheckReport
+        Whether the input turns fully, its range, the motion limits and change points, the extreme
+        positions of every output, the transmission and pressure angles and, for a four-bar, Grashof.
+
+    Raises
+    ------
+    ModelError
+        A model with more than one input (`check_region` takes two).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    >>> report.full_turn, report.grashof.kind
+    (True, 'crank-rocker')
+    """
     if len(engine.inputs) != 1:
         raise ModelError("check drives one input; this model has "
                          f"{len(engine.inputs)}", source=engine.mech.source)
@@ -656,7 +690,7 @@ class SingularPoint:
 class RegionReport:
     """What a two-input mechanism can reach: a grid over both inputs' sweeps (model units), which grid
     points the drawn branch reaches (`reachable` (n_1, n_2) bool), the range each input reaches, and the
-    points of the singular curves (`SingularPoint`s: a block's Jacobian determinant changes sign
+    points of the singular curves (`SingularPoint` records: a block's Jacobian determinant changes sign
     between neighbouring reached grid points: there the branch folds, the links line up)."""
 
     model: str

@@ -6,9 +6,6 @@ which numpy then computes (`mbplanar.engine._backend.dispatch`, the one place of
 `Engine(mech, backend="numba")` loads one by name (`BACKENDS`, `load`): the numba backend (extra
 ``mbplanar[fast]``) runs one-input sweeps through compiled per-position loops split over threads
 (`_numba`, `_numba_kinematics`, `_numba_kinetostatics`, `_threads`); numba is imported only then.
-
-``mbplanar._numba_kinematics``, ``mbplanar._numba_kinetostatics`` and ``mbplanar._threads`` are deprecated
-aliases of the modules here.
 """
 
 from ..engine._backend import BACKENDS, Backend, load

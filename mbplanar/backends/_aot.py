@@ -1,309 +1,214 @@
-"""The compiled kernels built ahead of time (``mbplanar compile``): one Python extension module, built
-by numba's ``numba.pycc`` from the same kernels and options as the just-in-time path, that later
-processes load WITHOUT importing numba (the module needs numpy only).
+"""The kernels compiled ahead of time (``mbplanar compile``): numba's own on-disk cache, filled once, and an
+index that tells mbplanar whether that cache holds the kernels of these sources.
 
-Why. A process that runs the numba backend pays numba's own start (importing numba, its first dispatch,
-loading the kernels from its cache: ~0.8 s of CPU over numpy), and its very first run compiles the
-kernels (~8 s). The built module loads in milliseconds: ``mbplanar compile`` compiles once, as the
-install step of the ``fast`` extra (``pip install "mbplanar[fast]" && mbplanar compile``), and every
-later process, the first included, starts as fast as one on numpy.
+Why. The first process that runs the numba backend compiles its kernels (~10 to 20 s of CPU). numba keeps
+them in its on-disk cache (``numba.njit(cache=True)``, numba's documented cache), so later processes load
+them (numba's own start, importing numba and its target context, is what they pay). ``mbplanar compile``,
+the install step of the ``fast`` extra (``pip install "mbplanar[fast]" && mbplanar compile``), runs a
+small sample through every kernel, the design batch's included, so that no process compiles.
 
-What is built. `build` runs a small sample (a loaded four-bar: a sweep with and without rates, its
-kinetostatics, one position) with every kernel running as plain Python (`_jit.capture`), which records
-the argument types of each kernel's call; it then compiles those kernels for exactly those types
-(error model, GIL release and options as their ``numba.njit``) and writes the module with a manifest
-(the kernels, the types each takes, the key below).
+Where. Where numba puts a cache (`numba's documentation
+<https://numba.readthedocs.io/en/stable/developer/caching.html>`_): ``NUMBA_CACHE_DIR`` when it is set,
+else the ``__pycache__`` folder beside the kernels' modules (``mbplanar/backends/__pycache__``), else
+numba's folder in the user's cache. The index, ``mbplanar-kernels.json``, lies beside numba's files.
 
-When it is used. A `_jit.Kernel` asks `function` for its compiled function on its first call with
-given argument types: the module's function is returned only when the module is built for this copy
-of mbplanar and this machine (the key: every module's size and modification time, Python's and numpy's
-versions, numba's version, the CPU) and has the kernel for exactly these types (`_jit.signature`);
-anything else (not built, another key, a module that fails to load, a kernel or types it lacks) makes
-numba compile the kernel, as without the module, silently: the answers are the same. The module is
-only loaded from a folder that only the user can write (it is code), as the engine cache's pickles.
-``MBPLANAR_AOT=0`` turns it off.
-
-Where. ``<cache>/kernels/<key>/``, the cache being the engine cache's folder (``MBPLANAR_CACHE_DIR``,
-else ``$XDG_CACHE_HOME/mbplanar``, else ``~/.cache/mbplanar``): a new version of mbplanar builds into
-another folder; `build` removes the folders of other keys.
+The index. numba checks a cached kernel against its own module's source only, while a kernel inlines
+the building blocks of the other kernel modules, and freezes their constants. So mbplanar keeps its
+own record: the digest of every module of the kernels (`sources`: their content, numba's version and
+Python's) for which numba's files there were written. Before the first kernel of a process is loaded
+or compiled (`prepare`, from `_jit`), the index is read; when it names other sources (an upgrade, an
+edit of an editable install, numba upgraded) or is missing, the kernels' cache files in that folder are
+removed and a new index is written, so a kernel compiled from other code is never loaded. `build`
+(``mbplanar compile``) adds to the index which kernels it compiled (`status`).
 """
 
 from __future__ import annotations
 
-import importlib.machinery
-import importlib.util
+import hashlib
 import json
 import os
-import platform
-import shutil
 import sys
-import tempfile
 import time
 import warnings
 from pathlib import Path
 
-import numpy as np
-
-from ..engine._cache import _code_stamp, _digest, _private, cache_dir
 from ..errors import MbplanarError
 
-__all__ = ["build", "function", "folder", "enabled", "available", "reset"]
+__all__ = ["build", "prepare", "status", "sources", "digest", "INDEX", "KERNEL_MODULES"]
 
-FORMAT = 1  # of the module's manifest; bump when it changes
-MODULE = "_mbplanar_kernels"  # the extension module's name (its init function is named after it)
-MANIFEST = "manifest.json"
-
-
-def enabled() -> bool:
-    """False when the environment turns the built module off (MBPLANAR_AOT=0)."""
-    return os.environ.get("MBPLANAR_AOT", "") in ("", "1")
-
-
-def folder() -> Path:
-    """The folder of the module built for this copy of mbplanar on this machine."""
-    return cache_dir() / "kernels" / _key()[:32]
+FORMAT = 1  # of the index; bump when it changes
+INDEX = "mbplanar-kernels.json"
+#: the modules holding kernels (`_jit.njit`), imported by `build` so that every kernel is known
+KERNEL_MODULES = ("_numba_blocks", "_numba_kinematics", "_numba_kinetostatics", "_numba_design")
+HERE = Path(__file__).resolve().parent
+#: numba's cache files of a kernel (index and data), named after the kernel's module
+SUFFIXES = (".nbi", ".nbc")
 
 
-def available() -> bool:
-    """Whether a module built for this copy of mbplanar loads (loading it if not yet loaded)."""
-    return _module() is not None
+def sources() -> list[Path]:
+    """The files a compiled kernel depends on: the kernel modules (the kernels, the building blocks they
+    inline, the constants they freeze), the decorator (`_jit`: the pipeline) and the named tuples of the
+    kernels' tables (`_tables`). A kernel reads nothing else at compile time (`tests/test_aot.py` checks
+    that the globals the kernels read are defined in these modules)."""
+    return [HERE / f"{name}.py" for name in sorted(KERNEL_MODULES + ("_jit", "_tables"))]
 
 
-def function(name: str, signature: str):
-    """The built module's function of the kernel `name` (``module.qualname``) for arguments of the
-    types `signature` (`_jit.signature`), or None."""
-    loaded = _module()
-    if loaded is None:
-        return None
-    module, kernels = loaded
-    entry = kernels.get(name)
-    if entry is None or entry["signature"] != signature:
-        return None
-    return getattr(module, entry["symbol"], None)
+def digest() -> str:
+    """The SHA-256 of the kernels' sources (`sources`, by content), numba's version and Python's (read
+    once per process, numba imported)."""
+    if not _digest:
+        import numba
+        h = hashlib.sha256()
+        for part in (str(FORMAT), sys.implementation.cache_tag, sys.version, numba.__version__):
+            h.update(part.encode() + b"\0")
+        for path in sources():
+            h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+        _digest.append(h.hexdigest())
+    return _digest[0]
 
 
-_state: dict = {}
+_digest: list = []
+_prepared: dict = {}  # cache folder → its index, as this process found or wrote it
 
 
-def reset() -> None:
-    """Forget the module looked up (the next kernel looks again; for tests)."""
-    _state.clear()
+def prepare(cache_path: str | os.PathLike) -> dict:
+    """Make numba's cache folder `cache_path` safe to load from (once per process and folder): when its
+    index names other sources than these (`digest`), or there is none, remove the kernels' cache files
+    and write a new index. Returns the index."""
+    folder = Path(cache_path)
+    found = _prepared.get(folder)
+    if found is None:
+        found = _prepared[folder] = _checked(folder, digest())
+    return found
 
 
-def _module():
-    """(module, kernels) of the built module of this key, loaded once per process; None if none loads."""
-    if "loaded" not in _state:
-        _state["loaded"] = _load() if enabled() else None
-    return _state["loaded"]
-
-
-def _load():
-    try:
-        where = folder()
-        if not _private(where):
-            return None
-        manifest = json.loads((where / MANIFEST).read_text(encoding="utf-8"))
-        if manifest.get("format") != FORMAT or manifest.get("key") != _key():
-            return None
-        path = where / manifest["file"]
-        if not path.is_file() or (hasattr(os, "getuid") and path.stat().st_uid != os.getuid()):
-            return None
-        loader = importlib.machinery.ExtensionFileLoader(MODULE, str(path))
-        spec = importlib.util.spec_from_file_location(MODULE, str(path), loader=loader)
-        module = importlib.util.module_from_spec(spec)
-        loader.exec_module(module)
-        return module, manifest["kernels"]
-    except Exception:  # a missing, partial, foreign or broken module: numba compiles instead
-        return None
-
-
-def _key() -> str:
-    """What the built module depends on, as one digest (computed once per process)."""
-    if "key" not in _state:
-        _state["key"] = _digest(str(FORMAT), sys.implementation.cache_tag, sys.version, np.__version__,
-                                _numba_stamp(), _cpu(), _code_stamp())
-    return _state["key"]
-
-
-def _numba_stamp() -> str:
-    """numba's version, from its files' size and modification time (numba is not imported)."""
-    spec = importlib.util.find_spec("numba")
-    if spec is None or not spec.origin:
-        return "no numba"
-    root = Path(spec.origin).parent
-    stamps = []
-    for name in ("__init__.py", "_version.py"):
+def _checked(folder: Path, current: str) -> dict:
+    """`prepare`'s work on `folder` for the sources' digest `current`."""
+    index = _read(folder)
+    if index.get("format") == FORMAT and index.get("digest") == current:
+        return index
+    for path in _kernel_files(folder):
         try:
-            info = (root / name).stat()
-            stamps.append(f"{name}:{info.st_size}:{info.st_mtime_ns}")
-        except OSError:
-            stamps.append(f"{name}:-")
-    return ";".join(stamps)
+            path.unlink()
+        except FileNotFoundError:
+            pass
+    index = {"format": FORMAT, "digest": current, "kernels": None}
+    _write(folder, index)
+    return index
 
 
-def _cpu() -> str:
-    """The machine the module is built for (it is compiled for the host CPU)."""
-    described = [platform.machine(), platform.system()]
+def _kernel_files(folder: Path) -> list[Path]:
+    """numba's cache files of the kernels in `folder`: named after a module of this folder."""
     try:
-        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as file:
-            for line in file:
-                if line.startswith(("model name", "flags", "Features", "CPU part")):
-                    described.append(line.strip())
-                if len(described) >= 4:
-                    break
+        names = os.listdir(folder)
     except OSError:
-        described.append(platform.processor())
-    return "\n".join(described)
+        return []
+    modules = tuple(f"{path.stem}." for path in sources())
+    return [folder / name for name in names if name.endswith(SUFFIXES) and name.startswith(modules)]
+
+
+def _read(folder: Path) -> dict:
+    try:
+        index = json.loads((folder / INDEX).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return index if isinstance(index, dict) else {}
+
+
+def _write(folder: Path, index: dict) -> None:
+    """Write the index atomically (a process reading it sees the old one or the new one)."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        temporary = folder / f"{INDEX}.{os.getpid()}.tmp"
+        temporary.write_text(json.dumps(index, indent=1), encoding="utf-8")
+        os.replace(temporary, folder / INDEX)
+    except OSError:  # a folder numba can read but we cannot write: numba's own check still applies
+        pass
+
+
+def status() -> dict | None:
+    """The index of numba's cache folder of the kernels (numba imported), or None when numba is missing:
+    ``kernels`` names the kernels that `build` left compiled there for these sources (None when it has
+    not run since they changed: a first use compiles)."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return None
+    from ._jit import cache_path
+    return prepare(cache_path())
 
 
 # -- the build --------------------------------------------------------------------------------------
 
-def build(stream=None) -> Path:
-    """Build the module for this copy of mbplanar (replacing any other key's) and return its folder; one
-    line on `stream` says so. An `MbplanarError` when numba or a C compiler is missing."""
+def build(stream=None, samples=()) -> Path:
+    """Compile every kernel into numba's on-disk cache (those already there for these sources are loaded,
+    not compiled again), record them in the index and return numba's cache folder; one line on `stream`
+    says so. `samples`: functions that run the kernels this module cannot reach itself (the design batch's,
+    `mbplanar.study.batch.compile_sample`, from a layer above); a kernel that Python calls (`entries`)
+    and no sample reached is an error. An `MbplanarError` when numba is missing or a kernel fails to
+    compile."""
     try:
         import numba  # noqa: F401
-        import numba.pycc  # noqa: F401
     except ImportError as exc:
-        raise MbplanarError("building the compiled kernels needs numba and its numba.pycc: pip install 'mbplanar[fast]' "
-                            f"({exc})") from None
+        raise MbplanarError(f"compiling the kernels needs numba: pip install 'mbplanar[fast]' ({exc})") from None
+    from ._jit import kernels
     from ._numba_notice import quiet
     if stream is not None:
-        stream.write("mbplanar: compiling the numba kernels ahead of time")
+        stream.write("mbplanar: compiling the numba kernels into numba's cache")
         stream.flush()
+    start = time.perf_counter()
     try:
         with quiet():
-            where, seconds = _build()
+            folder = _build(samples)
     except BaseException:
         if stream is not None:
             stream.write(": failed\n")
         raise
+    made = [kernel for kernel in kernels() if kernel.made]
+    compiled = sum(kernel.dispatcher.stats.cache_misses.total() for kernel in made)
+    loaded = sum(kernel.dispatcher.stats.cache_hits.total() for kernel in made)
     if stream is not None:
-        stream.write(f" ({seconds:.1f} s) into {where}\n")
-    return where
+        stream.write(f": {compiled} compiled, {loaded} already there ({time.perf_counter() - start:.1f} s) in {folder}\n")
+    index = dict(prepare(folder), kernels=sorted(kernel.name for kernel in entries(kernels())))
+    _prepared[folder] = index
+    _write(folder, index)
+    return folder
 
 
-def _build() -> tuple[Path, float]:
-    """`build`'s work: the folder written and the seconds it took."""
-    from numba.pycc import CC
-    start = time.perf_counter()
-    where = folder()
-    root = where.parent
-    root.mkdir(mode=0o700, parents=True, exist_ok=True)
-    if not _private(root):
-        raise MbplanarError(f"{root}: the folder of the built kernels must be the user's own, writable by no one else")
-    work = Path(tempfile.mkdtemp(prefix="build-", dir=root))
+def _build(samples) -> Path:
+    """`build`'s work: run the samples, check that every kernel Python calls ran; numba's cache folder."""
+    import importlib
+    for module in KERNEL_MODULES:
+        importlib.import_module(f"{__package__}.{module}")
+    from ._jit import cache_path, kernels
+    folder = Path(cache_path())
     try:
-        calls = _sample_calls()
-        cc = CC(MODULE)
-        cc.output_dir, cc.target_cpu, cc.use_nrt, cc.verbose = str(work), "host", False, False
-        # numba's C helpers (the arguments' unboxing, ...) compiled with -O1, not -O3: ~0.8 s less of the
-        # build here; the kernels are LLVM's code, not theirs
-        cc._extra_cflags = {"posix": ["-O1"]}
-        kernels = {}
-        for i, (name, (kernel, args, result)) in enumerate(sorted(calls.items())):
-            symbol = f"k{i}_{kernel.py_func.__name__.lstrip('_')}"
-            cc.export(symbol, _numba_signature(args, result))(_forwarder(kernel, len(args)))
-            kernels[name] = {"symbol": symbol, "signature": _signature(args)}
-        with _kernel_flags(calls), warnings.catch_warnings():
+        with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            cc.compile()
-        built = [p.name for p in work.iterdir() if p.name.startswith(MODULE) and p.suffix in _suffixes()]
-        if len(built) != 1:
-            raise MbplanarError(f"building the compiled kernels: numba.pycc wrote {built or 'nothing'}")
-        manifest = {"format": FORMAT, "key": _key(), "file": built[0], "kernels": kernels,
-                    "built_s": round(time.perf_counter() - start, 3)}
-        (work / MANIFEST).write_text(json.dumps(manifest, indent=1), encoding="utf-8")
-        os.chmod(work, 0o700)
-        for old in root.iterdir():  # other keys' modules and this key's earlier one
-            if old != work and not old.name.startswith("build-") or old == where:
-                shutil.rmtree(old, ignore_errors=True)
-        os.replace(work, where)
+            for sample in (_run_sample, *samples):
+                sample()
+    except MbplanarError:
+        raise
     except Exception as exc:
-        shutil.rmtree(work, ignore_errors=True)
-        if isinstance(exc, MbplanarError):
-            raise
-        raise MbplanarError(f"building the compiled kernels failed (the numba backend still works, compiling on first use): "
-                            f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}") from exc
-    from ._jit import forget
-    forget()
-    return where, time.perf_counter() - start
+        raise MbplanarError(f"compiling the kernels failed (the numba backend still works, numpy taking what "
+                            f"it cannot): {type(exc).__name__}: {' '.join(str(exc).split())[:300]}") from exc
+    missing = [kernel.name for kernel in entries(kernels()) if not kernel.dispatcher.signatures]
+    if missing:
+        raise MbplanarError(f"compiling the kernels: the sample did not reach {', '.join(missing)}")
+    return folder
 
 
-def _forwarder(kernel, count: int):
-    """A function of `count` arguments that calls `kernel` with them: what the module exports. The kernel
-    itself is compiled by numba as on the just-in-time path (or taken from numba's cache), once, whether
-    exported or called by another kernel (the one-position kernel calls the sweep kernel), and linked in."""
-    names = ", ".join(f"a{i}" for i in range(count))
-    scope = {"kernel": kernel}
-    exec(f"def forward({names}):\n    return kernel({names})\n", scope)  # (numba takes no *args)
-    return scope["forward"]
+def entries(found: list) -> list:
+    """The kernels of `found` that Python calls: those no other kernel calls and numba does not inline
+    (a kernel called by another is compiled, and cached, with its caller)."""
+    called = {id(kernel.py_func.__globals__.get(name)) for kernel in found for name in kernel.py_func.__code__.co_names}
+    return [kernel for kernel in found if id(kernel) not in called and kernel.options.get("inline") != "always"]
 
 
-def _suffixes() -> tuple:
-    return tuple(importlib.machinery.EXTENSION_SUFFIXES) + (".so", ".pyd")
-
-
-def _signature(args) -> str:
-    from ._jit import signature
-    found = signature(args)
-    if found is None:
-        raise MbplanarError("building the compiled kernels: a kernel takes an argument of a type it cannot describe")
-    return found
-
-
-def _numba_signature(args, result):
-    """The kernel's numba signature: the arguments' types, and its result's type."""
-    import numba
-    return numba.typeof(result)(*(numba.typeof(a) for a in args)) if result is not None else \
-        numba.types.none(*(numba.typeof(a) for a in args))
-
-
-class _kernel_flags:
-    """numba.pycc compiles every function with default flags: here with the kernels' own (numpy's error
-    model, the GIL released), for the length of the build. The kernels must agree on them."""
-
-    def __init__(self, calls: dict):
-        options = {tuple(sorted((k, str(v)) for k, v in kernel.options.items() if k in _FLAGS))
-                   for kernel, _, _ in calls.values()}
-        if len(options) != 1:
-            raise MbplanarError(f"building the compiled kernels: the kernels disagree on their numba options {options}")
-        self.options = dict(next(iter(options)))
-
-    def __enter__(self):
-        from numba.core import codegen
-        from numba.core.compiler import Flags
-        from numba.pycc import compiler
-        error_model, release_gil = self.options.get("error_model", "python"), self.options.get("nogil") == "True"
-
-        class KernelFlags(Flags):
-            def __init__(self, *args):
-                super().__init__(*args)
-                if not args:
-                    self.error_model, self.release_gil = error_model, release_gil
-
-        self.module, self.saved = compiler, compiler.Flags
-        compiler.Flags = KernelFlags
-        # the module links the kernels as numba compiled and optimised them (`_forwarder`): optimising the
-        # whole module once more would only inline the forwarders (~2 s of the build)
-        self.library, self.optimise = codegen.AOTCodeLibrary, codegen.AOTCodeLibrary.__dict__.get("_optimize_final_module")
-        codegen.AOTCodeLibrary._optimize_final_module = lambda library: None
-
-    def __exit__(self, *exc):
-        self.module.Flags = self.saved
-        if self.optimise is None:
-            del self.library._optimize_final_module
-        else:
-            self.library._optimize_final_module = self.optimise
-
-
-_FLAGS = ("error_model", "nogil", "fastmath", "boundscheck", "_nrt")
-
-
-def _sample_calls() -> dict:
-    """{kernel name: (kernel, arguments, result)} of the kernels' calls on a sample (`SAMPLE`), swept with and without rates, its kinetostatics, and one
-    position, every kernel run as plain Python."""
-    from ._jit import capture
+def _run_sample() -> None:
+    """Run the linkage kernels on `SAMPLE` (a loaded four-bar) with the argument types the library's paths
+    pass: sweeps with and without rates, of every point and of one, the kinetostatics, one position."""
+    import numpy as np
     from ..engine._solver import Engine
     from ..forces._kinetostatics import kinetostatics
     from ..kinematics._motion import analyse
@@ -312,21 +217,13 @@ def _sample_calls() -> dict:
 
     engine = Engine(read_model_text(SAMPLE, source="<sample>"), backend="numba", threads=1)
     phi = engine.phi_drawn[0] + np.linspace(0.0, 0.5, 3)
-    with capture() as seen, warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        analyse(engine, phi, rates=False).value
-        motion = analyse(engine, phi)
-        kinetostatics(engine, motion)
-        position(engine, float(phi[1]))
-    wanted = {"_sweep", "_kernel"}  # the kinematics kernel (one position included) and the kinetostatics kernel
-    calls = {name: (kernel, args, seen["results"][name]) for name, (kernel, args) in seen["calls"].items()
-             if kernel.py_func.__name__ in wanted}
-    if len(calls) != len(wanted):
-        raise MbplanarError(f"building the compiled kernels: the sample ran {sorted(seen['calls'])}, not every kernel")
-    return calls
+    analyse(engine, phi, rates=False)
+    analyse(engine, phi, points=["S2"])
+    kinetostatics(engine, analyse(engine, phi, 2.0, 1.0))
+    position(engine, float(phi[1]), omega=2.0, epsilon=1.0)
 
 
-#: the sample of `_sample_calls`: a crank-rocker four-bar with masses, gravity and a resisting moment
+#: the sample of `_run_sample`: a crank-rocker four-bar with masses, gravity and a resisting moment
 SAMPLE = """
 name = "sample"
 ground = "0"

@@ -1,13 +1,12 @@
 """The compiled kernels' decorator: `njit` makes a `Kernel`, a numba kernel that imports numba only when it
-is first compiled, and that runs the ahead-of-time build (`_aot`) instead where one matches.
+is first compiled or loaded.
 
 A module of kernels (`_numba_kinematics`, ...) imports without numba. A call (`Kernel.entry` for the
-compiled function itself, or calling the kernel) looks the arguments' types up: when the ahead-of-time
-module of this copy of mbplanar is built and has the kernel for exactly these types, its function is
-used, and numba is never imported (a process saves numba's own start, ~0.8 s); else numba compiles the
-kernel for them (or loads it from its on-disk cache), as `numba.njit` would, with the one-line notice
-of `_numba_notice` while it compiles. Both are compiled from the same Python function with the same
-options, and tests hold their results equal bit for bit.
+compiled function itself, or calling the kernel) looks the arguments' types up: the first time, numba
+loads the kernel for them from its on-disk cache (``cache=True``), or compiles it (and writes it there),
+with the one-line notice of `_numba_notice` while it compiles. Before numba first loads or compiles a
+kernel of this process, `_aot.prepare` checks mbplanar's index of numba's cache folder, so that a kernel
+compiled from other sources is never loaded; ``mbplanar compile`` (`_aot.build`) fills the cache.
 
 Kernels calling each other: numba types a `Kernel` found in a kernel's globals as its dispatcher
 (``_numba_type_``), so a kernel calls another as it would call a ``numba.njit`` function.
@@ -27,7 +26,7 @@ import threading
 
 import numpy as np
 
-__all__ = ["Kernel", "njit", "lean_pipeline", "signature", "capture", "forget", "interpret", "plain"]
+__all__ = ["Kernel", "njit", "lean_pipeline", "signature", "forget", "kernels", "cache_path", "interpret", "plain"]
 
 
 def njit(**options):
@@ -37,8 +36,8 @@ def njit(**options):
 
 
 class Kernel:
-    """A numba kernel made on first use (`dispatcher`), or the ahead-of-time build's function for the
-    argument types it was built for (`entry`)."""
+    """A numba kernel made on first use (`dispatcher`), with its compiled function per argument types
+    (`entry`)."""
 
     def __init__(self, func, options: dict):
         self.py_func, self.options = func, dict(options)
@@ -56,25 +55,24 @@ class Kernel:
         return self._dispatcher
 
     @property
+    def made(self) -> bool:
+        """Whether numba's dispatcher of the kernel has been made in this process."""
+        return self._dispatcher is not None
+
+    @property
     def _numba_type_(self):
         """How numba types the kernel where another kernel calls it: as its dispatcher."""
         from numba.core import types
         return types.Dispatcher(self.dispatcher)
 
     def entry(self, args: tuple):
-        """The compiled function for arguments of the types of `args` (not called): the ahead-of-time
-        build's where it has them, else numba's (compiled, or loaded from its cache, now)."""
-        if _capturing:
-            return self._captured
+        """The compiled function for arguments of the types of `args` (not called): numba's, loaded from
+        its cache or compiled now the first time."""
         key = signature(args)
         found = self._entries.get(key) if key is not None else None
         if found is None:
-            from . import _aot
-            found = _aot.function(self.name, key) if key is not None else None
-            if found is None:
-                dispatcher = self.dispatcher
-                types = tuple(dispatcher.typeof_pyval(a) for a in args)
-                found = dispatcher.compile(types)
+            dispatcher = self.dispatcher
+            found = dispatcher.compile(tuple(dispatcher.typeof_pyval(a) for a in args))
             if key is not None:
                 self._entries[key] = found
         return found
@@ -83,18 +81,6 @@ class Kernel:
         if _plain.on:
             return self.py_func(*args)
         return self.entry(args)(*args)
-
-    def _captured(self, *args):
-        """While `capture` records: note the arguments of an outermost call, run the Python function."""
-        if _capturing[-1]["depth"] == 0:
-            _capturing[-1]["calls"].setdefault(self.name, (self, args))
-        _capturing[-1]["depth"] += 1
-        try:
-            result = self.py_func(*args)
-        finally:
-            _capturing[-1]["depth"] -= 1
-        _capturing[-1]["results"].setdefault(self.name, result)
-        return result
 
     def __getattr__(self, name):
         """numba's dispatcher's attributes (``signatures``, ``overloads``, ...)."""
@@ -107,7 +93,6 @@ class Kernel:
 
 
 _kernels: list = []  # every kernel made
-_capturing: list = []
 _plain = threading.local()  # `interpret`: this thread runs the kernels as plain Python
 _plain.on = False
 
@@ -143,27 +128,22 @@ def _viewed(value):
     return value
 
 
+def kernels() -> list:
+    """Every kernel made so far (those of the kernel modules imported)."""
+    return list(_kernels)
+
+
 def forget() -> None:
-    """Forget the compiled functions found so far, and the ahead-of-time module looked up: the next call
-    of each kernel looks again (after `_aot.build`, or a test switching it on or off). Plans that hold a
-    function (`_numba_kinematics._KernelPlan.entry`) keep it."""
-    from . import _aot
-    _aot.reset()
+    """Forget the compiled functions found so far: the next call of each kernel asks numba again (for
+    tests). Plans that hold a function (`_numba_kinematics._KernelPlan.entry`) keep it."""
     for kernel in _kernels:
         kernel._entries.clear()
 
 
-class capture:
-    """``with capture() as seen``: every kernel runs as plain Python; ``seen["calls"]`` collects, per
-    kernel name, the first outermost call's (kernel, arguments), ``seen["results"]`` its result: the
-    ahead-of-time build learns the argument types from a sample run without compiling anything."""
-
-    def __enter__(self) -> dict:
-        _capturing.append({"depth": 0, "calls": {}, "results": {}})
-        return _capturing[-1]
-
-    def __exit__(self, *exc):
-        _capturing.pop()
+def cache_path() -> str:
+    """numba's cache folder of the kernels (numba imported): where numba writes them and `_aot` its index."""
+    from ._numba_blocks import _place
+    return _place.dispatcher.stats.cache_path
 
 
 def signature(args) -> str | None:
@@ -196,40 +176,18 @@ def _type_of(value) -> str:
 
 
 def _dispatcher_of(func, options: dict):
-    """``numba.njit(**options)(func)``, with the compile notice installed (numba imported here)."""
+    """``numba.njit(**options)(func)``, with the compile notice installed and numba's cache folder checked
+    against the kernels' sources (`_aot.prepare`) before anything is loaded from it (numba imported here)."""
     import numba
-    from . import _numba_notice
+    from . import _aot, _numba_notice
     _numba_notice.install()
     options = dict(options)
     if options.pop("lean", False):
         options["pipeline_class"] = lean_pipeline()
     dispatcher = numba.njit(**options)(func)
-    _stamp_cache_with_kernel_sources(dispatcher)
+    if dispatcher.stats.cache_path is not None:
+        _aot.prepare(dispatcher.stats.cache_path)
     return dispatcher
-
-
-def _stamp_cache_with_kernel_sources(dispatcher) -> None:
-    """Tie numba's on-disk cache of a kernel to every kernel module, not only its own file.
-
-    numba checks a cached kernel against its own source file's size and time, but a kernel inlines the
-    building blocks and kernels of the other modules of this folder: after an edit there (a ``git pull``
-    into an editable install), numba would load a kernel holding the old code. The index is stamped with
-    the size and time of every module here instead, so any edit compiles the kernels again."""
-    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
-    if cache_file is not None and hasattr(cache_file, "_source_stamp"):
-        cache_file._source_stamp = _kernel_sources_stamp()
-
-
-def _kernel_sources_stamp() -> str:
-    """The name, size and modification time of every module of this folder (read once per process)."""
-    if not _sources:
-        import os
-        from ..engine._cache import _stamp_of_files
-        _sources.append(_stamp_of_files(os.path.dirname(os.path.abspath(__file__))))
-    return _sources[0]
-
-
-_sources: list = []
 
 
 _lean: list = []

@@ -9,17 +9,14 @@ import sys
 import numpy as np
 
 from ._python import sweep_can_run
+from ..engine._backend import planned
 
-__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "PAYS_FROM_BUILT", "pays"]
+__all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "pays"]
 
 #: positions from which a new process gains by loading the compiled kernels: importing numba and loading
-#: the kernels from its cache costs about 0.6 s per process (numba's own start included), the kernels
-#: save about 1 µs per position
+#: the kernels from its cache (``mbplanar compile`` fills it) costs about 0.4 s of CPU per process (numba's
+#: own start included), the kernels save about 1 µs per position
 PAYS_FROM = 500_000
-#: the same where the kernels are built ahead of time (``mbplanar compile``, `_aot`): loading them and
-#: making an engine's kernel tables cost ~10 ms (measured on a loaded four-bar's `sweep`), the kernels save
-#: ~0.5 µs per position of kinematics and kinetostatics
-PAYS_FROM_BUILT = 20_000
 
 
 def _kernels():
@@ -35,17 +32,10 @@ _loaded: list = []
 
 def pays(positions: int) -> bool | str:
     """True when a process that plans `positions` positions gains by loading the compiled kernels (a
-    process that has loaded numba or the ahead-of-time build already always does), else why not."""
-    if "numba" in sys.modules:
+    process that has loaded numba already always does), else why not."""
+    if "numba" in sys.modules or positions >= PAYS_FROM:
         return True
-    if positions >= PAYS_FROM:
-        return True
-    from . import _aot
-    if positions >= PAYS_FROM_BUILT and _aot.available():
-        return True
-    built = _aot.available()
-    return (f"{positions} positions planned: loading the kernels pays from {PAYS_FROM_BUILT if built else PAYS_FROM}"
-            f"{' (built ahead of time)' if built else ' (numba starts in ~0.8 s; `mbplanar compile` builds them)'}")
+    return f"{positions} positions planned: loading numba and the kernels (~0.4 s) pays from {PAYS_FROM}"
 
 
 class NumbaBackend:
@@ -59,7 +49,6 @@ class NumbaBackend:
         pays in this process (`engine._backend.planned`; a long-lived process: always)."""
         if job not in ("kinematics", "kinetostatics", "design"):
             return f"no compiled {job}"
-        from ..engine._backend import planned
         return True if planned.positions is None else pays(max(size, planned.positions))
 
     def can_run(self, job: str, request) -> bool | str:

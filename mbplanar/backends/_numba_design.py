@@ -30,11 +30,10 @@ unchanged.
 from __future__ import annotations
 
 
-import numba
 import numpy as np
 
 from . import _threads
-from ._jit import _stamp_cache_with_kernel_sources
+from ._jit import njit
 from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place
 from ..engine._tables import DesignResult
 from ..engine._nodes import HERMITE5
@@ -136,17 +135,8 @@ def solve(request) -> DesignResult:
 # block's unknowns and their derivatives. The per-position building blocks (placement, closure, their
 # rates, the Jacobian, a block's rate pass) are the joint laws' arithmetic (`engine._constraints`), as
 # the sweep kernel has it written out in its loop.
-_compile = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
-
-
-def _jit(func):
-    """`_compile`, its on-disk cache tied to every kernel module (it inlines `_numba_blocks`)."""
-    dispatcher = _compile(func)
-    _stamp_cache_with_kernel_sources(dispatcher)
-    return dispatcher
-
-
-_inline = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath={"contract"})
+_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
+_inline = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath={"contract"})
 
 
 @_inline

@@ -34,13 +34,18 @@ __all__ = ["run"]
 def run(job) -> int:
     """Solve and write every position of a `SweepJob` (its outputs in ``job.out``), split over
     ``job.threads`` threads; returns 0, or 1 when the numpy path must take the batch."""
-    inp, out = job.inp, job.out
+    inp, out, store = job.inp, job.out, job.store
+    if len(inp.x) < 2 * _threads.MIN_CHUNK:  # (one thread: no slicing)
+        work = store.get("sweep work")
+        if not work:
+            work = store["sweep work"] = [SweepWork.new(work_sizes(job.tables))]
+        return _call(store, (job.tables, job.atlas, job.tol, inp, out, work[0]))
     parts = _threads.chunks(len(inp.x), job.threads)
-    work = _threads.work_arrays(job.store.setdefault("sweep work", []),
-                                lambda: SweepWork.new(work_sizes(job.tables)), len(parts))
+    work = _threads.work_arrays(store.setdefault("sweep work", []), lambda: SweepWork.new(work_sizes(job.tables)),
+                                len(parts))
     fixed = (job.tables, job.atlas, job.tol)
-    if len(parts) == 1:  # (one thread: no slicing)
-        return _call(job.store, (*fixed, inp, out, work[0]))
+    if len(parts) == 1:
+        return _call(store, (*fixed, inp, out, work[0]))
     status = _threads.run([lambda p=p, wk=wk: _call(job.store, (*fixed, _part_in(inp, p), _part_out(out, p), wk))
                            for p, wk in zip(parts, work)])
     return max(status)

@@ -1,6 +1,6 @@
 """Compiled kinetostatics of a compiled one-input `Motion` (optional, needs numba): the loads, the
 d'Alembert loads, the assembled system and the virtual-power check, reading the records the compiled
-kinematics wrote (`Motion.rows`).
+kinematics wrote (`Motion.records`).
 
 It is the same computation as `kinetostatics`, not a second formulation: the layout, the features, the
 blocks (one per Assur group, last attached first), their constant pivots and fill-in (`_Block.fill`)

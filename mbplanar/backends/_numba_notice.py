@@ -1,5 +1,5 @@
 """A one-line notice on stderr while numba compiles the kernels: the first use after installing
-compiles them (several seconds) unless ``mbplanar compile`` built them ahead of time (`_aot`); numba
+compiles them (several seconds) unless ``mbplanar compile`` compiled them ahead of time (`_aot`); numba
 keeps them in its on-disk cache, and later processes load them from there without this notice."""
 
 from __future__ import annotations

@@ -2,8 +2,12 @@
 
     >>> from mbplanar.cam import read_cam, design
     >>> d = design(read_cam("models/shaper_cam.toml"))      # timing from models/shaper.toml
-    >>> d.follower.prime_radius, d.rise.value, d.ret.value     # r0 (m), pressure-angle extremes (rad)
-    >>> d.check.relative                                       # self-check error / stroke
+    >>> round(d.follower.prime_radius, 6)                      # r0, m
+    0.241791
+    >>> round(float(d.rise.value), 4), round(float(d.ret.value), 4)   # pressure-angle extremes, rad
+    (0.5749, -0.642)
+    >>> bool(d.check.relative < 1e-7)                          # self-check error / stroke
+    True
 
 Modules: `laws` (motion laws, programs, continuity), `followers`, `geometry` (inversion, envelope,
 pressure angle, curvature), `sizing` (smallest cam for the pressure limits; the seed's construction),

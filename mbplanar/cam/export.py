@@ -1,5 +1,5 @@
 """Writing the profile: CSV (pitch and working profile in mm, the seed's x.txt and y.txt), DXF (closed
-splines through the points, ezdxf; optional extra `cad`) and SVG (hand-written text)."""
+splines through the points, ezdxf; optional extra `cad`) and SVG, both through `mbplanar.io._cad`."""
 
 from __future__ import annotations
 
@@ -8,6 +8,9 @@ import math
 import numpy as np
 
 from ..errors import MbplanarError
+from ..io._cad import Layer, Sheet, require_ezdxf
+from ..io._cad import write_dxf as cad_dxf
+from ..io._cad import write_svg as cad_svg
 from .geometry import CamGeometry
 
 __all__ = ["write_csv", "write_dxf", "read_dxf_points", "write_svg", "dxf_deviation", "dxf_chordal_error"]
@@ -26,38 +29,28 @@ def write_csv(geometry: CamGeometry, path) -> None:
             fh.write(",".join("" if not math.isfinite(x) else f"{x:.9g}" for x in row) + "\n")
 
 
-def _require_ezdxf():
-    try:
-        import ezdxf
-    except ImportError:
-        raise MbplanarError("DXF export needs ezdxf: pip install 'mbplanar[cad]'") from None
-    return ezdxf
+def _sheet(geometry: CamGeometry, title: str = "") -> Sheet:
+    """The profile (layer PROFILE), the pitch curve (PITCH) as closed fit-point splines in mm, the cam's
+    centre as a point (CENTRE)."""
+    sheet = Sheet("mm", title)
+    sheet.layer(Layer("PROFILE", 7, "#1a1a1a", "#dde6ee")).layer(Layer("PITCH", 5, "#2a6fb0", width=0.5, dash=(4, 2)))
+    sheet.layer(Layer("CENTRE", 1, "#b03a2e"))
+    sheet.spline("PROFILE", geometry.profile * 1e3, closed=True)
+    if geometry.pitch is not None:
+        sheet.spline("PITCH", geometry.pitch * 1e3, closed=True)
+    sheet.point("CENTRE", (0.0, 0.0))
+    return sheet
 
 
 def write_dxf(geometry: CamGeometry, path) -> None:
     """Closed fit-point splines (mm) of the working profile (layer PROFILE) and the pitch curve (PITCH),
     and the cam's centre as a point (layer CENTRE)."""
-    ezdxf = _require_ezdxf()
-    doc = ezdxf.new("R2010")
-    doc.units = ezdxf.units.MM
-    msp = doc.modelspace()
-    curves = [("PROFILE", geometry.profile)]
-    if geometry.pitch is not None:
-        curves.append(("PITCH", geometry.pitch))
-    for layer, pts in curves:
-        doc.layers.add(layer)
-        loop = np.vstack([pts, pts[:1]]) * 1e3           # the first point repeated closes the curve
-        spline = msp.add_spline(fit_points=[(x, y, 0.0) for x, y in loop],
-                                dxfattribs={"layer": layer})
-        spline.closed = True
-    doc.layers.add("CENTRE")
-    msp.add_point((0.0, 0.0), dxfattribs={"layer": "CENTRE"})
-    doc.saveas(path)
+    cad_dxf(_sheet(geometry), path)
 
 
 def read_dxf_points(path, layer: str = "PROFILE") -> np.ndarray:
     """The fit points (m) of the spline on `layer` of a DXF written by `write_dxf`."""
-    ezdxf = _require_ezdxf()
+    ezdxf = require_ezdxf()
     doc = ezdxf.readfile(path)
     for e in doc.modelspace().query("SPLINE"):
         if e.dxf.layer == layer:
@@ -78,7 +71,7 @@ def dxf_chordal_error(path, points, layer: str = "PROFILE", per_span: int = 64) 
     written samples) to the curve a CAD program draws from the spline in `path` (ezdxf's own
     interpolation of the fit points, flattened to `per_span` chords per span; distances to the chords)."""
     from scipy.spatial import cKDTree
-    ezdxf = _require_ezdxf()
+    ezdxf = require_ezdxf()
     doc = ezdxf.readfile(path)
     spline = next(e for e in doc.modelspace().query("SPLINE") if e.dxf.layer == layer)
     count = len(spline.fit_points)
@@ -96,30 +89,4 @@ def dxf_chordal_error(path, points, layer: str = "PROFILE", per_span: int = 64) 
 
 def write_svg(geometry: CamGeometry, path, title: str = "cam") -> None:
     """The working profile (solid), the pitch curve (dashed) and the centre, in mm, y up."""
-    g = geometry
-    pts = [g.profile] + ([g.pitch] if g.pitch is not None else [])
-    allp = np.vstack(pts + [np.zeros((1, 2))]) * 1e3
-    lo, hi = allp.min(axis=0), allp.max(axis=0)
-    pad = 0.05 * float(np.max(hi - lo))
-    x0, y0 = lo[0] - pad, -(hi[1] + pad)
-    w, h = hi[0] - lo[0] + 2 * pad, hi[1] - lo[1] + 2 * pad
-
-    def path_of(p):
-        p = p * 1e3
-        return "M " + " L ".join(f"{x:.6f},{-y:.6f}" for x, y in p) + " Z"
-
-    stroke = 0.003 * max(w, h)
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="{x0:.4f} {y0:.4f} {w:.4f} {h:.4f}" '
-             f'width="{w:.2f}mm" height="{h:.2f}mm">', f"<title>{_escape(title)}</title>",
-             f'<path d="{path_of(g.profile)}" fill="#dde6ee" stroke="#1a1a1a" stroke-width="{stroke:.4f}"/>']
-    if g.pitch is not None:
-        parts.append(f'<path d="{path_of(g.pitch)}" fill="none" stroke="#2a6fb0" '
-                     f'stroke-width="{stroke / 2:.4f}" stroke-dasharray="{4 * stroke:.4f} {2 * stroke:.4f}"/>')
-    parts.append(f'<circle cx="0" cy="0" r="{2 * stroke:.4f}" fill="#b03a2e"/>')
-    parts.append("</svg>")
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write("\n".join(parts) + "\n")
-
-
-def _escape(text):
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    cad_svg(_sheet(geometry, title), path)

@@ -14,10 +14,84 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import ModelError
+from ..model._keys import MISSING, Key, Section
+from .followers import CONTACTS, MOTIONS
+from .laws import LAWS
 
-__all__ = ["CamSpec", "PhaseSpec", "EventSpec", "DynamicsSpec", "read_cam", "parse_cam", "evaluate"]
+__all__ = ["CamSpec", "PhaseSpec", "EventSpec", "DynamicsSpec", "read_cam", "parse_cam", "evaluate", "CAM",
+           "CAM_FILE"]
 
 _UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
+_EXPRESSION = {"type": ["number", "string"]}
+
+# -- the keys of [cam], declared once: the reader below reads them through these, the JSON Schema shows them
+CAM_PHASE = Section("cam_phase", "[cam] phases[]", "one phase of the motion program", (
+    Key("kind", "choice", "the phase", required=True, choices=("rise", "return", "dwell", "polynomial")),
+    Key("angle", "custom", "its cam angle: degrees, an expression on event names, or \"rest\" (what is left of "
+        "360°)", unit="deg", required=True, schema=_EXPRESSION),
+    Key("law", "choice", "the motion law of a rise or return", choices=tuple(LAWS) + ("polynomial",),
+        default_doc="dwell (dwell), polynomial (polynomial); required for a rise or return"),
+    Key("k", "number", "constant acceleration: a₁/a₂", default=1.0, positive=True),
+    Key("stroke", "number", "the lift (a return: the whole lift by default)", unit="length", positive=True),
+    Key("swing", "number", "oscillating follower: the stroke as an angle (the arc at the arm)", unit="deg",
+        positive=True),
+    Key("start", "numbers", "polynomial: [s, v, a, ...] at its start (m, m/rad, m/rad², ...)", default=[]),
+    Key("end", "numbers", "polynomial: [s, v, a, ...] at its end", default=[])))
+CAM_EVENT = Section("cam_event", "[cam] events[]", "a timing event on the model", (
+    Key("name", "text", "its name, usable in angle, start and window expressions", required=True),
+    Key("point", "text", "a joint or point of the model", required=True),
+    Key("coordinate", "choice", "the coordinate followed", choices=("x", "y"), default="x"),
+    Key("fraction", "number", "the event: the point's displacement from its minimum is this fraction of its "
+        "stroke"),
+    Key("measure", "choice", "fraction, or forward_angle (the input angle from the minimum to the maximum)",
+        choices=("fraction", "forward_angle"), default="fraction"),
+    Key("direction", "choice", "which root when there are several", choices=("rising", "falling", "any"))))
+CAM_DYNAMICS = Section("cam_dynamics", "[cam.dynamics]", "cam speed, follower inertia and spring", (
+    Key("rpm", "number", "the cam speed (or omega)", unit="rpm", positive=True),
+    Key("omega", "number", "the cam speed (or rpm)", unit="rad/s", positive=True),
+    Key("mass", "number", "follower mass (kg; oscillating: inertia about the pivot, kg·m²)", default=0.0,
+        minimum=0.0),
+    Key("spring_rate", "number", "spring rate (N/m or N·m/rad)", default=0.0, minimum=0.0),
+    Key("preload", "number", "spring force at s = 0 (N or N·m)", default=0.0),
+    Key("force", "number", "a constant load resisting the rise (N or N·m)", default=0.0)))
+CAM = Section("cam", "[cam]", "a cam: follower, motion program, sizing (docs/cam.md)", (
+    Key("model", "text", "cam files only: the linkage model whose cycle times the cam (a path)"),
+    Key("follower", "choice", "the follower's motion", choices=MOTIONS, default="translating"),
+    Key("contact", "choice", "the follower's contact", choices=CONTACTS, default="roller"),
+    Key("rotation", "choice", "the cam's sense", choices=("ccw", "cw"), default="ccw"),
+    Key("length_unit", "choice", "the unit of every length of [cam]", choices=tuple(_UNITS),
+        default_doc="m (a model's [cam]: the model's length_unit)"),
+    Key("base_radius", "number", "translating: from the cam centre to the roller centre at s = 0; flat: to the "
+        "face", unit="length", positive=True),
+    Key("offset", "custom", "translating: the follower line's x, or \"free\" (sizing chooses it)",
+        unit="length", default=0.0, schema={"anyOf": [{"type": "number"}, {"const": "free"}]}),
+    Key("roller", "number", "roller radius", unit="length", positive=True),
+    Key("roller_ratio", "number", "or: the roller radius over r₀ (after sizing)", positive=True),
+    Key("arm", "number", "oscillating: pivot to roller centre", unit="length", positive=True),
+    Key("centre_distance", "number", "oscillating: pivot to cam centre", unit="length", positive=True),
+    Key("arm_angle", "number", "oscillating: from the pivot→cam-centre line to the arm at s = 0", unit="deg"),
+    Key("face_offset", "number", "oscillating flat face: from the pivot to the face", unit="length", default=0.0),
+    Key("pressure_limit", "number", "largest pressure angle of both strokes", unit="deg", default=30.0),
+    Key("rise_limit", "number", "the rise's own limit", unit="deg", default_doc="pressure_limit"),
+    Key("return_limit", "number", "the return's own limit", unit="deg", default_doc="pressure_limit"),
+    Key("size", "boolean", "find the smallest cam", default=False),
+    Key("min_radius", "number", "flat face sizing: smallest radius of curvature of the profile", unit="length",
+        default_doc="0.1·stroke"),
+    Key("samples", "number", "cam angles of the profile (a whole number)", default=1440.0, positive=True),
+    Key("start", "custom", "the linkage's input value at cam angle 0 (a number or an expression)", unit="input",
+        default=0.0, schema=_EXPRESSION),
+    Key("window", "custom", "the rise must lie between these input values [from, to]", unit="input",
+        default=[], schema={"type": "array", "items": _EXPRESSION, "minItems": 2, "maxItems": 2}),
+    Key("title", "text", "the cam's title", default_doc="the file's title"),
+    Key("phases", "rows", "the motion program: rise, dwell, return rows adding up to 360°", required=True,
+        section=CAM_PHASE),
+    Key("events", "rows", "timing events on the model", section=CAM_EVENT),
+    Key("dynamics", "table", "spring and inertia", section=CAM_DYNAMICS)))
+#: a cam file (no linkage of its own): its keys
+CAM_FILE = Section("cam_file", "cam file", "a cam file: a [cam] that names its model", (
+    Key("cam", "table", "the cam", section=CAM, required=True),
+    Key("name", "text", "its name"),
+    Key("title", "text", "its title")))
 
 
 @dataclass(frozen=True)
@@ -90,17 +164,22 @@ class CamSpec:
 
 
 class _Table:
-    """Typed reads of one TOML table with errors naming the file and the table."""
+    """Typed reads of one TOML table with errors naming the file and the table; the keys it reads are those
+    its `section` declares (a key's default, when not given, is the declared one)."""
 
-    def __init__(self, data, where):
+    def __init__(self, data, where, section: Section):
         if not isinstance(data, dict):
             raise ModelError(f"{where}: expected a table {{...}}, got {type(data).__name__}")
-        self.data, self.where, self.used = data, where, set()
+        self.data, self.where, self.used, self.section = data, where, set(), section
 
     def fail(self, msg):
         raise ModelError(f"{self.where}: {msg}")
 
-    def get(self, key, default=None, kind=float, required=False, positive=False):
+    def get(self, key, default=MISSING, kind=float, required=None, positive=None):
+        declared = self.section[key]   # (a KeyError: read but not declared)
+        default = (None if declared.default is MISSING else declared.default) if default is MISSING else default
+        required = declared.required if required is None else required
+        positive = declared.positive if positive is None else positive
         self.used.add(key)
         if key not in self.data:
             if required:
@@ -165,52 +244,52 @@ def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
         from ..model import parse_model
         linkage = parse_model(data, source=source)
     else:
-        unknown = set(data) - {"cam", "name", "title"}
+        unknown = set(data) - CAM_FILE.names
         if unknown:
             raise ModelError(f"{source}: unknown key(s) {', '.join(sorted(unknown))} in a cam file")
-    t = _Table(data["cam"], f"{source}: [cam]")
+    t = _Table(data["cam"], f"{source}: [cam]", CAM)
     # a model's [cam] measures in the model's length_unit unless it says otherwise
     unit_name = t.get("length_unit", data.get("length_unit", "m") if linkage is not None else "m", str)
     if unit_name not in _UNITS:
         t.fail(f"length_unit must be one of {', '.join(_UNITS)}, got '{unit_name}'")
     unit = _UNITS[unit_name]
-    model = t.get("model", None, str)
+    model = t.get("model", kind=str)
     if model is not None:
         if linkage is not None:
             t.fail("'model' names another model, but this file is a model itself")
         model = str((Path(source).parent / model))
-    motion = t.get("follower", "translating", str)
-    contact = t.get("contact", "roller", str)
-    rotation = {"ccw": 1, "cw": -1}.get(t.get("rotation", "ccw", str))
+    motion = t.get("follower", kind=str)
+    contact = t.get("contact", kind=str)
+    rotation = {"ccw": 1, "cw": -1}.get(t.get("rotation", kind=str))
     if rotation is None:
         t.fail(f"rotation must be 'ccw' or 'cw', got {data['cam']['rotation']!r}")
 
-    def length(key, default=None, positive=False):
-        v = t.get(key, None, float, positive=positive)
+    def length(key, default=None):
+        v = t.get(key, None, float)
         return default if v is None else v * unit
 
-    limit = t.get("pressure_limit", 30.0)
-    offset = data["cam"].get("offset", 0.0)
+    limit = t.get("pressure_limit")
+    offset = data["cam"].get("offset", CAM["offset"].default)
     if isinstance(offset, str):
         t.used.add("offset")
         if offset != "free":
             t.fail(f"offset must be a length or \"free\", got {offset!r}")
     else:
-        offset = length("offset", 0.0)
-    window = t.get("window", (), list)
+        offset = length("offset", CAM["offset"].default)
+    window = t.get("window", kind=list)
     if window and len(window) != 2:
         t.fail(f"window must be [from, to], got {window!r}")
     spec = CamSpec(
         source=source, model=model, motion=motion, contact=contact, rotation=rotation,
         phases=_phases(data["cam"].get("phases"), t, unit),
         events=_events(data["cam"].get("events", []), t),
-        base_radius=length("base_radius", positive=True), offset=offset,
-        roller=length("roller", positive=True), roller_ratio=t.get("roller_ratio", None, positive=True),
-        arm=length("arm", positive=True), centre_distance=length("centre_distance", positive=True),
-        arm_angle=t.get("arm_angle"), face_offset=length("face_offset", 0.0),
+        base_radius=length("base_radius"), offset=offset,
+        roller=length("roller"), roller_ratio=t.get("roller_ratio"),
+        arm=length("arm"), centre_distance=length("centre_distance"),
+        arm_angle=t.get("arm_angle"), face_offset=length("face_offset", CAM["face_offset"].default),
         rise_limit=t.get("rise_limit", limit), return_limit=t.get("return_limit", limit),
-        size=t.get("size", False, bool), min_radius=length("min_radius"),
-        samples=int(t.get("samples", 1440.0, positive=True)), start=t.get("start", 0.0, "angle"),
+        size=t.get("size", kind=bool), min_radius=length("min_radius"),
+        samples=int(t.get("samples")), start=t.get("start", kind="angle"),
         window=tuple(window), dynamics=_dynamics(data["cam"].get("dynamics"), t, unit),
         title=t.get("title", str(data.get("title", "")), str), linkage=linkage)
     t.used |= {"phases", "events", "dynamics"}
@@ -223,12 +302,12 @@ def _phases(rows, t, unit):
         t.fail("missing 'phases' (a list of rise, dwell and return rows)")
     out = []
     for i, raw in enumerate(rows):
-        r = _Table(raw, f"{t.where} phases[{i}]")
-        kind = r.get("kind", None, str, required=True)
-        if kind not in ("rise", "return", "dwell", "polynomial"):
+        r = _Table(raw, f"{t.where} phases[{i}]", CAM_PHASE)
+        kind = r.get("kind", kind=str)
+        if kind not in CAM_PHASE["kind"].choices:
             r.fail(f"kind must be rise, return, dwell or polynomial, got '{kind}'")
-        angle = r.get("angle", None, "angle", required=True)
-        stroke, swing = r.get("stroke"), r.get("swing")
+        angle = r.get("angle", kind="angle")
+        stroke, swing = r.get("stroke", positive=False), r.get("swing", positive=False)  # (checked here:)
         for name, value in (("stroke", stroke), ("swing", swing)):
             if value is not None and value <= 0:
                 r.fail(f"the {name} must be positive, got {value:g}")
@@ -238,11 +317,11 @@ def _phases(rows, t, unit):
                     str, required=kind in ("rise", "return"))
         ends = []
         for key in ("start", "end"):
-            v = r.get(key, [], list, required=kind == "polynomial")
+            v = r.get(key, kind=list, required=kind == "polynomial")
             if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
                 r.fail(f"'{key}' must be a list of numbers [s, v, a, ...]")
             ends.append(tuple(float(x) * unit for x in v))
-        out.append(PhaseSpec(kind, angle, law, r.get("k", 1.0, positive=True),
+        out.append(PhaseSpec(kind, angle, law, r.get("k"),
                              None if stroke is None else stroke * unit, ends[0], ends[1], r.where, swing))
         r.done()
     return tuple(out)
@@ -253,10 +332,9 @@ def _events(rows, t):
         t.fail("'events' must be a list of rows")
     out = []
     for i, raw in enumerate(rows):
-        r = _Table(raw, f"{t.where} events[{i}]")
-        out.append(EventSpec(r.get("name", None, str, required=True), r.get("point", None, str, required=True),
-                             r.get("coordinate", "x", str), r.get("fraction"),
-                             r.get("measure", "fraction", str), r.get("direction", None, str)))
+        r = _Table(raw, f"{t.where} events[{i}]", CAM_EVENT)
+        out.append(EventSpec(r.get("name", kind=str), r.get("point", kind=str), r.get("coordinate", kind=str),
+                             r.get("fraction"), r.get("measure", kind=str), r.get("direction", kind=str)))
         r.done()
     return tuple(out)
 
@@ -264,13 +342,13 @@ def _events(rows, t):
 def _dynamics(raw, t, unit):
     if raw is None:
         return None
-    r = _Table(raw, f"{t.where} dynamics")
-    rpm = r.get("rpm", None, positive=True)
-    omega = r.get("omega", None, positive=True)
+    r = _Table(raw, f"{t.where} dynamics", CAM_DYNAMICS)
+    rpm = r.get("rpm")
+    omega = r.get("omega")
     if (rpm is None) == (omega is None):
         r.fail("give the cam speed as 'rpm' or 'omega' (rad/s)")
-    spec = DynamicsSpec(omega if omega is not None else rpm * math.pi / 30, r.get("mass", 0.0),
-                        r.get("spring_rate", 0.0), r.get("preload", 0.0), r.get("force", 0.0))
+    spec = DynamicsSpec(omega if omega is not None else rpm * math.pi / 30, r.get("mass"),
+                        r.get("spring_rate"), r.get("preload"), r.get("force"))
     if spec.mass < 0 or spec.spring_rate < 0:
         r.fail("mass and spring_rate must not be negative")
     r.done()

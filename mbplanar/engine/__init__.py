@@ -2,8 +2,7 @@
 atlas) and singular positions.
 
 `Engine(mechanism)` compiles a mechanism once; `Engine.solve`, `Engine.solve_limits`, `Engine.rates` and
-`Engine.atlas` answer for batches of input values. ``mbplanar.solver``, ``mbplanar.constraints`` and
-``mbplanar._linalg`` are deprecated aliases of the modules here.
+`Engine.atlas` answer for batches of input values.
 """
 
 from ._solver import Crossing, Engine, Limit, Solution

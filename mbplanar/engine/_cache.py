@@ -110,7 +110,7 @@ def _entry_name(*parts) -> str:
 
 def _code_stamp() -> str:
     """The size and modification time of every module of the package: any edit changes it (read once per
-    process: the engine cache and the built kernels' key, `backends._aot`, share it)."""
+    process)."""
     if not _stamp:
         _stamp.append(_stamp_of_files())
     return _stamp[0]
@@ -130,17 +130,6 @@ def _stamp_of_files(root=PACKAGE) -> str:
                 info = os.stat(os.path.join(folder, name))
                 stamps.append(f"{os.path.join(relative, name)}:{info.st_size}:{info.st_mtime_ns}")
     return "\n".join(stamps)
-
-
-def _digest(*parts) -> str:
-    """The SHA-256 of the parts, each length-prefixed (the built kernels' key, `backends._aot`)."""
-    import hashlib
-    h = hashlib.sha256()
-    for part in parts:
-        data = part if isinstance(part, bytes) else str(part).encode("utf-8")
-        h.update(len(data).to_bytes(8, "little"))
-        h.update(data)
-    return h.hexdigest()
 
 
 def _private(folder: Path) -> bool:

@@ -24,7 +24,17 @@ class Limit:
     At a fold (dead point: the block's Jacobian is singular and the branch turns back) φ is solved for
     together with the configuration there, `q` (every block's unknowns (m,), as in `Solution.blocks`),
     to the rounding floor (see `_locate_fold`). Where that does not converge `q` is None and φ is the
-    middle of the bracket the walk left, good to `H_MIN` in the input."""
+    middle of the bracket the walk left, good to `H_MIN` in the input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml"))
+    >>> limit = mbplanar.analyse(engine, np.radians(np.arange(0.0, 360.0, 10.0))).limits[0]
+    >>> round(float(limit.phi[0]), 6), limit.direction, limit.joints, limit.kind
+    (1.799912, 1, ('C', 'B', 'D'), 'stretched at B (C, B, D in line)')
+    """
 
     phi: np.ndarray  # (n_in,) input values (SI)
     direction: int

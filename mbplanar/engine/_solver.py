@@ -60,7 +60,18 @@ class Engine:
     those loops cannot vouch for a position.
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
     or the environment variable MBPLANAR_THREADS); the answers do not depend on it.
-    tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them."""
+    tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> engine.topology.structure.formula, engine.inputs[0].joint
+    ('I(0,1) → II(2,3)', 'O')
+    >>> round(float(np.degrees(engine.phi_drawn[0])), 6)        # the drawn crank angle
+    60.0
+    """
 
     def __init__(self, mech: Mechanism, grouped: bool = True, backend: str = "numpy", threads: int | None = None,
                  tol: Tolerances | None = None):

@@ -141,15 +141,3 @@ class KernelTol(NamedTuple):
     nudge: float
     lazy_step: float
 
-# the module constants these replace, still readable (through the deprecated ``mbplanar.solver``)
-_OLD_NAMES = {"TOL": "closure", "TOL_FINE": "polish", "MAX_NEWTON": "max_newton", "H_START": "h_start",
-              "H_MAX": "h_max", "H_MIN": "h_min", "H_DENSE": "h_dense", "MAX_CORRECTION": "max_correction",
-              "RATE_JUMP": "rate_jump", "H_CROSS": "h_cross", "CROSS_DIST": "cross_dist",
-              "PIVOT_POLISH": "pivot_polish", "PIVOT_CROSS": "pivot_cross", "FOLD_ITERATIONS": "fold_iterations",
-              "FOLD_DELTA": "fold_delta", "FOLD_STEP": "fold_step", "FOLD_SQRT_LAW": "fold_sqrt_law"}
-
-
-def __getattr__(name: str):
-    if name in _OLD_NAMES:
-        return getattr(Tolerances(), _OLD_NAMES[name])
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

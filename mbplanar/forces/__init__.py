@@ -3,9 +3,6 @@ kinetostatic system (reactions and balancing moment, `kinetostatics`), friction 
 efficiency (`friction_kinetostatics`), the shaking force and balancing (`shaking`, `balance`), machine
 dynamics (reduced model, flywheel, true motion, `machine_dynamics`), and the motion under given forces
 (`simulate_motion`).
-
-``mbplanar.loads``, ``mbplanar.kinetostatics`` and ``mbplanar.dynamics`` are deprecated aliases of the
-modules here.
 """
 
 #: name → the module that defines it, imported on first use (PEP 562), so that a command reading one

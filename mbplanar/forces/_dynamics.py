@@ -276,6 +276,13 @@ class Dynamics:
         The simulation, where asked for, found the periodic motion.
     message : str
         "solved", or the simulation's message.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> d = mbplanar.machine_dynamics(mbplanar.Engine(mbplanar.read_model("models/shaper.toml")))
+    >>> round(d.inertia_first_group, 2), d.simulation.success            # kg·m² on the crank
+    (147.14, True)
     """
 
     spec: DynamicsSpec
@@ -361,8 +368,41 @@ def cycle_grid(steps: int) -> np.ndarray:
 
 def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600,
                      simulate_motion: bool = True) -> Dynamics:
-    """The energy–mass method over one cycle of the crank (and, unless `simulate_motion` is False,
-    the exact steady-state motion with the flywheel found). `spec` defaults to the model's section."""
+    """Machine dynamics by the energy–mass method over one cycle of the crank, and the flywheel it needs.
+
+    Unless `simulate_motion` is False, also the exact steady-state motion with the flywheel found.
+
+    Parameters
+    ----------
+    engine : Engine
+        A one-input mechanism driven by a crank, with masses or loads.
+    spec : DynamicsSpec, optional
+        The coefficient of unevenness, mean speed, drive and flywheel data (default: the model's
+        `[dynamics]` section).
+    steps : int
+        Positions over the cycle.
+    simulate_motion : bool
+        Also the true motion ω(φ) with the flywheel found (`Dynamics.simulation`).
+
+    Returns
+    -------
+    Dynamics
+        The reduced model, the driving moment, the flywheel and, with `simulate_motion`, the true motion.
+
+    Raises
+    ------
+    ModelError
+        No `[dynamics]` section and no `spec`, or a model the method does not apply to (several inputs,
+        an input that does not turn).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> d = mbplanar.machine_dynamics(engine)
+    >>> round(float(d.driving_moment), 3), round(d.simulation.delta, 4)   # N·m; the true unevenness
+    (102.058, 0.0481)
+    """
     spec = spec or read_dynamics(engine.mech)
     if spec is None:
         raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)

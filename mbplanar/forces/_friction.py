@@ -40,10 +40,27 @@ import numpy as np
 from ..errors import ModelError
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
+from ..model._keys import Key, Section
 from ..model._table import Row
 
 __all__ = ["PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
-           "friction_loads"]
+           "friction_loads", "FRICTION"]
+
+FRICTION_PAIR = Section("friction_pair", "[friction] pairs[]", "one pair's own friction", (
+    Key("joint", "text", "the pair", required=True),
+    Key("mu", "number", "its coefficient of friction", minimum=0.0, default_doc="the section's mu"),
+    Key("pin_radius", "number", "its pin radius", unit="length", minimum=0.0, default_doc="the section's pin_radius"),
+    Key("block_length", "number", "its slider block's length", unit="length", positive=True,
+        default_doc="the section's block_length")))
+FRICTION = Section("friction", "[friction]", "friction in the kinematic pairs", (
+    Key("mu", "number", "coefficient of every pair", default=0.0, minimum=0.0),
+    Key("pin_radius", "number", "pin radius of every revolute pair with friction", unit="length", default=0.0,
+        minimum=0.0),
+    Key("block_length", "number", "length of every slider block", unit="length", positive=True,
+        default_doc="none: the friction is mu·|N|"),
+    Key("tolerance", "number", "of the fixed-point iteration", default=1e-12, positive=True),
+    Key("max_iterations", "number", "of the fixed-point iteration (a whole number)", default=100, positive=True),
+    Key("pairs", "rows", "pairs whose friction differs", section=FRICTION_PAIR)))
 
 
 @dataclass(frozen=True)
@@ -73,27 +90,28 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
     if raw is None and mu is None:
         return None
     where = f"{mech.source}: friction"
-    row = Row({} if raw is None else raw, where)
+    row = Row({} if raw is None else raw, where, section=FRICTION)
     scale = mech.units.length_scale  # lengths in the table's length_unit
-    block = row.number("block_length", None, positive=True)
-    default = PairFriction("", row.number("mu", 0.0) if mu is None else float(mu),
-                           row.number("pin_radius", 0.0) * scale, None if block is None else block * scale)
-    tolerance = row.number("tolerance", 1e-12, positive=True)
-    max_iter = row.number("max_iterations", 100, positive=True)
+    block = row.get("block_length")
+    table_mu = row.number("mu", FRICTION["mu"].default)          # (bounds: checked per pair below)
+    default = PairFriction("", table_mu if mu is None else float(mu),
+                           row.number("pin_radius", FRICTION["pin_radius"].default) * scale,
+                           None if block is None else block * scale)
+    tolerance = row.get("tolerance")
+    max_iter = row.get("max_iterations")
     given = {}
-    rows = row.data.get("pairs", [])
-    row.used.add("pairs")
+    rows = row.raw("pairs", [])
     row.check_unknown_keys()
     if not isinstance(rows, list):
         row.fail("'pairs' must be a list of rows {joint = ..., mu = ...}")
     for k, raw_pair in enumerate(rows):
-        pr = Row(raw_pair, f"{where}: pairs[{k}]")
-        joint = pr.text("joint", required=True)
+        pr = Row(raw_pair, f"{where}: pairs[{k}]", section=FRICTION_PAIR)
+        joint = pr.get("joint")
         if joint not in mech.joints:
             pr.fail(f"'{joint}' is not a joint of the model")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
-        radius, block = pr.number("pin_radius"), pr.number("block_length", positive=True)
+        radius, block = pr.number("pin_radius"), pr.get("block_length")
         given[joint] = PairFriction(joint, pr.number("mu", default.mu),
                                     default.radius if radius is None else radius * scale,
                                     default.block_length if block is None else block * scale)

@@ -85,6 +85,16 @@ class Kinetostatics:
         No position is singular.
     message : str
         "solved", or where the system is singular.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> k = mbplanar.kinetostatics(engine, mbplanar.analyse(engine, np.radians([60.0]), omega=10.0))
+    >>> reaction = k.reactions["B"]                     # on link 2 from link 3
+    >>> reaction.on, reaction.source, round(float(reaction.fx[0]), 4), round(float(reaction.fy[0]), 4)
+    ('2', '3', 25.9117, 28.9839)
     """
 
     motion: Motion
@@ -556,11 +566,44 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
                   inertia: bool = True) -> Kinetostatics:
     """Reactions in every pair and the balancing load at every input over the positions of `motion`.
 
-    input_inertia: J_I (kg·m², or kg for a prismatic input) on each input link, scalar or per input.
-    loads: evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
-    inertia: include the d'Alembert loads of the links (and J_I).
     The engine's compiled backend takes the batch where it can (`engine._backend.dispatch`); numpy, the
-    reference, does the rest. Raises `ModelError` for an `input_inertia` that is not finite and >= 0.
+    reference, does the rest.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism `motion` was computed on.
+    motion : Motion
+        Positions with their rates (`analyse` with ``rates=True`` and every joint).
+    input_inertia : float or sequence of float
+        J_I (kg·m², or kg for a prismatic input) on each input link, one value or one per input.
+    loads : list of LoadValue, optional
+        Evaluated external loads (default: the model's loads and gravity, `evaluate_loads`).
+    inertia : bool
+        Include the d'Alembert loads of the links (and J_I).
+
+    Returns
+    -------
+    Kinetostatics
+        `reactions` {joint: `Reaction` (fx, fy, moment: (B,) each, N and N·m)}, `balancing` {input
+        joint: (B,)} and the virtual-power check of every position.
+
+    Raises
+    ------
+    ModelError
+        An `input_inertia` that is not finite and >= 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0]), omega=10.0)
+    >>> k = mbplanar.kinetostatics(engine, motion)
+    >>> round(float(k.balancing["O"][0]), 5)            # the balancing moment on the crank, N·m
+    2.69865
+    >>> bool(k.virtual_power_residual[0] < 1e-12)       # the balancing moment's power equals the loads'
+    True
     """
     _check_input_inertia(engine, input_inertia)
     _frames_of(motion)

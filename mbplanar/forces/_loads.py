@@ -1,6 +1,6 @@
 """External loads on the links: their evaluation over a batch of positions.
 
-The table reader (`mbplanar.table`) reads the `loads` rows and `[gravity]` once, into
+The table reader (`mbplanar.model._table`) reads the `loads` rows and `[gravity]` once, into
 `Mechanism.loads` (`Load` records) and `Mechanism.gravity` (SI units); this module only evaluates them.
 
 Every load law is plain data (numbers, names, tables), never an expression that gets evaluated. A load

@@ -45,11 +45,29 @@ from ..kinematics._motion import analyse, material_points
 from ._kinetostatics import kinetostatics
 from ._loads import (evaluate_loads, heavy_links, load_power, read_gravity, read_loads, real_frames,
                      spring_energy, world_points)
+from ..model._keys import MISSING, Key, Section
 from ..model._table import Row
 
-__all__ = ["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "accelerations"]
+__all__ = ["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "accelerations", "SIMULATE"]
 
 METHODS = ("DOP853", "RK45", "Radau", "BDF", "LSODA", "RK23")
+_PER_INPUT = {"anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]}
+SIMULATE = Section("simulate", "[simulate]", "the motion under given forces, integrated in time", (
+    Key("t", "number", "the end time (the command's --t overrides it)", unit="s", positive=True),
+    Key("torque", "custom", "drive along each input: a number, or one per input", unit="moment", default=0.0,
+        schema=_PER_INPUT),
+    Key("motor_slope", "custom", "drive = torque − motor_slope·q̇, per input", unit="moment*s/rad", default=0.0,
+        schema=_PER_INPUT),
+    Key("omega", "custom", "initial speed(s) q̇₀; the start position is the drawn one", unit="rad/s",
+        default_doc="0", schema=_PER_INPUT),
+    Key("input_inertia", "custom", "inertia on each input link besides the links' own", unit="inertia",
+        default=0.0, schema=_PER_INPUT),
+    Key("rtol", "number", "solve_ivp's relative tolerance", default=1e-10, positive=True),
+    Key("atol", "number", "solve_ivp's absolute tolerance", default=1e-12, positive=True),
+    Key("method", "choice", "solve_ivp's method", default="DOP853", choices=METHODS),
+    Key("steps", "number", "output intervals (a whole number)", default=100, positive=True),
+    Key("max_evaluations", "number", "right-hand-side evaluations at most (a whole number)", default=50000,
+        positive=True)))
 
 
 @dataclass(frozen=True)
@@ -80,20 +98,18 @@ def read_simulate(mech, **override) -> SimulateSpec:
     where = f"{mech.source}: simulate"
     if not isinstance(raw, dict):
         raise ModelError(f"{where}: expected a table")
-    row = Row(raw, where)
+    row = Row(raw, where, section=SIMULATE)
     n = len(mech.inputs)
-    values = {"t": row.number("t", None, positive=True)}
-    for key, default in (("torque", 0.0), ("motor_slope", 0.0), ("omega", None), ("input_inertia", 0.0)):
-        values[key] = _per_input(row, key, default, n)
+    values = {"t": row.get("t")}
+    for key in ("torque", "motor_slope", "omega", "input_inertia"):
+        default = SIMULATE[key].default
+        values[key] = _per_input(row, key, None if default is MISSING else default, n)
     units = mech.units  # the section is in the table's units; the overrides are SI
     for key, scale in (("torque", units.moment_scale), ("motor_slope", units.moment_scale),
                        ("input_inertia", units.inertia_scale)):
         values[key] = tuple(v * scale for v in values[key])
-    values["rtol"] = row.number("rtol", 1e-10, positive=True)
-    values["atol"] = row.number("atol", 1e-12, positive=True)
-    values["method"] = row.text("method", "DOP853")
-    values["steps"] = row.number("steps", 100, positive=True)
-    values["max_evaluations"] = row.number("max_evaluations", 50000, positive=True)
+    for key in ("rtol", "atol", "method", "steps", "max_evaluations"):
+        values[key] = row.get(key)
     row.check_unknown_keys()
     values.update({k: v for k, v in override.items() if v is not None})
     for key in ("torque", "motor_slope", "omega", "phi", "input_inertia"):
@@ -105,8 +121,7 @@ def read_simulate(mech, **override) -> SimulateSpec:
 
 
 def _per_input(row: Row, key, default, n):
-    value = row.data.get(key)
-    row.used.add(key)
+    value = row.raw(key)
     if value is None:
         return None if default is None else (default,) * n
     values = value if isinstance(value, list) else [value]

@@ -1,16 +1,10 @@
 """Kinematics: `analyse(engine, phi, omega, epsilon)` → `Motion`, positions, analogues and real
 velocities and accelerations of every link, joint and point (batch first, SI); `positions_at_limits`;
 `position(engine, phi, omega, epsilon)` → `Position`, one position without the batch machinery.
-
-This subpackage replaces the old module ``mbplanar.kinematics`` and keeps its public names; its other
-names are forwarded from ``mbplanar.kinematics._motion`` with a DeprecationWarning.
 """
 
-from .. import _deprecated
 from ._motion import OUTPUTS, Frames, Motion, analyse, material_points, positions_at_limits
 from ._single import Position, position
 
 __all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "Position",
            "position"]
-
-__getattr__ = _deprecated.forwarder(__name__, __name__ + "._motion")

@@ -10,12 +10,13 @@ a = a_q·ω² + v_q·ε. ``points=[...]`` asks for some points only, ``rates=Fal
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
 from ..errors import ModelError
-from ..engine._atlas import met_along
+from ..engine._atlas import far_span, met_along
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp
 from ..engine._solver import Crossing, Engine, Limit
@@ -117,6 +118,16 @@ class Motion:
     model : Mechanism
         The (assembled) model these are positions of: its names and units, for documents and pictures
         (`mbplanar.io.document`, `to_frame`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([30.0, 120.0]), omega=10.0)
+    >>> motion.point_names, motion.v[:, motion.point("A")].round(4)     # A on the crank: 0.1 m · 10 rad/s
+    (['O', 'A', 'B', 'C', 'M'], array([[-0.5  ,  0.866],
+           [-0.866, -0.5  ]]))
     """
 
     phi: np.ndarray
@@ -438,8 +449,9 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
     Parameters
     ----------
     engine : Engine
+        The mechanism, compiled once.
     phi : array_like
-        Input values (SI): (B,) for one input, (B, n_in) for several.
+        Input values (SI: rad, or m for a slider): (B,) for one input, (B, n_in) for several.
     omega, epsilon : float or array_like, optional
         Input speed and acceleration, one value or one per position (default: the model's).
     points : list of str, optional
@@ -457,6 +469,7 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
     Returns
     -------
     Motion
+        Batch first: link angles (B, L), points' positions, velocities, accelerations (B, P, 2), ...
 
     Raises
     ------
@@ -464,6 +477,17 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
         Input values that are not finite, a point the model does not have, an unknown output name, a
         speed `omega` or acceleration `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``,
         ``|ε| ≤ 1e200`` (their squares and products must stay finite).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> m = mbplanar.analyse(engine, np.radians([0.0, 90.0]), omega=10.0)
+    >>> m.xy.shape                                   # (B, P, 2): two positions of five points
+    (2, 5, 2)
+    >>> m.w[:, m.link_names.index("3")].round(4)     # the rocker's angular velocity, rad/s
+    array([-5.    ,  3.7222])
     """
     phi = np.asarray(phi, float)
     if not (phi.size == 1 and math.isfinite(phi.flat[0])) and not np.all(np.isfinite(phi)):
@@ -523,40 +547,53 @@ def _checked_rate(name: str, value, bound: float, engine):
 def _sweep_request(engine: Engine, phi, omega, epsilon, sel: PointSelection, wanted: frozenset) -> SweepJob | str:
     """What the kinematics kernel solves and where it writes: the engine's tables, the atlas covering
     the batch, the inputs and the output arrays asked for; or why no kernel can take the batch."""
-    if len(engine.inputs) != 1:
+    shared = engine.prepared.get("sweep tables")
+    if shared is None:
+        shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
+    if not shared.one_input:
         return "several inputs (the kernels follow one)"
     batch = len(phi)
     if not batch:
         return "no positions"
-    x = np.array(phi[:, 0], float)  # (contiguous, writeable: the types the compiled kernel was made for)
-    lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
-    if not engine.within_walk(lo, hi):
+    plan = shared.plans.get((wanted, len(sel.names)))
+    if plan is None:
+        plan = shared.plans[wanted, len(sel.names)] = _OutputPlan(shared, wanted, len(sel.names))
+    if batch == 1:
+        return plan.one(engine, shared, float(phi[0, 0]), omega, epsilon, sel)
+    else:
+        x = np.array(phi[:, 0], float)  # (contiguous, writeable: the types the compiled kernel was made for)
+        lo, hi = float(x.min()), float(x.max())
+        om, ep = _speed(omega, shared.omega, batch), _speed(epsilon, shared.epsilon, batch)
+        ep_any = bool(ep.any())
+        out = plan.many(batch)
+    if not (abs(lo - shared.phi0) <= shared.reach and abs(hi - shared.phi0) <= shared.reach):  # `within_walk`
         return "input values beyond the walk from the drawn pose (numpy reduces them by the period)"
-    inp = engine.inputs[0]
-    om, ep = _speed(omega, inp.omega, batch), _speed(epsilon, inp.epsilon, batch)
-    rates = "w" in wanted or "v" in wanted or "wq" in wanted or "e" in wanted or "a" in wanted or "ic" in wanted \
-        or "vq" in wanted or "aq" in wanted or "eq" in wanted or "rate" in wanted or "rate_q" in wanted \
-        or "accel" in wanted or "accel_q" in wanted
-    shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
+    rates = plan.rates
     return SweepJob(shared.tables, _covering(engine, lo, hi), shared.tol,
-                    SweepIn(x, om, ep, rates and bool(ep.any()), rates, sel.links, sel.at, shared.offsets[rates]),
-                    _outputs(shared, batch, len(sel.names), wanted, rates), engine.threads, shared.store, batch)
+                    SweepIn(x, om, ep, rates and ep_any, rates, sel.links, sel.at, shared.offsets[rates]), out,
+                    engine.threads, shared.store, batch)
 
 
 class _SweepShared:
     """What every kinematics request of an engine shares: the kernel's tables and tolerances, the
-    record layouts (without, with rates), the empty arrays standing for outputs not asked for, and the
-    store where backends keep their work arrays and compiled entries."""
+    record layouts (without, with rates), the output plans (`_OutputPlan`), the empty arrays standing
+    for outputs not asked for, the Motion's names, and the store where backends keep their work arrays
+    and compiled entries."""
 
     def __init__(self, engine: Engine):
+        self.one_input = len(engine.inputs) == 1
         self.tables = sweep_tables(engine)
         self.tol = engine.tol.kernel()
         n_l, n_j = len(engine.links), len(engine.mech.joints)
         self.layouts = {r: record_layout(n_l, n_j, r) for r in (False, True)}
         self.offsets = {r: self.layouts[r][1] for r in (False, True)}
         self.sizes = (n_l, n_j)
-        self.empty = {}
-        self.store = {}
+        self.empty, self.plans, self.store = {}, {}, {}
+        if self.one_input:
+            inp = engine.inputs[0]
+            self.omega, self.epsilon = float(inp.omega), float(inp.epsilon)
+            self.phi0, self.reach = float(engine.phi_drawn[0]), far_span(engine.solver)
+        self.names = dict(link_names=list(engine.links), joint_names=list(engine.mech.joints), model=engine.mech)
 
     def none(self, shape: tuple) -> np.ndarray:
         """An empty float array of `shape` (its first dimension 0): an output not asked for."""
@@ -567,31 +604,89 @@ class _SweepShared:
 
 
 _RECORDED = ("frames", "value", "wq", "eq", "rate_q", "accel_q")  # views of the kernel's records
+_PAIRS = {"w": "e", "e": "w", "v": "a", "a": "v", "vq": "aq", "aq": "vq", "rate": "accel", "accel": "rate"}
+_OUT = SweepOut._fields
 
 
-def _outputs(shared: _SweepShared, batch: int, n_p: int, wanted: frozenset, rates: bool) -> SweepOut:
-    """The arrays the kernel writes (those not asked for empty); the frames, joint values and link
-    analogues go to the records."""
-    n_l, n_j = shared.sizes
-    links, pts, joints = (batch, n_l), (batch, n_p, 2), (batch, n_j)
+class _OutputPlan:
+    """The arrays the kernel writes for one kind of request (the outputs `wanted`, P points): those
+    asked for, allocated per call (`one`, `many`), the others empty (a w or v asked for brings its e or
+    a: the kernel writes them together); the frames, joint values and link analogues go to the records.
+    One position's arrays are the fields of one structured array (one allocation, every field
+    C-contiguous). Which `Motion` field each output becomes (`motion_arrays`, `motion_records`)."""
 
-    def new(names, shape):
-        return np.empty(shape) if any(n in wanted for n in names) else shared.none((0,) + shape[1:])
+    def __init__(self, shared: _SweepShared, wanted: frozenset, n_p: int, direct: bool = False):
+        n_l, n_j = shared.sizes
+        self.rates = rates = any(name in wanted for name in RATE_OUTPUTS)
+        per = {"angle": (n_l,), "xy": (n_p, 2), "w": (n_l,), "e": (n_l,), "v": (n_p, 2), "a": (n_p, 2),
+               "wq": (n_l,), "eq": (n_l,), "vq": (n_p, 2), "aq": (n_p, 2), "value": (n_j,), "rate": (n_j,),
+               "accel": (n_j,), "rate_q": (n_j,), "accel_q": (n_j,), "ic": (n_l, 2), "rows": (0,), "valid": ()}
+        own = ("w", "e", "v", "a", "vq", "aq", "rate", "accel", "ic") + (_RECORDED[1:] if direct else ())
+        written = {"angle", "xy", "valid"} | {name for name in own if name in wanted or _PAIRS.get(name) in wanted}
+        self.layout = shared.layouts[rates][0] if not direct and any(n in wanted for n in _RECORDED) else None
+        if self.layout is not None:
+            written.add("rows")
+            per["rows"] = (self.layout.itemsize // 8,)
+        self.shapes = {name: per[name] for name in _OUT if name in written}
+        self.template = [None if name in written else shared.none((0,) + per[name]) for name in _OUT]
+        self.slots = [k for k, name in enumerate(_OUT) if name in written]
+        fields_ = [("x", float), ("om", float), ("ep", float)]
+        fields_ += [(name, float, self.shapes[name]) for name in _OUT if name in written and name not in ("valid", "rows")]
+        if self.layout is not None:
+            fields_.append(("rows", self.layout))  # (the records, a structured field: no view to make)
+        self.one_dtype = np.dtype(fields_)  # (floats only: a copy of its buffer is a memcpy)
+        self.motion_arrays = [(name, _OUT.index(name)) for name in ("w", "e", "v", "a", "vq", "aq", "rate", "accel", "ic")
+                              if name in wanted]
+        self.motion_records = [name for name in ("value", "wq", "eq", "rate_q", "accel_q") if name in wanted]
+        self.frames = "frames" in wanted
 
-    w = new(("w", "e"), links)
-    e = np.empty(links) if len(w) else w
-    v = new(("v", "a"), pts)
-    a = np.empty(pts) if len(v) else v
-    vq = new(("vq", "aq"), pts)
-    aq = np.empty(pts) if len(vq) else vq
-    rate = new(("rate", "accel"), joints)
-    accel = np.empty(joints) if len(rate) else rate
-    records = any(n in wanted for n in _RECORDED)
-    rows = (np.empty(batch, shared.layouts[rates][0]).view(np.float64).reshape(batch, -1) if records
-            else shared.none((0, 0)))
-    none_l, none_j = shared.none((0, n_l)), shared.none((0, n_j))
-    return SweepOut(np.empty(links), np.empty(pts), w, e, v, a, none_l, none_l, vq, aq, none_j, rate, accel, none_j,
-                    none_j, new(("ic",), (batch, n_l, 2)), rows, np.empty(batch, np.bool_))
+        self.local = threading.local()
+
+    def one(self, engine: Engine, shared: _SweepShared, x: float, omega, epsilon, sel) -> SweepJob | str:
+        """The request of one position: the kernel writes into this thread's own record (`one_dtype`,
+        made once; `copied` gives the answer its own copy), so that a request costs no allocation and
+        its arrays have the types the compiled kernel was made for."""
+        state = getattr(self.local, "state", None)
+        if state is None:
+            buffer = np.zeros(self.one_dtype.itemsize // 8)
+            rec = np.ndarray((1,), self.one_dtype, buffer)
+            slots = self.template.copy()
+            for k in self.slots:
+                name = _OUT[k]
+                slots[k] = (np.zeros(1, np.bool_) if name == "valid" else
+                            rec["rows"].view(np.float64).reshape(1, -1) if name == "rows" else rec[name])
+            state = self.local.state = [buffer, rec["x"], rec["om"], rec["ep"], tuple.__new__(SweepOut, slots), {}]
+        buffer, xs, om, ep, out, jobs = state
+        if not abs(x - shared.phi0) <= shared.reach:  # `within_walk`
+            return "input values beyond the walk from the drawn pose (numpy reduces them by the period)"
+        xs[0] = x
+        om[0] = shared.omega if omega is None else float(_per_position(omega, [0.0], 1, 1)[0, 0])
+        ep[0] = shared.epsilon if epsilon is None else float(_per_position(epsilon, [0.0], 1, 1)[0, 0])
+        atlas = _covering(engine, x, x)
+        key = (ep[0] != 0.0, tuple(sel.names))
+        job = jobs.get(key)
+        if job is None or job.atlas is not atlas:
+            rates = self.rates
+            job = jobs[key] = SweepJob(shared.tables, atlas, shared.tol,
+                                       SweepIn(xs, om, ep, rates and key[0], rates, sel.links, sel.at,
+                                               shared.offsets[rates]), out, 1, shared.store, 1)
+        return job
+
+    def copied(self, shape: tuple = (1,)) -> np.ndarray:
+        """A copy of this thread's one-position record (`one`), of `shape` ((1,): with the batch axis; ():
+        without): the answer's own arrays."""
+        return _ndarray(shape, self.one_dtype, self.local.state[0].copy())
+
+    def many(self, batch: int) -> SweepOut:
+        """The outputs of `batch` positions, each array its own."""
+        slots = self.template.copy()
+        for k in self.slots:
+            name = _OUT[k]
+            if name == "rows":
+                slots[k] = np.empty(batch, self.layout).view(np.float64).reshape(batch, -1)
+            else:
+                slots[k] = np.empty((batch,) + self.shapes[name], np.bool_ if name == "valid" else float)
+        return tuple.__new__(SweepOut, slots)
 
 
 def _speed(value, default, batch: int) -> np.ndarray:
@@ -609,14 +704,17 @@ def _covering(engine: Engine, lo: float, hi: float):
     were made from (the usual case: the same range again) neither asks the atlas to grow nor makes them
     again: `cover` would find nothing to do there."""
     found = engine.prepared.get("atlas tables")
-    atlas = engine.atlas()
-    if found is not None and found[0] <= lo and hi <= found[1] and found[2] is atlas.arrays():
+    atlas = engine._atlas
+    if found is not None and found[0] <= lo and hi <= found[1] and atlas is not None and found[2] is atlas._arrays:
         return found[3]
+    atlas = engine.atlas()
     atlas.cover(lo, hi)
     arrays = atlas.arrays()
     tables = atlas_tables(arrays, (atlas.limits[-1] is not None, atlas.limits[+1] is not None), atlas.crossings)
     grid = tables.grid
-    engine.prepared["atlas tables"] = (float(grid[0]), float(grid[-1]), arrays, tables)
+    engine.prepared["atlas tables"] = (float(grid[0]), float(grid[-1]), arrays, tables,
+                                       bool(atlas.crossings or atlas.limits[-1] is not None
+                                            or atlas.limits[+1] is not None))
     return tables
 
 
@@ -624,43 +722,75 @@ def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wante
     """The `Motion` of a request the kernel wrote (its valid rows)."""
     out, inp = job.out, job.inp
     batch = job.size
-    complete = batch == 1 and out.valid[0] or bool(out.valid.all())
-    keep = slice(None) if complete else np.flatnonzero(out.valid)
-    atlas = engine.atlas()
-    known = atlas.crossings or atlas.limits[-1] is not None or atlas.limits[+1] is not None
-    if known:
+    valid = out.valid
+    complete = valid[0] if batch == 1 else bool(valid.all())
+    if engine.prepared["atlas tables"][4]:  # (a limit or a change point known: those met)
         x = inp.x
         lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
-        limits, crossings = met_along(atlas, lo, hi)
+        limits, crossings = met_along(engine.atlas(), lo, hi)
     else:
         limits, crossings = [], []
-    rates = inp.rates
-    fields_ = dict.fromkeys(_MOTION_FIELDS)
-    fields_.update(phi=phi[keep] if not complete else phi, omega=inp.om[keep, None], epsilon=inp.ep[keep, None],
-                   link_names=list(engine.links), point_names=list(sel.names), joint_names=list(engine.mech.joints),
-                   angle=out.angle[keep], xy=out.xy[keep], limits=limits, crossings=crossings, requested=batch,
-                   model=engine.mech)
-    for name in ("w", "e", "v", "a", "vq", "aq", "rate", "accel", "ic"):
-        if name in wanted:
-            fields_[name] = getattr(out, name)[keep]
-    if out.rows.shape[1]:
-        layout = engine.prepared["sweep tables"].layouts[rates][0]
-        rows = out.rows[keep].reshape(-1).view(layout) if not complete else out.rows.reshape(-1).view(layout)
+    shared = engine.prepared["sweep tables"]
+    plan = shared.plans[wanted, len(sel.names)]
+    fields_ = _NONE.copy()
+    fields_.update(shared.names)
+    if batch == 1 and complete:  # (the thread's one-position record: the answer gets its own copy)
+        rec = plan.copied()
+        fields_.update(phi=phi, omega=rec["om"][:, None], epsilon=rec["ep"][:, None], point_names=list(sel.names),
+                       angle=rec["angle"], xy=rec["xy"], limits=limits, crossings=crossings, requested=1,
+                       success=True, message="solved")
+        for name, _ in plan.motion_arrays:
+            fields_[name] = rec[name]
+        rows = rec["rows"] if plan.layout is not None else None
+    else:
+        if complete:
+            fields_.update(phi=phi, omega=inp.om[:, None], epsilon=inp.ep[:, None], point_names=list(sel.names),
+                           angle=out.angle, xy=out.xy, limits=limits, crossings=crossings, requested=batch,
+                           success=True, message="solved")
+        else:
+            keep = np.flatnonzero(valid)
+            out = tuple.__new__(SweepOut, [(a[keep] if len(a) else a) for a in out])
+            fields_.update(phi=phi[keep], omega=inp.om[keep, None], epsilon=inp.ep[keep, None],
+                           point_names=list(sel.names), angle=out.angle, xy=out.xy, limits=limits,
+                           crossings=crossings, requested=batch, success=len(keep) == batch,
+                           message=_message(engine, batch, len(keep), limits))
+        for name, k in plan.motion_arrays:
+            fields_[name] = out[k]
+        rows = out.rows.reshape(-1).view(plan.layout) if plan.layout is not None else None
+    if rows is not None:
         fields_["records"] = rows
-        get = rows.__getitem__
-        if "frames" in wanted:
-            fields_["frames"] = (_record(Frames, dict(th=get("th"), r=get("r"), w=get("wq"), v=get("fv"), e=get("eq"),
-                                                     a=get("fa"), analogues=True)) if rates
-                                 else _record(Frames, dict(th=get("th"), r=get("r"), w=None, v=None, e=None, a=None,
-                                                           analogues=True)))
-        for name, source in (("value", "value"), ("wq", "wq"), ("eq", "eq"), ("rate_q", "rate_q"),
-                             ("accel_q", "accel_q")):
-            if name in wanted:
-                fields_[name] = get(source)
-    reached = len(fields_["angle"])
-    fields_["success"] = reached == batch
-    fields_["message"] = _message(engine, batch, reached, limits)
+        for name in plan.motion_records:
+            fields_[name] = rows[name]
+        if plan.frames:
+            fields_["frames"] = _record(Frames, dict(th=rows["th"], r=rows["r"], w=rows["wq"], v=rows["fv"],
+                                                     e=rows["eq"], a=rows["fa"], analogues=True) if plan.rates else
+                                        dict(th=rows["th"], r=rows["r"], w=None, v=None, e=None, a=None,
+                                             analogues=True))
     return _record(Motion, fields_)
+
+
+_NONE = dict.fromkeys(_MOTION_FIELDS)
+_ndarray = np.ndarray
+
+
+def one_position(engine: Engine, x: float, omega, epsilon, reference):
+    """One position's record (0-d, structured: angle, xy, w, e, v, a, wq, eq, vq, aq, value, rate, accel,
+    rate_q, accel_q, ic, and x, om, ep the input's value, speed, acceleration; batch axis taken off) as
+    a backend solves it (`mbplanar.position`), or ``reference()`` where every backend declines: the
+    request is `analyse`'s of a batch of one, its arrays the record's own."""
+    shared = engine.prepared.get("sweep tables")
+    if shared is None:
+        shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
+    plan = shared.plans.get("position")
+    if plan is None:
+        sel = point_selection(engine)
+        plan = shared.plans["position"] = _OutputPlan(shared, _wanted(engine, None, True), len(sel.names), direct=True)
+        plan.sel = sel
+    if not shared.one_input:
+        return reference()
+    return dispatch(engine, "kinematics", 1, reference,
+                    lambda: plan.one(engine, shared, x, omega, epsilon, plan.sel),
+                    lambda job, status: plan.copied(()) if job.out.valid[0] else reference())
 
 
 # -- numpy ------------------------------------------------------------------------------------------

@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..errors import ModelError, MotionError
-from ._motion import analyse
+from ._motion import MAX_EPSILON, MAX_OMEGA, analyse, one_position
 
 __all__ = ["Position", "position", "ANALOGUES"]
 
@@ -52,6 +52,15 @@ class Position:
         "solved".
     model : Mechanism
         The (assembled) model this is a position of (`Motion.model`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> p = mbplanar.position(engine, np.radians(90.0))
+    >>> p.xy[p.point("A")].round(6)                    # the crank's end, m
+    array([0. , 0.1])
     """
 
     phi: np.ndarray
@@ -100,10 +109,23 @@ _new = object.__new__
 
 
 def position(engine, phi, omega=None, epsilon=None) -> Position:
-    """The kinematics of one position: input value(s) `phi` (SI: a number for one input, one value per
-    input for several), speed `omega` and acceleration `epsilon` of the input(s) (default: the model's).
+    """The kinematics of one position: `analyse` of a batch of one, without the batch axis.
 
     Equal to ``analyse(engine, [phi], omega, epsilon)`` (its only row), bit for bit.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism, compiled once.
+    phi : float or sequence of float
+        The input value (SI): a number for one input, one value per input for several.
+    omega, epsilon : float or sequence of float, optional
+        Speed and acceleration of the input(s) (default: the model's).
+
+    Returns
+    -------
+    Position
+        Positions, velocities, accelerations of every point (P, 2) and link (L,), for this position.
 
     Raises
     ------
@@ -111,12 +133,47 @@ def position(engine, phi, omega=None, epsilon=None) -> Position:
         The position lies past a motion limit, or the drawn branch does not reach it.
     ModelError
         A value that is not finite, or a speed or acceleration out of range (as `analyse`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> p = mbplanar.position(engine, np.radians(30.0), omega=10.0)
+    >>> p.xy[p.point("B")].round(4), p.w.round(4)      # B (m); the links' ω (rad/s)
+    (array([0.3104, 0.2498]), array([ 0.    , 10.    , -3.9224, -1.1355]))
     """
     n_in = len(engine.inputs)
     if phi.__class__ is float and n_in == 1:
         x = phi
     else:
         x = _inputs(engine, phi, n_in)
+        if n_in == 1:
+            x = float(x[0, 0])
+    if n_in == 1 and x - x == 0.0 and (omega is None or omega.__class__ is float and abs(omega) <= MAX_OMEGA) \
+            and (epsilon is None or epsilon.__class__ is float and abs(epsilon) <= MAX_EPSILON):
+        got = one_position(engine, x, omega, epsilon, lambda: _reference(engine, x, omega, epsilon))
+    else:
+        got = _reference(engine, x, omega, epsilon)
+    if got.__class__ is Position:
+        return got
+    out = _new(Position)
+    state = out.__dict__
+    for name in _RECORD:
+        state[name] = got[name]
+    names = engine.prepared["sweep tables"].names
+    state.update(phi=got["x"].reshape(1), omega=got["om"].reshape(1), epsilon=got["ep"].reshape(1),
+                 link_names=names["link_names"], point_names=list(engine.prepared["every point"].names),
+                 joint_names=names["joint_names"], success=True, message="solved", model=engine.mech)
+    return out
+
+
+_RECORD = ("angle", "w", "e", "ic", "xy", "v", "a", "value", "rate", "accel", "wq", "eq", "vq", "aq", "rate_q",
+           "accel_q")
+
+
+def _reference(engine, x, omega, epsilon) -> Position:
+    """`position` of the row of `analyse` of a batch of one (where no kernel takes it)."""
     motion = analyse(engine, x, omega, epsilon)
     if not motion.success:
         raise unreachable(engine, np.atleast_1d(np.asarray(x, float)).reshape(-1), motion)

@@ -316,8 +316,30 @@ def _warn(mech, where, message):
 def assemble(mech: Mechanism) -> Mechanism:
     """Return the exact drawn pose of `mech` (a new `Mechanism` with `exact=True`).
 
-    Raises `MotionError` when the dimensions cannot be met near the sketch, naming the worst joint or
-    length, and `ModelError` for dimensions that name points not on their link.
+    Parameters
+    ----------
+    mech : Mechanism
+        A mechanism whose drawn positions are a sketch (`Mechanism.exact` False): the pose nearest to it
+        that meets every length and guide is found.
+
+    Returns
+    -------
+    Mechanism
+        A new mechanism at that pose, ``exact=True`` (`mech` is not changed).
+
+    Raises
+    ------
+    MotionError
+        The dimensions cannot be met near the sketch (the message names the worst joint or length).
+    ModelError
+        Dimensions that name points not on their link.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> exact = mbplanar.assemble(mbplanar.read_model("models/fourbar.toml"))
+    >>> exact.exact, [round(x, 6) for x in exact.joints["B"].at]       # B closed onto AB = 0.3, CB = 0.25
+    (True, [0.301601, 0.249995])
     """
     if mech.exact:
         return mech

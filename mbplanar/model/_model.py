@@ -63,6 +63,12 @@ class Link:
     `angle_offset` (rad), so that the reported angle can follow any convention (a body axis at +90° to
     P→Q). Mass data are used by kinetostatics and dynamics: `mass` (kg), `inertia` (kg·m² about the
     centre), `centre` (a point).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> mbplanar.read_model("models/fourbar_loaded.toml").links["2"].mass          # kg
+    2.0
     """
 
     name: str
@@ -82,6 +88,13 @@ class Joint:
     Prismatic (`kind == "P"`): `links = (carrier, slider)`; the carrier holds a guide line through `at`
     along `guide_deg` (drawn pose) or through the two carrier points `guide_points`; the slider's point
     at `at` moves on it. Its value is the slider's displacement along the guide from the drawn pose.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> joint = mbplanar.read_model("models/fourbar.toml").joints["B"]
+    >>> joint.kind, joint.links
+    ('R', ('2', '3'))
     """
 
     name: str
@@ -109,6 +122,13 @@ class Point:
 
     Given by its drawn coordinates `at`, or built on two points of its link: `along = (P, Q)` with
     `fraction` of PQ or `distance` from P, plus `offset` to the left of P→Q (metres).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> point = mbplanar.read_model("models/fourbar.toml").points["M"]
+    >>> point.link, point.along, point.fraction, point.offset
+    ('2', ('A', 'B'), 0.5, 0.05)
     """
 
     name: str
@@ -129,6 +149,13 @@ class Input:
     "deg"/"rad" inputs when `zero_deg` is set). Inside, φ is in rad or m. `omega`, `epsilon`: the
     default speed dφ/dt and acceleration d²φ/dt². `drawn_at`: φ in the drawn pose (measured if None).
     `sweep`: default range of φ (in `unit`); `steps`: its default number of intervals.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> driven = mbplanar.read_model("models/fourbar.toml").inputs[0]
+    >>> driven.joint, driven.unit, driven.to_si(90.0)       # the crank's joint, degrees → rad
+    ('O', 'deg', 1.5707963267948966)
     """
 
     joint: str
@@ -272,6 +299,17 @@ class Mechanism:
         m.add_joint("O", "R", "0", "1", at=(0, 0))
         ...
         m.add_input("O")
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> mech = mbplanar.Mechanism("crank")
+    >>> link = mech.add_link("1")
+    >>> joint = mech.add_joint("O", "R", "0", "1", at=(0.0, 0.0))
+    >>> point = mech.add_point("A", "1", at=(0.1, 0.0))
+    >>> driven = mech.add_input("O")
+    >>> mbplanar.Engine(mech).topology.structure.formula
+    'I(0,1)'
     """
 
     name: str = "mechanism"

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
+from ._keys import INPUT, LINK, PARAMETER, POINT
 
 __all__ = ["Parameter", "Template", "split_parameters"]
 
@@ -66,7 +67,7 @@ def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter
         where = f"{source}: parameters.{name}"
         unit = None
         if isinstance(spec, dict):
-            unknown = set(spec) - {"value", "unit", "comment"}
+            unknown = set(spec) - PARAMETER.names
             if unknown:
                 raise ModelError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
             if "value" not in spec:
@@ -81,10 +82,10 @@ def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter
     return rest, params
 
 
-# the numeric fields a parameter may stand for, with the kind of number they hold
-_LINK_FIELDS = {"length": "length", "mass": "plain", "inertia": "plain"}
-_POINT_FIELDS = {"fraction": "plain", "distance": "length", "offset": "length"}
-_INPUT_FIELDS = {"zero": "input", "drawn_at": "input", "omega": "plain"}
+# the numeric fields a parameter may stand for, with the kind of number they hold (declared with the keys)
+_LINK_FIELDS = LINK.parameter_fields()
+_POINT_FIELDS = POINT.parameter_fields()
+_INPUT_FIELDS = INPUT.parameter_fields()
 
 
 class Template:

@@ -13,24 +13,56 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning
-from ._model import (ELEMENT_TYPES, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL, DynamicsSpec,
-                     FlywheelSpec, Gravity, Input, Load, Mechanism, Units)
+from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, INPUT, JOINT, LINK, LOADS, MISSING, POINT,
+                    SWITCH, Section)
+from ._model import (ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input, Load,
+                     Mechanism, Units)
 
-__all__ = ["read_model", "read_model_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
+__all__ = ["read_model", "read_model_text", "read_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
            "crank_input", "read_gravity_section", "read_dynamics_section"]
 
 
 def read_model(path) -> Mechanism:
-    """Read a TOML model file into an (unassembled) `Mechanism`."""
+    """Read a TOML model file into an (unassembled) `Mechanism`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file (the table of kinematic pairs, docs/format.md).
+
+    Returns
+    -------
+    Mechanism
+        SI inside (m, rad, N, kg) whatever units the file is written in; the drawn pose is the file's
+        sketch until `assemble` (or `Engine`) closes it.
+
+    Raises
+    ------
+    ModelError
+        The file cannot be read, is not TOML, or a row is wrong: the message names the file, the row and
+        the value.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> mech = mbplanar.read_model("models/fourbar.toml")
+    >>> mech.name, sorted(mech.joints)
+    ('fourbar', ['A', 'B', 'C', 'O'])
+    >>> mech.joints["B"].at                     # the sketch's B, m
+    (0.3016, 0.25)
+    """
+    return read_model_text(read_text(path), source=str(path))
+
+
+def read_text(path, what: str = "the model file") -> str:
+    """The UTF-8 text of `what` at `path`, or a `ModelError` naming the file and why it cannot be read."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise ModelError(f"cannot read the model file ({exc.strerror or exc})", source=str(path)) from None
+        raise ModelError(f"cannot read {what} ({exc.strerror or exc})", source=str(path)) from None
     except UnicodeDecodeError as exc:
-        raise ModelError(f"the model file is not UTF-8 text ({exc.reason} at byte {exc.start})",
-                         source=str(path)) from None
-    return read_model_text(text, source=str(path))
+        raise ModelError(f"{what} is not UTF-8 text ({exc.reason} at byte {exc.start})", source=str(path)) from None
 
 
 def read_model_text(text: str, source: str = "<table>") -> Mechanism:
@@ -47,10 +79,15 @@ _MISSING = object()
 
 
 class Row:
-    """Typed access to one table row, with errors that name the file (`source`) and row (`where`)."""
+    """Typed access to one table row, with errors that name the file (`source`) and row (`where`).
 
-    def __init__(self, data, where: str, source: str | None = None):
-        self.source, self.where = source, where
+    With a `section` (`mbplanar.model._keys`), a key is read as the section declares it (`get`: its kind,
+    default and bounds), and reading a key the section does not declare is a programming error
+    (`KeyError`): the keys the reader accepts are the declared ones, which the JSON Schema describes.
+    """
+
+    def __init__(self, data, where: str, source: str | None = None, section: Section | None = None):
+        self.source, self.where, self.section = source, where, section
         if not isinstance(data, dict):
             self.fail(f"expected a table {{...}}, got {type(data).__name__}")
         self.data = data
@@ -66,8 +103,50 @@ class Row:
     def has(self, key) -> bool:
         return key in self.data
 
+    def _declared(self, key):
+        if self.section is not None and key not in self.section:
+            raise KeyError(f"'{key}' is read but not declared in the {self.section.title} section (model/_keys.py)")
+
+    def raw(self, key, default=None):
+        """The value of `key` as written (marked as read), `default` when absent."""
+        self._declared(key)
+        self.used.add(key)
+        return self.data.get(key, default)
+
+    def get(self, key):
+        """`key` read as its section declares it: its kind, default, bounds (with the section's words)."""
+        k = self.section[key]
+        default = None if k.default is MISSING else k.default
+        if k.kind in ("number", "integer"):
+            value = self.number(key, default, required=k.required, positive=k.positive, nonzero=k.nonzero)
+            return self.bounded(key, value)
+        if k.kind in ("text", "choice"):
+            return self.text(key, default, required=k.required)
+        if k.kind == "pair":
+            return self.pair(key, required=k.required)
+        if k.kind == "names":
+            return self.names(key, k.count, required=k.required)
+        if k.kind == "numbers":
+            return self.numbers(key, required=k.required)
+        return self.raw(key, default)
+
+    def bounded(self, key, value):
+        """A number `value` of `key` checked against its declared bounds (None passes)."""
+        k = self.section[key]
+        if value is None:
+            return None
+        low = k.minimum is not None and (value <= k.minimum if k.exclusive else value < k.minimum)
+        high = k.maximum is not None and (value >= k.maximum if k.exclusive else value > k.maximum)
+        whole = k.kind != "integer" or value == int(value)
+        if low or high or not whole:
+            self.fail(k.message.format(key=key, value=value) if k.message else
+                      f"'{key}' must be {'a whole number ' if k.kind == 'integer' else ''}within "
+                      f"[{k.minimum}, {k.maximum}], got {value:g}")
+        return int(value) if k.kind == "integer" else value
+
     def _value(self, key, required, hint=""):
         """The raw value of `key` (marked as used), `_MISSING` when absent and not required."""
+        self._declared(key)
         self.used.add(key)
         if key not in self.data:
             if required:
@@ -145,17 +224,49 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
 
     Every section is read and checked here, once: links, joints, points, inputs, then `loads`,
     `[gravity]` and `[dynamics]` into `Mechanism.loads`, `.gravity` and `.dynamics` (SI units).
+
+    Parameters
+    ----------
+    data : dict or str
+        The parsed TOML document, or its text.
+    source : str
+        What the messages call the table (a file's name).
+
+    Returns
+    -------
+    Mechanism
+        SI inside, not yet assembled (`assemble`).
+
+    Raises
+    ------
+    ModelError
+        A missing or wrong row, named with `source`, the row and the value.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> crank = mbplanar.parse_model('''
+    ... name = "crank"
+    ... ground = "0"
+    ... links = [{ name = "1", length = 0.1 }]
+    ... joints = [{ name = "O", type = "R", links = ["0", "1"], at = [0.0, 0.0] }]
+    ... points = [{ name = "A", link = "1", at = [0.1, 0.0] }]
+    ... [input]
+    ... joint = "O"
+    ... ''')
+    >>> crank.name, list(crank.links), crank.inputs[0].joint
+    ('crank', ['1'], 'O')
     """
     if isinstance(data, str):
         return read_model_text(data, source)
     if isinstance(data, dict) and _has_parameters(data):
         from ._parameters import Template  # named dimensions and polar placements, bound to their values
         data = Template(data, source).bind()
-    top = Row(data, None, source)
+    top = Row(data, None, source, DOCUMENT)
     units = _read_units(top)
     unit = units.length_scale
-    mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.text("ground", "0"),
-                     title=top.text("title", ""), source=source, units=units)
+    mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.get("ground"),
+                     title=top.get("title"), source=source, units=units)
     link_rows = _read_links(mech, _rows(data, "links", source), unit)
     _read_joints(mech, _rows(data, "joints", source), unit)
     _read_points(mech, _rows(data, "points", source), unit)
@@ -166,10 +277,11 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
         mech.gravity = read_gravity_section(mech, data["gravity"])
     if "dynamics" in data:
         mech.dynamics = read_dynamics_section(mech, data["dynamics"])
-    top.used |= {"links", "joints", "points", "input", "inputs", "loads", "gravity", "dynamics"}
-    mech.extras = {k: data[k] for k in data if k not in top.used}
-    for key in mech.extras:
-        if key not in _EXTRA_SECTIONS:
+    for key in ("links", "joints", "points", "input", "inputs", "loads", "gravity", "dynamics"):
+        top.raw(key)
+    mech.extras = {k: top.raw(k) for k in data if k not in top.used and k in _EXTRA_SECTIONS}
+    for key in data:
+        if key not in top.used:
             top.fail(f"unknown key '{key}'")
     return mech
 
@@ -184,9 +296,8 @@ def _has_parameters(data: dict) -> bool:
 def _read_units(top: Row) -> Units:
     """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`)."""
     chosen = []
-    for key, allowed, default in (("length_unit", LENGTH_UNITS, "m"), ("inertia_unit", INERTIA_UNITS, "kg*m^2"),
-                                  ("moment_unit", MOMENT_UNITS, "N*m")):
-        name = top.text(key, default)
+    for key in ("length_unit", "inertia_unit", "moment_unit"):
+        name, allowed = top.get(key), DOCUMENT[key].choices
         if name not in allowed:
             top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
         chosen.append(name)
@@ -196,21 +307,21 @@ def _read_units(top: Row) -> Units:
 # Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, friction and simulate
 # (mbplanar.cam, mbplanar.forces.read_friction and read_simulate read and check theirs); `synthesis`:
 # the summary a synthesised model carries (mbplanar.synthesis.report shows it in the report).
-_EXTRA_SECTIONS = {"plot", "description", "cam", "friction", "simulate", "synthesis"}
+_EXTRA_SECTIONS = ("plot", "description", "cam", "friction", "simulate", "synthesis")
 
 
 def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
     """Add the links; return each link's row label (for later checks)."""
     labels = {}
     for i, raw in enumerate(rows):
-        row = Row(raw, f"links[{i}]", mech.source)
-        name = row.text("name", required=True)
+        row = Row(raw, f"links[{i}]", mech.source, LINK)
+        name = row.get("name")
         row.where = f"links[{i}] '{name}'"
         labels[name] = row.where
         lengths = []
         if row.has("length"):
-            lengths.append(("", "", row.number("length", positive=True) * unit))
-        raw_lengths = row.data.get("lengths", [])
+            lengths.append(("", "", row.get("length") * unit))
+        raw_lengths = row.raw("lengths", [])
         if not isinstance(raw_lengths, list):
             row.fail(f"'lengths' must be a list of [P, Q, length], got {raw_lengths!r}")
         for k, item in enumerate(raw_lengths):
@@ -223,13 +334,10 @@ def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
                 row.fail(f"lengths[{k}] joins point '{p}' to itself")
             length = row._check_number(f"lengths[{k}]", value, positive=True) * unit
             lengths.append((str(p), str(q), length))
-        row.used.add("lengths")
-        angle = row.names("angle")
-        angle_offset = math.radians(row.number("angle_offset", 0.0))
-        mass = row.number("mass", 0.0)
-        inertia = row.number("inertia", 0.0)
-        if mass < 0 or inertia < 0:
-            row.fail("mass and inertia must not be negative")
+        angle = row.get("angle")
+        angle_offset = math.radians(row.get("angle_offset"))
+        mass = row.get("mass")
+        inertia = row.get("inertia")
         centre, centre_at = _centre(row, name, unit)
         row.check_unknown_keys({"comment"})
         if name == mech.ground:
@@ -278,7 +386,7 @@ def _check_extent(mech: Mechanism, name: str, where: str):
 def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, float] | None]:
     """A link's `centre`: a point's name, or coordinates [x, y] in the drawn pose, which make a point
     of the link named `<link>:centre` (its drawn coordinates in metres)."""
-    value = row.data.get("centre")
+    value = row.raw("centre")
     if not isinstance(value, list):
         return row.text("centre"), None
     x, y = row.pair("centre")
@@ -289,28 +397,27 @@ def _read_joints(mech: Mechanism, rows, unit):
     if not rows:
         raise ModelError("no joints (a 'joints' list of pairs is required)", source=mech.source)
     for i, raw in enumerate(rows):
-        row = Row(raw, f"joints[{i}]", mech.source)
-        name = row.text("name", required=True)
+        row = Row(raw, f"joints[{i}]", mech.source, JOINT)
+        name = row.get("name")
         row.where = f"joints[{i}] '{name}'"
-        kind = (row.text("type", required=True) or "").upper()
-        if kind not in ("R", "P"):
+        kind = (row.get("type") or "").upper()
+        if kind not in JOINT["type"].choices:
             row.fail(f"type must be 'R' (revolute) or 'P' (prismatic), got '{kind}'")
-        links = row.names("links", required=True)
+        links = row.get("links")
         if links[0] == links[1]:
             row.fail(f"joins link '{links[0]}' to itself")
         for link in links:
             if link != mech.ground and link not in mech.links:
                 row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}')")
-        x, y = row.pair("at", required=True)
+        x, y = row.pair("at", required=JOINT["at"].required)
         guide = guide_points = None
-        carrier = row.text("carrier")
+        carrier = row.get("carrier")
         if kind == "P":
             if carrier is not None:
                 if carrier not in links:
                     row.fail(f"carrier '{carrier}' is not one of its links {list(links)}")
                 links = (carrier, links[1] if links[0] == carrier else links[0])
-            value = row.data.get("guide")
-            row.used.add("guide")
+            value = row.raw("guide")
             if value is None:
                 row.fail("a prismatic pair needs 'guide': an angle in degrees or two points [P, Q] "
                          "of the carrier link")
@@ -330,17 +437,17 @@ def _read_joints(mech: Mechanism, rows, unit):
 
 def _read_points(mech: Mechanism, rows, unit):
     for i, raw in enumerate(rows):
-        row = Row(raw, f"points[{i}]", mech.source)
-        name = row.text("name", required=True)
+        row = Row(raw, f"points[{i}]", mech.source, POINT)
+        name = row.get("name")
         row.where = f"points[{i}] '{name}'"
-        link = row.text("link", required=True)
+        link = row.get("link")
         if link != mech.ground and link not in mech.links:
             row.fail(f"link '{link}' is not in the links list")
         at = row.pair("at")
-        along = row.names("along")
-        fraction = row.number("fraction")
-        distance = row.number("distance")
-        offset = row.number("offset", 0.0)
+        along = row.get("along")
+        fraction = row.get("fraction")
+        distance = row.get("distance")
+        offset = row.get("offset")
         if (at is None) == (along is None):
             row.fail("give either 'at' = [x, y] or 'along' = [P, Q] with 'fraction' or 'distance'")
         if along is not None and (fraction is None) == (distance is None):
@@ -355,13 +462,6 @@ def _read_points(mech: Mechanism, rows, unit):
             row.fail(exc.message)
 
 
-def _steps(row: Row) -> int | None:
-    steps = row.number("steps")
-    if steps is not None and (steps != int(steps) or steps < 1):
-        row.fail(f"steps must be a whole number ≥ 1, got {steps:g}")
-    return None if steps is None else int(steps)
-
-
 def rpm_or_omega(row: Row, omega_key: str, rpm_key: str, default: float | None) -> float | None:
     """A speed given as `omega_key` (rad/s) or `rpm_key` (rev/min), never both; in rad/s."""
     if row.has(omega_key) and row.has(rpm_key):
@@ -374,7 +474,7 @@ def _speed(row: Row, kind: str) -> float:
     """The input's default speed dφ/dt: `omega` (rad/s, or m/s for a prismatic input) or `rpm`."""
     if kind == "P" and row.has("rpm"):
         row.fail("'rpm' is a revolute input's speed; a prismatic input takes 'omega' in m/s")
-    return rpm_or_omega(row, "omega", "rpm", 1.0)
+    return rpm_or_omega(row, "omega", "rpm", INPUT["omega"].default)
 
 
 def _read_inputs(mech: Mechanism, data, source, unit):
@@ -388,8 +488,8 @@ def _read_inputs(mech: Mechanism, data, source, unit):
     if not rows:
         raise ModelError("no input: add an [input] table naming the driving joint", source=source)
     for i, raw in enumerate(rows):
-        row = Row(raw, f"inputs[{i}]", source)
-        joint_name = row.text("joint", required=True)
+        row = Row(raw, f"inputs[{i}]", source, INPUT)
+        joint_name = row.get("joint")
         row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
         if joint is None:
@@ -398,49 +498,35 @@ def _read_inputs(mech: Mechanism, data, source, unit):
             row.fail(f"joint '{joint_name}' is driven twice")
         default_unit = "deg" if joint.kind == "R" else mech.units.length
         in_unit = row.text("unit", default_unit)
-        allowed = ("deg", "rad") if joint.kind == "R" else tuple(LENGTH_UNITS)
+        allowed = INPUT["unit"].choices[:2] if joint.kind == "R" else tuple(LENGTH_UNITS)
         if in_unit not in allowed:
             row.fail(f"unit of a {'revolute' if joint.kind == 'R' else 'prismatic'} input must be "
                      f"one of {', '.join(allowed)}, got '{in_unit}'")
-        sense = row.data.get("sense", 1)
-        row.used.add("sense")
+        sense = row.get("sense")
         if isinstance(sense, str):
             sense = {"ccw": 1.0, "cw": -1.0}.get(sense, sense)
         if isinstance(sense, bool) or sense not in (1, -1, 1.0, -1.0):
             row.fail(f"sense must be 1, -1, 'ccw' or 'cw', got {sense!r}")
-        sweep = row.data.get("sweep")
-        row.used.add("sweep")
+        sweep = row.raw("sweep")
         if sweep is not None:
             if not (isinstance(sweep, list) and len(sweep) == 2):
                 row.fail(f"sweep must be [from, to], got {sweep!r}")
             sweep = (row._check_number("sweep", sweep[0]), row._check_number("sweep", sweep[1]))
             if sweep[0] == sweep[1]:
                 row.fail("sweep range is empty")
-        omega, epsilon = _speed(row, joint.kind), row.number("epsilon", 0.0)
+        omega, epsilon = _speed(row, joint.kind), row.get("epsilon")
         for key, value, bound in (("omega", omega, 1e100), ("epsilon", epsilon, 1e200)):
             if abs(value) > bound:  # (as analyse's own check: squares and products must stay finite)
                 row.fail(f"{key} must be at most {bound:g} in size, got {value:g}")
-        inp = Input(joint=joint_name, name=row.text("name", "phi"), unit=in_unit,
-                    zero=row.number("zero", 0.0), sense=float(sense),
-                    omega=omega, epsilon=epsilon,
-                    drawn_at=row.number("drawn_at"), sweep=sweep, steps=_steps(row))
+        inp = Input(joint=joint_name, name=row.get("name"), unit=in_unit, zero=row.get("zero"), sense=float(sense),
+                    omega=omega, epsilon=epsilon, drawn_at=row.get("drawn_at"), sweep=sweep, steps=row.get("steps"))
         row.check_unknown_keys({"comment"})
         mech.inputs.append(inp)
 
 
 # -- loads ------------------------------------------------------------------------------------------
-_LOAD_KEYS = {
-    "force": {"link", "at", "force"},
-    "weight": {"link", "at", "weight"},
-    "moment": {"link", "moment"},
-    "resistance": {"joint", "link", "at", "force", "s", "stroke", "when", "zero_at"},
-    "friction": {"joint", "link", "at", "force"},
-    "spring": {"links", "at", "stiffness", "free_length", "preload", "length", "force"},
-    "damper": {"links", "at", "damping", "joint"},
-    "torque": {"links", "moment"},
-}
-_WHEN = ("forward", "backward", "always")
-_SWITCH_KEYS = {"switch", "switch_direction", "when"}
+_WHEN = LOADS["resistance"]["when"].choices
+_SWITCH_KEYS = frozenset(k.name for k in SWITCH)
 
 
 def _read_loads(mech: Mechanism, rows) -> tuple[Load, ...]:
@@ -463,15 +549,21 @@ def read_load_row(mech: Mechanism, i: int, raw, units: Units) -> Load:
     kind = row.data.get("type")
     if kind not in LOAD_TYPES:
         row.fail(f"'type' must be one of {', '.join(LOAD_TYPES)}, got {kind!r}")
-    label = row.data.get("name")
+    row.section = LOADS[kind]
+    label = row.raw("name")
     if label is not None and (not isinstance(label, str) or not label.strip()):
         row.fail(f"'name' must be a non-empty text, got {label!r}")
     row.where = f"loads[{i}] '{label}'" if label else f"loads[{i}] ({kind})"
     switched = row.has("switch")
-    unknown = set(row.data) - _LOAD_KEYS[kind] - {"type", "name", "comment"} - (_SWITCH_KEYS if switched else set())
+    allowed = set(row.section.names)
+    if kind in GUIDE_LOADS and switched:
+        allowed |= _SWITCH_KEYS       # (refused below, with the reason)
+    elif kind not in GUIDE_LOADS and not switched:
+        allowed -= _SWITCH_KEYS
+    unknown = set(row.data) - allowed
     if unknown:
         row.fail(f"unknown key(s) {', '.join(sorted(unknown))}")
-    if kind in ("resistance", "friction"):
+    if kind in GUIDE_LOADS:
         if switched:
             row.fail("a guide force is switched by its own joint ('when'); no 'switch'")
         load = _guide_load(mech, i, row, kind, units)
@@ -486,13 +578,13 @@ def read_load_row(mech: Mechanism, i: int, raw, units: Units) -> Load:
 
 def _switch(mech, row: Row) -> dict:
     """`switch` (a joint or point), `switch_direction` (degrees, points) and `when` of any row."""
-    name = row.text("switch")
+    name = row.get("switch")
     if name not in mech.joints and name not in mech.points:
         row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model")
     if row.has("switch_direction") and name not in mech.points:
         row.fail(f"'switch_direction' applies to a point; '{name}' is a joint")
-    direction = math.radians(row.number("switch_direction", 0.0))
-    when = row.text("when")
+    direction = math.radians(row.get("switch_direction"))
+    when = row.get("when")
     if when not in ("forward", "backward"):
         row.fail(f'a switched row needs \'when\' = "forward" (active while the velocity is >= 0) or '
                  f'"backward" (<= 0), got {when!r}')
@@ -505,30 +597,24 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
     if kind == "damper" and row.has("joint"):
         if row.has("at") or row.has("links"):
             row.fail("a rotational damper takes 'joint' only (no 'at' or 'links')")
-        joint = row.text("joint")
+        joint = row.get("joint")
         j = mech.joints.get(joint)
         if j is None or j.kind != "R":
             row.fail(f"joint '{joint}' is not a revolute joint of the model")
-        c = row.number("damping", required=True)
-        if c < 0:
-            row.fail(f"'damping' must be >= 0, got {c}")
+        c = row.get("damping")
         return dict(index=i, kind=kind, link=j.links[1], other=j.links[0], joint=joint,
                     damping=c * units.moment_scale)
     if kind == "torque":
         a, b = _two_links(mech, row, required=True)
-        return dict(index=i, kind=kind, link=b, other=a, moment=row.number("moment", required=True) * units.moment_scale)
-    ends = row.data.get("at")
-    row.used.add("at")
+        return dict(index=i, kind=kind, link=b, other=a, moment=row.get("moment") * units.moment_scale)
+    ends = row.raw("at")
     if not isinstance(ends, list) or len(ends) != 2:
         row.fail(f"'at' must be [P, Q], two points (names or [x, y]), got {ends!r}")
     a, b = _end_links(mech, row, ends)
     fields = dict(index=i, kind=kind, link=b, other=a, **_end(mech, row, b, ends[1], units),
                   **{f"other_{k}": v for k, v in _end(mech, row, a, ends[0], units).items()})
     if kind == "damper":
-        c = row.number("damping", required=True)
-        if c < 0:
-            row.fail(f"'damping' must be >= 0, got {c}")
-        return dict(fields, damping=c)
+        return dict(fields, damping=row.get("damping"))
     if row.has("length") or isinstance(row.data.get("force"), list):
         if {"stiffness", "free_length", "preload"} & set(row.data):
             row.fail("give either a table (length, force) or stiffness/free_length/preload")
@@ -538,17 +624,14 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
             row.fail(f"'length' (increasing, >= 0) and 'force' must be lists of equal length (at least 2), "
                      f"got {len(ls)} and {len(fs)}")
         return dict(fields, s=ls, table=fs)
-    k = row.number("stiffness", required=True)
-    free = row.number("free_length")
-    if k < 0 or (free is not None and free < 0):
-        row.fail("'stiffness' and 'free_length' must be >= 0")
+    k = row.bounded("stiffness", row.number("stiffness", required=True))
+    free = row.get("free_length")
     return dict(fields, stiffness=k, free_length=None if free is None else free * units.length_scale,
-                preload=row.number("preload", 0.0))
+                preload=row.get("preload"))
 
 
 def _two_links(mech, row: Row, required=False) -> tuple[str, str] | None:
-    value = row.data.get("links")
-    row.used.add("links")
+    value = row.raw("links")
     if value is None and not required:
         return None
     if not isinstance(value, list) or len(value) != 2 or str(value[0]) == str(value[1]):
@@ -601,21 +684,21 @@ def _named_on(mech, row: Row, link: str, name: str, what: str) -> str:
 
 
 def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
-    link = row.text("link", required=True)
+    link = row.get("link")
     if link not in mech.links:
         row.fail(f"'{link}' is not a moving link of the model")
     fields = dict(index=i, kind=kind, link=link)
     if kind == "force":
-        fields["force"] = row.pair("force", required=True)
+        fields["force"] = row.get("force")
     elif kind == "weight":
-        fields["magnitude"] = row.number("weight", required=True)
+        fields["magnitude"] = row.get("weight")
     else:
-        fields["moment"] = row.number("moment", required=True) * units.moment_scale
+        fields["moment"] = row.get("moment") * units.moment_scale
     return dict(fields, **_where_on(mech, row, link, units, kind))
 
 
 def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
-    joint = row.text("joint", required=True)
+    joint = row.get("joint")
     j = mech.joints.get(joint)
     if j is None or j.kind != "P":
         row.fail(f"joint '{joint}' is not a prismatic joint of the model")
@@ -624,11 +707,11 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
         row.fail(f"link '{link}' must be the moving link of joint '{joint}' the force acts on")
     fields = dict(index=i, kind=kind, link=link, joint=joint, **_where_on(mech, row, link, units, kind, joint))
     if kind == "friction":
-        return dict(fields, magnitude=row.number("force", required=True), when="always")
-    when = row.text("when", "always")
+        return dict(fields, magnitude=row.get("force"), when="always")
+    when = row.get("when")
     if when not in _WHEN:
         row.fail(f"'when' must be one of {', '.join(_WHEN)}, got {when!r}")
-    fields.update(when=when, zero_at=row.number("zero_at"))
+    fields.update(when=when, zero_at=row.get("zero_at"))
     if fields["zero_at"] is not None and len(mech.inputs) != 1:
         row.fail("'zero_at' (an input value) needs a model with one input")
     if not isinstance(row.data.get("force"), list):
@@ -639,7 +722,7 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
     s = row.numbers("s", required=True)
     if len(s) != len(table) or len(s) < 2:
         row.fail(f"'s' and 'force' must be lists of equal length (at least 2), got {len(s)} and {len(table)}")
-    stroke = row.number("stroke", 1.0, nonzero=True)
+    stroke = row.get("stroke")
     s = tuple(x * stroke * units.length_scale for x in s)
     if any(b <= a for a, b in zip(s, s[1:])):
         row.fail("'s' (times 'stroke') must increase strictly")
@@ -666,7 +749,7 @@ def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | N
     if isinstance(row.data.get("at"), list):
         x, y = row.pair("at")
         return {"at": (x * units.length_scale, y * units.length_scale)}
-    name = row.text("at")
+    name = row.text("at") if row.has("at") else None
     if name is None:
         if joint is not None:
             return {"point": joint}
@@ -682,11 +765,9 @@ def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | N
 # -- gravity and dynamics ----------------------------------------------------------------------------
 def read_gravity_section(mech: Mechanism, raw) -> Gravity:
     """`[gravity]`: g (m/s², ≥ 0) and its direction (degrees, default −90)."""
-    row = Row(raw, "gravity", mech.source)
-    g = row.number("g", 9.81)
-    if g < 0:
-        row.fail(f"'g' must be >= 0 (turn 'direction' instead), got {g:g}")
-    direction = row.number("direction", -90.0)
+    row = Row(raw, "gravity", mech.source, GRAVITY)
+    g = row.get("g")
+    direction = row.get("direction")
     row.check_unknown_keys({"comment"})
     return Gravity(g, math.radians(direction))
 
@@ -706,28 +787,21 @@ def crank_input(mech: Mechanism, where: str = "dynamics") -> Input:
 
 def read_dynamics_section(mech: Mechanism, raw) -> DynamicsSpec:
     """`[dynamics]` (and `[dynamics.flywheel]`) as a `DynamicsSpec` in SI units."""
-    row = Row(raw, "dynamics", mech.source)
+    row = Row(raw, "dynamics", mech.source, DYNAMICS)
     inp = crank_input(mech)
-    delta = row.number("delta", required=True, positive=True)
-    if not 0 < delta < 1:
-        row.fail(f"'delta' = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)")
+    delta = row.get("delta")
     omega = rpm_or_omega(row, "omega_mean", "rpm_mean", inp.omega)
     if not omega > 0:
         row.fail(f"the mean speed (ω_m = {omega:g} rad/s) must be positive")
     units = mech.units
-    driving = row.number("driving_moment")
+    driving = row.get("driving_moment")
     driving = None if driving is None else driving * units.moment_scale
-    slope = row.number("motor_slope", 0.0) * units.moment_scale
-    if slope < 0:
-        row.fail("'motor_slope' must be >= 0 (a motor gives less moment when faster)")
-    fly = Row(raw.get("flywheel", {}), "dynamics.flywheel", mech.source)
-    flywheel = FlywheelSpec(shaft_inertia=fly.number("shaft_inertia", 0.0) * units.inertia_scale,
-                            motor_rpm=fly.number("motor_rpm", positive=True),
-                            motor_inertia=fly.number("motor_inertia", 0.0) * units.inertia_scale,
-                            density=fly.number("density", RHO_STEEL, positive=True))
-    if flywheel.shaft_inertia < 0 or flywheel.motor_inertia < 0:
-        fly.fail("'shaft_inertia' and 'motor_inertia' must be >= 0")
-    row.used.add("flywheel")
+    slope = row.get("motor_slope") * units.moment_scale
+    fly = Row(row.raw("flywheel", {}), "dynamics.flywheel", mech.source, FLYWHEEL)
+    flywheel = FlywheelSpec(shaft_inertia=fly.get("shaft_inertia") * units.inertia_scale,
+                            motor_rpm=fly.get("motor_rpm"),
+                            motor_inertia=fly.get("motor_inertia") * units.inertia_scale,
+                            density=fly.get("density"))
     row.check_unknown_keys({"comment"})
     fly.check_unknown_keys({"comment"})
     return DynamicsSpec(delta, omega, driving, slope, flywheel)

@@ -38,7 +38,7 @@ from ..kinematics import analyse
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 
-__all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch"]
+__all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "compile_sample"]
 
 CHUNK = 25_000  # (design, position) pairs corrected at once
 
@@ -760,3 +760,32 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
     if len(engine.inputs) != 1:
         raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
     return DesignBatch(engine, design_geometry(template, variants, engine.mech))
+
+
+def compile_sample() -> None:
+    """Run the compiled design kernels once on a small batch of four-bars, with the argument types the
+    design studies pass (with and without accelerations, every point and one): the design batch's part
+    of ``mbplanar compile`` (`backends._aot.build`). Needs numba."""
+    import tomllib
+    template = tomllib.loads(_SAMPLE)
+    batch = design_batch(template, {"a": np.linspace(0.09, 0.11, 4)}, backend="numba")
+    phi = batch.geometry.phi0[:, None] + np.linspace(0.0, 0.5, 3)
+    batch.solve(phi)
+    batch.solve(phi, points=["M"], links=[], accelerations=False)
+
+
+#: `compile_sample`'s model: a crank-rocker four-bar, its crank length a parameter
+_SAMPLE = """
+name = "sample"
+ground = "0"
+links = [{ name = "1" }, { name = "2" }, { name = "3" }]
+joints = [{ name = "O", type = "R", links = ["0", "1"], at = [0.0, 0.0] },
+          { name = "A", type = "R", links = ["1", "2"], at = { from = "O", length = "a", angle = 60.0 } },
+          { name = "B", type = "R", links = ["2", "3"], at = { from = "A", length = 0.3, angle = 33.0 } },
+          { name = "C", type = "R", links = ["3", "0"], at = [0.3, 0.0] }]
+points = [{ name = "M", link = "2", along = ["A", "B"], fraction = 0.5 }]
+[parameters]
+a = 0.10
+[input]
+joint = "O"
+"""

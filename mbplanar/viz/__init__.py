@@ -3,9 +3,7 @@
 Jupyter shows for each result (`_notebook`) and the HTML report (`write_report`,
 `register_section`).
 
-matplotlib is imported only when a picture is drawn. ``mbplanar.scene``, ``mbplanar.plotting``,
-``mbplanar.forceplots``, ``mbplanar.animation`` and ``mbplanar.report`` are deprecated aliases of the
-modules here.
+matplotlib is imported only when a picture is drawn.
 """
 
 from ._animation import Animation, html_animation, svg_animation, write_html_animation

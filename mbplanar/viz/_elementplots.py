@@ -3,7 +3,7 @@ dampers as dashpots, rotational dampers and torques between links as arcs, appli
 the kinematic diagram; the shaking force's hodograph and the shaking moment over the cycle; the
 efficiency with friction against the input; the simulated motion against time.
 
-matplotlib is imported only through `mbplanar.plotting.require_matplotlib`.
+matplotlib is imported only through `mbplanar.viz._plotting.require_matplotlib`.
 """
 
 from __future__ import annotations

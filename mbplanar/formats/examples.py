@@ -1,0 +1,135 @@
+"""The bundled examples: the repository's `models/` folder, shipped inside the package.
+
+The repository keeps one copy of the models, in `models/`; the build maps that folder into the package as
+`mbplanar/examples` (package data, `setup.py`), so a wheel carries them and an editable install finds the
+folder itself. `list_examples()` lists them (the workbench's gallery reads it), `example_text(name)` gives
+one, `copy_examples(names, directory)` writes them out (what ``mbplanar examples`` does).
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from ..errors import ModelError
+
+__all__ = ["Example", "list_examples", "example", "example_text", "copy_examples"]
+
+SUFFIXES = (".toml", ".csv")
+
+
+@dataclass(frozen=True)
+class Example:
+    """One bundled file: `name` (its path under the examples without the suffix, e.g. "fourbar",
+    "synthesis/motion_3poses"), `file` (the path with it), `kind` ("model": a linkage; "cam": a cam file;
+    "variants": a design study's table; "synthesis": a target of ``mbplanar synth``) and `title` (the
+    model's title, else the file's first comment line)."""
+
+    name: str
+    file: str
+    kind: str
+    title: str
+
+    def text(self) -> str:
+        """The file's text."""
+        return _root().joinpath(self.file).read_text(encoding="utf-8")
+
+
+def _root():
+    """The examples' folder: the package's `mbplanar.examples` (a wheel's copy, or an editable install's
+    `models/`), else, run from a checkout that is not installed, the repository's `models/`."""
+    try:
+        return resources.files("mbplanar.examples")
+    except ModuleNotFoundError:
+        return Path(__file__).resolve().parents[2] / "models"
+
+
+def _files(folder, prefix=""):
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if entry.is_dir() and not entry.name.startswith(("_", ".")):
+            yield from _files(entry, f"{prefix}{entry.name}/")
+        elif entry.name.endswith(SUFFIXES):
+            yield f"{prefix}{entry.name}", entry
+
+
+def _describe(file: str, text: str) -> tuple[str, str]:
+    """(kind, title) of a bundled file."""
+    lines = text.splitlines()
+    head = " ".join(line.lstrip("#").strip() for line in lines[:next(
+        (k for k, line in enumerate(lines) if not line.startswith("#")), len(lines))])
+    comment = re.split(r"\.\s+(?=[A-Z`])", head)[0].rstrip(".")   # the leading comment's first sentence
+    if file.startswith("synthesis/"):
+        return "synthesis", comment
+    if file.endswith(".csv"):
+        return "variants", comment
+    data = tomllib.loads(text)
+    kind = "model" if "joints" in data else "cam" if "cam" in data else "other"
+    return kind, str(data.get("title") or comment)
+
+
+def list_examples() -> tuple[Example, ...]:
+    """Every bundled example, in file order (models first, then the synthesis targets).
+
+    Examples
+    --------
+    >>> from mbplanar.formats import list_examples
+    >>> [e.name for e in list_examples() if e.kind == "model"][:2]
+    ['class3_triad', 'class4_group']
+    """
+    out = []
+    for file, entry in _files(_root()):
+        kind, title = _describe(file, entry.read_text(encoding="utf-8"))
+        out.append(Example(file.rsplit(".", 1)[0], file, kind, title))
+    return tuple(sorted(out, key=lambda e: (e.kind == "synthesis", e.file)))
+
+
+def example(name: str) -> Example:
+    """The example called `name` (with or without its suffix), else a `ModelError` listing them."""
+    found = {e.name: e for e in list_examples()}
+    key = name.rsplit(".", 1)[0] if name.endswith(SUFFIXES) else name
+    if key not in found:
+        raise ModelError(f"no bundled example '{name}' (mbplanar examples lists them: "
+                         f"{', '.join(e.name for e in found.values() if e.kind in ('model', 'cam'))}, ...)")
+    return found[key]
+
+
+def example_text(name: str) -> str:
+    """The text of the bundled example `name`."""
+    return example(name).text()
+
+
+def _companions(ex: Example) -> list[Example]:
+    """The files an example needs beside it: a cam file's model, a study model's variants table."""
+    out = []
+    names = {e.file: e for e in list_examples()}
+    if ex.kind == "cam":
+        model = tomllib.loads(ex.text())["cam"].get("model")
+        if isinstance(model, str) and model in names:
+            out.append(names[model])
+    variants = ex.name + "_variants.csv"
+    if variants in names:
+        out.append(names[variants])
+    return out
+
+
+def copy_examples(names=(), directory=".", overwrite: bool = False) -> list[Path]:
+    """Write the examples `names` (every one when empty), with the files they need, into `directory`
+    (made if missing; subfolders kept). An existing file is an error unless `overwrite`; nothing is
+    written then. Returns the paths written."""
+    chosen = list(list_examples()) if not names else [example(n) for n in names]
+    todo = {}
+    for ex in chosen:
+        for e in [ex] + _companions(ex):
+            todo[e.file] = e
+    directory = Path(directory)
+    targets = {file: directory / file for file in todo}
+    clash = [str(p) for p in targets.values() if p.exists()]
+    if clash and not overwrite:
+        raise ModelError(f"not overwriting {', '.join(clash)} (--force to replace)")
+    for file, path in targets.items():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(todo[file].text(), encoding="utf-8")
+    return list(targets.values())

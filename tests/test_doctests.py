@@ -1,0 +1,71 @@
+"""The docstrings' examples run (as ``pytest --doctest-modules`` would run them, here inside the README's test
+command): the package's, every subpackage's and every module that defines a public name; and every name
+of the public API (`mbplanar.__all__`) has a numpydoc docstring with its sections and a runnable example."""
+
+from __future__ import annotations
+
+import doctest
+import importlib
+import inspect
+
+import pytest
+
+import mbplanar
+
+from conftest import MODELS
+
+ROOT = MODELS.parent
+SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
+               "study", "synthesis")
+
+
+def public_modules() -> list[str]:
+    """The package, its subpackages, and the modules that define their public names."""
+    found = {"mbplanar", "mbplanar.errors"}
+    for name in SUBPACKAGES:
+        package = importlib.import_module(f"mbplanar.{name}")
+        found.add(package.__name__)
+        for public in package.__all__:
+            home = getattr(getattr(package, public), "__module__", None)
+            if home and home.startswith("mbplanar."):
+                found.add(home)
+    return sorted(found)
+
+
+@pytest.mark.parametrize("module", public_modules())
+def test_docstring_examples_run(module, monkeypatch):
+    """Each module's examples, from the repository's root (they read ``models/...``)."""
+    monkeypatch.chdir(ROOT)
+    imported = importlib.import_module(module)
+    finder = doctest.DocTestFinder(exclude_empty=True)
+    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS)
+    for test in finder.find(imported, module):
+        if test.examples:
+            runner.run(test, out=lambda text: None)
+    results = runner.summarize(verbose=False)
+    assert results.failed == 0, f"{module}: {results.failed} of {results.attempted} examples failed " \
+                                f"(python -m pytest --doctest-modules {module.replace('.', '/')}.py says which)"
+    if module == "mbplanar":
+        assert results.attempted >= 10  # the package docstring's tour
+
+
+def _sections(obj) -> dict:
+    from numpydoc.docscrape import ClassDoc, FunctionDoc
+    return (ClassDoc if inspect.isclass(obj) else FunctionDoc)(obj, config={"show_class_members": False})
+
+
+@pytest.mark.parametrize("name", mbplanar.__all__)
+def test_public_names_have_numpydoc_docstrings_with_examples(name):
+    """A function: Parameters, Returns, Raises and Examples; a class: Examples (its fields described in
+    its docstring); every example with ``>>>`` (run by the test above)."""
+    pytest.importorskip("numpydoc")
+    obj = getattr(mbplanar, name)
+    doc = _sections(obj)
+    assert any(">>>" in line for line in doc["Examples"]), f"{name}: no Examples section"
+    if inspect.isclass(obj):
+        return
+    documented = {part.strip() for p in doc["Parameters"] for part in p.name.split(",")}
+    wanted = {p for p in inspect.signature(obj).parameters if p not in ("self", "args", "kwargs")}
+    assert wanted <= documented, f"{name}: parameters without a description: {sorted(wanted - documented)}"
+    assert doc["Returns"], f"{name}: no Returns section"
+    assert doc["Raises"], f"{name}: no Raises section"
