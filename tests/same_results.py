@@ -211,8 +211,14 @@ def main(argv=None) -> int:
             old.update({k: f[k] for k in f.files})
     found = differences(old, new)
     bad = [f for f in found if f[1] > args.tol]
-    for key, size, note in found[:60]:
+    new_only = [f for f in found if f[2] == "only after"]
+    shown = [f for f in found if f[2] != "only after"][:60]
+    for key, size, note in shown:
         print(f"{'FAIL' if size > args.tol else 'ok  '} {size:.3g} {key} {note}")
+    if new_only:
+        print(f"{len(new_only)} values only after (new results): {', '.join(k for k, _, _ in new_only[:8])}"
+              f"{', ...' if len(new_only) > 8 else ''}")
+    bad = [f for f in bad if f[2] != "only after"]
     print(f"{len(old)} values before, {len(new)} after; {len(found)} differ, {len(bad)} by more than {args.tol:g}")
     return 1 if bad else 0
 

@@ -76,7 +76,8 @@ def test_a_new_process_after_compile_loads_every_kernel_without_compiling(built)
                           str(ROOT / "models" / "fourbar_design.toml")], env=env, capture_output=True, text=True,
                          check=True, cwd=ROOT)
     got = json.loads(out.stdout)
-    assert got["misses"] == 0 and got["hits"] >= 4 and got["rows"], (got, out.stderr)
+    # the sweep (also one position), the kinetostatics and the design kernels
+    assert got["misses"] == 0 and got["hits"] >= 3 and got["rows"], (got, out.stderr)
     assert "compiling" not in out.stderr  # (no compile notice)
     engine = mbplanar.Engine(mbplanar.read_model(ROOT / "models" / "fourbar_loaded.toml"))
     m = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0, 6.2, 500), 2.0, 1.0)
@@ -141,7 +142,8 @@ def test_the_digest_follows_every_source(monkeypatch, tmp_path):
     before = _aot.digest()
     copies = []
     for path in _aot.sources():
-        copy = tmp_path / path.name
+        copy = tmp_path / path.parent.name / path.name
+        copy.parent.mkdir(exist_ok=True)
         copy.write_bytes(path.read_bytes())
         copies.append(copy)
     monkeypatch.setattr(_aot, "sources", lambda: copies)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.engine import Tolerances, _nodes, _singular
+from mbplanar.engine import Tolerances, _nodes, _singular, solve_positions
 from mbplanar.analysis import check
 from mbplanar.kinematics import positions_at_limits
 
@@ -217,7 +217,7 @@ def test_a_change_point_is_not_taken_for_a_fold():
     for d in (1e-3, 1e-6, 2e-10):
         for way in (+1.0, -1.0):
             phi = np.array([math.pi - way * d])
-            sol = engine.solve(phi)
+            sol = solve_positions(engine, phi)
             node = _nodes.node_at(engine.solver, phi, np.array([way]), [st.q for st in sol.blocks])
             k = int(np.argmin(np.abs(node.dets)))
             assert _singular._locate_fold(engine.solver, k, node, np.array([way])) is None

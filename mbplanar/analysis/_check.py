@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
+from ..engine import solve_positions
 from ..engine._atlas import met_along
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "RegionReport", "check", "check_region", "format_region",
@@ -731,7 +732,7 @@ def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
         for part in (np.flatnonzero(up), np.flatnonzero(~up)[::-1]):
             values = np.column_stack([np.full(len(part) + 1, a), np.append(drawn[1], grid[1][part])])
             phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(inputs)])
-            sol = engine.solve(phi)
+            sol = solve_positions(engine, phi)
             ok = sol.valid[1:]
             reach[i, part] = ok
             dets[i, part] = np.where(ok[:, None], engine.dets(sol)[1:], np.nan)

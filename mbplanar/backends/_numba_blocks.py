@@ -11,8 +11,10 @@ from __future__ import annotations
 import math
 
 from ._jit import njit
+from ..engine import _continuation
 
-__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval"]
+__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval", "_step_verdict", "_rate_jump",
+           "_hermite_coefficients", "_hermite_value", "_hermite_slope"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
@@ -126,3 +128,12 @@ def _interval(grid, count, x):
         else:
             hi = mid
     return lo
+
+
+# the continuation's rules, written once in `engine._continuation` for numpy and compiled here, as they are,
+# for the kernels (the acceptance of a step, the rate jump, the quintic Hermite interpolant)
+_step_verdict = _part(_continuation.step_verdict)
+_rate_jump = _part(_continuation.rate_jump)
+_hermite_coefficients = _part(_continuation.hermite_coefficients)
+_hermite_value = _part(_continuation.hermite_value)
+_hermite_slope = _part(_continuation.hermite_slope)

@@ -25,7 +25,7 @@ import math
 
 from . import _threads
 from ._jit import njit
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
+from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ..engine._tables import SweepOut, SweepWork, work_sizes
 
 __all__ = ["run"]
@@ -134,9 +134,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
         t = (xb - left) * inv
         near = lo if abs(xb - left) <= abs(xb - right) else lo + 1
         for i in range(m_all):
-            value = coef[lo, 5, i]
-            for p in range(4, -1, -1):
-                value = value * t + coef[lo, p, i]
+            value = _hermite_value(coef[lo, 0, i], coef[lo, 1, i], coef[lo, 2, i], coef[lo, 3, i], coef[lo, 4, i],
+                                   coef[lo, 5, i], t)
             q[i] = value
             guess[i] = value
         q_in = sense * (xb - phi_drawn)

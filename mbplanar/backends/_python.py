@@ -30,6 +30,8 @@ def sweep_can_run(request) -> bool | str:
     atlas = request.atlas
     if len(atlas.grid) < 2:
         return "an atlas of one node"
+    if not len(atlas.brackets):
+        return True
     x = request.inp.x
     for lo, hi in atlas.brackets:
         if (lo <= x[0] <= hi) if len(x) == 1 else bool(np.any((x >= lo) & (x <= hi))):
@@ -67,9 +69,17 @@ class PythonBackend:
                 from ..engine._tables import SweepWork, work_sizes
                 work = store["plain work"] = plain(SweepWork.new(work_sizes(request.tables)))
             fixed = store["plain"] = (request.atlas, (plain(request.tables), plain(request.atlas), request.tol))
-        tables, atlas, tol = fixed[1]
+        viewed = fixed[1]
+        if request.size == 1:  # (one position's request is made once per thread: its views with it)
+            found = store.get("plain one")
+            if found is None or found[0] is not request:
+                found = store["plain one"] = (request, viewed + (plain(request.inp), plain(request.out),
+                                                                 store["plain work"]))
+            args, viewed = (), found[1]
+        else:
+            args = (request.inp, request.out, store["plain work"])
         try:
-            status = interpret(_sweep, (request.inp, request.out, store["plain work"]), (tables, atlas, tol))
+            status = interpret(_sweep, args, viewed)
         except ArithmeticError as exc:  # (a division by zero the compiled code would carry on with)
             return f"the kernel as plain Python raised {type(exc).__name__}"
         return "a position the kernel cannot vouch for (numpy's corrector repairs it)" if status else status

@@ -48,7 +48,7 @@ from ..model._assembly import assemble, reference_points
 from ..model._model import Mechanism
 from ..structure._topology import analyse_topology, check_mobility
 
-__all__ = ["Engine", "Solution", "Limit", "Crossing"]
+__all__ = ["Engine", "Solution", "Limit", "Crossing", "solve_positions"]
 
 
 class Engine:
@@ -61,6 +61,9 @@ class Engine:
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
     or the environment variable MBPLANAR_THREADS); the answers do not depend on it.
     tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them.
+
+    The engine answers through the functions that take it: ``analyse(engine, phi)`` for a batch
+    (``rates=False`` for positions alone), ``position(engine, phi)`` for one value.
 
     Examples
     --------
@@ -194,22 +197,6 @@ class Engine:
         from ..model._views import view
         return view("html", self)
 
-    def solve(self, phi) -> Solution:
-        """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
-        Positions past a motion limit are left out (`valid` False, `limits` says where)."""
-        phi = np.asarray(phi, dtype=float)
-        if phi.ndim == 0:
-            phi = phi[None]
-        if phi.ndim == 1:
-            phi = phi[:, None] if len(self.inputs) == 1 else phi[None, :]
-        if phi.shape[1] != len(self.inputs):
-            raise ValueError(f"expected {len(self.inputs)} input value(s) per position")
-        if not np.all(np.isfinite(phi)):
-            raise ValueError("input values must be finite")
-        if len(self.inputs) != 1:
-            return solve_sequence(self.solver, phi)
-        return solve_along(self.atlas(), phi)
-
     def period(self) -> float | None:
         """The period (rad) of the drawn branch along a single revolute input: one or two turns when
         the mechanism returns to its configuration (relative angles up to whole turns), else None (a
@@ -248,3 +235,21 @@ class Engine:
         return sol
 
 
+def solve_positions(engine: Engine, phi) -> Solution:
+    """The engine layer's own positions at input values `phi` (SI): (B,) for one input, (B, n_in) for
+    several. Positions past a motion limit are left out (`valid` False, `limits` says where).
+
+    Numpy only, no rates, no backend: the layers above use it where they need a `Solution`. Users ask
+    ``analyse(engine, phi, rates=False)``, which goes through the backend seam."""
+    phi = np.asarray(phi, dtype=float)
+    if phi.ndim == 0:
+        phi = phi[None]
+    if phi.ndim == 1:
+        phi = phi[:, None] if len(engine.inputs) == 1 else phi[None, :]
+    if phi.shape[1] != len(engine.inputs):
+        raise ValueError(f"expected {len(engine.inputs)} input value(s) per position")
+    if not np.all(np.isfinite(phi)):
+        raise ValueError("input values must be finite")
+    if len(engine.inputs) != 1:
+        return solve_sequence(engine.solver, phi)
+    return solve_along(engine.atlas(), phi)

@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..engine import solve_positions
 from ..errors import ModelError, MotionError
 from ..kinematics._motion import analyse, material_points
 from ._kinetostatics import kinetostatics
@@ -179,7 +180,7 @@ def _columns(engine, q, qd) -> _Columns:
     if f.analogues:
         om = qd[0]
         return _Columns(m, [(f.w, f.v)], f.e * om * om, f.a * om * om)
-    sol = engine.solve(q[None, :])
+    sol = solve_positions(engine, q[None, :])
     cols = []
     for k in range(n):
         unit = np.zeros((1, n))

@@ -19,7 +19,7 @@ from ..errors import ModelError
 from ..engine._atlas import far_span, met_along
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp
-from ..engine._solver import Crossing, Engine, Limit
+from ..engine._solver import Crossing, Engine, Limit, solve_positions
 from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, record_layout, sweep_tables
 
 __all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "OUTPUTS"]
@@ -630,7 +630,7 @@ class _OutputPlan:
         self.shapes = {name: per[name] for name in _OUT if name in written}
         self.template = [None if name in written else shared.none((0,) + per[name]) for name in _OUT]
         self.slots = [k for k, name in enumerate(_OUT) if name in written]
-        fields_ = [("x", float), ("om", float), ("ep", float)]
+        fields_ = [("phi", float, (1,)), ("omega", float, (1,)), ("epsilon", float, (1,))]  # (as `Position` names them)
         fields_ += [(name, float, self.shapes[name]) for name in _OUT if name in written and name not in ("valid", "rows")]
         if self.layout is not None:
             fields_.append(("rows", self.layout))  # (the records, a structured field: no view to make)
@@ -649,13 +649,14 @@ class _OutputPlan:
         state = getattr(self.local, "state", None)
         if state is None:
             buffer = np.zeros(self.one_dtype.itemsize // 8)
-            rec = np.ndarray((1,), self.one_dtype, buffer)
+            rec, inputs = np.ndarray((1,), self.one_dtype, buffer), np.ndarray((), self.one_dtype, buffer)
             slots = self.template.copy()
             for k in self.slots:
                 name = _OUT[k]
                 slots[k] = (np.zeros(1, np.bool_) if name == "valid" else
                             rec["rows"].view(np.float64).reshape(1, -1) if name == "rows" else rec[name])
-            state = self.local.state = [buffer, rec["x"], rec["om"], rec["ep"], tuple.__new__(SweepOut, slots), {}]
+            state = self.local.state = [buffer, inputs["phi"], inputs["omega"], inputs["epsilon"],
+                                        tuple.__new__(SweepOut, slots), {}]
         buffer, xs, om, ep, out, jobs = state
         if not abs(x - shared.phi0) <= shared.reach:  # `within_walk`
             return "input values beyond the walk from the drawn pose (numpy reduces them by the period)"
@@ -736,7 +737,7 @@ def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wante
     fields_.update(shared.names)
     if batch == 1 and complete:  # (the thread's one-position record: the answer gets its own copy)
         rec = plan.copied()
-        fields_.update(phi=phi, omega=rec["om"][:, None], epsilon=rec["ep"][:, None], point_names=list(sel.names),
+        fields_.update(phi=phi, omega=rec["omega"], epsilon=rec["epsilon"], point_names=list(sel.names),
                        angle=rec["angle"], xy=rec["xy"], limits=limits, crossings=crossings, requested=1,
                        success=True, message="solved")
         for name, _ in plan.motion_arrays:
@@ -775,7 +776,7 @@ _ndarray = np.ndarray
 
 def one_position(engine: Engine, x: float, omega, epsilon, reference):
     """One position's record (0-d, structured: angle, xy, w, e, v, a, wq, eq, vq, aq, value, rate, accel,
-    rate_q, accel_q, ic, and x, om, ep the input's value, speed, acceleration; batch axis taken off) as
+    rate_q, accel_q, ic, and phi, omega, epsilon the input's value, speed, acceleration; batch axis taken off) as
     a backend solves it (`mbplanar.position`), or ``reference()`` where every backend declines: the
     request is `analyse`'s of a batch of one, its arrays the record's own."""
     shared = engine.prepared.get("sweep tables")
@@ -798,7 +799,7 @@ def _reference(engine: Engine, phi: np.ndarray, omega, epsilon, sel: PointSelect
     """`analyse` by numpy: one batch, or chunks of a long sweep of one input."""
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         if len(engine.inputs) != 1 or len(phi) <= CHUNK:
-            return _motion(engine, engine.solve(phi), omega, epsilon, sel, wanted)
+            return _motion(engine, solve_positions(engine, phi), omega, epsilon, sel, wanted)
         return _analyse_chunks(engine, phi, omega, epsilon, sel, wanted)
 
 
@@ -812,7 +813,7 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon, sel, wanted) -> Motion:
     out, frames, fill, limits, crossings, first = {}, {}, 0, [], [], None
     for start in range(0, batch, CHUNK):
         part = slice(start, start + CHUNK)
-        m = _motion(engine, engine.solve(phi[part]), omega[part], epsilon[part], sel, wanted)
+        m = _motion(engine, solve_positions(engine, phi[part]), omega[part], epsilon[part], sel, wanted)
         if first is None:
             first = m
             out = {f.name: np.empty((batch,) + getattr(m, f.name).shape[1:]) for f in fields(m)

@@ -161,15 +161,19 @@ def position(engine, phi, omega=None, epsilon=None) -> Position:
     state = out.__dict__
     for name in _RECORD:
         state[name] = got[name]
-    names = engine.prepared["sweep tables"].names
-    state.update(phi=got["x"].reshape(1), omega=got["om"].reshape(1), epsilon=got["ep"].reshape(1),
-                 link_names=names["link_names"], point_names=list(engine.prepared["every point"].names),
-                 joint_names=names["joint_names"], success=True, message="solved", model=engine.mech)
+    named = engine.prepared.get("position names")
+    if named is None:
+        names = engine.prepared["sweep tables"].names
+        named = engine.prepared["position names"] = dict(
+            link_names=names["link_names"], point_names=list(engine.prepared["every point"].names),
+            joint_names=names["joint_names"], success=True, message="solved", model=engine.mech)
+    state.update(named)
     return out
 
 
-_RECORD = ("angle", "w", "e", "ic", "xy", "v", "a", "value", "rate", "accel", "wq", "eq", "vq", "aq", "rate_q",
-           "accel_q")
+#: the fields of `Position` that are fields of the kernel's one-position record (`one_position`)
+_RECORD = ("phi", "omega", "epsilon", "angle", "w", "e", "ic", "xy", "v", "a", "value", "rate", "accel", "wq", "eq",
+           "vq", "aq", "rate_q", "accel_q")
 
 
 def _reference(engine, x, omega, epsilon) -> Position:

@@ -31,7 +31,9 @@ from ..engine._atlas import Atlas
 from ..engine._backend import dispatch
 from ..engine._blocks import BlockSolver
 from ..engine._constraints import perp
-from ..engine._nodes import HERMITE5, Node
+from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
+                                    step_verdict)
+from ..engine._nodes import Node
 from ..engine._singular import limit_after
 from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, sweep_tables
 from ..kinematics import analyse
@@ -247,13 +249,11 @@ class DesignBatch:
                         continue
                     vs = bp.var_scale[:, None]
                     dist = np.maximum(dist, np.max(np.abs(st.q - gk) * vs, axis=0))
-                    err = np.abs(st.qd - qd[k][:, a] - qdd[k][:, a] * h_try) * vs / (1.0 + np.abs(qd[k][:, a]) * vs)
+                    err = rate_jump(st.qd, qd[k][:, a], qdd[k][:, a], h_try, vs)
                     jump = np.maximum(jump, np.where(np.all(np.isfinite(err), axis=0), np.max(err, axis=0), np.inf))
-            good = (sol.valid & (eng.pivots(sol) >= S.pivot_cross) & (dist <= S.max_correction)
-                    & (jump <= S.rate_jump))
             same = np.all(np.sign(new_dets) == signs[a], axis=1)
-            ok = good & same
-            cross = good & ~same & (h_try <= S.h_cross) & (dist <= S.cross_dist)
+            verdict = step_verdict(sol.valid, eng.pivots(sol), dist, jump, same, h_try, S)
+            ok, cross = verdict == ACCEPT, verdict == CROSS
             if ok.any():
                 acc = a[ok]
                 for k, st in enumerate(sol.blocks):
@@ -689,9 +689,8 @@ def _interval_coefficients(arrays) -> list:
     for q, qd, qdd in per_block:
         def after(a):
             return np.concatenate([a[:, 1:], a[:, -1:]], axis=1)
-        ends = np.stack([q, after(q), width * qd, width * after(qd), width * width * qdd,
-                         width * width * after(qdd)])  # (6, m, K)
-        out.append(np.einsum("ce,emk->cmk", HERMITE5, ends))
+        out.append(np.stack(hermite_coefficients(q, after(q), width * qd, width * after(qd), width * width * qdd,
+                                                 width * width * after(qdd), HERMITE5)))  # (6, m, K)
     return out
 
 
@@ -718,10 +717,7 @@ def _interpolate(arrays, coefs, chunk, rows, x):
     guesses = []
     for coef in coefs:
         c = coef.take(lo, axis=2)  # (6, m, B)
-        inner = c[5]
-        for k in range(4, -1, -1):
-            inner = inner * t + c[k]
-        guesses.append(inner)
+        guesses.append(hermite_value(c[0], c[1], c[2], c[3], c[4], c[5], t))
     near = np.where(np.abs(x - left) <= np.abs(x - phi[hi]), lo, hi)
     return guesses, inside, np.sign(dets[near])
 
