@@ -62,7 +62,7 @@ class NumbaBackend:
 
     def run(self, job: str, request):
         if job == "kinematics":
-            status = _kernels()[0].run(request)
+            status = (_loaded or _kernels())[0].run(request)
             return "a position the kernel cannot vouch for (numpy's corrector repairs it)" if status else status
         if job == "kinetostatics":
             return _kernels()[1].solve(request.engine, request.motion, request.plan, request.inertia)

@@ -297,6 +297,10 @@ class PointSelection:
 def point_selection(engine: Engine, points=None) -> PointSelection:
     """The points `points` (names, in the order given; None: every joint and point of the model).
     `ModelError` for a name the model does not have, or one asked twice."""
+    if points is None:
+        found = engine.prepared.get("every point")
+        if found is not None:
+            return found
     names, links, at = _tables(engine)[0]
     if points is None:
         return engine.prepare("every point", lambda: PointSelection(list(names), links, at))
@@ -594,6 +598,7 @@ class _SweepShared:
             self.omega, self.epsilon = float(inp.omega), float(inp.epsilon)
             self.phi0, self.reach = float(engine.phi_drawn[0]), far_span(engine.solver)
         self.names = dict(link_names=list(engine.links), joint_names=list(engine.mech.joints), model=engine.mech)
+        self.fields = {**_NONE, **self.names}  # (a Motion's fields before a request fills them)
 
     def none(self, shape: tuple) -> np.ndarray:
         """An empty float array of `shape` (its first dimension 0): an output not asked for."""
@@ -628,6 +633,7 @@ class _OutputPlan:
             written.add("rows")
             per["rows"] = (self.layout.itemsize // 8,)
         self.shapes = {name: per[name] for name in _OUT if name in written}
+        self.width = sum(math.prod(shape) for name, shape in self.shapes.items() if name != "valid")  # (per position)
         self.template = [None if name in written else shared.none((0,) + per[name]) for name in _OUT]
         self.slots = [k for k, name in enumerate(_OUT) if name in written]
         fields_ = [("phi", float, (1,)), ("omega", float, (1,)), ("epsilon", float, (1,))]  # (as `Position` names them)
@@ -679,14 +685,22 @@ class _OutputPlan:
         return _ndarray(shape, self.one_dtype, self.local.state[0].copy())
 
     def many(self, batch: int) -> SweepOut:
-        """The outputs of `batch` positions, each array its own."""
+        """The outputs of `batch` positions: the float arrays consecutive parts of one block, each
+        C-contiguous (one allocation: freed together, the block is kept by the allocator for the next
+        request, where a dozen arrays freed at once went back to the system and the next request's
+        pages faulted in again, as much time as the kernel's); `valid` its own."""
         slots = self.template.copy()
+        block = np.empty(batch * self.width)
+        start = 0
         for k in self.slots:
             name = _OUT[k]
-            if name == "rows":
-                slots[k] = np.empty(batch, self.layout).view(np.float64).reshape(batch, -1)
-            else:
-                slots[k] = np.empty((batch,) + self.shapes[name], np.bool_ if name == "valid" else float)
+            if name == "valid":
+                slots[k] = np.empty(batch, np.bool_)
+                continue
+            shape = self.shapes[name]
+            size = batch * math.prod(shape)
+            slots[k] = block[start:start + size].reshape((batch,) + shape)
+            start += size
         return tuple.__new__(SweepOut, slots)
 
 
@@ -733,8 +747,7 @@ def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wante
         limits, crossings = [], []
     shared = engine.prepared["sweep tables"]
     plan = shared.plans[wanted, len(sel.names)]
-    fields_ = _NONE.copy()
-    fields_.update(shared.names)
+    fields_ = shared.fields.copy()
     if batch == 1 and complete:  # (the thread's one-position record: the answer gets its own copy)
         rec = plan.copied()
         fields_.update(phi=phi, omega=rec["omega"], epsilon=rec["epsilon"], point_names=list(sel.names),
@@ -763,11 +776,18 @@ def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wante
         for name in plan.motion_records:
             fields_[name] = rows[name]
         if plan.frames:
-            fields_["frames"] = _record(Frames, dict(th=rows["th"], r=rows["r"], w=rows["wq"], v=rows["fv"],
-                                                     e=rows["eq"], a=rows["fa"], analogues=True) if plan.rates else
-                                        dict(th=rows["th"], r=rows["r"], w=None, v=None, e=None, a=None,
-                                             analogues=True))
+            frames = fields_["frames"] = _new(Frames)
+            state = frames.__dict__
+            state.update(_NO_RATES)
+            for name, field in _FRAME_FIELDS[plan.rates]:
+                state[name] = rows[field]
     return _record(Motion, fields_)
+
+
+#: the `Frames` fields that are fields of the records (without, with rates), and those left None
+_FRAME_FIELDS = {False: (("th", "th"), ("r", "r")),
+                 True: (("th", "th"), ("r", "r"), ("w", "wq"), ("v", "fv"), ("e", "eq"), ("a", "fa"))}
+_NO_RATES = dict(w=None, v=None, e=None, a=None, analogues=True)
 
 
 _NONE = dict.fromkeys(_MOTION_FIELDS)
