@@ -50,8 +50,8 @@ SUFFIXES = (".nbi", ".nbc")
 
 def sources() -> list[Path]:
     """The files a compiled kernel depends on: the kernel modules (the kernels, the building blocks they
-    inline, the constants they freeze), the decorator (`_jit`: the pipeline), the load tables (`_tables`)
-    and the engine's modules of `ENGINE_SOURCES`. A kernel reads nothing else at compile time
+    inline, the constants they freeze), the decorator (`_jit`: the pipeline), the names old cache indexes
+    hold (`_tables`) and the engine's modules of `ENGINE_SOURCES`. A kernel reads nothing else at compile time
     (`tests/test_aot.py` checks that the globals the kernels read are defined in these modules)."""
     return ([HERE / f"{name}.py" for name in sorted(KERNEL_MODULES + ("_jit", "_tables"))]
             + [HERE.parent / "engine" / f"{name}.py" for name in ENGINE_SOURCES])

@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
 from ._python import sweep_can_run
 from ..engine._backend import planned
 
@@ -54,8 +52,8 @@ class NumbaBackend:
     def can_run(self, job: str, request) -> bool | str:
         if job == "kinematics":
             return sweep_can_run(request)
-        if job == "kinetostatics":
-            return kinetostatics_can_run(request)
+        if job == "kinetostatics":  # (the program, where one could be written)
+            return True if request.program is not None else request.why
         if job == "design":
             return True
         return f"no compiled {job}"
@@ -65,29 +63,11 @@ class NumbaBackend:
             status = (_loaded or _kernels())[0].run(request)
             return "a position the kernel cannot vouch for (numpy's corrector repairs it)" if status else status
         if job == "kinetostatics":
-            return _kernels()[1].solve(request.engine, request.motion, request.plan, request.inertia)
+            return (_loaded or _kernels())[1].run(request)
         if job == "design":
             from . import _numba_design
             return _numba_design.solve(request)
         return f"no compiled {job}"
-
-
-def kinetostatics_can_run(request) -> bool | str:
-    """Whether the compiled kinetostatics can take a request: one input, a motion with the kernel's
-    records and rates, the model's own loads (no springs, dampers, torques or switched rows) and no
-    input inertia."""
-    motion = request.motion
-    if request.loads is not None:
-        return "loads given by the caller"
-    if request.needs_numpy:
-        return "springs, dampers, torques or switched loads (numpy evaluates them)"
-    if not request.no_inertia:
-        return "input inertia"
-    if motion.records is None or motion.wq is None or not len(motion.records):
-        return "a motion without the compiled kinematics' records (numpy's, or outputs= without 'frames')"
-    if not np.may_share_memory(motion.records, motion.wq):
-        return "records that do not hold the motion's analogues"
-    return True
 
 
 BACKEND = NumbaBackend()

@@ -46,7 +46,8 @@ class PythonBackend:
 
     def should_run(self, job: str, size: int) -> bool | str:
         if job != "kinematics":
-            return f"numpy's {job} is faster than the kernels as plain Python"
+            return (f"numpy's {job} is faster than the kernels as plain Python" if job in ("kinetostatics", "design")
+                    else f"no {job} kernel")
         if size != 1:
             return f"{size} positions: numpy's vectorised batch is faster from 2 on"
         from ..engine._backend import planned

@@ -9,7 +9,7 @@ and logs every answer at debug level on the ``mbplanar.backends`` logger::
 
     import logging; logging.basicConfig(); logging.getLogger("mbplanar.backends").setLevel(logging.DEBUG)
 
-A backend is handed the request's tables and arrays (`engine._tables`), never the engine; what a backend
+A backend is handed the request's tables and arrays (`engine._tables`, `forces._program`), never the engine; what a backend
 writes becomes the result in the layer that made the request (its `finish`). A backend that finds a
 position it cannot vouch for while it runs hands the whole request back (its `run` returns the reason),
 and numpy computes it.

@@ -35,8 +35,8 @@ from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
 from ..kinematics._motion import Motion, material_points
-from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, needs_numpy, real_frames,
-                     world_points)
+from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
+                     real_frames, world_points)
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
@@ -609,24 +609,72 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     _frames_of(motion)
     return dispatch(engine, "kinetostatics", len(motion.phi),
                     lambda: _reference(engine, motion, input_inertia, loads, inertia),
-                    lambda: KinetostaticsJob(engine, motion, plan_of(engine), inertia, loads, needs_numpy(engine.mech),
-                                             _no_input_inertia(input_inertia)),
-                    lambda job, answer: result(engine, motion, job.plan.lay, *answer))
+                    lambda: _program_request(engine, motion, inertia, loads, input_inertia),
+                    lambda job, out: _program_result(engine, motion, job.program, out))
 
 
 @dataclass(frozen=True)
 class KinetostaticsJob:
-    """A request of the kinetostatics job (`engine._backend.dispatch`): the motion, the engine's system
-    (`_Plan`), whether the d'Alembert loads act, the loads given by the caller (None: the model's),
-    whether the model has loads only numpy evaluates, and whether no input inertia acts."""
+    """A request of the kinetostatics job (`engine._backend.dispatch`): the `program` of the engine's
+    system and loads (`forces._program.Program`; None where the program cannot express the call,
+    `why` says why), the motion's `records` (B,) it reads (the compiled kinematics' record layout), its
+    `inputs` (2 + G, B): ω, ε and the sizes of the G guide loads (`guide_force_size`), and the
+    `threads` to split the positions over (None: the machine's cores). A backend answers the program's
+    outputs (`Program.outputs_rows`, B)."""
 
-    engine: object
-    motion: Motion
-    plan: object
-    inertia: bool
-    loads: list | None
-    needs_numpy: bool
-    no_inertia: bool
+    program: object
+    why: str
+    records: np.ndarray | None
+    inputs: np.ndarray | None
+    threads: int | None
+
+
+def _program_request(engine, motion, inertia, loads, input_inertia) -> KinetostaticsJob:
+    """The request of the program (`forces._program`), written where it can express the call: one input,
+    the model's own loads (no springs, dampers, torques or switched rows) with or without the
+    d'Alembert loads, no input inertia, and a motion with the compiled kinematics' records holding its
+    frames."""
+    why = _unwritable(engine, motion, loads, input_inertia)
+    if why:
+        return KinetostaticsJob(None, why, None, None, engine.threads)
+    from ._program import program_for  # (written for a compiled backend only: numpy never imports it)
+    rows = motion.records
+    program = program_for(engine, plan_of(engine), motion, inertia)
+    inputs = np.empty((2 + len(program.guide_loads), len(rows)))
+    inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
+    for g, load in enumerate(program.guide_loads):
+        inputs[2 + g] = guide_force_size(engine, motion, load)
+    return KinetostaticsJob(program, "", rows, inputs, engine.threads)
+
+
+def _unwritable(engine, motion, loads, input_inertia) -> str:
+    """Why the program cannot express a call ("" where it can)."""
+    if len(engine.inputs) != 1:
+        return "several inputs"
+    if loads is not None:
+        return "loads given by the caller"
+    if not _no_input_inertia(input_inertia):
+        return "input inertia"
+    if needs_numpy(engine.mech):
+        return "springs, dampers, torques or switched loads (numpy evaluates them)"
+    rows = motion.records
+    if rows is None or not len(rows) or rows.dtype.names is None or "fa" not in rows.dtype.names:
+        return "a motion without the compiled kinematics' records with rates (numpy's, or outputs= without 'frames')"
+    if not np.may_share_memory(rows, motion.frames.w):
+        return "records that do not hold the motion's frames"
+    return ""
+
+
+def _program_result(engine, motion, program, out) -> Kinetostatics:
+    """The `Kinetostatics` of a program's outputs `out` (O, B): the unknowns, the loads' values (views of
+    `out`), the virtual-power residual and the singular flag."""
+    values = [LoadValue(name, k, out[f:f + 2].T, out[p:p + 2].T, out[m])
+              for name, k, (f, p, m) in zip(program.names, program.links, program.sources)]
+    x, residual, singular = out[:program.size], out[-2], out[-1] != 0.0
+    if singular.any():
+        x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
+        residual[singular] = np.nan
+    return result(engine, motion, plan_of(engine).lay, x, singular, residual, values)
 
 
 def _no_input_inertia(input_inertia) -> bool:
