@@ -1,5 +1,6 @@
-"""Cost of one generation of path generation's global stage (150 four-bars × 60 crank positions): the
-closed-form score of `synthesis.path.score` (trace, distances to the targets, penalties) against the
+"""Cost of one generation of the differential evolution of path generation over a limited travel (150
+four-bars × 60 crank positions): the closed-form score of `synthesis.path_search.score` (trace,
+distances to the targets, penalties) against the
 trace alone by the study's generic design batch (`study.batch.design_batch`), compiled (numba) and
 numpy, on the same random population of the 18-point target's bounds. Same-run figures; the load
 average before and after is printed, since the machine may be shared.
@@ -20,7 +21,8 @@ from mbplanar.model import parse_model
 from mbplanar.study.batch import design_batch
 from mbplanar.study.run import load_template
 from mbplanar.synthesis.batch import fourbar_coupler_paths
-from mbplanar.synthesis.path import _bounds, _designs, _task, score
+from mbplanar.synthesis.path import _task
+from mbplanar.synthesis.path_search import _bounds, _designs, score
 
 # the four-bar as parameters: pivots, crank drawn at 0 rad, coupler at beta (deg); rocker from the pose
 FOURBAR = {
@@ -51,7 +53,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args()
-    task = _task(np.array(TARGETS["bulatovic18"][0], float), None, None)
+    task = _task(np.array(TARGETS["bulatovic18"]["points"], float), None, None)
     bounds = np.array(_bounds(task, 2.0))
     size, samples = 150, 60
     x = bounds[:, :1] + np.ptp(bounds, axis=1)[:, None] * np.random.default_rng(0).random((10, size))

@@ -6,7 +6,7 @@ under them) are real: this module runs them and compares, and can refresh the sh
 
 `tests/test_docs.py` runs the check on every page. Commands run from a scratch folder holding ``models`` and
 ``tests`` (files they write land there); ``head`` looks at a file an earlier command wrote; a command piped
-into ``cut``, ``tail`` or ``head`` runs through the shell; picture commands (and ``--plot``), the ``synth``
+into ``cut``, ``tail`` or ``head`` runs through the shell; picture commands (and ``--plot``), ``serve``, the ``synth``
 searches and commands on files that are not shipped (``broken.toml``) are shown but not run. A line ``...``
 in the shown output stands for lines left out.
 """
@@ -25,7 +25,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = ["README.md"] + sorted(f"docs/{p.name}" for p in (ROOT / "docs").glob("*.md"))
-NOT_RUN = ("report", "plot", "animate")  # pictures (and commands with --plot): shown, not run
+NOT_RUN = ("report", "plot", "animate", "serve")  # pictures (and --plot), a server (runs until Ctrl-C): shown, not run
 
 
 def sessions(text: str) -> list[tuple[int, str, list[str]]]:

@@ -30,7 +30,7 @@ from .errors import MbplanarError, ModelError, MotionError
 
 __all__ = ["Mechanism", "Link", "Joint", "Point", "Input", "read_model", "parse_model", "assemble",
            "Engine", "Limit", "analyse", "Motion", "position", "Position", "MbplanarError", "ModelError", "MotionError",
-           "kinetostatics", "Kinetostatics", "check", "CheckReport", "machine_dynamics", "Dynamics"]
+           "kinetostatics", "Kinetostatics", "check", "CheckReport", "machine_dynamics", "Dynamics", "widget"]
 __version__ = "0.1.0"
 
 #: public name → the subpackage that defines it, imported on first use (PEP 562): ``import mbplanar``
@@ -39,9 +39,9 @@ _HOME = {**dict.fromkeys(["CheckReport", "check"], "analysis"), **dict.fromkeys(
          **dict.fromkeys(["Dynamics", "Kinetostatics", "kinetostatics", "machine_dynamics"], "forces"),
          **dict.fromkeys(["Motion", "Position", "analyse", "position"], "kinematics"),
          **dict.fromkeys(["Input", "Joint", "Link", "Mechanism", "Point", "assemble", "parse_model", "read_model"],
-                         "model")}
+                         "model"), "widget": "web"}
 _SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-                "study", "synthesis", "formats", "cli", "errors")
+                "gears", "study", "synthesis", "formats", "web", "cli", "errors")
 
 
 def __getattr__(name: str):

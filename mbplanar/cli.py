@@ -30,11 +30,12 @@ _blas_on_one_thread()
 
 import numpy as np  # noqa: E402  (after the BLAS threads are set)
 
+from ._progress import Interrupted, add_long_run_options
 from .errors import MbplanarError, ModelError, ModelWarning, MotionError, PrecisionWarning
 from .io import (dynamics_document, forces_document, info_document, partials_document, plain, solve_document,
                  write_csv)
 from .io._tables import dynamics_table, forces_columns, sweep_table
-from .io._units import (SYSTEMS, input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
+from .io._units import (input_kinds, convert_check, convert_dynamics, convert_forces, convert_info,
                         convert_solution, convert_table, display_units)
 
 __all__ = ["main", "run"]
@@ -63,10 +64,15 @@ def _plan(positions: int) -> None:
 
 
 def _positive_int(text) -> int:
+    """A whole number ≥ 1, also written as 1e6 (argparse type)."""
     try:
         value = int(text)
     except ValueError:
-        value = 0
+        try:
+            number = float(text)
+            value = int(number) if number.is_integer() else 0
+        except (ValueError, OverflowError):
+            value = 0
     if value < 1:
         raise argparse.ArgumentTypeError(f"a positive integer, not {text!r}")
     return value
@@ -432,8 +438,8 @@ class _Output:
     def __exit__(self, kind, exc, tb):
         if self.path and self.file is not None:
             self.file.close()
-            if kind is not None and not issubclass(kind, BrokenPipeError):
-                os.remove(self.path)
+            if kind is not None and not issubclass(kind, (BrokenPipeError, KeyboardInterrupt, Interrupted)):
+                os.remove(self.path)  # (Ctrl-C keeps the rows written: the message says how many)
         elif self.file is not None:
             self.file.flush()
         return False
@@ -452,8 +458,51 @@ def _cells(rows):
     return [["" if not math.isfinite(x) else f"{x:.12g}" for x in row] for row in rows.tolist()]
 
 
+def _sweep_block(engine, values, args, cache, with_forces, angle_unit, display, first):
+    """The table of one block of a sweep's rows `values` (k, n_in) (model units): header, rows, the motion
+    and the force analysis's failure message (or None)."""
+    from .forces._loads import warn_idle_resistances
+    n_in = len(engine.inputs)
+    phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(engine.inputs)])
+    omega, epsilon, inertia = _speeds(engine, phi[:, 0], args, cache=cache)
+    if args.input_inertia is not None:
+        inertia = args.input_inertia
+    motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
+    header, rows = sweep_table(engine, motion, angle_unit)
+    failed = None
+    if with_forces:
+        if first:
+            warn_idle_resistances(engine, motion)
+        f_header, f_rows, failed = _forces_columns(engine, motion, inertia)
+        header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
+    header, rows = convert_table(header, rows, display, skip=n_in)
+    return header, rows, motion, failed
+
+
+SWEEP_PROBE = 200_000  # a sweep of more positions first times one block of them (its time estimate)
+
+
+def _sweep_estimate(engine, count, values_of, block, args, source):
+    """Refuse (or ask about) a sweep estimated above 10 minutes, from a timed probe: one block computed
+    and formatted as CSV, not written (`_progress.confirm_long_run`)."""
+    import time
+    from ._progress import confirm_long_run
+    if count <= SWEEP_PROBE:
+        return
+    n = min(count, SWEEP_CHUNK)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")       # (the run itself gives them)
+        block(values_of(0, 100), {}, False)   # the one-off costs (a backend's load) out of the timing
+        start = time.perf_counter()
+        _cells(block(values_of(0, n), {}, False)[1])
+        seconds = time.perf_counter() - start
+    confirm_long_run(seconds * count / n, f"a sweep of {count} positions",
+                     f"the first {n} took {seconds:.3g} s", args.yes, source)
+
+
 def cmd_sweep(args):
-    from .forces._loads import has_force_data, warn_idle_resistances
+    from ._progress import Progress
+    from .forces._loads import has_force_data
     engine = _load(args)
     n_in = len(engine.inputs)
     start = None if args.start is None else args.start
@@ -471,41 +520,42 @@ def cmd_sweep(args):
     angle_unit = args.angles or ("rad" if engine.inputs[0].unit == "rad" else "deg")
     display = display_units(engine.mech, args.units)
     cache, notes, written, missing, forces_failed, stopped = {}, [], 0, 0, None, None
-    with _Output(args.output) as out:
-        for i in range(0, count, SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])):
-            j = min(count, i + (SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])))
-            for a, b in ([(i, j)] if shape is None else [(k, k + shape[-1]) for k in range(i, j, shape[-1])]):
-                values = values_of(a, b)
-                phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(engine.inputs)])
-                omega, epsilon, inertia = _speeds(engine, phi[:, 0], args, cache=cache)
-                if args.input_inertia is not None:
-                    inertia = args.input_inertia
-                motion = _motion(engine, phi if n_in > 1 else phi[:, 0], omega, epsilon)
-                header, rows = sweep_table(engine, motion, angle_unit)
-                if with_forces:
-                    if written == 0:
-                        warn_idle_resistances(engine, motion)
-                    f_header, f_rows, failed = _forces_columns(engine, motion, inertia)
-                    header, rows = header + f_header, np.column_stack([rows, f_rows]) if len(rows) else rows
+
+    def block(values, cache, first):
+        return _sweep_block(engine, values, args, cache, with_forces, angle_unit, display, first)
+
+    _sweep_estimate(engine, count, values_of, block, args, engine.mech.source)
+    size = SWEEP_CHUNK if shape is None else shape[-1] * max(1, SWEEP_CHUNK // shape[-1])
+    with _Output(args.output) as out, Progress(count, "positions", show=args.progress, guard=False) as bar:
+        try:
+            for i in range(0, count, size):
+                j = min(count, i + size)
+                for a, b in ([(i, j)] if shape is None else [(k, k + shape[-1]) for k in range(i, j, shape[-1])]):
+                    values = values_of(a, b)
+                    header, rows, motion, failed = block(values, cache, written == 0)
                     forces_failed = forces_failed or failed
-                header, rows = convert_table(header, rows, display, skip=n_in)
-                if written == 0:
-                    out.write_rows([header])
-                notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
-                reached = len(motion.phi)
-                if shape is not None and reached < len(values):  # a grid line: the rest left empty
-                    full = np.full((len(values), len(header)), np.nan)
-                    full[:reached] = rows.reshape(reached, len(header))
-                    full[reached:, :n_in] = values[reached:]
-                    rows, missing = full, missing + len(values) - reached
-                    stopped = stopped or motion.message
-                out.write_rows(_cells(rows))
-                written += len(rows)
-                if shape is None and not motion.success:
-                    stopped = motion
+                    if written == 0:
+                        out.write_rows([header])
+                    notes += [c for c in motion.crossings if all(c.phi[0] != n.phi[0] for n in notes)]
+                    reached = len(motion.phi)
+                    if shape is not None and reached < len(values):  # a grid line: the rest left empty
+                        full = np.full((len(values), len(header)), np.nan)
+                        full[:reached] = rows.reshape(reached, len(header))
+                        full[reached:, :n_in] = values[reached:]
+                        rows, missing = full, missing + len(values) - reached
+                        stopped = stopped or motion.message
+                    out.write_rows(_cells(rows))
+                    written += len(rows)
+                    if shape is None and not motion.success:
+                        stopped = motion
+                        break
+                bar.update(written)
+                if shape is None and stopped is not None:
                     break
-            if shape is None and stopped is not None:
-                break
+        except KeyboardInterrupt:
+            where = f" to {args.output}" if args.output else ""
+            raise Interrupted(f"interrupted (Ctrl-C): wrote the first {written} of {count} positions{where}",
+                              source=engine.mech.source) from None
     from .kinematics._motion import describe_crossing
     for c in notes:
         print(f"mbplanar: {engine.mech.source}: note: {describe_crossing(engine, c)}", file=sys.stderr)
@@ -664,17 +714,21 @@ def simulate_document(engine, tr) -> dict:
     return plain(doc)
 
 
-def simulate_table(doc) -> tuple[list, np.ndarray]:
-    """Header and columns (N, k) of the simulated motion for CSV."""
+def simulate_table(doc, engine=None) -> tuple[list, np.ndarray]:
+    """Header (each column's unit in brackets, SI) and columns (N, k) of the simulated motion for CSV."""
+    prismatic = {} if engine is None else {n: j.kind == "P" for n, j in engine.mech.joints.items()}
     header, cols = ["t[s]"], [doc["t"]]
     for name, d in doc["inputs"].items():
-        header += [f"{name}", f"{name}.omega", f"{name}.epsilon", f"{name}.drive"]
+        p = prismatic.get(d["joint"], False)
+        units = ("m", "m/s", "m/s^2", "N") if p else ("rad", "rad/s", "rad/s2", "N*m")
+        header += [f"{name}[{units[0]}]", f"{name}.omega[{units[1]}]", f"{name}.epsilon[{units[2]}]",
+                   f"{name}.drive[{units[3]}]"]
         cols += [d["phi"], d["omega"], d["epsilon"], d["drive"]]
     for name, d in doc["links"].items():
         header += [f"angle.{name}[rad]", f"omega.{name}[rad/s]", f"epsilon.{name}[rad/s2]"]
         cols += [d["angle"], d["omega"], d["epsilon"]]
     for name, d in doc["joints"].items():
-        header += [f"{name}.value", f"F{name}.x[N]", f"F{name}.y[N]"]
+        header += [f"{name}.value[{'m' if prismatic.get(name) else 'rad'}]", f"F{name}.x[N]", f"F{name}.y[N]"]
         cols += [d["value"], d["fx"], d["fy"]]
     header += ["kinetic[J]", "potential[J]", "drive_work[J]"]
     cols += [doc["energy"]["kinetic"], doc["energy"]["potential"], doc["energy"]["drive_work"]]
@@ -694,7 +748,9 @@ def _from_state(path, engine) -> tuple[list, list]:
 
 
 def cmd_simulate(args):
+    from ._progress import Progress
     from .forces._simulation import read_simulate, simulate_motion
+    from .io._units import convert_simulation
     engine = _load(args)
     over = {"t": args.t, "rtol": args.rtol, "atol": args.atol, "method": args.method, "steps": args.steps}
     for key, text in (("torque", args.torque), ("motor_slope", args.motor_slope), ("omega", args.omega),
@@ -703,19 +759,38 @@ def cmd_simulate(args):
     if args.start is not None:
         over["phi"], over["omega"] = _from_state(args.start, engine)
     spec = read_simulate(engine.mech, **over)
-    tr = simulate_motion(engine, spec)
+    display = display_units(engine.mech, args.units)
+    total = spec.t or 1.0
+    with Progress(total, "s of motion", show=args.progress, what=f"simulating {total:g} s of motion",
+                  yes=args.yes, source=engine.mech.source) as bar:
+        try:
+            tr = simulate_motion(engine, spec, progress=bar.update)
+        except Interrupted as exc:
+            if exc.partial is not None and args.output:
+                write_csv(args.output, *convert_table(*simulate_table(simulate_document(engine, exc.partial), engine),
+                                                      display))
+                exc.message += f"; wrote the motion up to t = {exc.partial.t[-1]:.6g} s to {args.output}"
+            raise
     doc = simulate_document(engine, tr)
     if args.output:
-        write_csv(args.output, *simulate_table(doc))
+        write_csv(args.output, *convert_table(*simulate_table(doc, engine), display))
+    doc = convert_simulation(engine, doc, display)
     if args.json:
         print(_dumps(doc, indent=2, ensure_ascii=False))
         return 0 if tr.success else 1
     last = -1
-    print(f"{doc['model']}: motion under the given forces from t = 0 to {tr.t[-1]:g} s "
+    machine = spec.torque is None and engine.mech.dynamics is not None
+    spec = tr.spec
+    forces = "the drive of [dynamics] (M_dr − slope·(ω − ω_m))" if machine else "the given forces"
+    print(f"{doc['model']}: motion under {forces} from t = 0 to {tr.t[-1]:g} s "
           f"({spec.method}, rtol {spec.rtol:g}, {tr.nfev} evaluations): {tr.message}")
-    for name, d in doc["inputs"].items():
-        print(f"  {name}: {d['phi'][last]:.12g}, speed {d['omega'][last]:.12g}, acceleration "
-              f"{d['epsilon'][last]:.12g}; drive {d['drive'][last]:.6g}, balancing {d['balancing'][last]:.6g}")
+    for k, (name, d) in enumerate(doc["inputs"].items()):
+        rate, accel, _ = input_kinds(engine, k)
+        kinds = (("length", rate, accel, "force") if rate == "velocity" else ("angle", rate, accel, "moment"))
+        unit = [_text_unit(display.name(kind)) for kind in kinds]
+        print(f"  {name}: {d['phi'][last]:.12g} {unit[0]}, speed {d['omega'][last]:.12g} {unit[1]}, acceleration "
+              f"{d['epsilon'][last]:.12g} {unit[2]}; drive {d['drive'][last]:.6g} {unit[3]}, balancing "
+              f"{d['balancing'][last]:.6g} {unit[3]}")
     e = doc["energy"]
     print(f"  energy: kinetic {e['kinetic'][last]:.9g} J, potential {e['potential'][last]:.9g} J, "
           f"work of the drive {e['drive_work'][last]:.9g} J")
@@ -746,25 +821,34 @@ def balance_document(engine, bal, count: int = 360) -> dict:
 
 def cmd_balance(args):
     from .forces._shaking import balance
+    from .io._units import convert_balance
+    from .model._scale import drawing_size, warn_scale
     engine = _load(args)
+    display = display_units(engine.mech, args.units)
+    length = display.scale("length")
     links = [n.strip() for n in args.links.split(",") if n.strip()]
-    radius = None if args.radius is None else _numbers_of(args.radius, "--radius")
+    radius = None if args.radius is None else [r * length for r in _numbers_of(args.radius, "--radius")]
     if radius is not None and not all(r > 0 for r in radius):
         raise ModelError("--radius must be positive")
+    for r in radius or ():
+        warn_scale("--radius", r, drawing_size(engine.mech), display.name("length"), length,
+                   source=engine.mech.source)
     bal = balance(engine, links, radius)
-    doc = balance_document(engine, bal)
+    doc = convert_balance(engine, balance_document(engine, bal), display)
     if args.json:
         print(_dumps(doc, indent=2, ensure_ascii=False))
         return 0
+    u = doc["units"]
+    lu, mu, fu = u["length"], _text_unit(u["moment"]), _text_unit(u["first_moment"])
     print(f"{doc['model']}: counterweights on {', '.join(links)} (shaking force RMS at 1 rad/s: "
           f"{bal.rms_before:.6g} -> {bal.rms_after:.3g} N)")
-    for cw in bal.counterweights:
-        print(f"  link {cw.link}: {cw.mass:.6g} kg at ({cw.at[0]:.6g}, {cw.at[1]:.6g}) m, first moment "
-              f"{cw.first_moment:.6g} kg·m about {cw.about} at {cw.angle_deg:.4f}° to the link's line")
+    for cw in doc["counterweights"]:
+        print(f"  link {cw['link']}: {cw['mass']:.6g} kg at ({cw['at'][0]:.6g}, {cw['at'][1]:.6g}) {lu}, first moment "
+              f"{cw['first_moment']:.6g} {fu} about {cw['about']} at {cw['angle_deg']:.4f}° to the link's line")
     for when in ("before", "after"):
         d = doc[when]
         print(f"  {when}: shaking force max {d['shaking_force_max']:.6g} N, RMS {d['shaking_force_rms']:.6g} N, "
-              f"shaking moment max {d['shaking_moment_max']:.6g} N·m; balancing max "
+              f"shaking moment max {d['shaking_moment_max']:.6g} {mu}; balancing max "
               + ", ".join(f"{n} {q:.6g}" for n, q in d["balancing_max"].items()))
         print("    largest reactions: " + ", ".join(f"{n} {f:.6g} N" for n, f in d["reaction_max"].items()))
     return 0
@@ -825,11 +909,13 @@ def cmd_animate(args):
 
 def cmd_report(args):
     from .cam.present import register as register_cam_section
+    from .gears.report import register as register_gears_section
     from .synthesis.report import register as register_synthesis_section
     from .viz import _plotting as plotting
     from .viz._report import write_report
     register_cam_section()  # (the report's sections of other packages: registered here, so that the other
-    register_synthesis_section()  # commands do not import those packages)
+    register_gears_section()  # commands do not import those packages)
+    register_synthesis_section()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -873,6 +959,12 @@ def cmd_cam(args):
     return run_command(args)
 
 
+# -- gear -------------------------------------------------------------------------------------------
+def cmd_gear(args):
+    from .gears.command import run
+    return run(args)
+
+
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One line; an error raised without a `source` (an argument's) is located at the model file."""
@@ -897,9 +989,8 @@ def cmd_synth(args) -> int:
 
 
 def _units_option(s):
-    s.add_argument("--units", choices=SYSTEMS, default="si",
-                   help="units of the output: si (m, N·m, kg·m²; the default) or model (the table's "
-                        "length_unit, moment_unit, inertia_unit)")
+    from .model._units import add_units_option
+    add_units_option(s)
 
 
 def _info_options(s):
@@ -933,6 +1024,7 @@ def _sweep_options(s):
     s.add_argument("--forces", choices=("auto", "yes", "no"), default="auto",
                    help="reaction and balancing columns: auto = when the model has loads or masses")
     s.add_argument("--input-inertia", type=float, help="J_I on the input link for the force columns")
+    add_long_run_options(s)
     _units_option(s)
 
 
@@ -972,13 +1064,17 @@ def _simulate_options(s):
     s.add_argument("--steps", type=int, help="output intervals (default 100)")
     s.add_argument("-o", "--output", help="CSV file of the motion")
     s.add_argument("--json", action="store_true")
+    add_long_run_options(s)
+    _units_option(s)
 
 
 def _balance_options(s):
     s.add_argument("model")
     s.add_argument("--links", required=True, help="comma list of the links that get a counterweight")
-    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot, m (one or per link)")
+    s.add_argument("--radius", help="counterweight radius on links turning about a frame pivot (one or per link), "
+                                    "in the unit of --units: m, or the model's length_unit")
     s.add_argument("--json", action="store_true")
+    _units_option(s)
 
 
 def _plot_options(s):
@@ -1027,6 +1123,11 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _gear_options(s):
+    from .gears.command import add_arguments
+    add_arguments(s)
+
+
 def _formats(name):
     """The options and the run of a command of `mbplanar.formats.command`, imported when it runs."""
     def add_options(s):
@@ -1039,9 +1140,21 @@ def _formats(name):
     return add_options, run_command
 
 
+def _serve_options(s):
+    from .web.command import add_arguments
+    add_arguments(s)
+
+
+def cmd_serve(args) -> int:
+    """The workbench; its panels' forms are made from this command line's parsers."""
+    from .web import command
+    from .web._runs import EXPORTS, PANELS, form
+    return command.run(args, forms={name: form(build_parser(name), name) for name in PANELS + EXPORTS})
+
+
 #: every command in the order of `mbplanar --help`: its line there, the function that adds its options
 #: to its parser, and the function that runs it. The options are added for the running command only
-#: (`build_parser`): the cam, synthesis and study code is imported only when its command runs or shows
+#: (`build_parser`): the cam, gear, synthesis and study code is imported only when its command runs or shows
 #: its help. `study` builds its own parser (`study.command.add_parser`).
 COMMANDS = {
     "info": ("links, joints, DOF, loops, Assur groups", _info_options, cmd_info),
@@ -1061,16 +1174,20 @@ COMMANDS = {
     "compile": ("compile the numba backend's kernels into numba's cache, once after installing mbplanar[fast]: "
                 "later runs load them instead of compiling", _no_options, cmd_compile),
     "cam": ("design a cam: motion law, size for a pressure-angle limit, exact profile", _cam_options, cmd_cam),
+    "gear": ("design gears: a spur pair with profile shift (checks, block contour, exact profiles), planetary "
+             "trains by tooth numbers", _gear_options, cmd_gear),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
     "schema": ("the JSON Schema of the model table (for editors: completion and checks)", *_formats("schema")),
     "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)", *_formats("import")),
     "export": ("the mechanism at a position as a drawing: DXF (CAD layers) or SVG", *_formats("export")),
     "examples": ("list the bundled example models, or copy them out", *_formats("examples")),
+    "serve": ("the workbench in the browser: edit the table, see it move, run every analysis "
+              "(pip install 'mbplanar[web]')", _serve_options, cmd_serve),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "study", "schema", "import", "export",
-                                                    "examples")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "schema", "import", "export",
+                                                    "examples", "serve")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")
@@ -1172,6 +1289,10 @@ def _run(args) -> tuple[int, str | None]:
             return args.func(args), None
     except BrokenPipeError:
         return _quiet_broken_pipe(), None
+    except KeyboardInterrupt:  # (the long commands say what they wrote: `Interrupted`)
+        if args.debug:
+            raise
+        return 130, _located(MbplanarError("interrupted (Ctrl-C)"), args)
     except MbplanarError as exc:
         if args.debug:
             raise

@@ -2,14 +2,15 @@
 
 `ModelError` is bad input (a table that cannot describe a mechanism, a bad argument): exit status 2.
 `MotionError` is a mechanism that cannot move as asked (cannot be assembled, locks): exit status 1.
-`PlotUnavailable`: a picture was asked for without matplotlib (exit 2). Every error carries a message
+`PlotUnavailable`: a picture was asked for without matplotlib (exit 2). `LongRun`: a request estimated
+above 10 minutes, not confirmed (exit 2); `Interrupted`: Ctrl-C (exit 130). Every error carries a message
 that names the file (`source`), the row, joint or link (`where`) at fault; ``str(error)`` composes
 them once, as "source: where: message". `ModelWarning` flags input that is valid but probably not
 what the author meant (a drawn input value far from the sketch, a length that contradicts the
 coordinates, a load diagram out of scale); the CLI prints it on stderr.
 """
 
-__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "ModelWarning",
+__all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "LongRun", "Interrupted", "ModelWarning",
            "PrecisionWarning"]
 
 
@@ -90,6 +91,24 @@ class PlotUnavailable(MbplanarError):
     """A picture was asked for but matplotlib (the `plot` extra) is not installed."""
 
     exit_code = 2
+
+
+class LongRun(MbplanarError):
+    """A request estimated to run longer than 10 minutes that the user did not agree to (`--yes`): exit
+    status 2 (see `mbplanar._progress`)."""
+
+    exit_code = 2
+
+
+class Interrupted(MbplanarError):
+    """The user stopped a long run (Ctrl-C): exit status 130, as a shell reports SIGINT. `partial` holds
+    the part of the result done by then (or None)."""
+
+    exit_code = 130
+
+    def __init__(self, message: str = "", *, source=None, where=None, partial=None):
+        super().__init__(message, source=source, where=where)
+        self.partial = partial
 
 
 class ModelWarning(UserWarning):

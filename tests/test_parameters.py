@@ -53,7 +53,7 @@ def test_units_and_values():
     (('"beta" }', '"gamma" }'), "'gamma' is not a number nor a parameter"),
     (('from = "A"', 'from = "B"'), "polar placements form a cycle"),
     (('length = "a"', 'length = "t"'), "parameter 't' is in rad"),
-    (('d = { value = 300.0, unit = "mm" }', 'd = { value = 300.0, unit = "inch" }'), "unit must be one of"),
+    (('d = { value = 300.0, unit = "mm" }', 'd = { value = 300.0, unit = "ft" }'), "unit must be one of"),
     (('d = { value = 300.0, unit = "mm" }', 'd = { value = 300.0, unit = [] }'), "unit must be one of"),
     (('from = "O"', 'from = "Q"'), "'from' names no joint 'Q'"),
 ])

@@ -55,8 +55,8 @@ def test_a_forces_name_loads_only_its_own_module():
 
 def test_the_lazy_public_names_are_the_subpackages_own():
     import mbplanar
-    from mbplanar import analysis, engine, errors, forces, kinematics, model
-    homes = (errors, analysis, engine, forces, kinematics, model)
+    from mbplanar import analysis, engine, errors, forces, kinematics, model, web
+    homes = (errors, analysis, engine, forces, kinematics, model, web)
     for name in mbplanar.__all__:
         home = next(h for h in homes if name in h.__all__)
         assert getattr(mbplanar, name) is getattr(home, name), name

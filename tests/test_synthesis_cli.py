@@ -97,8 +97,8 @@ def _targets_csv(tmp_path, timed=False):
 def test_path_writes_a_model_carrying_its_summary(tmp_path, capsys):
     targets, rows = _targets_csv(tmp_path)
     model = tmp_path / "best.toml"
-    code, out, err = _run(capsys, ["synth", "path", str(targets), "--starts", "1", "--generations", "15",
-                                   "--popsize", "6", "--seed", "2", "--min-transmission", "20", "-o", str(model), "--json"])
+    code, out, err = _run(capsys, ["synth", "path", str(targets), "--starts", "1", "--shapes", "1024", "--keep", "2",
+                                   "--seed", "2", "--min-transmission", "20", "-o", str(model), "--json"])
     assert code == 0, err
     doc = json.loads(out)
     assert {"design", "errors", "rms_error", "max_error", "defects", "evaluations", "seconds", "seed", "starts",
@@ -158,3 +158,65 @@ def test_path_bad_input_exits_2(tmp_path, capsys, monkeypatch, argv, message):
     code, _, err = _run(capsys, argv)
     assert code == 2
     assert message in err and "Traceback" not in err
+
+
+FAST = ["--starts", "1", "--shapes", "512", "--keep", "1"]
+
+
+def test_path_defaults_are_reported_and_can_be_dropped(tmp_path, capsys):
+    """The four-bar's designer defaults are in force, said to be defaults, and met; each can be changed
+    or dropped, and the summary says so."""
+    targets, _ = _targets_csv(tmp_path)
+    code, out, err = _run(capsys, ["synth", "path", str(targets), *FAST, "--json"])
+    assert code == 0, err
+    c = json.loads(out)["constraints"]
+    assert (c["full_turn"], c["min_transmission_deg"], c["max_ratio"]) == (True, 30.0, 10.0)
+    assert c["sources"] == {"full_turn": "default", "min_transmission_deg": "default", "max_ratio": "default"}
+    assert c["transmission_deg"] >= 30.0 and c["ratio"] <= 10.0
+    code, out, err = _run(capsys, ["synth", "path", str(targets), *FAST, "--min-transmission", "none",
+                                   "--max-ratio", "20", "--json"])
+    assert code == 0, err
+    c = json.loads(out)["constraints"]
+    assert c["min_transmission_deg"] is None and c["max_ratio"] == 20.0
+    assert c["sources"] == {"full_turn": "default", "min_transmission_deg": "off", "max_ratio": "given"}
+    code, out, _ = _run(capsys, ["synth", "path", str(targets), *FAST])
+    assert "transmission angle ≥ 30°, link ratio ≤ 10 (default: full turn, transmission angle, link ratio)" in out
+    assert "achieved: smallest transmission" in out
+
+
+def test_path_out_of_order_target_gets_a_design_and_a_warning(tmp_path, capsys):
+    m = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), np.radians([0, 30, 60, 90, 89.6,
+                                                                                                   150, 210, 270, 320]))
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(f"{float(x)!r},{float(y)!r}" for x, y in m.xy[:, m.point("M")]) + "\n", encoding="utf-8")
+    code, out, err = _run(capsys, ["synth", "path", str(path), *FAST, "--json"])
+    assert code == 0, err
+    assert "mbplanar: warning: targets 4 and 5 are met out of order: 5 lies" in err
+    doc = json.loads(out)
+    assert doc["success"] and doc["order"]["steps_back"][0]["from"] == 4 and doc["warnings"]
+
+
+@pytest.mark.parametrize("text, message", [
+    ("x,y\n0,0\n1,0\n", "at least 3 target points, got 2"),
+    ("0,0\n1,0\nnan,1\n0,1\n", "row 3: needs 2 finite numbers"),
+    ("x,y\n0.5,0.5\n0.5,0.5\n0.5,0.5\n0.5,0.5\n", "rows 1-4 are all the one point (0.5, 0.5)"),
+    ("x_mm,y_mm\n0,0\n100,0\n100,100\n0,100\n", "row 1: the header names the unit 'mm'"),
+    ("x [in],y [in]\n0,0\n1,0\n1,1\n", "row 1: the header names the unit 'in'"),
+])
+def test_path_bad_targets_name_the_row(tmp_path, capsys, text, message):
+    (tmp_path / "t.csv").write_text(text, encoding="utf-8")
+    code, _, err = _run(capsys, ["synth", "path", str(tmp_path / "t.csv"), *FAST])
+    assert code == 2 and message in err and "Traceback" not in err, err
+
+
+def test_path_targets_in_another_unit_than_the_model(tmp_path, capsys):
+    """models/fourbar_design.toml is drawn in metres (about 0.5 m); targets written in millimetres are
+    refused, naming the row farthest off."""
+    path = tmp_path / "t.csv"
+    path.write_text("130,210\n60,220\n-10,180\n-50,120\n-30,60\n20,60\n90,100\n150,170\n", encoding="utf-8")
+    code, _, err = _run(capsys, ["synth", "path", str(path), "--model", "models/fourbar_design.toml", "--point", "M",
+                                 "--vary", "m=0:1"])
+    assert code == 2 and "row 1: (130, 210) m" in err and "is it in another unit?" in err, err
+    code, _, err = _run(capsys, ["synth", "path", str(path), "--model", "models/fourbar_design.toml", "--point", "M",
+                                 "--vary", "m=0:1", "--budget", "5"])
+    assert code == 2

@@ -138,7 +138,7 @@ def test_a_length_far_from_the_sketch_warns_with_the_numbers():
     drawn = math.dist(doc["joints"][2]["at"], doc["joints"][3]["at"])          # B–C as drawn: 0.250005
     got = _warnings_of(lambda: mbplanar.Engine(_parse(doc)))
     assert got == [f"t.toml: links '3': length B-C = 0.3 m, but the sketch draws {drawn:.6g} m "
-                   f"({100 * (drawn - 0.3) / 0.3:+.1f} %)"]
+                   f"({100 * (0.3 - drawn) / drawn:+.1f} % of it); the assembly moves the joints to the length"]
 
 
 def test_a_length_within_ten_percent_is_silent():
@@ -214,7 +214,7 @@ CASES = [
                                                                                   "--steps", "72"], 0,
      "warning: {path}: cutting: the resistance does no work over the 73 positions: it acts (backward) over s ="),
     ("inertia_mm.toml", 'length_unit = "mm"', 'length_unit = "mm"\ninertia_unit = "g*mm^2"', ["info"], 2,
-     "{path}: inertia_unit must be one of 'kg*m^2', 'kg*cm^2', 'kg*mm^2', got 'g*mm^2'"),
+     "{path}: inertia_unit must be one of 'kg*m^2', 'kg*cm^2', 'kg*mm^2', 'kg*in^2' (in any case), got 'g*mm^2'"),
     ("inertia_m.toml", "omega = 10.0", "omega = 10.0\nrpm = 95.5", ["info"], 2,
      "{path}: inputs[0] (joint 'O'): give either 'omega' (rad/s) or 'rpm' (rev/min), not both"),
     ("whit_stroke_160.toml", "", "", ["solve", "--at", "30", "--omega", "nan"], 2,

@@ -11,8 +11,10 @@ import math
 import numpy as np
 
 from ..errors import ModelError
+from ..model._model import LENGTH_UNITS
+from ..model._units import add_units_option
 
-__all__ = ["document", "text", "run_command", "report_section", "register"]
+__all__ = ["document", "shown", "text", "run_command", "report_section", "register"]
 
 
 def _deg(x):
@@ -86,9 +88,11 @@ def _dynamics_doc(d):
             "torque_max_at_deg": _deg(g.phi[j]), "lift_off": bool(np.any(fo.lift_off))}
 
 
-def text(d) -> str:
-    """A human summary of the design (what the JSON holds, in words)."""
-    doc = document(d)
+def text(d, system: str = "si") -> str:
+    """A human summary of the design (what the JSON holds, in words), lengths in metres or, with
+    `system` "model", in the cam's length unit."""
+    doc = shown(document(d), d.spec, system)
+    u = doc["units"]["length"]
     f = doc["follower"]
     lines = [f"cam {doc['cam']}" + (f" — {doc['title']}" if doc["title"] else "")]
     if doc["timing"]["events"]:
@@ -102,33 +106,34 @@ def text(d) -> str:
     for p in doc["phases"]:
         coeff = ", ".join(f"{k} {_num(p[k])}" for k in ("C_v", "C_a", "C_j"))
         lines.append(f"  {p['kind']:<10} {p['angle_deg']:8.4f}° from {p['start_deg']:8.4f}°  {p['law']:<22}"
-                     f" stroke {p['stroke']:.6g} m; {coeff}; v_max {_num(p['v_max'])} m/rad,"
-                     f" a_max {_num(p['a_max'])} m/rad²")
+                     f" stroke {p['stroke']:.6g} {u}; {coeff}; v_max {_num(p['v_max'])} {u}/rad,"
+                     f" a_max {_num(p['a_max'])} {u}/rad²")
     size = "found by sizing" if doc["sized"] else "given"
     if f["motion"] == "oscillating":
-        lines.append(f"follower: oscillating {f['contact']}, l = {f['arm']:.6g} m, a_w = {f['centre_distance']:.6g}"
-                     f" m, φ20 = {f['arm_angle_deg']:.6g}° ({size}); r0 = {f['prime_radius']:.6g} m")
+        lines.append(f"follower: oscillating {f['contact']}, l = {f['arm']:.6g} {u}, a_w = "
+                     f"{f['centre_distance']:.6g} {u}, φ20 = {f['arm_angle_deg']:.6g}° ({size}); r0 = "
+                     f"{f['prime_radius']:.6g} {u}")
     else:
-        lines.append(f"follower: translating {f['contact']}, base radius {f['base_radius']:.6g} m, offset "
-                     f"{f['offset']:.6g} m ({size})")
+        lines.append(f"follower: translating {f['contact']}, base radius {f['base_radius']:.6g} {u}, offset "
+                     f"{f['offset']:.6g} {u} ({size})")
     if f["contact"] == "roller":
-        lines.append(f"  roller r = {f['roller']:.6g} m")
+        lines.append(f"  roller r = {f['roller']:.6g} {u}")
     for name in ("rise", "return"):
         p = doc["pressure_angle"][name]
         if p:
             lines.append(f"pressure angle on the {name}: {p['extreme_deg']:+.4f}° at {p['at_deg']:.4g}° "
                          f"(limit {p['limit_deg']:.4g}°)")
     c = doc["curvature"]
-    lines.append(f"ρ_min = {_num(c['rho_min'])} m at {_num(c['at_deg'])}°; profile's smallest radius "
-                 f"{_num(c['profile_rho_min'])} m" + (f"; ρ_min/r = {c['rho_min_over_roller']:.4g}, largest safe "
-                                                    f"roller {_num(c['largest_safe_roller'])} m"
-                                                    if c["rho_min_over_roller"] else ""))
+    lines.append(f"ρ_min = {_num(c['rho_min'])} {u} at {_num(c['at_deg'])}°; profile's smallest radius "
+                 f"{_num(c['profile_rho_min'])} {u}" + (f"; ρ_min/r = {c['rho_min_over_roller']:.4g}, largest safe "
+                                                      f"roller {_num(c['largest_safe_roller'])} {u}"
+                                                      if c["rho_min_over_roller"] else ""))
     if "face" in doc and doc["face"]:
-        lines.append(f"face: contact from {doc['face']['contact_min']:.6g} to {doc['face']['contact_max']:.6g} m"
-                     f" (width ≥ {doc['face']['width']:.6g} m)")
+        lines.append(f"face: contact from {doc['face']['contact_min']:.6g} to {doc['face']['contact_max']:.6g} {u}"
+                     f" (width ≥ {doc['face']['width']:.6g} {u})")
     sc = doc["self_check"]
     lines.append(f"self-check: follower run on the profile at {sc['angles']} angles departs from the law by "
-                 f"{sc['error']:.3g} m = {sc['relative']:.3g} of the stroke")
+                 f"{sc['error']:.3g} {u} = {sc['relative']:.3g} of the stroke")
     if doc["dynamics"]:
         dy = doc["dynamics"]
         lines.append(f"forces at ω = {dy['omega']:.6g} rad/s: contact {dy['contact_min']:.6g} … "
@@ -137,6 +142,35 @@ def text(d) -> str:
     for w in doc["warnings"]:
         lines.append(f"warning: {w}")
     return "\n".join(lines)
+
+
+def shown(doc: dict, spec, system: str = "si") -> dict:
+    """The JSON document in metres (`system` "si") or in the cam's length unit ("model"), with its
+    ``"units"`` object: the lengths of the follower, the phases' strokes and peaks (per rad, rad², rad³),
+    the curvature radii, the face's width, the self-check's error, continuity jumps."""
+    unit = spec.length_unit if system == "model" else "m"
+    k = LENGTH_UNITS[unit]
+
+    def scale(node, keys):
+        for key in keys:
+            if node is not None and node.get(key) is not None:
+                node[key] = node[key] / k
+    scale(doc["follower"], ("prime_radius", "roller", "base_radius", "offset", "centre_distance", "arm",
+                            "face_offset"))
+    for p in doc["phases"]:
+        scale(p, ("stroke", "v_max", "a_max", "j_max"))
+    scale(doc, ("stroke", "v_max", "a_max"))
+    scale(doc["curvature"], ("rho_min", "profile_rho_min", "largest_safe_roller"))
+    scale(doc.get("face"), ("contact_min", "contact_max", "width"))
+    scale(doc["self_check"], ("error", "interference"))
+    for jump in doc["continuity"]:
+        scale(jump, ("jump",))
+    for event in doc["timing"]["events"].values():
+        if event.get("stroke") is not None:
+            event["stroke"] = event["stroke"] / k
+    doc["units"] = {"system": system, "length": unit, "velocity": f"{unit}/rad", "acceleration": f"{unit}/rad^2",
+                    "jerk": f"{unit}/rad^3", "force": "N", "moment": "N*m", "angle": "deg"}
+    return doc
 
 
 def _num(x):
@@ -178,9 +212,9 @@ def run_command(args) -> int:
         from .plots import save_figure
         save_figure(d, args.plot, args.plot_output, at=args.at)
     if args.json:
-        print(json.dumps(_plain(document(d)), indent=2, ensure_ascii=False))
+        print(json.dumps(_plain(shown(document(d), spec, args.units)), indent=2, ensure_ascii=False))
     else:
-        print(text(d))
+        print(text(d, args.units))
     return 0
 
 
@@ -197,6 +231,7 @@ def add_arguments(parser) -> None:
                              "seed's sizing construction, or an animation (GIF)")
     parser.add_argument("--plot-output", help="file for --plot")
     parser.add_argument("--at", type=float, default=0.0, help="cam angle (deg) of the 'cam' picture")
+    add_units_option(parser, "the lengths shown (model: the [cam]'s or the model's length_unit)")
 
 
 def report_section(engine, ctx):

@@ -1,6 +1,9 @@
 """Reading a cam: the `[cam]` section of a model file, or a cam file whose `[cam]` names a model.
 
-Lengths in metres (or `length_unit` = "mm" / "cm" in `[cam]`), angles in degrees. A phase angle, the
+Lengths in metres (or `length_unit` = "mm", "cm", "in" in `[cam]`, in any case; a model's `[cam]` takes
+the model's `length_unit`), angles in degrees. A stroke or a length 100 times larger or smaller than the
+cam's size (its base radius, centre distance or arm; else the model's drawing) warns with the numbers
+(`mbplanar.model._scale`). A phase angle, the
 cam's `start` and the `window` may be numbers or arithmetic on the names of timing events
 (``"abs(fp2) + 0.5*fp1 - 10"``: + − * / and abs, min, max). See docs/cam.md for every key.
 """
@@ -15,13 +18,14 @@ from pathlib import Path
 
 from ..errors import ModelError
 from ..model._keys import MISSING, Key, Section
+from ..model._model import LENGTH_UNITS, unit_spelling
+from ..model._scale import drawing_size, warn_scale
 from .followers import CONTACTS, MOTIONS
 from .laws import LAWS
 
 __all__ = ["CamSpec", "PhaseSpec", "EventSpec", "DynamicsSpec", "read_cam", "parse_cam", "evaluate", "CAM",
            "CAM_FILE"]
 
-_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 _EXPRESSION = {"type": ["number", "string"]}
 
 # -- the keys of [cam], declared once: the reader below reads them through these, the JSON Schema shows them
@@ -59,7 +63,7 @@ CAM = Section("cam", "[cam]", "a cam: follower, motion program, sizing (docs/cam
     Key("follower", "choice", "the follower's motion", choices=MOTIONS, default="translating"),
     Key("contact", "choice", "the follower's contact", choices=CONTACTS, default="roller"),
     Key("rotation", "choice", "the cam's sense", choices=("ccw", "cw"), default="ccw"),
-    Key("length_unit", "choice", "the unit of every length of [cam]", choices=tuple(_UNITS),
+    Key("length_unit", "choice", "the unit of every length of [cam] (in any case)", choices=tuple(LENGTH_UNITS),
         default_doc="m (a model's [cam]: the model's length_unit)"),
     Key("base_radius", "number", "translating: from the cam centre to the roller centre at s = 0; flat: to the "
         "face", unit="length", positive=True),
@@ -161,6 +165,7 @@ class CamSpec:
     dynamics: DynamicsSpec | None = None
     title: str = ""
     linkage: object = field(default=None, compare=False, repr=False)
+    length_unit: str = "m"                   # the unit the section's lengths were written in
 
 
 class _Table:
@@ -249,10 +254,11 @@ def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
             raise ModelError(f"{source}: unknown key(s) {', '.join(sorted(unknown))} in a cam file")
     t = _Table(data["cam"], f"{source}: [cam]", CAM)
     # a model's [cam] measures in the model's length_unit unless it says otherwise
-    unit_name = t.get("length_unit", data.get("length_unit", "m") if linkage is not None else "m", str)
-    if unit_name not in _UNITS:
-        t.fail(f"length_unit must be one of {', '.join(_UNITS)}, got '{unit_name}'")
-    unit = _UNITS[unit_name]
+    given = t.get("length_unit", linkage.units.length if linkage is not None else "m", str)
+    unit_name = unit_spelling(given, LENGTH_UNITS)
+    if unit_name is None:
+        t.fail(f"length_unit must be one of {', '.join(LENGTH_UNITS)} (in any case), got '{given}'")
+    unit = LENGTH_UNITS[unit_name]
     model = t.get("model", kind=str)
     if model is not None:
         if linkage is not None:
@@ -291,10 +297,32 @@ def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
         size=t.get("size", kind=bool), min_radius=length("min_radius"),
         samples=int(t.get("samples")), start=t.get("start", kind="angle"),
         window=tuple(window), dynamics=_dynamics(data["cam"].get("dynamics"), t, unit),
-        title=t.get("title", str(data.get("title", "")), str), linkage=linkage)
+        title=t.get("title", str(data.get("title", "")), str), linkage=linkage, length_unit=unit_name)
     t.used |= {"phases", "events", "dynamics"}
     t.done()
+    _check_scale(spec, unit_name, t.where)
     return spec
+
+
+def _check_scale(spec: CamSpec, unit_name: str, where: str):
+    """Warn for a stroke or a length 100 times larger or smaller than the cam's size: its base radius,
+    else its centre distance or arm, else the smallest radius asked for, else the linkage's drawing."""
+    unit = LENGTH_UNITS[unit_name]
+    named = [("base_radius", spec.base_radius), ("centre_distance", spec.centre_distance), ("arm", spec.arm),
+             ("min_radius", spec.min_radius)]
+    ref = next(((k, v) for k, v in named if v), None)
+    if ref is None and spec.linkage is not None and drawing_size(spec.linkage):
+        ref = ("the drawing", drawing_size(spec.linkage))
+    if ref is None:
+        return
+    reference = f"{ref[0]} =" if ref[0] != "the drawing" else "the linkage's drawing spans"
+    for phase in spec.phases:
+        if phase.stroke is not None:
+            warn_scale("its stroke =", phase.stroke, ref[1], unit_name, unit, where=phase.where, reference=reference)
+    for key, value in (("roller", spec.roller), ("offset", spec.offset), ("face_offset", spec.face_offset),
+                       *named):
+        if key != ref[0] and isinstance(value, float):
+            warn_scale(f"{key} =", value, ref[1], unit_name, unit, where=where, reference=reference)
 
 
 def _phases(rows, t, unit):

@@ -86,9 +86,14 @@ def _build(text: bytes, source: str, backend: str, threads) -> tuple[Engine, lis
     except UnicodeDecodeError:
         read_model(source)  # raises the error that names the file and the byte
         raise
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        engine = Engine(read_model_text(decoded, source=source), backend=backend, threads=threads)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            engine = Engine(read_model_text(decoded, source=source), backend=backend, threads=threads)
+    except Exception:
+        for w in caught:   # (often the cause: a length in another unit than the file's)
+            warnings.warn(w.message, stacklevel=3)
+        raise
     return engine, [w.message for w in caught]
 
 

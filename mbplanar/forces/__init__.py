@@ -9,7 +9,7 @@ dynamics (reduced model, flywheel, true motion, `machine_dynamics`), and the mot
 #: result type (``mbplanar solve`` reaches `Kinetostatics` and `Dynamics` through `mbplanar.io`) does not
 #: load friction, shaking and the simulation
 _HOME = {**dict.fromkeys(["Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "flywheel_sizes",
-                          "machine_dynamics", "reduce", "simulate", "true_motion"], "_dynamics"),
+                          "machine_dynamics", "reduce", "simulate", "stall_ahead", "true_motion"], "_dynamics"),
          **dict.fromkeys(["FrictionResult", "FrictionSpec", "PairFriction", "friction_kinetostatics", "read_friction"],
                          "_friction"),
          **dict.fromkeys(["Kinetostatics", "Reaction", "inertia_loads", "kinetostatics"], "_kinetostatics"),
@@ -35,7 +35,7 @@ def __dir__():
 __all__ = ["Load", "Gravity", "LoadValue", "evaluate_loads", "load_power", "has_force_data",
            "Kinetostatics", "Reaction", "kinetostatics", "inertia_loads",
            "Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "machine_dynamics", "true_motion",
-           "reduce", "simulate", "flywheel_sizes",
+           "reduce", "simulate", "stall_ahead", "flywheel_sizes",
            "PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
            "Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
            "SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"]

@@ -49,8 +49,8 @@ from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
 from ..model._table import crank_input
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "Flywheel", "Rim", "Disc",
-           "read_dynamics",
-           "reduce", "machine_dynamics", "true_motion", "simulate", "flywheel_sizes", "summary"]
+           "read_dynamics", "reduce", "machine_dynamics", "true_motion", "simulate", "stall_ahead", "flywheel_sizes",
+           "summary"]
 
 _RIM = (0.437, 6123.0)    # D₂ = c·J^(1/5), m = k·(D₂² − D₁²)·b at ρ₀ (course-book constants)
 _DISC = (0.366, 1230.0)   # D = c·J^(1/5), m = k·D³ at ρ₀
@@ -540,26 +540,16 @@ def true_motion(engine, phi, cache: dict | None = None):
 
 
 # -- the exact equation of motion -------------------------------------------------------------------
-def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulation:
-    """Integrate (J_I + J_II)·φ̈ + ½·J_II′·φ̇² = M_dr(φ̇) + M_red(φ) over the cycle to its periodic
-    steady state (scipy.integrate.solve_ivp, φ as the independent variable, ω(φ) as the state, with
-    J_II, J_II′ and M_red interpolated periodically from the cycle grid).
-
-    With a constant driving moment every start speed gives a periodic motion; the one whose mean speed
-    (ω_max + ω_min)/2 is ω_m is taken. With a motor characteristic (slope > 0) the periodic motion is
-    unique: ω(2π) = ω(0). Both conditions are met by a secant iteration on ω(0).
-    """
-    from scipy.integrate import solve_ivp
-
-    phi, spec = dyn.phi, dyn.spec
-    J_I, M_dr, slope, om_m = dyn.inertia_first_group, dyn.driving_moment, spec.motor_slope, spec.omega_mean
-    J_II, dJ, M = dyn.J_II, dyn.dJ_II, dyn.M_red
+def _cycle_equation(dyn: Dynamics, J_I: float):
+    """The equation of motion with φ as the independent variable: rhs(φ, [ω, t]) = [dω/dφ, dt/dφ],
+    accel(ω, J_II, J_II', M_red) = φ̈, and the terminal event of ω falling to 1e-6·ω_m."""
+    spec, phi = dyn.spec, dyn.phi
+    M_dr, slope, om_m = dyn.driving_moment, spec.motor_slope, spec.omega_mean
     period = 2 * math.pi
-
     # J_II, J_II', M_red by linear interpolation on the uniform grid, in plain floats (the right-hand
     # side is called tens of thousands of times)
     h, n = float(phi[1] - phi[0]), len(phi) - 1
-    table = [a.tolist() for a in (J_II, dJ, M)]
+    table = [a.tolist() for a in (dyn.J_II, dyn.dJ_II, dyn.M_red)]
 
     def accel(om, j, dj, m):
         """φ̈ from the equation of motion, for ω and the reduced quantities at φ."""
@@ -576,6 +566,38 @@ def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulati
     def stalled(x, y):
         return y[0] - 1e-6 * om_m
     stalled.terminal = True
+    return rhs, accel, stalled
+
+
+def stall_ahead(dyn: Dynamics, J_I: float, phi0: float, omega0: float) -> tuple[float, float] | None:
+    """Where (φ, rad) and when (s) the machine of `dyn` with the first-group inertia `J_I` (kg·m², the
+    input link's own included), started at φ0 with the speed ω0 > 0, stalls within its first cycle (its
+    speed falls to zero: the drive cannot carry it through the loads); None when it passes the cycle."""
+    from scipy.integrate import solve_ivp
+
+    rhs, _, stalled = _cycle_equation(dyn, J_I)
+    sol = solve_ivp(rhs, (phi0, phi0 + 2 * math.pi), [omega0, 0.0], rtol=1e-8,
+                    atol=1e-12 * dyn.spec.omega_mean, method="RK45", events=stalled)
+    if sol.status == 1 and len(sol.t_events[0]):
+        return float(sol.t_events[0][0]), float(sol.y_events[0][0][1])
+    return None
+
+
+def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulation:
+    """Integrate (J_I + J_II)·φ̈ + ½·J_II′·φ̇² = M_dr(φ̇) + M_red(φ) over the cycle to its periodic
+    steady state (scipy.integrate.solve_ivp, φ as the independent variable, ω(φ) as the state, with
+    J_II, J_II′ and M_red interpolated periodically from the cycle grid).
+
+    With a constant driving moment every start speed gives a periodic motion; the one whose mean speed
+    (ω_max + ω_min)/2 is ω_m is taken. With a motor characteristic (slope > 0) the periodic motion is
+    unique: ω(2π) = ω(0). Both conditions are met by a secant iteration on ω(0).
+    """
+    from scipy.integrate import solve_ivp
+
+    phi, spec = dyn.phi, dyn.spec
+    J_II, dJ, M, om_m = dyn.J_II, dyn.dJ_II, dyn.M_red, spec.omega_mean
+    period = 2 * math.pi
+    rhs, accel, stalled = _cycle_equation(dyn, dyn.inertia_first_group)
 
     def cycle(om0):
         """ω over the grid, the period, and the error of the periodicity condition, from ω(0) = om0."""
@@ -585,7 +607,7 @@ def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulati
             raise MotionError("the machine stalls: the driving moment cannot carry it through the cycle "
                               f"(ω falls to 0 near φ = {math.degrees(sol.t[-1]):.4g}°)")
         om = sol.y[0]
-        error = om[-1] - om0 if slope > 0 else (om.max() + om.min()) / 2 - om_m
+        error = om[-1] - om0 if spec.motor_slope > 0 else (om.max() + om.min()) / 2 - om_m
         return om, sol.y[1][-1], error
 
     x0 = float(dyn.omega_at(dyn.dT_I[0]))

@@ -31,23 +31,38 @@ The `[simulate]` section of a model (all keys optional)::
     steps = 100           # output intervals
     input_inertia = 0.0   # kg·m² (the table's inertia_unit) on each input link besides the links' own
     max_evaluations = 50000    # a motion that chatters at a switched load (a stalled press) stops here
+
+Without a `torque` (here or given), a crank-driven model with `[dynamics]` runs as the machine that
+section describes: the drive M_dr − slope·(q̇ − ω_m) (its `driving_moment`, else the constant that
+balances the cycle's work), started at ω_m, with `[dynamics.flywheel] inertia` on the crank when no
+`input_inertia` is given. Such a machine is first checked over one cycle by the energy equation
+(`stall_ahead`): one that cannot run through its cycle (a flywheel missing) is refused at once, saying
+where it stops. Any other model has no drive unless given (0).
+
+A stall is found as it happens: when an input's speed passes through zero (or starts at zero) and the
+drive cannot restart it (the accelerations just forward and just backward point back to zero: the
+switched loads and friction hold it), the simulation stops with a one-line `MotionError` that says
+when, where, and what the model lacks (a flywheel: `input_inertia`; a drive). The integration steps
+scipy's solver one step at a time (the same steps and output as `solve_ivp` with `t_eval`), reporting
+its progress and stopping on Ctrl-C with the motion so far (`Interrupted.partial`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._progress import Interrupted
 from ..engine import solve_positions
 from ..engine._backend import dispatch
-from ..errors import ModelError, MotionError
+from ..errors import MbplanarError, ModelError, MotionError
 from ..kinematics._motion import analyse, material_points
 from ._kinetostatics import kinetostatics
 from ._loads import (evaluate_loads, heavy_links, load_power, read_gravity, read_loads, real_frames,
                      spring_energy, world_points)
-from ..model._keys import MISSING, Key, Section
+from ..model._keys import Key, Section
 from ..model._table import Row
 
 __all__ = ["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "accelerations", "SIMULATE"]
@@ -56,14 +71,14 @@ METHODS = ("DOP853", "RK45", "Radau", "BDF", "LSODA", "RK23")
 _PER_INPUT = {"anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]}
 SIMULATE = Section("simulate", "[simulate]", "the motion under given forces, integrated in time", (
     Key("t", "number", "the end time (the command's --t overrides it)", unit="s", positive=True),
-    Key("torque", "custom", "drive along each input: a number, or one per input", unit="moment", default=0.0,
-        schema=_PER_INPUT),
-    Key("motor_slope", "custom", "drive = torque − motor_slope·q̇, per input", unit="moment*s/rad", default=0.0,
-        schema=_PER_INPUT),
+    Key("torque", "custom", "drive along each input: a number, or one per input", unit="moment",
+        default_doc="the machine of [dynamics] (its M_dr), else 0", schema=_PER_INPUT),
+    Key("motor_slope", "custom", "drive = torque − motor_slope·q̇, per input", unit="moment*s/rad",
+        default_doc="[dynamics]' motor_slope, else 0", schema=_PER_INPUT),
     Key("omega", "custom", "initial speed(s) q̇₀; the start position is the drawn one", unit="rad/s",
-        default_doc="0", schema=_PER_INPUT),
+        default_doc="ω_m of [dynamics], else 0", schema=_PER_INPUT),
     Key("input_inertia", "custom", "inertia on each input link besides the links' own", unit="inertia",
-        default=0.0, schema=_PER_INPUT),
+        default_doc="[dynamics.flywheel] inertia, else 0", schema=_PER_INPUT),
     Key("rtol", "number", "solve_ivp's relative tolerance", default=1e-10, positive=True),
     Key("atol", "number", "solve_ivp's absolute tolerance", default=1e-12, positive=True),
     Key("method", "choice", "solve_ivp's method", default="DOP853", choices=METHODS),
@@ -75,14 +90,15 @@ SIMULATE = Section("simulate", "[simulate]", "the motion under given forces, int
 @dataclass(frozen=True)
 class SimulateSpec:
     """What drives the motion and how it is integrated: the drive `torque` (N·m or N) and `motor_slope`
-    (N·m·s/rad) per input, the start speed `omega` (rad/s or m/s) per input (None: 0), the start
-    position `phi` (SI, None: the drawn pose), the end time `t` (s), solve_ivp's `rtol`, `atol`,
-    `method`, the output `steps`, the `input_inertia` (kg·m² or kg) per input link besides the links' own,
-    and the most right-hand-side evaluations `max_evaluations`."""
+    (N·m·s/rad) per input (None: the machine of `[dynamics]`, else 0 and 0), the start speed `omega`
+    (rad/s or m/s) per input (None: 0, or ω_m), the start position `phi` (SI, None: the drawn pose), the
+    end time `t` (s), solve_ivp's `rtol`, `atol`, `method`, the output `steps`, the `input_inertia`
+    (kg·m² or kg) per input link besides the links' own (None: `[dynamics.flywheel] inertia`, else 0), and
+    the most right-hand-side evaluations `max_evaluations`."""
 
     t: float | None = None
-    torque: tuple[float, ...] = (0.0,)
-    motor_slope: tuple[float, ...] = (0.0,)
+    torque: tuple[float, ...] | None = (0.0,)
+    motor_slope: tuple[float, ...] | None = (0.0,)
     omega: tuple[float, ...] | None = None
     phi: tuple[float, ...] | None = None
     rtol: float = 1e-10
@@ -104,12 +120,12 @@ def read_simulate(mech, **override) -> SimulateSpec:
     n = len(mech.inputs)
     values = {"t": row.get("t")}
     for key in ("torque", "motor_slope", "omega", "input_inertia"):
-        default = SIMULATE[key].default
-        values[key] = _per_input(row, key, None if default is MISSING else default, n)
+        values[key] = _per_input(row, key, None, n)     # (absent: the machine of [dynamics], else 0)
     units = mech.units  # the section is in the table's units; the overrides are SI
     for key, scale in (("torque", units.moment_scale), ("motor_slope", units.moment_scale),
                        ("input_inertia", units.inertia_scale)):
-        values[key] = tuple(v * scale for v in values[key])
+        if values[key] is not None:
+            values[key] = tuple(v * scale for v in values[key])
     for key in ("rtol", "atol", "method", "steps", "max_evaluations"):
         values[key] = row.get(key)
     row.check_unknown_keys()
@@ -150,7 +166,7 @@ def _check(spec: SimulateSpec, where):
         raise ModelError(f"{where}: rtol must be in (0, 1) and atol positive, got {spec.rtol}, {spec.atol}")
     if int(spec.steps) != spec.steps or spec.steps < 1:
         raise ModelError(f"{where}: 'steps' must be a positive whole number, got {spec.steps}")
-    if any(s < 0 for s in spec.motor_slope):
+    if any(s < 0 for s in spec.motor_slope or ()):
         raise ModelError(f"{where}: 'motor_slope' must be >= 0 (a motor gives less when faster)")
     if spec.input_inertia is not None and any(j < 0 for j in spec.input_inertia):
         raise ModelError(f"{where}: 'input_inertia' must be >= 0")
@@ -238,6 +254,8 @@ def accelerations(engine, q, qd, spec: SimulateSpec, input_inertia=None) -> np.n
     """q̈ (n,) at the state (q, q̇) (SI) from the equations of motion."""
     q, qd = np.asarray(q, float).reshape(-1), np.asarray(qd, float).reshape(-1)
     J_in = np.zeros(len(q)) if input_inertia is None else np.asarray(input_inertia, float)
+    if spec.torque is None or spec.motor_slope is None:
+        spec = _drive(engine, spec)[0]
     M, rhs, _, _ = _mass_and_forces(engine, _columns(engine, q, qd), qd, spec, J_in)
     return _solve_mass(engine, M, rhs)
 
@@ -275,28 +293,34 @@ class Trajectory:
     spec: SimulateSpec = field(default_factory=SimulateSpec)
 
 
-def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None) -> Trajectory:
+def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None, progress=None) -> Trajectory:
     """Integrate the equations of motion from the start state of `spec` (default: the model's
-    `[simulate]` section) to its end time, with solve_ivp; the reactions along the motion follow.
-    `input_inertia` (default: the spec's) is added on each input link."""
+    `[simulate]` section) to its end time, with scipy's solver stepped as `solve_ivp` steps it; the
+    reactions along the motion follow. `input_inertia` (default: the spec's) is added on each input link.
+    `progress(t)` is called after each step with the time reached.
+
+    Raises `MotionError` when an input stalls (its speed through zero, the drive unable to restart it),
+    naming what the model lacks, and `Interrupted` on Ctrl-C with the motion so far as its `partial`."""
     mech = engine.mech
     spec = spec or read_simulate(mech)
     if spec.t is None:
         raise ModelError("no end time: give --t or t = ... in [simulate]", source=mech.source)
     n = len(engine.inputs)
+    spec, machine = _drive(engine, spec)
     q0 = np.array(spec.phi if spec.phi is not None else engine.phi_drawn, float)
     qd0 = np.array(spec.omega if spec.omega is not None else (0.0,) * n, float)
     if input_inertia is None:
-        input_inertia = spec.input_inertia if spec.input_inertia is not None else 0.0
+        input_inertia = spec.input_inertia
     J_in = np.broadcast_to(np.asarray(input_inertia, float), (n,))
+    if machine is not None and qd0[0] > 0:
+        _check_cycle(engine, machine, float(J_in[0]), float(q0[0]), float(qd0[0]))
     # (no backend integrates: the seam says so and numpy does; each evaluation's position goes through it)
-    return dispatch(engine, "simulation", int(spec.steps) + 1, lambda: _integrate(engine, spec, q0, qd0, J_in))
+    return dispatch(engine, "simulation", int(spec.steps) + 1,
+                    lambda: _simulate(engine, spec, q0, qd0, J_in, machine, progress))
 
 
-def _integrate(engine, spec: SimulateSpec, q0, qd0, J_in) -> Trajectory:
-    """`simulate_motion` by scipy's solve_ivp, from q0, qd0 (n,) with J_in (n,) on the input links."""
-    from scipy.integrate import solve_ivp
-
+def _simulate(engine, spec: SimulateSpec, q0, qd0, J_in, machine, progress) -> Trajectory:
+    """`simulate_motion` from q0, qd0 (n,) with J_in (n,) on the input links, the drive settled."""
     mech, n = engine.mech, len(engine.inputs)
     calls = [0]
 
@@ -310,14 +334,23 @@ def _integrate(engine, spec: SimulateSpec, q0, qd0, J_in) -> Trajectory:
         qdd = _solve_mass(engine, M, b)
         return np.concatenate([qd, qdd, [float(drive @ qd)]])
 
-    grid = np.linspace(0.0, spec.t, int(spec.steps) + 1)
+    stall = _Stall(engine, spec, J_in, machine)
     try:
-        sol = solve_ivp(rhs, (0.0, spec.t), np.concatenate([q0, qd0, [0.0]]), method=spec.method,
-                        t_eval=grid, rtol=spec.rtol, atol=spec.atol)
+        t, y, success, message = _integrate(rhs, np.concatenate([q0, qd0, [0.0]]), spec, n, stall, progress)
     except MotionError as exc:
         raise MotionError(f"{exc.message} (simulating from t = 0 to {spec.t} s)", source=exc.source,
                           where=exc.where) from None
-    y = sol.y.T
+    except _Stopped as stop:
+        partial = _trajectory(engine, spec, J_in, stop.t, stop.y, False, "interrupted", calls[0]) if len(stop.t) else None
+        raise Interrupted(f"interrupted (Ctrl-C) at t = {stop.at:.6g} s of {spec.t:g} s", source=mech.source,
+                          partial=partial) from None
+    return _trajectory(engine, spec, J_in, t, y, success, message, calls[0])
+
+
+def _trajectory(engine, spec, J_in, t, y, success, message, nfev) -> Trajectory:
+    """The Trajectory of the states y (N, 2n + 1) at the times t (N,): accelerations, positions,
+    reactions and energies along them."""
+    n = len(engine.inputs)
     phi, omega, work = y[:, :n], y[:, n:2 * n], y[:, 2 * n]
     eps = np.array([accelerations(engine, q, qd, spec, J_in) for q, qd in zip(phi, omega)]).reshape(-1, n)
     drive = np.asarray(spec.torque)[None, :] - np.asarray(spec.motor_slope)[None, :] * omega
@@ -325,8 +358,171 @@ def _integrate(engine, spec: SimulateSpec, q0, qd0, J_in) -> Trajectory:
     ks = kinetostatics(engine, motion, input_inertia=J_in)
     energy = {"kinetic": _kinetic(engine, motion, omega, J_in), "potential": _potential(engine, motion),
               "drive_work": work}
-    return Trajectory(sol.t, phi, omega, eps, drive, motion, ks, energy, bool(sol.success), sol.message,
-                      int(sol.nfev), spec)
+    return Trajectory(t, phi, omega, eps, drive, motion, ks, energy, bool(success), message, int(nfev), spec)
+
+
+class _Stopped(Exception):
+    """Ctrl-C during the integration: the output rows so far (t (N,), y (N, 2n + 1)) and the time reached."""
+
+    def __init__(self, t, y, at):
+        super().__init__()
+        self.t, self.y, self.at = t, y, at
+
+
+_FINISHED = "The solver successfully reached the end of the integration interval."  # (solve_ivp's words)
+
+
+def _integrate(rhs, y0, spec: SimulateSpec, n: int, stall, progress):
+    """solve_ivp(rhs, (0, t), y0, method, t_eval=grid, rtol, atol), stepped here: after each step the
+    output points it passed are read from its dense output (as solve_ivp does, so the numbers are the
+    same), the inputs' speeds are watched for a stall (`_Stall`) and `progress(t)` is called."""
+    import scipy.integrate
+
+    solver = getattr(scipy.integrate, spec.method)(rhs, 0.0, y0, spec.t, rtol=spec.rtol, atol=spec.atol)
+    grid = np.linspace(0.0, spec.t, int(spec.steps) + 1)
+    ts, ys, i, status, message = [], [], 0, None, _FINISHED
+    stall.at_start(y0)
+    try:
+        while status is None:
+            previous = solver.y.copy()
+            message = solver.step() or _FINISHED
+            if solver.status == "failed":
+                status = -1
+                break
+            status = 0 if solver.status == "finished" else None
+            dense = None
+            end = int(np.searchsorted(grid, solver.t, side="right"))
+            if end > i:
+                dense = solver.dense_output()
+                ts.append(grid[i:end])
+                ys.append(dense(grid[i:end]))
+                i = end
+            stall.after_step(solver, previous, dense)
+            if progress is not None:
+                progress(float(solver.t))
+    except KeyboardInterrupt:
+        raise _Stopped(np.concatenate(ts) if ts else np.zeros(0),
+                       np.hstack(ys).T if ys else np.zeros((0, len(y0))), float(solver.t)) from None
+    t = np.concatenate(ts) if ts else np.zeros(0)
+    y = np.hstack(ys).T if ys else np.zeros((0, len(y0)))
+    return t, y, status == 0, message
+
+
+class _Stall:
+    """Watches the inputs' speeds: where one passes through zero (or starts at zero), the motion is
+    stuck when the accelerations just forward and just backward both point back to zero (the drive
+    cannot restart it against the switched loads and friction): then a `MotionError` says so."""
+
+    def __init__(self, engine, spec, J_in, machine):
+        self.engine, self.spec, self.J_in, self.machine = engine, spec, J_in, machine
+        self.n = len(engine.inputs)
+
+    def at_start(self, y0):
+        for k in range(self.n):
+            if y0[self.n + k] == 0:
+                self._check(0.0, y0, k)
+
+    def after_step(self, solver, previous, dense):
+        n = self.n
+        for k in range(n):
+            a, b = previous[n + k], solver.y[n + k]
+            if a == 0 or (a > 0) == (b > 0) and b != 0:
+                continue
+            dense = dense or solver.dense_output()
+            at = solver.t if b == 0 else _root(lambda x: dense(x)[n + k], solver.t_old, solver.t)
+            self._check(at, dense(at), k)
+
+    def _check(self, t, y, k):
+        n = self.n
+        q, qd = y[:n].copy(), y[n:2 * n].copy()
+        qd[k] = 0.0
+        delta = 1e-9 * max(1.0, float(np.max(np.abs(qd))))
+        ahead, back = qd.copy(), qd.copy()
+        ahead[k], back[k] = delta, -delta
+        forward = accelerations(self.engine, q, ahead, self.spec, self.J_in)[k]
+        backward = accelerations(self.engine, q, back, self.spec, self.J_in)[k]
+        if forward < 0 < backward:
+            raise _stall_error(self.engine, self.spec, self.J_in, self.machine, k, t, q[k],
+                               f"its speed {'is' if t == 0 else 'falls to'} zero and the drive cannot "
+                               f"{'start' if t == 0 else 'restart'} it: the loads hold it there (φ̈ = "
+                               f"{forward:.3g} just forward, {backward:.3g} just backward)")
+
+
+def _root(f, a, b, tol=1e-14):
+    """A root of f in [a, b] where f changes sign (bisection to the float resolution of t)."""
+    fa = f(a)
+    for _ in range(200):
+        m = 0.5 * (a + b)
+        if b - a <= tol * max(1.0, abs(b)):
+            break
+        fm = f(m)
+        if (fm > 0) == (fa > 0) and fm != 0:
+            a, fa = m, fm
+        else:
+            b = m
+    return b
+
+
+def _drive(engine, spec: SimulateSpec):
+    """The spec with its drive, speeds and input inertia settled, and the machine dynamics it was taken
+    from (None unless the drive is that of `[dynamics]`, see the module docstring)."""
+    n = len(engine.inputs)
+    mech = engine.mech
+    fly = mech.dynamics.flywheel.inertia if mech.dynamics is not None else None
+    inertia = spec.input_inertia if spec.input_inertia is not None else (fly if fly is not None else 0.0,) * n
+    if spec.torque is not None or mech.dynamics is None:
+        return replace(spec, torque=spec.torque if spec.torque is not None else (0.0,) * n,
+                       motor_slope=spec.motor_slope if spec.motor_slope is not None else (0.0,) * n,
+                       input_inertia=inertia), None
+    from ._dynamics import machine_dynamics
+    dyn = machine_dynamics(engine, simulate_motion=False)
+    slope = spec.motor_slope if spec.motor_slope is not None else (dyn.spec.motor_slope,)
+    torque = (dyn.driving_moment + slope[0] * dyn.spec.omega_mean,)   # M_dr − slope·(q̇ − ω_m)
+    omega = spec.omega if spec.omega is not None else (dyn.spec.omega_mean,)
+    return replace(spec, torque=torque, motor_slope=slope, omega=omega, input_inertia=inertia), dyn
+
+
+def _check_cycle(engine, dyn, J_in: float, phi0: float, omega0: float):
+    """Refuse, at once, a machine of `[dynamics]` that stalls within its first cycle (`stall_ahead`)."""
+    from ._dynamics import stall_ahead
+    hit = stall_ahead(dyn, J_in + dyn.input_link_inertia, phi0, omega0)
+    if hit is not None:
+        phi, t = hit
+        raise _stall_error(engine, None, np.array([J_in]), dyn, 0, t, phi,
+                           f"started at {omega0:.6g} rad/s with the drive of [dynamics] (M_dr = "
+                           f"{dyn.driving_moment:.6g} N·m), the machine slows to a stop there, before the end of "
+                           "its first cycle, and the drive cannot carry it through the loads",
+                           approximate=True)
+
+
+def _stall_error(engine, spec, J_in, dyn, k, t, q, how, approximate=False) -> MotionError:
+    """The one-line stall message: when, where, how, and what the model lacks."""
+    inp = engine.inputs[k]
+    about = "≈ " if approximate else "= "
+    where = f"{inp.name} {about}{inp.from_si(q):.6g} {inp.unit}"
+    kind = "kg" if engine.mech.joints[inp.joint].kind == "P" else "kg·m²"
+    if dyn is None and engine.mech.dynamics is not None and len(engine.inputs) == 1:
+        from ._dynamics import machine_dynamics
+        try:
+            dyn = machine_dynamics(engine, simulate_motion=False)
+        except MbplanarError:
+            dyn = None
+    if dyn is not None:
+        J_I = dyn.inertia_first_group - dyn.input_link_inertia
+        sized = f"; `mbplanar dynamics` sizes J_I = {J_I:.6g} kg·m² for δ = {dyn.spec.delta:g}"
+    else:
+        sized = ""
+    if t == 0:
+        lacks = ("give a drive that overcomes the loads there (--torque, [simulate] torque) or a start speed "
+                 f"(--omega){sized}")
+    elif J_in[k] == 0:
+        lacks = (f"the model has no flywheel on input '{inp.name}' (input inertia 0): give --input-inertia J "
+                 f"({kind}), [simulate] input_inertia or [dynamics.flywheel] inertia{sized}")
+    else:
+        lacks = (f"its input inertia {J_in[k]:.6g} {kind} is too small or the drive too weak: give a larger "
+                 f"--input-inertia or --torque{sized}")
+    return MotionError(f"{inp.name} stalls at t {about}{t:.6g} s ({where}): {how}; {lacks}",
+                       source=engine.mech.source)
 
 
 def _kinetic(engine, motion, omega, J_in) -> np.ndarray:

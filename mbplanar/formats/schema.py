@@ -1,7 +1,8 @@
 """The JSON Schema of the model table, generated from the keys the readers declare.
 
-The table reader (`mbplanar.model._table`), the cam's (`mbplanar.cam.spec`) and the forces' sections
-(`[friction]`, `[simulate]`) read their keys through `Section`s of `Key`s (`mbplanar.model._keys`);
+The table reader (`mbplanar.model._table`), the cam's (`mbplanar.cam.spec`), the gears' (`mbplanar.gears.spec`)
+and the forces' sections (`[friction]`, `[simulate]`) read their keys through `Section`s of `Key`s
+(`mbplanar.model._keys`);
 `model_schema` turns those very sections into a JSON Schema (draft-07, the dialect editors read): every section, key, type,
 unit (in the description and as "x-unit"), default and bound. The package ships it as
 `mbplanar/formats/model.schema.json` (a test holds the file equal to this function's output), and
@@ -29,9 +30,10 @@ def sections() -> dict[str, Section]:
     from ..cam.spec import CAM, CAM_DYNAMICS, CAM_EVENT, CAM_FILE, CAM_PHASE
     from ..forces._friction import FRICTION, FRICTION_PAIR
     from ..forces._simulation import SIMULATE
+    from ..gears.spec import GEARS, GEARS_PAIR, GEARS_PLANETARY
     from ..model._keys import SECTIONS
     return {**SECTIONS, **{s.name: s for s in (CAM, CAM_PHASE, CAM_EVENT, CAM_DYNAMICS, CAM_FILE, FRICTION,
-                                                 FRICTION_PAIR, SIMULATE)}}
+                                                 FRICTION_PAIR, SIMULATE, GEARS, GEARS_PAIR, GEARS_PLANETARY)}}
 
 
 def model_schema() -> dict:

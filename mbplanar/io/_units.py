@@ -5,62 +5,17 @@ its shown unit: lengths (and so velocities, accelerations) by the table's `lengt
 its `moment_unit`, inertias by its `inertia_unit`; forces (N), masses (kg), energy and work (J),
 angles and their rates stay as they are. Every JSON document carries the result as a top-level
 ``"units"`` object (`DisplayUnits.document`), every text table names its units in the headers.
+`DisplayUnits` and the CSV conversion live in `mbplanar.model._units` (the commands of the packages
+before `io` use them too); the documents of the core commands are converted here.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
-from ..model._model import INERTIA_UNITS, LENGTH_UNITS, MOMENT_UNITS
+from ..model._units import SYSTEMS, DisplayUnits, convert_table, display_units
 
 __all__ = ["DisplayUnits", "display_units", "SYSTEMS", "convert_info", "convert_solution", "convert_forces",
-           "convert_dynamics", "convert_check", "convert_table", "input_kinds"]
-
-SYSTEMS = ("si", "model")
-
-
-@dataclass(frozen=True)
-class DisplayUnits:
-    """The shown unit of each kind of quantity (see `name`), and its size in SI (`scale`)."""
-
-    system: str = "si"
-    length: str = "m"
-    moment: str = "N*m"
-    inertia: str = "kg*m^2"
-
-    def scale(self, kind: str) -> float:
-        """SI value of one shown unit of `kind` (1 for the kinds that are always SI)."""
-        length = LENGTH_UNITS[self.length]
-        return {"length": length, "velocity": length, "acceleration": length,
-                "moment": MOMENT_UNITS[self.moment], "inertia": INERTIA_UNITS[self.inertia]}.get(kind, 1.0)
-
-    def name(self, kind: str) -> str:
-        """The unit's name as the outputs write it ("mm/s^2", "N*mm", ...)."""
-        return {"length": self.length, "velocity": f"{self.length}/s", "acceleration": f"{self.length}/s^2",
-                "force": "N", "moment": self.moment, "inertia": self.inertia, "mass": "kg", "energy": "J",
-                "angle": "rad", "angular_velocity": "rad/s", "angular_acceleration": "rad/s^2"}[kind]
-
-    def show(self, value, kind: str):
-        """`value` (SI, a number or an array) in the shown unit of `kind`."""
-        return value / self.scale(kind)
-
-    def document(self, angle: str = "rad") -> dict:
-        """The JSON ``"units"`` object: the system and the unit of every kind of quantity."""
-        kinds = ("length", "velocity", "acceleration", "force", "moment", "inertia", "mass", "energy",
-                 "angle", "angular_velocity", "angular_acceleration")
-        doc = {"system": self.system, **{k: self.name(k) for k in kinds}}
-        doc["angle"] = angle
-        return doc
-
-
-def display_units(mech, system: str = "si") -> DisplayUnits:
-    """SI units, or the units the model `mech` was written in (`system="model"`)."""
-    if system == "si":
-        return DisplayUnits()
-    if system != "model":
-        raise ValueError(f"units must be one of {', '.join(SYSTEMS)}, got {system!r}")
-    u = mech.units
-    return DisplayUnits("model", u.length, u.moment, u.inertia)
+           "convert_dynamics", "convert_check", "convert_simulation", "convert_balance", "convert_table",
+           "input_kinds"]
 
 
 # -- converting finished (SI) documents and tables ---------------------------------------------------
@@ -177,23 +132,33 @@ def convert_check(engine, doc: dict, display: DisplayUnits) -> dict:
     return doc
 
 
-_BRACKETS = {"m": "length", "m/s": "velocity", "m/s^2": "acceleration", "N*m": "moment", "kg*m2": "inertia",
-             "kg*m^2": "inertia"}
+def convert_simulation(engine, doc: dict, display: DisplayUnits) -> dict:
+    """`simulate --json` in `display` units: a prismatic input's or joint's values, rates and
+    accelerations as lengths, a revolute input's drive and balancing moment and the reactions' moments
+    in the moment unit (angles, forces, energies as they are)."""
+    for k, node in enumerate(doc["inputs"].values()):
+        rate, accel, _ = input_kinds(engine, k)
+        prismatic = rate == "velocity"
+        kinds = {"phi": "length" if prismatic else "angle", "omega": rate, "epsilon": accel}
+        kinds.update(dict.fromkeys(("drive", "balancing"), "force" if prismatic else "moment"))
+        _scale_dict(node, kinds, display)
+    for name, node in doc["joints"].items():
+        _scale_dict(node, {**_joint_kinds(engine, name), "moment": "moment"}, display)
+    doc["units"] = display.document()
+    return doc
 
 
-def convert_table(header: list[str], rows, display: DisplayUnits, skip: int = 1):
-    """A CSV table whose headers end in [unit] (SI), in `display` units; the first `skip` columns (the
-    input, in its own unit) are left alone. Returns the new header and rows (N, k)."""
-    if display.system == "si" or not len(rows):
-        return header, rows
-    rows = rows.copy()
-    header = list(header)
-    for k, head in enumerate(header[skip:], start=skip):
-        if not head.endswith("]") or "[" not in head:
-            continue
-        base, unit = head[:-1].rsplit("[", 1)
-        kind = _BRACKETS.get(unit)
-        if kind is not None:
-            rows[:, k] = rows[:, k] / display.scale(kind)
-            header[k] = f"{base}[{display.name(kind)}]"
-    return header, rows
+def convert_balance(engine, doc: dict, display: DisplayUnits) -> dict:
+    """`balance --json` in `display` units: counterweight positions and radii as lengths, first moments
+    in kg·(length unit), shaking and balancing moments in the moment unit."""
+    length = display.scale("length")
+    for cw in doc["counterweights"]:
+        _scale_dict(cw, {"at": "length", "radius": "length"}, display)
+        if cw.get("first_moment") is not None:
+            cw["first_moment"] = cw["first_moment"] / length
+    for when in ("before", "after"):
+        _scale_dict(doc[when], {"shaking_moment_max": "moment"}, display)
+        revolute = [n for n in doc[when]["balancing_max"] if engine.mech.joints[n].kind == "R"]
+        _scale_dict(doc[when]["balancing_max"], dict.fromkeys(revolute, "moment"), display)
+    doc["units"] = {**display.document(), "first_moment": f"kg*{display.name('length')}"}
+    return doc

@@ -779,8 +779,8 @@ def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wante
             frames = fields_["frames"] = _new(Frames)
             state = frames.__dict__
             state.update(_NO_RATES)
-            for name, field in _FRAME_FIELDS[plan.rates]:
-                state[name] = rows[field]
+            for name, key in _FRAME_FIELDS[plan.rates]:
+                state[name] = rows[key]
     return _record(Motion, fields_)
 
 

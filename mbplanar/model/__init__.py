@@ -4,9 +4,9 @@
 sketched pose onto the exact one.
 """
 
-from ._assembly import assemble
+from ._assembly import assemble, reference_points
 from ._model import Input, Joint, Link, Mechanism, Point, Units
 from ._table import parse_model, read_model, read_model_text
 
 __all__ = ["Link", "Joint", "Point", "Input", "Mechanism", "Units", "read_model", "read_model_text", "parse_model",
-           "assemble"]
+           "assemble", "reference_points"]

@@ -18,6 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, MotionError
+from ._scale import SLACK
 from ._model import Joint, Link, Mechanism, Point
 
 __all__ = ["assemble", "reference_points", "input_reference"]
@@ -258,21 +259,23 @@ def _construct_along(p: Point, a, b) -> tuple[float, float]:
     return (float(xy[0]), float(xy[1]))
 
 
-LENGTH_MISMATCH = 0.10        # a length more than 10 % off the sketch's distance is flagged
+LENGTH_MISMATCH = 0.10        # a length 10 % or more off the sketch's distance is flagged (the boundary too)
 INPUT_MISMATCH_DEG = 1.0      # a drawn_at more than 1° off the sketch's angle is flagged
 
 
 def _warn_disagreements(mech: Mechanism, sketch: _Sketch):
-    """A `ModelWarning` for a length that contradicts the drawn coordinates by more than 10 %, and for a
+    """A `ModelWarning` for a length 10 % or more off the distance the sketch draws (measured against the
+    drawing, the boundary included to rounding: `mbplanar.model._scale.SLACK`), and for a
     revolute input's `drawn_at` more than 1° from the angle the sketch is drawn at (radians typed for
     degrees, a wrong `zero`): the assembly would move the drawing far, silently."""
     units = mech.units
     k = units.length_scale
     for link, p, q, value in sketch.lengths:
         drawn = math.dist(sketch.local[link][p], sketch.local[link][q])
-        if abs(drawn - value) > LENGTH_MISMATCH * value:
+        if abs(value - drawn) >= LENGTH_MISMATCH * drawn * (1 - SLACK):
+            off = f"{100 * (value - drawn) / drawn:+.1f} % of it" if drawn else "two points at one place"
             _warn(mech, f"links '{link}'", f"length {p}-{q} = {value / k:.6g} {units.length}, but the sketch "
-                  f"draws {drawn / k:.6g} {units.length} ({100 * (drawn - value) / value:+.1f} %)")
+                  f"draws {drawn / k:.6g} {units.length} ({off}); the assembly moves the joints to the length")
     x = sketch.initial()
     for i, inp in enumerate(mech.inputs):
         j = mech.joints[inp.joint]

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ._model import INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL
+from ._model import ANGLE_UNITS, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL
 
 __all__ = ["Key", "Section", "MISSING", "UNITS", "DOCUMENT", "LINK", "JOINT", "POINT", "INPUT", "GRAVITY",
            "DYNAMICS", "FLYWHEEL", "PARAMETER", "LOAD_COMMON", "SWITCH", "LOADS", "GUIDE_LOADS", "SECTIONS"]
@@ -27,11 +27,11 @@ MISSING = _Missing()  # a key without a literal default
 
 #: what each unit word of a `Key` means in the file
 UNITS = {
-    "length": "the table's length_unit (m unless it says cm or mm)",
+    "length": "the table's length_unit (m unless it says cm, mm or in)",
     "deg": "degrees",
     "kg": "kg",
-    "inertia": "the table's inertia_unit (kg*m^2 unless it says kg*cm^2 or kg*mm^2)",
-    "moment": "the table's moment_unit (N*m unless it says N*cm or N*mm)",
+    "inertia": "the table's inertia_unit (kg*m^2 unless it says kg*cm^2, kg*mm^2 or kg*in^2)",
+    "moment": "the table's moment_unit (N*m unless it says N*cm, N*mm or N*in)",
     "N": "newtons",
     "N/m": "N/m",
     "N*s/m": "N*s/m (in a joint: N*m*s/rad in the moment unit)",
@@ -129,7 +129,7 @@ _MASS = "mass and inertia must not be negative"
 LINK = Section("link", "links[]", "one moving link (the ground need not be listed)", (
     Key("name", "text", "the link's name, as the joints name it", required=True),
     Key("length", "number", "the distance between the link's two revolute joints (makes the drawing a sketch)",
-        unit="length", positive=True, parameter="length"),
+        unit="length", positive=True, parameter="dimension"),
     Key("lengths", "custom", "exact distances [P, Q, L] between points of the link (joints or points)",
         unit="length", default_doc="[]", schema={"type": "array", "items": {
             "type": "array", "minItems": 3, "maxItems": 3, "additionalItems": False,
@@ -171,7 +171,8 @@ POINT = Section("point", "points[]", "a point of interest on a link: a centre of
     Key("at", "custom", "its position in the drawing", unit="length", parameter="length", schema=_XY_OR_PARAMETER),
     Key("along", "names", "or: on the line from point P to point Q of the link"),
     Key("fraction", "number", "with along: at P + fraction·(Q − P)", parameter="plain"),
-    Key("distance", "number", "with along: at this distance from P towards Q", unit="length", parameter="length"),
+    Key("distance", "number", "with along: at this distance from P towards Q", unit="length",
+        parameter="dimension"),
     Key("offset", "number", "with along: this far to the left of P→Q", unit="length", default=0.0,
         parameter="length"),
     COMMENT,
@@ -180,7 +181,7 @@ POINT = Section("point", "points[]", "a point of interest on a link: a centre of
 INPUT = Section("input", "[input]", "one input (a driven joint) per degree of freedom", (
     Key("joint", "text", "the driving joint", required=True),
     Key("name", "text", "the generalized coordinate's name", default="phi"),
-    Key("unit", "choice", "how φ is written", choices=("deg", "rad", "m", "cm", "mm"),
+    Key("unit", "choice", "how φ is written (in any case)", choices=(*ANGLE_UNITS, *LENGTH_UNITS),
         default_doc="deg (revolute), the length_unit (prismatic)"),
     Key("zero", "number", "the joint's value when φ = 0", unit="input", default=0.0, parameter="input"),
     Key("sense", "custom", "the joint's value = zero + sense·φ", default=1,
@@ -213,6 +214,9 @@ FLYWHEEL = Section("flywheel", "[dynamics.flywheel]", "where the flywheel goes a
     Key("motor_inertia", "number", "the motor rotor's inertia, on the motor shaft", unit="inertia", default=0.0,
         minimum=0.0, message=_SHAFT),
     Key("density", "number", "the flywheel's material", unit="kg/m^3", default=RHO_STEEL, positive=True),
+    Key("inertia", "number", "the first group the built machine has on the crank shaft besides the crank's own "
+        "(flywheel, shafts, motor reduced to the crank): what simulate puts on the crank", unit="inertia",
+        minimum=0.0, message="'shaft_inertia', 'motor_inertia' and 'inertia' must be >= 0"),
     COMMENT,
 ))
 
@@ -233,7 +237,7 @@ DYNAMICS = Section("dynamics", "[dynamics]", "machine dynamics of a crank-driven
 
 PARAMETER = Section("parameter", "[parameters] entry", "a named design dimension given as a table", (
     Key("value", "number", "its value", required=True),
-    Key("unit", "choice", "its unit", choices=("m", "mm", "cm", "deg", "rad"),
+    Key("unit", "choice", "its unit (in any case)", choices=(*LENGTH_UNITS, *ANGLE_UNITS),
         default_doc="the unit of the field that uses it"),
     COMMENT,
 ))
@@ -337,6 +341,7 @@ DOCUMENT = Section("document", "top level", "a mechanism's table of kinematic pa
     Key("description", "any", "free text, kept and ignored"),
     Key("plot", "any", "settings kept for the pictures"),
     Key("cam", "table", "a cam timed by this linkage (see docs/cam.md)", section="cam"),
+    Key("gears", "table", "the drive's gears: a spur pair, a planetary train (see docs/gears.md)", section="gears"),
     Key("friction", "table", "friction in the pairs (see docs/forces.md)", section="friction"),
     Key("simulate", "table", "the motion under given forces (see docs/forces.md)", section="simulate"),
     Key("synthesis", "any", "the summary of the synthesis that made the model (written by mbplanar synth)"),

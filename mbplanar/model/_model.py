@@ -16,11 +16,28 @@ import numpy as np
 from ..errors import ModelError
 
 __all__ = ["Units", "Link", "Joint", "Point", "Input", "Load", "Gravity", "FlywheelSpec", "DynamicsSpec",
-           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
+           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "ANGLE_UNITS", "unit_spelling", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
 
-LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
-INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6}
-MOMENT_UNITS = {"N*m": 1.0, "N*cm": 1e-2, "N*mm": 1e-3}
+INCH = 0.0254  # m, exactly
+LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "in": INCH}
+INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6, "kg*in^2": INCH * INCH}
+MOMENT_UNITS = {"N*m": 1.0, "N*cm": 1e-2, "N*mm": 1e-3, "N*in": INCH}
+ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
+_SYNONYMS = {"inch": "in", "inches": "in", "degrees": "deg", "degree": "deg", "radians": "rad", "radian": "rad"}
+
+
+def unit_spelling(name, allowed) -> str | None:
+    """The key of `allowed` (a dict or tuple of unit names) that `name` spells, in any case and with "·"
+    or "." for "*", "²" for "^2", blanks ignored, "inch" for "in" ("MM" -> "mm", "n*MM" -> "N*mm"); None
+    when it names none of them (or is not text)."""
+    if not isinstance(name, str):
+        return None
+    key = name.strip().replace("·", "*").replace("²", "^2").replace(" ", "").lower()
+    key = _SYNONYMS.get(key, key)
+    for unit in allowed:
+        if unit.replace(" ", "").lower() == key or unit.lower().replace("*", ".") == key:
+            return unit
+    return None
 
 
 @dataclass(frozen=True)
@@ -144,8 +161,8 @@ class Point:
 class Input:
     """A generalized coordinate driving one joint: joint value = zero + sense·φ.
 
-    `unit` is how φ is written at the edges ("deg" or "rad" for a revolute joint, "m", "cm" or "mm" for
-    a prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
+    `unit` is how φ is written at the edges ("deg" or "rad" for a revolute joint, "m", "cm", "mm" or "in"
+    for a prismatic one); `zero` and `drawn_at` are in that unit too (`zero` in the joint's unit: degrees for
     "deg"/"rad" inputs when `zero_deg` is set). Inside, φ is in rad or m. `omega`, `epsilon`: the
     default speed dφ/dt and acceleration d²φ/dt². `drawn_at`: φ in the drawn pose (measured if None).
     `sweep`: default range of φ (in `unit`); `steps`: its default number of intervals.
@@ -171,8 +188,8 @@ class Input:
 
     @property
     def scale(self) -> float:
-        """SI value of one unit of φ (rad per degree, m per mm or cm, 1 otherwise)."""
-        return {"deg": math.pi / 180.0, "mm": 1e-3, "cm": 1e-2}.get(self.unit, 1.0)
+        """SI value of one unit of φ (rad per degree, m per mm, cm or inch, 1 for rad and m)."""
+        return ANGLE_UNITS.get(self.unit) or LENGTH_UNITS.get(self.unit, 1.0)
 
     def to_si(self, value):
         return value * self.scale
@@ -264,12 +281,15 @@ class Gravity:
 class FlywheelSpec:
     """Where the flywheel goes and what is already there: inertia on the crank shaft (kg·m²), the motor
     shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia
-    (kg·m²), the flywheel's density (kg/m³)."""
+    (kg·m²), the flywheel's density (kg/m³); `inertia`: the machine's first group as built, on the crank
+    shaft besides the crank's own (kg·m², flywheel included; None: not given), which `simulate` puts on
+    the input."""
 
     shaft_inertia: float = 0.0
     motor_rpm: float | None = None
     motor_inertia: float = 0.0
     density: float = RHO_STEEL
+    inertia: float | None = None
 
 
 @dataclass(frozen=True)

@@ -35,11 +35,11 @@ import numpy as np
 
 from ..errors import ModelError
 from ._keys import INPUT, LINK, PARAMETER, POINT
+from ._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 
 __all__ = ["Parameter", "Template", "split_parameters"]
 
-LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
-ANGLE_UNITS = ("deg", "rad")
+_UNITS = (*LENGTH_UNITS, *ANGLE_UNITS)
 
 
 @dataclass(frozen=True)
@@ -73,16 +73,19 @@ def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter
             if "value" not in spec:
                 raise ModelError(f"{where}: missing 'value'")
             unit = spec.get("unit")
-            known = isinstance(unit, str) and (unit in LENGTH_UNITS or unit in ANGLE_UNITS)
-            if unit is not None and not known:
-                raise ModelError(f"{where}: unit must be one of m, mm, cm, deg, rad, got {unit!r}")
+            if unit is not None:
+                unit = unit_spelling(unit, _UNITS)
+                if unit is None:
+                    raise ModelError(f"{where}: unit must be one of {', '.join(_UNITS)} (in any case), "
+                                     f"got {spec.get('unit')!r}")
             spec = spec["value"]
         params[name] = Parameter(name, _number(spec, where), unit)
     rest = {k: v for k, v in data.items() if k != "parameters"}
     return rest, params
 
 
-# the numeric fields a parameter may stand for, with the kind of number they hold (declared with the keys)
+# the numeric fields a parameter may stand for, with the kind of number they hold (declared with the keys;
+# "dimension": a length that must not be negative, "length": a coordinate or an offset, of any sign)
 _LINK_FIELDS = LINK.parameter_fields()
 _POINT_FIELDS = POINT.parameter_fields()
 _INPUT_FIELDS = INPUT.parameter_fields()
@@ -106,10 +109,13 @@ class Template:
         for key in ("links", "joints", "points"):  # [links.1] style tables as rows with a name
             if isinstance(self.data.get(key), dict):
                 self.data[key] = _row_list(self.data, key)
-        self.length_unit = LENGTH_UNITS.get(self.data.get("length_unit", "m"), 1.0)
+        self.length_name = unit_spelling(self.data.get("length_unit", "m"), LENGTH_UNITS) or "m"
+        self.length_unit = LENGTH_UNITS[self.length_name]
         self.names = tuple(self.parameters)
         self.used: set[str] = set()
-        self.bind(self.defaults())  # every reference checked once, and `used` filled in
+        self.uses: dict[str, dict[str, str]] = {}   # parameter → {kind of field: the first field using it}
+        self.bind(self.defaults())  # every reference checked once, and `used` and `uses` filled in
+        self._check_uses()
 
     def defaults(self) -> dict[str, float]:
         """The declared value of every parameter, in its own unit."""
@@ -124,9 +130,45 @@ class Template:
         return any(isinstance(r, dict) and ("length" in r or r.get("lengths")) for r in rows) or any(
             isinstance(i, dict) and "drawn_at" in i for i in inputs)
 
+    # -- what each parameter is -----------------------------------------------------------------------
+    def _check_uses(self):
+        """A parameter used both as a length and as an angle is refused, naming both fields; a
+        parameter used as a dimension (a link length, a polar length, a distance) must not be negative."""
+        for name, uses in self.uses.items():
+            lengths = [w for k, w in uses.items() if k in ("length", "dimension")]
+            if lengths and "angle" in uses:
+                raise ModelError(f"{self.source}: parameters.{name}: used as a length ({lengths[0]}) and as an "
+                                 f"angle ({uses['angle']}); give each its own parameter")
+            if "dimension" in uses and self.parameters[name].value < 0:
+                raise ModelError(f"{self.source}: parameters.{name}: {self.parameters[name].value:g} is a length "
+                                 f"({uses['dimension']}) and must not be negative")
+
+    def kind(self, name: str) -> str | None:
+        """What parameter `name` is: "length", "angle", "plain" (a mass, a fraction, a speed), or None
+        when no field uses it."""
+        uses = self.uses.get(name, {})
+        for kind in ("length", "angle", "plain"):
+            if kind in uses or (kind == "length" and "dimension" in uses):
+                return kind
+        return None
+
+    def positive(self, name: str) -> str | None:
+        """The field that makes parameter `name` a dimension (a length that must not be negative), or None."""
+        return self.uses.get(name, {}).get("dimension")
+
+    def unit(self, name: str) -> str | None:
+        """The unit parameter `name`'s values are in: its own `unit`, else the unit of the fields using it
+        (the table's `length_unit` for a length, degrees for an angle); None for a plain number."""
+        p = self.parameters[name]
+        if p.unit is not None:
+            return p.unit
+        kind = self.kind(name)
+        return self.length_name if kind == "length" else "deg" if kind == "angle" else None
+
     # -- values ---------------------------------------------------------------------------------------
     def _value(self, raw, kind: str, values: dict, where: str, input_unit: str | None = None):
-        """A field's number: `raw` itself, or the parameter it names converted to the field's unit."""
+        """A field's number: `raw` itself, or the parameter it names converted to the field's unit
+        (`kind`: "length", "dimension" (a positive length), "angle", "input" or "plain")."""
         if not isinstance(raw, str):
             if isinstance(raw, bool) or not isinstance(raw, (int, float, np.ndarray)):
                 raise ModelError(f"{self.source}: {where}: {raw!r} is not a number nor a parameter's name")
@@ -138,10 +180,13 @@ class Template:
         self.used.add(raw)
         unit = self.parameters[raw].unit
         value = values[raw]
+        if kind == "input":
+            input_unit = unit_spelling(input_unit, _UNITS) or input_unit
+            kind = "angle_" + input_unit if input_unit in ANGLE_UNITS else "length"
+        self.uses.setdefault(raw, {}).setdefault(kind.split("_")[0], where)
+        kind = "length" if kind == "dimension" else kind
         if unit is None:
             return value
-        if kind == "input":
-            kind = "angle_" + input_unit if input_unit in ANGLE_UNITS else "length"
         if kind == "length" and unit in LENGTH_UNITS:
             return value * (LENGTH_UNITS[unit] / self.length_unit)
         if kind.startswith("angle") and unit in ANGLE_UNITS:
@@ -157,6 +202,7 @@ class Template:
         round trip through degrees)."""
         if isinstance(raw, str) and self.parameters.get(raw) is not None and self.parameters[raw].unit == "rad":
             self.used.add(raw)
+            self.uses.setdefault(raw, {}).setdefault("angle", where)
             return values[raw]
         return np.radians(self._value(raw, "angle", values, where))
 
@@ -205,7 +251,7 @@ class Template:
             self._bind_fields(row, _LINK_FIELDS, values, f"links[{i}]")
             for k, item in enumerate(row.get("lengths", []) if isinstance(row.get("lengths"), list) else []):
                 if isinstance(item, list) and len(item) == 3:
-                    item[2] = self._value(item[2], "length", values, f"links[{i}] lengths[{k}]")
+                    item[2] = self._value(item[2], "dimension", values, f"links[{i}] lengths[{k}]")
 
     def _bind_joints(self, data: dict, values: dict) -> list:
         rows = [r for r in _row_list(data, "joints") if isinstance(r, dict)]
@@ -239,7 +285,7 @@ class Template:
                     raise ModelError(f"{self.source}: {where}: a polar placement is "
                                      "{ from = JOINT, length = L, angle = DEG }")
                 base = place(str(at["from"]), chain + (name,))
-                length = self._value(at["length"], "length", values, where + " length")
+                length = self._value(at["length"], "dimension", values, where + " length")
                 angle = self._radians(at["angle"], values, where + " angle")
                 out[name] = (base[0] + length * np.cos(angle), base[1] + length * np.sin(angle))
             elif isinstance(at, list) and len(at) == 2:

@@ -15,8 +15,9 @@ from pathlib import Path
 from ..errors import ModelError, ModelWarning
 from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, INPUT, JOINT, LINK, LOADS, MISSING, POINT,
                     SWITCH, Section)
-from ._model import (ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input, Load,
-                     Mechanism, Units)
+from ._model import (ANGLE_UNITS, ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input,
+                     Load, Mechanism, Units, unit_spelling)
+from ._scale import SCALE_FACTOR, SLACK, drawing_size, out_of_scale, scale_message
 
 __all__ = ["read_model", "read_model_text", "read_text", "parse_model", "Row", "read_load_row", "rpm_or_omega",
            "crank_input", "read_gravity_section", "read_dynamics_section"]
@@ -195,6 +196,16 @@ class Row:
             self.fail(f"'{key}' must be a list of numbers, got {value!r}")
         return tuple(self._check_number(f"{key}[{k}]", v) for k, v in enumerate(value))
 
+    def unit(self, key, allowed, default=None) -> str | None:
+        """The unit named by `key`, spelt as in `allowed` whatever its case (see `unit_spelling`)."""
+        name = self.text(key, default)
+        if name is None:
+            return None
+        unit = unit_spelling(name, allowed)
+        if unit is None:
+            self.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)} (in any case), got {name!r}")
+        return unit
+
     def names(self, key, count=2, required=False) -> tuple[str, ...] | None:
         value = self._value(key, required)
         if value is _MISSING:
@@ -294,20 +305,19 @@ def _has_parameters(data: dict) -> bool:
 
 
 def _read_units(top: Row) -> Units:
-    """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`)."""
+    """The table's `length_unit`, `inertia_unit` and `moment_unit` (see `mbplanar.model.Units`), in any
+    case ("MM" is "mm")."""
     chosen = []
     for key in ("length_unit", "inertia_unit", "moment_unit"):
-        name, allowed = top.get(key), DOCUMENT[key].choices
-        if name not in allowed:
-            top.fail(f"{key} must be one of {', '.join(repr(a) for a in allowed)}, got {name!r}")
-        chosen.append(name)
+        chosen.append(top.unit(key, DOCUMENT[key].choices, DOCUMENT[key].default))
     return Units(*chosen)
 
 
-# Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, friction and simulate
-# (mbplanar.cam, mbplanar.forces.read_friction and read_simulate read and check theirs); `synthesis`:
-# the summary a synthesised model carries (mbplanar.synthesis.report shows it in the report).
-_EXTRA_SECTIONS = ("plot", "description", "cam", "friction", "simulate", "synthesis")
+# Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, the gears, friction and
+# simulate (mbplanar.cam, mbplanar.gears, mbplanar.forces.read_friction and read_simulate read and check
+# theirs); `synthesis`: the summary a synthesised model carries (mbplanar.synthesis.report shows it in the
+# report).
+_EXTRA_SECTIONS = ("plot", "description", "cam", "gears", "friction", "simulate", "synthesis")
 
 
 def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:
@@ -367,6 +377,37 @@ def _check_links(mech: Mechanism, labels: dict[str, str]):
             raise ModelError(f"a link with mass ({link.mass:g} kg) needs a 'centre' point",
                              source=mech.source, where=where)
         _check_extent(mech, name, where)
+        _warn_link_scale(mech, name, where)
+
+
+def _warn_link_scale(mech: Mechanism, name: str, where: str):
+    """Warn when a link's given lengths, or its drawn extent, are 1/100 of the drawing or less (a 0.1 mm
+    crank in a machine drawn in metres), or 100 times or more."""
+    size, units = drawing_size(mech), mech.units
+    row = Row({}, where, mech.source)
+    for p, q, value in mech.links[name].lengths:
+        if out_of_scale(value, size):
+            between = f" {p}-{q}" if p else ""
+            row.warn(scale_message(f"its length{between} =", value, size, units.length, units.length_scale))
+            return
+    spots = [(j.name, j.at) for j in mech.joints_of(name)]
+    spots += [(p.name, p.at) for p in mech.points.values() if p.link == name and p.at is not None]
+    extent, pair = max(((math.dist(a, b), (m, n)) for m, a in spots for n, b in spots), default=(0.0, None))
+    if out_of_scale(extent, size):
+        row.warn(scale_message(f"it is drawn {pair[0]}-{pair[1]} =", extent, size, units.length, units.length_scale))
+        return
+    for p in mech.points.values():
+        for key in ("distance", "offset"):
+            value = getattr(p, key) if p.link == name else None
+            if value and abs(value) > size and out_of_scale(value, size):     # (a small offset is a detail)
+                row.warn(scale_message(f"point '{p.name}' has {key} =", value, size, units.length, units.length_scale))
+                return
+    link = mech.links[name]
+    if link.mass > 0 and link.inertia > 0 and size > 0 and out_of_scale(math.sqrt(link.inertia / link.mass), size):
+        k = math.sqrt(link.inertia / link.mass)
+        row.warn(f"its radius of gyration sqrt(inertia/mass) = {k:.4g} m while the drawing spans {size:.4g} m "
+                 f"({k / size:.3g} times that): is 'inertia' in another unit? (inertias here are read in "
+                 f"{units.inertia}; inertia_unit says otherwise)")
 
 
 def _check_extent(mech: Mechanism, name: str, where: str):
@@ -497,11 +538,11 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
         default_unit = "deg" if joint.kind == "R" else mech.units.length
-        in_unit = row.text("unit", default_unit)
-        allowed = INPUT["unit"].choices[:2] if joint.kind == "R" else tuple(LENGTH_UNITS)
-        if in_unit not in allowed:
+        allowed = tuple(ANGLE_UNITS) if joint.kind == "R" else tuple(LENGTH_UNITS)
+        in_unit = unit_spelling(row.text("unit", default_unit), allowed)
+        if in_unit is None:
             row.fail(f"unit of a {'revolute' if joint.kind == 'R' else 'prismatic'} input must be "
-                     f"one of {', '.join(allowed)}, got '{in_unit}'")
+                     f"one of {', '.join(allowed)}, got '{row.data.get('unit')}'")
         sense = row.get("sense")
         if isinstance(sense, str):
             sense = {"ccw": 1.0, "cw": -1.0}.get(sense, sense)
@@ -518,6 +559,10 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         for key, value, bound in (("omega", omega, 1e100), ("epsilon", epsilon, 1e200)):
             if abs(value) > bound:  # (as analyse's own check: squares and products must stay finite)
                 row.fail(f"{key} must be at most {bound:g} in size, got {value:g}")
+        if joint.kind == "P" and sweep is not None:
+            k = LENGTH_UNITS[in_unit]
+            _warn_length(mech, row, f"the sweep [{sweep[0]:g}, {sweep[1]:g}] {in_unit} spans",
+                         abs(sweep[1] - sweep[0]) * k, Units(in_unit), "is it")
         inp = Input(joint=joint_name, name=row.get("name"), unit=in_unit, zero=row.get("zero"), sense=float(sense),
                     omega=omega, epsilon=epsilon, drawn_at=row.get("drawn_at"), sweep=sweep, steps=row.get("steps"))
         row.check_unknown_keys({"comment"})
@@ -573,7 +618,21 @@ def read_load_row(mech: Mechanism, i: int, raw, units: Units) -> Load:
         load = _link_load(mech, i, row, kind, units)
     if switched:
         load.update(_switch(mech, row))
+    for key in ("at", "other_at"):
+        if load.get(key) is not None:
+            _warn_far(mech, row, load[key], units)
     return Load(**{**load, "label": label})
+
+
+def _warn_far(mech, row: Row, at, units: Units):
+    """Warn when a load's drawn point lies `SCALE_FACTOR` drawings or more away from every joint."""
+    size = drawing_size(mech)
+    far = min((math.dist(at, j.at) for j in mech.joints.values()), default=0.0)
+    if size > 0 and far >= SCALE_FACTOR * size * (1 - SLACK):
+        u, k = units.length, units.length_scale
+        row.warn(f"'at' = [{at[0] / k:.6g}, {at[1] / k:.6g}] {u} lies {far / k:.6g} {u} from the nearest joint while "
+                 f"the drawing spans {size / k:.6g} {u} ({far / size:.3g} times that): is it in another unit? "
+                 f"(lengths here are read in {u})")
 
 
 def _switch(mech, row: Row) -> dict:
@@ -623,9 +682,12 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
         if len(ls) != len(fs) or len(ls) < 2 or any(q <= p for p, q in zip(ls, ls[1:])) or ls[0] < 0:
             row.fail(f"'length' (increasing, >= 0) and 'force' must be lists of equal length (at least 2), "
                      f"got {len(ls)} and {len(fs)}")
+        _warn_length(mech, row, "the spring's 'length' table reaches", ls[-1], units)
         return dict(fields, s=ls, table=fs)
     k = row.bounded("stiffness", row.number("stiffness", required=True))
     free = row.get("free_length")
+    if free is not None:
+        _warn_length(mech, row, "free_length =", free * units.length_scale, units)
     return dict(fields, stiffness=k, free_length=None if free is None else free * units.length_scale,
                 preload=row.get("preload"))
 
@@ -731,16 +793,17 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
 
 
 def _check_diagram_scale(mech, row: Row, s, units: Units):
-    """Warn when a resistance diagram spans less than 1 % or more than 100 times the drawing: a stroke
-    written in metres in a mm table, or the reverse."""
-    spots = [j.at for j in mech.joints.values()]
-    size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
-    span = s[-1] - s[0]
-    if size > 0 and not 1e-2 <= span / size <= 1e2:
-        unit = units.length_scale
-        row.warn(f"the s diagram spans {span / unit:.4g} {units.length} (s × stroke, in the table's "
-                 f"length_unit '{units.length}') while the drawing spans {size / unit:.4g} {units.length}: "
-                 f"is 's' or 'stroke' in another unit?")
+    """Warn when a resistance diagram spans 1/100 of the drawing or less, or 100 times or more: a stroke
+    written in metres in a mm table, or the reverse (`mbplanar.model._scale`)."""
+    _warn_length(mech, row, "the s diagram spans", s[-1] - s[0], units, "is 's' or 'stroke' (s × stroke)")
+
+
+def _warn_length(mech, row: Row, what: str, value: float, units: Units, which: str = "is it"):
+    """A `ModelWarning` on `row` when the length `value` (m) is out of scale with the drawing."""
+    size = drawing_size(mech)
+    if out_of_scale(value, size):
+        message = scale_message(what, value, size, units.length, units.length_scale)
+        row.warn(message.replace(": is it in another unit?", f": {which} in another unit?"))
 
 
 def _where_on(mech, row: Row, link: str, units: Units, kind: str, joint: str | None = None) -> dict:
@@ -767,6 +830,9 @@ def read_gravity_section(mech: Mechanism, raw) -> Gravity:
     """`[gravity]`: g (m/s², ≥ 0) and its direction (degrees, default −90)."""
     row = Row(raw, "gravity", mech.source, GRAVITY)
     g = row.get("g")
+    if out_of_scale(g, 9.81):
+        row.warn(f"g = {g:g} m/s² is {g / 9.81:.3g} times the earth's 9.81 m/s²: is it in another unit? "
+                 "(g is in m/s² whatever the length_unit)")
     direction = row.get("direction")
     row.check_unknown_keys({"comment"})
     return Gravity(g, math.radians(direction))
@@ -801,7 +867,12 @@ def read_dynamics_section(mech: Mechanism, raw) -> DynamicsSpec:
     flywheel = FlywheelSpec(shaft_inertia=fly.get("shaft_inertia") * units.inertia_scale,
                             motor_rpm=fly.get("motor_rpm"),
                             motor_inertia=fly.get("motor_inertia") * units.inertia_scale,
-                            density=fly.get("density"))
+                            density=fly.get("density"),
+                            inertia=_scaled(fly.get("inertia"), units.inertia_scale))
     row.check_unknown_keys({"comment"})
     fly.check_unknown_keys({"comment"})
     return DynamicsSpec(delta, omega, driving, slope, flywheel)
+
+
+def _scaled(value: float | None, scale: float) -> float | None:
+    return None if value is None else value * scale

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..errors import MbplanarError
 
-__all__ = ["local_client", "connect", "run_on_client", "progress_bar"]
+__all__ = ["local_client", "connect", "run_on_client"]
 
 
 def _distributed():
@@ -70,21 +70,3 @@ def run_on_client(client, func, data, source, parts, args, progress=None) -> lis
 def _size(part) -> int:
     """Designs in a task's part (a Variants, or a (Variants, φ) pair)."""
     return len(part[0]) if isinstance(part, tuple) else len(part)
-
-
-def progress_bar(total: int):
-    """A progress callback: tqdm's bar when tqdm is installed, else a counter on stderr."""
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        from .run import stderr_progress
-
-        return stderr_progress, lambda: None
-    bar = tqdm(total=total, unit="design", leave=False)
-
-    def update(done, _total):
-        bar.update(done - bar.n)
-        if done >= bar.total:
-            bar.refresh()  # tqdm draws at most every 0.1 s: the last count would otherwise depend on timing
-
-    return update, bar.close

@@ -5,15 +5,16 @@ serial run bit for bit."""
 
 from __future__ import annotations
 
-import sys
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._progress import Interrupted
 from ..errors import MbplanarError, ModelError
 from ..model import parse_model
+from ..model._model import Units
 from ..model._parameters import Template
 from ..forces import has_force_data
 from ..kinematics import analyse
@@ -39,6 +40,7 @@ class Study:
     parameters: tuple
     designs: list[DesignSummary]
     counts: dict  # how many designs: in all, assembled, turning fully, stopping at a motion limit
+    units: Units = field(default_factory=Units)   # the units the model was written in
 
 
 def _counts(designs: list) -> dict:
@@ -190,25 +192,28 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
             raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model")
     parts = [variants.take(s) for s in _chunks(len(variants), chunk)]
     args = (tuple(points), samples, forces, method)
+    inp = base.inputs[0]
     if client is None:
         results, done = [], 0
-        for part in parts:
-            results.append(run_chunk(template.raw, template.source, part, *args))
-            done += len(part)
-            if progress is not None:
-                progress(done, len(variants))
+        try:
+            for part in parts:
+                results.append(run_chunk(template.raw, template.source, part, *args))
+                done += len(part)
+                if progress is not None:
+                    progress(done, len(variants))
+        except KeyboardInterrupt:
+            done_designs = [d for part in results for d in part]
+            partial = Study(base.mech.name, template.source, inp.name, inp.unit, template.names, done_designs,
+                            _counts(done_designs), base.mech.units)
+            raise Interrupted(f"interrupted (Ctrl-C) after {done} of {len(variants)} designs",
+                              source=template.source, partial=partial) from None
     else:
         from .cluster import run_on_client
 
         results = run_on_client(client, run_chunk, template.raw, template.source, parts, args, progress)
-    inp = base.inputs[0]
     designs = [d for part in results for d in part]
-    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs, _counts(designs))
-
-
-def stderr_progress(done: int, total: int):
-    """A plain progress counter on stderr."""
-    print(f"\r{done}/{total} designs", end="\n" if done == total else "", file=sys.stderr, flush=True)
+    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs, _counts(designs),
+                 base.mech.units)
 
 
 def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,

@@ -4,19 +4,30 @@ A variant table is a CSV file whose header names parameters of the model (see `m
 an optional first column `variant` (or `name`) names each row. Lines starting with `#` are comments.
 Every cell must be a finite number; the error names the file, the row and the column at fault.
 Parameters the table leaves out keep the model's declared values.
+
+A cell is in its parameter's unit (its declared `unit`, else the table's `length_unit` for a length and
+degrees for an angle), or in the unit its header names in brackets: ``l2[mm]``, ``phi20[deg]`` (any
+length or angle unit the model accepts, in any case). A length parameter that sizes something (a link
+length, a polar length, a distance) must not be negative: the error names the line, the column and the
+value. Values far from the parameter's declared one (100 times or more, 1/100 or less: a length in mm
+where metres are meant), and angles in radians beyond a turn (degrees typed), warn with the numbers
+(`mbplanar.errors.ModelWarning`).
 """
 
 from __future__ import annotations
 
 import csv
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
+from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 from ..model._parameters import Template
+from ..model._scale import out_of_scale
 
 __all__ = ["Variants", "read_variants", "variants_from"]
 
@@ -44,8 +55,11 @@ class Variants:
         return Variants(tuple(names), {n: v[index] for n, v in self.values.items()})
 
 
-def variants_from(template: Template, values: dict, names=None, source: str = "<variants>") -> Variants:
-    """Variants from arrays of parameter values (each (D,)), checked against the template."""
+def variants_from(template: Template, values: dict, names=None, source: str = "<variants>", check: bool = True,
+                  labels=None) -> Variants:
+    """Variants from arrays of parameter values (each (D,)), checked against the template: with `check`,
+    a negative length is an error and values far off the declared ones warn (`check_values`); `labels`
+    names each design in those messages (default "design k")."""
     arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in values.items()}
     unknown = sorted(set(arrays) - set(template.parameters))
     if unknown:
@@ -62,7 +76,67 @@ def variants_from(template: Template, values: dict, names=None, source: str = "<
     names = tuple(str(n) for n in names) if names is not None else tuple(str(k + 1) for k in range(count))
     if len(names) != count:
         raise ModelError(f"{source}: {len(names)} names for {count} designs")
+    if check:
+        check_values(template, arrays, labels or [f"design {k + 1}" for k in range(count)], source)
     return Variants(names, arrays)
+
+
+def check_values(template: Template, values: dict, labels, source: str):
+    """A negative value of a parameter that sizes a length is an error naming its row (`labels[k]`), column
+    and value; values 100 times or more (1/100 or less) off the parameter's declared value, and angles in
+    radians beyond a turn, warn once per column with the count, the first row and its value."""
+    for name, v in values.items():
+        kind, unit, declared = template.kind(name), template.unit(name), template.parameters[name].value
+        field = template.positive(name)
+        if field is not None and np.any(v < 0):
+            k = int(np.flatnonzero(v < 0)[0])
+            raise ModelError(f"column '{name}': {v[k]:g} {unit} is a length ({field}) and must not be negative",
+                             source=source, where=labels[k])
+        if kind == "angle" and unit == "rad":
+            bad, why = np.abs(v) > 2 * math.pi, "more than a turn in radians: degrees?"
+        elif kind in ("length", "angle"):
+            bad = np.array([out_of_scale(x, declared) for x in v], bool)
+            why = (f"100 times or more, or 1/100 or less, of the parameter's declared {declared:g} {unit}: "
+                   "in another unit?")
+        else:
+            continue
+        if np.any(bad):
+            k = int(np.flatnonzero(bad)[0])
+            other = _likely_unit(unit, v[k], declared)
+            warnings.warn(ModelWarning(
+                f"{source}: column '{name}' ({kind} in {unit}): {int(np.sum(bad))} of {len(v)} rows are {why} "
+                f"(first: {labels[k]}, {v[k]:g} {unit}); a header '{name}[{other}]' gives the column in {other}"),
+                stacklevel=3)
+
+
+def _likely_unit(unit: str, value: float, declared: float) -> str:
+    """The unit in which `value` would lie nearest the declared value (given in `unit`)."""
+    if unit in ANGLE_UNITS:
+        return "deg" if unit == "rad" else "rad"
+    if not (value and declared):
+        return "mm" if unit != "mm" else "m"
+    return min((u for u in LENGTH_UNITS if u != unit),
+               key=lambda u: abs(math.log(abs(value * LENGTH_UNITS[u] / LENGTH_UNITS[unit] / declared))))
+
+
+def _header(path, head: str, template: Template) -> tuple[str, float]:
+    """A header cell: the parameter's name, and the factor from the unit it names in brackets
+    (``l2[mm]``) to the parameter's own unit (1 without brackets)."""
+    if not head.endswith("]") or "[" not in head:
+        return head, 1.0
+    name, given = head[:-1].split("[", 1)
+    name = name.strip()
+    if name not in template.parameters:
+        return name, 1.0       # refused with the other unknown columns
+    unit = template.unit(name)
+    known = {**LENGTH_UNITS, **ANGLE_UNITS}
+    spelt = unit_spelling(given, known)
+    same_kind = unit is not None and spelt is not None and (spelt in LENGTH_UNITS) == (unit in LENGTH_UNITS)
+    if not same_kind:
+        what = f"a {template.kind(name)} in {unit}" if unit is not None else "a plain number (no unit)"
+        raise ModelError(f"{path}: column '{head}': parameter '{name}' is {what}; '{given}' is not a unit for it "
+                         f"(lengths: {', '.join(LENGTH_UNITS)}; angles: {', '.join(ANGLE_UNITS)})")
+    return name, known[spelt] / known[unit]
 
 
 def read_variants(path, template: Template) -> Variants:
@@ -78,6 +152,8 @@ def read_variants(path, template: Template) -> Variants:
     rows = list(csv.reader(line for _, line in lines))
     header = [h.strip() for h in rows[0]]
     name_col = 0 if header and header[0].lower() in NAME_COLUMNS else None
+    factors = {k: _header(path, h, template) for k, h in enumerate(header) if k != name_col}
+    header = [factors[k][0] if k in factors else h for k, h in enumerate(header)]
     columns = [h for k, h in enumerate(header) if k != name_col]
     if len(set(columns)) != len(columns):
         raise ModelError(f"{path}: a column appears twice in the header {header}")
@@ -95,7 +171,8 @@ def read_variants(path, template: Template) -> Variants:
                 raise ModelError(f"{path}: line {lineno}, column '{h}': {cell.strip()!r} is not a number") from None
             if not math.isfinite(value):
                 raise ModelError(f"{path}: line {lineno}, column '{h}': {cell.strip()!r} is not finite")
-            values[h].append(value)
+            values[h].append(value * factors[k][1])
     if not names:
         raise ModelError(f"{path}: the variant table has a header but no rows")
-    return variants_from(template, values, names, source=str(path))
+    labels = [f"line {lineno}" for lineno, _ in lines[1:]]
+    return variants_from(template, values, names, source=str(path), labels=labels)

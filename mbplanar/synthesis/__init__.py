@@ -6,9 +6,11 @@
 * `synthesise_motion`: four-bar motion generation through 2–5 poses (Burmester), with
   `centre_point_curve` and `burmester_points`;
 * `check_defects`: circuit, branch and order defects of any design, by mbplanar's engine;
-* `synthesise_path`: a four-bar coupler curve through untimed or timed target points, with constraints
-  (`PathConstraints`): seeded independent starts of differential evolution over design batches and a
-  least-squares polish, serial or on Dask;
+* `synthesise_path`: a four-bar coupler curve through untimed or timed target points, by default within
+  the designer's bounds (`path.DESIGNER`: a full turn, transmission angle ≥ 30°, link ratio ≤ 10; any
+  `PathConstraints`): a screen of crank-rocker shapes placed on the targets in closed form and a
+  least-squares polish, seeded, serial or on Dask, within a time budget if asked; targets met a hair out
+  of order, or bounds no design meets, come back as warnings with the best design;
 * `synthesise_model_path`: the same on any model's named parameters, by the study's design batch;
 * `fourbar_coupler_paths`, `path_errors`: batches of four-bar designs (D, 10) scored at once.
 

@@ -11,9 +11,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError, PlotUnavailable
+from .._progress import add_long_run_options
+from ..errors import ModelError, ModelWarning, PlotUnavailable
+from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
+from ..model._units import add_units_option
 
-__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion", "csv_rows", "read_toml"]
+__all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion", "csv_rows", "read_toml",
+           "shown", "input_units"]
 
 
 def add_arguments(parser) -> None:
@@ -51,18 +55,25 @@ def add_arguments(parser) -> None:
                    help="a parameter searched within [LO, HI] (its unit); repeat for each")
     s.add_argument("--timed", action="store_true", help="the CSV's third column is the input at each target")
     s.add_argument("--open", action="store_true", help="no full turn: the targets on one branch between limits")
-    s.add_argument("--min-transmission", type=float, metavar="DEG", help="smallest transmission angle (degrees)")
-    s.add_argument("--max-ratio", type=float, help="largest ratio longest/shortest link (four-bar)")
+    s.add_argument("--min-transmission", metavar="DEG|none",
+                   help="smallest transmission angle in degrees (four-bar default 30; none: no bound)")
+    s.add_argument("--max-ratio", metavar="R|none",
+                   help="largest ratio longest/shortest link (four-bar default 10; none: no bound)")
     s.add_argument("--pivot", action="append", default=[], metavar="NAME=XMIN,YMIN,XMAX,YMAX",
                    help="a box for a fixed pivot (four-bar: A0 crank, B0 rocker); repeat for each")
+    s.add_argument("--budget", type=float, metavar="SECONDS",
+                   help="stop the search in time and answer with the best design so far (four-bar)")
     s.add_argument("--seed", type=int, help="random seed (default 0): the same seed gives the same design")
-    s.add_argument("--starts", type=int, help="independent starts (default 8; 2 for a model)")
-    s.add_argument("--generations", type=int, help="differential evolution's generations per start")
+    s.add_argument("--starts", type=int, help="independent starts (default 2; 2 for a model)")
+    s.add_argument("--shapes", type=int, help="crank-rocker shapes screened per start (four-bar, default 8192)")
+    s.add_argument("--keep", type=int, help="designs polished per start (four-bar default 6, a model 2)")
+    s.add_argument("--generations", type=int, help="differential evolution's generations per start (a limited "
+                                                   "travel or a model)")
     s.add_argument("--popsize", type=int, help="differential evolution's population factor")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, help="run the starts on a Dask LocalCluster of N worker processes")
     g.add_argument("--scheduler", help="run the starts on the Dask cluster of this scheduler")
-    s.add_argument("--progress", action="store_true", help="a progress bar on stderr (default: when a terminal)")
+    add_long_run_options(s, "the first starts")
     _common(s)
 
 
@@ -70,11 +81,13 @@ def _common(s):
     s.add_argument("-o", "--output", help="the synthesised model (TOML)")
     s.add_argument("--json", action="store_true", help="print the JSON summary")
     s.add_argument("--plot", help="picture of the target against the achieved motion (PNG, SVG, PDF)")
+    add_units_option(s, "the summary's lengths (model: the input's length_unit, or the --model's)")
 
 
 def run(args) -> int:
     problem = {"seed001": _seed001, "function": _function, "motion": _motion, "path": _path}[args.problem]
     summary, result, picture = problem(args)
+    summary = shown(summary, getattr(args, "input_unit", "m") if args.units == "model" else "m")
     if args.output:
         from .report import summary_table
         summary["model"] = str(args.output)
@@ -90,7 +103,8 @@ def run(args) -> int:
 
 
 def _print_text(summary: dict) -> None:
-    print(f"synth {summary['problem']}: defect-free design found in {summary['seconds']:.2f} s "
+    verdict = "defect-free design found" if summary.get("success", True) else "design found with warnings"
+    print(f"synth {summary['problem']}: {verdict} in {summary['seconds']:.2f} s "
           f"({summary['evaluations']} candidate designs scored)")
     for key, value in summary["design"].items():
         print(f"  {key} = {value}")
@@ -105,16 +119,110 @@ def _print_text(summary: dict) -> None:
     if "structural_error" in summary:
         se = summary["structural_error"]
         print(f"  structural error over the range: max {se['max_deg']:.4g}°, RMS {se['rms_deg']:.4g}°")
-    c = summary.get("constraints")
-    if c:
-        ratio = f", link ratio {c['ratio']:.4g}" if c.get("ratio") is not None else ""
-        mu = c.get("transmission_deg")
-        if mu is not None and math.isfinite(mu):
-            print(f"  smallest transmission angle {mu:.4g}°{ratio} (seed {summary['seed']}, "
-                  f"{summary['starts']} start{'s' if summary['starts'] != 1 else ''})")
-    print(f"  defects checked: {', '.join(summary['defects']['checked'])}: none")
+    if summary["problem"] == "path":
+        _print_path_constraints(summary)
+    print(f"  defects checked: {', '.join(summary['defects']['checked'])}: "
+          f"{'none' if summary['defects'].get('ok', True) else 'see the warnings'}")
     if summary.get("model"):
         print(f"  model written to {summary['model']}")
+
+
+def _print_path_constraints(summary: dict) -> None:
+    """The path generator's bounds (default, given or off) with what the design achieved, and what the
+    transmission and ratio bounds cost."""
+    c = summary["constraints"]
+    src = c.get("sources", {})
+    mu, ratio = c.get("transmission_deg"), c.get("ratio")
+    parts = ["crank turns fully" if c["full_turn"] else "no full turn"]
+    if c.get("min_transmission_deg") is not None:
+        parts.append(f"transmission angle ≥ {c['min_transmission_deg']:g}°")
+    if c.get("max_ratio") is not None:
+        parts.append(f"link ratio ≤ {c['max_ratio']:g}")
+    names = {"full_turn": "full turn", "min_transmission_deg": "transmission angle", "max_ratio": "link ratio"}
+    groups = [f"{kind}: {', '.join(names[k] for k, v in src.items() if v == kind)}"
+              for kind in ("default", "given", "off") if kind in src.values()]
+    print(f"  constraints: {', '.join(parts)} ({'; '.join(groups)})")
+    got = []
+    if mu is not None:
+        got.append(f"smallest transmission angle {mu:.4g}°")
+    if ratio is not None:
+        got.append(f"link ratio {ratio:.4g}")
+    print(f"  achieved: {', '.join(got)} (seed {summary['seed']}, {summary['starts']} "
+          f"start{'s' if summary['starts'] != 1 else ''})")
+    t = summary.get("tradeoff")
+    if t and t.get("without"):
+        w = t["without"]
+        bounds = {"min_transmission_deg": "transmission-angle", "max_ratio": "link-ratio"}
+        print(f"  without the {' and '.join(bounds[b] for b in t['relaxed'])} bounds the best found: "
+              f"RMS {w['rms']:.3e} {summary['error_unit']} (transmission angle {w['transmission_deg']:.3g}°, "
+              f"link ratio {w['ratio']:.3g}) against RMS {summary['rms_error']:.3e} with them")
+    elif t:
+        print("  the transmission and ratio bounds cost nothing here (no better design found without them)")
+
+
+# -- units ---------------------------------------------------------------------------------------------
+#: the summaries' keys whose numbers are lengths (in "design", "target"), besides targets, poses, errors in m
+_LENGTHS = {"a", "b", "c", "d", "l", "rho", "crank", "coupler", "rocker", "ground", "a0x", "a0y", "b0x", "b0y", "u",
+            "v", "crank_pivot", "crank_joint", "slider_joint", "rocker_joint", "rocker_pivot", "x_start", "y0",
+            "length", "height", "top_x", "nodes"}
+
+
+def input_units(data: dict, src, angles: bool = False) -> tuple[str, float, float]:
+    """The input's `length_unit` (any case; default m) and, with `angles`, its `angle_unit` (deg or rad):
+    the unit's name, metres per unit, radians per angle unit."""
+    where = f"{src}"
+    unit = unit_spelling(data.get("length_unit", "m"), LENGTH_UNITS)
+    if unit is None:
+        raise ModelError(f"length_unit must be one of {', '.join(LENGTH_UNITS)} (in any case), got "
+                         f"{data.get('length_unit')!r}", source=where)
+    angle = unit_spelling(data.get("angle_unit", "deg"), ANGLE_UNITS) if angles else "deg"
+    if angle is None:
+        raise ModelError(f"angle_unit must be deg or rad, got {data.get('angle_unit')!r}", source=where)
+    return unit, LENGTH_UNITS[unit], ANGLE_UNITS[angle]
+
+
+def shown(summary: dict, unit: str) -> dict:
+    """The summary with its lengths in `unit` (a length unit's name) and a ``"units"`` object."""
+    k = LENGTH_UNITS[unit]
+
+    def scale(v):
+        if isinstance(v, (list, tuple)):
+            return [scale(x) for x in v]
+        return v / k if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+    if not summary.get("source_model"):
+        summary["design"] = {key: scale(v) if key in _LENGTHS else v for key, v in summary["design"].items()}
+    if isinstance(summary.get("target"), dict):
+        summary["target"] = {key: scale(v) if key in _LENGTHS else v for key, v in summary["target"].items()}
+    if "targets" in summary:
+        summary["targets"] = scale(summary["targets"])
+    if "poses" in summary:
+        summary["poses"] = [[*scale(p[:2]), p[2]] for p in summary["poses"]]
+    if "burmester_points" in summary:
+        summary["burmester_points"] = [{key: scale(v) for key, v in b.items()} for b in summary["burmester_points"]]
+    if summary.get("error_unit") == "m":
+        summary.update(errors=scale(summary["errors"]), max_error=scale(summary["max_error"]),
+                       rms_error=scale(summary["rms_error"]), error_unit=unit)
+        order = summary.get("order")
+        if isinstance(order, dict):       # path generation: the order's lengths, the trade-off's errors
+            order.update(tolerance=scale(order["tolerance"]), curve_length=scale(order["curve_length"]),
+                         steps_back=[{**b, "length": scale(b["length"])} for b in order["steps_back"]])
+        for side in ("with", "without"):
+            errors = (summary.get("tradeoff") or {}).get(side)
+            if errors:
+                errors.update(rms=scale(errors["rms"]), max=scale(errors["max"]))
+    summary["units"] = {"system": "si" if unit == "m" else "model", "length": unit, "angle": "deg"}
+    return summary
+
+
+def _check_pose_angles(angles, src, unit: str):
+    """Warn when pose angles read in degrees all lie within ±2π and turn through less than 2π: radians?"""
+    angles = np.asarray(angles, float)
+    if unit == "deg" and len(angles) > 1 and np.all(np.abs(angles) <= 2 * math.pi) and np.ptp(angles) > 0:
+        import warnings
+        warnings.warn(ModelWarning(str(ModelError(
+            f"the poses turn through {np.ptp(angles):.4g}° in all (angles {angles.min():.4g} … {angles.max():.4g}, "
+            "read in degrees): are they in radians? give angle_unit = \"rad\" in a TOML input, or the angles in "
+            "degrees", source=str(src)))), stacklevel=3)
 
 
 # -- inputs -------------------------------------------------------------------------------------------
@@ -196,11 +304,13 @@ def _seed001(args):
     from .seed001 import synthesise_seed001
     data = read_toml(args.input) if args.input else {}
     src = args.input or "<default target>"
-    _known(data, ("chain", "target", "method"), src)
+    _known(data, ("chain", "target", "method", "length_unit"), src)
+    args.input_unit, k, _ = input_units(data, src)
     chain_t = _known(data.get("chain", {}), ("a", "b", "pivot"), f"{src}: [chain]")
     pivot = _pairs({"p": [chain_t.get("pivot", list(SEED001_CHAIN.pivot))]}, "p", f"{src}: [chain] pivot", 2)[0]
-    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a),
-                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b), (float(pivot[0]), float(pivot[1])))
+    pivot = pivot * (k if "pivot" in chain_t else 1.0)
+    chain = Chain(_number(chain_t, "a", f"{src}: [chain]", SEED001_CHAIN.a / k) * k,
+                  _number(chain_t, "b", f"{src}: [chain]", SEED001_CHAIN.b / k) * k, (float(pivot[0]), float(pivot[1])))
     if chain.a <= 0 or chain.b <= 0:
         raise ModelError(f"{src}: [chain] a and b must be positive")
     where = f"{src}: [target]"
@@ -208,11 +318,9 @@ def _seed001(args):
     direction = int(_number(t, "direction", where, -1))
     if direction not in (1, -1):
         raise ModelError(f"{where}: 'direction' must be 1 or -1")
-    target = WalkingTarget(_number(t, "x_start", where, DEFAULT_TARGET["x_start"]),
-                           _number(t, "y0", where, DEFAULT_TARGET["y0"]),
-                           _number(t, "length", where, DEFAULT_TARGET["length"]),
-                           _number(t, "height", where, DEFAULT_TARGET["height"]), direction,
-                           None if "top_x" not in t else _number(t, "top_x", where))
+    target = WalkingTarget(*(_number(t, key, where, DEFAULT_TARGET[key] / k) * k
+                             for key in ("x_start", "y0", "length", "height")), direction,
+                           None if "top_x" not in t else _number(t, "top_x", where) * k)
     method = _known(data.get("method", {}), ("form", "support_nodes", "spacing", "fit", "k_step_deg",
                                              "gamma_step_deg"), f"{src}: [method]")
     form = args.form or method.get("form", "b")
@@ -266,13 +374,14 @@ def _function(args):
         rows = csv_rows(src, 2)
         result = synthesise_angle_pairs(np.radians(rows[:, 0]), np.radians(rows[:, 1]))
         return summary_function(result, None), result, _plot_function
-    data = _known(read_toml(src), ("function",), src)
+    data = _known(read_toml(src), ("function", "length_unit"), src)
+    args.input_unit, k, _ = input_units(data, src)
     where = f"{src}: [function]"
     if "function" not in data:
         raise ModelError(f"{src}: a [function] table is required")
     f = _known(data["function"], ("expression", "x", "phi_deg", "psi_deg", "points", "spacing", "ground",
                                   "pairs_deg"), where)
-    ground = _number(f, "ground", where, 1.0)
+    ground = _number(f, "ground", where, 1.0 / k) * k
     if ground <= 0:
         raise ModelError(f"{where}: 'ground' must be positive")
     if "pairs_deg" in f:
@@ -328,16 +437,20 @@ def _motion(args):
     src = args.input
     circle = centre = slider = None
     full_turn = args.full_turn
-    if str(src).lower().endswith(".csv"):
+    data = {} if str(src).lower().endswith(".csv") else _known(
+        read_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn", "length_unit",
+                         "angle_unit"), src)
+    args.input_unit, k, rad = input_units(data, src, angles=True)
+    if not data:
         rows = csv_rows(src, 3)
     else:
-        data = _known(read_toml(src), ("poses", "circle_points", "centre_points", "slider_points", "full_turn"), src)
         rows = _pairs(data, "poses", src, 3)
-        circle = _pairs(data, "circle_points", src, 2, required=False)
-        centre = _pairs(data, "centre_points", src, 2, required=False)
-        slider = _pairs(data, "slider_points", src, 2, required=False)
+        circle, centre, slider = (None if v is None else v * k for v in
+                                  (_pairs(data, key, src, 2, required=False)
+                                   for key in ("circle_points", "centre_points", "slider_points")))
         full_turn = full_turn or bool(data.get("full_turn", False))
-    poses = np.column_stack([rows[:, :2], np.radians(rows[:, 2])])
+    _check_pose_angles(rows[:, 2], src, "deg" if rad != 1.0 else "rad")
+    poses = np.column_stack([rows[:, :2] * k, rows[:, 2] * rad])
     result = synthesise_motion(poses, circle, centre, slider, full_turn)
     summary = summary_motion(result)
     if args.curve:
@@ -425,23 +538,49 @@ def _plot_motion(r, path):
 
 
 def _path(args):
+    import warnings
+    from ..errors import ModelWarning
     from .path_setup import path_problem
     problem = path_problem(args)
     r = problem.run()
-    per, mx, rms = _errors(r.errors)
-    summary = {"problem": "path", "model": None, "design": problem.design(r), "targets": r.targets.tolist(),
-               "target_phi_deg": [math.degrees(p) for p in r.phi], "timed": r.timed, "error_unit": "m",
-               "errors": per, "max_error": mx, "rms_error": rms,
-               "constraints": {**r.constraints.as_dict(),
-                               "transmission_deg": r.transmission_deg if math.isfinite(r.transmission_deg) else None,
-                               "ratio": getattr(r, "ratio", None)},
-               "defects": {"checked": ["circuit", "branch", "order"] + (["full_turn"] if r.constraints.full_turn
-                                                                         else []), **r.defects.as_dict()},
-               "evaluations": r.evaluations, "seed": r.seed, "starts": r.starts, "seconds": r.seconds,
-               "point": r.point}
-    if problem.model:
-        summary["source_model"] = problem.model
+    summary = summary_path(r, problem)
+    for w in r.warnings:
+        warnings.warn(w, ModelWarning)
     return summary, r, _plot_path
+
+
+def summary_path(r, problem) -> dict:
+    """The JSON summary of a path-generation result (`problem`: its `path_setup.PathProblem`)."""
+    per, mx, rms = _errors(r.errors)
+    c = r.constraints
+    bounds = {**c.as_dict(), "transmission_deg": r.transmission_deg if math.isfinite(r.transmission_deg) else None,
+              "ratio": _finite(getattr(r, "ratio", None)), "sources": dict(problem.sources)}
+    out = {"problem": "path", "model": None, "design": problem.design(r), "targets": r.targets.tolist(),
+           "target_phi_deg": [math.degrees(p) for p in r.phi], "timed": r.timed, "error_unit": "m",
+           "errors": per, "max_error": mx, "rms_error": rms, "success": r.success, "message": r.message,
+           "warnings": list(r.warnings), "constraints": bounds, "order": r.order, "tradeoff": _plain(r.tradeoff),
+           "defects": {"checked": ["circuit", "branch", "order"] + (["full_turn"] if c.full_turn else []),
+                       **r.defects.as_dict()},
+           "evaluations": r.evaluations, "seed": r.seed, "starts": r.starts, "seconds": r.seconds,
+           "budget": problem.search.get("budget"), "stopped": r.stopped, "point": r.point}
+    if problem.model:
+        out["source_model"] = problem.model
+    return out
+
+
+def _finite(v):
+    return float(v) if v is not None and math.isfinite(float(v)) else None
+
+
+def _plain(v):
+    """JSON-ready copy (numpy numbers as floats, non-finite as None)."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, (float, np.floating, np.integer)) and not isinstance(v, bool):
+        return _finite(v)
+    return v
 
 
 def _plot_path(r, path):

@@ -16,6 +16,7 @@ first target (the input's value at the first target, relative to the drawn pose,
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -29,7 +30,8 @@ from ..model import parse_model
 from ._models import table_toml
 from .constraints import PathConstraints, transmission_angles
 from .defects import check_defects
-from .path import PathOutcome, _order_penalty, _task, nearest_on_model, nearest_on_polyline, start_seeds
+from .path import PathOutcome, _task, nearest_on_model, start_seeds
+from .path_search import _order_penalty, nearest_on_polyline
 from .starts import run_starts
 
 __all__ = ["ModelPathResult", "synthesise_model_path"]
@@ -97,7 +99,7 @@ class _Problem:
         from ..study.geometry import design_geometry
         from ..study.variants import variants_from
         template, engine = self.base()
-        variants = variants_from(template, {n: values[:, i] for i, n in enumerate(self.names)})
+        variants = variants_from(template, {n: values[:, i] for i, n in enumerate(self.names)}, check=False)
         batch = DesignBatch(engine, design_geometry(template, variants, engine.mech))
         phi0 = np.where(np.isfinite(batch.geometry.phi0), batch.geometry.phi0, 0.0)
         with np.errstate(all="ignore"):
@@ -148,7 +150,7 @@ def _score(x, problem: _Problem) -> np.ndarray:
     xy, valid, _, geometry = problem.motion(values, phi)
     penalty = problem.violations(xy[:, -len(grid):], valid[:, -len(grid):], geometry, len(x)).sum(axis=1)
     if first is None:
-        near, index = nearest_on_polyline(xy[:, :, 0], valid, problem.targets, closed=problem.closed)
+        near, index, _ = nearest_on_polyline(xy[:, :, 0], valid, problem.targets, closed=problem.closed)
         if problem.closed:
             penalty = penalty + 0.1 * size * _order_penalty(index, len(grid))
         else:
@@ -245,8 +247,7 @@ def _start(problem: _Problem, seed: int) -> tuple[list, int]:
         count[0] += used
         r = _residuals(np.r_[values, rel if problem.timing is None else rel[:1]][None], problem, 1.0)[0]
         t = len(problem.targets)
-        if np.all(r[2 * t:] <= 0):
-            found.append((float(np.sqrt(np.mean(r[:2 * t] ** 2) * 2)), values, rel))
+        found.append((0 if np.all(r[2 * t:] <= 0) else 1, float(np.sqrt(np.mean(r[:2 * t] ** 2) * 2)), values, rel))
     return found, count[0]
 
 
@@ -288,23 +289,23 @@ def synthesise_model_path(model, point: str, bounds: dict, targets, *, timing=No
     """
     from ..study.run import load_template
     t0 = time.perf_counter()
-    base = _task(targets, timing, constraints)
+    base = _task(targets, timing, constraints, PathConstraints())
     template = load_template(model)
     problem = _problem(template, point, bounds, base, travel, popsize, generations, samples, keep)
     if starts < 1 or popsize < 5 or generations < 1 or samples < 12 or keep < 1:
         raise ModelError("path generation needs starts ≥ 1, popsize ≥ 5, generations ≥ 1, samples ≥ 12, keep ≥ 1")
     results = run_starts(_start, problem, start_seeds(seed, starts), client, progress)
     evaluations = sum(r[1] for r in results)
-    found = [(rms, k, i, v, rel) for k, r in enumerate(results) for i, (rms, v, rel) in enumerate(r[0])]
+    found = [(miss, rms, k, i, v, rel) for k, r in enumerate(results) for i, (miss, rms, v, rel) in enumerate(r[0])]
     rejected = []
-    for _, _, _, values, rel in sorted(found, key=lambda f: f[:3]):
+    for _, _, _, _, values, rel in sorted(found, key=lambda f: f[:4]):   # within the bounds first, then best
         try:
             return _verified(problem, template, values, rel, evaluations, time.perf_counter() - t0, seed, starts)
         except MbplanarError as exc:
             rejected.append(str(exc))
     why = f"; the best had a defect: {rejected[0]}" if rejected else ""
-    raise ModelError(f"{template.source}: no feasible design found within the bounds: no candidate meets "
-                     f"the constraints and reaches the targets in order{why}")
+    raise ModelError(f"{template.source}: no design found within the bounds: no candidate assembles through "
+                     f"the targets on one branch{why}")
 
 
 def _problem(template, point, bounds, task, travel, popsize, generations, samples, keep) -> _Problem:
@@ -375,8 +376,10 @@ def _verified(problem: _Problem, template, values, rel, evaluations, seconds, se
     xy, _, _, _ = problem.motion(np.asarray(values)[None], np.asarray(rel)[None])
     defects = check_defects(engine, node_phi, {problem.point: xy[0, :, 0]}, periodic=problem.periodic,
                             full_turn=c.full_turn and problem.periodic, tol=1e-6 * problem.size)
-    if not defects.ok:
-        raise ModelError(defects.describe())
+    if defects.circuit or defects.unreached or defects.branch or defects.full_turn is False:
+        raise ModelError(dataclasses.replace(defects, order=False).describe())
+    warnings = ["the design meets the targets out of order (no input sense reaches them in turn)"] \
+        if defects.order else []
     node_phi = np.asarray(defects.node_phi)
     m = analyse(engine, node_phi)
     errors = np.hypot(*(m.xy[:, m.point(problem.point)] - problem.targets).T)
@@ -390,7 +393,10 @@ def _verified(problem: _Problem, template, values, rel, evaluations, seconds, se
         j = [dense.xy[:, dense.point(n)] for n in c.transmission_joints]
         mu = float(np.degrees(transmission_angles(*j).min()))
         if c.min_transmission_deg is not None and mu < c.min_transmission_deg - 1e-9:
-            raise ModelError(f"transmission angle {mu:.4f}° below the bound {c.min_transmission_deg}°")
+            warnings.append(f"the smallest transmission angle {mu:.2f}° is below the bound "
+                            f"{c.min_transmission_deg:g}° (no design found meets it)")
+    success = not warnings
+    message = "defect-free design within the constraints" if success else "design found, but " + "; ".join(warnings)
     return ModelPathResult(text, mech, problem.targets, errors, node_phi, defects, evaluations, seconds, seed,
-                           starts, problem.timing is not None, mu, c, values=found, point=problem.point,
-                           travel=problem.travel)
+                           starts, problem.timing is not None, mu, c, success, message, tuple(warnings),
+                           values=found, point=problem.point, travel=problem.travel)

@@ -18,9 +18,10 @@ from ._models import _key, _value
 
 __all__ = ["summary_table", "report_section", "register"]
 
-KEPT = ("problem", "form", "point", "timed", "rms_error", "max_error", "error_unit", "errors", "targets",
-        "target_phi_deg", "evaluations", "seed", "starts", "seconds", "delta1", "delta2", "delta", "parameters",
-        "design", "constraints", "defects")
+KEPT = ("problem", "form", "point", "timed", "success", "message", "warnings", "rms_error", "max_error",
+        "error_unit", "errors", "targets", "target_phi_deg", "evaluations", "seed", "starts", "seconds", "budget",
+        "stopped", "delta1", "delta2", "delta", "parameters", "design", "constraints", "order", "tradeoff",
+        "defects")
 
 
 def _plain(v):
@@ -53,14 +54,18 @@ def report_section(engine, ctx):
         return None
     from ..viz._report import html_table
     unit = s.get("error_unit", "")
-    rows = [(k, s[k]) for k in ("problem", "point", "rms_error", "max_error", "evaluations", "seed", "starts",
-                                "seconds", "delta1", "delta2", "delta") if k in s]
+    rows = [(k, s[k]) for k in ("problem", "point", "success", "rms_error", "max_error", "evaluations", "seed",
+                                "starts", "seconds", "delta1", "delta2", "delta") if k in s]
     parts = [html_table(("quantity", "value"), rows, f"Synthesis result (errors in {unit})")]
     defects = s.get("defects", {})
     if defects:
         found = [k for k in ("circuit", "branch", "unreached") if defects.get(k)] + (["order"] if defects.get("order") else [])
         parts.append(f"<p>Defects checked by mbplanar's analysis: {html.escape(', '.join(defects.get('checked', [])))}"
                      f" — {'none found' if not found else 'found: ' + html.escape(', '.join(found))}.</p>")
+    warnings = s.get("warnings") or []
+    if warnings:
+        items = "".join(f"<li>{html.escape(str(w))}</li>" for w in warnings)
+        parts.append(f"<p>Warnings of the synthesis:</p><ul>{items}</ul>")
     for key, title in (("design", "Design"), ("parameters", "Parameters found"), ("constraints", "Constraints")):
         if isinstance(s.get(key), dict):
             parts.append(html_table(("name", "value"), [(k, _text(v)) for k, v in s[key].items()], title))

@@ -7,10 +7,12 @@ matplotlib is imported only when a picture is drawn.
 """
 
 from ._animation import Animation, html_animation, svg_animation, write_html_animation
-from ._plotting import FIGURES, PlotUnavailable, figure_bytes, make_figure, register_figure, save_figure, write_gif
+from ._forceplots import reaction_label
+from ._plotting import (FIGURES, PlotUnavailable, cycle_motion, figure_bytes, make_figure, moving_points,
+                        register_figure, save_figure, write_gif)
 from ._report import SECTIONS, Section, register_section, report_html, write_report
 from ._scene import Scene, build_scene
 
-__all__ = ["Scene", "build_scene", "FIGURES", "PlotUnavailable", "register_figure", "make_figure", "save_figure",
+__all__ = ["Scene", "build_scene", "cycle_motion", "moving_points", "reaction_label", "FIGURES", "PlotUnavailable", "register_figure", "make_figure", "save_figure",
            "figure_bytes", "write_gif", "Animation", "svg_animation", "html_animation", "write_html_animation",
            "Section", "SECTIONS", "register_section", "report_html", "write_report"]
