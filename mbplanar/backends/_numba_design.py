@@ -42,7 +42,7 @@ from ._jit import njit
 from ._numba_blocks import (_closure, _hermite_coefficients, _hermite_slope, _hermite_value, _interval, _lu,
                             _lu_solve, _place, _rate_jump, _step_verdict)
 from ..engine._continuation import HERMITE5
-from ..engine._tables import BlockTables, CutTables, DesignResult, StepTables
+from ..engine._tables import CutTables, DesignResult, DesignTables, StepTables
 
 __all__ = ["solve", "DesignIn", "DesignOut", "DesignWork", "Unknowns"]
 
@@ -51,28 +51,18 @@ MIN_DESIGNS = 64  # designs per thread below which another thread costs more tha
 
 
 class DesignIn(NamedTuple):
-    """What the kernel solves: the engine's `blocks` and whether each block's row and unknown scales are
-    `uniform` (n_blocks,); the input's `sense`, the ground's link index, the march parameter's unit
-    `scale`, whether the `accelerations` are wanted; per design (D designs) step_s0, step_u0 (D, S, 2),
-    cut_s0, cut_n0 (D, C, 2), phi0 (D,), reference (D, L), point_at (D, P, 2) (`engine._tables.DesignTables`);
-    point_link (P,) and link_out (K,); the input values x (D, N) with their lo, hi (D,); the quintic
-    Hermite interpolant's weights `hermite` (6, 6) (`engine._continuation.HERMITE5`)."""
+    """What the kernel solves: the designs' `tables` (`engine._tables.DesignTables`: the engine's blocks,
+    and per design (D designs) the constants that differ), whether each block's row and unknown scales
+    are `uniform` (n_blocks,), the input's `sense`, the ground's link index, the march parameter's unit
+    `scale`, whether the `accelerations` are wanted, the input values x (D, N) with their lo, hi (D,),
+    and the quintic Hermite interpolant's weights `hermite` (6, 6) (`engine._continuation.HERMITE5`)."""
 
-    blocks: BlockTables
+    tables: DesignTables
     uniform: np.ndarray
     sense: float
     ground: int
     scale: float
     accelerations: bool
-    step_s0: np.ndarray
-    step_u0: np.ndarray
-    cut_s0: np.ndarray
-    cut_n0: np.ndarray
-    phi0: np.ndarray
-    reference: np.ndarray
-    point_at: np.ndarray
-    point_link: np.ndarray
-    link_out: np.ndarray
     x: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
@@ -190,9 +180,8 @@ def solve(request) -> DesignResult:
                     np.zeros((count, 2), np.bool_), np.zeros((count, 2)), np.zeros((count, 2)),
                     *(np.zeros((count, 2, m1)) for _ in range(3)), np.zeros((count, 2, n_blocks)))
     lo, hi = x.min(axis=1) if n else tables.phi0, x.max(axis=1) if n else tables.phi0
-    inp = DesignIn(tables.blocks, request.uniform, float(request.sense), int(request.ground), float(request.scale),
-                   bool(accelerations), tables.step_s0, tables.step_u0, tables.cut_s0, tables.cut_n0, tables.phi0,
-                   tables.reference, tables.point_at, tables.point_link, tables.link_out, x, lo, hi, HERMITE5)
+    inp = DesignIn(tables, request.uniform, float(request.sense), int(request.ground), float(request.scale),
+                   bool(accelerations), x, lo, hi, HERMITE5)
     sizes = (len(tables.reference[0]), m_all, m_max, n_blocks)
     k = 1 if count < 2 * MIN_DESIGNS else max(1, min(request.threads or _threads.available(), count // MIN_DESIGNS))
     cuts_at = [count * i // k for i in range(k + 1)]
@@ -213,9 +202,10 @@ def solve(request) -> DesignResult:
 
 def _part_in(inp: DesignIn, p: slice) -> DesignIn:
     """The designs `p` of a request (the per-design arrays sliced)."""
-    return inp._replace(step_s0=inp.step_s0[p], step_u0=inp.step_u0[p], cut_s0=inp.cut_s0[p], cut_n0=inp.cut_n0[p],
-                        phi0=inp.phi0[p], reference=inp.reference[p], point_at=inp.point_at[p], x=inp.x[p],
-                        lo=inp.lo[p], hi=inp.hi[p])
+    t = inp.tables
+    return inp._replace(tables=t._replace(step_s0=t.step_s0[p], step_u0=t.step_u0[p], cut_s0=t.cut_s0[p],
+                                          cut_n0=t.cut_n0[p], phi0=t.phi0[p], reference=t.reference[p],
+                                          point_at=t.point_at[p]), x=inp.x[p], lo=inp.lo[p], hi=inp.hi[p])
 
 
 def _part_out(out: DesignOut, p: slice, accelerations: bool) -> DesignOut:
@@ -435,7 +425,8 @@ def _solve(inp, work, tol, state, q_in, rate, accelerations, lazy, unit, gain):
     closure, max_newton, pivot_polish, pivot_cross, polish = (tol.closure, tol.max_newton, tol.pivot_polish,
                                                               tol.pivot_cross, tol.polish)
     lazy_ratio, lazy_step, turn, nudge = 2 * pivot_polish, tol.lazy_step, tol.turn, tol.nudge
-    steps, cuts, blocks, uniform, sense, ground = work.steps, work.cuts, inp.blocks, inp.uniform, inp.sense, inp.ground
+    steps, cuts, blocks = work.steps, work.cuts, inp.tables.blocks
+    uniform, sense, ground = inp.uniform, inp.sense, inp.ground
     q, qd, qdd, dets = state
     ps, rt, sc, cc, jac, jac_s, perm, perm_s = work.ps, work.rt, work.sc, work.cc, work.jac, work.jac_s, work.perm, \
         work.perm_s
@@ -634,7 +625,7 @@ def _march(d, inp, out, tol, work, target, direction, start, side):
     `target` in `direction`, as `DesignBatch._march`: the accepted nodes go to node_*[start:] (q, dq/dφ,
     d²q/dφ²); returns (nodes added, status). A motion limit fills out.limit*[d, side]."""
     max_correction, h_start, h_max, h_min = tol.max_correction, tol.h_start, tol.h_max, tol.h_min
-    blocks, scale, phi0 = inp.blocks, inp.scale, inp.phi0[d]
+    blocks, scale, phi0 = inp.tables.blocks, inp.scale, inp.tables.phi0[d]
     q0, qd0, qdd0, dets0 = work.drawn
     qc, qdc, qddc, signs = work.node
     now = work.now
@@ -705,8 +696,9 @@ def _store(d, n, inp, out, work):
     """Write position n of design d from the solved pose and rates: the chosen links' angle and ω_q (ε_q),
     the chosen points' positions and velocity (acceleration) analogues."""
     ps, rt = work.ps, work.rt
-    reference, point_at, point_link, link_out, accelerations = (inp.reference, inp.point_at, inp.point_link,
-                                                                inp.link_out, inp.accelerations)
+    t = inp.tables
+    reference, point_at, point_link, link_out = t.reference, t.point_at, t.point_link, t.link_out
+    accelerations = inp.accelerations
     angle, wq, eq, xy, vq, aq = out.angle, out.wq, out.eq, out.xy, out.vq, out.aq
     vel, acc = len(rt) - 2, len(rt) - 1
     out.valid[d, n] = True
@@ -751,7 +743,7 @@ def _walk(d, follow, total, inp, out, tol, work):
     sweep or a position is not accepted: the design then takes the march (which meets the limit or change
     point there)."""
     max_correction, h_max = tol.max_correction, tol.h_max
-    blocks, x, scale, phi0, accelerations = inp.blocks, inp.x, inp.scale, inp.phi0[d], inp.accelerations
+    blocks, x, scale, phi0, accelerations = inp.tables.blocks, inp.x, inp.scale, inp.tables.phi0[d], inp.accelerations
     q0, qd0, qdd0, dets0 = work.drawn
     now = work.now
     q, qd, qdd, dets = now
@@ -869,7 +861,7 @@ def _walk(d, follow, total, inp, out, tol, work):
 def _designs(inp, out, tol, work):
     """Every design of a part: its drawn pose, its march both ways, then its positions (see the module
     docstring); out.status (D,) as `engine._tables.DESIGN_STATUS`."""
-    blocks, x, lo, hi, phi0 = inp.blocks, inp.x, inp.lo, inp.hi, inp.phi0
+    blocks, x, lo, hi, phi0 = inp.tables.blocks, inp.x, inp.lo, inp.hi, inp.tables.phi0
     steps, cuts, ps, status, valid = work.steps, work.cuts, work.ps, out.status, out.valid
     drawn, node_phi, node_q, node_sign, coef, hermite = work.drawn, work.node_phi, work.node_q, work.node_sign, \
         work.coef, inp.hermite
@@ -887,11 +879,11 @@ def _designs(inp, out, tol, work):
     yes, no = n_pos >= 0, n_pos < 0  # and `_solve`'s flags as run-time booleans, for the same reason
     for d in range(n_designs):
         for k in range(len(steps.parent)):
-            steps.s0[k, 0], steps.s0[k, 1] = inp.step_s0[d, k, 0], inp.step_s0[d, k, 1]
-            steps.u0[k, 0], steps.u0[k, 1] = inp.step_u0[d, k, 0], inp.step_u0[d, k, 1]
+            steps.s0[k, 0], steps.s0[k, 1] = inp.tables.step_s0[d, k, 0], inp.tables.step_s0[d, k, 1]
+            steps.u0[k, 0], steps.u0[k, 1] = inp.tables.step_u0[d, k, 0], inp.tables.step_u0[d, k, 1]
         for k in range(len(cuts.a)):
-            cuts.s0[k, 0], cuts.s0[k, 1] = inp.cut_s0[d, k, 0], inp.cut_s0[d, k, 1]
-            cuts.n0[k, 0], cuts.n0[k, 1] = inp.cut_n0[d, k, 0], inp.cut_n0[d, k, 1]
+            cuts.s0[k, 0], cuts.s0[k, 1] = inp.tables.cut_s0[d, k, 0], inp.tables.cut_s0[d, k, 1]
+            cuts.n0[k, 0], cuts.n0[k, 1] = inp.tables.cut_n0[d, k, 0], inp.tables.cut_n0[d, k, 1]
         for i in range(n_pos):
             valid[d, i] = False
         # 1. the drawn pose

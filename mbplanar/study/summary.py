@@ -16,7 +16,7 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from ..analysis import check
+from ..analysis import LimitReport, check
 from ..errors import MbplanarError, ModelError
 from ..kinematics import analyse
 from ..forces import kinetostatics
@@ -31,16 +31,11 @@ SAMPLES = 36  # coupler-curve (and force) samples over the range the input moves
 
 
 @dataclass(frozen=True)
-class SummaryLimit:
-    """A design's motion limit: the input value (model unit, and in degrees), the direction it is met in
-    (+1 going up, −1 going down), the links and joints in line, its kind and the sentence."""
+class SummaryLimit(LimitReport):
+    """A design's motion limit: `check`'s (`LimitReport`: the input value in the model's unit, the
+    direction it is met in, the links and joints in line, its kind and the sentence) and the input value
+    in degrees."""
 
-    phi: float
-    direction: int
-    links: list
-    joints: list
-    kind: str
-    message: str
     phi_deg: float
 
 
