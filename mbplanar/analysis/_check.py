@@ -20,7 +20,8 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..errors import ModelError
-from ..kinematics._motion import Motion, analyse, describe_crossing, describe_limit, positions_at_limits
+from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_limit, positions_at_limits,
+                                  range_text)
 from ..engine import solve_positions
 from ..engine._atlas import met_along
 
@@ -500,6 +501,20 @@ def _rate_at(engine, x, which):
     return _quantities(engine, motion)[3][np.arange(len(x)), which]
 
 
+def _within_turn(engine, values, full_turn: bool):
+    """Input values (model unit) of a full turn reduced to one turn, [0, 360) deg or [0, 2π) rad: the
+    sweep starts at the drawn pose, so its values run past a turn (398.6° for 38.6°); otherwise as
+    they are."""
+    inp = engine.inputs[0]
+    values = np.asarray(values, float)
+    if not full_turn or inp.unit not in ("deg", "rad"):
+        return values
+    turn = 360.0 if inp.unit == "deg" else 2 * math.pi
+    reduced = np.mod(values, turn)
+    # a whole turn (from either side, by round-off of the sweep's start) is 0
+    return np.where(np.minimum(reduced, turn - reduced) <= 1e-12 * turn, 0.0, reduced)
+
+
 def _local(kind, value, at, end=False) -> LocalExtreme:
     return LocalExtreme(kind, float(value), float(at), bool(end))
 
@@ -530,7 +545,7 @@ def _extremes(engine, motion, full_turn, at_limits=None):
         if kind == "link" and full_turn and span >= FULL_TURN - 1e-6:
             out.append(Extreme(name, kind, None, None, None, None, turns=True))
             continue
-        if span <= 1e-12 * max(1.0, engine.size):
+        if span <= 1e-12 * (1.0 if kind == "link" else engine.size):  # (rad; a slider relative to the size)
             continue  # does not move (a block that only translates, say)
         local = [(float(at[m]), float(values[m]), "max" if top[m] else "min") for m in np.flatnonzero(k == n)]
         if not full_turn:
@@ -546,12 +561,15 @@ def _extremes(engine, motion, full_turn, at_limits=None):
         if kind == "link":  # report angles in (−π, π] around the minimum
             shift = FULL_TURN * math.floor((vmin + math.pi) / FULL_TURN)
             vmin, vmax = vmin - shift, vmax - shift
-        out.append(Extreme(name, kind, vmin, float(inp.from_si(ats_n[lo])), vmax, float(inp.from_si(ats_n[hi])),
-                           local=[_local(c[2], c[1] - shift, inp.from_si(c[0]), len(c) > 3) for c in local]))
+        ats = _within_turn(engine, inp.from_si(np.asarray(ats_n, float)), full_turn)
+        places = _within_turn(engine, [inp.from_si(c[0]) for c in local], full_turn)
+        out.append(Extreme(name, kind, vmin, float(ats[lo]), vmax, float(ats[hi]),
+                           local=sorted((_local(c[2], c[1] - shift, at, len(c) > 3) for c, at in zip(local, places)),
+                                        key=lambda loc: loc.at)))
     return out
 
 
-def _angle_ranges(engine, motion, at_limits, angles_of, name_of):
+def _angle_ranges(engine, motion, at_limits, angles_of, name_of, full_turn=False):
     """Min/max of the angles `angles_of(engine, motion)` over the sweep and the located limits."""
     inp = engine.inputs[0]
     labels, angles = angles_of(engine, motion)
@@ -559,7 +577,7 @@ def _angle_ranges(engine, motion, at_limits, angles_of, name_of):
     if at_limits is not None:
         phi = np.concatenate([phi, at_limits.phi[:, 0]])
         angles = np.concatenate([angles, angles_of(engine, at_limits)[1]])
-    phi = inp.from_si(phi)
+    phi = _within_turn(engine, inp.from_si(phi), full_turn)
     out = []
     for k, label in enumerate(labels):
         a = angles[:, k]
@@ -621,10 +639,10 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
         return report
     return replace(report, extremes=_extremes(engine, motion, full, at_limits),
                    transmission=_angle_ranges(engine, motion, at_limits, transmission_angles,
-                                              lambda t: f"{t[0]}-{t[1]}-{t[2]}"),
+                                              lambda t: f"{t[0]}-{t[1]}-{t[2]}", full),
                    pressure=_angle_ranges(engine, motion, at_limits, pressure_angles,
                                           lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
-                                          f"{t[2]} (normal of {t[0]})"))
+                                          f"{t[2]} (normal of {t[0]})", full))
 
 
 def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -> str:
@@ -640,8 +658,7 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
     if report.full_turn:
         lines.append("the input turns fully (numerically: a whole turn without a motion limit)")
     else:
-        lines.append(f"the input does NOT turn fully: it moves through {report.range[0]:.8g} … "
-                     f"{report.range[1]:.8g} {u}")
+        lines.append(f"the input does NOT turn fully: it moves through {range_text(*report.range, 8)} {u}")
     for lim in report.limits:
         lines.append(f"  dead point / limit: {lim.message}")
     for c in report.change_points:

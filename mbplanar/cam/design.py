@@ -8,7 +8,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 from . import laws
 from .dynamics import CamForces, cam_forces
 from .followers import Follower
@@ -122,9 +122,16 @@ def _linkage(spec):
 
 def _events(spec, engine) -> dict[str, EventResult]:
     out = {}
-    for ev in spec.events:
-        out[ev.name] = solve_event(engine, ev.name, ev.point, ev.coordinate, ev.fraction, ev.measure,
-                                   ev.direction)
+    known = [*engine.mech.joints, *engine.mech.points] if spec.events else []
+    for i, ev in enumerate(spec.events):
+        if ev.point not in known:
+            raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': '{ev.point}' is neither a joint nor a "
+                             f"point of {engine.mech.source}; {did_you_mean(ev.point, known, 'joints and points')}")
+        try:
+            out[ev.name] = solve_event(engine, ev.name, ev.point, ev.coordinate, ev.fraction, ev.measure,
+                                       ev.direction)
+        except ModelError as exc:  # (named by the cam file's row)
+            raise ModelError(f"{spec.source}: [cam] events[{i}] '{ev.name}': {exc.message}") from None
     return out
 
 
@@ -163,8 +170,11 @@ def _program(spec: CamSpec, names) -> laws.Program:
             segments.append(seg)
             s = ph.end[0]
         else:
-            law = laws.dwell() if ph.kind == "dwell" else laws.make_law(
-                ph.law, **({"k": ph.k} if ph.law == "constant_acceleration" else {}))
+            try:
+                law = laws.dwell() if ph.kind == "dwell" else laws.make_law(
+                    ph.law, **({"k": ph.k} if ph.law == "constant_acceleration" else {}))
+            except ModelError as exc:
+                raise ModelError(f"{ph.where}: {exc.message}") from None
             if ph.kind == "rise":
                 if ph.stroke is None:
                     raise ModelError(f"{ph.where}: a rise needs its 'stroke'")

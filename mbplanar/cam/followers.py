@@ -69,8 +69,8 @@ class Follower:
             if self.base_radius <= 0:
                 raise ModelError(f"the base radius must be positive, got {self.base_radius}")
             if self.contact != "flat" and abs(self.offset) >= self.base_radius:
-                raise ModelError(f"the offset {self.offset} must be smaller than the base radius "
-                                 f"{self.base_radius} (the follower's line must cut the base circle)")
+                raise ModelError(f"the offset {self.offset:g} m must be smaller than the base radius "
+                                 f"{self.base_radius:g} m (the follower's line must cut the base circle)")
         else:
             if self.centre_distance <= 0 or self.arm <= 0:
                 raise ModelError(f"the centre distance a_w and the arm l must be positive, got "

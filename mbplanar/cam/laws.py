@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 
 __all__ = ["Law", "PiecewiseSineLaw", "PolynomialLaw", "CycloidalLaw", "HarmonicLaw", "Segment",
            "Program", "Jump", "program", "LAWS", "make_law", "dwell", "constant_velocity", "constant_acceleration",
@@ -254,7 +254,7 @@ LAWS = {
 def make_law(name: str, **options) -> Law:
     """A law by name (`LAWS`); `k` for constant acceleration."""
     if name not in LAWS:
-        raise ModelError(f"unknown motion law '{name}' (one of {', '.join(LAWS)} or 'polynomial')")
+        raise ModelError(f"unknown motion law '{name}'; {did_you_mean(name, list(LAWS) + ['polynomial'], 'laws')}")
     return LAWS[name](**options)
 
 

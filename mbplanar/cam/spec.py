@@ -230,7 +230,7 @@ def read_cam(path) -> CamSpec:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise ModelError(f"{path}: cannot read the cam file ({exc.strerror or exc})") from None
     try:

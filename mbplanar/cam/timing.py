@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 
 __all__ = ["Root", "EventResult", "Stroke", "point_stroke", "event_roots", "solve_event"]
 
@@ -77,9 +77,9 @@ def _coordinate(engine, point, axis, values_si):
         raise ModelError(f"timing: the model cannot make a full turn ({motion.message})")
     try:
         k = motion.point(point)
-    except ValueError:
-        raise ModelError(f"timing: the model has no point or pair '{point}' "
-                         f"(one of {', '.join(motion.point_names)})") from None
+    except KeyError:
+        raise ModelError(f"timing: the model has no point or pair '{point}'; "
+                         f"{did_you_mean(point, motion.point_names, 'points and pairs')}") from None
     return motion.xy[:, k, axis], motion.vq[:, k, axis]
 
 

@@ -1,8 +1,8 @@
 """Forces: loads and their evaluation (`evaluate_loads`; springs, dampers, torques, switched rows), the
 kinetostatic system (reactions and balancing moment, `kinetostatics`), friction in the pairs and the
-efficiency (`friction_kinetostatics`), the shaking force and balancing (`shaking`, `balance`), machine
-dynamics (reduced model, flywheel, true motion, `machine_dynamics`), and the motion under given forces
-(`simulate_motion`).
+efficiency (`friction_kinetostatics`), the shaking force and balancing (`shaking`, `inertia_shaking`,
+`balance`), machine dynamics (reduced model, flywheel, true motion, `machine_dynamics`), and the motion
+under given forces (`simulate_motion`).
 """
 
 #: name → the module that defines it, imported on first use (PEP 562), so that a command reading one
@@ -14,8 +14,8 @@ _HOME = {**dict.fromkeys(["Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced",
                          "_friction"),
          **dict.fromkeys(["Kinetostatics", "Reaction", "inertia_loads", "kinetostatics"], "_kinetostatics"),
          **dict.fromkeys(["Gravity", "Load", "LoadValue", "evaluate_loads", "has_force_data", "load_power"], "_loads"),
-         **dict.fromkeys(["Balancing", "Counterweight", "Shaking", "balance", "shaking", "shaking_from_loads"],
-                         "_shaking"),
+         **dict.fromkeys(["Balancing", "Counterweight", "Shaking", "balance", "shaking", "shaking_from_loads",
+                          "inertia_shaking"], "_shaking"),
          **dict.fromkeys(["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"], "_simulation")}
 
 
@@ -37,5 +37,5 @@ __all__ = ["Load", "Gravity", "LoadValue", "evaluate_loads", "load_power", "has_
            "Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "machine_dynamics", "true_motion",
            "reduce", "simulate", "stall_ahead", "flywheel_sizes",
            "PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
-           "Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
+           "Shaking", "shaking", "shaking_from_loads", "inertia_shaking", "Counterweight", "Balancing", "balance",
            "SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"]

@@ -67,7 +67,12 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
         raise ModelError(f"delta = {delta} must be between 0 and 1 (it is (ω_max − ω_min)/ω_m)",
                          source=mech.source, where="dynamics")
     if spec is None:
-        return DynamicsSpec(delta, crank_input(mech).omega)
+        omega = crank_input(mech).omega
+        if not omega > 0:
+            raise ModelError(f"--delta without a [dynamics] section runs at the input's omega, which is {omega:g} "
+                             "rad/s: give the input's omega (or [dynamics] omega_mean), positive",
+                             source=mech.source, where="dynamics")
+        return DynamicsSpec(delta, omega)
     return replace(spec, delta=delta)
 
 
@@ -123,7 +128,6 @@ def reduce(engine, phi, omega: float = 1.0) -> Reduced:
         raise MotionError("machine dynamics needs every position of the cycle: "
                           f"{motion.message}", source=engine.mech.source)
     J_II, dJ_II, J_input = _reduced_inertia(engine, motion)
-    warn_idle_resistances(engine, motion)
     dampers = any(ld.kind == "damper" for ld in engine.mech.loads)
     at_speed = analyse(engine, phi, omega=omega, epsilon=0.0) if dampers and omega != 1.0 else motion
     loads = evaluate_loads(engine, at_speed)
@@ -403,11 +407,13 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     >>> round(float(d.driving_moment), 3), round(d.simulation.delta, 4)   # N·m; the true unevenness
     (102.058, 0.0481)
     """
+    crank_input(engine.mech)  # (a machine of several inputs, or driven by a slider, says so first)
     spec = spec or read_dynamics(engine.mech)
     if spec is None:
         raise ModelError("the model has no [dynamics] section (at least delta = ...)", source=engine.mech.source)
     phi = cycle_grid(steps)
     red = reduce(engine, phi, spec.omega_mean)
+    warn_idle_resistances(engine, red.motion)  # (over the cycle only: not at a few positions asked for)
     A_c = _cumulative_trapezoid(red.M_red, phi)
     M_dr = -A_c[-1] / (2 * math.pi) if spec.driving_moment is None else spec.driving_moment
     dT = _energy_change(A_c, M_dr, phi, red.J_II, spec.omega_mean)

@@ -37,14 +37,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
 from ..model._keys import Key, Section
+from ..model._scale import drawing_size
 from ..model._table import Row
 
 __all__ = ["PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
-           "friction_loads", "FRICTION"]
+           "friction_loads", "FRICTION", "implausible_friction", "not_converged"]
+
+#: the largest plausible friction coefficient: dry metal pairs 0.1–0.6 (steel on steel ~0.15), lubricated
+#: 0.01–0.1, rubber or brake linings up to ~1
+MU_PLAUSIBLE = 1.0
+#: plausible pin radii and block lengths, as shares of the mechanism's size (its drawing's extent)
+PIN_SHARE = (1e-3, 0.25)
+BLOCK_SHARE = (1e-3, 2.0)
 
 FRICTION_PAIR = Section("friction_pair", "[friction] pairs[]", "one pair's own friction", (
     Key("joint", "text", "the pair", required=True),
@@ -108,7 +116,7 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
         pr = Row(raw_pair, f"{where}: pairs[{k}]", section=FRICTION_PAIR)
         joint = pr.get("joint")
         if joint not in mech.joints:
-            pr.fail(f"'{joint}' is not a joint of the model")
+            pr.fail(f"'{joint}' is not a joint of the model; {did_you_mean(joint, mech.joints, 'joints')}")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
         radius, block = pr.number("pin_radius"), pr.get("block_length")
@@ -127,7 +135,61 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
             pairs.append(p)
     if int(max_iter) != max_iter:
         row.fail(f"'max_iterations' must be a whole number, got {max_iter}")
-    return FrictionSpec(tuple(pairs), tolerance, int(max_iter))
+    spec = FrictionSpec(tuple(pairs), tolerance, int(max_iter))
+    for note in implausible_friction(mech, spec):
+        row.warn(note)
+    return spec
+
+
+def _listed(values: dict, unit: str = "", scale: float = 1.0) -> str:
+    """'10 in O, A; 0.5 in B' of {joint: value}, the same values together."""
+    groups: dict = {}
+    for joint, value in values.items():
+        groups.setdefault(value, []).append(joint)
+    return "; ".join(f"{v / scale:.4g}{unit} in {', '.join(js)}" for v, js in groups.items())
+
+
+def implausible_friction(mech, spec: FrictionSpec) -> list[str]:
+    """What in `spec` lies outside plausible values, each with its numbers: a coefficient above
+    `MU_PLAUSIBLE`, a pin radius or block length out of `PIN_SHARE` or `BLOCK_SHARE` of the mechanism's
+    size (a length in another unit). Lengths are shown in the table's length unit."""
+    size, unit = drawing_size(mech), mech.units
+    k, lu = unit.length_scale, f" {unit.length}"
+    notes = []
+    high = {p.joint: p.mu for p in spec.pairs if p.mu > MU_PLAUSIBLE}
+    if high:
+        notes.append(f"mu = {_listed(high)}: friction coefficients lie in 0.01 … {MU_PLAUSIBLE:g} (lubricated 0.01–0.1, "
+                     "dry steel ~0.15); a percentage written for a fraction?")
+    if size <= 0:
+        return notes
+    for key, share, values in (
+            ("pin_radius", PIN_SHARE, {p.joint: p.radius for p in spec.pairs if mech.joints[p.joint].kind == "R"}),
+            ("block_length", BLOCK_SHARE, {p.joint: p.block_length for p in spec.pairs if p.block_length})):
+        for kind, bad in (("large", {j: v for j, v in values.items() if v > share[1] * size}),
+                          ("small", {j: v for j, v in values.items() if 0 < v < share[0] * size})):
+            if bad:
+                ratio = max(bad.values()) / size if kind == "large" else min(bad.values()) / size
+                notes.append(f"{key} = {_listed(bad, lu, k)} against a mechanism {size / k:.4g}{lu} across "
+                             f"({ratio:.3g} × its size; plausible {share[0]:g} … {share[1]:g} ×): too {kind}, "
+                             "or in another unit?")
+    return notes
+
+
+def not_converged(engine, spec: FrictionSpec, result, at: str = "") -> str:
+    """Why the friction iteration of `result` did not converge, with the numbers: the friction out of
+    scale (`implausible_friction`), or else a mechanism that self-locks (the friction moments as large as
+    what the drive can overcome through its levers). `at` names the positions (e.g. "at phi = 30 deg")."""
+    where = f" {at}" if at else ""
+    head = (f"the friction iteration did not converge in {result.iterations} iterations{where} (residual "
+            f"{float(np.nanmax(result.residual)):.3g})")
+    notes = implausible_friction(engine.mech, spec)
+    if notes:
+        return f"{head}: the friction is out of scale: " + "; ".join(notes)
+    radii = {p.joint: p.mu * p.radius for p in spec.pairs if p.radius}
+    circle = (f"; friction circles μ·r up to {max(radii.values()) / engine.mech.units.length_scale:.4g} "
+              f"{engine.mech.units.length}") if radii else ""
+    return (f"{head}: the mechanism self-locks there (mu up to {max(p.mu for p in spec.pairs):g}{circle}): "
+            "the friction grows with the forces faster than the drive can overcome it")
 
 
 @dataclass(frozen=True, eq=False)

@@ -26,13 +26,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import ModelError, MotionError
+from ..errors import ModelError, MotionError, did_you_mean
 from ..kinematics._motion import analyse, material_points
 from ._loads import guide_direction, heavy_links, real_frames, world_points
 from ..model._model import Point
 
 __all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
-           "inertia_shaking_force"]
+           "inertia_shaking_force", "inertia_shaking"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -144,6 +144,45 @@ def inertia_shaking_force(engine, motion) -> np.ndarray:
     return out
 
 
+def inertia_shaking(engine, motion, about=(0.0, 0.0)) -> Shaking:
+    """The resultant of the links' inertia forces at the motion's speed (the shaking that balancing
+    cancels): force Σ −m·a_S (B, 2) and moment Σ ((r_S − c) × (−m·a_S) − J_S·ε) (B,) about c = `about`.
+    The static weight is left out (constant: it loads the foundation without shaking it, and
+    counterweights add to it), and so are the working loads and the drive.
+
+    Examples
+    --------
+    A crank of 2 kg whose centre turns on a 0.05 m radius at 10 rad/s shakes its frame with
+    m·r·ω² = 10 N, gravity or not:
+
+    >>> import numpy as np, mbplanar
+    >>> m = mbplanar.parse_model({"links": [{"name": "1", "mass": 2.0, "centre": "S"}],
+    ...     "joints": [{"name": "O", "type": "R", "links": ["0", "1"], "at": [0, 0]}],
+    ...     "points": [{"name": "S", "link": "1", "at": [0.05, 0]}],
+    ...     "input": {"joint": "O", "omega": 10.0}, "gravity": {"g": 9.81}})
+    >>> engine = mbplanar.Engine(m)
+    >>> sh = inertia_shaking(engine, mbplanar.analyse(engine, np.radians([0.0, 90.0])))
+    >>> np.round(sh.force, 12).tolist()
+    [[10.0, 0.0], [0.0, 10.0]]
+    """
+    heavy = heavy_links(engine.mech)
+    batch = len(motion.phi)
+    force, moment = np.zeros((batch, 2)), np.zeros(batch)
+    if not heavy:
+        return Shaking(force, moment, tuple(map(float, about)))
+    ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
+    w, v, e, a = real_frames(engine, motion, ks)
+    at = np.array([c for _, _, c in heavy], float)
+    xy, _, acc = material_points(motion.frames.th[:, ks], motion.frames.r[:, ks], w, v, e, a,
+                                 np.arange(len(ks)), at)
+    c = np.asarray(about, float)
+    for i, (_, lk, _) in enumerate(heavy):
+        f = -lk.mass * acc[:, i]
+        force += f
+        moment += _cross(xy[:, i] - c, f) - lk.inertia * e[:, i]
+    return Shaking(force, moment, tuple(map(float, c)))
+
+
 def _reference_joint(mech, link: str):
     """The point a counterweight's first moment is taken about: the link's first pair with the frame,
     else its first joint."""
@@ -183,9 +222,23 @@ def balance(engine, links, radius=None, steps: int = 360) -> Balancing:
         raise ModelError(f"balancing turns one input through a cycle; the model has {len(engine.inputs)}",
                          source=mech.source)
     links = [str(n) for n in links]
+    if not links:
+        raise ModelError(f"give the links that get a counterweight (the moving links are "
+                         f"{', '.join(mech.moving_links)})", source=mech.source, where="balance")
+    twice = [n for k, n in enumerate(links) if n in links[:k]]
+    if twice:
+        raise ModelError(f"link '{twice[0]}' is listed twice", source=mech.source, where="balance")
+    if radius is not None and np.size(radius) not in (1, len(links)):
+        raise ModelError(f"{np.size(radius)} radii for {len(links)} links: give one radius, or one per link",
+                         source=mech.source, where="balance")
+    if not any(lk.mass for lk in mech.links.values()):
+        raise ModelError("the model's links have no mass: nothing shakes the frame, nothing to balance (give "
+                         "the links 'mass' and 'centre')", source=mech.source, where="balance")
     for name in links:
         if name not in mech.links or name == mech.ground:
-            raise ModelError(f"'{name}' is not a moving link of the model", source=mech.source, where="balance")
+            raise ModelError(f"'{name}' is not a moving link of the model; "
+                             f"{did_you_mean(name, mech.moving_links, 'moving links')}", source=mech.source,
+                             where="balance")
     radii = list(np.broadcast_to(np.asarray(radius if radius is not None else np.nan, float), (len(links),)))
     phi = np.linspace(0.0, 2 * math.pi, steps, endpoint=False) + engine.phi_drawn[0]
     motion = analyse(engine, phi, omega=1.0, epsilon=0.0)

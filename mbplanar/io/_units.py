@@ -124,6 +124,8 @@ def convert_check(engine, doc: dict, display: DisplayUnits) -> dict:
     for node in doc["extremes"]:
         if node["kind"] == "slider":
             _scale_dict(node, {"minimum": "length", "maximum": "length"}, display)
+            for local in node["local"]:  # (the local extremes too, as the text report shows them)
+                _scale_dict(local, {"value": "length"}, display)
     if doc.get("grashof"):
         g = doc["grashof"]
         _scale_dict(g, {"s_plus_l": "length", "p_plus_q": "length"}, display)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, did_you_mean
 from ..engine._atlas import far_span, met_along
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp
@@ -224,6 +224,33 @@ def describe_limit(engine: Engine, lim: Limit) -> str:
             if inp else "motion limit")
 
 
+def range_text(lo: float, hi: float, digits: int = 10) -> str:
+    """'a … b': the range lo … hi an input moves through between motion limits (in any unit), with
+    `digits` significant digits, each end rounded towards the inside and at least 1e-9 of the range from
+    its limit, so that the values shown can be asked for: the engine resolves a position down to ~3e-10
+    of a turn from a fold, and an end rounded to the nearest digit may lie beyond it.
+
+    Examples
+    --------
+    >>> range_text(-0.8083147211001106, 1.7999124165244385)
+    '-0.8083147184 … 1.799912413'
+    """
+    margin = 1e-9 * (hi - lo)
+    ends = []
+    for x, inward in ((lo + margin, 1.0), (hi - margin, -1.0)):
+        shown = float(f"{x:.{digits}g}")
+        if (shown - x) * inward < 0:  # rounded outwards: one unit of the last digit back in
+            step = 10.0 ** (np.floor(np.log10(abs(x))) - digits + 1) if x else 10.0 ** -digits
+            shown = float(f"{shown + inward * step:.{digits}g}")
+        ends.append(f"{shown:.{digits}g}")
+    return " … ".join(ends)
+
+
+def reach_text(inp, lo: float, hi: float, digits: int = 10) -> str:
+    """`range_text` of an input's range lo … hi (SI), in its unit, with the unit."""
+    return f"{range_text(inp.from_si(lo), inp.from_si(hi), digits)} {inp.unit}"
+
+
 def describe_crossing(engine: Engine, c: Crossing) -> str:
     where = ", ".join(f"{i.name} = {i.from_si(p):.10g} {i.unit}" for i, p in zip(engine.inputs, c.phi))
     return (f"change point at {where}: links {', '.join(c.links)} — {c.kind}; two assembly branches cross "
@@ -310,8 +337,9 @@ def point_selection(engine: Engine, points=None) -> PointSelection:
     index = {n: k for k, n in enumerate(names)}
     for k, name in enumerate(asked):
         if name not in index:
-            raise ModelError(f"analyse: points: no joint or point named {name!r} (the model has "
-                             f"{', '.join(names)})", source=engine.mech.source, where="analyse")
+            raise ModelError(f"analyse: points: no joint or point named {name!r}; "
+                             f"{did_you_mean(name, names, 'joints and points')}", source=engine.mech.source,
+                             where="analyse")
         if name in asked[:k]:
             raise ModelError(f"analyse: points: {name!r} is asked twice", source=engine.mech.source,
                              where="analyse")

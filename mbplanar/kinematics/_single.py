@@ -215,5 +215,6 @@ def unreachable(engine, phi: np.ndarray, motion) -> MotionError:
     if len(engine.inputs) == 1 and motion.limits:
         inp = engine.inputs[0]
         lo, hi = engine.reach()
-        reach = f" (the input moves within {inp.from_si(lo):.10g} … {inp.from_si(hi):.10g} {inp.unit})"
+        from ._motion import reach_text
+        reach = f" (the input moves within {reach_text(inp, lo, hi)})"
     return MotionError(f"cannot reach {where} on the drawn branch: {motion.message}{reach}", source=engine.mech.source)

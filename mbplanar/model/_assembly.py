@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import ModelError, ModelWarning, MotionError
+from ..errors import ModelError, ModelWarning, MotionError, did_you_mean
 from ._scale import SLACK
 from ._model import Joint, Link, Mechanism, Point
 
@@ -61,7 +61,8 @@ def _resolve_lengths(mech: Mechanism, link: Link, names) -> list[tuple[str, str,
             p, q = revolute
         for name in (p, q):
             if name not in names:
-                raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link",
+                raise ModelError(f"length {p}-{q}: '{name}' is not a joint or point of this link; "
+                                 f"{did_you_mean(name, names, 'joints and points of the link')}",
                                  source=mech.source, where=where)
         if p == q:
             raise ModelError(f"length {p}-{q} joins a point to itself", source=mech.source, where=where)
@@ -76,9 +77,13 @@ def _check_references(mech: Mechanism):
         if link.angle is not None:
             for name in link.angle:
                 if name not in names:
-                    raise ModelError(f"angle point '{name}' is not on this link", source=mech.source, where=where)
+                    raise ModelError(f"angle point '{name}' is not on this link; "
+                                     f"{did_you_mean(name, names, 'joints and points of the link')}",
+                                     source=mech.source, where=where)
         if link.centre is not None and link.centre not in names and link.centre not in mech.points:
-            raise ModelError(f"centre '{link.centre}' is not a point of this link", source=mech.source, where=where)
+            raise ModelError(f"centre '{link.centre}' is not a point of this link; "
+                             f"{did_you_mean(link.centre, names, 'joints and points of the link')}",
+                             source=mech.source, where=where)
         if link.centre is not None and link.centre in mech.points and mech.points[link.centre].link != link.name:
             raise ModelError(f"centre '{link.centre}' belongs to link '{mech.points[link.centre].link}'",
                              source=mech.source, where=where)
@@ -88,7 +93,9 @@ def _check_references(mech: Mechanism):
             for name in j.guide_points:
                 if name not in names:
                     raise ModelError(f"joints '{j.name}': guide point '{name}' is not on "
-                                     f"its carrier link '{j.carrier}'", source=mech.source)
+                                     f"its carrier link '{j.carrier}'; "
+                                     f"{did_you_mean(name, names, 'joints and points of the carrier')}",
+                                     source=mech.source)
             a, b = (names[n] for n in j.guide_points)
             if math.dist(a, b) == 0:
                 raise ModelError(f"joints '{j.name}': guide points coincide", source=mech.source)
@@ -98,7 +105,9 @@ def _check_references(mech: Mechanism):
             for name in p.along:
                 if name not in names:
                     raise ModelError(f"points '{p.name}': '{name}' is not a joint or "
-                                     f"point (with 'at') of link '{p.link}'", source=mech.source)
+                                     f"point (with 'at') of link '{p.link}'; "
+                                     f"{did_you_mean(name, names, 'joints and points of the link')}",
+                                     source=mech.source)
 
 
 def _coincident(names: dict, tol: float) -> dict[str, str]:
@@ -263,6 +272,30 @@ LENGTH_MISMATCH = 0.10        # a length 10 % or more off the sketch's distance 
 INPUT_MISMATCH_DEG = 1.0      # a drawn_at more than 1° off the sketch's angle is flagged
 
 
+#: every length given this many times off the sketch (or its inverse), all by one factor: another unit
+UNIFORM_SCALE = 5.0
+
+
+def _refuse_uniform_scale(mech: Mechanism, sketch: _Sketch):
+    """A `ModelError` when every length given (two or more) differs from what the sketch draws by one
+    factor, at least `UNIFORM_SCALE` either way (within 10 %): lengths and coordinates written in two
+    units (metres in a mm table: 1/1000), which no assembly can reconcile without moving the drawing by
+    its own size."""
+    ratios = [(value / math.dist(sketch.local[link][p], sketch.local[link][q]), link)
+              for link, p, q, value in sketch.lengths if math.dist(sketch.local[link][p], sketch.local[link][q]) > 0]
+    if len(ratios) < 2:
+        return
+    values = [r for r, _ in ratios]
+    lo, hi = min(values), max(values)
+    if hi > (1 + LENGTH_MISMATCH) * lo or 1 / UNIFORM_SCALE < math.sqrt(lo * hi) < UNIFORM_SCALE:
+        return
+    factor = math.sqrt(lo * hi)
+    shown = f"1/{1 / factor:.4g}" if factor < 1 else f"{factor:.4g}"
+    raise ModelError(f"every length given ({len(ratios)}, links {', '.join(dict.fromkeys(n for _, n in ratios))}) is "
+                     f"{shown} × what the sketch draws: the lengths and the coordinates are in different units "
+                     f"(both are read in length_unit '{mech.units.length}')", source=mech.source)
+
+
 def _warn_disagreements(mech: Mechanism, sketch: _Sketch):
     """A `ModelWarning` for a length 10 % or more off the distance the sketch draws (measured against the
     drawing, the boundary included to rounding: `mbplanar.model._scale.SLACK`), and for a
@@ -270,6 +303,7 @@ def _warn_disagreements(mech: Mechanism, sketch: _Sketch):
     degrees, a wrong `zero`): the assembly would move the drawing far, silently."""
     units = mech.units
     k = units.length_scale
+    _refuse_uniform_scale(mech, sketch)
     for link, p, q, value in sketch.lengths:
         drawn = math.dist(sketch.local[link][p], sketch.local[link][q])
         if abs(value - drawn) >= LENGTH_MISMATCH * drawn * (1 - SLACK):

@@ -12,7 +12,7 @@ import math
 import warnings
 from pathlib import Path
 
-from ..errors import ModelError, ModelWarning
+from ..errors import ModelError, ModelWarning, did_you_mean
 from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, INPUT, JOINT, LINK, LOADS, MISSING, POINT,
                     SWITCH, Section)
 from ._model import (ANGLE_UNITS, ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input,
@@ -59,7 +59,7 @@ def read_text(path, what: str = "the model file") -> str:
     """The UTF-8 text of `what` at `path`, or a `ModelError` naming the file and why it cannot be read."""
     path = Path(path)
     try:
-        return path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8-sig")  # (a byte-order mark, as Excel and Notepad write, is read)
     except OSError as exc:
         raise ModelError(f"cannot read {what} ({exc.strerror or exc})", source=str(path)) from None
     except UnicodeDecodeError as exc:
@@ -70,7 +70,7 @@ def read_model_text(text: str, source: str = "<table>") -> Mechanism:
     """Parse the TOML `text` of a model; a syntax error names the line and column."""
     import tomllib  # (here: an engine read from the cache needs no parser)
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))  # (a byte-order mark, as Excel and Notepad write)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"TOML syntax error: {exc}", source=source) from None
     return parse_model(data, source=source)
@@ -270,6 +270,15 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     """
     if isinstance(data, str):
         return read_model_text(data, source)
+    if isinstance(data, dict) and "joints" not in data:  # a [table] header above the lists takes them in
+        inside = next((k for k, v in data.items() if isinstance(v, dict) and "joints" in v), None)
+        if inside is not None:
+            raise ModelError(f"the 'joints' list is inside [{inside}]: a [table] header takes every key below it; "
+                             f"move [{inside}] after the lists", source=source)
+    if isinstance(data, dict) and "cam" in data and not data.get("joints"):
+        command = f"mbplanar cam {'FILE' if source.startswith('<') else source}"
+        raise ModelError(f"this is a cam file: use `{command}` (the linkage commands read a table of pairs)",
+                         source=source)
     if isinstance(data, dict) and _has_parameters(data):
         from ._parameters import Template  # named dimensions and polar placements, bound to their values
         data = Template(data, source).bind()
@@ -371,7 +380,8 @@ def _check_links(mech: Mechanism, labels: dict[str, str]):
         where = labels.get(name, f"link '{name}'")
         own = {j.name for j in mech.joints_of(name)} | {p.name for p in mech.points.values() if p.link == name}
         if link.centre is not None and link.centre not in own:
-            raise ModelError(f"centre '{link.centre}' is not a joint or point of this link",
+            raise ModelError(f"centre '{link.centre}' is not a joint or point of this link; "
+                             f"{did_you_mean(link.centre, own, 'joints and points of the link')}",
                              source=mech.source, where=where)
         if link.mass and link.centre is None:
             raise ModelError(f"a link with mass ({link.mass:g} kg) needs a 'centre' point",
@@ -412,14 +422,18 @@ def _warn_link_scale(mech: Mechanism, name: str, where: str):
 
 def _check_extent(mech: Mechanism, name: str, where: str):
     """A link with two or more revolute joints, no guide and no other point, all drawn at one place,
-    has zero length: its angle is undefined."""
+    has zero length: its angle is undefined. "One place" is relative to the drawing (its coordinates'
+    size and extent), whatever its scale: a 1e-13 m four-bar is no zero-length link."""
     joints = mech.joints_of(name)
     revolute = [j for j in joints if j.kind == "R"]
     if len(revolute) < 2 or len(revolute) < len(joints):
         return
     spots = [j.at for j in revolute] + [p.at for p in mech.points.values() if p.link == name and p.at]
     size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
-    if size <= 1e-12 * max(1.0, max(abs(c) for xy in spots for c in xy)):
+    drawing = [j.at for j in mech.joints.values()] + [p.at for p in mech.points.values() if p.at]
+    extent = max(max(abs(c) for xy in drawing for c in xy), max(xy[0] for xy in drawing) - min(xy[0] for xy in drawing),
+                 max(xy[1] for xy in drawing) - min(xy[1] for xy in drawing))
+    if size <= 1e-12 * extent:
         raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
                          f"the same point", source=mech.source, where=where)
 
@@ -449,7 +463,8 @@ def _read_joints(mech: Mechanism, rows, unit):
             row.fail(f"joins link '{links[0]}' to itself")
         for link in links:
             if link != mech.ground and link not in mech.links:
-                row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}')")
+                row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
+                         f"{did_you_mean(link, mech.all_links, 'links')}")
         x, y = row.pair("at", required=JOINT["at"].required)
         guide = guide_points = None
         carrier = row.get("carrier")
@@ -483,7 +498,8 @@ def _read_points(mech: Mechanism, rows, unit):
         row.where = f"points[{i}] '{name}'"
         link = row.get("link")
         if link != mech.ground and link not in mech.links:
-            row.fail(f"link '{link}' is not in the links list")
+            row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
+                     f"{did_you_mean(link, mech.all_links, 'links')}")
         at = row.pair("at")
         along = row.get("along")
         fraction = row.get("fraction")
@@ -534,7 +550,7 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
         if joint is None:
-            row.fail(f"'{joint_name}' is not a joint of the table")
+            row.fail(f"'{joint_name}' is not a joint of the table; {did_you_mean(joint_name, mech.joints, 'joints')}")
         if any(inp.joint == joint_name for inp in mech.inputs):
             row.fail(f"joint '{joint_name}' is driven twice")
         default_unit = "deg" if joint.kind == "R" else mech.units.length
@@ -639,7 +655,8 @@ def _switch(mech, row: Row) -> dict:
     """`switch` (a joint or point), `switch_direction` (degrees, points) and `when` of any row."""
     name = row.get("switch")
     if name not in mech.joints and name not in mech.points:
-        row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model")
+        row.fail(f"'switch' = '{name}' is neither a joint nor a point of the model; "
+                 f"{did_you_mean(name, [*mech.joints, *mech.points], 'joints and points')}")
     if row.has("switch_direction") and name not in mech.points:
         row.fail(f"'switch_direction' applies to a point; '{name}' is a joint")
     direction = math.radians(row.get("switch_direction"))
@@ -659,7 +676,8 @@ def _element_load(mech, i, row: Row, kind, units: Units) -> dict:
         joint = row.get("joint")
         j = mech.joints.get(joint)
         if j is None or j.kind != "R":
-            row.fail(f"joint '{joint}' is not a revolute joint of the model")
+            row.fail(f"joint '{joint}' is not a revolute joint of the model; "
+                     f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'R'], 'revolute joints')}")
         c = row.get("damping")
         return dict(index=i, kind=kind, link=j.links[1], other=j.links[0], joint=joint,
                     damping=c * units.moment_scale)
@@ -700,7 +718,7 @@ def _two_links(mech, row: Row, required=False) -> tuple[str, str] | None:
         row.fail(f"'links' must be two different links [a, b], got {value!r}")
     for name in value:
         if str(name) not in mech.links and str(name) != mech.ground:
-            row.fail(f"'{name}' in 'links' is not a link of the model")
+            row.fail(f"'{name}' in 'links' is not a link of the model; {did_you_mean(name, mech.all_links, 'links')}")
     return str(value[0]), str(value[1])
 
 
@@ -711,6 +729,12 @@ def _end_links(mech, row: Row, ends) -> tuple[str, str]:
         return given
     out = []
     for end in ends:
+        if isinstance(end, str) and end in mech.joints:
+            row.fail(f"'{end}' in 'at' is a joint, of links {' and '.join(mech.joints[end].links)}: say on which "
+                     "links the ends lie ('links = [a, b]')")
+        if isinstance(end, str) and end not in mech.points:
+            row.fail(f"'{end}' in 'at' is neither a point nor a joint of the model; "
+                     f"{did_you_mean(end, [*mech.points, *mech.joints], 'points and joints')}")
         if not (isinstance(end, str) and end in mech.points):
             row.fail(f"say on which links the ends lie ('links = [a, b]'): {end!r} is not a named point of "
                      "one link")
@@ -741,14 +765,15 @@ def _named_on(mech, row: Row, link: str, name: str, what: str) -> str:
         if link not in mech.joints[name].links:
             row.fail(f"joint '{name}' does not belong to link '{link}'")
     else:
-        row.fail(f"{what} is neither a point nor a joint of the model")
+        row.fail(f"{what} is neither a point nor a joint of the model; "
+                 f"{did_you_mean(name, [*mech.points, *mech.joints], 'points and joints')}")
     return name
 
 
 def _link_load(mech, i, row: Row, kind, units: Units) -> dict:
     link = row.get("link")
     if link not in mech.links:
-        row.fail(f"'{link}' is not a moving link of the model")
+        row.fail(f"'{link}' is not a moving link of the model; {did_you_mean(link, mech.moving_links, 'moving links')}")
     fields = dict(index=i, kind=kind, link=link)
     if kind == "force":
         fields["force"] = row.get("force")
@@ -763,7 +788,8 @@ def _guide_load(mech, i, row: Row, kind, units: Units) -> dict:
     joint = row.get("joint")
     j = mech.joints.get(joint)
     if j is None or j.kind != "P":
-        row.fail(f"joint '{joint}' is not a prismatic joint of the model")
+        row.fail(f"joint '{joint}' is not a prismatic joint of the model; "
+                 f"{did_you_mean(joint, [n for n, o in mech.joints.items() if o.kind == 'P'], 'prismatic joints')}")
     link = row.text("link", j.slider)
     if link not in j.links or link == mech.ground:
         row.fail(f"link '{link}' must be the moving link of joint '{joint}' the force acts on")
@@ -842,8 +868,10 @@ def crank_input(mech: Mechanism, where: str = "dynamics") -> Input:
     """The one input of a machine driven by a crank (a revolute input joint with the ground), else a
     `ModelError`."""
     if len(mech.inputs) != 1:
-        raise ModelError(f"machine dynamics needs a model with one input, this one has {len(mech.inputs)}",
-                         source=mech.source, where=where)
+        raise ModelError(f"machine dynamics (the energy–mass method, the flywheel) reduces a machine to its one "
+                         f"crank; this model has {len(mech.inputs)} inputs "
+                         f"({', '.join(i.name for i in mech.inputs)}): `mbplanar simulate` gives the motion of "
+                         "a machine with several inputs", source=mech.source, where=where)
     inp = mech.inputs[0]
     if mech.joints[inp.joint].kind != "R" or mech.ground not in mech.joints[inp.joint].links:
         raise ModelError(f"machine dynamics needs a crank (a revolute input joint with the ground); "

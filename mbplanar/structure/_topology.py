@@ -86,8 +86,24 @@ def _check_connected(mech: Mechanism, g: nx.Graph):
                          "joint", source=mech.source)
 
 
+def _dangling(mech: Mechanism) -> list[str]:
+    """The moving links held by one pair that no input drives: each adds a free degree of freedom."""
+    driven = {inp.joint for inp in mech.inputs}
+    return [name for name in mech.moving_links
+            if len(joints := mech.joints_of(name)) == 1 and joints[0].name not in driven]
+
+
 def _check_dof(mech: Mechanism, dof: int):
     n, p = len(mech.moving_links), len(mech.joints)
+    dangling = _dangling(mech)
+    if dangling and dof > len(mech.inputs):
+        j = mech.joints_of(dangling[0])[0]
+        other = j.other(dangling[0])
+        raise ModelError(f"link '{dangling[0]}' hangs on one pair ({j.name}, to link '{other}'), so it swings "
+                         f"freely (DOF = {dof} for {len(mech.inputs)} input(s)): give its second pair, drive "
+                         f"{j.name} as an input, or make it a point of link '{other}'"
+                         + (f"; links {', '.join(dangling[1:])} hang on one pair too" if dangling[1:] else ""),
+                         source=mech.source, where=f"links '{dangling[0]}'")
     if dof != len(mech.inputs):
         why = (f"DOF = {dof} (structural count 3·n − 2·p = 3·{n} − 2·{p}, n moving links, p pairs), but the "
                f"table has {len(mech.inputs)} input(s)")

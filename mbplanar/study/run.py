@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from .._progress import Interrupted
-from ..errors import MbplanarError, ModelError
+from ..errors import MbplanarError, ModelError, did_you_mean
 from ..model import parse_model
 from ..model._model import Units
 from ..model._parameters import Template
@@ -58,7 +58,7 @@ def load_template(model) -> Template:
         return Template(model)
     path = Path(model)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelError(f"{path}: cannot read the model file ({exc})") from None
     try:
@@ -189,7 +189,8 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
         raise ModelError(f"{template.source}: a design study drives one input; this model has {len(base.inputs)}")
     for p in points:
         if p not in base.mech.joints and p not in base.mech.points:
-            raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model")
+            raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model; "
+                             f"{did_you_mean(p, [*base.mech.joints, *base.mech.points], 'joints and points')}")
     parts = [variants.take(s) for s in _chunks(len(variants), chunk)]
     args = (tuple(points), samples, forces, method)
     inp = base.inputs[0]

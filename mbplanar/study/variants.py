@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError, ModelWarning
+from ..errors import ModelError, ModelWarning, closest_names, did_you_mean
 from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 from ..model._parameters import Template
 from ..model._scale import out_of_scale
@@ -63,8 +63,11 @@ def variants_from(template: Template, values: dict, names=None, source: str = "<
     arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in values.items()}
     unknown = sorted(set(arrays) - set(template.parameters))
     if unknown:
+        hints = "; ".join(f"'{u}': {did_you_mean(u, template.names, 'parameters')}" for u in unknown[:3]
+                          if closest_names(u, template.names))
         raise ModelError(f"{source}: column(s) {', '.join(unknown)} name no parameter of "
-                         f"{template.source} (parameters: {', '.join(template.names) or 'none declared'})")
+                         f"{template.source} (parameters: {', '.join(template.names) or 'none declared'})"
+                         + (f"; {hints}" if hints else ""))
     sizes = {len(v) for v in arrays.values()}
     if len(sizes) > 1:
         raise ModelError(f"{source}: parameter arrays differ in length ({sorted(sizes)})")
@@ -143,7 +146,7 @@ def read_variants(path, template: Template) -> Variants:
     """Read a CSV variant table for `template` (see the module docstring)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise ModelError(f"{path}: cannot read the variant table ({exc})") from None
     lines = [(k + 1, line) for k, line in enumerate(text.splitlines()) if line.strip() and not line.lstrip().startswith("#")]

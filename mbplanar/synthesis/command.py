@@ -228,7 +228,7 @@ def _check_pose_angles(angles, src, unit: str):
 # -- inputs -------------------------------------------------------------------------------------------
 def read_toml(path) -> dict:
     try:
-        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+        return tomllib.loads(Path(path).read_text(encoding="utf-8-sig"))
     except OSError as exc:
         raise ModelError(f"cannot read ({exc.strerror or exc})", source=str(path)) from None
     except tomllib.TOMLDecodeError as exc:
@@ -238,7 +238,7 @@ def read_toml(path) -> dict:
 def csv_rows(path, columns: int) -> np.ndarray:
     """Numeric rows of a CSV file (a header line of names is skipped), `columns` values each."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise ModelError(f"cannot read ({exc.strerror or exc})", source=str(path)) from None
     rows = []

@@ -8,8 +8,11 @@ matplotlib is imported only through `mbplanar.viz._plotting.require_matplotlib`.
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
+from ..errors import ModelError
 from ..forces._loads import ELEMENT_TYPES, drawn_end, evaluate_loads, read_loads, world_points
 from ._plotting import (COLORS, _coordinate, _figure, _plot_lines, _xstep, cycle_motion, include_points,
                        input_speed, lean_ticks, require_matplotlib)
@@ -148,25 +151,39 @@ def shaking_figure(engine, at=None, *, count=181, figsize=(10, 4.5)):
 
 def efficiency_figure(engine, at=None, *, count=181, mu=None, figsize=(7.5, 5)):
     """Instantaneous efficiency with the model's friction (or `mu` in every pair) against the input, with
-    the cycle efficiency."""
-    from ..forces._friction import friction_kinetostatics, read_friction
+    the cycle efficiency. Where the friction iteration does not converge (a mechanism that self-locks, or
+    friction out of scale) η is left out, the title says why, and a `ModelWarning` too; `MotionError`
+    when it converges nowhere."""
+    import warnings
+
+    from ..errors import ModelWarning, MotionError
+    from ..forces._friction import friction_kinetostatics, not_converged, read_friction
     plt = require_matplotlib()
-    motion = cycle_motion(engine, count)
     spec = read_friction(engine.mech, mu)
+    if spec is None:
+        raise ModelError("the model has no [friction] section: nothing to draw for 'efficiency' (add [friction] "
+                         "with mu and pin_radius, docs/forces.md)", source=engine.mech.source)
+    motion = cycle_motion(engine, count)
+    fr = friction_kinetostatics(engine, motion, spec)
+    failed = ~(fr.residual <= spec.tolerance)
+    if failed.all():
+        raise MotionError(not_converged(engine, spec, fr, "at every position of the cycle"), source=engine.mech.source)
+    note = ""
+    if failed.any():
+        note = (not_converged(engine, spec, fr, f"at {int(failed.sum())} of {len(failed)} positions")
+                + "; the efficiency is left out there")
+        warnings.warn(ModelWarning(f"{engine.mech.source}: {note}"), stacklevel=2)
     fig = _figure(plt, figsize)
     ax = fig.add_subplot()
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
-    if spec is None:
-        ax.text(0.5, 0.5, "the model has no [friction] section", ha="center", va="center", transform=ax.transAxes)
-        ax.set_axis_off()
-        return fig
-    fr = friction_kinetostatics(engine, motion, spec)
-    cycle = "" if fr.cycle_efficiency is None else f"; over the sweep η = {fr.cycle_efficiency:.4g}"
-    _plot_lines(ax, x, [fr.efficiency], ["η = drive power without / with friction"], "η", xlabel,
-                f"Instantaneous efficiency ({fr.iterations} iterations, residual ≤ {np.max(fr.residual):.1e}"
-                f"{cycle})", _xstep(engine, x))
+    cycle = "" if fr.cycle_efficiency is None or failed.any() else f"; over the sweep η = {fr.cycle_efficiency:.4g}"
+    residual = float(np.max(fr.residual[~failed]))
+    _plot_lines(ax, x, [np.where(failed, np.nan, fr.efficiency)], ["η = drive power without / with friction"], "η",
+                xlabel, f"Instantaneous efficiency ({fr.iterations} iterations, residual ≤ {residual:.1e}{cycle})",
+                _xstep(engine, x))
     ax.lines[-1].set_gid("efficiency")
-    fig.suptitle(f"{engine.mech.title or engine.mech.name}: friction in the pairs", fontsize=10)
+    title = f"{engine.mech.title or engine.mech.name}: friction in the pairs"
+    fig.suptitle(title + ("\n" + textwrap.fill(note, 110) if note else ""), fontsize=10)
     return fig
 
 
@@ -178,12 +195,10 @@ def simulation_figure(engine, at=None, *, trajectory=None, figsize=(10, 7), **_)
 
     from ..forces._simulation import read_simulate, simulate_motion
     plt = require_matplotlib()
-    fig = _figure(plt, figsize)
     if trajectory is None and "simulate" not in engine.mech.extras:
-        ax = fig.add_subplot()
-        ax.text(0.5, 0.5, "the model has no [simulate] section", ha="center", va="center", transform=ax.transAxes)
-        ax.set_axis_off()
-        return fig
+        raise ModelError("the model has no [simulate] section: nothing to draw for 'simulation' (add [simulate] "
+                         "with t and the drive, docs/forces.md, or run `mbplanar simulate`)", source=engine.mech.source)
+    fig = _figure(plt, figsize)
     if trajectory is None:
         spec = read_simulate(engine.mech)
         trajectory = simulate_motion(engine, replace(spec, rtol=max(spec.rtol, 1e-6), atol=max(spec.atol, 1e-9)))

@@ -19,11 +19,12 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import ModelError, MotionError, PlotUnavailable
+from ..errors import ModelError, MotionError, PlotUnavailable, did_you_mean
 from ..kinematics._motion import describe_limit
 from ._scene import build_scene
 
-__all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure",
+__all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure", "path_rates",
+           "path_analogues", "path_note", "unknown_picture",
            "save_figure", "cycle_values", "cycle_motion", "swing_values", "position_motion", "draw_mechanism",
            "draw_trajectories", "draw_vectors", "draw_instant_centres", "diagram_figure",
            "trajectories_figure", "kinematics_figure", "analogues_figure", "transmission_figure",
@@ -93,6 +94,35 @@ def cycle_motion(engine, count: int = 72):
     lo, hi = motion.phi[0], motion.phi[-1]
     fine = analyse(engine, np.linspace(lo, hi, count) if several else np.linspace(lo[0], hi[0], count))
     return replace(fine, limits=motion.limits)
+
+
+def path_rates(engine) -> np.ndarray:
+    """How fast each input moves along the model's input path (`cycle_values`: every input over its
+    sweep at once) per unit of the first input: dφ_k/dφ_1 in SI (n_in,); [1.0] with one input."""
+    widths = np.array([inp.to_si(hi) - inp.to_si(lo) for inp in engine.inputs for lo, hi in [inp.default_sweep()]])
+    return widths / widths[0]
+
+
+def path_analogues(engine, motion):
+    """The analogues along the model's input path at the positions of `motion`: (w, e, v, a), the first
+    and second derivatives by the first input (SI) of every link's angle (B, L) and point (B, P, 2),
+    the other inputs moving with it as `path_rates` says (a straight path: no second derivative of the
+    inputs). With one input the motion's own analogues (wq, eq, vq, aq)."""
+    if len(engine.inputs) == 1:
+        return motion.wq, motion.eq, motion.vq, motion.aq
+    from ..kinematics._motion import analyse
+    along = analyse(engine, motion.phi, omega=path_rates(engine), epsilon=0.0, points=motion.point_names)
+    return along.w, along.e, along.v, along.a
+
+
+def path_note(engine) -> str:
+    """'' with one input; else how the path analogues are taken: 'along the input path, d/dphi1 with
+    phi2 moving 1× as fast'."""
+    if len(engine.inputs) == 1:
+        return ""
+    first = engine.inputs[0].name
+    moving = ", ".join(f"{inp.name} moving {r:.4g}× as fast" for inp, r in zip(engine.inputs[1:], path_rates(engine)[1:]))
+    return f"along the input path: d/d{first} with {moving}"
 
 
 def swing_values(engine, count: int = 72) -> np.ndarray | None:
@@ -328,11 +358,15 @@ def draw_instant_centres(ax, scene, motion, b, reach=1.5):
 
 
 def input_speed(engine) -> str:
-    """'ω = 7.645 rad/s, ε = 0 rad/s²' (a prismatic input: 'v = ... m/s, a = ... m/s²'): the model's."""
-    inp = engine.inputs[0]
-    if engine.mech.joints[inp.joint].kind == "R":
-        return f"ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s²"
-    return f"v = {inp.omega:g} m/s, a = {inp.epsilon:g} m/s²"
+    """'ω = 7.645 rad/s, ε = 0 rad/s²' (a prismatic input: 'v = ... m/s, a = ... m/s²'): the model's; with
+    several inputs each named ('phi1: ω = 1 rad/s, ε = 0 rad/s²; phi2: ...')."""
+    def one(inp):
+        if engine.mech.joints[inp.joint].kind == "R":
+            return f"ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s²"
+        return f"v = {inp.omega:g} m/s, a = {inp.epsilon:g} m/s²"
+    if len(engine.inputs) == 1:
+        return one(engine.inputs[0])
+    return "; ".join(f"{inp.name}: {one(inp)}" for inp in engine.inputs)
 
 
 def input_label(engine, phi_row, fmt=".4g") -> str:
@@ -389,7 +423,7 @@ def show_options(text: str | None) -> dict:
     names = list(SHOW) if names == ["all"] else names
     bad = [n for n in names if n not in SHOW]
     if bad:
-        raise ModelError(f"unknown --show item '{bad[0]}'; choose from: {', '.join(SHOW)} (or all)")
+        raise ModelError(f"unknown --show item '{bad[0]}'; {did_you_mean(bad[0], SHOW, 'items')} (or all)")
     return {"vectors": tuple(SHOW[n] for n in names if SHOW[n] in ("v", "a")),
             "centres": "centres" in names, "reactions": "reactions" in names, "loads": "loads" in names}
 
@@ -408,8 +442,8 @@ def trajectories_figure(engine, at=None, *, points=None, count=120, figsize=(7.5
     known = whole.joint_names + whole.point_names
     for name in points or ():
         if name not in known:
-            raise ModelError(f"no point or pair '{name}' to trace; the model has: "
-                             f"{', '.join(known)}", source=engine.mech.source)
+            raise ModelError(f"no point or pair '{name}' to trace; {did_you_mean(name, known, 'points and pairs')}",
+                             source=engine.mech.source)
     motion = position_motion(engine, at)
     scene = build_scene(engine, motion, cycle)
     fig = _figure(plt, figsize)
@@ -467,7 +501,8 @@ def _series_panels(engine, motion, real: bool):
         w, e, v, a = motion.w[:, 1:], motion.e[:, 1:], motion.v[:, idx], motion.a[:, idx]
         sfx, wu, eu, vu, au = "", "rad/s", "rad/s²", "m/s", "m/s²"
     else:
-        w, e, v, a = motion.wq[:, 1:], motion.eq[:, 1:], motion.vq[:, idx], motion.aq[:, idx]
+        wq, eq, vq, aq = path_analogues(engine, motion)
+        w, e, v, a = wq[:, 1:], eq[:, 1:], vq[:, idx], aq[:, idx]
         sfx, wu, eu, vu, au = " analogue", "rad/rad", "rad/rad²", "m/rad", "m/rad²"
     panels = [("Link angles", "angle [°]", links, angles)]
     if sliders:
@@ -486,15 +521,13 @@ def _series_panels(engine, motion, real: bool):
 def _panels_figure(engine, real, count, figsize):
     plt = require_matplotlib()
     motion = cycle_motion(engine, count)
-    if not real and motion.wq is None:
-        raise ModelError("analogues need a single input", source=engine.mech.source)
     x, xlabel = _coordinate(engine, motion.phi[:, 0])
     fig = _figure(plt, figsize)
     axes = fig.subplots(3, 2, sharex=True)
     for k, (ax, (title, ylabel, names, values)) in enumerate(zip(axes.flat, _series_panels(engine, motion, real))):
         _plot_lines(ax, x, values, names, ylabel, xlabel if k >= 4 else None, title, _xstep(engine, x))
-    inp = engine.inputs[0]
-    what = f"real, at ω = {inp.omega:g} rad/s" if real else "analogues (d/dφ, d²/dφ²)"
+    what = f"real, at {input_speed(engine)}" if real else \
+        ("analogues (d/dφ, d²/dφ²)" if len(engine.inputs) == 1 else f"analogues {path_note(engine)}")
     limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
     fig.suptitle(f"{engine.mech.title or engine.mech.name}: kinematics, {what}{limit}", fontsize=10)
     return fig
@@ -648,10 +681,22 @@ def register_figure(name: str, function: Callable, help: str) -> None:
     FIGURES[name] = Figure(function, help)
 
 
+#: words people write for a picture of another name
+PICTURE_SYNONYMS = {"friction": "efficiency", "reactions": "forces", "coupler": "trajectories",
+                    "paths": "trajectories", "flywheel": "dynamics", "velocities": "vectors"}
+
+
+def unknown_picture(what: str) -> str:
+    """The message for a picture `what` that `FIGURES` lacks: the closest names, or the synonym's picture."""
+    hint = (f"did you mean '{PICTURE_SYNONYMS[what.lower()]}'?" if what.lower() in PICTURE_SYNONYMS
+            else did_you_mean(what, FIGURES, "pictures"))
+    return f"unknown picture '{what}'; {hint} (pictures: {', '.join(FIGURES)})"
+
+
 def make_figure(engine, what: str, at=None, **options):
     require_matplotlib()
     if what not in FIGURES:
-        raise ModelError(f"unknown picture '{what}'; choose one of: {', '.join(FIGURES)}")
+        raise ModelError(unknown_picture(what))
     return FIGURES[what].function(engine, at, **options)
 
 

@@ -64,16 +64,20 @@ def html_table(header, rows, caption=None) -> str:
 
 # -- the sections -----------------------------------------------------------------------------------
 def _model_section(engine, ctx):
+    from ._plotting import input_speed
     mech = engine.mech
-    inp = engine.inputs[0]
     rows = []
     for j in mech.joints.values():
         guide = f"{j.guide_deg:.4f}°" if j.kind == "P" else ""
         rows.append((j.name, j.kind, " – ".join(j.links), j.at[0], j.at[1], guide))
-    text = (f"<p>Model file <code>{html.escape(str(mech.source))}</code>. Generalized coordinate "
-            f"<b>{html.escape(inp.name)}</b> [{html.escape(inp.unit)}] drives joint {html.escape(inp.joint)}; "
-            f"input speed ω = {inp.omega:g} rad/s, ε = {inp.epsilon:g} rad/s². "
+    coords = "; ".join(f"<b>{html.escape(inp.name)}</b> [{html.escape(inp.unit)}] drives joint "
+                       f"{html.escape(inp.joint)}" for inp in engine.inputs)
+    text = (f"<p>Model file <code>{html.escape(str(mech.source))}</code>. Generalized coordinate"
+            f"{'s' if len(engine.inputs) > 1 else ''}: {coords}; input speed {html.escape(input_speed(engine))}. "
             f"Ground link {html.escape(mech.ground)}; moving links {html.escape(', '.join(mech.moving_links))}.</p>")
+    if len(engine.inputs) > 1:
+        text += (f"<p>{len(engine.inputs)} inputs: the tables and plots over the cycle follow the model's input "
+                 "path, every input over its sweep at once (" + html.escape(_path(engine)) + ").</p>")
     links = [(lk.name, lk.mass, lk.inertia, lk.centre or "") for lk in mech.links.values() if lk.name != mech.ground]
     return (text + html_table(("pair", "type", "links", "x [m]", "y [m]", "guide"), rows, "Table of kinematic pairs")
             + html_table(("link", "mass [kg]", "J_S [kg·m²]", "centre"), links, "Links"))
@@ -104,35 +108,57 @@ def _structure_section(engine, ctx):
 def _motion_section(engine, ctx):
     """`check`'s verdict: whether the input turns fully, dead points and change points, extreme
     positions, transmission and pressure angles."""
-    from ..analysis._check import check, format_report
+    from ..analysis._check import check, check_region, format_region, format_report
+    if len(engine.inputs) == 2:
+        return ("<p>The region the two inputs can reach from the drawn pose (<code>mbplanar check</code>): a "
+                "grid over both inputs' sweeps, each grid line walked on the drawn branch, and the singular "
+                "curves where the links line up.</p><pre>" + html.escape(format_region(check_region(engine)))
+                + "</pre>")
     if len(engine.inputs) != 1:
-        return "<p>The motion range is checked for a mechanism with one input.</p>"
+        return (f"<p>The motion range is checked for one input (a region for two); this model has "
+                f"{len(engine.inputs)}.</p>")
     return ("<p>The whole range the input can move through (<code>mbplanar check</code>): dead points are "
             "located exactly, extreme positions refined by Newton on the analogue, transmission and "
             "pressure angles over the range.</p><pre>" + html.escape(format_report(check(engine))) + "</pre>")
 
 
 def _positions_section(engine, ctx):
-    from ._plotting import moving_points
+    from ._plotting import moving_points, path_analogues
     from ._scene import build_scene
     m = ctx.table
-    inp = engine.inputs[0]
-    phi = inp.from_si(m.phi[:, 0])
+    coords, cols0 = _coordinates(engine, m)
+    wq, eq, vq, aq = path_analogues(engine, m)
     links = m.link_names[1:]
-    head = [f"{inp.name} [{inp.unit}]"] + [f"φ{n} [°]" for n in links] + [f"ω{n}q" for n in links] + \
-        [f"ε{n}q" for n in links]
-    rows = np.column_stack([phi, np.degrees(m.angle[:, 1:]), m.wq[:, 1:], m.eq[:, 1:]])
+    head = coords + [f"φ{n} [°]" for n in links] + [f"ω{n}q" for n in links] + [f"ε{n}q" for n in links]
+    rows = np.column_stack(cols0 + [np.degrees(m.angle[:, 1:]), wq[:, 1:], eq[:, 1:]])
     pts = moving_points(engine, build_scene(engine, m, m))
     idx = [m.point(n) for n in pts]
-    ph = [f"{inp.name} [{inp.unit}]"] + [f"{n}.{q}" for n in pts for q in ("x", "y", "vqx", "vqy", "aqx", "aqy")]
-    cols = [phi]
+    ph = coords + [f"{n}.{q}" for n in pts for q in ("x", "y", "vqx", "vqy", "aqx", "aqy")]
+    cols = list(cols0)
     for k in idx:
-        cols += [m.xy[:, k, 0], m.xy[:, k, 1], m.vq[:, k, 0], m.vq[:, k, 1], m.aq[:, k, 0], m.aq[:, k, 1]]
+        cols += [m.xy[:, k, 0], m.xy[:, k, 1], vq[:, k, 0], vq[:, k, 1], aq[:, k, 0], aq[:, k, 1]]
     note = "" if not m.limits else f"<p class=\"warn\">{html.escape(_limits(engine, m))}</p>"
-    return (note + "<p>Angles of the links' reference lines, analogues of angular velocities ω_q = dφ_k/dφ "
-            "[rad/rad] and accelerations ε_q = d²φ_k/dφ² [rad/rad²]; points: coordinates [m], analogues of "
-            "velocity [m/rad] and acceleration [m/rad²].</p>"
+    by = "dφ" if len(engine.inputs) == 1 else f"d{html.escape(engine.inputs[0].name)}"
+    along = "" if len(engine.inputs) == 1 else f" The analogues are taken {html.escape(_path(engine))}."
+    return (note + f"<p>Angles of the links' reference lines, analogues of angular velocities ω_q = dφ_k/{by} "
+            f"[rad/rad] and accelerations ε_q = d²φ_k/{by}² [rad/rad²]; points: coordinates [m], analogues of "
+            f"velocity [m/rad] and acceleration [m/rad²].{along}</p>"
             + html_table(head, rows.tolist(), "Links") + html_table(ph, np.column_stack(cols).tolist(), "Points"))
+
+
+def _coordinates(engine, motion) -> tuple[list, list]:
+    """Column heads and columns (B,) of the input values of `motion` in the model's units, every input."""
+    return ([f"{inp.name} [{inp.unit}]" for inp in engine.inputs],
+            [inp.from_si(motion.phi[:, k]) for k, inp in enumerate(engine.inputs)])
+
+
+def _path(engine) -> str:
+    """How a multi-input model's cycle moves its inputs ('along the input path: d/dphi1 with phi2 moving 1×
+    as fast', with each input's sweep)."""
+    from ._plotting import path_note
+    sweeps = ", ".join(f"{inp.name} {inp.default_sweep()[0]:g} … {inp.default_sweep()[1]:g} {inp.unit}"
+                       for inp in engine.inputs)
+    return f"{path_note(engine)}; {sweeps}"
 
 
 def _limits(engine, motion):
@@ -161,11 +187,9 @@ def _reactions_section(engine, ctx):
     from ._forceplots import balancing_label, forces_figure, reaction_label
     from ..forces._kinetostatics import kinetostatics
     from ._plotting import diagram_figure, input_speed
-    inp = engine.inputs[0]
     table, cycle = kinetostatics(engine, ctx.table), kinetostatics(engine, ctx.cycle)
     residual = max(float(np.nanmax(r.virtual_power_residual, initial=0.0)) for r in (table, cycle))
-    phi = inp.from_si(ctx.table.phi[:, 0])
-    coord = f"{inp.name} [{inp.unit}]"
+    coords, phis = _coordinates(engine, ctx.table)
     out = (f"<p>Kinetostatics at the model's input speed and acceleration ({input_speed(engine)}), "
            "with the d'Alembert inertia loads, gravity and the model's loads; "
            "no flywheel (J_I = 0). F<sub>ij</sub> is the force on link i from link j, applied at the pair "
@@ -178,13 +202,13 @@ def _reactions_section(engine, ctx):
     notes = [r.message for r in (table, cycle) if not r.success] + ([_limits(engine, ctx.cycle)]
                                                                      if ctx.cycle.limits else [])
     out += "".join(f"<p class=\"warn\">{html.escape(n)}</p>" for n in dict.fromkeys(notes))
-    tiny = 1e-12 * max([1.0] + [float(np.nanmax(r.magnitude, initial=0.0)) for r in table.reactions.values()])
+    tiny = 1e-12 * max([0.0] + [float(np.nanmax(r.magnitude, initial=0.0)) for r in table.reactions.values()])
     tiny_m = tiny * engine.size  # round-off of a moment: what is left of the forces' moments
 
     def clean(x, eps):
         return np.where(np.abs(x) < eps, 0.0, x)
 
-    head, cols = [coord], [phi]
+    head, cols = list(coords), list(phis)
     for joint, q in table.balancing.items():
         what, unit = balancing_label(engine, joint)
         head.append(f"{what} at {joint} [{unit}]")
@@ -198,8 +222,8 @@ def _reactions_section(engine, ctx):
         fx, fy = clean(r.fx, tiny), clean(r.fy, tiny)
         mag = np.hypot(fx, fy)
         direction = np.where(mag > 0, np.degrees(np.arctan2(fy, fx)) % 360.0, np.nan)
-        head = [coord, "Fx [N]", "Fy [N]", "|F| [N]", "direction [°]"] + (["M [N·m]"] if prismatic else [])
-        rows = np.column_stack([phi, fx, fy, mag, direction] + ([clean(r.moment, tiny_m)] if prismatic else []))
+        head = coords + ["Fx [N]", "Fy [N]", "|F| [N]", "direction [°]"] + (["M [N·m]"] if prismatic else [])
+        rows = np.column_stack(phis + [fx, fy, mag, direction] + ([clean(r.moment, tiny_m)] if prismatic else []))
         grid.append(html_table(head, rows.tolist(), f"{reaction_label(r)}: pair {joint} "
                                                     f"({'prismatic' if prismatic else 'revolute'}), on link "
                                                     f"{r.on} from link {r.source}"))
@@ -224,10 +248,24 @@ def _shaking_section(engine, ctx):
 
 def _friction_section(engine, ctx):
     """The efficiency with the model's friction in the pairs (models with [friction])."""
+    import warnings
+
+    from ..errors import ModelWarning, MotionError
     if "friction" not in engine.mech.extras:
         return "<p>The model has no <code>[friction]</code> section: its pairs are ideal.</p>"
     from ._elementplots import efficiency_figure
-    return ctx.figure(efficiency_figure(engine), "instantaneous efficiency with friction in the pairs")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ModelWarning)
+        try:
+            figure = ctx.figure(efficiency_figure(engine), "instantaneous efficiency with friction in the pairs")
+        except MotionError as exc:  # the iteration converges nowhere: no efficiency to show
+            figure = ""
+            warnings.warn(ModelWarning(str(exc)), stacklevel=2)
+    for w in caught:  # (again for the command line, which prints them)
+        warnings.warn(w.message, stacklevel=2)
+    notes = "".join(f'<p class="warn">{html.escape(str(w.message))}</p>' for w in caught
+                    if "did not converge" in str(w.message))
+    return notes + figure
 
 
 def _animation_section(engine, ctx):
@@ -238,6 +276,10 @@ def _animation_section(engine, ctx):
 def _flywheel_section(engine, ctx):
     from ..forces._dynamics import machine_dynamics, summary
     from ._plotting import dynamics_figure
+    if len(engine.inputs) != 1:
+        return (f"<p>The energy–mass method and the flywheel reduce a machine to its one crank; this model has "
+                f"{len(engine.inputs)} inputs ({html.escape(', '.join(i.name for i in engine.inputs))}): "
+                "<code>mbplanar simulate</code> gives its motion under given forces.</p>")
     if engine.mech.dynamics is None:
         return "<p>The model has no <code>[dynamics]</code> section (δ and the flywheel's data).</p>"
     d = machine_dynamics(engine)
