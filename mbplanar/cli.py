@@ -51,8 +51,14 @@ def _dumps(doc, **options) -> str:
 def _load(args):
     """The engine of the command's model file, from the engine cache unless --no-cache (`engine._cache`)."""
     from .engine._cache import load_engine
-    return load_engine(args.model, backend=args.backend, threads=args.threads,
-                       use_cache=not getattr(args, "no_cache", False))
+    engine = load_engine(args.model, backend=args.backend, threads=args.threads,
+                         use_cache=not getattr(args, "no_cache", False))
+    if args.backend != "numpy":   # kernels that take none of this model's jobs: why, once (the seam logs each)
+        from .engine._tables import kernels_decline
+        why = kernels_decline(engine.mech)
+        if why:
+            print(f"mbplanar: note: backend {args.backend}: {why}", file=sys.stderr)
+    return engine
 
 
 def _plan(positions: int) -> None:
@@ -179,19 +185,47 @@ def cmd_info(args):
     print(f"{doc['model']}: {doc['title']}")
     print(f"links: {', '.join(doc['links'])} (ground {engine.mech.ground})")
     print(f"DOF = {doc['dof']}, independent loops = {doc['loops']}")
+    count = doc["count"]
+    if count["p4"]:
+        print(f"  W = 3·n − 2·p5 − p4 = 3·{count['n']} − 2·{count['p5']} − {count['p4']} = {count['chebyshev']} "
+              f"(Chebyshev); the engine: {count['joint_variables']} joint variables + {count['contact_parameters']} "
+              f"contact parameter(s) − {count['closure_equations']} closure equations = {count['engine']}")
     for name, j in doc["joints"].items():
         extra = f"  guide {j['guide_deg']:.4f}°" if j["type"] == "P" else ""
         print(f"  joint {name:6s} {j['type']}  {j['links'][0]}–{j['links'][1]}  "
               f"at ({j['at'][0]:.6f}, {j['at'][1]:.6f}) {length}{extra}")
+    for name, h in doc.get("higher_pairs", {}).items():
+        print(f"  higher pair {name:6s} {h['type']}  {h['links'][0]}–{h['links'][1]}  {_higher_words(h, length)}")
+        pairs = "; ".join(f"{e['type']} on {e['link']} at ({e['at'][0]:.6f}, {e['at'][1]:.6f})"
+                          + (f" along {e['guide_deg']:.4f}°" if e["type"] == "P" else "") for e in h["equivalent"])
+        print(f"      replaced by a link with {pairs}")
     for name, p in doc["points"].items():
         print(f"  point {name:6s} on {p['link']}  at ({p['at'][0]:.6f}, {p['at'][1]:.6f}) {length}")
     if "groups" in doc:
+        if doc.get("replaced"):
+            print("Assur groups of the equivalent lower-pair mechanism (" + ", ".join(
+                f"{link} replaces {pair}" for link, pair in doc["replaced"].items()) + "):")
         for g in doc["groups"]:
             kind = f" {g['kind']}" if g["kind"] else ""
             print(f"  group class {g['class']} order {g['order']}{kind}: links {', '.join(g['links'])}; "
                   f"pairs {', '.join(g['joints'])}")
         print(f"mechanism class {doc['mechanism_class']}: {doc['formula']}")
     return 0
+
+
+def _higher_words(h: dict, length: str) -> str:
+    """A higher pair's data in a line of `info`."""
+    at = f"({h['contact'][0]:.6f}, {h['contact'][1]:.6f}) {length}"
+    if h["type"] == "gear":
+        return (f"{h['mesh']}, pitch radii {h['radii'][0]:.6g}, {h['radii'][1]:.6g} {length}, carrier "
+                f"{h['carrier']}, ratio ω_a/ω_b relative to it {h['ratio']:.6g}; pitch point {at}, "
+                f"pressure angle {h['pressure_angle_deg']:g}°")
+    if h["type"] == "rack":
+        return f"pinion radius {h['radius']:.6g} {length}; pitch point {at}, pressure angle {h['pressure_angle_deg']:g}°"
+    if h["type"] == "cam":
+        size = f" radius {h['radius']:.6g} {length}" if "radius" in h else ""
+        return f"{h['follower']} follower{size} on a {h['curve']} profile; contact at {at}"
+    return f"pin in a {h['curve']} slot; at {at}"
 
 
 # -- solve ------------------------------------------------------------------------------------------

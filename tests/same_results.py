@@ -30,7 +30,7 @@ MODELS = ROOT / "models"
 
 MOTION = ("phi", "omega", "epsilon", "angle", "w", "e", "xy", "v", "a", "value", "rate", "accel", "ic",
           "wq", "eq", "vq", "aq", "rate_q", "accel_q")
-FRAMES = ("th", "r", "w", "v", "e", "a")
+FRAMES = ("th", "r", "w", "v", "e", "a", "contact")
 POSITION = MOTION
 DYNAMICS = ("phi", "A_c", "driving_moment", "inertia_first_group", "dT_I_max", "dT_I_min", "phi_dT_max",
             "phi_dT_min", "J_II", "dJ_II", "M_red", "omega_mean", "resistance_work", "input_link_inertia",
@@ -136,6 +136,7 @@ def collect(backend: str) -> dict:
                     flat(f"{key}.forces.residual", ks.virtual_power_residual, out)
                     flat(f"{key}.forces.singular", ks.singular, out)
                     flat(f"{key}.forces.success", ks.success, out)
+                    flat(f"{key}.forces.contact", getattr(ks, "contact_forces", {}), out)
                 try:
                     flat(f"{key}.check", mbplanar.check(engine).as_dict(), out)
                 except mbplanar.MbplanarError as exc:

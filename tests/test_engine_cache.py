@@ -89,6 +89,15 @@ def test_the_builds_warnings_are_given_again_from_the_cache(cache, no_build):
         no_build()
 
 
+def test_the_builds_warnings_are_given_without_the_cache_too(cache, capsys):
+    folder, model = cache
+    model.write_text(model.read_text(encoding="utf-8").replace("length = 0.25", "length = 0.30"), encoding="utf-8")
+    with pytest.warns(ModelWarning, match=r"links '3': length B-C = 0\.3 m, but the sketch draws"):
+        _cache.load_engine(model, use_cache=False)
+    assert main(["--no-cache", "solve", str(model), "--at", "30"]) == 0
+    assert "warning: " in capsys.readouterr().err and _entries(folder) == []
+
+
 def test_a_folder_others_can_write_is_not_read(cache, no_build):
     if not hasattr(os, "getuid"):
         pytest.skip("POSIX permissions")

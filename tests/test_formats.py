@@ -145,10 +145,11 @@ def test_reading_an_undeclared_key_is_a_programming_error():
 
 
 def test_the_format_page_lists_every_key_of_the_model_sections():
-    from mbplanar.model._keys import DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, INPUT, JOINT, LINK, LOADS, POINT
+    from mbplanar.model._keys import (CURVE, DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, HIGHER, INPUT, JOINT, LINK, LOADS,
+                                      POINT)
     page = (ROOT / "docs" / "format.md").read_text(encoding="utf-8")
-    keys = {k.name for s in (DOCUMENT, LINK, JOINT, POINT, INPUT, GRAVITY, DYNAMICS, FLYWHEEL, *LOADS.values())
-            for k in s.keys} - {"comment"}
+    keys = {k.name for s in (DOCUMENT, LINK, JOINT, POINT, INPUT, GRAVITY, DYNAMICS, FLYWHEEL, *LOADS.values(),
+                             *HIGHER.values(), CURVE) for k in s.keys} - {"comment"}
     missing = sorted(k for k in keys if f"`{k}`" not in page and f"`flywheel.{k}`" not in page)
     assert not missing, missing
 

@@ -26,7 +26,19 @@ from mbplanar.forces import kinetostatics
 
 MODELS = linkage_models()
 TEXTS = {p.name: p.read_text(encoding="utf-8") for p in MODELS}
-DOCS = {name: tomllib.loads(text) for name, text in TEXTS.items()}
+
+
+def _files_found(doc: dict, folder: Path) -> dict:
+    """The document with its curves' files named by their place (the mutants are parsed from nowhere)."""
+    rows = doc.get("joints", [])
+    for row in rows.values() if isinstance(rows, dict) else rows:
+        for key in ("profile", "path"):
+            if isinstance(row, dict) and "file" in row.get(key, {}):
+                row[key]["file"] = str(folder / row[key]["file"])
+    return doc
+
+
+DOCS = {p.name: _files_found(tomllib.loads(TEXTS[p.name]), p.parent) for p in MODELS}
 
 BAD_VALUES = [math.nan, math.inf, -math.inf, -1.0, 0.0, -0.25, 1e300, 1e-300, 0, -3, 7, True, "",
               "x", "R", "P", "0", "1", [], [0.0], [1.0, 2.0], [math.nan, 0.0], ["A", "B"], {}]

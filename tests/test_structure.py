@@ -447,6 +447,31 @@ MODEL_STRUCTURES = {
         (2, 2, "RRR", ["2", "3"], ["E23"], ["F", "B"]),
         (2, 2, "RRR", ["4", "5"], ["G"], ["A5", "E24"]),
         (2, 2, "RRR", ["6", "7"], ["H"], ["A7", "E26"])]),
+    # the higher pairs: each replaced by a link (its name primed) with two pairs at the contact's centres of
+    # curvature (named pair:link): a roller on an eccentric is the four-bar O–E–B–C's dyad RRR, a
+    # translating roller a slider-crank's RRP, a pin in an arc RRR, a pin in a straight slot RPP
+    "cam_eccentric": (1, 1, 2, "I(0,cam) → II(arm,K')", [(2, 2, "RRR", ["arm", "K'"], ["K:arm"], ["C", "K:cam"])]),
+    "cam_follower": (1, 1, 2, "I(0,cam) → II(f,K')", [(2, 2, "RRP", ["f", "K'"], ["K:f"], ["F", "K:cam"])]),
+    "slot_arc": (1, 1, 2, "I(0,1) → II(2,S')", [(2, 2, "RRR", ["2", "S'"], ["S:2"], ["C", "S:1"])]),
+    "scotch_yoke": (1, 1, 2, "I(0,1) → II(2,S')", [(2, 2, "RPP", ["2", "S'"], ["S:2"], ["Y", "S:1"])]),
+    # gears: the pinion EB and the link of the mesh close the loop with the frame, then the couplers' dyad
+    "geared_five_bar": (1, 2, 2, "I(0,1) → II(4,G') → II(2,3)", [
+        (2, 2, "RRR", ["4", "G'"], ["G:4"], ["E", "G:1"]),
+        (2, 2, "RRR", ["2", "3"], ["P"], ["A", "B"])]),
+    # 2K-H: the planet is a base link with three pairs (its axle on the carrier, both meshes): class III
+    "planetary": (1, 2, 3, "I(0,1) → III(2,H,G12',G23')", [
+        (3, 3, None, ["2", "H", "G12'", "G23'"], ["O2", "G12:2", "G23:2"], ["OH", "G12:1", "G23:0"])]),
+    # the rack is a slider-crank's slider; the pinion's group: its axle R, R on the pinion, P on the rack
+    "rack_pinion": (1, 2, 2, "I(0,1) → II(2,3) → II(4,K')", [
+        (2, 2, "RRP", ["2", "3"], ["B"], ["A", "Bp"]),
+        (2, 2, "RRP", ["4", "K'"], ["K:4"], ["Q", "K:3"])]),
+    # the shaper's two dyads, and a dyad per mesh down the train from the crank to the motor
+    "shaper_geared": (1, 5, 2, "I(0,1) → II(2,3) → II(i2,G56') → II(4,5) → II(i1,G34') → II(m,G12')", [
+        (2, 2, "RPR", ["2", "3"], ["Ap"], ["A", "C"]),
+        (2, 2, "RRR", ["i2", "G56'"], ["G56:i2"], ["Oi2", "G56:1"]),
+        (2, 2, "RPP", ["4", "5"], ["Dp"], ["D", "F"]),
+        (2, 2, "RRR", ["i1", "G34'"], ["G34:i1"], ["Oi1", "G34:i2"]),
+        (2, 2, "RRR", ["m", "G12'"], ["G12:m"], ["Om", "G12:i1"])]),
 }
 
 

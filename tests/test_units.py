@@ -58,6 +58,25 @@ def _scaled_pair(value, k):
     return [v * k for v in value]
 
 
+def _rescale_higher(row: dict, length):
+    """A higher pair's lengths: its point (unless named), radii, module, radius, and its curve's centre,
+    radius, points and a file's offset (a file of mbplanar cam is in mm whatever the model's unit)."""
+    if isinstance(row.get("at"), list):
+        row["at"] = length(row["at"])
+    for key in ("radii", "module", "radius"):
+        if key in row:
+            row[key] = length(row[key])
+    for key in ("profile", "path"):
+        curve = row.get(key)
+        if curve is None:
+            continue
+        for name in ("centre", "radius", "offset"):
+            if name in curve:
+                curve[name] = length(curve[name])
+        if "points" in curve:
+            curve["points"] = [length(p) for p in curve["points"]]
+
+
 def rescale(doc: dict, unit: str) -> dict:
     """The TOML document `doc` rewritten with `length_unit = unit`: every length divided by the new
     unit's size; in mm also inertias in kg·mm² and moments in N·mm (the explicit keys)."""
@@ -78,6 +97,9 @@ def rescale(doc: dict, unit: str) -> dict:
         if isinstance(link.get("centre"), list):
             link["centre"] = _scaled_pair(link["centre"], k)
     for joint in _rows(doc, "joints"):
+        if joint["type"] in ("gear", "rack", "cam", "slot"):  # a higher pair: its places, radii and curve
+            _rescale_higher(joint, length)
+            continue
         joint["at"] = length(joint["at"])
     for point in _rows(doc, "points"):
         if "at" in point:
@@ -259,6 +281,10 @@ def test_scale_invariance_of_every_command(path, tmp_path):
     command's JSON or CSV output is the same in SI units (in cm the cheaper commands only: the length
     scale is the same law, and the suite's time is counted)."""
     doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    for joint in _rows(doc, "joints"):   # a curve's file, relative to the model: where the copy can read it
+        for key in ("profile", "path"):
+            if "file" in joint.get(key, {}):
+                joint[key]["file"] = str(path.parent / joint[key]["file"])
     results = {}
     for unit, commands in (("m", COMMANDS), ("mm", COMMANDS), ("cm", ("info", "solve", "forces", "sweep"))):
         scaled = rescale(doc, unit)

@@ -25,8 +25,8 @@ from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_l
 from ..engine import solve_positions
 from ..engine._atlas import met_along
 
-__all__ = ["Extreme", "AngleRange", "CheckReport", "RegionReport", "check", "check_region", "format_region",
-           "grashof", "transmission_angles", "pressure_angles", "format_report"]
+__all__ = ["Extreme", "AngleRange", "CheckReport", "Separation", "RegionReport", "check", "check_region", "format_region",
+           "grashof", "transmission_angles", "pressure_angles", "contact_angles", "separations", "format_report"]
 
 SAMPLES = 721          # sweep resolution of a full turn (0.5°)
 FULL_TURN = 2 * math.pi
@@ -117,6 +117,17 @@ class Grashof:
 
 
 @dataclass(frozen=True)
+class Separation:
+    """A stretch of the input where a cam's contact force would pull (the follower would leave the cam):
+    the pair's name, the stretch's ends (model unit) and the sentence."""
+
+    pair: str
+    start: float
+    end: float
+    message: str
+
+
+@dataclass(frozen=True)
 class CheckReport:
     """What `check` finds over the whole input range of a one-input mechanism.
 
@@ -135,6 +146,8 @@ class CheckReport:
     transmission, pressure : list of AngleRange
     grashof : Grashof or None
         A four-bar's verdict (None for another mechanism).
+    separations : list of Separation
+        Where a cam's contact force would pull (empty without cams, loads or masses).
 
     Examples
     --------
@@ -155,6 +168,7 @@ class CheckReport:
     transmission: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
     grashof: Grashof | None = None
+    separations: list = field(default_factory=list)
 
     def as_dict(self) -> dict:
         """JSON-ready document, angles in degrees."""
@@ -168,6 +182,8 @@ class CheckReport:
         for key in ("transmission", "pressure"):
             for ang in doc[key]:
                 ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
+        doc["separations"] = [{"pair": s["pair"], "from": s["start"], "to": s["end"], "message": s["message"]}
+                              for s in doc["separations"]]
         return doc
 
     def _repr_html_(self) -> str:
@@ -284,8 +300,8 @@ def transmission_triples(engine) -> list[tuple[str, str, str]]:
         candidates = [j.name for j in mech.joints.values() if mech.ground not in j.links]
     out = []
     for name in candidates:
-        j = mech.joints[name]
-        if j.kind != "R":
+        j = mech.joints.get(name)   # (not a pair of a link that replaces a higher pair)
+        if j is None or j.kind != "R":
             continue
         p, q = (_other_revolute(mech, link, name) for link in j.links)
         if p is not None and q is not None:
@@ -366,6 +382,42 @@ def pressure_angles(engine, motion: Motion):
     guide = np.stack([guide_angle(s) for _, _, s in pairs], axis=1)
     cos = (rod[..., 0] * np.cos(guide) + rod[..., 1] * np.sin(guide)) / np.linalg.norm(rod, axis=-1)
     return pairs, _fold(cos)
+
+
+def contact_angles(engine, motion: Motion):
+    """The pressure angle of every cam and slot contact (`mbplanar.kinematics._contacts`): the angle from
+    the driven point's direction of motion to the contact normal, signed (rad). Returns (names, (B, K))."""
+    names = [n for n, h in engine.mech.higher.items() if h.kind in ("cam", "slot")]
+    if not names or not len(motion.phi):
+        return names, np.zeros((len(motion.phi), len(names)))
+    from ..kinematics._contacts import contacts
+    found = contacts(engine, motion)
+    return names, np.stack([found[n].pressure_angle for n in names], axis=1)
+
+
+def separations(engine, motion: Motion) -> list[Separation]:
+    """Where a cam's contact force would pull (the follower would leave the cam), with the model's loads
+    at the motion's speed: a `Separation` per stretch of the input (model unit); nothing without cams or
+    without loads and masses (every force is then zero)."""
+    from ..forces._kinetostatics import kinetostatics
+    from ..forces._loads import has_force_data
+    cams = [n for n, h in engine.mech.higher.items() if h.kind == "cam"]
+    if not cams or not has_force_data(engine.mech) or len(motion.phi) < 2:
+        return []
+    inp = engine.inputs[0]
+    pulls = kinetostatics(engine, motion).pulling
+    phi = inp.from_si(motion.phi[:, 0])
+    out = []
+    for name in cams:
+        bad = pulls[name]
+        edges = np.flatnonzero(np.diff(np.concatenate([[False], bad, [False]]).astype(int)))
+        for lo, hi in zip(edges[::2], edges[1::2] - 1):
+            a, b = float(phi[lo]), float(phi[hi])
+            out.append(Separation(
+                name, a, b, f"cam '{name}': the contact force would pull from {inp.name} = {a:.6g} to {b:.6g} "
+                            f"{inp.unit}: the follower leaves the cam there unless a spring or a preload "
+                            "holds it on (force closure)"))
+    return out
 
 
 # -- the sweep --------------------------------------------------------------------------------------
@@ -553,6 +605,7 @@ def _extremes(engine, motion, full_turn, at_limits=None):
                 value = end_q[e, n]
                 local.append((float(end_phi[e]), float(value), "max" if value > q[other, n] else "min", True))
         local.sort(key=lambda c: c[0])
+        local = _significant(local, 1e-9 * (engine.size if kind == "slider" else 1.0))
         values_n = np.array([c[1] for c in local]) if local else q[[0, -1], n]
         ats_n = np.array([c[0] for c in local]) if local else end_phi
         lo, hi = int(np.argmin(values_n)), int(np.argmax(values_n))
@@ -566,6 +619,19 @@ def _extremes(engine, motion, full_turn, at_limits=None):
         out.append(Extreme(name, kind, vmin, float(ats[lo]), vmax, float(ats[hi]),
                            local=sorted((_local(c[2], c[1] - shift, at, len(c) > 3) for c, at in zip(local, places)),
                                         key=lambda loc: loc.at)))
+    return out
+
+
+def _significant(local: list, tol: float) -> list:
+    """The local extremes (φ, value, kind[, end]) in order, without the wiggles of a dwell: an interior
+    maximum and minimum next to each other that differ by no more than `tol` (the rounding of a profile
+    given by points) are dropped in pairs."""
+    out = []
+    for c in local:
+        if out and len(c) == 3 and len(out[-1]) == 3 and abs(c[1] - out[-1][1]) <= tol:
+            out.pop()
+            continue
+        out.append(c)
     return out
 
 
@@ -637,12 +703,23 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
         grashof=grashof(engine))
     if len(motion.phi) < 2:
         return report
+    pressure = _angle_ranges(engine, motion, at_limits, pressure_angles,
+                             lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
+                             f"{t[2]} (normal of {t[0]})", full)
+    pulls = []
+    if engine.mech.higher:
+        pressure += _angle_ranges(engine, motion, at_limits, _contact_angle_labels,
+                                  lambda t: f"{t[0]} (contact normal)", full)
+        pulls = separations(engine, motion)
     return replace(report, extremes=_extremes(engine, motion, full, at_limits),
                    transmission=_angle_ranges(engine, motion, at_limits, transmission_angles,
                                               lambda t: f"{t[0]}-{t[1]}-{t[2]}", full),
-                   pressure=_angle_ranges(engine, motion, at_limits, pressure_angles,
-                                          lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
-                                          f"{t[2]} (normal of {t[0]})", full))
+                   pressure=pressure, separations=pulls)
+
+
+def _contact_angle_labels(engine, motion):
+    names, angles = contact_angles(engine, motion)
+    return [(n, n, n) for n in names], angles
 
 
 def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -> str:
@@ -679,6 +756,8 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
         for a in items:
             lines.append(f"  {title} {a.name}: min {math.degrees(a.minimum):.4f}° at {a.at_min:.8g} {u}, "
                          f"max {math.degrees(a.maximum):.4f}° at {a.at_max:.8g} {u}")
+    for sep in report.separations:
+        lines.append(f"  force closure: {sep.message}")
     return "\n".join(lines)
 
 

@@ -50,6 +50,11 @@ class NumbaBackend:
         return True if planned.positions is None else pays(max(size, planned.positions))
 
     def can_run(self, job: str, request) -> bool | str:
+        """True for a request the kernels hold, else why not: the request's own reason where its layer
+        could not write one for the kernels (a str: several inputs, higher pairs, ...; a kinetostatics
+        program's `why`), a position next to a change point (`sweep_can_run`)."""
+        if isinstance(request, str):
+            return request
         if job == "kinematics":
             return sweep_can_run(request)
         if job == "kinetostatics":  # (the program, where one could be written)

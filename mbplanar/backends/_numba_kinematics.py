@@ -107,6 +107,7 @@ def _sweep(tables, atlas, tol, inp, out, work):
     want_ic, want_rows = len(ic_out) > 0, rows.shape[1] > 0
     want_value, want_rate, want_rate_q = len(value_out) > 0, len(rate_out) > 0, len(rate_q_out) > 0
     want_joints = want_rows or want_value or want_rate or want_rate_q
+    cx0, cy0 = tables.centre[0], tables.centre[1]  # (the engine's frame's origin, `Engine.centre`)
     for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
         for sl in range(len(rt)):
@@ -334,26 +335,26 @@ def _sweep(tables, atlas, tol, inp, out, work):
                 if want_ic:  # r + perp(v)/ω of the link's frame (kinematics._instant_centres); NaN where ω = 0
                     icx, icy = math.nan, math.nan
                     if wl != 0.0:  # (a test, not a division by 0: the kernel also runs as plain Python)
-                        icx = ps[3, l] + -(rt[vel, 2, l] * omb) / wl
-                        icy = ps[4, l] + (rt[vel, 1, l] * omb) / wl
+                        rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+                        icx = ((ps[3, l] + rhx) + cx0) + -((rt[vel, 2, l] + wq * rhx) * omb) / wl
+                        icy = ((ps[4, l] + rhy) + cy0) + ((rt[vel, 1, l] - wq * rhy) * omb) / wl
                     ic_out[b, l, 0] = icx if math.isfinite(icx) else math.nan
                     ic_out[b, l, 1] = icy if math.isfinite(icy) else math.nan
-        if not rates:
-            for p in range(len(p_link)):
-                k = p_link[p]
-                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + (c * atx - s * aty), ps[4, k] + (s * atx + c * aty)
-        else:
-            for p in range(len(p_link)):
-                k = p_link[p]
-                c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-                rx, ry = c * atx - s * aty, s * atx + c * aty
-                xy[b, p, 0], xy[b, p, 1] = ps[3, k] + rx, ps[4, k] + ry
+        # the points from the link frames in the world convention (as the records hold them, see below):
+        # the frame's origin ρ = −R(θ)·c from the engine's, c the engine's frame's origin (`world_frames`)
+        for p in range(len(p_link)):
+            k = p_link[p]
+            c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
+            rhx, rhy = s * cy0 - c * cx0, -(s * cx0 + c * cy0)
+            rx, ry = c * atx - s * aty, s * atx + c * aty
+            xy[b, p, 0], xy[b, p, 1] = ((ps[3, k] + rhx) + cx0) + rx, ((ps[4, k] + rhy) + cy0) + ry
+            if rates:
                 # v + ω·perp(ρ), a + ε·perp(ρ) − ω²ρ (kinematics._moving_points)
                 wl, el = rt[vel, 0, k], rt[acc, 0, k]
                 w2 = wl * wl
-                vx, vy = rt[vel, 1, k] - wl * ry, rt[vel, 2, k] + wl * rx
-                ax, ay = rt[acc, 1, k] - el * ry - w2 * rx, rt[acc, 2, k] + el * rx - w2 * ry
+                vx, vy = (rt[vel, 1, k] - wl * rhy) - wl * ry, (rt[vel, 2, k] + wl * rhx) + wl * rx
+                ax = (rt[acc, 1, k] - (el * rhy + w2 * rhx)) - el * ry - w2 * rx
+                ay = (rt[acc, 2, k] + (el * rhx - w2 * rhy)) + el * rx - w2 * ry
                 if want_vq:
                     vq_out[b, p, 0], vq_out[b, p, 1], aq_out[b, p, 0], aq_out[b, p, 1] = vx, vy, ax, ay
                 if want_v:
@@ -362,17 +363,20 @@ def _sweep(tables, atlas, tol, inp, out, work):
                         a_out[b, p, 0], a_out[b, p, 1] = ax * om2 + vx * epb, ay * om2 + vy * epb
                     else:
                         a_out[b, p, 0], a_out[b, p, 1] = ax * om2, ay * om2
-        if want_rows:  # the record: frames and joints (offsets in RECORD_ORDER)
-            o_th, o_cos, o_sin, o_r = offsets[0], offsets[1], offsets[2], offsets[3]
+        if want_rows:  # the record: frames (in the world convention, as `world_frames`) and joints
+            o_th, o_cos, o_sin, o_r = offsets[0], offsets[1], offsets[2], offsets[3]  # (offsets in RECORD_ORDER)
+            o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
             for l in range(n_l):  # noqa: E741
                 rows[b, o_th + l], rows[b, o_cos + l], rows[b, o_sin + l] = ps[0, l], ps[1, l], ps[2, l]
-                rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = ps[3, l], ps[4, l]
-            if rates:
-                o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
-                for l in range(n_l):  # noqa: E741
-                    rows[b, o_wq + l], rows[b, o_eq + l] = rt[vel, 0, l], rt[acc, 0, l]
-                    rows[b, o_fv + 2 * l], rows[b, o_fv + 2 * l + 1] = rt[vel, 1, l], rt[vel, 2, l]
-                    rows[b, o_fa + 2 * l], rows[b, o_fa + 2 * l + 1] = rt[acc, 1, l], rt[acc, 2, l]
+                rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+                rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = (ps[3, l] + rhx) + cx0, (ps[4, l] + rhy) + cy0
+                if rates:
+                    wl, el = rt[vel, 0, l], rt[acc, 0, l]
+                    rows[b, o_wq + l], rows[b, o_eq + l] = wl, el
+                    rows[b, o_fv + 2 * l] = rt[vel, 1, l] - wl * rhy
+                    rows[b, o_fv + 2 * l + 1] = rt[vel, 2, l] + wl * rhx
+                    rows[b, o_fa + 2 * l] = rt[acc, 1, l] - (el * rhy + wl * wl * rhx)
+                    rows[b, o_fa + 2 * l + 1] = rt[acc, 2, l] + (el * rhx - wl * wl * rhy)
         if not want_joints:
             continue
         o_val, o_rq, o_aq = offsets[4], offsets[9], offsets[10]

@@ -26,7 +26,7 @@ def write_csv(geometry: CamGeometry, path) -> None:
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(header + "\n")
         for row in cols:
-            fh.write(",".join("" if not math.isfinite(x) else f"{x:.9g}" for x in row) + "\n")
+            fh.write(",".join("" if not math.isfinite(x) else f"{x:.12g}" for x in row) + "\n")
 
 
 def _sheet(geometry: CamGeometry, title: str = "") -> Sheet:

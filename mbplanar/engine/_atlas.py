@@ -54,16 +54,19 @@ class Atlas:
             return None
         phi0 = float(solver.phi_drawn[0])
         origin = next(n for n in self.nodes if n.phi[0] == phi0)
-        for turns in range(1, FAR_TURNS + 1):
-            end = phi0 + 2 * math.pi * turns
+        candidates = [2 * math.pi * turns for turns in range(1, FAR_TURNS + 1)]
+        for k, period in enumerate(candidates):
+            end = phi0 + period
             self.cover(phi0, end)
             if self.limits[+1] is not None and self.arrays()[0][-1] < end:
                 return None
             q_end = self._solve_at(end)
             shift = None if q_end is None else _period_shift(solver, origin.q, q_end)
             if shift is not None:
-                self._period = (2 * math.pi * turns, shift)
+                self._period = (period, shift)
                 break
+            if k == FAR_TURNS - 1:  # gears: links turning at a constant ratio to the input come back later
+                candidates += [t for t in _geared_periods(self) if t > candidates[-1]]
         return self._period
 
     def _solve_at(self, x: float):
@@ -144,7 +147,7 @@ class Atlas:
 
 
 def _origin(solver: BlockSolver, direction) -> Node:
-    node = node_at(solver, solver.phi_drawn, direction, [np.zeros((bp.m, 1)) for bp in solver.blocks])
+    node = node_at(solver, solver.phi_drawn, direction, [bp.q0[:, None] for bp in solver.blocks])
     if node is None:
         raise MotionError("the drawn pose does not close: it cannot be assembled", source=solver.mech.source)
     if node.pivot < solver.tol.pivot_cross:
@@ -296,15 +299,53 @@ def far_span(solver: BlockSolver) -> float:
         FAR_SIZES * solver.size
 
 
+GEARED_TURNS = 64   # the longest period (input turns) looked for where gears turn links at a constant ratio
+
+
+def _geared_periods(atlas: Atlas) -> list:
+    """Candidate periods (rad) of a mechanism with gears, beyond `FAR_TURNS` turns: whole turns of every link
+    that turns at a constant, not whole, ratio to the input over the first turn (a planetary train's
+    carrier, the slow shaft of a reducer): multiples of 2π/|ω_q| up to `GEARED_TURNS` turns of the input,
+    each also a multiple of the other such links' turns where they share one."""
+    solver = atlas.solver
+    if not getattr(solver, "wheels", None) and not any(h.kind in ("gear", "rack") for h in solver.mech.higher.values()):
+        return []
+    phi0 = float(solver.phi_drawn[0])
+    x = phi0 + np.linspace(0.0, 2 * math.pi, 9)
+    grid, per_block, _ = atlas.arrays()
+    sol = solver.solve_batch(x[:, None], _interpolate(grid, per_block, x, _nearest(grid, x), np.ones(len(x), bool)))
+    if not sol.valid.all():
+        return []
+    solver.rates(sol, np.ones((len(x), 1)), np.zeros((len(x), 1)))
+    wheels = getattr(solver, "wheels", frozenset())   # (their angles need not come back)
+    ratios = [float(np.mean(np.abs(w))) for link, w in zip(solver.links, sol.w.T) if link not in wheels
+              and np.ptp(w) <= 1e-12 * (1.0 + np.abs(w).max()) and abs(w[0]) > 1e-9]
+    turns = [1.0 / r for r in ratios if abs(1.0 / r - round(1.0 / r)) > 1e-9 and 1.0 / r <= GEARED_TURNS]
+    out = set()
+    for t in turns:
+        for m in range(1, int(GEARED_TURNS / t) + 1):
+            if all(abs(m * t / other - round(m * t / other)) <= 1e-9 * m * t for other in turns):
+                out.add(round(m * t, 12))
+                break
+    return sorted(2 * math.pi * t for t in out)
+
+
 def _period_shift(solver: BlockSolver, q0: list, q1: list) -> list | None:
-    """Per block the change q1 − q0 of its unknowns when it is whole turns of the relative angles and
-    nothing else (within `PERIOD_TOL`, scaled), else None."""
+    """Per block the change q1 − q0 of its unknowns when it is whole turns of the relative angles, whole
+    periods of a closed curve's contact parameter, and any turn of a wheel (a gear's angle, which places
+    nothing but the gear itself), and nothing else (within `PERIOD_TOL`, scaled), else None."""
     out = []
+    wheels = getattr(solver, "wheels", frozenset())
     for bp, a, b in zip(solver.blocks, q0, q1):
-        angle = np.array([solver.mech.joints[st.law.name].kind == "R" for st in bp.steps if st.var is not None],
-                         bool)
+        period = bp.var_period
+        free = np.zeros(bp.m, bool)
+        for st in bp.steps:
+            if st.var is not None and st.child in wheels:
+                free[st.var] = True
         d = b - a
-        whole = np.where(angle, 2 * math.pi * np.round(d / (2 * math.pi)), 0.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            whole = np.where(period > 0, period * np.round(d / np.where(period > 0, period, 1.0)), 0.0)
+        whole = np.where(free, d, whole)
         if np.any(np.abs(d - whole) * bp.var_scale > PERIOD_TOL):
             return None
         out.append(whole)
@@ -352,7 +393,7 @@ def _solve_periodic(atlas: Atlas, phi: np.ndarray, n: np.ndarray) -> Solution:
     """Rows far along a periodic branch: solved n periods back, near the drawn pose, then moved on by
     n periods (whole turns of the relative angles) and confirmed at the values asked."""
     period, shift = atlas.period()
-    near = solve_along(atlas, (phi[:, 0] - n * period)[:, None])
+    near = solve_along(atlas, (phi[:, 0] - n * period)[:, None], reduce=False)  # (within a period: walked)
     guesses = [s.q + d[:, None] * n[None, :] for s, d in zip(near.blocks, shift)]
     sol = atlas.solver.solve_batch(phi, guesses)
     sol.valid &= near.valid
@@ -376,11 +417,11 @@ def _crossings_over(atlas: Atlas, lo: float, hi: float, period: float) -> list:
     return sorted(out, key=lambda c: c.phi[0])
 
 
-def solve_along(atlas: Atlas, phi: np.ndarray) -> Solution:
+def solve_along(atlas: Atlas, phi: np.ndarray, reduce: bool = True) -> Solution:
     """Batch solve of one input's values phi (B, 1) on the drawn branch: predict from the atlas,
     correct, check, walk the rest. Values beyond `far_span` are reduced by the branch's period
-    (`_periods_away`)."""
-    n = _periods_away(atlas, phi[:, 0])
+    (`_periods_away`; not with `reduce` False: values within a period, which the atlas covers)."""
+    n = _periods_away(atlas, phi[:, 0]) if reduce else None
     if n is not None:
         return _solve_periodic(atlas, phi, n)
     solver = atlas.solver

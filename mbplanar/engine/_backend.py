@@ -48,7 +48,9 @@ class Backend(Protocol):
     name: str
 
     def can_run(self, job: str, request) -> bool | str:
-        """True when the backend can compute `request` (a job's request record), else why not."""
+        """True when the backend can compute `request` (a job's request record), else why not; a str
+        request is the reason its layer could not write one for the kernels (several inputs, higher
+        pairs, ...), which a backend of kernels answers as its own."""
 
     def should_run(self, job: str, size: int) -> bool | str:
         """True when computing a request of `size` (positions, or designs × positions) here beats the
@@ -104,7 +106,8 @@ def dispatch(engine: Engine, job: str, size: int, reference: Callable, request: 
              finish: Callable | None = None):
     """`job` for a request of `size` computed by the first of the engine's backends (`candidates`) that
     can and should run it, else by `reference()` (numpy). `request()` makes the request the backends are
-    handed (made once, when a backend is willing); ``finish(request, answer)`` makes the result of a
+    handed (made once, when a backend is willing; a str: why the kernels cannot take it, for the backends'
+    `can_run` to answer); ``finish(request, answer)`` makes the result of a
     backend's answer. Every backend's verdict is logged at debug level."""
     made = None
     for backend in candidates(engine):
@@ -112,9 +115,6 @@ def dispatch(engine: Engine, job: str, size: int, reference: Callable, request: 
         if verdict is True:
             if made is None:
                 made = request() if request is not None else None
-                if isinstance(made, str):  # (no backend could: the request says why)
-                    _declined(job, size, "every backend", made)
-                    break
             verdict = backend.can_run(job, made)
         if verdict is True:
             answer = backend.run(job, made)

@@ -36,6 +36,11 @@ class Step:
 
 @dataclass
 class BlockPlan:
+    """A block's solving plan: tree `steps`, the `cuts` (lower pairs, then higher pairs) whose closures are
+    its rows, `m` unknowns (the tree variables, then the higher pairs' contact parameters, `params`:
+    (law, index of its unknown)); `q0` (m,) the unknowns in the drawn pose, `var_period` (m,) the period
+    of each (2π for a relative angle, a closed curve's period for a contact parameter; 0 none)."""
+
     links: tuple
     steps: list
     cuts: list
@@ -43,6 +48,9 @@ class BlockPlan:
     row_scale: np.ndarray  # multiplies residual rows so that lengths are relative to the size
     var_scale: np.ndarray  # likewise for the unknowns (angles 1, displacements 1/size)
     group: object = None
+    params: list = field(default_factory=list)
+    q0: np.ndarray | None = None
+    var_period: np.ndarray | None = None
 
     @property
     def joints(self) -> tuple:
@@ -149,9 +157,21 @@ class BlockSolver:
         rows = []
         for name in block.cuts:
             rows += [1 / self.size, 1 / self.size] if self.mech.joints[name].kind == "R" else [1.0, 1 / self.size]
-        var_scale = np.array([1.0 if self.mech.joints[s.law.name].kind == "R" else 1 / self.size
-                              for s in steps if s.var is not None])
-        return BlockPlan(block.links, steps, cuts, var, np.array(rows), var_scale, block.group)
+        angle = [self.mech.joints[s.law.name].kind == "R" for s in steps if s.var is not None]
+        var_scale = [1.0 if a else 1 / self.size for a in angle]
+        q0, period, params = [0.0] * var, [2 * np.pi if a else 0.0 for a in angle], []
+        for name in getattr(block, "higher", ()):
+            law = self.laws[name]
+            cuts.append(law)
+            rows += law.row_scale(self.size)
+            if law.parameters:
+                params.append((law, var))
+                var_scale.append(law.param_scale(self.size))
+                q0.append(law.param0)
+                period.append(law.param_period)
+                var += 1
+        return BlockPlan(block.links, steps, cuts, var, np.array(rows), np.array(var_scale), block.group, params,
+                         np.array(q0), np.array(period))
 
     # -- one block --------------------------------------------------------------------------------
     def input_vars(self, phi: np.ndarray) -> np.ndarray:
@@ -164,6 +184,8 @@ class BlockSolver:
         for st in bp.steps:
             value = q[st.var] if st.var is not None else st.sign * q_in[st.input]
             caches.append(st.law.place(pose, st.parent, st.child, value, st.relative))
+        for law, k in bp.params:
+            pose.u[law.name] = q[k]
         cut_caches, res = [], []
         for law in bp.cuts:
             r, c = law.closure(pose)
@@ -181,6 +203,8 @@ class BlockSolver:
         for st, cache in zip(bp.steps, caches):
             qd = eye[st.var] if st.var is not None else zero
             st.law.place_rates(cache, sens, st.parent, st.child, qd, st.relative)
+        for law, k in bp.params:
+            sens.set_param(law.name, eye[k])
         rows = [law.closure_rates(c, sens) for law, c in zip(bp.cuts, cut_caches)]
         jac = np.concatenate(rows) if rows else np.zeros((0, 0, batch))
         return jac, sens
@@ -213,6 +237,8 @@ class BlockSolver:
             step[~np.isfinite(step)] = 0.0
             q = q + step
         ok &= np.isfinite(err)
+        for law, k in bp.params:  # a contact past an open curve's end (a pin at the end of its slot)
+            ok &= law.inside(q[k])
         return BlockState(q, lu, caches, cut_caches, sens, ok)
 
     # -- a batch --------------------------------------------------------------------------------
@@ -303,6 +329,8 @@ class BlockSolver:
             qd_u = state.lu.solve(-rhs)
         if given is not None and len(given[0]):
             qd_u[:, given[0]] = given[1]
+        for law, k in bp.params:
+            known.set_param(law.name, qd_u[k:k + 1])
         for link in bp.links:
             w, v = known.get(link)
             sw, sv = state.sens.w[link], state.sens.v[link]

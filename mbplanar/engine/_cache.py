@@ -55,17 +55,18 @@ def load_engine(path, backend: str = "numpy", threads: int | None = None, use_ca
     stored). Errors are those of `read_model` and `Engine`, whether cached or not."""
     text = _read(path)
     if not (use_cache and cache_enabled()):
-        return _build(text, str(path), backend, threads)[0]
-    key = _key(text, str(path), backend)
-    entry = cache_dir() / f"{_entry_name(PACKAGE, os.path.abspath(path), str(path), backend)}.pickle"
-    cached = _read_entry(entry, key)
-    if cached is not None:
-        engine, caught = cached
-        engine.threads = threads
-    else:
         engine, caught = _build(text, str(path), backend, threads)
-        _write_entry(entry, key, engine, caught)
-    for message in caught:
+    else:
+        key = _key(text, str(path), backend)
+        entry = cache_dir() / f"{_entry_name(PACKAGE, os.path.abspath(path), str(path), backend)}.pickle"
+        cached = _read_entry(entry, key)
+        if cached is not None:
+            engine, caught = cached
+            engine.threads = threads
+        else:
+            engine, caught = _build(text, str(path), backend, threads)
+            _write_entry(entry, key, engine, caught)
+    for message in caught:  # (the build's warnings, cached or not)
         warnings.warn(message, stacklevel=2)
     return engine
 

@@ -1,9 +1,16 @@
 """Joint laws: how a revolute or prismatic joint places a link (as a tree joint) or closes a loop (as a
 cut joint), with the time derivatives of both, vectorised over a batch of positions.
 
-Coordinates. Every link k carries a frame that coincides with the world frame in the drawn pose; its
-state is the rotation θ_k from the drawn pose and the position r_k of its frame origin, so a point drawn
-at s on link k is at  X = r_k + R(θ_k) s.  Ground has θ = 0, r = 0.
+Coordinates. The engine solves in its own frame: the world frame moved to the engine's centre c (the
+mean of the drawn joints on a coarse grid, `model._scale.frame_origin`; 0 for a mechanism drawn near
+the world's origin), so that every position it compares is a vector within the mechanism, a few of its
+sizes long, however far from the world's origin it is drawn (a closure residual formed from world
+coordinates 1000 sizes away carries rounding of 1000 times the closure tolerance). Every link k carries
+a frame that coincides with that frame in the drawn pose; its state is the rotation θ_k from the drawn
+pose and the position r_k of its frame origin, so a point drawn at p (world) on link k is at
+X = c + r_k + R(θ_k) s with s = p − c (the joint law's `s0`).  Ground has θ = 0, r = 0.
+`world_frames` gives the link frames in the world convention (the frame that coincides with the world
+frame in the drawn pose), as results report them.
 
 Tree joints place a child link from its parent with one variable: a revolute joint sets the child's
 rotation (absolute; relative to the parent for a driving joint between moving links), a prismatic joint
@@ -25,7 +32,7 @@ import numpy as np
 
 from ..model._model import Joint
 
-__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot"]
+__all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot", "world_frames"]
 
 
 def perp(v: np.ndarray) -> np.ndarray:
@@ -50,12 +57,13 @@ def rotate(c: np.ndarray, s: np.ndarray, vec: np.ndarray) -> np.ndarray:
 
 
 class Pose:
-    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (2, B)."""
+    """Placed links of one batch: rotation θ, its cos and sin (B,), frame origin r (2, B); and the
+    contact parameters u (B,) of the higher pairs that have one (by the pair's name)."""
 
     def __init__(self, batch: int):
         zero = np.zeros(batch)
         self.batch = batch
-        self.th, self.c, self.s, self.r = {}, {}, {}, {}
+        self.th, self.c, self.s, self.r, self.u = {}, {}, {}, {}, {}
         self._ground = (zero, np.ones(batch), zero, np.zeros((2, batch)))
 
     def set_ground(self, name: str):
@@ -71,10 +79,11 @@ class Pose:
 
 
 class Rates:
-    """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest."""
+    """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest. The
+    rates p (C, B) of the higher pairs' contact parameters, by the pair's name (absent: 0)."""
 
     def __init__(self, batch: int, columns: int):
-        self.w, self.v = {}, {}
+        self.w, self.v, self.p = {}, {}, {}
         self._rest = (np.zeros((columns, batch)), np.zeros((2, columns, batch)))
 
     def get(self, link):
@@ -85,6 +94,12 @@ class Rates:
     def set(self, link, w, v):
         self.w[link], self.v[link] = w, v
 
+    def param(self, name):
+        return self.p.get(name, self._rest[0])
+
+    def set_param(self, name, rate):
+        self.p[name] = rate
+
 
 class JointLaw:
     """The hooks each joint type fills in (tree placement, loop closure, and their rates); `kind` is the
@@ -92,10 +107,10 @@ class JointLaw:
 
     kind = ""
 
-    def __init__(self, joint: Joint):
+    def __init__(self, joint: Joint, centre=(0.0, 0.0)):
         self.name = joint.name
         self.links = joint.links
-        self.s0 = np.array(joint.at, dtype=float)
+        self.s0 = np.array(joint.at, dtype=float) - np.asarray(centre, float)  # in the engine's frame
 
     def place(self, pose: Pose, parent: str, child: str, q, relative: bool):
         raise NotImplementedError
@@ -154,8 +169,8 @@ class Prismatic(JointLaw):
 
     kind = "P"
 
-    def __init__(self, joint: Joint):
-        super().__init__(joint)
+    def __init__(self, joint: Joint, centre=(0.0, 0.0)):
+        super().__init__(joint, centre)
         angle = np.radians(joint.guide_deg)
         self.u0 = np.array([np.cos(angle), np.sin(angle)])
         self.n0 = perp(self.u0)
@@ -217,5 +232,44 @@ class Prismatic(JointLaw):
         return out
 
 
-def make_law(joint: Joint) -> JointLaw:
-    return Revolute(joint) if joint.kind == "R" else Prismatic(joint)
+def make_law(joint: Joint, centre=(0.0, 0.0)) -> JointLaw:
+    """The joint's law in the frame centred on `centre` (world coordinates, (2,))."""
+    return Revolute(joint, centre) if joint.kind == "R" else Prismatic(joint, centre)
+
+
+def world_frames(centre: np.ndarray, c: np.ndarray, s: np.ndarray, r: np.ndarray, w=None, v=None, e=None, a=None):
+    """The link frames of the engine's frame (centred on `centre` (2,)) in the world convention: the
+    motion of each link's point drawn at the world's origin. From cos θ, sin θ (L, B) and r (2, L, B),
+    with w, e (L, B) and v, a (2, L, B) when given; returns (r, v, a) (None where not given), the
+    arrays given themselves when `centre` is 0 (the engine's frame is then the world's). Far from the
+    origin the answer carries the rounding of world coordinates (~1e-16 of them)."""
+    cx, cy = float(centre[0]), float(centre[1])
+    if cx == 0.0 and cy == 0.0:
+        return r, v, a
+    # ρ = −R(θ)·c, from the frame's origin to the world origin's point (operation for operation as the
+    # compiled kernel, `backends._numba_kinematics`)
+    rho_x = s * cy
+    rho_x -= c * cx
+    rho_y = s * cx
+    rho_y += c * cy
+    np.negative(rho_y, out=rho_y)
+    out_r = np.empty(r.shape)
+    np.add(r[0], rho_x, out=out_r[0])
+    np.add(r[1], rho_y, out=out_r[1])
+    out_r[0] += cx
+    out_r[1] += cy
+    out_v = out_a = None
+    if v is not None:  # v + ω·perp(ρ)
+        out_v = np.empty(v.shape)
+        np.subtract(v[0], w * rho_y, out=out_v[0])
+        np.add(v[1], w * rho_x, out=out_v[1])
+    if a is not None:  # a + ε·perp(ρ) − ω²ρ
+        out_a = np.empty(a.shape)
+        w2 = w * w
+        t = e * rho_y
+        t += w2 * rho_x
+        np.subtract(a[0], t, out=out_a[0])
+        np.multiply(e, rho_x, out=t)
+        t -= w2 * rho_y
+        np.add(a[1], t, out=out_a[1])
+    return out_r, out_v, out_a

@@ -13,6 +13,7 @@ from ._constraints import make_law
 from ..errors import ModelError
 from ..model._assembly import assemble
 from ..model._model import Mechanism
+from ..model._scale import check_far, frame_origin
 
 __all__ = ["with_dimensions", "same_structure"]
 
@@ -23,7 +24,9 @@ def same_structure(a: Mechanism, b: Mechanism) -> bool:
             and [(n, j.kind, j.links, j.guide_points) for n, j in a.joints.items()]
             == [(n, j.kind, j.links, j.guide_points) for n, j in b.joints.items()]
             and [(i.joint, i.unit, i.sense) for i in a.inputs] == [(i.joint, i.unit, i.sense) for i in b.inputs]
-            and [(n, p.link) for n, p in a.points.items()] == [(n, p.link) for n, p in b.points.items()])
+            and [(n, p.link) for n, p in a.points.items()] == [(n, p.link) for n, p in b.points.items()]
+            and [(n, h.kind, h.links, h.follower) for n, h in a.higher.items()]
+            == [(n, h.kind, h.links, h.follower) for n, h in b.higher.items()])
 
 
 def with_dimensions(engine, mechanism: Mechanism):
@@ -52,19 +55,24 @@ def with_dimensions(engine, mechanism: Mechanism):
     MotionError
         When the variant's drawn pose cannot be assembled.
     """
+    from ._solver import higher_laws, wheels
     if not same_structure(engine.mech, mechanism):
         raise ModelError(f"{mechanism.source}: the variant's links, joints, points or inputs differ from "
                          f"the model's ({engine.mech.source}); re-dimensioning keeps the structure")
     new = copy.copy(engine)
     new.prepared = {}  # tables of the old dimensions
     new._atlas = None
+    check_far(mechanism)
     new.mech = mech = assemble(mechanism)
     new.inputs = mech.inputs
-    new.laws = {name: make_law(j) for name, j in mech.joints.items()}
     new.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()])
+    new.centre = frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], new.size)
+    new.laws = {name: make_law(j, new.centre) for name, j in mech.joints.items()}
+    new.laws.update(higher_laws(mech, new.centre))
     new.reference_angle = {link: new._drawn_link_angle(link) for link in new.links}
     new.phi_drawn = np.array([new._drawn_phi(inp) for inp in new.inputs])
     new.joint_value_drawn = {name: new._drawn_joint_value(name) for name in mech.joints}
     new.solver = BlockSolver(mech, new.laws, new.topology.blocks, new.links, new.size, new.phi_drawn, new.tol)
+    new.solver.wheels = wheels(mech)
     new.blocks = new.solver.blocks
     return new

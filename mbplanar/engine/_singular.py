@@ -90,12 +90,15 @@ def limit_after(solver: BlockSolver, node: Node, direction: np.ndarray, h: float
     """The motion limit just past `node` (the walk could not step h from it), in the block whose Jacobian
     is nearest to singular: the fold, located exactly with its configuration, when `_locate_fold`
     finds it at the end of the node's branch; else the middle of the walk's bracket (q None)."""
+    sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
+    end = _curve_end(solver, node, direction, h)
+    if end is not None:
+        return end
     sol = solver.solve_batch(node.phi[None, :], [q[:, None] for q in node.q])
     ratios = [float(st.lu.pivot_ratio[0]) if st.lu is not None else math.inf for st in sol.blocks]
     k = int(np.argmin(ratios))
     bp = solver.blocks[k]
     joints = bp.joints
-    sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
     fold = _locate_fold(solver, k, node, direction) if bp.m else None
     if fold is None:
         return Limit(node.phi + direction * h / 2, sign, bp.links, joints, limit_kind(solver, bp, sol))
@@ -103,6 +106,37 @@ def limit_after(solver: BlockSolver, node: Node, direction: np.ndarray, h: float
     return Limit(phi, sign, bp.links, joints, limit_kind(solver, bp, at), [st.q[:, 0] for st in at.blocks])
 
 
+
+
+def _curve_end(solver: BlockSolver, node: Node, direction: np.ndarray, h: float) -> Limit | None:
+    """The motion limit where a contact reaches an end of its open curve (a pin at the end of its slot)
+    just past `node`, or None: the input value where its parameter u equals the end, by the secant on
+    u(φ) from the node's Taylor step (each solve predicted from the node, the end's side accepted)."""
+    sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
+    for k, bp in enumerate(solver.blocks):
+        for law, idx in bp.params:
+            lo, hi = law.param_range
+            u, du = float(node.q[k][idx]), float(node.qd[k][idx])
+            if not math.isfinite(lo) or du == 0:
+                continue
+            target = hi if du > 0 else lo
+            s = (target - u) / du
+            if not 0 <= s <= 4 * h:     # (the walk stopped a few steps short of where u meets the end)
+                continue
+            s_prev, f_prev = 0.0, u - target
+            for _ in range(8):
+                guesses = [(q + qd * s + 0.5 * qdd * s * s)[:, None] for q, qd, qdd in zip(node.q, node.qd, node.qdd)]
+                got = solver.solve_batch((node.phi + direction * s)[None, :], guesses)
+                f = float(got.blocks[k].q[idx, 0]) - target
+                if f == f_prev or not math.isfinite(f):
+                    break
+                s, s_prev, f_prev = s - f * (s - s_prev) / (f - f_prev), s, f
+                if abs(s - s_prev) <= 1e-15 * (1.0 + abs(s)):
+                    break
+            what = "the pin" if law.pair.kind == "slot" else "the contact"
+            kind = (f"{what} of '{law.name}' at the end of its {'slot' if law.pair.kind == 'slot' else 'profile'}")
+            return Limit(node.phi + direction * s, sign, bp.links, bp.joints, kind)
+    return None
 
 
 def _locate_fold(solver: BlockSolver, k: int, node: Node, direction: np.ndarray):
@@ -223,8 +257,8 @@ def limit_kind(solver: BlockSolver, bp: BlockPlan, sol: Solution) -> str:
             continue
         for ja in (o for o in revolute if a in o.links and o.name != j.name):
             for jb in (o for o in revolute if b in o.links and o.name != j.name):
-                pa = _world(sol.pose, a, ja.at) - _world(sol.pose, a, j.at)
-                pb = _world(sol.pose, b, jb.at) - _world(sol.pose, b, j.at)
+                pa = _turned(sol.pose, a, ja.at, j.at)
+                pb = _turned(sol.pose, b, jb.at, j.at)
                 norm = np.linalg.norm(pa) * np.linalg.norm(pb)
                 if norm == 0:
                     continue
@@ -235,7 +269,9 @@ def limit_kind(solver: BlockSolver, bp: BlockPlan, sol: Solution) -> str:
     return best[1] if best is not None and best[0] < 1e-3 else "singular position (dead point)"
 
 
-def _world(pose: Pose, link: str, at) -> np.ndarray:
-    return pose.r[link][:, 0] + pose.rot(link, np.array(at, float))[:, 0]
+def _turned(pose: Pose, link: str, p, q) -> np.ndarray:
+    """The vector from q to p (drawn points of `link`) in the solved pose: the drawn vector turned
+    with the link (a relative vector, whatever the world coordinates)."""
+    return pose.rot(link, np.array(p, float) - np.array(q, float))[:, 0]
 
 

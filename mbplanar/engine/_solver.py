@@ -41,14 +41,49 @@ import numpy as np
 from ._atlas import Atlas, far_span, solve_along, solve_sequence
 from ._backend import check as check_backend
 from ._blocks import BlockSolver, Solution
-from ._constraints import make_law
+from ._constraints import make_law, world_frames
+from ._higher import make_higher_law
 from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
-from ..model._assembly import assemble, reference_points
+from ..model._assembly import assemble, reference_points, translated
 from ..model._model import Mechanism
+from ..model._scale import check_far, frame_origin
 from ..structure._topology import analyse_topology, check_mobility
 
-__all__ = ["Engine", "Solution", "Limit", "Crossing", "solve_positions"]
+__all__ = ["Engine", "Solution", "Limit", "Crossing", "solve_positions", "higher_laws", "wheels"]
+
+
+def higher_laws(mech: Mechanism, centre=(0.0, 0.0)) -> dict:
+    """The joint laws of the higher pairs of an assembled mechanism, checked against its drawing
+    (`mbplanar.model._drawn`: a `ModelError` names a pair that does not fit), in the engine's frame
+    centred on `centre` (`Engine.centre`)."""
+    if not mech.higher:
+        return {}
+    from ..model._drawn import drawn_pairs
+    world = drawn_pairs(mech)
+    if not any(centre):
+        return {name: make_higher_law(g) for name, g in world.items()}
+    # the curves placed in the engine's frame before they are evaluated, as the joints' laws are
+    local = drawn_pairs(translated(mech, (-centre[0], -centre[1])))
+    return {name: make_higher_law(g, local[name]) for name, g in world.items()}
+
+
+def wheels(mech: Mechanism) -> frozenset:
+    """The links that are wheels: every revolute joint, point and gear of theirs at one centre, no other
+    pair. A wheel's angle places nothing but itself, so it need not come back to whole turns when the
+    rest of the mechanism repeats (a gear train of any ratio)."""
+    out = set()
+    for name in mech.moving_links:
+        joints, pairs = mech.joints_of(name), mech.higher_of(name)
+        if not joints or any(j.kind != "R" for j in joints) or any(h.kind not in ("gear", "rack") for h in pairs):
+            continue
+        if any(h.kind == "rack" and h.links[0] != name for h in pairs):
+            continue  # the rack itself slides
+        centre = joints[0].at
+        spots = [j.at for j in joints] + [p.at for p in mech.points.values() if p.link == name]
+        if all(p is not None and math.dist(p, centre) <= 1e-9 * (1 + math.hypot(*centre)) for p in spots):
+            out.add(name)
+    return frozenset(out)
 
 
 class Engine:
@@ -61,6 +96,9 @@ class Engine:
     threads: how many cores the compiled loops split a long batch over (default: the cores available,
     or the environment variable MBPLANAR_THREADS); the answers do not depend on it.
     tol: the `Tolerances` of every solver (default `Tolerances()`); both backends read them.
+    centre: the origin (world coordinates, (2,)) of the frame it solves in, on the mechanism
+    (`model._scale.frame_origin`; 0 near the world's origin), so that what it judges does not depend on
+    where the mechanism is drawn; results are in world coordinates.
 
     The engine answers through the functions that take it: ``analyse(engine, phi)`` for a batch
     (``rates=False`` for positions alone), ``position(engine, phi)`` for one value.
@@ -90,19 +128,23 @@ class Engine:
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
         check_mobility(mech)
+        check_far(mech)
         self.mech = assemble(mech)
         self.topology = analyse_topology(self.mech, grouped)
         mech = self.mech
         self.links = mech.all_links
         self.link_index = {name: k for k, name in enumerate(self.links)}
-        self.laws = {name: make_law(j) for name, j in mech.joints.items()}
         self.size = max([math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()]
                         + [0.0]) or 1.0  # (no floor: every tolerance is relative to it)
+        self.centre = frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], self.size)
+        self.laws = {name: make_law(j, self.centre) for name, j in mech.joints.items()}
+        self.laws.update(higher_laws(mech, self.centre))
         self.inputs = mech.inputs
         self.reference_angle = {link: self._drawn_link_angle(link) for link in self.links}
         self.phi_drawn = np.array([self._drawn_phi(inp) for inp in self.inputs])
         self.joint_value_drawn = {name: self._drawn_joint_value(name) for name in mech.joints}
         self.solver = BlockSolver(mech, self.laws, self.topology.blocks, self.links, self.size, self.phi_drawn, tol)
+        self.solver.wheels = wheels(mech)
         self.blocks = self.solver.blocks
         self._atlas = None
 
@@ -171,8 +213,25 @@ class Engine:
     # -- the façade: block Newton and rates (`_blocks`), continuation (`_atlas`), limits (`_singular`) ----
     def rates(self, sol: Solution, phi_rate, phi_accel) -> Solution:
         """Fill the velocities and accelerations of every link for input rates (B, n_in) and input
-        accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues."""
-        return self.solver.rates(sol, phi_rate, phi_accel)
+        accelerations (B, n_in). With rate 1 and acceleration 0 these are the analogues. The link frames'
+        `v`, `a` are in the world convention (as `Motion.frames`); `sol.pose` stays in the engine's frame
+        (`centre`)."""
+        self.solver.rates(sol, phi_rate, phi_accel)
+        if self.centre.any():  # (else the engine's frame is the world's)
+            c, s, r = self._link_frames(sol)
+            _, v, a = world_frames(self.centre, c, s, r, sol.w.T, sol.v.T, sol.e.T, sol.a.T)
+            sol.v, sol.a = v.T, a.T
+        return sol
+
+    def _link_frames(self, sol: Solution):
+        """cos θ, sin θ (L, B) and the frame origins r (2, L, B) of every link (`links` order) in the
+        engine's frame, centred on `centre`."""
+        pose, names = sol.pose, self.links
+        c, s = np.empty((len(names), len(sol.phi))), np.empty((len(names), len(sol.phi)))
+        r = np.empty((2,) + c.shape)
+        for k, n in enumerate(names):
+            c[k], s[k], r[:, k] = pose.c[n], pose.s[n], pose.r[n]
+        return c, s, r
 
     def dets(self, sol: Solution) -> np.ndarray:
         """Each block's Jacobian determinant (B, n_blocks); 1 for a block without unknowns."""

@@ -21,9 +21,20 @@ import numpy as np
 __all__ = ["REVOLUTE", "PRISMATIC", "StepTables", "CutTables", "BlockTables", "JointTables", "SweepTables",
            "AtlasTables", "SweepIn", "SweepOut", "SweepWork", "SweepJob", "FIELDS", "RATE_FIELDS", "RECORD_ORDER",
            "sweep_tables", "atlas_tables", "record_layout", "work_sizes", "DESIGN_STATUS", "DesignTables", "DesignJob",
-           "DesignResult"]
+           "DesignResult", "kernels_decline"]
 
 REVOLUTE, PRISMATIC = "R", "P"                          # JointLaw.kind, Joint.kind
+
+
+def kernels_decline(mech) -> str:
+    """Why these tables cannot describe the model `mech` for the kernels ("" where they can): they hold
+    the laws of the revolute and prismatic pairs only, so a model with higher pairs (gear, rack, cam,
+    slot) is numpy's, whatever the engine's backend. The layers that write requests return it for the
+    backends' `can_run` to answer (`engine._backend.dispatch`)."""
+    if not mech.higher:
+        return ""
+    return ("the model has higher pairs (" + ", ".join(sorted({h.kind for h in mech.higher.values()}))
+            + "), whose laws the kernels do not hold: numpy solves it")
 
 
 class StepTables(NamedTuple):
@@ -75,14 +86,16 @@ class JointTables(NamedTuple):
     a: np.ndarray           # (J,) int: first link (the carrier of a prismatic joint)
     b: np.ndarray           # (J,) int: second link (the slider)
     drawn: np.ndarray       # (J,) float: the joint's value in the drawn pose
-    at: np.ndarray          # (J, 2) float: the joint's point, drawn (prismatic; else 0)
+    at: np.ndarray          # (J, 2) float: the joint's point, drawn, in the engine's frame (prismatic; else 0)
     u0: np.ndarray          # (J, 2) float: the guide's direction, drawn (prismatic; else 0)
 
 
 class SweepTables(NamedTuple):
     """An engine as the kinematics kernel reads it (`sweep_tables`): its blocks' steps, cuts and sizes,
     its joints, each link's reference angle `alpha` (L,) in the drawn pose, the input's sense (±1) and
-    drawn value (SI), and the ground's link index."""
+    drawn value (SI), the ground's link index, and the origin `centre` (2,) of the engine's frame
+    (`Engine.centre`: the steps', cuts' and joints' points are in that frame; the kernel writes the link
+    frames and points in the world's)."""
 
     steps: StepTables
     cuts: CutTables
@@ -92,6 +105,7 @@ class SweepTables(NamedTuple):
     sense: float
     phi_drawn: float
     ground: int
+    centre: np.ndarray
 
 
 class AtlasTables(NamedTuple):
@@ -253,8 +267,9 @@ def sweep_tables(engine) -> SweepTables:
         vars_.extend(bp.var_scale)
         var0 += bp.m
     block_cols = [np.array(c, np.int64) for c in zip(*blocks)] if blocks else [np.zeros(0, np.int64)] * 8
+    cx, cy = (float(v) for v in engine.centre)  # (the joints' points in the engine's frame, as its laws')
     joints = [(j.kind == PRISMATIC, idx[j.links[0]], idx[j.links[1]], engine.joint_value_drawn[j.name],
-               tuple(j.at) if j.kind == PRISMATIC else (0.0, 0.0),
+               (j.at[0] - cx, j.at[1] - cy) if j.kind == PRISMATIC else (0.0, 0.0),
                tuple(engine.laws[j.name].u0) if j.kind == PRISMATIC else (0.0, 0.0))
               for j in engine.mech.joints.values()]
     alpha = np.array([engine.reference_angle[n] for n in engine.links], float)
@@ -263,7 +278,7 @@ def sweep_tables(engine) -> SweepTables:
                        BlockTables(*block_cols, np.array(anchors, np.int64), np.array(rows, float),
                                    np.array(vars_, float)),
                        _columns(JointTables, joints), alpha, sense, float(engine.phi_drawn[0]),
-                       int(idx[engine.mech.ground]))
+                       int(idx[engine.mech.ground]), np.array([cx, cy], float))
 
 
 def atlas_tables(arrays, limits: tuple, crossings: list) -> AtlasTables:

@@ -146,12 +146,40 @@ def _input_links(engine) -> set:
     return {n for inp in engine.inputs for n in mech.joints[inp.joint].links if n != mech.ground}
 
 
+def first_group(engine) -> frozenset:
+    """The links of the first group, whose reduced inertia is constant: the input link, and the wheels
+    (gears turning about their centre of mass, `engine._solver.wheels`) that the gears turn at a constant
+    ratio to it (their reduced inertia I·(ω_wheel/ω)² + m·v² is the same all round the cycle; a planet on a
+    carrier that a linkage swings is not). Found once per engine, on 16 positions of a turn."""
+    def find():
+        inputs = _input_links(engine)
+        wheels = [w for w in getattr(engine.solver, "wheels", ()) if w not in inputs]
+        if not wheels:
+            return frozenset(inputs)
+        phi = float(engine.phi_drawn[0]) + np.linspace(0.0, 2 * math.pi, 16, endpoint=False)
+        motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
+        if not motion.success:
+            return frozenset(inputs)
+        k = np.array([engine.link_index[w] for w in wheels])
+        centres = np.array([engine.mech.joints_of(w)[0].at for w in wheels], float)
+        f = motion.frames
+        _, v, _ = material_points(f.th, f.r, f.w, f.v, f.e, f.a, k, centres)
+        wq = f.w[:, k]
+        speed = np.hypot(v[..., 0], v[..., 1])
+        steady = [w for j, w in enumerate(wheels)
+                  if np.ptp(np.abs(wq[:, j])) <= 1e-9 * (1 + np.abs(wq[:, j]).max())
+                  and np.ptp(speed[:, j]) <= 1e-9 * (engine.size + speed[:, j].max())]
+        return frozenset(inputs) | frozenset(steady)
+    return engine.prepare("first group", find)
+
+
 def _reduced_inertia(engine, motion):
-    """J_II, dJ_II over the links other than the input link, and J of the input link, (B,) each."""
+    """J_II, dJ_II over the links other than those of the first group, and J of the first group's links
+    (the input link and the wheels geared to it, `first_group`), (B,) each."""
     mech, f = engine.mech, motion.frames
     batch = len(motion.phi)
     J_II, dJ_II, J_input = np.zeros(batch), np.zeros(batch), np.zeros(batch)
-    inputs = _input_links(engine)
+    inputs = first_group(engine) if mech.higher else _input_links(engine)
     for name, lk in mech.links.items():
         if name == mech.ground or not (lk.mass or lk.inertia):
             continue
@@ -215,9 +243,9 @@ class Flywheel:
     inertia_on_crank_shaft : float
         The same on the crank shaft (kg·m²).
     shaft : str
-        "crank", or "motor" (``motor_rpm`` given).
+        "crank", "motor" (``motor_rpm`` given), or the link of the model it is on (``link`` given).
     speed_ratio : float
-        Motor speed over crank speed (1 on the crank shaft).
+        Its shaft's speed over the crank's (1 on the crank shaft; from the gears on a link).
     density : float
         Of its material (kg/m³).
     needed : bool
@@ -488,15 +516,20 @@ def _parabola_peak(x, y, i):
 def flywheel_sizes(dyn: Dynamics) -> Flywheel:
     """The flywheel's inertia and its size as a rim and as a disc.
 
-    J_fw (on the crank shaft) = J_I − the input link's own inertia − shaft_inertia − motor_inertia·u²,
-    u = motor speed / crank speed; on the motor shaft (motor_rpm given) J_fw/u² (seed 000's J_m).
+    J_fw (on the crank shaft) = J_I − the first group's own inertia (the input link's, and the gears' turned
+    at a constant ratio to it, reduced to the crank) − shaft_inertia − motor_inertia·u², u = motor speed /
+    crank speed; on the motor shaft (motor_rpm given) J_fw/u² (seed 000's J_m); on a link of the model
+    (`link`) with u its speed ratio, from the gears.
     """
     fs = dyn.spec.flywheel
     crank_rpm = dyn.omega_mean * 60 / (2 * math.pi)
     u = 1.0 if fs.motor_rpm is None else fs.motor_rpm / crank_rpm
+    shaft = "crank" if fs.motor_rpm is None else "motor"
+    if fs.link is not None:
+        u, shaft = _gear_ratio(dyn, fs.link), fs.link
     on_crank = dyn.inertia_first_group - dyn.input_link_inertia - fs.shaft_inertia - fs.motor_inertia * u * u
     J = on_crank / (u * u)
-    out = Flywheel(J, on_crank, "crank" if fs.motor_rpm is None else "motor", u, fs.density, J > 0)
+    out = Flywheel(J, on_crank, shaft, u, fs.density, J > 0)
     if J <= 0:
         return out
     scale = (J * RHO_STEEL / fs.density) ** 0.2
@@ -505,6 +538,18 @@ def flywheel_sizes(dyn: Dynamics) -> Flywheel:
     d = _DISC[0] * scale
     return replace(out, rim=Rim(d2, d1, b, _RIM[1] * fs.density / RHO_STEEL * (d2 * d2 - d1 * d1) * b),
                    disc=Disc(d, 0.2 * d, _DISC[1] * fs.density / RHO_STEEL * d ** 3))
+
+
+def _gear_ratio(dyn: Dynamics, link: str) -> float:
+    """How many times faster than the crank the gears turn `link` (|ω_q|, constant over the cycle, else a
+    `ModelError`)."""
+    motion = dyn.reduced.motion
+    wq = np.abs(motion.frames.w[:, motion.link_names.index(link)])
+    if not wq.max() > 0 or np.ptp(wq) > 1e-9 * wq.max():
+        raise ModelError(f"the flywheel's link '{link}' does not turn at a constant ratio to the crank "
+                         f"(|ω_q| from {wq.min():.6g} to {wq.max():.6g}): put it on a shaft the gears drive",
+                         source=motion.model.source, where="dynamics.flywheel")
+    return float(np.mean(wq))
 
 
 def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:

@@ -7,6 +7,10 @@ its slider back along the guide with a force μ·|N| against the sliding, N the 
 the block's length b given, the pair's moment M is carried by two normal forces at the block's ends,
 N/2 ∓ M/b, and the friction is μ·(|N/2 − M/b| + |N/2 + M/b|) = μ·max(|N|, 2|M|/b).
 
+A cam's or a slot's contact with friction adds, to its normal force N, a force μ·|N| along the contact's
+tangent against the sliding of its surfaces; gears and racks roll at their pitch point, a roller on its cam
+(no sliding there), and the model gives them no friction.
+
 The reactions depend on the friction and the friction on the reactions: the kinetostatics becomes
 nonlinear. It is solved by fixed-point iteration over the whole batch at once: reactions without
 friction, then friction loads from the reactions, reactions with those loads, ... until the reactions
@@ -38,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, did_you_mean
+from ..kinematics._contacts import contact_geometry
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
 from ..model._keys import Key, Section
@@ -115,8 +120,13 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
     for k, raw_pair in enumerate(rows):
         pr = Row(raw_pair, f"{where}: pairs[{k}]", section=FRICTION_PAIR)
         joint = pr.get("joint")
-        if joint not in mech.joints:
-            pr.fail(f"'{joint}' is not a joint of the model; {did_you_mean(joint, mech.joints, 'joints')}")
+        if joint not in mech.joints and joint not in mech.higher:
+            pr.fail(f"'{joint}' is not a joint of the model; {did_you_mean(joint, [*mech.joints, *mech.higher], 'joints')}")
+        if joint in mech.higher and (mech.higher[joint].kind in ("gear", "rack") or mech.higher[joint].follower == "roller"
+                                     and mech.higher[joint].kind == "cam"):
+            what = "roller rolls on its cam" if mech.higher[joint].kind == "cam" else "pitch circles roll"
+            pr.fail(f"'{joint}' is a {mech.higher[joint].kind} pair whose {what} without sliding: the model gives "
+                    "it no friction")
         if joint in given:
             pr.fail(f"joint '{joint}' is listed twice")
         radius, block = pr.number("pin_radius"), pr.get("block_length")
@@ -133,6 +143,10 @@ def read_friction(mech, mu: float | None = None) -> FrictionSpec | None:
             raise ModelError(f"{where}: joint '{name}' is revolute with mu = {p.mu}: give its pin_radius")
         if p.mu > 0:
             pairs.append(p)
+    for name, h in mech.higher.items():   # a cam's or a slot's contact slides; gears and rollers roll
+        p = given.get(name, PairFriction(name, default.mu))
+        if p.mu > 0 and (h.kind == "slot" or h.kind == "cam" and h.follower != "roller"):
+            pairs.append(PairFriction(name, p.mu))
     if int(max_iter) != max_iter:
         row.fail(f"'max_iterations' must be a whole number, got {max_iter}")
     spec = FrictionSpec(tuple(pairs), tolerance, int(max_iter))
@@ -215,7 +229,13 @@ def friction_loads(engine, motion, spec: FrictionSpec, reactions: dict) -> list[
     batch = len(motion.phi)
     zero2 = np.zeros((batch, 2))
     mech = engine.mech
+    slips = None
     for p in spec.pairs:
+        if p.joint in mech.higher:
+            if slips is None:
+                slips = contact_slips(engine, motion)
+            out += _contact_friction(engine, p, reactions[p.joint], *slips[p.joint])
+            continue
         j = mech.joints[p.joint]
         r = reactions[p.joint]
         ka, kb = (engine.link_index[n] for n in j.links)
@@ -240,6 +260,34 @@ def friction_loads(engine, motion, spec: FrictionSpec, reactions: dict) -> list[
     return out
 
 
+def contact_slips(engine, motion) -> dict:
+    """Per higher pair (contact point (B, 2), unit tangent (B, 2), sliding speed (B,)): the velocity of the
+    second link's material point at the contact less the first's, along the tangent (real velocities)."""
+    w, v, _, _ = real_frames(engine, motion)
+    r = motion.frames.r
+    out = {}
+    for name, g in contact_geometry(engine, motion).items():
+        ka, kb = (engine.link_index[n] for n in g.links)
+
+        def velocity(k):
+            d = g.point - r[:, k]
+            return v[:, k] + w[:, k, None] * np.stack([-d[:, 1], d[:, 0]], axis=1)
+
+        out[name] = (g.point, g.tangent, np.einsum("bi,bi->b", velocity(kb) - velocity(ka), g.tangent))
+    return out
+
+
+def _contact_friction(engine, p: PairFriction, reaction, point, tangent, slip) -> list[LoadValue]:
+    """Coulomb friction in a cam's or a slot's contact: μ·|N| along the tangent against the sliding of the
+    second link on the first, on the second link; the opposite on the first."""
+    a, b = (engine.link_index[n] for n in engine.mech.higher[p.joint].links)
+    size = -p.mu * np.hypot(reaction.fx, reaction.fy) * np.sign(slip)
+    force = size[:, None] * tangent
+    zero = np.zeros(len(size))
+    return [LoadValue(f"friction in {p.joint}", b, force, point, zero),
+            LoadValue(f"friction in {p.joint}", a, -force, point.copy(), zero.copy())]
+
+
 def _change(old: dict, new: dict, names) -> np.ndarray:
     """Largest change of the pairs' reactions (B,), relative to the largest reaction at each position."""
     scale = np.zeros(len(next(iter(new.values())).fx))
@@ -260,7 +308,7 @@ def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
     ideal = kinetostatics(engine, motion, input_inertia, loads=base)
     ks, iterations = ideal, 0
     residual = np.zeros(len(motion.phi))
-    names = list(engine.mech.joints)
+    names = list(engine.mech.joints) + list(engine.mech.higher)
     while spec.pairs and iterations < spec.max_iterations:
         iterations += 1
         new = kinetostatics(engine, motion, input_inertia,

@@ -34,6 +34,8 @@ import numpy as np
 from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
+from ..engine._tables import kernels_decline
+from ..kinematics._contacts import contact_geometry
 from ..kinematics._motion import Motion, material_points
 from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
                      real_frames, world_points)
@@ -72,7 +74,8 @@ class Kinetostatics:
     motion : Motion
         The positions.
     reactions : dict of str to Reaction
-        Joint name → its reaction (as reported: on the moving link for pairs with the ground).
+        Joint name → its reaction (as reported: on the moving link for pairs with the ground); a higher
+        pair's name → its contact force on its second link from its first.
     balancing : dict of str to ndarray (B,)
         Input joint name → the moment (N·m) or force (N) the drive applies to the input link.
     virtual_power_residual : ndarray (B,)
@@ -81,10 +84,18 @@ class Kinetostatics:
         What acted (the model's loads, gravity, the d'Alembert loads).
     singular : ndarray (B,) of bool
         Positions where the force system is singular (their reactions NaN).
+    contact_forces : dict of str to ndarray (B,)
+        Higher pair name → the signed size of its force along its direction (N): a cam's or a slot's
+        normal force on the second link along the normal out of the first (< 0: it would pull), a
+        gear's or a rack's tangential force on the second link along the tangent; empty without higher
+        pairs.
+    pulling : dict of str to ndarray (B,) of bool
+        Cam pair name → where its contact force would pull the follower onto the cam: the contact needs
+        force closure there (a spring, a preload, gravity) or the follower leaves the cam.
     success : bool
-        No position is singular.
+        No position is singular and no cam's contact force pulls.
     message : str
-        "solved", or where the system is singular.
+        "solved", or where the system is singular and where a cam's contact would pull.
 
     Examples
     --------
@@ -103,6 +114,8 @@ class Kinetostatics:
     virtual_power_residual: np.ndarray
     loads: list = field(default_factory=list)
     singular: np.ndarray | None = None
+    contact_forces: dict = field(default_factory=dict)
+    pulling: dict = field(default_factory=dict)
     success: bool = True
     message: str = "solved"
 
@@ -215,6 +228,10 @@ def _layout(engine) -> _Layout:
         sign = 1.0 if _reported_on(mech, j)[0] == j.links[1] else -1.0
         scale += [sign, sign] + ([sign * L] if j.kind == "P" else [])
         c += 3 if j.kind == "P" else 2
+    for h in mech.higher:  # a higher pair: the size of its force along its direction (`_pair_directions`)
+        cols[h] = c
+        scale.append(1.0)
+        c += 1
     in_cols = []
     for inp in engine.inputs:
         in_cols.append(c)
@@ -242,6 +259,7 @@ class _Plan:
     guides: list          # prismatic joint names whose guide direction is a feature
     p_inputs: list        # (guide index, joint index) of prismatic inputs (cross feature)
     blocks: list
+    higher: list = field(default_factory=list)  # higher pairs: direction (x, y) and lever of their force
 
 
 def _entries(engine, lay):
@@ -282,6 +300,14 @@ def _entries(engine, lay):
         if j.kind == "P":
             out.extend([(lay.p_rows[j.name], c, ux(j.name), 1.0), (lay.p_rows[j.name], c + 1, ux(j.name) + 1, 1.0)])
     n_features = 1 + 2 * nj + 2 * len(guides)
+    n_cross = sum(1 for inp in engine.inputs if mech.joints[inp.joint].kind == "P")
+    for k, h in enumerate(mech.higher.values()):
+        f = n_features + n_cross + 3 * k  # the force's direction (x, y), its lever about the centre
+        c = lay.cols[h.name]
+        for link, sign in ((engine.link_index[h.links[1]], 1.0), (engine.link_index[h.links[0]], -1.0)):
+            row = lay.rows.get(link)
+            if row is not None:
+                out.extend([(row, c, f, sign), (row + 1, c, f + 1, sign), (row + 2, c, f + 2, sign)])
     for inp, col in zip(engine.inputs, lay.in_cols):
         j = mech.joints[inp.joint]
         ia, ib = (engine.link_index[n] for n in j.links)
@@ -313,6 +339,8 @@ def _owners(engine, lay):
         col_block[c:c + (3 if j.kind == "P" else 2)] = owner[j.name]
         if j.kind == "P":
             row_block[lay.p_rows[j.name]] = owner[j.name]
+    for h in mech.higher.values():
+        col_block[lay.cols[h.name]] = max(block_of.get(engine.link_index[n], -1) for n in h.links)
     for inp, col in zip(engine.inputs, lay.in_cols):
         col_block[col] = owner[inp.joint]
     return row_block, col_block
@@ -345,7 +373,7 @@ def _plan(engine) -> _Plan:
         later = [(local_row[r], c, f, coef) for r, c, f, coef in mine if c not in local_col]
         blocks.append(_block(rows, own, inside, later))
     centre = np.mean([j.at for j in mech.joints.values()], axis=0)
-    return _Plan(lay, centre, jnames, guides, p_inputs, blocks)
+    return _Plan(lay, centre, jnames, guides, p_inputs, blocks, list(mech.higher))
 
 
 @dataclass
@@ -452,14 +480,15 @@ def _solve_block(blk: _Block, features, b, x, perms: list | None = None):
         return np.broadcast_to(np.abs(det) / np.sqrt(norm2), (batch,))
 
 
-def _features(engine, motion, plan):
-    """The per-position scalars (F, B) (batch last) the entries of the system are made of."""
+def _features(engine, motion, plan, directions: dict | None = None):
+    """The per-position scalars (F, B) (batch last) the entries of the system are made of (`directions`:
+    the higher pairs' `pair_directions`, when already made)."""
     L = engine.size
     th = motion.frames.th.T  # (L, B) view
     # the joints' points are the motion's own (a revolute pair's point is common to both its links)
     xy = motion.xy[:, [motion.point(name) for name in plan.joints]].transpose(2, 1, 0)  # (2, J, B)
     n_joints, n_guides, batch = xy.shape[1], len(plan.guides), th.shape[1]
-    out = np.empty((1 + 2 * n_joints + 2 * n_guides + len(plan.p_inputs), batch))
+    out = np.empty((1 + 2 * n_joints + 2 * n_guides + len(plan.p_inputs) + 3 * len(plan.higher), batch))
     out[0] = 1.0
     lever_x, lever_y = out[1:1 + 2 * n_joints:2], out[2:2 + 2 * n_joints:2]
     lever_x[:] = (xy[0] - plan.centre[0]) / L
@@ -475,7 +504,21 @@ def _features(engine, motion, plan):
         uy[:] = s * u0[:, 0, None] + c * u0[:, 1, None]
         for k, (g, j) in enumerate(plan.p_inputs):
             out[base + 2 * n_guides + k] = lever_x[j] * uy[g] - lever_y[j] * ux[g]
+    if plan.higher:
+        base = 1 + 2 * n_joints + 2 * n_guides + len(plan.p_inputs)
+        for k, (point, d) in enumerate((directions or pair_directions(engine, motion)).values()):
+            out[base + 3 * k] = d[:, 0]
+            out[base + 3 * k + 1] = d[:, 1]
+            out[base + 3 * k + 2] = ((point[:, 0] - plan.centre[0]) * d[:, 1] - (point[:, 1] - plan.centre[1]) * d[:, 0]) / L
     return out
+
+
+def pair_directions(engine, motion) -> dict:
+    """Per higher pair (point (B, 2), unit direction (B, 2)) of the force its unknown stands for: a gear's or
+    a rack's tangential force at the pitch point (its radial part follows from it, `_radial_loads`), a cam's
+    or a slot's normal force at the contact."""
+    return {name: (g.point, g.tangent if g.kind in ("gear", "rack") else g.normal)
+            for name, g in contact_geometry(engine, motion).items()}
 
 
 def pivot_orders(engine, motion) -> dict:
@@ -534,6 +577,13 @@ def _virtual_power(engine, motion, loads, drive):
     # that a position where most links stand still (an extreme position) is not judged on round-off
     point_v = motion.vq if motion.vq is not None else motion.v
     vscale = np.hypot(point_v[..., 0], point_v[..., 1]).max(axis=1, initial=0.0)
+    if engine.mech.higher:  # and the higher pairs' contacts on both their links (a cam's rim at a dwell)
+        for g in contact_geometry(engine, motion).values():
+            for link in g.links:
+                k = engine.link_index[link]
+                d = g.point - r[:, k]
+                speed = np.hypot(v[:, k, 0] - w[:, k] * d[:, 1], v[:, k, 1] + w[:, k] * d[:, 0])
+                vscale = np.maximum(vscale, speed)
     wscale = np.abs(w).max(axis=1)
     for ld in loads:
         total += load_power(ld, w, v, r)
@@ -545,6 +595,26 @@ def _virtual_power(engine, motion, loads, drive):
     return np.abs(total) / np.where(scale > 0, scale, 1.0)
 
 
+def _radial_loads(engine, motion, x, lay) -> list[LoadValue]:
+    """The radial part of every gear's and rack's contact force, from its tangential part x[col] (B,):
+    tan α·|F_t| along the line of centres at the pitch point, pushing the teeth apart (on the second
+    link along the normal out of the first, the opposite on the first). It passes through both gears'
+    centres, points of the carrier, so it changes the bearings' reactions and nothing else."""
+    out = []
+    geometry = contact_geometry(engine, motion)
+    for name, g in geometry.items():
+        h = engine.mech.higher[name]
+        if h.kind not in ("gear", "rack"):
+            continue
+        size = np.tan(h.pressure_angle) * np.abs(x[lay.cols[name]])
+        force = size[:, None] * g.normal
+        zero = np.zeros(len(size))
+        ka, kb = (engine.link_index[n] for n in h.links)
+        out += [LoadValue(f"radial force in {name}", kb, force, g.point, zero),
+                LoadValue(f"radial force in {name}", ka, -force, g.point.copy(), zero.copy())]
+    return out
+
+
 def _reported_on(mech, j) -> tuple[str, str]:
     """(link the reaction of pair j is reported on, the link it comes from): the moving link for a pair
     with the ground, the slider for a prismatic pair, the row's first link for a revolute pair."""
@@ -552,13 +622,17 @@ def _reported_on(mech, j) -> tuple[str, str]:
     return (a, b) if b == mech.ground or (j.kind == "R" and a != mech.ground) else (b, a)
 
 
-def _report(engine, lay, x) -> dict:
-    """Reactions as reported, from the unknowns x (n, B) (already turned round by `_Layout.scale`)."""
+def _report(engine, lay, x, contact: dict | None = None) -> dict:
+    """Reactions as reported, from the unknowns x (n, B) (already turned round by `_Layout.scale`); a
+    higher pair's on its second link from its first, its force `contact` (name → (B, 2))."""
     out = {}
     for j in engine.mech.joints.values():
         c = lay.cols[j.name]
         m = x[c + 2] if j.kind == "P" else np.zeros(x.shape[1])
         out[j.name] = Reaction(j.name, *_reported_on(engine.mech, j), x[c], x[c + 1], m)
+    for name, force in (contact or {}).items():
+        a, b = engine.mech.higher[name].links
+        out[name] = Reaction(name, b, a, force[:, 0], force[:, 1], np.zeros(x.shape[1]))
     return out
 
 
@@ -649,6 +723,9 @@ def _program_request(engine, motion, inertia, loads, input_inertia) -> Kinetosta
 
 def _unwritable(engine, motion, loads, input_inertia) -> str:
     """Why the program cannot express a call ("" where it can)."""
+    why = kernels_decline(engine.mech)
+    if why:
+        return why
     if len(engine.inputs) != 1:
         return "several inputs"
     if loads is not None:
@@ -704,35 +781,75 @@ def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
     if inertia:
         loads += inertia_loads(engine, motion, input_inertia)
     b = _right_side(lay, loads, plan.centre, engine.size, batch)
+    contact = None
     if batch:
-        x, singular = _solve_blocks(plan, _features(engine, motion, plan), b, engine.tol.singular)
+        directions = pair_directions(engine, motion) if plan.higher else None
+        features = _features(engine, motion, plan, directions)
+        x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
+        radial = _radial_loads(engine, motion, x, lay) if plan.higher else []
+        if radial:  # (the tangential forces stay as they are: the radial pairs pass through the centres)
+            b = b + _right_side(lay, radial, plan.centre, engine.size, batch)
+            x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
         x *= lay.scale[:, None]
         singular |= ~np.all(np.isfinite(x), axis=0)
         x[:, singular] = np.nan
+        if plan.higher:
+            contact = _contact_forces(engine, lay, x, directions, radial)
     else:
         x, singular = np.zeros((lay.size, 0)), np.zeros(0, bool)
+        if plan.higher:
+            contact = {name: np.zeros((0, 2)) for name in plan.higher}
     residual = _virtual_power(engine, motion, loads, [x[c] for c in lay.in_cols])
-    return result(engine, motion, lay, x, singular, residual, loads)
+    return result(engine, motion, lay, x, singular, residual, loads, contact)
 
 
-def result(engine, motion, lay, x, singular, residual, loads) -> Kinetostatics:
-    """The reported reactions and balancing loads from the unknowns x (n, B) (also the compiled backend's)."""
+def _contact_forces(engine, lay, x, directions: dict, radial: list) -> dict:
+    """Each higher pair's contact force on its second link (B, 2): its unknown along its direction, and a
+    gear's or a rack's radial part."""
+    out = {name: x[lay.cols[name], :, None] * d for name, (_, d) in directions.items()}
+    k_of = {name: engine.link_index[engine.mech.higher[name].links[1]] for name in out}
+    for ld in radial:
+        name = ld.name.removeprefix("radial force in ")
+        if ld.link == k_of[name]:
+            out[name] = out[name] + ld.force
+    return out
+
+
+def result(engine, motion, lay, x, singular, residual, loads, contact: dict | None = None) -> Kinetostatics:
+    """The reported reactions and balancing loads from the unknowns x (n, B) (also the compiled backend's);
+    `contact` the higher pairs' contact forces (`_contact_forces`)."""
     mech = engine.mech
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
     balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}
-    success = not bool(np.any(singular))
-    return Kinetostatics(motion=motion, reactions=_report(engine, lay, x), balancing=balancing,
-                         virtual_power_residual=residual, loads=loads, singular=singular, success=success,
-                         message="solved" if success else _singular_message(engine, motion, singular))
+    contact_forces = {name: x[lay.cols[name]] for name in mech.higher}
+    pulling = {name: np.asarray(f) < 0 for name, f in contact_forces.items() if mech.higher[name].kind == "cam"}
+    words = []
+    if np.any(singular):
+        words.append(_singular_message(engine, motion, singular))
+    for name, pull in pulling.items():
+        if np.any(pull):
+            bad = np.flatnonzero(pull)
+            words.append(f"cam '{name}': the contact force would pull at {len(bad)} position(s) "
+                         f"({_where(engine, motion, bad)}): the follower leaves the cam there unless a spring or "
+                         "a preload holds it on")
+    return Kinetostatics(motion=motion, reactions=_report(engine, lay, x, contact), balancing=balancing,
+                         virtual_power_residual=residual, loads=loads, singular=singular,
+                         contact_forces=contact_forces, pulling=pulling, success=not words,
+                         message="; ".join(words) or "solved")
+
+
+def _where(engine, motion, bad) -> str:
+    """"φ = 10, 20, ..." of the positions `bad` (at most five named)."""
+    inp = engine.inputs[0]
+    return (f"{inp.name} = " + ", ".join(f"{inp.from_si(motion.phi[k, 0]):.6g}" for k in bad[:5])
+            + (", ..." if len(bad) > 5 else ""))
 
 
 def _singular_message(engine, motion, singular) -> str:
-    """`Kinetostatics.message` where the force system is singular."""
+    """What `Kinetostatics.message` says where the force system is singular."""
     bad = np.flatnonzero(singular)
-    inp = engine.inputs[0]
-    where = ", ".join(f"{inp.from_si(motion.phi[k, 0]):.6g}" for k in bad[:5])
-    return (f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where}"
-            f"{', ...' if len(bad) > 5 else ''}): links in line at a dead point, where the drive cannot "
-            "balance the loads, or at a change point, where the reactions are statically indeterminate")
+    return (f"the force system is singular at {len(bad)} position(s) ({_where(engine, motion, bad)}): links in "
+            "line at a dead point, where the drive cannot balance the loads, or at a change point, where the "
+            "reactions are statically indeterminate")
 

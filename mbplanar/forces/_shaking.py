@@ -27,6 +27,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError, MotionError, did_you_mean
+from ..kinematics._contacts import contact_geometry
 from ..kinematics._motion import analyse, material_points
 from ._loads import guide_direction, heavy_links, real_frames, world_points
 from ..model._model import Point
@@ -60,13 +61,19 @@ def shaking(engine, ks, about=(0.0, 0.0)) -> Shaking:
     force, moment = np.zeros((batch, 2)), np.zeros(batch)
     c = np.asarray(about, float)
     ground = engine.link_index[mech.ground]
+    contact = None
     for name, r in ks.reactions.items():
-        j = mech.joints[name]
+        j = mech.joints[name] if name in mech.joints else mech.higher[name]
         if mech.ground not in j.links:
             continue
         sign = -1.0 if r.on != mech.ground else 1.0  # the force on the frame
         moving = j.other(mech.ground)
-        point = world_points(motion, engine.link_index[moving], np.asarray(j.at, float))
+        if name in mech.higher:  # a higher pair with the frame: its force at the contact
+            if contact is None:
+                contact = contact_geometry(engine, motion)
+            point = contact[name].point
+        else:
+            point = world_points(motion, engine.link_index[moving], np.asarray(j.at, float))
         f = sign * np.stack([r.fx, r.fy], axis=1)
         force += f
         moment += _cross(point - c, f) + sign * r.moment

@@ -25,7 +25,7 @@ SUFFIXES = (".toml", ".csv")
 class Example:
     """One bundled file: `name` (its path under the examples without the suffix, e.g. "fourbar",
     "synthesis/motion_3poses"), `file` (the path with it), `kind` ("model": a linkage; "cam": a cam file;
-    "variants": a design study's table; "synthesis": a target of ``mbplanar synth``) and `title` (the
+    "variants": a design study's table; "profile": a cam's profile a model reads; "synthesis": a target of ``mbplanar synth``) and `title` (the
     model's title, else the file's first comment line)."""
 
     name: str
@@ -64,7 +64,7 @@ def _describe(file: str, text: str) -> tuple[str, str]:
     if file.startswith("synthesis/"):
         return "synthesis", comment
     if file.endswith(".csv"):
-        return "variants", comment
+        return ("profile" if "profile_x[mm]" in text else "variants"), comment
     data = tomllib.loads(text)
     kind = "model" if "joints" in data else "cam" if "cam" in data else "other"
     return kind, str(data.get("title") or comment)
@@ -102,13 +102,22 @@ def example_text(name: str) -> str:
 
 
 def _companions(ex: Example) -> list[Example]:
-    """The files an example needs beside it: a cam file's model, a study model's variants table."""
+    """The files an example needs beside it: a cam file's model, a study model's variants table, the CSV
+    profile or path a higher pair's curve names."""
     out = []
     names = {e.file: e for e in list_examples()}
     if ex.kind == "cam":
         model = tomllib.loads(ex.text())["cam"].get("model")
         if isinstance(model, str) and model in names:
             out.append(names[model])
+    if ex.file.endswith(".toml"):
+        joints = tomllib.loads(ex.text()).get("joints", [])
+        for row in joints if isinstance(joints, list) else []:
+            for key in ("profile", "path"):
+                curve = row.get(key) if isinstance(row, dict) else None
+                file = curve.get("file") if isinstance(curve, dict) else None
+                if isinstance(file, str) and file in names:
+                    out.append(names[file])
     variants = ex.name + "_variants.csv"
     if variants in names:
         out.append(names[variants])

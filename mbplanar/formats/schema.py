@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 from importlib import resources
 
-from ..model._keys import DOCUMENT, LOADS, MISSING, PARAMETER, UNITS, Key, Section
+from ..model._keys import DOCUMENT, HIGHER, JOINT, LOADS, MISSING, PARAMETER, UNITS, Key, Section
 
 __all__ = ["model_schema", "schema_text", "SCHEMA_FILE", "sections"]
 
@@ -49,6 +49,20 @@ def model_schema() -> dict:
         return {"$ref": f"#/definitions/{section.name}"}
 
     def value_of(key: Key, section: Section) -> dict:
+        if section is DOCUMENT and key.name == "joints":   # a lower pair's row, or a higher pair's by its type
+            for kind in (JOINT, *HIGHER.values()):
+                ref(kind)
+                free = f"{kind.name}_named"
+                if free not in defs:
+                    defs[free] = dict(_object(kind, value_of), required=[k.name for k in kind.keys
+                                                                         if k.required and k.name != "name"])
+
+            def by_type(suffix: str) -> dict:       # each row checked against its type's section
+                higher = {"properties": {"type": {"enum": list(HIGHER)}}, "required": ["type"]}
+                rules = [{"if": {"properties": {"type": {"const": kind}}, "required": ["type"]},
+                          "then": {"$ref": f"#/definitions/{section.name}{suffix}"}} for kind, section in HIGHER.items()]
+                return {"allOf": rules + [{"if": {"not": higher}, "then": {"$ref": f"#/definitions/{JOINT.name}{suffix}"}}]}
+            return {"type": ["array", "object"], "items": by_type(""), "additionalProperties": by_type("_named")}
         if key.kind == "table":
             return ref(key.section)
         if key.kind == "rows":

@@ -24,6 +24,8 @@ __all__ = ["LAYERS", "drawing", "export_drawing", "sweep_values"]
 LAYERS = (Layer("GROUND", 8, "#6b6b6b", width=0.8), Layer("GUIDES", 3, "#2e7d32", width=0.8),
           Layer("PATHS", 5, "#2a6fb0", width=0.8), Layer("LINKS", 7, "#1a1a1a", "#e8edf2", 1.2),
           Layer("JOINTS", 1, "#b03a2e", "#ffffff", 1.0), Layer("LABELS", 7, "#1a1a1a", width=0.5))
+#: the layer of the higher pairs (a model with gears, racks, cams or slots)
+PAIRS = Layer("PAIRS", 6, "#7a4f9a", width=0.8)
 
 
 def sweep_values(engine, phi, steps: int) -> np.ndarray:
@@ -85,6 +87,14 @@ def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
     sheet = Sheet(mech.units.length, mech.title or mech.name)
     for layer in LAYERS:
         sheet.layer(layer)
+    if scene.pairs:   # the higher pairs: pitch circles, racks, profiles, followers, slots; tooth marks
+        sheet.layer(PAIRS)
+        for pair in scene.pairs:
+            for _, _, line, closed in pair.lines:
+                points = line[0] / unit
+                sheet.polyline("PAIRS", points[:-1] if closed else points, closed=closed)
+            for a, b in pair.marks[0] / unit:
+                sheet.line("PAIRS", a, b)
     for link in scene.links:
         outline = link.outline[0] / unit
         if link.kind == "bar":

@@ -1,5 +1,5 @@
 """A planetary train (optionally followed by a pair on fixed axes) written as a model table with `gear`
-joints, in the format the engine's higher pairs will read (docs/gears.md, "The model of a train").
+joints, which the engine reads as higher pairs (docs/gears.md, "The model of a train").
 
 The train's axis is at the origin, the planet's at (a_w, 0). Links: "1" gear 1, "2" the planet (one
 planet; the other k − 1 are kinematically redundant and are recorded in `[gears.train]`), "H" the
@@ -114,8 +114,8 @@ def train_model(train: Train, *, name: str | None = None, title: str | None = No
     lines = [
         f"# {title}",
         "# Written by `mbplanar gear planetary`: one planet is modelled; the other planets, equally spaced,",
-        "# are kinematically redundant ([gears.train] planets). The gear joints need an engine that reads",
-        "# higher pairs (docs/gears.md).",
+        "# are kinematically redundant ([gears.train] planets). The engine reads the gear joints as higher",
+        "# pairs (docs/gears.md, docs/format.md).",
         f'name = "{name}"',
         f'title = "{title}"',
         'ground = "0"',

@@ -199,13 +199,59 @@ def info_document(engine) -> dict:
         "loops": len(topo.loops),
         "loop_joints": [list(loop) for loop in topo.loops],
     }
+    n, p5, p4 = len(mech.moving_links), len(mech.joints), len(mech.higher)
+    doc["count"] = {"n": n, "p5": p5, "p4": p4, "chebyshev": 3 * n - 2 * p5 - p4, **_engine_count(engine)}
+    if mech.higher:
+        doc["higher_pairs"] = {name: _higher_document(engine, name) for name in mech.higher}
     s = topo.structure
     if s is not None:
         doc["groups"] = [{"class": g.group_class, "order": g.order, "kind": g.kind, "links": list(g.links),
                           "joints": list(g.joints), "external": list(g.external)} for g in s.groups]
         doc["mechanism_class"] = s.mechanism_class
         doc["formula"] = s.formula
+        if s.replaced:
+            doc["replaced"] = dict(s.replaced)   # the links of the equivalent mechanism that replace higher pairs
     return doc
+
+
+def _engine_count(engine) -> dict:
+    """The count the engine solves by: a variable per tree joint (the links' placings, inputs among
+    them) and per contact parameter, less the closure equations; their difference is the DOF."""
+    tree = sum(len(b.tree) for b in engine.topology.blocks)
+    params = sum(len(bp.params) for bp in engine.blocks)
+    equations = sum(b.counts(engine.mech)[0] for b in engine.topology.blocks)
+    return {"joint_variables": tree, "contact_parameters": params, "closure_equations": equations,
+            "engine": tree + params - equations}
+
+
+def _higher_document(engine, name: str) -> dict:
+    """A higher pair for `info`: its type, links and data, where it touches in the drawn pose, and the
+    pairs of the link that replaces it in the equivalent lower-pair mechanism."""
+    from ..model._drawn import replacement
+    law = engine.laws[name]
+    h, g = law.pair, law.geometry
+    out = {"type": h.kind, "links": list(h.links), "contact": [float(x) for x in g.pitch]}
+    if h.kind == "gear":
+        out.update(radii=list(h.radii), mesh="internal" if h.internal else "external", carrier=g.carrier,
+                   centres=[[float(x) for x in c] for c in g.centres], ratio=(-1 if not h.internal else 1) * h.radii[1] / h.radii[0])
+    elif h.kind == "rack":
+        out.update(radius=h.radius, centre=[float(x) for x in g.centres[0]])
+    elif h.kind == "cam":
+        out.update(follower=h.follower, at=list(h.at), **({"radius": h.radius} if h.radius else {}))
+    else:
+        out.update(at=list(h.at))
+    if h.kind in ("gear", "rack"):
+        out["pressure_angle_deg"] = math.degrees(h.pressure_angle)
+    if h.curve is not None:
+        c = h.curve
+        out["curve"] = (("arc" if c.arc else "circle") if c.kind == "circle" else
+                        ("closed spline" if c.closed else "open spline"))
+    pairs = replacement(g, engine.size).pairs
+    out["equivalent"] = [{"type": kind, "link": link, **({"at": [float(x) for x in where]} if kind == "R" else
+                                                        {"at": [float(x) for x in where[0]],
+                                                         "guide_deg": math.degrees(where[1])})}
+                         for kind, link, where in pairs]
+    return out
 
 
 # -- kinematics --------------------------------------------------------------------------------------
@@ -311,9 +357,11 @@ def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0,
     reactions = {}
     for name, r in result.reactions.items():
         fx, fy = float(r.fx[row]), float(r.fy[row])
-        reactions[name] = {"type": engine.mech.joints[name].kind, "on": r.on, "from": r.source,
+        reactions[name] = {"type": engine.mech.kind_of(name), "on": r.on, "from": r.source,
                            "fx": fx, "fy": fy, "moment": float(r.moment[row]),
                            "magnitude": math.hypot(fx, fy), "direction_deg": math.degrees(math.atan2(fy, fx)) % 360}
+        if name in result.contact_forces:   # a higher pair: the signed size along its direction
+            reactions[name]["contact_force"] = float(result.contact_forces[name][row])
     inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name,
            "input": inputs[0], "inputs": inputs,           # one balancing load per input

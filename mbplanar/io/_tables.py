@@ -28,13 +28,17 @@ def sweep_table(engine, motion, angle_unit):
         else:
             header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
             cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    from ..analysis._check import pressure_angles, transmission_angles
+    from ..analysis._check import contact_angles, pressure_angles, transmission_angles
     labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
     header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
     cols += [to_angle(angles[:, k]) for k in range(len(labels))]
     labels, angles = pressure_angles(engine, motion)              # slider S driven by rod A-B: S.A-B
     header += [f"pressure.{s}.{a}-{b}[{au}]" if a != b else f"pressure.{s}.normal-{a}[{au}]" for a, b, s in labels]
     cols += [to_angle(angles[:, k]) for k in range(len(labels))]
+    if engine.mech.higher:
+        names, angles = contact_angles(engine, motion)            # a cam's or a slot's contact C
+        header += [f"pressure.{n}.contact[{au}]" for n in names]
+        cols += [to_angle(angles[:, k]) for k in range(len(names))]
     return header, np.column_stack(cols) if cols else np.zeros((0, 0))
 
 
@@ -52,7 +56,10 @@ def forces_columns(engine, result):
     for name, r in result.reactions.items():
         header += [f"{name}.fx[N]", f"{name}.fy[N]"]
         cols += [r.fx, r.fy]
-        if engine.mech.joints[name].kind == "P":
+        if name in result.contact_forces:
+            header.append(f"{name}.contact[N]")
+            cols.append(result.contact_forces[name])
+        elif engine.mech.joints[name].kind == "P":
             header.append(f"{name}.moment[N*m]")
             cols.append(r.moment)
     for name, q in result.balancing.items():

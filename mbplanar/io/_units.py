@@ -57,6 +57,13 @@ def convert_info(engine, doc: dict, display: DisplayUnits) -> dict:
     """`info --json` in `display` units, with its ``"units"`` object."""
     for node in list(doc["joints"].values()) + list(doc["points"].values()):
         _scale_dict(node, {"at": "length"}, display)
+    for node in doc.get("higher_pairs", {}).values():
+        _scale_dict(node, {"at": "length", "contact": "length", "radius": "length", "radii": "length",
+                           "centre": "length"}, display)
+        if "centres" in node:
+            node["centres"] = [[v / display.scale("length") for v in c] for c in node["centres"]]
+        for pair in node["equivalent"]:
+            _scale_dict(pair, {"at": "length"}, display)
     doc["units"] = display.document()
     return doc
 

@@ -1,10 +1,13 @@
 """Kinematics: `analyse(engine, phi, omega, epsilon)` → `Motion`, positions, analogues and real
 velocities and accelerations of every link, joint and point (batch first, SI); `positions_at_limits`;
-`position(engine, phi, omega, epsilon)` → `Position`, one position without the batch machinery.
+`position(engine, phi, omega, epsilon)` → `Position`, one position without the batch machinery;
+`contacts(engine, motion)` → a `Contact` per higher pair (where it touches, its normal, sliding and
+pressure angle).
 """
 
+from ._contacts import Contact, contacts
 from ._motion import OUTPUTS, Frames, Motion, analyse, material_points, positions_at_limits
 from ._single import Position, position
 
 __all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "Position",
-           "position"]
+           "position", "Contact", "contacts"]

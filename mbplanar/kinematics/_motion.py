@@ -18,9 +18,9 @@ import numpy as np
 from ..errors import ModelError, did_you_mean
 from ..engine._atlas import far_span, met_along
 from ..engine._backend import dispatch
-from ..engine._constraints import dot, perp
+from ..engine._constraints import dot, perp, world_frames
 from ..engine._solver import Crossing, Engine, Limit, solve_positions
-from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, record_layout, sweep_tables
+from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, kernels_decline, record_layout, sweep_tables
 
 __all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "OUTPUTS"]
 
@@ -49,6 +49,9 @@ class Frames:
     analogues : bool
         True: w, v, e, a are analogues (per unit input: rad/rad, m/rad, ...; one input); False: real
         (rad/s, m/s, ...; several inputs).
+    contact : ndarray (B, H) or None
+        The contact parameter of every higher pair (the model's `higher` order): where on its curve a
+        cam's or a slot's contact is (0 for gears and racks, which have none); None without higher pairs.
     """
 
     th: np.ndarray
@@ -58,6 +61,7 @@ class Frames:
     e: np.ndarray | None = None
     a: np.ndarray | None = None
     analogues: bool = True
+    contact: np.ndarray | None = None
 
     def __repr__(self) -> str:
         return "Frames(" + ", ".join(f"{f.name}={_shape(getattr(self, f.name))}" for f in fields(self)) + ")"
@@ -260,13 +264,24 @@ def describe_crossing(engine: Engine, c: Crossing) -> str:
 
 
 def _point_table(engine: Engine):
-    """(names, link index, drawn coordinates) of every joint (its slider point for P) and point."""
+    """(names, link index, drawn coordinates) of every joint (its slider point for P), higher pair (a
+    gear's pitch point, a point of its carrier; a cam's follower point; a slot's pin) and point."""
     mech = engine.mech
     names, links, at = [], [], []
     for j in mech.joints.values():
         names.append(j.name)
         links.append(engine.link_index[j.slider if j.kind == "P" else j.links[0]])
         at.append(j.at)
+    for h in mech.higher.values():
+        law = engine.laws[h.name]
+        if h.kind == "gear":
+            names.append(h.name)
+            links.append(engine.link_index[law.carrier])
+            at.append(law.geometry.pitch)
+        elif h.kind in ("cam", "slot"):
+            names.append(h.name)
+            links.append(engine.link_index[h.links[1]])
+            at.append(h.at)
     for p in mech.points.values():
         names.append(p.name)
         links.append(engine.link_index[p.link])
@@ -277,8 +292,9 @@ def _point_table(engine: Engine):
 @dataclass
 class _JointTable:
     """Index maps of the joints, built once per engine: revolute columns `r_col` with their links
-    (`r_a`, `r_b`), prismatic columns `p_col` with carrier `p_c`, slider `p_s`, point `p_at` (Pp, 2)
-    and guide direction `p_u0` (Pp, 2); `drawn` (J,) joint values in the drawn pose."""
+    (`r_a`, `r_b`), prismatic columns `p_col` with carrier `p_c`, slider `p_s`, point `p_at` (Pp, 2,
+    drawn, in the engine's frame: minus `Engine.centre`) and guide direction `p_u0` (Pp, 2); `drawn`
+    (J,) joint values in the drawn pose."""
 
     r_col: np.ndarray
     r_a: np.ndarray
@@ -302,7 +318,7 @@ def _joint_table(engine: Engine) -> _JointTable:
         r_b=ints([idx[j.links[1]] for _, j in rev]),
         p_col=ints([k for k, _ in pri]), p_c=ints([idx[j.links[0]] for _, j in pri]),
         p_s=ints([idx[j.links[1]] for _, j in pri]),
-        p_at=np.array([j.at for _, j in pri], float).reshape(-1, 2),
+        p_at=np.array([j.at for _, j in pri], float).reshape(-1, 2) - engine.centre,  # (the engine's frame)
         p_u0=np.array([engine.laws[j.name].u0 for _, j in pri], float).reshape(-1, 2),
         drawn=np.array([engine.joint_value_drawn[j.name] for j in joints]))
 
@@ -429,13 +445,25 @@ def _joint_values(table: _JointTable, th, c, s, r, w, v, e, a, value=True):
 
 
 def _link_states(engine: Engine, sol):
-    """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order."""
+    """th, cos θ, sin θ (L, B) and r (2, L, B) of every link, in engine.links order, in the engine's
+    frame (centred on `Engine.centre`; `world_frames` converts)."""
     names, pose = engine.links, sol.pose
     th, c, s = (np.empty((len(names), len(sol.phi))) for _ in range(3))
     r = np.empty((2,) + th.shape)
     for k, n in enumerate(names):  # row by row: cheaper than np.stack for a small batch
         th[k], c[k], s[k], r[:, k] = pose.th[n], pose.c[n], pose.s[n], pose.r[n]
     return th, c, s, r
+
+
+def _contact_parameters(engine: Engine, sol) -> np.ndarray:
+    """The contact parameter of every higher pair (B, H) (engine.mech.higher order; 0 for gears and
+    racks, which have none): where on its curve a cam's or a slot's contact is."""
+    names = list(engine.mech.higher)
+    out = np.zeros((len(sol.phi), len(names)))
+    for bp, state in zip(engine.blocks, sol.blocks):
+        for law, k in bp.params:
+            out[:, names.index(law.name)] = state.q[k]
+    return out
 
 
 def _real(xq, xqq, om, ep):
@@ -581,6 +609,9 @@ def _sweep_request(engine: Engine, phi, omega, epsilon, sel: PointSelection, wan
     the batch, the inputs and the output arrays asked for; or why no kernel can take the batch."""
     shared = engine.prepared.get("sweep tables")
     if shared is None:
+        why = kernels_decline(engine.mech)
+        if why:
+            return why
         shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
     if not shared.one_input:
         return "several inputs (the kernels follow one)"
@@ -829,6 +860,8 @@ def one_position(engine: Engine, x: float, omega, epsilon, reference):
     request is `analyse`'s of a batch of one, its arrays the record's own."""
     shared = engine.prepared.get("sweep tables")
     if shared is None:
+        if kernels_decline(engine.mech):  # (`dispatch` is asked, and logs why)
+            return dispatch(engine, "kinematics", 1, reference, lambda: kernels_decline(engine.mech))
         shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
     plan = shared.plans.get("position")
     if plan is None:
@@ -907,7 +940,10 @@ def _motion(engine: Engine, sol, omega, epsilon, sel: PointSelection, wanted: fr
     keep = slice(None) if sol.valid.all() else np.flatnonzero(sol.valid)
     omega = _per_position(omega, [i.omega for i in engine.inputs], batch, n_in)
     epsilon = _per_position(epsilon, [i.epsilon for i in engine.inputs], batch, n_in)
-    th, c, s, r = _link_states(engine, sol)
+    # the joint values are relative: computed in the engine's frame (`Engine.centre`), where positions
+    # are vectors within the mechanism; the link frames are converted to the world convention
+    # (`world_frames`) and the points follow from them, as `Motion.frames` reports them
+    th, c, s, r_engine = _link_states(engine, sol)
     links, at = sel.links, sel.at
     joints = _tables(engine)[1]
     alpha = np.array([engine.reference_angle[n] for n in engine.links])
@@ -915,38 +951,42 @@ def _motion(engine: Engine, sol, omega, epsilon, sel: PointSelection, wanted: fr
     out.update(phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep], link_names=list(engine.links),
                point_names=list(sel.names), joint_names=list(engine.mech.joints), angle=(th.T + alpha)[keep],
                limits=sol.limits, crossings=sol.crossings, requested=batch, model=engine.mech)
+    contact = _contact_parameters(engine, sol)[keep] if engine.mech.higher else None
     rates = any(name in wanted for name in RATE_OUTPUTS)
     if not rates:
+        r = world_frames(engine.centre, c, s, r_engine)[0]
         out["xy"] = _first(_placed_points(c, s, r, links, at))[keep]
         if "value" in wanted:
-            out["value"] = _joint_values(joints, th, c, s, r, None, None, None, None)[0].T[keep]
+            out["value"] = _joint_values(joints, th, c, s, r_engine, None, None, None, None)[0].T[keep]
         if "frames" in wanted:
-            out["frames"] = Frames(th.T[keep], _first(r)[keep])
+            out["frames"] = Frames(th.T[keep], _first(r)[keep], contact=contact)
         return _finished(engine, out)
-    frames = dict(th=th.T[keep], r=_first(r)[keep])
+    frames = dict(th=th.T[keep], contact=contact)
     if n_in == 1:
-        engine.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
-        wq, vq_f, eq, aq_f = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        engine.solver.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
+        wq, eq = sol.w.T, sol.e.T
+        value, rq, accq = _joint_values(joints, th, c, s, r_engine, wq, _last(sol.v), eq, _last(sol.a))
+        r, vq_f, aq_f = world_frames(engine.centre, c, s, r_engine, wq, _last(sol.v), eq, _last(sol.a))
         om, ep = omega[:, 0], epsilon[:, 0]
         ep = ep if ep.any() else None  # constant input speed: x'' = x_qq ω²
         w, e = _real(wq, eq, om, ep)
         v, a = _real(vq_f, aq_f, om, ep)
         xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)
         pv, pa = _real(pvq, paq, om, ep)
-        value, rq, accq = _joint_values(joints, th, c, s, r, wq, vq_f, eq, aq_f)
         rate, accel = _real(rq, accq, om, ep)
         out.update(wq=wq.T[keep], eq=eq.T[keep], vq=_first(pvq)[keep], aq=_first(paq)[keep], rate_q=rq.T[keep],
                    accel_q=accq.T[keep])
         frames.update(w=wq.T[keep], v=_first(vq_f)[keep], e=eq.T[keep], a=_first(aq_f)[keep], analogues=True)
     else:
-        engine.rates(sol, omega, epsilon)
-        w, v, e, a = sol.w.T, _last(sol.v), sol.e.T, _last(sol.a)
+        engine.solver.rates(sol, omega, epsilon)
+        w, e = sol.w.T, sol.e.T
+        value, rate, accel = _joint_values(joints, th, c, s, r_engine, w, _last(sol.v), e, _last(sol.a))
+        r, v, a = world_frames(engine.centre, c, s, r_engine, w, _last(sol.v), e, _last(sol.a))
         xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
-        value, rate, accel = _joint_values(joints, th, c, s, r, w, v, e, a)
         frames.update(w=w.T[keep], v=_first(v)[keep], e=e.T[keep], a=_first(a)[keep], analogues=False)
     out.update(w=w.T[keep], e=e.T[keep], xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
                value=value.T[keep], rate=rate.T[keep], accel=accel.T[keep],
-               ic=_first(_instant_centres(r, v, w))[keep], frames=Frames(**frames))
+               ic=_first(_instant_centres(r, v, w))[keep], frames=Frames(r=_first(r)[keep], **frames))
     for name in OUTPUTS:
         if name not in wanted:
             out[name] = None

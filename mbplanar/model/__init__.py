@@ -5,8 +5,8 @@ sketched pose onto the exact one.
 """
 
 from ._assembly import assemble, reference_points
-from ._model import Input, Joint, Link, Mechanism, Point, Units
+from ._model import Curve, HigherPair, Input, Joint, Link, Mechanism, Point, Units
 from ._table import parse_model, read_model, read_model_text
 
-__all__ = ["Link", "Joint", "Point", "Input", "Mechanism", "Units", "read_model", "read_model_text", "parse_model",
-           "assemble", "reference_points"]
+__all__ = ["Link", "Joint", "HigherPair", "Curve", "Point", "Input", "Mechanism", "Units", "read_model",
+           "read_model_text", "parse_model", "assemble", "reference_points"]

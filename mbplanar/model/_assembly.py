@@ -18,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, MotionError, did_you_mean
-from ._scale import SLACK
+from ._scale import SLACK, frame_origin
 from ._model import Joint, Link, Mechanism, Point
 
 __all__ = ["assemble", "reference_points", "input_reference"]
@@ -387,11 +387,15 @@ def assemble(mech: Mechanism) -> Mechanism:
         raise ModelError(f"scale out of range: the joints are up to {size:.3g} m apart; mbplanar works with "
                          f"mechanisms from {SIZE_RANGE[0]:g} to {SIZE_RANGE[1]:g} m (squares of lengths must stay "
                          "within floating point)", source=mech.source)
+    # assembled in the mechanism's own frame (`frame_origin`: the residuals compare coordinates of the
+    # mechanism's size, not ones 1000 sizes from the origin whose rounding exceeds the tolerance; 0 near
+    # the origin) and at unit size, scaled by a power of two (exact both ways): every tolerance is relative
+    centre = tuple(float(c) for c in frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], size))
+    near = translated(mech, (-centre[0], -centre[1]))
     if not size:
-        return _assemble(mech)
-    # assembled at unit size, scaled by a power of two (exact both ways): every tolerance is relative
+        return translated(_assemble(near), centre)
     k = 2.0 ** -round(math.log2(size))
-    return scaled(_assemble(scaled(mech, k), 1.0 / k), 1.0 / k)
+    return translated(scaled(_assemble(scaled(near, k), 1.0 / k), 1.0 / k), centre)
 
 
 SIZE_RANGE = (1e-100, 1e100)  # sizes (m) whose squares, products and their ratios stay well inside floating point
@@ -409,7 +413,55 @@ def scaled(mech: Mechanism, k: float) -> Mechanism:
     extras = dict(mech.extras)
     if "_assembly_correction" in extras:
         extras["_assembly_correction"] *= k
-    return replace(mech, joints=joints, points=points, links=links, extras=extras)
+    times = lambda v: None if v is None else v * k  # noqa: E731
+    higher = {n: replace(h, at=xy(h.at), radii=None if h.radii is None else (h.radii[0] * k, h.radii[1] * k),
+                         module=times(h.module), radius=h.radius * k,
+                         curve=None if h.curve is None else h.curve.scaled(k)) for n, h in mech.higher.items()}
+    return replace(mech, joints=joints, points=points, links=links, extras=extras, higher=higher)
+
+
+def _moved_higher(mech: Mechanism, sketch: "_Sketch", x, exact_at: dict) -> dict:
+    """The higher pairs carried by their links from the sketch to the exact pose: a curve and a rack's
+    line with their link, a follower's or pin's point with its link (a named one where it now is), a
+    flat face's direction with the follower."""
+    def mover(link):
+        t, th = sketch.placement(x, link)
+        c = sketch.centroid[link]
+        cos, sin = math.cos(th), math.sin(th)
+        return (lambda p: (float(c[0] + t[0] + cos * (p[0] - c[0]) - sin * (p[1] - c[1])),
+                           float(c[1] + t[1] + sin * (p[0] - c[0]) + cos * (p[1] - c[1])))), th
+
+    out = {}
+    for name, h in mech.higher.items():
+        a, b = h.links
+        move_a, turn_a = mover(a)
+        move_b, turn_b = mover(b)
+        fields = {}
+        if h.kind == "gear":
+            if h.at is not None and h.carrier is not None:
+                fields["at"] = mover(h.carrier)[0](h.at)
+        elif h.kind == "rack":
+            fields["at"] = move_b(h.at)
+            if h.guide is not None:
+                fields["guide"] = h.guide + turn_b
+        else:
+            fields["curve"] = h.curve.moved(move_a)
+            fields["at"] = tuple(float(v) for v in exact_at[h.point]) if h.point in exact_at else move_b(h.at)
+            if h.face is not None:
+                fields["face"] = h.face + turn_b
+        out[name] = replace(h, **fields)
+    return out
+
+
+def translated(mech: Mechanism, d) -> Mechanism:
+    """`mech` with every drawn coordinate (joints, points, higher pairs' points and curves) moved by d
+    (2,); the loads are not touched."""
+    def xy(at):
+        return None if at is None else (at[0] + d[0], at[1] + d[1])
+    higher = {n: replace(h, at=xy(h.at), curve=None if h.curve is None else h.curve.moved(xy))
+              for n, h in mech.higher.items()}
+    return replace(mech, joints={n: replace(j, at=xy(j.at)) for n, j in mech.joints.items()},
+                   points={n: replace(p, at=xy(p.at)) for n, p in mech.points.items()}, higher=higher)
 
 
 def _assemble(mech: Mechanism, metres: float = 1.0) -> Mechanism:
@@ -447,4 +499,6 @@ def _assemble(mech: Mechanism, metres: float = 1.0) -> Mechanism:
             exact_at[p.name] = np.array(points[p.name].at)
     links = {name: replace(link, lengths=()) for name, link in mech.links.items()}
     correction = max((math.dist(joints[n].at, j.at) for n, j in mech.joints.items()), default=0.0)
-    return replace(mech, links=links, joints=joints, points=points, exact=True, assembly_correction=correction)
+    higher = _moved_higher(mech, sketch, x, exact_at) if mech.higher else {}
+    return replace(mech, links=links, joints=joints, points=points, exact=True, assembly_correction=correction,
+                   higher=higher)

@@ -12,10 +12,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ._model import ANGLE_UNITS, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS, RHO_STEEL
+from ._model import (ANGLE_UNITS, FOLLOWERS, HIGHER_KINDS, INERTIA_UNITS, LENGTH_UNITS, LOAD_TYPES, MOMENT_UNITS,
+                     RHO_STEEL)
 
 __all__ = ["Key", "Section", "MISSING", "UNITS", "DOCUMENT", "LINK", "JOINT", "POINT", "INPUT", "GRAVITY",
-           "DYNAMICS", "FLYWHEEL", "PARAMETER", "LOAD_COMMON", "SWITCH", "LOADS", "GUIDE_LOADS", "SECTIONS"]
+           "DYNAMICS", "FLYWHEEL", "PARAMETER", "LOAD_COMMON", "SWITCH", "LOADS", "GUIDE_LOADS", "CURVE", "HIGHER",
+           "SECTIONS"]
 
 
 class _Missing:
@@ -152,7 +154,8 @@ _POLAR = {"type": "object", "description": "a polar placement from another joint
                          "angle": {"type": ["number", "string"]}},
           "required": ["from", "length", "angle"], "additionalProperties": False}
 
-JOINT = Section("joint", "joints[]", "one lower pair (kinematic pair of the fifth class)", (
+JOINT = Section("joint", "joints[]", "one lower pair (kinematic pair of the fifth class); the higher pairs "
+                "(type gear, rack, cam, slot) have their own keys", (
     Key("name", "text", "the joint's name", required=True),
     Key("type", "choice", "revolute (R) or prismatic (P)", required=True, choices=("R", "P", "r", "p")),
     Key("links", "names", "the two links it joins; for P, the link that carries the guide first", required=True),
@@ -164,6 +167,96 @@ JOINT = Section("joint", "joints[]", "one lower pair (kinematic pair of the fift
         default_doc="the first of links"),
     COMMENT,
 ))
+
+# -- higher pairs: one row type each, and the curve a cam's profile or a slot's path is --------------------
+_POINTS_SCHEMA = {"type": "array", "items": _XY, "minItems": 2}
+CURVE = Section("curve", "a cam's profile, a slot's path", "a curve drawn on a link: a circle (or an arc of one), "
+                "a smooth spline through points, or the profile `mbplanar cam` wrote", (
+    Key("centre", "pair", "a circle: its centre in the drawing", unit="length"),
+    Key("radius", "number", "a circle: its radius", unit="length", positive=True, parameter="dimension",
+        default_doc="a slot's: the pin's distance from the centre"),
+    Key("arc", "pair", "a circle: only the arc [from, to], counter-clockwise, angles from +x at the centre",
+        unit="deg", default_doc="the whole circle"),
+    Key("points", "custom", "a spline: its points [[x, y], ...] in the drawing", unit="length",
+        schema=_POINTS_SCHEMA),
+    Key("closed", "boolean", "a spline: periodic, back at its first point after the last",
+        default_doc="true for a cam's profile, false for a slot"),
+    Key("parameter", "numbers", "a spline: its parameter at each point (one more for a closed curve)",
+        default_doc="the cumulative chord length"),
+    Key("degree", "choice", "a spline: its degree", choices=(3, 5), default=5),
+    Key("file", "text", "or: the points from a CSV file (mbplanar cam's profile, in mm, or columns x, y in the "
+        "table's length unit), relative to the model file"),
+    Key("column", "choice", "with file: which curve of mbplanar cam's file", choices=("profile", "pitch"),
+        default="profile"),
+    Key("offset", "pair", "with file: where the file's origin is in the drawing", unit="length",
+        default_doc="[0, 0]"),
+    Key("rotate", "number", "with file: the file's points turned by this angle about its origin", unit="deg",
+        default=0.0),
+    COMMENT,
+))
+
+_TWO_COUNTS = {"type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 2, "maxItems": 2}
+_TWO_LENGTHS = {"type": "array", "items": {"type": ["number", "string"]}, "minItems": 2, "maxItems": 2}
+_PRESSURE = Key("pressure_angle", "number", "the line of action's angle to the common tangent: the contact "
+                "force's direction", unit="deg", default=20.0, minimum=0.0, maximum=90.0, exclusive=True,
+                parameter="angle", message="'pressure_angle' must be between 0 and 90 degrees, got {value:g}")
+_NAME_OR_XY_PAIR = {"anyOf": [_NAME_SCHEMA, _XY_OR_PARAMETER]}
+
+
+def _higher(kind: str, doc: str, *keys: Key) -> Section:
+    return Section(f"{kind}_pair", f"joints[] ({kind})", doc, (
+        Key("name", "text", "the pair's name", required=True),
+        Key("type", "choice", doc, required=True, choices=(kind,)), *keys, COMMENT))
+
+
+HIGHER = {
+    "gear": _higher(
+        "gear", "two gears in mesh (a higher pair): r_a(θ_a − θ_c) = ∓r_b(θ_b − θ_c)",
+        Key("links", "names", "the two gears [a, b]; with mesh = internal, b has the internal teeth",
+            required=True),
+        Key("teeth", "custom", "tooth numbers [z_a, z_b] (with module: the pitch radii m·z/2)",
+            schema=_TWO_COUNTS),
+        Key("module", "number", "the module m", unit="length", positive=True, parameter="dimension"),
+        Key("radii", "custom", "or: the pitch radii [r_a, r_b] (a shifted pair's working ones)", unit="length",
+            schema=_TWO_LENGTHS),
+        Key("mesh", "choice", "external or internal teeth", choices=("external", "internal"), default="external"),
+        Key("carrier", "text", "the link on which both gears' centres are fixed (the ground for fixed axes)",
+            default_doc="the link that holds both gears' pivots"),
+        _PRESSURE,
+        Key("at", "custom", "the pitch point in the drawing (checked against the centres and radii)",
+            unit="length", default_doc="from the centres and the radii", schema=_XY_OR_PARAMETER)),
+    "rack": _higher(
+        "rack", "a pinion rolling on a rack (a higher pair): s = r·Δθ",
+        Key("links", "names", "[pinion, rack]", required=True),
+        Key("radius", "number", "the pinion's pitch radius", unit="length", positive=True, parameter="dimension"),
+        Key("teeth", "integer", "or: the pinion's tooth number (with module)", minimum=1,
+            message="'teeth' must be a whole number >= 1, got {value:g}"),
+        Key("module", "number", "the module m", unit="length", positive=True, parameter="dimension"),
+        Key("guide", "number", "the direction of the rack's pitch line in the drawing", unit="deg",
+            parameter="angle", default_doc="square to the pinion's centre and the pitch point"),
+        _PRESSURE,
+        Key("at", "custom", "the pitch point (on the rack's pitch line, a pitch radius from the pinion's centre) in "
+            "the drawing", unit="length", required=True, schema=_XY_OR_PARAMETER)),
+    "cam": _higher(
+        "cam", "a cam and its follower (a higher pair): the follower's element touches the profile",
+        Key("links", "names", "[cam, follower]", required=True),
+        Key("follower", "choice", "the follower's element", choices=FOLLOWERS, required=True),
+        Key("at", "custom", "the follower's point: the knife's tip, the roller's or the circle's centre, a point "
+            "of the flat face: a point or joint of the follower, or [x, y] in the drawing", unit="length",
+            required=True, schema=_NAME_OR_XY_PAIR),
+        Key("radius", "number", "the roller's or the circular face's radius", unit="length", positive=True,
+            parameter="dimension"),
+        Key("face", "number", "the flat face's direction in the drawing", unit="deg", parameter="angle",
+            default_doc="along the profile's tangent at the contact"),
+        Key("profile", "table", "the cam's profile in the drawing", section=CURVE, required=True)),
+    "slot": _higher(
+        "slot", "a pin in a curved slot (a higher pair); a straight slot is a P pair",
+        Key("links", "names", "[the link with the slot, the pin's link]", required=True),
+        Key("at", "custom", "the pin's centre: a point or joint of the pin's link, or [x, y] in the drawing",
+            unit="length", required=True, schema=_NAME_OR_XY_PAIR),
+        Key("path", "table", "the slot's centre line in the drawing", section=CURVE, required=True)),
+}
+assert tuple(HIGHER) == HIGHER_KINDS
 
 POINT = Section("point", "points[]", "a point of interest on a link: a centre of mass, a coupler point", (
     Key("name", "text", "the point's name", required=True),
@@ -211,6 +304,8 @@ FLYWHEEL = Section("flywheel", "[dynamics.flywheel]", "where the flywheel goes a
     Key("shaft_inertia", "number", "inertia already on the crank shaft (gears, couplings)", unit="inertia",
         default=0.0, minimum=0.0, message=_SHAFT),
     Key("motor_rpm", "number", "put the flywheel on a motor shaft turning this fast", unit="rpm", positive=True),
+    Key("link", "text", "or: put the flywheel on this link, a shaft the model's gears turn at a constant ratio "
+        "to the crank (its speed ratio comes from the gears)"),
     Key("motor_inertia", "number", "the motor rotor's inertia, on the motor shaft", unit="inertia", default=0.0,
         minimum=0.0, message=_SHAFT),
     Key("density", "number", "the flywheel's material", unit="kg/m^3", default=RHO_STEEL, positive=True),
@@ -333,7 +428,8 @@ DOCUMENT = Section("document", "top level", "a mechanism's table of kinematic pa
     Key("moment_unit", "choice", "the unit of every moment (the reader takes any case, · for *)",
         choices=tuple(MOMENT_UNITS), default="N*m"),
     Key("links", "rows", "the moving links", section=LINK, named=True),
-    Key("joints", "rows", "the pairs, one row each", section=JOINT, required=True, named=True),
+    Key("joints", "rows", "the pairs, one row each (lower pairs R, P; higher pairs gear, rack, cam, slot)",
+        section=JOINT, required=True, named=True),
     Key("points", "rows", "points of interest", section=POINT, named=True),
     Key("input", "table", "the input of a one-input mechanism", section=INPUT),
     Key("inputs", "rows", "the inputs of a mechanism with several (the first is the main one)", section=INPUT),
@@ -352,4 +448,4 @@ DOCUMENT = Section("document", "top level", "a mechanism's table of kinematic pa
 
 #: every section of the model layer by name (the cam's and the forces' sit beside their readers)
 SECTIONS = {s.name: s for s in (DOCUMENT, LINK, JOINT, POINT, INPUT, GRAVITY, DYNAMICS, FLYWHEEL, PARAMETER,
-                                *LOADS.values())}
+                                *LOADS.values(), CURVE, *HIGHER.values())}

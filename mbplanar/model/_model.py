@@ -9,14 +9,15 @@ angles are radians except where a name ends in `_deg`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..errors import ModelError
 
-__all__ = ["Units", "Link", "Joint", "Point", "Input", "Load", "Gravity", "FlywheelSpec", "DynamicsSpec",
-           "Mechanism", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS", "ANGLE_UNITS", "unit_spelling", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
+__all__ = ["Units", "Link", "Joint", "Curve", "HigherPair", "Point", "Input", "Load", "Gravity", "FlywheelSpec",
+           "DynamicsSpec", "Mechanism", "HIGHER_KINDS", "FOLLOWERS", "LENGTH_UNITS", "INERTIA_UNITS", "MOMENT_UNITS",
+           "ANGLE_UNITS", "unit_spelling", "LOAD_TYPES", "ELEMENT_TYPES", "RHO_STEEL"]
 
 INCH = 0.0254  # m, exactly
 LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "in": INCH}
@@ -128,6 +129,118 @@ class Joint:
     @property
     def slider(self) -> str:
         return self.links[1]
+
+    def other(self, link: str) -> str:
+        return self.links[1] if self.links[0] == link else self.links[0]
+
+
+HIGHER_KINDS = ("gear", "rack", "cam", "slot")   # the higher pairs (kinematic pairs of the fourth class)
+FOLLOWERS = ("knife", "roller", "flat", "circle")  # a cam's follower elements
+
+
+@dataclass(frozen=True)
+class Curve:
+    """A curve drawn on a link: a cam's profile, a slot's path (drawn coordinates, metres).
+
+    `kind` "circle": centre `centre`, radius `radius`, the whole circle or the arc `arc` (rad, from +x
+    at the centre, counter-clockwise from the first to the second). `kind` "spline": a smooth spline of
+    degree `degree` through `points`, closed (periodic) or open, at the spline parameter values
+    `parameter` (default: the cumulative chord length).
+
+    Examples
+    --------
+    >>> from mbplanar.model import Curve
+    >>> Curve("circle", centre=(0.015, 0.0), radius=0.04).moved(lambda p: (p[0] + 1.0, p[1])).centre
+    (1.015, 0.0)
+    """
+
+    kind: str
+    centre: tuple[float, float] | None = None
+    radius: float | None = None
+    arc: tuple[float, float] | None = None
+    points: tuple[tuple[float, float], ...] = ()
+    parameter: tuple[float, ...] | None = None
+    closed: bool = False
+    degree: int = 5
+
+    def moved(self, place) -> "Curve":
+        """This curve carried by `place` (drawn (x, y) → new (x, y), a rigid motion of its link)."""
+        if self.kind == "circle":
+            c = place(self.centre)
+            if self.arc is None:
+                return replace(self, centre=c)
+            turn = _turn_of(place, self.centre)
+            return replace(self, centre=c, arc=(self.arc[0] + turn, self.arc[1] + turn))
+        return replace(self, points=tuple(place(p) for p in self.points))
+
+    def scaled(self, k: float) -> "Curve":
+        """Every length times k (parameters given as chord lengths too)."""
+        xy = lambda p: (p[0] * k, p[1] * k)  # noqa: E731
+        return replace(self, centre=None if self.centre is None else xy(self.centre),
+                       radius=None if self.radius is None else self.radius * k,
+                       points=tuple(xy(p) for p in self.points),
+                       parameter=self.parameter)
+
+
+def _turn_of(place, at) -> float:
+    """The rotation (rad) of a rigid motion `place`, read at point `at`."""
+    a = place(at)
+    b = place((at[0] + 1.0, at[1]))
+    return math.atan2(b[1] - a[1], b[0] - a[0])
+
+
+@dataclass(frozen=True)
+class HigherPair:
+    """A higher pair (a kinematic pair of the fourth class: it takes one degree of freedom) between two
+    links, in the drawn pose (metres, radians).
+
+    `kind` "gear": `links` (a, b) in mesh with pitch `radii` (from `teeth` and `module`, or given),
+    `internal` when b has the internal teeth; each turns about its centre, a point of the `carrier`
+    (None: found from the table); the law r_a(θ_a − θ_c) = ∓r_b(θ_b − θ_c). `at` the pitch point (None:
+    from the centres). `kind` "rack": `links` (pinion, rack), pinion pitch radius `radius`, the rack's
+    pitch line through `at` along `guide`; the pinion rolls on it. `kind` "cam": `links` (cam, follower),
+    the cam's `curve` (its profile) and the follower's element `follower` ("knife", "roller", "flat",
+    "circle") at the follower's point `at` (the knife's tip, the roller's or circle's centre, a point of
+    the flat face), `radius` (roller, circle), `face` (the flat face's direction). `kind` "slot":
+    `links` (slot link, pin link), the slot's `curve` (its centre line) and the pin's centre `at`.
+    `point` names the point or joint `at` came from (it then follows that point through the assembly).
+    `pressure_angle` (gears, racks): the line of action's angle to the common tangent.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> mech = mbplanar.read_model("models/planetary.toml")
+    >>> g = mech.higher["G23"]
+    >>> g.kind, g.links, g.radii, g.internal, g.carrier, g.equations, g.parameters
+    ('gear', ('2', '0'), (0.046, 0.112), True, 'H', 1, 0)
+    """
+
+    name: str
+    kind: str
+    links: tuple[str, str]
+    at: tuple[float, float] | None = None
+    radii: tuple[float, float] | None = None
+    teeth: tuple[int, int] | None = None
+    module: float | None = None
+    internal: bool = False
+    carrier: str | None = None
+    pressure_angle: float = math.radians(20.0)
+    guide: float | None = None
+    follower: str = "knife"
+    radius: float = 0.0
+    face: float | None = None
+    curve: Curve | None = None
+    point: str | None = None
+
+    @property
+    def equations(self) -> int:
+        """Closure equations it adds to a loop: 1 (gear, rack) or 2 (a contact point: cam, slot)."""
+        return 1 if self.kind in ("gear", "rack") else 2
+
+    @property
+    def parameters(self) -> int:
+        """Unknowns it adds besides the links' own: the contact's place along the curve (cam, slot)."""
+        return self.equations - 1
 
     def other(self, link: str) -> str:
         return self.links[1] if self.links[0] == link else self.links[0]
@@ -283,13 +396,15 @@ class FlywheelSpec:
     shaft's speed (rev/min, None: the flywheel sits on the crank shaft), the motor rotor's inertia
     (kg·m²), the flywheel's density (kg/m³); `inertia`: the machine's first group as built, on the crank
     shaft besides the crank's own (kg·m², flywheel included; None: not given), which `simulate` puts on
-    the input."""
+    the input; or `link`, a link of the model the gears turn at a constant ratio to the crank (the
+    flywheel sits on it, the ratio from the gears)."""
 
     shaft_inertia: float = 0.0
     motor_rpm: float | None = None
     motor_inertia: float = 0.0
     density: float = RHO_STEEL
     inertia: float | None = None
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -306,8 +421,8 @@ class DynamicsSpec:
 
 @dataclass
 class Mechanism:
-    """A planar mechanism: ground, links, joints, points of interest, inputs; loads, gravity and
-    dynamics data (SI units; `units` records what the table was written in).
+    """A planar mechanism: ground, links, joints (lower pairs), higher pairs, points of interest,
+    inputs; loads, gravity and dynamics data (SI units; `units` records what the table was written in).
 
     `extras` keeps the table's free sections (`plot`, `description`) raw. `assembly_correction` (m) is
     how far `assemble` moved the farthest joint from the sketch to the exact drawn pose.
@@ -344,6 +459,7 @@ class Mechanism:
     extras: dict = field(default_factory=dict)
     units: Units = field(default_factory=Units)
     loads: tuple[Load, ...] = ()
+    higher: dict[str, HigherPair] = field(default_factory=dict)
     gravity: Gravity | None = None
     dynamics: DynamicsSpec | None = None
     assembly_correction: float = 0.0
@@ -362,7 +478,7 @@ class Mechanism:
 
     def add_joint(self, name, kind, a, b, at, guide=None, guide_points=None) -> Joint:
         name, a, b = str(name), str(a), str(b)
-        if name in self.joints:
+        if name in self.joints or name in self.higher:
             raise ModelError(f"joint '{name}' is defined twice", source=self.source)
         kind = str(kind).upper()
         joint = Joint(name, kind, (a, b), (float(at[0]), float(at[1])),
@@ -371,9 +487,29 @@ class Mechanism:
         self.joints[name] = joint
         return joint
 
+    def add_higher(self, name, kind, a, b, **kw) -> HigherPair:
+        """Add a higher pair (`HigherPair`'s fields as keywords, SI units); the table's rows of type
+        gear, rack, cam and slot come here.
+
+        Examples
+        --------
+        ``m.add_higher("G", "gear", "1", "4", radii=(0.04, 0.08))`` (two cranks in mesh, their carrier the
+        link that holds both their pivots), ``m.add_higher("S", "slot", "2", "1", at=(0.0, 0.06),
+        curve=Curve("circle", centre=(0.25, 0.31), radius=0.3536))``.
+        """
+        name, a, b = str(name), str(a), str(b)
+        if name in self.joints or name in self.higher or name in self.points:
+            raise ModelError(f"joint '{name}' is defined twice (or is a point's name)", source=self.source)
+        if kind not in HIGHER_KINDS:
+            raise ModelError(f"a higher pair's type is one of {', '.join(HIGHER_KINDS)}, got {kind!r}",
+                             source=self.source)
+        pair = HigherPair(name, kind, (a, b), **kw)
+        self.higher[name] = pair
+        return pair
+
     def add_point(self, name, link, at=None, **kw) -> Point:
         name = str(name)
-        if name in self.points or name in self.joints:
+        if name in self.points or name in self.joints or name in self.higher:
             raise ModelError(f"point '{name}' is defined twice (or is a joint's name)", source=self.source)
         point = Point(name, str(link), None if at is None else (float(at[0]), float(at[1])), **kw)
         self.points[name] = point
@@ -424,6 +560,13 @@ class Mechanism:
 
     def joints_of(self, link: str) -> list[Joint]:
         return [j for j in self.joints.values() if link in j.links]
+
+    def kind_of(self, pair: str) -> str:
+        """The type of the pair `pair`: "R" or "P" (a joint), or a higher pair's kind (gear, rack, cam, slot)."""
+        return self.joints[pair].kind if pair in self.joints else self.higher[pair].kind
+
+    def higher_of(self, link: str) -> list[HigherPair]:
+        return [h for h in self.higher.values() if link in h.links]
 
     def input_for(self, joint: str) -> Input | None:
         return next((i for i in self.inputs if i.joint == joint), None)

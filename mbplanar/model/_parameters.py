@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ._keys import INPUT, LINK, PARAMETER, POINT
+from ._keys import CURVE, HIGHER, INPUT, LINK, PARAMETER, POINT
 from ._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 
 __all__ = ["Parameter", "Template", "split_parameters"]
@@ -89,6 +89,14 @@ def split_parameters(data: dict, source: str) -> tuple[dict, dict[str, Parameter
 _LINK_FIELDS = LINK.parameter_fields()
 _POINT_FIELDS = POINT.parameter_fields()
 _INPUT_FIELDS = INPUT.parameter_fields()
+_HIGHER_FIELDS = {kind: section.parameter_fields() for kind, section in HIGHER.items()}
+_CURVE_FIELDS = CURVE.parameter_fields()
+
+
+def _higher_kind(row) -> str | None:
+    """The higher pair a joints row is (gear, rack, cam, slot), None for a lower pair."""
+    kind = row.get("type") if isinstance(row, dict) else None
+    return kind.lower() if isinstance(kind, str) and kind.lower() in HIGHER else None
 
 
 class Template:
@@ -256,17 +264,34 @@ class Template:
     def _bind_joints(self, data: dict, values: dict) -> list:
         rows = [r for r in _row_list(data, "joints") if isinstance(r, dict)]
         for i, row in enumerate(rows):
-            if isinstance(row.get("guide"), str):
+            kind = _higher_kind(row)
+            if kind is not None:
+                self._bind_higher(row, kind, values, f"joints[{i}]")
+            elif isinstance(row.get("guide"), str):
                 row["guide"] = self._value(row["guide"], "angle", values, f"joints[{i}] guide")
         at = self.positions(values, rows)
         return [(row, at[row["name"]]) for row in rows if isinstance(row.get("name"), str) and row["name"] in at]
+
+    def _bind_higher(self, row: dict, kind: str, values: dict, where: str):
+        """A higher pair's numbers: its declared fields, a gear's radii, its curve's radius and centre."""
+        self._bind_fields(row, _HIGHER_FIELDS[kind], values, where)
+        if isinstance(row.get("radii"), list):
+            row["radii"] = [self._value(x, "dimension", values, f"{where} radii") for x in row["radii"]]
+        for key in ("profile", "path"):
+            curve = row.get(key)
+            if isinstance(curve, dict):
+                self._bind_fields(curve, _CURVE_FIELDS, values, f"{where} {key}")
+                if isinstance(curve.get("centre"), list):
+                    curve["centre"] = [self._value(x, "length", values, f"{where} {key} centre") for x in curve["centre"]]
 
     # -- coordinates, for one design or a batch ------------------------------------------------------
     def positions(self, values: dict, rows: list | None = None) -> dict:
         """Drawn coordinates (x, y) of every joint, in the file's length unit, for parameter `values`
         (numbers, or arrays with one value per design: the coordinates are then arrays too)."""
         rows = rows if rows is not None else [r for r in _row_list(self.data, "joints") if isinstance(r, dict)]
-        specs = {str(r.get("name")): (i, r.get("at")) for i, r in enumerate(rows) if "name" in r}
+        # (a higher pair's `at` is optional, or a point's name: only its coordinates are placed)
+        specs = {str(r.get("name")): (i, r.get("at")) for i, r in enumerate(rows) if "name" in r
+                 and (_higher_kind(r) is None or isinstance(r.get("at"), (list, dict)))}
         out: dict = {}
 
         def place(name: str, chain: tuple):
@@ -305,7 +330,7 @@ class Template:
         out = {}
         for i, row in enumerate(r for r in _row_list(self.data, "joints") if isinstance(r, dict)):
             guide = row.get("guide")
-            if guide is not None and not isinstance(guide, list):
+            if guide is not None and not isinstance(guide, list) and _higher_kind(row) is None:
                 out[str(row.get("name"))] = self._value(guide, "angle", values, f"joints[{i}] guide")
         return out
 

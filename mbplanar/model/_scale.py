@@ -20,10 +20,13 @@ from __future__ import annotations
 import math
 import warnings
 
-from ..errors import ModelError, ModelWarning
+import numpy as np
+
+from ..errors import ModelError, ModelWarning, PrecisionWarning
 
 __all__ = ["SCALE_FACTOR", "SLACK", "drawing_size", "out_of_scale", "scale_ratio", "scale_message",
-           "warn_scale"]
+           "warn_scale", "FRAME_GRID", "frame_origin", "FAR_GUARANTEED", "FAR_REFUSED", "far_ratio",
+           "check_far"]
 
 SCALE_FACTOR = 100.0   # a length this many times larger or smaller than the drawing is flagged
 SLACK = 1e-9           # relative rounding allowed at a boundary: a ratio of 100 (or 1/100) to rounding warns
@@ -72,3 +75,60 @@ def warn_scale(what: str, value: float, size: float, unit: str, unit_scale: floa
     message = scale_message(what, value, size, unit, unit_scale, reference)
     warnings.warn(ModelWarning(str(ModelError(message, source=source, where=where))), stacklevel=stacklevel)
     return True
+
+
+# -- where the engine measures from ------------------------------------------------------------------
+FRAME_GRID = 16.0  # the origin of a mechanism's own frame lies on a grid of at least this many sizes
+
+
+def frame_origin(points, size: float) -> np.ndarray:
+    """The origin of the frame a mechanism is solved in: the mean of its drawn joints `points` ((N, 2),
+    or (N, 2, D) for D designs) rounded to a grid whose spacing is the power of two at or above
+    `FRAME_GRID` × `size` ((2,), or (2, D)).
+
+    Positions measured from it are vectors within the mechanism (a few sizes long), so that closure
+    residuals and their tolerances mean the same wherever the mechanism is drawn. On that grid it is 0
+    for a mechanism drawn within a few sizes of the world's origin (the world frame itself, exactly),
+    and moving a drawn coordinate into the frame (p − origin) is exact (Sterbenz: the two are within a
+    factor 2 of each other, or the origin's component is 0)."""
+    mean = np.mean(np.asarray(points, float), axis=0)
+    if not (size > 0 and math.isfinite(size)):
+        return np.zeros_like(mean)
+    grid = 2.0 ** math.ceil(math.log2(FRAME_GRID * size))
+    return np.round(mean / grid) * grid + 0.0  # (+ 0.0: no −0)
+
+
+FAR_GUARANTEED = 1e8   # drawn up to this many sizes from the origin, the answers are the origin's (see docs/units.md)
+FAR_REFUSED = 1e11     # beyond, the drawing's coordinates hold its shape to fewer than 5 digits: refused
+ROUNDING = 2.0 ** -53  # relative rounding of a coordinate
+
+
+def far_ratio(mech, size: float | None = None) -> tuple[float, float, float]:
+    """(distance, size, ratio): how far the farthest drawn joint of `mech` lies from the world's
+    origin (m), the drawing's size (m, `drawing_size` unless given) and their ratio (0 for a size 0)."""
+    size = drawing_size(mech) if size is None else size
+    distance = max((math.hypot(*j.at) for j in mech.joints.values()), default=0.0)
+    return distance, size, (distance / size if size > 0 else 0.0)
+
+
+def check_far(mech, size: float | None = None):
+    """A `PrecisionWarning` for a mechanism drawn more than `FAR_GUARANTEED` times its size from the
+    world's origin, a `ModelError` beyond `FAR_REFUSED`: its drawn coordinates carry rounding of
+    ~1e-16 of their own size, ~1e-16 × ratio of the mechanism's, which its answers inherit (the engine
+    solves in the mechanism's own frame, `frame_origin`, so that nothing else depends on where it lies)."""
+    distance, size, ratio = far_ratio(mech, size)
+    if ratio <= FAR_GUARANTEED or not math.isfinite(ratio):
+        return
+    units = mech.units
+    k = units.length_scale
+    where = (f"joints are drawn up to {distance / k:.6g} {units.length} from the origin, {ratio:.3g} times the "
+             f"mechanism's size ({size / k:.6g} {units.length})")
+    if ratio > FAR_REFUSED:
+        raise ModelError(f"{where}: its coordinates hold its shape only to ~{ROUNDING * ratio:.1g} of its size "
+                         f"(beyond {FAR_REFUSED:g} times the size, fewer than 5 digits); move the drawing nearer "
+                         "the origin", source=mech.source)
+    warnings.warn(PrecisionWarning(str(ModelError(
+        f"{where}: its coordinates hold its shape only to ~{ROUNDING * ratio:.1g} of its size, and the results "
+        f"may differ by about as much from the same mechanism drawn near the origin (within {FAR_GUARANTEED:g} "
+        "times its size they are the origin's, to ~1e-16 times that ratio); move the drawing nearer the origin",
+        source=mech.source))), stacklevel=3)

@@ -13,8 +13,8 @@ import warnings
 from pathlib import Path
 
 from ..errors import ModelError, ModelWarning, did_you_mean
-from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, INPUT, JOINT, LINK, LOADS, MISSING, POINT,
-                    SWITCH, Section)
+from ._keys import (DOCUMENT, DYNAMICS, FLYWHEEL, GRAVITY, GUIDE_LOADS, HIGHER, INPUT, JOINT, LINK, LOADS, MISSING,
+                    POINT, SWITCH, Section)
 from ._model import (ANGLE_UNITS, ELEMENT_TYPES, LENGTH_UNITS, LOAD_TYPES, DynamicsSpec, FlywheelSpec, Gravity, Input,
                      Load, Mechanism, Units, unit_spelling)
 from ._scale import SCALE_FACTOR, SLACK, drawing_size, out_of_scale, scale_message
@@ -66,14 +66,15 @@ def read_text(path, what: str = "the model file") -> str:
         raise ModelError(f"{what} is not UTF-8 text ({exc.reason} at byte {exc.start})", source=str(path)) from None
 
 
-def read_model_text(text: str, source: str = "<table>") -> Mechanism:
-    """Parse the TOML `text` of a model; a syntax error names the line and column."""
+def read_model_text(text: str, source: str = "<table>", folder=None) -> Mechanism:
+    """Parse the TOML `text` of a model; a syntax error names the line and column. `folder`: as in
+    `parse_model`."""
     import tomllib  # (here: an engine read from the cache needs no parser)
     try:
         data = tomllib.loads(text.removeprefix("\ufeff"))  # (a byte-order mark, as Excel and Notepad write)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"TOML syntax error: {exc}", source=source) from None
-    return parse_model(data, source=source)
+    return parse_model(data, source=source, folder=folder)
 
 
 _MISSING = object()
@@ -230,7 +231,7 @@ def _rows(data, key, source) -> list:
     return rows
 
 
-def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
+def parse_model(data: dict | str, source: str = "<table>", folder=None) -> Mechanism:
     """Build a `Mechanism` from the parsed TOML document `data`, or from TOML text.
 
     Every section is read and checked here, once: links, joints, points, inputs, then `loads`,
@@ -242,6 +243,9 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
         The parsed TOML document, or its text.
     source : str
         What the messages call the table (a file's name).
+    folder : path, optional
+        Where the files the table names (a curve's `file`) are read; by default the folder of `source`
+        (the working folder for a table without a file).
 
     Returns
     -------
@@ -269,7 +273,7 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     ('crank', ['1'], 'O')
     """
     if isinstance(data, str):
-        return read_model_text(data, source)
+        return read_model_text(data, source, folder)
     if isinstance(data, dict) and "joints" not in data:  # a [table] header above the lists takes them in
         inside = next((k for k, v in data.items() if isinstance(v, dict) and "joints" in v), None)
         if inside is not None:
@@ -288,8 +292,9 @@ def parse_model(data: dict | str, source: str = "<table>") -> Mechanism:
     mech = Mechanism(name=top.text("name", Path(source).stem), ground=top.get("ground"),
                      title=top.get("title"), source=source, units=units)
     link_rows = _read_links(mech, _rows(data, "links", source), unit)
-    _read_joints(mech, _rows(data, "joints", source), unit)
+    higher = _read_joints(mech, _rows(data, "joints", source), unit)
     _read_points(mech, _rows(data, "points", source), unit)
+    _read_higher(mech, higher, unit, folder)
     _check_links(mech, link_rows)
     _read_inputs(mech, data, source, unit)
     mech.loads = _read_loads(mech, data.get("loads", []))
@@ -422,8 +427,9 @@ def _warn_link_scale(mech: Mechanism, name: str, where: str):
 
 def _check_extent(mech: Mechanism, name: str, where: str):
     """A link with two or more revolute joints, no guide and no other point, all drawn at one place,
-    has zero length: its angle is undefined. "One place" is relative to the drawing (its coordinates'
-    size and extent), whatever its scale: a 1e-13 m four-bar is no zero-length link."""
+    has zero length: its angle is undefined. "One place" is relative to the drawing (its extent, or the
+    rounding of its coordinates), whatever its scale or distance from the origin: a 1e-13 m four-bar, or
+    a 0.1 m one 1e11 m out, is no zero-length link."""
     joints = mech.joints_of(name)
     revolute = [j for j in joints if j.kind == "R"]
     if len(revolute) < 2 or len(revolute) < len(joints):
@@ -431,9 +437,11 @@ def _check_extent(mech: Mechanism, name: str, where: str):
     spots = [j.at for j in revolute] + [p.at for p in mech.points.values() if p.link == name and p.at]
     size = max((math.dist(a, b) for a in spots for b in spots), default=0.0)
     drawing = [j.at for j in mech.joints.values()] + [p.at for p in mech.points.values() if p.at]
-    extent = max(max(abs(c) for xy in drawing for c in xy), max(xy[0] for xy in drawing) - min(xy[0] for xy in drawing),
-                 max(xy[1] for xy in drawing) - min(xy[1] for xy in drawing))
-    if size <= 1e-12 * extent:
+    span = max(max(xy[0] for xy in drawing) - min(xy[0] for xy in drawing),
+               max(xy[1] for xy in drawing) - min(xy[1] for xy in drawing))
+    # at one place: within 1e-12 of the drawing's own size, or within the rounding of its coordinates
+    # (~1e-16 of them: a link far from the origin is judged by its own length, not by the distance)
+    if size <= max(1e-12 * span, 8 * 2.0 ** -52 * max(abs(c) for xy in drawing for c in xy)):
         raise ModelError(f"zero-length link: its joints {', '.join(j.name for j in revolute)} are drawn at "
                          f"the same point", source=mech.source, where=where)
 
@@ -451,20 +459,20 @@ def _centre(row: Row, link: str, unit: float) -> tuple[str | None, tuple[float, 
 def _read_joints(mech: Mechanism, rows, unit):
     if not rows:
         raise ModelError("no joints (a 'joints' list of pairs is required)", source=mech.source)
+    higher = []
     for i, raw in enumerate(rows):
         row = Row(raw, f"joints[{i}]", mech.source, JOINT)
+        kind = row.data.get("type")
+        if isinstance(kind, str) and kind.lower() in HIGHER:
+            higher.append((i, raw, kind.lower()))  # (after the lower pairs: they may name their joints)
+            continue
         name = row.get("name")
         row.where = f"joints[{i}] '{name}'"
         kind = (row.get("type") or "").upper()
         if kind not in JOINT["type"].choices:
-            row.fail(f"type must be 'R' (revolute) or 'P' (prismatic), got '{kind}'")
-        links = row.get("links")
-        if links[0] == links[1]:
-            row.fail(f"joins link '{links[0]}' to itself")
-        for link in links:
-            if link != mech.ground and link not in mech.links:
-                row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
-                         f"{did_you_mean(link, mech.all_links, 'links')}")
+            row.fail(f"type must be 'R' (revolute), 'P' (prismatic) or a higher pair ({', '.join(HIGHER)}), "
+                     f"got '{kind}'")
+        links = joined_links(mech, row)
         x, y = row.pair("at", required=JOINT["at"].required)
         guide = guide_points = None
         carrier = row.get("carrier")
@@ -489,6 +497,28 @@ def _read_joints(mech: Mechanism, rows, unit):
             mech.add_joint(name, kind, links[0], links[1], (x * unit, y * unit), guide, guide_points)
         except ModelError as exc:
             row.fail(exc.message)
+    return higher
+
+
+def joined_links(mech: Mechanism, row: Row) -> tuple[str, str]:
+    """A pair's `links`: two links of the model, not one link twice."""
+    links = row.get("links")
+    if links[0] == links[1]:
+        row.fail(f"joins link '{links[0]}' to itself")
+    for link in links:
+        if link != mech.ground and link not in mech.links:
+            row.fail(f"link '{link}' is not in the links list (ground is '{mech.ground}'); "
+                     f"{did_you_mean(link, mech.all_links, 'links')}")
+    return links
+
+
+def _read_higher(mech: Mechanism, rows, unit, folder=None):
+    """The higher pairs (gear, rack, cam, slot rows), after the joints and points they may name."""
+    from ._pairs import read_higher_row
+    for i, raw, kind in rows:
+        row = Row(raw, f"joints[{i}]", mech.source, HIGHER[kind])
+        row.where = f"joints[{i}] '{row.get('name')}'"
+        read_higher_row(mech, row, kind, unit, folder)
 
 
 def _read_points(mech: Mechanism, rows, unit):
@@ -549,6 +579,9 @@ def _read_inputs(mech: Mechanism, data, source, unit):
         joint_name = row.get("joint")
         row.where = f"inputs[{i}] (joint '{joint_name}')"
         joint = mech.joints.get(joint_name)
+        if joint_name in mech.higher:
+            row.fail(f"'{joint_name}' is a higher pair ({mech.higher[joint_name].kind}): an input drives a revolute "
+                     "or prismatic joint")
         if joint is None:
             row.fail(f"'{joint_name}' is not a joint of the table; {did_you_mean(joint_name, mech.joints, 'joints')}")
         if any(inp.joint == joint_name for inp in mech.inputs):
@@ -892,11 +925,17 @@ def read_dynamics_section(mech: Mechanism, raw) -> DynamicsSpec:
     driving = None if driving is None else driving * units.moment_scale
     slope = row.get("motor_slope") * units.moment_scale
     fly = Row(row.raw("flywheel", {}), "dynamics.flywheel", mech.source, FLYWHEEL)
+    link = fly.get("link")
+    if link is not None:
+        if link not in mech.links:
+            fly.fail(f"'link' = '{link}' is not a moving link of the model")
+        if fly.has("motor_rpm"):
+            fly.fail("give either 'link' (the gears give its speed) or 'motor_rpm', not both")
     flywheel = FlywheelSpec(shaft_inertia=fly.get("shaft_inertia") * units.inertia_scale,
                             motor_rpm=fly.get("motor_rpm"),
                             motor_inertia=fly.get("motor_inertia") * units.inertia_scale,
                             density=fly.get("density"),
-                            inertia=_scaled(fly.get("inertia"), units.inertia_scale))
+                            inertia=_scaled(fly.get("inertia"), units.inertia_scale), link=link)
     row.check_unknown_keys({"comment"})
     fly.check_unknown_keys({"comment"})
     return DynamicsSpec(delta, omega, driving, slope, flywheel)

@@ -69,7 +69,7 @@ named.
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Iterable, Sequence
 
 if TYPE_CHECKING:  # networkx is imported where a graph is made (it costs ~0.1 s)
@@ -77,7 +77,7 @@ if TYPE_CHECKING:  # networkx is imported where a graph is made (it costs ~0.1 s
 
 from ..errors import ModelError
 
-__all__ = ["AssurGroup", "Structure", "decompose", "roman"]
+__all__ = ["AssurGroup", "Structure", "decompose", "roman", "replacing_link"]
 
 KINDS = ("R", "P")
 _KNOWN = 0  # body id of the known part: ground and the links of class I mechanisms
@@ -110,9 +110,13 @@ class AssurGroup:
 
 @dataclass(frozen=True)
 class Structure:
-    """Result of :func:`decompose`."""
+    """Result of :func:`decompose`.
 
-    dof: int  # Chebyshev–Grübler: 3·n_moving − 2·p (all pairs are lower pairs)
+    With higher pairs the groups are those of the equivalent lower-pair mechanism: `replaced` maps the
+    name of each link that replaces a higher pair to the pair's name (its two pairs are named
+    ``pair:link``), and `higher` lists the higher pairs."""
+
+    dof: int  # Chebyshev: 3·n_moving − 2·p5 − p4
     loops: int  # independent loops = p − n_moving (cycle rank of the link–joint multigraph)
     inputs: tuple[str, ...]  # input (driving) joints
     input_links: tuple[str, ...]  # links driven directly from ground by an input joint
@@ -120,6 +124,54 @@ class Structure:
     mechanism_class: int  # highest group class (1 if there are no groups)
     formula: str  # e.g. "I(0,1) → II(2,3) → II(4,5)"
     input_mechanisms: tuple[tuple[str, str], ...] = ()  # class I mechanisms (driver, driven)
+    higher: tuple[str, ...] = ()  # the higher pairs (p4 of them)
+    replaced: dict = field(default_factory=dict)  # replacing link → higher pair
+
+    @property
+    def p4(self) -> int:
+        return len(self.higher)
+
+    def real_links(self, group: AssurGroup) -> tuple[str, ...]:
+        """The group's own links, without the links that replace higher pairs."""
+        return tuple(link for link in group.links if link not in self.replaced)
+
+    def pairs_of(self, group: AssurGroup) -> tuple[str, ...]:
+        """The higher pairs whose replacing link is in the group."""
+        return tuple(self.replaced[link] for link in group.links if link in self.replaced)
+
+
+def replacing_link(name: str, taken) -> str:
+    """The name of the link that replaces higher pair `name` in the equivalent mechanism: the pair's
+    name primed, with more primes while the name is taken."""
+    link = name + "'"
+    while link in taken:
+        link += "'"
+    return link
+
+
+def _decompose_equivalent(ground, links, joints, inputs, higher) -> Structure:
+    """`decompose` of a chain with higher pairs: the equivalent lower-pair mechanism's groups."""
+    links = tuple(links)
+    n, p5, p4 = len(links), len(joints), len(higher)
+    dof = 3 * n - 2 * p5 - p4
+    if dof != len(inputs):
+        raise ModelError(
+            f"the chain has DOF = 3·n − 2·p5 − p4 = 3·{n} − 2·{p5} − {p4} = {dof} (n = {n} moving links, p5 = "
+            f"{p5} lower pairs, p4 = {p4} higher pairs) but {len(inputs)} input joint(s) are given "
+            f"({_names(inputs) or 'none'})")
+    taken = {ground, *links, *(j[0] for j in joints)}
+    extra_links, extra_joints, replaced = [], [], {}
+    for name, a, b, kind_a, kind_b in higher:
+        for link in (a, b):
+            if link != ground and link not in links:
+                raise ModelError(f"joint {name!r} names unknown link {link!r}")
+        v = replacing_link(name, taken)
+        taken.add(v)
+        replaced[v] = name
+        extra_links.append(v)
+        extra_joints += [(f"{name}:{a}", kind_a, a, v), (f"{name}:{b}", kind_b, b, v)]
+    found = decompose(ground, links + tuple(extra_links), tuple(joints) + tuple(extra_joints), inputs)
+    return replace(found, loops=p5 + p4 - n, higher=tuple(h[0] for h in higher), replaced=replaced)
 
 
 # ---------------------------------------------------------------------------------------
@@ -132,13 +184,19 @@ def decompose(
     links: Sequence[str],
     joints: Sequence[tuple[str, str, str, str]],
     inputs: Sequence[str],
+    higher: Sequence[tuple[str, str, str, str, str]] = (),
 ) -> Structure:
     """Decompose a planar linkage into input mechanisms and Assur groups.
 
     links: the moving links (ground excluded); joints: (name, kind 'R'|'P', link_a, link_b);
-    inputs: names of the input joints.  See the module docstring for the rules.
-    Raises ModelError when the table does not describe a decomposable mechanism.
+    inputs: names of the input joints; higher: the higher pairs (name, link_a, link_b, kind_a, kind_b),
+    each decomposed as the link that replaces it in the equivalent lower-pair mechanism, with a pair of
+    kind_a ('R' or 'P') on link_a and one of kind_b on link_b (see `equivalent`).  See the module
+    docstring for the rules.  Raises ModelError when the table does not describe a decomposable
+    mechanism.
     """
+    if higher:
+        return _decompose_equivalent(ground, links, joints, inputs, higher)
     chain = _read_chain(ground, links, joints, inputs)
     _check_connected_to_ground(chain)
     _check_no_prismatic_contour(chain)

@@ -34,16 +34,25 @@ class TreeJoint:
 
 @dataclass(frozen=True)
 class Block:
-    """Links solved together: their tree joints (in placing order) and the cut joints that close them."""
+    """Links solved together: their tree joints (in placing order), the cut joints that close them, and
+    the higher pairs that close them too (a higher pair is never a tree joint: it does not place a link)."""
 
     links: tuple[str, ...]
     tree: tuple[TreeJoint, ...]
     cuts: tuple[str, ...]
     group: object = None  # the AssurGroup it came from, if any
+    higher: tuple[str, ...] = ()
 
     @property
     def unknowns(self) -> tuple[TreeJoint, ...]:
         return tuple(t for t in self.tree if t.input is None)
+
+    def counts(self, mech: Mechanism) -> tuple[int, int]:
+        """(closure equations, unknowns): two per cut joint and one or two per higher pair; one per tree
+        joint that is not driven and one per contact parameter of a higher pair (cam, slot)."""
+        pairs = [mech.higher[name] for name in self.higher]
+        return (2 * len(self.cuts) + sum(h.equations for h in pairs),
+                len(self.unknowns) + sum(h.parameters for h in pairs))
 
 
 @dataclass(frozen=True)
@@ -60,15 +69,15 @@ def link_joint_graph(mech: Mechanism) -> nx.Graph:
     g = nx.Graph()
     for link in mech.all_links:
         g.add_node(("L", link))
-    for j in mech.joints.values():
+    for j in list(mech.joints.values()) + list(mech.higher.values()):
         g.add_edge(("J", j.name), ("L", j.links[0]))
         g.add_edge(("J", j.name), ("L", j.links[1]))
     return g
 
 
 def mobility(mech: Mechanism) -> int:
-    """Chebyshev–Grübler: W = 3n − 2p for n moving links and p lower pairs."""
-    return 3 * len(mech.moving_links) - 2 * len(mech.joints)
+    """Chebyshev: W = 3n − 2p₅ − p₄ for n moving links, p₅ lower pairs and p₄ higher pairs."""
+    return 3 * len(mech.moving_links) - 2 * len(mech.joints) - len(mech.higher)
 
 
 def independent_loops(mech: Mechanism) -> tuple[tuple[str, ...], ...]:
@@ -90,11 +99,11 @@ def _dangling(mech: Mechanism) -> list[str]:
     """The moving links held by one pair that no input drives: each adds a free degree of freedom."""
     driven = {inp.joint for inp in mech.inputs}
     return [name for name in mech.moving_links
-            if len(joints := mech.joints_of(name)) == 1 and joints[0].name not in driven]
+            if len(joints := mech.joints_of(name)) == 1 and joints[0].name not in driven and not mech.higher_of(name)]
 
 
 def _check_dof(mech: Mechanism, dof: int):
-    n, p = len(mech.moving_links), len(mech.joints)
+    n, p, p4 = len(mech.moving_links), len(mech.joints), len(mech.higher)
     dangling = _dangling(mech)
     if dangling and dof > len(mech.inputs):
         j = mech.joints_of(dangling[0])[0]
@@ -105,8 +114,9 @@ def _check_dof(mech: Mechanism, dof: int):
                          + (f"; links {', '.join(dangling[1:])} hang on one pair too" if dangling[1:] else ""),
                          source=mech.source, where=f"links '{dangling[0]}'")
     if dof != len(mech.inputs):
-        why = (f"DOF = {dof} (structural count 3·n − 2·p = 3·{n} − 2·{p}, n moving links, p pairs), but the "
-               f"table has {len(mech.inputs)} input(s)")
+        count = (f"3·n − 2·p5 − p4 = 3·{n} − 2·{p} − {p4}, n moving links, p5 lower and p4 higher pairs" if p4
+                 else f"3·n − 2·p = 3·{n} − 2·{p}, n moving links, p pairs")
+        why = f"DOF = {dof} (structural count {count}), but the table has {len(mech.inputs)} input(s)"
         if dof <= 0:
             why += ": the chain is rigid or over-constrained (a missing link, or a joint too many?)"
         else:
@@ -130,9 +140,11 @@ def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
     links = list(links)
     inside = set(links)
     input_index = {inp.joint: k for k, inp in enumerate(mech.inputs)}
-    joints = [j for j in mech.joints.values()
-              if (j.links[0] in inside or j.links[1] in inside)
-              and all(link in inside or link in known for link in j.links)]
+    def closes(j):
+        return (j.links[0] in inside or j.links[1] in inside) and all(link in inside or link in known
+                                                                      for link in j.links)
+    joints = [j for j in mech.joints.values() if closes(j)]
+    higher = tuple(h.name for h in mech.higher.values() if closes(h))
     joints.sort(key=lambda j: (j.name not in input_index, j.kind != "R"))
     KNOWN = "<known>"
     root = {link: link for link in links}
@@ -178,7 +190,7 @@ def build_block(mech: Mechanism, links, known: set[str], group=None) -> Block:
     if unplaced:
         raise ModelError(f"link(s) {', '.join(unplaced)} cannot be reached from the ground "
                          "through the joints", source=mech.source)
-    return Block(tuple(links), tuple(tree), tuple(cuts), group)
+    return Block(tuple(links), tuple(tree), tuple(cuts), group, higher)
 
 
 def _driven_links(mech: Mechanism) -> list[str]:
@@ -214,9 +226,24 @@ def group_blocks(mech: Mechanism, structure) -> tuple[Block, ...]:
         blocks.append(build_block(mech, driven, known))
         known |= set(driven)
     for group in structure.groups:
-        blocks.append(build_block(mech, group.links, known, group))
-        known |= set(group.links)
+        links = structure.real_links(group)
+        blocks.append(build_block(mech, links, known, group))
+        known |= set(links)
     return tuple(blocks)
+
+
+def _replacements(mech: Mechanism) -> list[tuple[str, str, str, str, str]]:
+    """Each higher pair as (name, link a, link b, kind on a, kind on b): the pairs of the link that
+    replaces it in the equivalent lower-pair mechanism (`mbplanar.model._drawn.replacement`)."""
+    if not mech.higher:
+        return []
+    from ..model._drawn import drawn_pairs, mechanism_size, replacement
+    size = mechanism_size(mech)
+    out = []
+    for name, g in drawn_pairs(mech).items():
+        (kind_a, a, _), (kind_b, b, _) = replacement(g, size).pairs
+        out.append((name, a, b, kind_a, kind_b))
+    return out
 
 
 def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
@@ -234,13 +261,14 @@ def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
         decompose = None
     if decompose is not None:
         joints = [(j.name, j.kind, j.links[0], j.links[1]) for j in mech.joints.values()]
-        structure = decompose(mech.ground, mech.moving_links, joints, [i.joint for i in mech.inputs])
+        structure = decompose(mech.ground, mech.moving_links, joints, [i.joint for i in mech.inputs],
+                              _replacements(mech))
     if grouped and structure is not None:
         blocks = group_blocks(mech, structure)
     else:
         blocks = global_blocks(mech)
     for block in blocks:
-        equations, unknowns = 2 * len(block.cuts), len(block.unknowns)
+        equations, unknowns = block.counts(mech)
         if equations != unknowns:
             raise ModelError(f"links {', '.join(block.links)} give {equations} closure "
                              f"equations for {unknowns} unknowns: the chain is over- or under-constrained",

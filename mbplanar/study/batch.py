@@ -35,8 +35,10 @@ from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficient
                                     step_verdict)
 from ..engine._nodes import Node
 from ..engine._singular import limit_after
-from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, sweep_tables
+from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, kernels_decline, sweep_tables
 from ..kinematics import analyse
+from ..model import parse_model
+from ..model._scale import frame_origin
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 
@@ -125,9 +127,12 @@ class DesignBatch:
         The reference design's engine (its structure serves every design). One input.
     geometry : DesignGeometry
         The designs' drawn coordinates (`design_geometry`).
+    template, variants : Template, Variants, optional
+        The model and the designs' values: a model with higher pairs solves each design from its own
+        table (`model_of`).
     """
 
-    def __init__(self, engine, geometry: DesignGeometry):
+    def __init__(self, engine, geometry: DesignGeometry, template=None, variants=None):
         self.engine = engine
         self.geometry = geometry
         self.count = geometry.count
@@ -137,21 +142,34 @@ class DesignBatch:
         self.point_link = [engine.link_index[j.slider if j.kind == "P" else j.links[0]] for j in mech.joints.values()]
         self.point_link += [engine.link_index[p.link] for p in mech.points.values()]
         self.scale = 1.0 if mech.joints[engine.inputs[0].joint].kind == "R" else engine.size
+        # each design is solved in its own frame, centred on its drawn joints as an engine's is
+        # (`Engine.centre`): its positions are vectors within the mechanism, wherever it is drawn
+        self.centre = frame_origin([geometry.at[name] for name in mech.joints], engine.size)  # (2, D)
+        self.local = {name: at - self.centre for name, at in geometry.at.items()}
         self._engines = {}
         self._want = (list(self.points), True, list(engine.links))  # the points, rates and links asked for
         self.nodes = None
         self.motion = None
+        # a model with higher pairs: its laws hold curves and radii the batch's laws cannot vary over the
+        # designs, so each design is solved by its own engine, made from its own table (`model_of`)
+        self.own = bool(mech.higher)
+        self.model_of = None
+        if self.own:
+            for d in np.flatnonzero(geometry.ok):
+                self.reasons[d] = "a model with higher pairs (each design solved by its own engine)"
+            if template is not None:
+                self.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
 
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
         """The engine's block solver with joint laws that hold the constants of designs `index` (B,), one
-        per batch element: its Newton and rate passes then solve batches of exactly those designs (with
-        tolerances `tol`, default the engine's)."""
+        per batch element, each in its design's frame (`centre`): its Newton and rate passes then solve
+        batches of exactly those designs (with tolerances `tol`, default the engine's)."""
         base, g = self.engine, self.geometry
         laws = {}
         for name, j in base.mech.joints.items():
             law = copy.copy(base.laws[name])
-            law.s0 = g.at[name][:, index]
+            law.s0 = self.local[name][:, index]
             if j.kind == "P":
                 law.u0 = g.guide[name][:, index]
                 law.n0 = perp(law.u0)
@@ -162,7 +180,10 @@ class DesignBatch:
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
         if design not in self._engines:
-            mech = mechanism_of(self.engine.mech, self.geometry, design)
+            if self.model_of is not None:
+                mech = self.model_of(design)
+            else:
+                mech = mechanism_of(self.engine.mech, self.geometry, design)
             self._engines[design] = with_dimensions(self.engine, mech)
         return self._engines[design]
 
@@ -337,7 +358,7 @@ class DesignBatch:
         self._want = (list(self.points) if names is None else list(names), accelerations,
                       list(self.engine.links) if links is None else list(links))
         D = self.count
-        designs = np.flatnonzero(self.geometry.ok)
+        designs = np.flatnonzero(self.geometry.ok & ~self.own)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
         if len(designs):
             origin, dets = self._origin(designs)
@@ -358,7 +379,7 @@ class DesignBatch:
         self.nodes = nodes.arrays() if nodes.parts else None
         motion = replace(self._positions(phi, nodes, designs), limits=self._limits(limits, exact_limits))
         self._past_limits(motion)
-        if fallback:
+        if fallback or self.own:   # (a model with higher pairs: its designs' own engines are the only way)
             motion = self._fall_back(motion, phi)
         return self._finished(motion, D)
 
@@ -372,11 +393,14 @@ class DesignBatch:
         """The compiled design job's request: the designs that can be analysed, their tables and input
         values (or why no kernel can take them)."""
         g, eng = self.geometry, self.engine
+        why = kernels_decline(eng.mech)  # (`own`: each design solved by its own engine)
+        if why:
+            return why
         designs = np.flatnonzero(g.ok)
         if not len(designs):
             return "no design can be assembled"
         point_link = [self.point_link[self.points.index(p)] for p in names]
-        tables = design_tables(eng, g.at, g.guide, g.phi0, g.reference, names, point_link, designs,
+        tables = design_tables(eng, self.local, g.guide, g.phi0, g.reference, names, point_link, designs,
                                [eng.link_index[n] for n in links])
         x = np.ascontiguousarray(phi if len(designs) == self.count else phi[designs], float)
         uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1]) and np.all(bp.var_scale == bp.var_scale[:1]))
@@ -395,6 +419,7 @@ class DesignBatch:
         self.nodes = None
         whole = len(designs) == D
         arrays = dict.fromkeys(("angle", "wq", "eq", "xy", "vq", "aq"))
+        got.xy[...] += self.centre.T[designs][:, None, None, :]  # (solved in each design's frame)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
@@ -536,11 +561,11 @@ class DesignBatch:
         for p, name in enumerate(out.points):
             li = self.point_link[self.points.index(name)]
             link = links[li]
-            at = self.geometry.at[name][:, where]
+            at, centre = self.local[name][:, where], self.centre[:, where]  # (in each design's frame)
             c, s = pose.c[link], pose.s[link]
             rx, ry = c * at[0] - s * at[1], s * at[0] + c * at[1]
             w = sol.w[:, li]
-            xy[:, p, 0], xy[:, p, 1] = pose.r[link][0] + rx, pose.r[link][1] + ry
+            xy[:, p, 0], xy[:, p, 1] = (pose.r[link][0] + rx) + centre[0], (pose.r[link][1] + ry) + centre[1]
             vq[:, p, 0], vq[:, p, 1] = sol.v[:, li, 0] + w * -ry, sol.v[:, li, 1] + w * rx
             if aq is not None:
                 e, ww = sol.e[:, li], w * w
@@ -741,7 +766,6 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
     DesignBatch
     """
     from ..engine import Engine
-    from ..model import parse_model
     from .geometry import design_geometry
     from .run import load_template
     from .variants import Variants, read_variants, variants_from
@@ -755,7 +779,7 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
         engine = Engine(parse_model(template.bind(), source=template.source), backend=backend)
     if len(engine.inputs) != 1:
         raise ValueError(f"{template.source}: a design batch drives one input; this model has {len(engine.inputs)}")
-    return DesignBatch(engine, design_geometry(template, variants, engine.mech))
+    return DesignBatch(engine, design_geometry(template, variants, engine.mech), template, variants)
 
 
 def compile_sample() -> None:

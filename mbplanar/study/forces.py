@@ -11,8 +11,8 @@ engine's own back-substitution (`_solve_blocks`) over the flat batch.
 Loads: the links' d'Alembert loads (−m·a_S at the centre S, −I_S·ε, the real accelerations from the
 analogues at the input's constant `omega` and `epsilon`), gravity on the heavy links, and the model's
 `force`, `weight` and `moment` rows acting at named points. Masses and inertias may be parameters.
-Other rows (guide forces, springs, dampers, switched rows, loads at coordinates) are declined
-(`design_kinetostatics` returns None): a study then solves each design's own kinetostatics.
+Other rows (guide forces, springs, dampers, switched rows, loads at coordinates) and higher pairs are
+declined (`design_kinetostatics` returns None): a study then solves each design's own kinetostatics.
 """
 
 from __future__ import annotations
@@ -59,7 +59,10 @@ class DesignForces:
 
 
 def _supported(mech) -> bool:
-    """Whether every load row is one this module evaluates (force, weight, moment at named points)."""
+    """Whether every load row is one this module evaluates (force, weight, moment at named points), in a
+    model without higher pairs (whose contact forces each design's own kinetostatics finds)."""
+    if mech.higher:
+        return False
     for load in mech.loads:
         if load.switch or load.kind not in ("force", "weight", "moment"):
             return False

@@ -100,7 +100,7 @@ class _Problem:
         from ..study.variants import variants_from
         template, engine = self.base()
         variants = variants_from(template, {n: values[:, i] for i, n in enumerate(self.names)}, check=False)
-        batch = DesignBatch(engine, design_geometry(template, variants, engine.mech))
+        batch = DesignBatch(engine, design_geometry(template, variants, engine.mech), template, variants)
         phi0 = np.where(np.isfinite(batch.geometry.phi0), batch.geometry.phi0, 0.0)
         with np.errstate(all="ignore"):
             m = batch.solve(phi0[:, None] + phi_rel, exact_limits=False, fallback=False)

@@ -112,6 +112,15 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
         h, w = 0.055 * size, 0.032 * size
         static.append(f'<polygon points="{_pts([[x, y], [x - w, y - h], [x + w, y - h]])}" fill="white"/>')
         static += _hatch((x - 1.6 * w, y - h), (x + 1.6 * w, y - h), (0, -1), 0.35 * w, 0.45 * w)
+    from ._plotting import CONTACT_COLOR, PAIR_STYLES
+    for pair in sc.pairs:
+        for kind, _, line, closed in pair.lines:
+            width, dash, fill = PAIR_STYLES[kind]
+            dashes = f' stroke-dasharray="{size * 0.03:.4g} {size * 0.01:.4g}"' if dash else ""
+            fills = f' fill="{fill}"' if fill is not None and closed else ""
+            dyn("polygon" if closed else "polyline", line, f'stroke-width="{lw * width:.4g}"{dashes}{fills}')
+        for m in range(pair.marks.shape[1]):
+            dyn("polyline", pair.marks[:, m], f'stroke-width="{lw * 0.12:.4g}"')
     for link in sc.links:
         if link.kind == "bar":
             dyn("polyline", link.outline, f'stroke-width="{lw:.4g}" stroke-linecap="round"')
@@ -126,6 +135,8 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
             f'stroke-width="{lw * 0.4:.4g}"')
     for k, name in enumerate(sc.point_names):
         dyn("circle", sc.point_xy[:, k], f'r="{0.009 * size:.4g}" fill="#1a1a1a"')
+    for pair in sc.pairs:
+        dyn("circle", pair.contact, f'r="{0.008 * size:.4g}" fill="{CONTACT_COLOR}" stroke="none"')
     for name in sc.joint_names:
         if sc.labels.get(name):
             dyn("text", sc.joint_xy[:, sc.joint_names.index(name)] + 0.025 * size,

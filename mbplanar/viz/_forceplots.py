@@ -12,6 +12,7 @@ import textwrap
 
 import numpy as np
 
+from ..kinematics._contacts import contact_geometry
 from ..kinematics._motion import describe_limit
 from ..forces._kinetostatics import kinetostatics
 from ..forces._loads import has_force_data
@@ -50,11 +51,12 @@ def draw_reactions(ax, engine, result, b: int, size: float, share: float = 0.3) 
                 f"reactions: {result.message}")
         return 0.0
     k = share * size / big
+    contact = {n: g.point for n, g in contact_geometry(engine, motion).items()} if engine.mech.higher else {}
     tips = {}  # arrows drawn on top of each other (F12 = F23 through a massless block) share one label
     for name, f in forces.items():
         if not (np.all(np.isfinite(f)) and np.linalg.norm(f) > 1e-9 * big):
             continue
-        p = motion.xy[b, motion.point(name)]
+        p = contact[name][b] if name in contact else motion.xy[b, motion.point(name)]
         ax.quiver([p[0]], [p[1]], [f[0] * k], [f[1] * k], angles="xy", scale_units="xy", scale=1,
                   color=REACTION_COLOR, width=0.005, zorder=10, gid=f"reaction:{name}")
         key = tuple(np.round(np.concatenate([p, p + f * k]) / (1e-4 * size)).astype(int))
@@ -65,7 +67,7 @@ def draw_reactions(ax, engine, result, b: int, size: float, share: float = 0.3) 
                     color=REACTION_COLOR, fontweight="bold", zorder=10, gid=f"reactionlabel:{name}")
     ax.plot([], [], color=REACTION_COLOR, lw=2, label=f"reactions: {size * share:.3g} m ≙ {_newtons(big)} N")
     for name, r in result.reactions.items():
-        if engine.mech.joints[name].kind == "P" and np.isfinite(r.moment[b]):
+        if engine.mech.kind_of(name) == "P" and np.isfinite(r.moment[b]):
             m = r.moment[b] if abs(r.moment[b]) > 1e-9 * big * size else 0.0
             ax.plot([], [], ls="none", label=f"moment in {name} ({reaction_label(r)}): {m:.4g} N·m")
     for name, q in result.balancing.items():
@@ -123,7 +125,7 @@ def forces_figure(engine, at=None, *, count=181, cycle=None, figsize=(10, 8)):
     what, unit = balancing_label(engine, inp.joint)
     bal.axhline(0, color="k", lw=0.6)
     _style(bal, f"{what.capitalize()} [{unit}]", xlabel, what.capitalize())
-    prismatic = [(j, r) for j, r in result.reactions.items() if engine.mech.joints[j].kind == "P"]
+    prismatic = [(j, r) for j, r in result.reactions.items() if engine.mech.kind_of(j) == "P"]
     if prismatic:
         _plot_lines(axes[1, 1], x, [r.moment for _, r in prismatic],
                     [f"{reaction_label(r)} ({j})" for j, r in prismatic], "M [N·m]", xlabel,

@@ -224,6 +224,8 @@ def draw_mechanism(ax, scene, b: int = 0, *, labels: bool = True, alpha: float =
         elif not s.grounded:
             ax.plot(g[:, 0], g[:, 1], color=ink, lw=lw_bar * 0.8, alpha=alpha, zorder=3, gid=f"guide:{s.joint}",
                     solid_capstyle="round")
+    for pair in scene.pairs:
+        draw_pair(ax, pair, b, size, ink, ghost)
     for k, link in enumerate(scene.links):
         out = link.outline[b]
         color = COLORS[k % len(COLORS)]
@@ -267,6 +269,32 @@ def draw_mechanism(ax, scene, b: int = 0, *, labels: bool = True, alpha: float =
                 ax.annotate(text, p, xytext=(6, 5), textcoords="offset points", fontsize=10, style="italic",
                             zorder=8, gid=f"jointlabel:{name}")
     del r_pin
+
+
+#: how each line of a higher pair is drawn: (width × the bar's, dash pattern or None, fill)
+PAIR_STYLES = {"pitch": (0.35, (0, (7, 2, 1, 2)), None), "rack": (0.35, (0, (7, 2, 1, 2)), None),
+               "profile": (0.55, None, "#e8eef5"), "roller": (0.45, None, "white"), "knife": (0.6, None, None),
+               "face": (0.7, None, None), "slot": (0.35, None, None), "slot-centre": (0.2, (0, (3, 3)), None)}
+CONTACT_COLOR = "#c0392b"
+
+
+def draw_pair(ax, pair, b: int, size: float, ink=INK, ghost: bool = False):
+    """A higher pair at position `b`: its pitch circles and lines with tooth marks, a cam's profile and
+    its follower's element, a slot's walls; the mesh point or contact as a dot (gids 'pair:NAME',
+    'contact:NAME')."""
+    from matplotlib.collections import LineCollection
+    from matplotlib.patches import Polygon
+    for kind, _, xy, closed in pair.lines:
+        width, dash, fill = PAIR_STYLES[kind]
+        pts = xy[b]
+        if fill is not None and closed and not ghost:
+            ax.add_patch(Polygon(pts, closed=True, fc=fill, ec="none", zorder=2.2, gid=f"pair:{pair.name}"))
+        ax.plot(pts[:, 0], pts[:, 1], color=ink, lw=(1.0 if ghost else 2.6) * width * 2, ls=dash or "-",
+                zorder=2.4 if kind != "roller" else 6, gid=f"pair:{pair.name}")
+    if pair.marks.shape[1] and not ghost:
+        ax.add_collection(LineCollection(pair.marks[b], colors=ink, linewidths=0.6, zorder=2.4, gid=f"pair:{pair.name}"))
+    if not ghost and np.all(np.isfinite(pair.contact[b])):
+        ax.plot(*pair.contact[b], marker="o", ms=4, color=CONTACT_COLOR, ls="none", zorder=9, gid=f"contact:{pair.name}")
 
 
 def _frame_axes(ax, scene, title=None):
@@ -559,12 +587,16 @@ def transmission_series(engine, motion) -> dict:
 
 
 def pressure_series(engine, motion) -> dict:
-    """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod, as `mbplanar check` computes it:
-    {'ϑ at Bp (A–B)': (B,) array}."""
+    """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod and of every cam's or slot's
+    contact, as `mbplanar check` computes them: {'ϑ at Bp (A–B)': (B,) array, 'ϑ at K (contact)': ...}."""
+    from ..analysis._check import contact_angles
     from ..analysis._check import pressure_angles as angles
     pairs, values = angles(engine, motion)
-    return {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
-            for k, (a, b, s) in enumerate(pairs)}
+    out = {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
+           for k, (a, b, s) in enumerate(pairs)}
+    names, values = contact_angles(engine, motion)
+    out.update({f"ϑ at {n} (contact)": np.degrees(np.abs(values[:, k])) for k, n in enumerate(names)})
+    return out
 
 
 # the names these had (`mbplanar.analysis` has functions of those names returning labels and radians)
@@ -588,10 +620,10 @@ def transmission_figure(engine, at=None, *, count=181, figsize=(7.5, 6.5)):
         top.text(0.5, 0.5, "no revolute pair between two rods in an Assur group", transform=top.transAxes,
                  ha="center")
     _plot_lines(bottom, x, list(pressure.values()), list(pressure), "ϑ [°]", xlabel,
-                "Pressure angles of the sliders (0° ideal)", _xstep(engine, x))
+                "Pressure angles of the sliders and contacts (0° ideal)", _xstep(engine, x))
     bottom.set_ylim(0, 90)
     if not pressure:
-        bottom.text(0.5, 0.5, "no slider driven by a rod", transform=bottom.transAxes, ha="center")
+        bottom.text(0.5, 0.5, "no slider driven by a rod, no cam or slot", transform=bottom.transAxes, ha="center")
     limit = "".join("\n" + describe_limit(engine, lim) for lim in motion.limits)
     fig.suptitle(f"{engine.mech.title or engine.mech.name}: transmission and pressure angles{limit}", fontsize=10)
     return fig

@@ -93,7 +93,15 @@ def _diagram_section(engine, ctx):
 def _structure_section(engine, ctx):
     topo = engine.topology
     s = topo.structure
-    text = (f"<p>Degrees of freedom W = {topo.dof} (Chebyshev–Grübler), independent loops: {len(topo.loops)}"
+    mech = engine.mech
+    if mech.higher:
+        n, p5, p4 = len(mech.moving_links), len(mech.joints), len(mech.higher)
+        count = (f"W = 3·{n} − 2·{p5} − {p4} = {topo.dof} (Chebyshev, with {p4} higher pair(s): "
+                 f"{html.escape(', '.join(f'{h.name} ({h.kind})' for h in mech.higher.values()))}; the Assur groups "
+                 "are the equivalent lower-pair mechanism's, each higher pair replaced by a primed link)")
+    else:
+        count = f"W = {topo.dof} (Chebyshev–Grübler)"
+    text = (f"<p>Degrees of freedom {count}, independent loops: {len(topo.loops)}"
             + (f"; loops: {html.escape('; '.join(' – '.join(loop) for loop in topo.loops))}" if topo.loops else "")
             + ".</p>")
     if s is None:
@@ -218,14 +226,15 @@ def _reactions_section(engine, ctx):
     out += html_table(head, np.column_stack(cols).tolist(), "Balancing load")
     grid = []
     for joint, r in table.reactions.items():
-        prismatic = engine.mech.joints[joint].kind == "P"
+        kind = engine.mech.kind_of(joint)
+        prismatic = kind == "P"
         fx, fy = clean(r.fx, tiny), clean(r.fy, tiny)
         mag = np.hypot(fx, fy)
         direction = np.where(mag > 0, np.degrees(np.arctan2(fy, fx)) % 360.0, np.nan)
         head = coords + ["Fx [N]", "Fy [N]", "|F| [N]", "direction [°]"] + (["M [N·m]"] if prismatic else [])
         rows = np.column_stack(phis + [fx, fy, mag, direction] + ([clean(r.moment, tiny_m)] if prismatic else []))
         grid.append(html_table(head, rows.tolist(), f"{reaction_label(r)}: pair {joint} "
-                                                    f"({'prismatic' if prismatic else 'revolute'}), on link "
+                                                    f"({ {'R': 'revolute', 'P': 'prismatic'}.get(kind, kind)}), on link "
                                                     f"{r.on} from link {r.source}"))
     out += '<div class="grid">' + "".join(grid) + "</div>"
     out += ctx.figure(diagram_figure(engine, reactions=True, cycle=ctx.cycle),

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Scene", "LinkShape", "Slider", "build_scene", "place", "joint_groups"]
+__all__ = ["Scene", "LinkShape", "Slider", "PairShape", "build_scene", "place", "joint_groups"]
 
 
 @dataclass
@@ -46,6 +46,21 @@ class Slider:
 
 
 @dataclass
+class PairShape:
+    """A higher pair's drawing: `lines` (kind, link, (B, n, 2) polyline, closed) — a gear's or a pinion's
+    pitch circle ("pitch"), a rack's pitch line ("rack"), a cam's profile ("profile"), a roller or a
+    circular face ("roller"), a knife ("knife"), a flat face ("face"), a slot's walls and centre line
+    ("slot", "slot-centre") —, `marks` (B, m, 2, 2) the tooth marks, and `contact` (B, 2) the mesh point or
+    the contact."""
+
+    name: str
+    kind: str
+    lines: list
+    marks: np.ndarray
+    contact: np.ndarray
+
+
+@dataclass
 class Scene:
     """Shapes of a mechanism drawing at B positions (metres, world frame).
 
@@ -68,6 +83,7 @@ class Scene:
     size: float
     phi: np.ndarray
     labels: dict = field(default_factory=dict)  # joint name -> text shown (one per group of coincident pairs)
+    pairs: list = field(default_factory=list)   # one `PairShape` per higher pair
 
     @property
     def batch(self) -> int:
@@ -78,6 +94,7 @@ class Scene:
         parts = [self.joint_xy.reshape(-1, 2), self.point_xy.reshape(-1, 2)]
         parts += [s.guide.reshape(-1, 2) for s in self.sliders] + [s.corners.reshape(-1, 2) for s in self.sliders]
         parts += [link.outline.reshape(-1, 2) for link in self.links]
+        parts += [xy.reshape(-1, 2) for pair in self.pairs for _, _, xy, _ in pair.lines]
         xy = np.concatenate(parts)
         xy = xy[np.all(np.isfinite(xy), axis=1)]
         pad = margin * self.size
@@ -202,6 +219,12 @@ def build_scene(engine, motion, cycle=None) -> Scene:
     for p in mech.points.values():
         if p.link != g:
             nodes[p.link].append(p.at)
+    for h in mech.higher.values():  # a follower's or a pin's point on its link, a slot's middle on its link
+        if h.kind in ("cam", "slot") and h.links[1] != g:
+            nodes[h.links[1]].append(h.at)
+        if h.kind == "slot" and h.links[0] != g:
+            path = engine.laws[h.name].path
+            nodes[h.links[0]].append(tuple(path.point(np.array([0.5 * (path.lo + path.hi)]))[:, 0]))
     busy = np.array([j.at for j in mech.joints.values()] + [p.at for p in mech.points.values()], float)
     links = []
     for link in mech.moving_links:
@@ -219,8 +242,97 @@ def build_scene(engine, motion, cycle=None) -> Scene:
     centres = {lk.centre for lk in mech.links.values() if lk.centre and lk.centre in mech.points}
     revolute = [n for n in joint_names if mech.joints[n].kind == "R"]
     pivots = [n for n in revolute if g in mech.joints[n].links]
+    pairs = higher_shapes(engine, motion) if mech.higher else []
     return Scene(joint_names, joint_xy, revolute, pivots, links, sliders, point_names, point_xy, centres,
-                 size, motion.phi[:, 0].copy(), joint_groups(mech, tol))
+                 size, motion.phi[:, 0].copy(), joint_groups(mech, tol), pairs)
+
+
+def _circle(centre, radius, count: int = 72) -> np.ndarray:
+    t = np.linspace(0.0, 2 * np.pi, count + 1)
+    return np.asarray(centre, float) + radius * np.stack([np.cos(t), np.sin(t)], axis=1)
+
+
+def _ticks(centre, radius, teeth: int, depth: float) -> np.ndarray:
+    """Tooth marks (z, 2, 2): radial strokes across a pitch circle, one per tooth."""
+    t = 2 * np.pi * np.arange(teeth) / teeth
+    u = np.stack([np.cos(t), np.sin(t)], axis=1)
+    c = np.asarray(centre, float)
+    return np.stack([c + (radius - depth / 2) * u, c + (radius + depth / 2) * u], axis=1)
+
+
+def _teeth(h, k: int, radius: float, size: float) -> tuple[int, float]:
+    """(tooth number, mark depth) of gear k of a pair: its own numbers, else about one tooth per 4 % of
+    the drawing along the pitch circle."""
+    if h.teeth is not None and h.teeth[k] >= 1:
+        z = int(h.teeth[k])
+    else:
+        z = max(8, int(round(2 * np.pi * radius / (0.04 * size))))
+    module = h.module if h.module is not None else 2 * radius / z
+    return z, min(2.25 * module, 0.4 * radius)
+
+
+def _curve_points(path, count: int = 241) -> np.ndarray:
+    u = np.linspace(path.lo, path.hi, count)
+    return path.point(u).T
+
+
+def higher_shapes(engine, motion) -> list:
+    """The `PairShape` of every higher pair over the positions of `motion`."""
+    from ..kinematics._contacts import contact_geometry
+    mech, size = engine.mech, engine.size
+    batch = len(motion.phi)
+    where = contact_geometry(engine, motion)
+    out = []
+    for name, h in mech.higher.items():
+        law = engine.laws[name]
+        g = law.geometry
+        lines, marks = [], []
+
+        def on(link, pts):
+            return place(motion, engine.link_index[link], pts)
+
+        if h.kind in ("gear", "rack"):
+            gears = list(zip(h.links, g.centres, h.radii)) if h.kind == "gear" else [(h.links[0], g.centres[0], h.radius)]
+            for k, (link, centre, radius) in enumerate(gears):
+                lines.append(("pitch", link, on(link, _circle(centre, radius)), True))
+                z, depth = _teeth(h, k, radius, size)
+                marks.append(on(link, _ticks(centre, radius, z, depth).reshape(-1, 2)).reshape(batch, -1, 2, 2))
+            if h.kind == "rack":
+                pitch = 2 * np.pi * h.radius / _teeth(h, 0, h.radius, size)[0]
+                depth = _teeth(h, 0, h.radius, size)[1]
+                u, n = np.array(g.tangent), np.array(g.normal)
+                span = max(np.pi * h.radius, 0.5 * size)
+                ends = np.array(g.pitch) + np.outer([-span, span], u)
+                lines.append(("rack", h.links[1], on(h.links[1], ends), False))
+                s = np.arange(-span, span + 1e-12, pitch)
+                ticks = np.stack([np.array(g.pitch) + np.outer(s, u) - depth / 2 * n,
+                                  np.array(g.pitch) + np.outer(s, u) + depth / 2 * n], axis=1)
+                marks.append(on(h.links[1], ticks.reshape(-1, 2)).reshape(batch, -1, 2, 2))
+        elif h.kind == "cam":
+            cam, follower = h.links
+            lines.append(("profile", cam, on(cam, _curve_points(g.profile)), g.profile.closed))
+            at = np.asarray(h.at, float)
+            if h.follower in ("roller", "circle"):
+                lines.append(("roller", follower, on(follower, _circle(at, h.radius, 48)), True))
+            elif h.follower == "flat":
+                n = np.array(g.normal)
+                u = np.array([-n[1], n[0]])
+                half = 0.25 * size
+                lines.append(("face", follower, on(follower, np.array(g.pitch) + np.outer([-half, half], u)), False))
+            else:
+                n = np.array(g.normal)
+                lines.append(("knife", follower, on(follower, np.array([at, at + 0.06 * size * n])), False))
+        else:
+            slot, pin = h.links
+            pts = _curve_points(g.path)
+            d1 = g.path.point(np.linspace(g.path.lo, g.path.hi, len(pts)), 1).T
+            n = np.stack([-d1[:, 1], d1[:, 0]], axis=1) / np.hypot(d1[:, 0], d1[:, 1])[:, None]
+            for side in (1.0, -1.0):
+                lines.append(("slot", slot, on(slot, pts + side * 0.018 * size * n), g.path.closed))
+            lines.append(("slot-centre", slot, on(slot, pts), g.path.closed))
+        marks = np.concatenate(marks, axis=1) if marks else np.zeros((batch, 0, 2, 2))
+        out.append(PairShape(name, h.kind, lines, marks, where[name].point))
+    return out
 
 
 def _stubs(kind, outline, nodes, size):

@@ -248,7 +248,7 @@ class _Session:
     def __init__(self, state: _State, ws):
         self.state, self.ws = state, ws
         self.sid = secrets.token_urlsafe(12)
-        self.bench = Workbench(frames=state.frames)
+        self.bench = Workbench(frames=state.frames, folder=str(state.folder.root))
         self.queue: asyncio.Queue = asyncio.Queue()
         self.runs: dict[str, Run] = {}
         self.tasks: set = set()
@@ -379,7 +379,7 @@ class _Session:
             for kind in Later.KINDS:
                 if self.bench.version != later.version:
                     return
-                job = (slow_answer, kind, later.text, later.name, later.frames, later.version)
+                job = (slow_answer, kind, later.text, later.name, later.frames, later.version, later.folder)
                 try:
                     pool = self.state.pool()
                     answer = await (loop.run_in_executor(pool, *job) if pool is not None else

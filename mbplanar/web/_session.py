@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import threading
+from pathlib import Path
 import time
 import warnings
 from collections import OrderedDict
@@ -47,7 +48,7 @@ class Later:
 
     def __init__(self, bench, version: int):
         self.text, self.name, self.frames, self.version = bench.text, bench.name, bench.frames, version
-        self.fixed = bench.fixed
+        self.fixed, self.folder = bench.fixed, bench.folder
         self._state = (bench.engine, bench.cycle)
 
     @property
@@ -61,15 +62,15 @@ _SLOW = {}   # in a worker process: the last state's (engine, cycle), made once 
 _SLOW_LOCK = threading.Lock()
 
 
-def slow_answer(kind: str, text: str, name: str, frames: int, version: int) -> dict:
+def slow_answer(kind: str, text: str, name: str, frames: int, version: int, folder=None) -> dict:
     """One slow answer of the state of `text` (in a worker process: it builds the state's engine and cycle
     from the text, as the session did, and keeps them for the next answer)."""
-    key = (text, name, frames)
+    key = (text, name, frames, folder)
     with _SLOW_LOCK:                      # (a server without its worker process makes them in threads)
         if key not in _SLOW:
             _SLOW.clear()
             data = ModelDocument(text, name).data
-            engine = _engine(text, data, name)[0]
+            engine = _engine(text, data, name, folder)[0]
             _SLOW[key] = (engine, _cycle(engine, frames))
         return {**_stage(kind, *_SLOW[key]), "version": version}
 
@@ -96,10 +97,14 @@ class Workbench:
         A model without text (the widget of an engine made in Python): drawn and plotted, not edited.
     frames : int
         Positions of the cycle.
+    folder : path, optional
+        The served folder `name` is relative to (the files a model names are read beside it there); None:
+        `name` is a path.
     """
 
-    def __init__(self, text: str | None = None, name: str = "model.toml", *, engine=None, frames: int = FRAMES):
-        self.name, self.frames = name, int(frames)
+    def __init__(self, text: str | None = None, name: str = "model.toml", *, engine=None, frames: int = FRAMES,
+                 folder=None):
+        self.name, self.frames, self.folder = name, int(frames), folder
         self.text = text if text is not None else ""
         self.history, self.at = [], -1
         self._last_edit = (None, 0.0)
@@ -233,7 +238,7 @@ class Workbench:
             yield self._document_message([], [], note="a cam file: design its cam in the cam panel")
             return
         try:
-            engine, notes = _engine(self.text, doc.data, self.name)
+            engine, notes = _engine(self.text, doc.data, self.name, self.folder)
             cycle = _cycle(engine, self.frames)
         except MbplanarError as exc:
             errors.append(_located(exc, doc.data))
@@ -290,20 +295,37 @@ class Workbench:
 
 
 # -- the engine of a text ----------------------------------------------------------------------------
-def _engine(text: str, data: dict, source: str):
-    """The engine of a model's text and the warnings its build gave, from the states met lately."""
-    key = (source, text)
+def _engine(text: str, data: dict, source: str, folder=None):
+    """The engine of a model's text and the warnings its build gave, from the states met lately. The files
+    the text names (a cam's profile) are read beside `source` in the served `folder` (None: the working
+    folder), a gallery model's from the gallery."""
+    key = (source, text, folder)
     if key in _ENGINES:
         _ENGINES.move_to_end(key)
         return _ENGINES[key]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ModelWarning)
-        engine = Engine(parse_model(data, source=source))
+        engine = Engine(parse_model(data, source=source, folder=_files_folder(source, folder)))
     notes = [str(w.message) for w in caught if issubclass(w.category, ModelWarning)]
     _ENGINES[key] = (engine, notes)
     while len(_ENGINES) > _ENGINES_KEPT:
         _ENGINES.popitem(last=False)
     return engine, notes
+
+
+def _files_folder(source: str, folder):
+    """Where the files of model `source` (a name the page sent) are: the gallery's for gallery/NAME (unless
+    the served folder holds a gallery of its own), else beside it in `folder`; None when no folder is
+    served (the name is a path)."""
+    from pathlib import PurePosixPath
+    from ._files import GALLERY
+    if folder is None:
+        return None
+    parts = PurePosixPath(str(source).replace("\\", "/")).parts
+    if parts and parts[0] == GALLERY and not (Path(folder) / GALLERY).exists():
+        from ..formats.examples import _root
+        return Path(str(_root().joinpath(*parts[1:-1]))) if len(parts) > 2 else Path(str(_root()))
+    return Path(folder).joinpath(*parts[:-1])
 
 
 def _cycle(engine, frames: int):
@@ -398,6 +420,9 @@ def frames_of(engine, motion, cycle, forces: bool = True, scene=None) -> dict:
         "moving": moving, "v": _array(motion.v[:, index]), "a": _array(motion.a[:, index]),
         "ic": _array(motion.ic[:, 1:]), "ic_links": list(motion.link_names[1:]),
         "omega": _array(np.atleast_1d(motion.omega).reshape(len(motion.phi), -1)),
+        "pairs": [{"name": pr.name, "kind": pr.kind, "marks": _array(pr.marks), "contact": _array(pr.contact),
+                   "lines": [{"kind": kind, "closed": bool(closed), "xy": _array(xy)} for kind, _, xy, closed in pr.lines]}
+                  for pr in scene.pairs],
     }
     if forces:
         out.update(reactions(engine, motion))
@@ -412,9 +437,14 @@ def reactions(engine, motion) -> dict:
     out = {}
     if has_force_data(engine.mech):
         result = kinetostatics(engine, motion)
+        contact = {}
+        if engine.mech.higher:   # a higher pair's force acts at its contact
+            from ..kinematics._contacts import contact_geometry
+            contact = {n: _array(g.point) for n, g in contact_geometry(engine, motion).items()}
         out["reactions"] = {name: {"label": reaction_label(r), "on": r.on, "from": r.source,
                                    "f": _array(np.column_stack([r.fx, r.fy])),
-                                   "moment": _array(r.moment) if engine.mech.joints[name].kind == "P" else None}
+                                   "moment": _array(r.moment) if engine.mech.kind_of(name) == "P" else None,
+                                   **({"at": contact[name]} if name in contact else {})}
                             for name, r in result.reactions.items()}
         out["balancing"] = {name: {"values": _array(q), "unit": "N·m" if engine.mech.joints[name].kind == "R"
                                    else "N"} for name, q in result.balancing.items()}

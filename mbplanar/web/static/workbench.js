@@ -11,6 +11,10 @@ const COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf"
                 "#7f7f7f", "#bcbd22"];
 const INK = "#1a1a1a", LINK_FILL = "#cfe0f3", BLOCK_FILL = "#f3e3c3";
 const VEL = "#c0392b", ACC = "#2e86c1", REACTION = "#1e8449", IC = "#8e44ad";
+// a higher pair's lines as the CLI's diagram draws them (viz/_plotting.PAIR_STYLES): width × the bar's, dashed, fill
+const PAIR_STYLES = { pitch: [0.35, true, null], rack: [0.35, true, null], profile: [0.55, false, "#e8eef5"],
+                      roller: [0.45, false, "white"], knife: [0.6, false, null], face: [0.7, false, null],
+                      slot: [0.35, false, null], "slot-centre": [0.2, true, null] };
 const CYCLE_SECONDS = 6;          // one cycle at speed 1×
 let instances = 0;
 
@@ -470,6 +474,7 @@ export function mount(root, transport, options = {}) {
     view.paths = s("g", { "data-layer": "paths" }, world);
     const ground = s("g", { "data-layer": "ground" }, world);
     view.guides = s("g", {}, world);
+    view.pairLayer = s("g", { "data-layer": "pairs" }, world);
     view.links = s("g", { "data-layer": "links" }, world);
     view.blocks = s("g", {}, world);
     view.pins = s("g", { "data-layer": "pins" }, world);
@@ -504,6 +509,15 @@ export function mount(root, transport, options = {}) {
       const [a, b] = inp.links;
       inputLinks[b !== pic.ground ? b : a] = k;
     });
+    view.pairs = (F.pairs || []).map(pr => ({   // gears, racks, cams, slots: their lines, tooth marks, contact
+      lines: pr.lines.map(ln => {
+        const [width, dashed, fill] = PAIR_STYLES[ln.kind];
+        return s(ln.closed ? "polygon" : "polyline", { "stroke-width": lw * width, fill: ln.closed && fill ? fill : "none",
+          ...(dashed ? { "stroke-dasharray": `${size * 0.03} ${size * 0.01}` } : {}), "data-pair": pr.name }, view.pairLayer);
+      }),
+      marks: s("path", { "stroke-width": lw * 0.12, "data-pair": pr.name }, view.pairLayer),
+      contact: s("circle", { r: 0.008 * size, fill: VEL, stroke: "none", "data-contact": pr.name }, view.pins),
+    }));
     view.sliderGuides = F.sliders.map(sl => sl.grounded ? null :
       s("polyline", { "stroke-width": lw * 0.8, "stroke-linecap": "round" }, view.guides));
     view.links = F.links.map((lk, k) => {
@@ -590,6 +604,15 @@ export function mount(root, transport, options = {}) {
       v.label.setAttribute("display", st.show.labels && finite(lx, ly) ? "inline" : "none");
       if (finite(lx, ly)) { v.label.setAttribute("x", lx); v.label.setAttribute("y", -ly); }
     });
+    (F.pairs || []).forEach((pr, k) => {
+      const v = view.pairs[k];
+      pr.lines.forEach((ln, q) => { const n = ln.xy.shape[1]; v.lines[q].setAttribute("points", pts(ln.xy, b * n * 2, n)); });
+      const m = pr.marks.shape[1], mk = pr.marks;
+      let d = "";
+      for (let q = 0; q < m; q++) { const o = (b * m + q) * 4; d += `M${mk[o]},${mk[o + 1]}L${mk[o + 2]},${mk[o + 3]}`; }
+      v.marks.setAttribute("d", d);
+      v.contact.setAttribute("cx", pr.contact[2 * b]); v.contact.setAttribute("cy", pr.contact[2 * b + 1]);
+    });
     F.sliders.forEach((sl, k) => {
       view.blocks[k].setAttribute("points", pts(sl.corners, b * 8, 4));
       if (view.sliderGuides[k]) view.sliderGuides[k].setAttribute("points", pts(sl.guide, b * 4, 2));
@@ -668,7 +691,7 @@ export function mount(root, transport, options = {}) {
           for (const n of names) {
             const r = forces.reactions[n], fx = r.f[2 * b], fy = r.f[2 * b + 1];
             if (!finite(fx, fy) || Math.hypot(fx, fy) <= 1e-9 * big) continue;
-            const [x, y] = pointXY(F, n, b);
+            const [x, y] = r.at ? [r.at[2 * b], r.at[2 * b + 1]] : pointXY(F, n, b);   // (a higher pair: its contact)
             arrow(view.overlay, x, y, fx * scale, fy * scale, "r", REACTION, lw * 0.45);
             const key = `${Math.round((x + fx * scale) / (1e-4 * size))},${Math.round((y + fy * scale) / (1e-4 * size))}`;
             if (seen[key]) { seen[key].textContent += " = " + r.label; continue; }
