@@ -21,7 +21,7 @@ When a design's input values are an ordered sweep with no gap wider than `h_max`
 and 3 are one: the sweep itself is walked from the drawn pose, every requested position a march node
 accepted by the march's rule and written at once; a position it refuses sends the design to step 2.
 
-The kernels take named bundles: the request's designs (`DesignIn`), the answer's arrays (`DesignOut`),
+The kernels take named bundles: the request's designs (`DesignIn`), the answer's arrays (`engine._tables.DesignResult`, which it writes),
 the tolerances (`engine._tables.KernelTol`, every threshold named in it) and a thread's work arrays
 (`DesignWork`, whose unknowns come in `Unknowns` bundles). The per-design constants (every joint's point
 in the link frames, each guide's direction, the drawn input value, each link's drawn angle, the chosen
@@ -44,7 +44,7 @@ from ._numba_blocks import (_closure, _hermite_coefficients, _hermite_slope, _he
 from ..engine._continuation import HERMITE5
 from ..engine._tables import CutTables, DesignResult, DesignTables, StepTables
 
-__all__ = ["solve", "DesignIn", "DesignOut", "DesignWork", "Unknowns"]
+__all__ = ["solve", "DesignIn", "DesignWork", "Unknowns"]
 
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
@@ -67,29 +67,6 @@ class DesignIn(NamedTuple):
     lo: np.ndarray
     hi: np.ndarray
     hermite: np.ndarray
-
-
-class DesignOut(NamedTuple):
-    """What the kernel writes per design (`engine._tables.DesignResult`'s arrays): status (D,), valid
-    (D, N), angle, wq, eq (D, N, K) (eq (0, 0, K) without accelerations), xy, vq, aq (D, N, P, 2), and the
-    motion limits met: limit (D, 2), limit_phi, limit_h (D, 2), limit_q, limit_qd, limit_qdd (D, 2, M),
-    limit_signs (D, 2, n_blocks)."""
-
-    status: np.ndarray
-    valid: np.ndarray
-    angle: np.ndarray
-    wq: np.ndarray
-    eq: np.ndarray
-    xy: np.ndarray
-    vq: np.ndarray
-    aq: np.ndarray
-    limit: np.ndarray
-    limit_phi: np.ndarray
-    limit_h: np.ndarray
-    limit_q: np.ndarray
-    limit_qd: np.ndarray
-    limit_qdd: np.ndarray
-    limit_signs: np.ndarray
 
 
 class Unknowns(NamedTuple):
@@ -172,13 +149,13 @@ def solve(request) -> DesignResult:
     m_all = int(tables.blocks.m.sum())
     m_max = max([1] + [int(m) for m in tables.blocks.m])
     m1 = max(m_all, 1)
-    out = DesignOut(np.zeros(count, np.int64), np.empty((count, n), np.bool_), np.empty((count, n, n_links)),
-                    np.empty((count, n, n_links)),
-                    np.empty((count, n, n_links)) if accelerations else np.empty((0, 0, n_links)),
-                    np.empty((count, n, n_points, 2)), np.empty((count, n, n_points, 2)),
-                    np.empty((count, n, n_points, 2)) if accelerations else np.empty((0, 0, n_points, 2)),
-                    np.zeros((count, 2), np.bool_), np.zeros((count, 2)), np.zeros((count, 2)),
-                    *(np.zeros((count, 2, m1)) for _ in range(3)), np.zeros((count, 2, n_blocks)))
+    out = DesignResult(np.zeros(count, np.int64), np.empty((count, n), np.bool_), np.empty((count, n, n_links)),
+                       np.empty((count, n, n_links)),
+                       np.empty((count, n, n_links)) if accelerations else np.empty((0, 0, n_links)),
+                       np.empty((count, n, n_points, 2)), np.empty((count, n, n_points, 2)),
+                       np.empty((count, n, n_points, 2)) if accelerations else np.empty((0, 0, n_points, 2)),
+                       np.zeros((count, 2), np.bool_), np.zeros((count, 2)), np.zeros((count, 2)),
+                       *(np.zeros((count, 2, m1)) for _ in range(3)), np.zeros((count, 2, n_blocks)))
     lo, hi = x.min(axis=1) if n else tables.phi0, x.max(axis=1) if n else tables.phi0
     inp = DesignIn(tables, request.uniform, float(request.sense), int(request.ground), float(request.scale),
                    bool(accelerations), x, lo, hi, HERMITE5)
@@ -195,9 +172,7 @@ def solve(request) -> DesignResult:
         out.valid[failed] = False
         for arr in (out.angle, out.wq, out.xy, out.vq) + ((out.eq, out.aq) if accelerations else ()):
             arr[failed] = np.nan
-    return DesignResult(out.status, out.valid, out.angle, out.wq, out.eq if accelerations else None, out.xy, out.vq,
-                        out.aq if accelerations else None, out.limit, out.limit_phi, out.limit_h, out.limit_q,
-                        out.limit_qd, out.limit_qdd, out.limit_signs)
+    return out if accelerations else out._replace(eq=None, aq=None)
 
 
 def _part_in(inp: DesignIn, p: slice) -> DesignIn:
@@ -208,9 +183,9 @@ def _part_in(inp: DesignIn, p: slice) -> DesignIn:
                                           point_at=t.point_at[p]), x=inp.x[p], lo=inp.lo[p], hi=inp.hi[p])
 
 
-def _part_out(out: DesignOut, p: slice, accelerations: bool) -> DesignOut:
+def _part_out(out: DesignResult, p: slice, accelerations: bool) -> DesignResult:
     """The designs `p` of the answer's arrays (eq, aq left empty without accelerations)."""
-    return DesignOut(*(a if not accelerations and name in ("eq", "aq") else a[p] for name, a in zip(out._fields, out)))
+    return DesignResult(*(a if not accelerations and name in ("eq", "aq") else a[p] for name, a in zip(out._fields, out)))
 
 
 # -- kernels ----------------------------------------------------------------------------------------

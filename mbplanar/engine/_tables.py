@@ -360,10 +360,11 @@ class DesignJob(NamedTuple):
 
 
 class DesignResult(NamedTuple):
-    """What the design kernel gives per design (D designs × N positions).
+    """What the design kernel gives per design (D designs × N positions), and the arrays it writes.
 
     status (D,): `DESIGN_STATUS`; valid (D, N); angle, wq (D, N, K) of the links `link_out`; eq (D, N, K)
-    or None; xy, vq (D, N, P, 2); aq or None. Limits per design and direction (index 0: going up, 1:
+    or None (written: (0, 0, K)) without accelerations; xy, vq (D, N, P, 2); aq or None (written: (0, 0,
+    P, 2)). Limits per design and direction (index 0: going up, 1:
     going down): limit (D, 2), limit_phi (D, 2) the last node's input value, limit_h (D, 2) the last
     step tried, limit_q, limit_qd, limit_qdd (D, 2, M) the last node's unknowns and their derivatives
     along the march parameter, limit_signs (D, 2, n_blocks)."""
