@@ -108,6 +108,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
     want_value, want_rate, want_rate_q = len(value_out) > 0, len(rate_out) > 0, len(rate_q_out) > 0
     want_joints = want_rows or want_value or want_rate or want_rate_q
     cx0, cy0 = tables.centre[0], tables.centre[1]  # (the engine's frame's origin, `Engine.centre`)
+    far = cx0 != 0.0 or cy0 != 0.0  # (else the frame is the world's: ρ = 0, no product to form)
+    rhx, rhy = 0.0, 0.0
     for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
         for sl in range(len(rt)):
@@ -335,7 +337,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
                 if want_ic:  # r + perp(v)/ω of the link's frame (kinematics._instant_centres); NaN where ω = 0
                     icx, icy = math.nan, math.nan
                     if wl != 0.0:  # (a test, not a division by 0: the kernel also runs as plain Python)
-                        rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+                        if far:
+                            rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
                         icx = ((ps[3, l] + rhx) + cx0) + -((rt[vel, 2, l] + wq * rhx) * omb) / wl
                         icy = ((ps[4, l] + rhy) + cy0) + ((rt[vel, 1, l] - wq * rhy) * omb) / wl
                     ic_out[b, l, 0] = icx if math.isfinite(icx) else math.nan
@@ -345,7 +348,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
         for p in range(len(p_link)):
             k = p_link[p]
             c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-            rhx, rhy = s * cy0 - c * cx0, -(s * cx0 + c * cy0)
+            if far:
+                rhx, rhy = s * cy0 - c * cx0, -(s * cx0 + c * cy0)
             rx, ry = c * atx - s * aty, s * atx + c * aty
             xy[b, p, 0], xy[b, p, 1] = ((ps[3, k] + rhx) + cx0) + rx, ((ps[4, k] + rhy) + cy0) + ry
             if rates:
@@ -368,7 +372,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
             o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
             for l in range(n_l):  # noqa: E741
                 rows[b, o_th + l], rows[b, o_cos + l], rows[b, o_sin + l] = ps[0, l], ps[1, l], ps[2, l]
-                rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+                if far:
+                    rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
                 rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = (ps[3, l] + rhx) + cx0, (ps[4, l] + rhy) + cy0
                 if rates:
                     wl, el = rt[vel, 0, l], rt[acc, 0, l]
