@@ -909,7 +909,9 @@ def _suffix(path, allowed):
 
 
 def cmd_plot(args):
+    from .accuracy.plots import register as register_accuracy
     from .viz import _plotting as plotting
+    register_accuracy()  # (the pictures of other packages: registered here, as the report's sections are)
     _suffix(args.output, ("png", "svg", "pdf"))
     if args.what not in plotting.FIGURES:
         raise ModelError(plotting.unknown_picture(args.what))
@@ -957,6 +959,7 @@ def cmd_animate(args):
 
 
 def cmd_report(args):
+    from .accuracy.plots import register as register_accuracy
     from .cam.present import register as register_cam_section
     from .gears.report import register as register_gears_section
     from .synthesis.report import register as register_synthesis_section
@@ -965,6 +968,7 @@ def cmd_report(args):
     register_cam_section()  # (the report's sections of other packages: registered here, so that the other
     register_gears_section()  # commands do not import those packages)
     register_synthesis_section()
+    register_accuracy()
     _suffix(args.output, ("html",))
     plotting.require_matplotlib()
     engine = _load(args)
@@ -1172,6 +1176,16 @@ def _cam_options(s):
     add_arguments(s)
 
 
+def _accuracy_options(s):
+    from .accuracy.command import add_arguments
+    add_arguments(s)
+
+
+def cmd_accuracy(args) -> int:
+    from .accuracy.command import run
+    return run(args)
+
+
 def _gear_options(s):
     from .gears.command import add_arguments
     add_arguments(s)
@@ -1228,6 +1242,8 @@ COMMANDS = {
              "trains by tooth numbers", _gear_options, cmd_gear),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
+    "accuracy": ("tolerances and clearances: sensitivities, worst-case and statistical stacks, Monte Carlo",
+                 _accuracy_options, cmd_accuracy),
     "schema": ("the JSON Schema of the model table (for editors: completion and checks)", *_formats("schema")),
     "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)", *_formats("import")),
     "export": ("the mechanism at a position as a drawing: DXF (CAD layers) or SVG", *_formats("export")),
@@ -1236,8 +1252,8 @@ COMMANDS = {
               "(pip install 'mbplanar[web]')", _serve_options, cmd_serve),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "schema", "import", "export",
-                                                    "examples", "serve")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "accuracy", "schema", "import",
+                                                    "export", "examples", "serve")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")

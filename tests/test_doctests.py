@@ -16,7 +16,7 @@ from conftest import MODELS
 
 ROOT = MODELS.parent
 SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-               "study", "synthesis")
+               "study", "accuracy", "synthesis")
 
 
 def public_modules() -> list[str]:
