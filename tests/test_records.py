@@ -61,6 +61,16 @@ def _results():
     b = design_batch(template, variants)
     out["DesignForces"] = design_kinetostatics(b, b.solve(np.radians(np.arange(0.0, 360.0, 30.0))), template,
                                                variants)
+    from mbplanar.accuracy import accuracy
+    from mbplanar.kinematics import contacts
+    out["Accuracy"] = accuracy(MODELS / "fourbar.toml", samples=200, positions=12, seed=1)
+    cam = _engine("cam_eccentric")
+    cam_motion = mbplanar.analyse(cam, cam.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 12, endpoint=False))
+    out["Contact"] = contacts(cam, cam_motion)["K"]
+    out["Kinetostatics (higher pairs)"] = mbplanar.kinetostatics(cam, cam_motion)
+    follower = mbplanar.read_model(MODELS / "cam_follower.toml")  # (spun 3× faster: its contact pulls)
+    follower = dataclasses.replace(follower, inputs=[dataclasses.replace(i, omega=3 * i.omega) for i in follower.inputs])
+    out["CheckReport (cam)"] = mbplanar.check(mbplanar.Engine(follower))
     return {k: v for k, v in out.items() if v is not None}
 
 
@@ -117,6 +127,12 @@ def test_sub_results_are_records(results):
     summary = results["DesignSummary"]
     assert all(dataclasses.is_dataclass(x) for x in summary.limits + summary.extremes)
     assert results["Motion"].frames.th.shape == results["Motion"].angle.shape
+    cam = results["Kinetostatics (higher pairs)"]
+    assert cam.motion.frames.contact.shape == (12, 1) and set(cam.contact_forces) == set(cam.pulling) == {"K"}
+    pulls = results["CheckReport (cam)"].separations
+    assert pulls and all(dataclasses.is_dataclass(s) and s.pair == "K" and s.start < s.end for s in pulls)
+    assert [(s["from"], s["to"]) for s in results["CheckReport (cam)"].as_dict()["separations"]] == \
+        [(s.start, s.end) for s in pulls]
 
 
 def test_a_later_need_makes_a_new_record():

@@ -93,8 +93,14 @@ class Kernel:
 
 
 _kernels: list = []  # every kernel made
-_plain = threading.local()  # `interpret`: this thread runs the kernels as plain Python
-_plain.on = False
+class _Plain(threading.local):
+    """Per thread: whether it runs the kernels as plain Python (`interpret`); off in every thread until
+    it says otherwise (a design batch calls its kernel from worker threads too)."""
+
+    on = False
+
+
+_plain = _Plain()
 
 
 def interpret(kernel: Kernel, args: tuple, viewed: tuple = ()):
