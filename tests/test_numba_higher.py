@@ -18,9 +18,9 @@ from conftest import MODELS
 
 pytest.importorskip("numba")
 
-from mbplanar.backends._numba_higher import CACHE, WORK, _higher_closure, _higher_rates, _path  # noqa: E402
+from mbplanar.backends._numba_higher import _higher_closure, _higher_rates, _path  # noqa: E402
 from mbplanar.engine._constraints import Pose, Rates  # noqa: E402
-from mbplanar.engine._higher_tables import curve_tables, higher_tables  # noqa: E402
+from mbplanar.engine._higher_tables import CURVE_WORK, HIGHER_CACHE, curve_tables, higher_tables  # noqa: E402
 from mbplanar.model._curves import Circle, Offset, Spline  # noqa: E402
 
 TOL = 1e-12
@@ -69,7 +69,7 @@ def test_the_curves_and_their_derivatives_equal_numpys(shape, where):
     range and beyond it (a closed curve's repeats, an open one's extrapolated ends), to 1e-12 of each
     derivative's size along the curve."""
     cv = curve_tables([shape])
-    wk = np.zeros(WORK)
+    wk = np.zeros(CURVE_WORK)
     u = shape.lo + (np.array(where) + 0.5) * shape.period * (3.0 if shape.closed else 1.2)
     for n in range(3 if isinstance(shape, Offset) else 4):
         want = shape.point(u, n)
@@ -186,7 +186,7 @@ def test_the_laws_and_their_rates_equal_numpys(name, seed):
     engine = _cached(name)
     hp, cv = engine.prepared["test tables"]
     ps, rt, q, pose, rates, vel, param = _state(engine, np.random.default_rng(seed))
-    hc, wk, res = np.zeros((len(hp.a), CACHE)), np.zeros(WORK), np.zeros(8)
+    hc, wk, res = np.zeros((len(hp.a), HIGHER_CACHE)), np.zeros(CURVE_WORK), np.zeros(8)
     size = engine.size
     for bp, law, h in _pairs(engine):
         want, cache = law.closure(pose)

@@ -8,9 +8,9 @@ each is compiled on its own with fastmath off and inlined by LLVM where it is ca
 allocated here. The tables are `engine._higher_tables`' (`HigherTables` hp, `CurveTables` cv).
 
 Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link; rates rt (slots, 3, L): ω, v_x, v_y per link (as
-`_numba_blocks`). The cache hc (H, `CACHE`) holds, per pair, what its rates read from its closure:
+`_numba_blocks`). The cache hc (H, `HIGHER_CACHE`) holds, per pair, what its rates read from its closure:
 a rack ρ_C, ρ_A, d, U; a point on a curve ρ_F, R·c, R·c', R·c''; a flat face R·c … R·c''', ρ_F, N, d
-(pairs of columns, x then y). wk (`WORK`,) is the Cox–de Boor recursion's work vector.
+(pairs of columns, x then y). wk (`CURVE_WORK`,) is the Cox–de Boor recursion's work vector.
 """
 
 from __future__ import annotations
@@ -19,10 +19,7 @@ import math
 
 from ._numba_blocks import _part
 
-__all__ = ["CACHE", "WORK", "_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]
-
-CACHE = 14   # columns of a pair's cache
-WORK = 12    # 2·(degree + 1) for the highest degree a curve takes (5)
+__all__ = ["_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]
 
 
 @_part

@@ -17,7 +17,10 @@ import numpy as np
 
 from ..model._curves import Circle, Offset, Spline
 
-__all__ = ["HigherTables", "CurveTables", "higher_tables"]
+__all__ = ["HigherTables", "CurveTables", "higher_tables", "curve_tables", "HIGHER_CACHE", "CURVE_WORK"]
+
+HIGHER_CACHE = 14   # columns of a pair's cache in the kernels' work arrays (`backends._numba_higher`)
+CURVE_WORK = 12     # the Cox–de Boor recursion's work vector: 2·(degree + 1) for the highest degree (5)
 
 
 class CurveTables(NamedTuple):
@@ -61,6 +64,7 @@ class HigherTables(NamedTuple):
     first: np.ndarray       # (K + 1,) int: block k's pairs are first[k] … first[k + 1] − 1
     lo: np.ndarray          # (H,) float: the contact parameter's range on an open curve (−inf: none)
     hi: np.ndarray          # (H,) float
+    column: np.ndarray      # (H,) int: the pair's place in the model's `higher` (the records' contact column)
 
 
 _WIDTH = {"coef": (3,), "centre": (2,), "at": (2,), "axis": (2,)}
@@ -104,6 +108,7 @@ def higher_tables(engine) -> tuple[HigherTables, CurveTables]:
     """The engine's higher pairs (its `BlockPlan`s' cuts that are higher laws) and their curves."""
     idx = engine.link_index
     rows, shapes, first, var0 = [], [], [0], 0
+    names = list(engine.mech.higher)
     for bp in engine.blocks:
         row = 2 * sum(1 for law in bp.cuts if law.kind in ("R", "P"))
         params = {law.name: k for law, k in bp.params}
@@ -114,7 +119,7 @@ def higher_tables(engine) -> tuple[HigherTables, CurveTables]:
             entry = dict(gear=law.kind == "gear", rack=law.kind == "rack", flat=law.kind == "face", a=idx[a],
                          b=idx[b], carrier=0, coef=(0.0, 0.0, 0.0), centre=(0.0, 0.0), at=(0.0, 0.0),
                          axis=(0.0, 0.0), sigma_r=0.0, curve=-1, var=-1, row=row, equations=law.equations,
-                         lo=-np.inf, hi=np.inf)
+                         lo=-np.inf, hi=np.inf, column=names.index(law.name))
             if law.kind == "gear":
                 (_, ca), (_, cb), (carrier, cc) = law.coef
                 entry.update(carrier=idx[carrier], coef=(ca, cb, cc))
@@ -135,5 +140,5 @@ def higher_tables(engine) -> tuple[HigherTables, CurveTables]:
                           col("b", np.int64), col("carrier", np.int64), col("coef"), col("centre"), col("at"),
                           col("axis"), col("sigma_r"), col("curve", np.int64), col("var", np.int64),
                           col("row", np.int64), col("equations", np.int64), np.array(first, np.int64), col("lo"),
-                          col("hi"))
+                          col("hi"), col("column", np.int64))
     return tables, curve_tables(shapes)
