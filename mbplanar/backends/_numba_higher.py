@@ -17,7 +17,10 @@ from __future__ import annotations
 
 import math
 
-from ._numba_blocks import _part
+from ._jit import njit
+
+# compiled as `_numba_blocks._part` is (fastmath set to off: see there)
+_part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True, fastmath=False)
 
 __all__ = ["_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]
 
