@@ -200,3 +200,80 @@ def test_the_laws_and_their_rates_equal_numpys(name, seed):
         second = law.closure_rates(cache, rates, vel)[:, 0, 0]
         got = _higher_rates(h, hp, hc, rt, 0, float(pu), 1, float(big_u))[:law.equations]
         _close(got, second, 100 * size)
+
+
+# -- the compiled kernels on every bundled higher-pair model --------------------------------------------
+BUNDLED = ["geared_five_bar", "planetary", "rack_pinion", "cam_eccentric", "cam_follower", "slot_arc",
+           "scotch_yoke", "shaper_geared"]
+
+
+def _loaded(name: str):
+    """The bundled model with a mass, a moment of inertia and a centre on every moving link, a force on
+    its last link and gravity, its own loads left out where numpy evaluates them (springs, torques): a
+    kinetostatics that the compiled program takes, with every pair carrying a force."""
+    import dataclasses
+    from mbplanar.forces._loads import needs_numpy
+    mech = mbplanar.read_model(MODELS / f"{name}.toml")
+    if needs_numpy(mech):
+        mech.loads = ()
+    moving = [n for n in mech.links if n != mech.ground]
+    for k, n in enumerate(moving):
+        mech.links[n] = dataclasses.replace(mech.links[n], mass=1.0 + k, inertia=0.01 * (k + 1),
+                                            centre=mech.joints_of(n)[0].name)
+    mech.add_load("force", link=moving[-1], at=mech.joints_of(moving[-1])[-1].name, force=[30.0, -50.0])
+    mech.set_gravity()
+    return mech
+
+
+def _largest(*arrays) -> float:
+    return max([1e-300] + [float(np.nanmax(np.abs(a))) for a in arrays if a is not None and np.size(a)])
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_every_higher_pair_model_on_numba_equals_numpy(name, caplog):
+    """A turn of the input (what the motion reaches of it) on the numba engine, through its compiled
+    kernels (the seam's log says so), equals numpy's: positions to 1e-12 of the size, the contact
+    parameters to 1e-12 of their curve's range, the reactions, the contact forces and the balancing
+    loads to 1e-12 of the largest force; the velocities, accelerations and joint rates to 1e-12 of
+    their largest where numpy solves that position alone (its batch corrector moves a position by a
+    few 1e-14 with the other positions of its batch, which the geared five-bar's accelerations carry to
+    ~1e-12: against the whole batch, 1e-11); one position (`mbplanar.position`) likewise."""
+    import logging
+    mech = _loaded(name)
+    ref, fast = mbplanar.Engine(mech), mbplanar.Engine(mech, backend="numba")
+    phi = ref.phi_drawn[0] + np.linspace(-math.pi, math.pi, 181)
+    caplog.set_level(logging.DEBUG, logger="mbplanar.backends")
+    m_ref, m_fast = mbplanar.analyse(ref, phi, 2.5, -0.7), mbplanar.analyse(fast, phi, 2.5, -0.7)
+    k_ref, k_fast = mbplanar.kinetostatics(ref, m_ref), mbplanar.kinetostatics(fast, m_fast)
+    n = len(m_ref.phi)
+    assert n >= 30 and f"kinematics of 181: numba\n" in caplog.text and f"kinetostatics of {n}: numba\n" in caplog.text
+    np.testing.assert_array_equal(m_fast.phi, m_ref.phi)
+    np.testing.assert_allclose(m_fast.xy, m_ref.xy, rtol=0, atol=1e-12 * ref.size)
+    np.testing.assert_allclose(m_fast.angle, m_ref.angle, rtol=0, atol=1e-12)
+    span = max([1.0] + [law.path.period for law in ref.laws.values() if getattr(law, "parameters", 0)])
+    np.testing.assert_allclose(m_fast.frames.contact, m_ref.frames.contact, rtol=0, atol=1e-12 * span)
+    fields = ("w", "e", "v", "a", "rate", "accel")
+    for field in fields:
+        got, want = getattr(m_fast, field), getattr(m_ref, field)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-11 * _largest(want), err_msg=field)
+    for k in np.argsort(np.abs(m_fast.a - m_ref.a).max(axis=(1, 2)))[-3:]:   # numpy solving them alone
+        alone = mbplanar.analyse(ref, np.repeat(m_ref.phi[k, 0], 2), 2.5, -0.7)   # (twice: numpy's batch)
+        for field in fields:
+            np.testing.assert_allclose(getattr(m_fast, field)[k], getattr(alone, field)[0], rtol=0,
+                                       atol=1e-12 * _largest(getattr(m_ref, field)), err_msg=field)
+    forces = [getattr(r, part) for r in k_ref.reactions.values() for part in ("fx", "fy", "moment")]
+    scale = _largest(*forces, *k_ref.balancing.values())
+    assert scale > 1.0                                             # (every model carries loads here)
+    for j, r in k_ref.reactions.items():
+        for part in ("fx", "fy", "moment"):
+            np.testing.assert_allclose(getattr(k_fast.reactions[j], part), getattr(r, part), rtol=0, atol=1e-12 * scale,
+                                       err_msg=f"{j}.{part}")
+    for j, q in k_ref.balancing.items():
+        np.testing.assert_allclose(k_fast.balancing[j], q, rtol=0, atol=1e-12 * scale)
+    for j, f in k_ref.contact_forces.items():
+        np.testing.assert_allclose(k_fast.contact_forces[j], f, rtol=0, atol=1e-12 * scale)
+    assert np.nanmax(k_fast.virtual_power_residual) < 1e-12
+    at = float(m_ref.phi[n // 3, 0])
+    one_ref, one_fast = mbplanar.position(ref, at, 2.5, -0.7), mbplanar.position(fast, at, 2.5, -0.7)
+    np.testing.assert_allclose(one_fast.xy, one_ref.xy, rtol=0, atol=1e-12 * ref.size)
+    np.testing.assert_allclose(one_fast.a, one_ref.a, rtol=0, atol=1e-12 * _largest(one_ref.a))
