@@ -20,7 +20,8 @@ pytest.importorskip("numba")
 
 from mbplanar.backends._numba_higher import _higher_closure, _higher_rates, _path  # noqa: E402
 from mbplanar.engine._constraints import Pose, Rates  # noqa: E402
-from mbplanar.engine._higher_tables import CURVE_WORK, HIGHER_CACHE, curve_tables, higher_tables  # noqa: E402
+from mbplanar.engine._higher_tables import (CURVE_WORK, H_EQUATIONS, H_ROW, H_VAR, HIGHER_CACHE,  # noqa: E402
+                                            curve_tables, higher_tables)
 from mbplanar.model._curves import Circle, Offset, Spline  # noqa: E402
 
 TOL = 1e-12
@@ -140,10 +141,10 @@ def test_the_tables_hold_every_pair_of_the_models():
         engine = _cached(name)
         hp, cv = engine.prepared["test tables"]
         pairs = _pairs(engine)
-        assert len(hp.a) == len(pairs) == len(engine.mech.higher) and hp.first[-1] == len(pairs)
+        assert len(hp.ints) == len(pairs) == len(engine.mech.higher) and hp.first[-1] == len(pairs)
         for bp, law, h in pairs:
             kinds.add(law.kind if law.kind != "point" else "slot" if law.pair.kind == "slot" else law.pair.follower)
-            assert hp.equations[h] == law.equations and (hp.var[h] >= 0) == bool(law.parameters)
+            assert hp.ints[h, H_EQUATIONS] == law.equations and (hp.ints[h, H_VAR] >= 0) == bool(law.parameters)
     assert kinds == {"gear", "rack", "roller", "slot", "face", "circle", "knife"}
 
 
@@ -163,13 +164,13 @@ def _state(engine, rng):
         rates.set(name, w[0, k].reshape(1, 1), v[0, :, k].reshape(2, 1, 1))
         vel.set(name, w[1, k].reshape(1, 1), v[1, :, k].reshape(2, 1, 1))
     hp, _ = engine.prepared["test tables"]
-    q = np.zeros(max(1, int(hp.var.max()) + 1) if len(hp.var) else 1)
+    q = np.zeros(max([1] + [int(v) + 1 for v in hp.ints[:, H_VAR]]))
     param = {}
     for _, law, h in _pairs(engine):
         if law.parameters:
             lo, hi = law.param_range if not law.path.closed else (law.path.lo - 1.0, law.path.hi + 1.0)
             pose.u[law.name] = rng.uniform(lo, hi, 1)
-            q[hp.var[h]] = pose.u[law.name][0]
+            q[hp.ints[h, H_VAR]] = pose.u[law.name][0]
             param[law.name] = rng.uniform(-2, 2, 2)
             rates.set_param(law.name, param[law.name][:1].reshape(1, 1))
             vel.set_param(law.name, param[law.name][1:].reshape(1, 1))
@@ -186,11 +187,11 @@ def test_the_laws_and_their_rates_equal_numpys(name, seed):
     engine = _cached(name)
     hp, cv = engine.prepared["test tables"]
     ps, rt, q, pose, rates, vel, param = _state(engine, np.random.default_rng(seed))
-    hc, wk, res = np.zeros((len(hp.a), HIGHER_CACHE)), np.zeros(CURVE_WORK), np.zeros(8)
+    hc, wk, res = np.zeros((len(hp.ints), HIGHER_CACHE)), np.zeros(CURVE_WORK), np.zeros(8)
     size = engine.size
     for bp, law, h in _pairs(engine):
         want, cache = law.closure(pose)
-        row = int(hp.row[h])
+        row = int(hp.ints[h, H_ROW])
         _higher_closure(h, hp, cv, ps, q, hc, wk, res)
         _close(res[row:row + law.equations], want[:, 0], size)
         pu, big_u = param.get(law.name, (0.0, 0.0))

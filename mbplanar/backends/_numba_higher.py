@@ -5,12 +5,13 @@ side), per position as scalar code, for the kernels to call where they call the 
 They are the laws of `engine._higher` and the curves of `model._curves`, written again per position, in
 the same order of operations (the tests hold them equal to numpy's to rounding); like `_numba_blocks`,
 each is compiled on its own with fastmath off and inlined by LLVM where it is called, and nothing is
-allocated here. The tables are `engine._higher_tables`' (`HigherTables` hp, `CurveTables` cv).
+allocated here. The tables are `engine._higher_tables`' (`HigherTables` hp, `CurveTables` cv: each
+an array of integers and one of reals, their columns named there).
 
 Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link; rates rt (slots, 3, L): ω, v_x, v_y per link (as
 `_numba_blocks`). The cache hc (H, `HIGHER_CACHE`) holds, per pair, what its rates read from its closure:
-a rack ρ_C, ρ_A, d, U; a point on a curve ρ_F, R·c, R·c', R·c''; a flat face R·c … R·c''', ρ_F, N, d
-(pairs of columns, x then y). wk (`CURVE_WORK`,) is the Cox–de Boor recursion's work vector.
+a rack ρ_C, ρ_A, d, U; a point on a curve R·c, R·c', R·c'', then ρ_F in columns 8, 9; a flat face
+R·c … R·c⁽³⁾, ρ_F, N, d (pairs of columns, x then y). wk (`CURVE_WORK`,) is the Cox–de Boor recursion's work vector.
 """
 
 from __future__ import annotations
@@ -18,11 +19,14 @@ from __future__ import annotations
 import math
 
 from ._jit import njit
+from ..engine._higher_tables import (C_CENTRE, C_CIRCLE, C_CLOSED, C_COEF0, C_DEGREE, C_DISTANCE, C_HI, C_KNOT0,
+                                     C_KNOT1, C_LO, C_OFFSET, C_RADIUS, H_A, H_AT, H_AXIS, H_B, H_CARRIER, H_CENTRE,
+                                     H_COEF, H_CURVE, H_FLAT, H_GEAR, H_RACK, H_ROW, H_SIGMA_R, H_VAR)
 
 # compiled as `_numba_blocks._part` is (fastmath set to off: see there)
 _part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True, fastmath=False)
 
-__all__ = ["_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]
+__all__ = ["_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]  # (and their parts per kind)
 
 
 @_part
@@ -33,9 +37,13 @@ def _deboor(knots, coefs, k0, k1, c0, k, x, wk):
     if x != x:
         return math.nan, math.nan
     n = k1 - k0 - k - 1
-    ell = k
-    while ell + 1 < n and x >= knots[k0 + ell + 1]:
-        ell += 1
+    ell, top = k, n - 1  # (bisection for the last l <= n − 1 with t[l] <= x: scipy's interval, found faster)
+    while ell < top:
+        mid = (ell + top + 1) // 2
+        if knots[k0 + mid] <= x:
+            ell = mid
+        else:
+            top = mid - 1
     h = 0           # h = wk[0 … k], hh = wk[k + 1 … 2k + 1]
     hh = k + 1
     wk[h] = 1.0
@@ -61,20 +69,21 @@ def _deboor(knots, coefs, k0, k1, c0, k, x, wk):
 @_part
 def _base(cv, j, u, n, wk):
     """(x, y) of dⁿc/duⁿ (n = 0 … 3) of curve j without its offset (`Circle.point`, `Spline.point`)."""
-    if cv.circle[j]:
-        r, c, s = cv.radius[j], math.cos(u), math.sin(u)
+    ci, cr = cv.ints, cv.reals
+    if ci[j, C_CIRCLE]:
+        r, c, s = cr[j, C_RADIUS], math.cos(u), math.sin(u)
         turn = n % 4      # the n-th derivative of (cos u, sin u) is the vector turned by n·90°
         if turn == 0:   # (n = 0: the point, about the centre)
-            return r * c + cv.centre[j, 0], r * s + cv.centre[j, 1]
+            return r * c + cr[j, C_CENTRE], r * s + cr[j, C_CENTRE + 1]
         if turn == 1:
             return r * -s, r * c
         if turn == 2:
             return r * -c, r * -s
         return r * s, r * -c
-    k0, k1, c0, k = cv.knot0[j, n], cv.knot1[j, n], cv.coef0[j, n], cv.degree[j] - n
+    k0, k1, c0, k = ci[j, C_KNOT0 + n], ci[j, C_KNOT1 + n], ci[j, C_COEF0 + n], ci[j, C_DEGREE] - n
     x = u
-    if cv.closed[j]:
-        lo, period = cv.lo[j], cv.hi[j] - cv.lo[j]
+    if ci[j, C_CLOSED]:
+        lo, period = cr[j, C_LO], cr[j, C_HI] - cr[j, C_LO]
         x = lo + (x - lo) % period                          # Shape.wrap
         first, last = cv.knots[k0 + k], cv.knots[k1 - k - 1]
         x = first + (x - first) % (last - first)            # BSpline's periodic extrapolation
@@ -84,16 +93,24 @@ def _base(cv, j, u, n, wk):
 @_part
 def _path(cv, j, u, n, wk):
     """(x, y) of dⁿc/duⁿ of curve j (n = 0 … 3; 0 … 2 for an offset curve, `Offset.point`)."""
-    if not cv.offset[j]:
+    if not cv.ints[j, C_OFFSET]:
         return _base(cv, j, u, n, wk)
-    dist = cv.distance[j]
     d1x, d1y = _base(cv, j, u, 1, wk)
     if n == 0:
-        speed = math.hypot(d1x, d1y)
         bx, by = _base(cv, j, u, 0, wk)
-        return bx + dist * -d1y / speed, by + dist * d1x / speed
+        return _offset(cv.reals[j, C_DISTANCE], bx, by, d1x, d1y, 0.0, 0.0, 0.0, 0.0, 0)
     d2x, d2y = _base(cv, j, u, 2, wk)
     d3x, d3y = _base(cv, j, u, 3, wk)
+    return _offset(cv.reals[j, C_DISTANCE], 0.0, 0.0, d1x, d1y, d2x, d2y, d3x, d3y, n)
+
+
+@_part
+def _offset(dist, bx, by, d1x, d1y, d2x, d2y, d3x, d3y, n):
+    """(x, y) of the n-th derivative (n = 0 … 2) of the curve moved by `dist` along its left normal,
+    from its base's point b and derivatives d1 … d3 (`Offset.point`; n = 0 reads b and d1 only)."""
+    if n == 0:
+        speed = math.hypot(d1x, d1y)
+        return bx + dist * -d1y / speed, by + dist * d1x / speed
     speed2 = d1x * d1x + d1y * d1y                           # model._curves.curvature
     speed3 = speed2 * math.sqrt(speed2)
     cross = d1x * d2y - d1y * d2x
@@ -107,44 +124,81 @@ def _path(cv, j, u, n, wk):
 
 
 @_part
-def _curve_on(cv, j, u, n, link, ps, wk):
-    """(x, y) of R(θ_link)·dⁿc/duⁿ of curve j: the curve's derivative on its link, turned with it."""
-    x, y = _path(cv, j, u, n, wk)
+def _curve_into(cv, j, u, count, link, ps, wk, hc, h):
+    """R(θ_link)·dⁿc/duⁿ of curve j for n = 0 … count − 1 (the curve's derivatives on its link, turned
+    with it) into hc[h, 2n], hc[h, 2n + 1]; an offset curve's (count <= 3) from its base's point and
+    three derivatives, each evaluated once."""
     c, s = ps[1, link], ps[2, link]
-    return c * x - s * y, s * x + c * y
+    if not cv.ints[j, C_OFFSET]:
+        for n in range(count):
+            x, y = _base(cv, j, u, n, wk)
+            hc[h, 2 * n], hc[h, 2 * n + 1] = c * x - s * y, s * x + c * y
+        return
+    bx, by = _base(cv, j, u, 0, wk)
+    d1x, d1y = _base(cv, j, u, 1, wk)
+    d2x, d2y = _base(cv, j, u, 2, wk)
+    d3x, d3y = _base(cv, j, u, 3, wk)
+    dist = cv.reals[j, C_DISTANCE]
+    for n in range(count):
+        x, y = _offset(dist, bx, by, d1x, d1y, d2x, d2y, d3x, d3y, n)
+        hc[h, 2 * n], hc[h, 2 * n + 1] = c * x - s * y, s * x + c * y
 
 
 @_part
 def _higher_closure(h, hp, cv, ps, q, hc, wk, res):
-    """Residual rows hp.row[h] … of higher pair h in its block's residual `res` (`Gear`, `Rack`,
-    `PointOnCurve`, `FaceOnCurve`.closure), its contact parameter read from q; caches hc[h]."""
-    row, a, b = hp.row[h], hp.a[h], hp.b[h]
-    if hp.gear[h]:
-        res[row] = hp.coef[h, 0] * ps[0, a] + hp.coef[h, 1] * ps[0, b] + hp.coef[h, 2] * ps[0, hp.carrier[h]]
-        return
-    if hp.rack[h]:   # a pinion, b rack
-        cx, cy, ax, ay, lx, ly = hp.centre[h, 0], hp.centre[h, 1], hp.at[h, 0], hp.at[h, 1], hp.axis[h, 0], hp.axis[h, 1]
-        rcx, rcy = ps[1, a] * cx - ps[2, a] * cy, ps[2, a] * cx + ps[1, a] * cy
-        rax, ray = ps[1, b] * ax - ps[2, b] * ay, ps[2, b] * ax + ps[1, b] * ay
-        dx, dy = ps[3, a] + rcx - ps[3, b] - rax, ps[4, a] + rcy - ps[4, b] - ray
-        ux, uy = ps[1, b] * lx - ps[2, b] * ly, ps[2, b] * lx + ps[1, b] * ly
-        res[row] = (dx * ux + dy * uy) + hp.sigma_r[h] * (ps[0, a] - ps[0, b])
-        hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3] = rcx, rcy, rax, ray
-        hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7] = dx, dy, ux, uy
-        return
-    j, u = hp.curve[h], q[hp.var[h]]
-    px, py = hp.at[h, 0], hp.at[h, 1]
+    """Residual rows H_ROW … of higher pair h in its block's residual `res` (`Gear`, `Rack`,
+    `PointOnCurve`, `FaceOnCurve`.closure), its contact parameter read from q; caches hc[h]. (One small
+    function per kind: LLVM inlines the small ones where the kernel calls this.)"""
+    hi = hp.ints
+    if hi[h, H_GEAR]:
+        _gear_closure(h, hp, ps, res)
+    elif hi[h, H_RACK]:
+        _rack_closure(h, hp, ps, hc, res)
+    else:
+        _curve_closure(h, hp, cv, ps, q, hc, wk, res)
+
+
+@_part
+def _gear_closure(h, hp, ps, res):
+    """r_a(θ_a − θ_c) ± r_b(θ_b − θ_c) (`Gear.closure`)."""
+    hi, hr = hp.ints, hp.reals
+    res[hi[h, H_ROW]] = (hr[h, H_COEF] * ps[0, hi[h, H_A]] + hr[h, H_COEF + 1] * ps[0, hi[h, H_B]]
+                         + hr[h, H_COEF + 2] * ps[0, hi[h, H_CARRIER]])
+
+
+@_part
+def _rack_closure(h, hp, ps, hc, res):
+    """(X_C − X_A)·U + σr·(θ_p − θ_k), a the pinion, b the rack (`Rack.closure`)."""
+    hi, hr = hp.ints, hp.reals
+    row, a, b = hi[h, H_ROW], hi[h, H_A], hi[h, H_B]
+    cx, cy, ax, ay = hr[h, H_CENTRE], hr[h, H_CENTRE + 1], hr[h, H_AT], hr[h, H_AT + 1]
+    lx, ly = hr[h, H_AXIS], hr[h, H_AXIS + 1]
+    rcx, rcy = ps[1, a] * cx - ps[2, a] * cy, ps[2, a] * cx + ps[1, a] * cy
+    rax, ray = ps[1, b] * ax - ps[2, b] * ay, ps[2, b] * ax + ps[1, b] * ay
+    dx, dy = ps[3, a] + rcx - ps[3, b] - rax, ps[4, a] + rcy - ps[4, b] - ray
+    ux, uy = ps[1, b] * lx - ps[2, b] * ly, ps[2, b] * lx + ps[1, b] * ly
+    res[row] = (dx * ux + dy * uy) + hr[h, H_SIGMA_R] * (ps[0, a] - ps[0, b])
+    hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3] = rcx, rcy, rax, ray
+    hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7] = dx, dy, ux, uy
+
+
+@_part
+def _curve_closure(h, hp, cv, ps, q, hc, wk, res):
+    """X_F(P) − X_C(c(u)) (a point on the curve, `PointOnCurve.closure`) or N·(X_C(c(u)) − X_F(A)), N·T
+    (a flat face, `FaceOnCurve.closure`), a the curve's link, b the follower's."""
+    hi, hr = hp.ints, hp.reals
+    row, a, b = hi[h, H_ROW], hi[h, H_A], hi[h, H_B]
+    j, u = hi[h, H_CURVE], q[hi[h, H_VAR]]
+    px, py = hr[h, H_AT], hr[h, H_AT + 1]
     rfx, rfy = ps[1, b] * px - ps[2, b] * py, ps[2, b] * px + ps[1, b] * py
-    if not hp.flat[h]:   # a curve, b point
-        for n in range(3):
-            hc[h, 2 + 2 * n], hc[h, 3 + 2 * n] = _curve_on(cv, j, u, n, a, ps, wk)
-        res[row] = ps[3, b] + rfx - ps[3, a] - hc[h, 2]
-        res[row + 1] = ps[4, b] + rfy - ps[4, a] - hc[h, 3]
-        hc[h, 0], hc[h, 1] = rfx, rfy
+    _curve_into(cv, j, u, 3 if not hi[h, H_FLAT] else 4, a, ps, wk, hc, h)  # (R·c, R·c', R·c'' and a face's R·c⁽³⁾)
+    if not hi[h, H_FLAT]:   # a curve, b point
+        res[row] = ps[3, b] + rfx - ps[3, a] - hc[h, 0]
+        res[row + 1] = ps[4, b] + rfy - ps[4, a] - hc[h, 1]
+        hc[h, 8], hc[h, 9] = rfx, rfy
         return
-    for n in range(4):  # a curve, b face
-        hc[h, 2 * n], hc[h, 2 * n + 1] = _curve_on(cv, j, u, n, a, ps, wk)
-    ex, ey = hp.axis[h, 0], hp.axis[h, 1]
+    # a curve, b face
+    ex, ey = hr[h, H_AXIS], hr[h, H_AXIS + 1]
     nx, ny = ps[1, b] * ex - ps[2, b] * ey, ps[2, b] * ex + ps[1, b] * ey
     dx, dy = ps[3, a] + hc[h, 0] - ps[3, b] - rfx, ps[4, a] + hc[h, 1] - ps[4, b] - rfy
     res[row] = nx * dx + ny * dy
@@ -169,31 +223,69 @@ def _higher_rates(h, hp, hc, rt, sl, pu, vel, big_u):
     """Rates (r₀, r₁) of higher pair h's residual rows (r₁ = 0 for one row; `_higher`'s `closure_rates`)
     from the link rates in slot sl of rt and its contact parameter's rate pu: a Jacobian column (the
     unknowns' unit rates), the velocity's or (vel >= 0: the velocities in slot vel, the parameter's big_u)
-    the acceleration's right-hand side."""
-    a, b = hp.a[h], hp.b[h]
+    the acceleration's right-hand side. (One function per kind, as `_higher_closure`.)"""
+    hi = hp.ints
+    if hi[h, H_GEAR]:
+        return _gear_rates(h, hp, rt, sl), 0.0
+    if hi[h, H_RACK]:
+        return _rack_rates(h, hp, hc, rt, sl, vel), 0.0
+    if not hi[h, H_FLAT]:
+        return _point_rates(h, hp, hc, rt, sl, pu, vel, big_u)
+    return _face_rates(h, hp, hc, rt, sl, pu, vel, big_u)
+
+
+@_part
+def _gear_rates(h, hp, rt, sl):
+    """The gear's row's rate (`Gear.closure_rates`: linear in the angles, no acceleration terms)."""
+    hi, hr = hp.ints, hp.reals
+    return (hr[h, H_COEF] * rt[sl, 0, hi[h, H_A]] + hr[h, H_COEF + 1] * rt[sl, 0, hi[h, H_B]]
+            + hr[h, H_COEF + 2] * rt[sl, 0, hi[h, H_CARRIER]])
+
+
+@_part
+def _rack_rates(h, hp, hc, rt, sl, vel):
+    """The rack's row's rate (`Rack.closure_rates`)."""
+    hi, hr = hp.ints, hp.reals
+    a, b = hi[h, H_A], hi[h, H_B]
     accel = vel >= 0
     wa, wb = rt[sl, 0, a], rt[sl, 0, b]
-    if hp.gear[h]:
-        return hp.coef[h, 0] * wa + hp.coef[h, 1] * wb + hp.coef[h, 2] * rt[sl, 0, hp.carrier[h]], 0.0
     va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
-    if hp.rack[h]:
-        rcx, rcy, rax, ray = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3]
-        dx, dy, ux, uy = hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
-        tcx, tcy = _turning(wa, rcx, rcy, 0.0, 0.0, 0.0, 0.0, 0.0, va, 0.0, accel)
-        tax, tay = _turning(wb, rax, ray, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
-        drx, dry = (rt[sl, 1, a] + tcx) - (rt[sl, 1, b] + tax), (rt[sl, 2, a] + tcy) - (rt[sl, 2, b] + tay)
-        urx, ury = _turning(wb, ux, uy, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
-        out = (drx * ux + dry * uy) + (dx * urx + dy * ury)
-        if accel:
-            dvx = (rt[vel, 1, a] + va * -rcy) - (rt[vel, 1, b] + vb * -ray)
-            dvy = (rt[vel, 2, a] + va * rcx) - (rt[vel, 2, b] + vb * rax)
-            out = out + 2 * (dvx * (vb * -uy) + dvy * (vb * ux))
-        return out + hp.sigma_r[h] * (wa - wb), 0.0
-    if not hp.flat[h]:  # a curve, b point: X_F(P) − X_C(c(u))
-        tfx, tfy = _turning(wb, hc[h, 0], hc[h, 1], 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
-        tcx, tcy = _turning(wa, hc[h, 2], hc[h, 3], pu, hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7], va, big_u, accel)
-        return (rt[sl, 1, b] + tfx) - (rt[sl, 1, a] + tcx), (rt[sl, 2, b] + tfy) - (rt[sl, 2, a] + tcy)
-    # a curve, b face: N·(X_C(c(u)) − X_F(A)), N·T
+    rcx, rcy, rax, ray = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3]
+    dx, dy, ux, uy = hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
+    tcx, tcy = _turning(wa, rcx, rcy, 0.0, 0.0, 0.0, 0.0, 0.0, va, 0.0, accel)
+    tax, tay = _turning(wb, rax, ray, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+    drx, dry = (rt[sl, 1, a] + tcx) - (rt[sl, 1, b] + tax), (rt[sl, 2, a] + tcy) - (rt[sl, 2, b] + tay)
+    urx, ury = _turning(wb, ux, uy, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+    out = (drx * ux + dry * uy) + (dx * urx + dy * ury)
+    if accel:
+        dvx = (rt[vel, 1, a] + va * -rcy) - (rt[vel, 1, b] + vb * -ray)
+        dvy = (rt[vel, 2, a] + va * rcx) - (rt[vel, 2, b] + vb * rax)
+        out = out + 2 * (dvx * (vb * -uy) + dvy * (vb * ux))
+    return out + hr[h, H_SIGMA_R] * (wa - wb)
+
+
+@_part
+def _point_rates(h, hp, hc, rt, sl, pu, vel, big_u):
+    """The rates of X_F(P) − X_C(c(u)), a the curve's link, b the point's (`PointOnCurve.closure_rates`)."""
+    hi = hp.ints
+    a, b = hi[h, H_A], hi[h, H_B]
+    accel = vel >= 0
+    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
+    tfx, tfy = _turning(rt[sl, 0, b], hc[h, 8], hc[h, 9], 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+    tcx, tcy = _turning(rt[sl, 0, a], hc[h, 0], hc[h, 1], pu, hc[h, 2], hc[h, 3], hc[h, 4], hc[h, 5], va, big_u,
+                        accel)
+    return (rt[sl, 1, b] + tfx) - (rt[sl, 1, a] + tcx), (rt[sl, 2, b] + tfy) - (rt[sl, 2, a] + tcy)
+
+
+@_part
+def _face_rates(h, hp, hc, rt, sl, pu, vel, big_u):
+    """The rates of N·(X_C(c(u)) − X_F(A)) and N·T, a the curve's link, b the face's
+    (`FaceOnCurve.closure_rates`)."""
+    hi = hp.ints
+    a, b = hi[h, H_A], hi[h, H_B]
+    accel = vel >= 0
+    wa, wb = rt[sl, 0, a], rt[sl, 0, b]
+    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
     o0x, o0y, o1x, o1y, o2x, o2y, o3x, o3y = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3], hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
     rfx, rfy, nx, ny, dx, dy = hc[h, 8], hc[h, 9], hc[h, 10], hc[h, 11], hc[h, 12], hc[h, 13]
     tcx, tcy = _turning(wa, o0x, o0y, pu, o1x, o1y, o2x, o2y, va, big_u, accel)

@@ -250,7 +250,7 @@ def work_sizes(tables: SweepTables) -> tuple:
     pairs."""
     m = tables.blocks.m
     return (len(tables.steps.parent), len(tables.cuts.a), len(tables.alpha), len(tables.blocks.var_scale),
-            max([1] + [int(k) for k in m]), len(tables.higher.a))
+            max([1] + [int(k) for k in m]), len(tables.higher.ints))
 
 
 def sweep_tables(engine) -> SweepTables:
