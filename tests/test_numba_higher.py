@@ -18,7 +18,7 @@ from conftest import MODELS
 
 pytest.importorskip("numba")
 
-from mbplanar.backends._numba_higher import _higher_closure, _higher_rates, _path  # noqa: E402
+from mbplanar.backends._numba_higher import _curve_into, _higher_closure, _higher_rates  # noqa: E402
 from mbplanar.engine._constraints import Pose, Rates  # noqa: E402
 from mbplanar.engine._higher_tables import (CURVE_WORK, H_EQUATIONS, H_ROW, H_VAR, HIGHER_CACHE,  # noqa: E402
                                             curve_tables, higher_tables)
@@ -70,13 +70,17 @@ def test_the_curves_and_their_derivatives_equal_numpys(shape, where):
     range and beyond it (a closed curve's repeats, an open one's extrapolated ends), to 1e-12 of each
     derivative's size along the curve."""
     cv = curve_tables([shape])
-    wk = np.zeros(CURVE_WORK)
+    wk, hc, unturned = np.zeros(CURVE_WORK), np.zeros((1, HIGHER_CACHE)), np.array([[0.0], [1.0], [0.0]])
     u = shape.lo + (np.array(where) + 0.5) * shape.period * (3.0 if shape.closed else 1.2)
-    for n in range(3 if isinstance(shape, Offset) else 4):
+    count = 3 if isinstance(shape, Offset) else 4
+    got = np.empty((len(u), 2 * count))
+    for k, x in enumerate(u):   # (on a link at rest: R = 1)
+        _curve_into(cv, 0, float(x), count, 0, unturned, wk, hc, 0)
+        got[k] = hc[0, :2 * count]
+    for n in range(count):
         want = shape.point(u, n)
-        got = np.array([_path(cv, 0, float(x), n, wk) for x in u]).T
         scale = np.max(np.hypot(*shape.point(np.linspace(shape.lo, shape.hi, 64), n)))
-        _close(got, want, scale)
+        _close(got[:, 2 * n:2 * n + 2].T, want, scale)
 
 
 # -- laws -----------------------------------------------------------------------------------------------

@@ -11,7 +11,8 @@ an array of integers and one of reals, their columns named there).
 Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link; rates rt (slots, 3, L): ω, v_x, v_y per link (as
 `_numba_blocks`). The cache hc (H, `HIGHER_CACHE`) holds, per pair, what its rates read from its closure:
 a rack ρ_C, ρ_A, d, U; a point on a curve R·c, R·c', R·c'', then ρ_F in columns 8, 9; a flat face
-R·c … R·c⁽³⁾, ρ_F, N, d (pairs of columns, x then y). wk (`CURVE_WORK`,) is the Cox–de Boor recursion's work vector.
+R·c … R·c⁽³⁾, ρ_F, N, d (pairs of columns, x then y). wk (`CURVE_WORK`,) is the Cox–de Boor recursion's
+work vector.
 """
 
 from __future__ import annotations
@@ -19,14 +20,12 @@ from __future__ import annotations
 import math
 
 from ._jit import njit
-from ..engine._higher_tables import (C_CENTRE, C_CIRCLE, C_CLOSED, C_COEF0, C_DEGREE, C_DISTANCE, C_HI, C_KNOT0,
-                                     C_KNOT1, C_LO, C_OFFSET, C_RADIUS, H_A, H_AT, H_AXIS, H_B, H_CARRIER, H_CENTRE,
-                                     H_COEF, H_CURVE, H_FLAT, H_GEAR, H_RACK, H_ROW, H_SIGMA_R, H_VAR)
+from ..engine import _higher_tables as ht  # (the tables' column names)
 
 # compiled as `_numba_blocks._part` is (fastmath set to off: see there)
 _part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True, fastmath=False)
 
-__all__ = ["_deboor", "_base", "_path", "_higher_closure", "_higher_rates"]  # (and their parts per kind)
+__all__ = ["_deboor", "_base", "_offset", "_curve_into", "_higher_closure", "_higher_rates"]  # (and parts per kind)
 
 
 @_part
@@ -70,38 +69,24 @@ def _deboor(knots, coefs, k0, k1, c0, k, x, wk):
 def _base(cv, j, u, n, wk):
     """(x, y) of dⁿc/duⁿ (n = 0 … 3) of curve j without its offset (`Circle.point`, `Spline.point`)."""
     ci, cr = cv.ints, cv.reals
-    if ci[j, C_CIRCLE]:
-        r, c, s = cr[j, C_RADIUS], math.cos(u), math.sin(u)
+    if ci[j, ht.C_CIRCLE]:
+        r, c, s = cr[j, ht.C_RADIUS], math.cos(u), math.sin(u)
         turn = n % 4      # the n-th derivative of (cos u, sin u) is the vector turned by n·90°
         if turn == 0:   # (n = 0: the point, about the centre)
-            return r * c + cr[j, C_CENTRE], r * s + cr[j, C_CENTRE + 1]
+            return r * c + cr[j, ht.C_CENTRE], r * s + cr[j, ht.C_CENTRE + 1]
         if turn == 1:
             return r * -s, r * c
         if turn == 2:
             return r * -c, r * -s
         return r * s, r * -c
-    k0, k1, c0, k = ci[j, C_KNOT0 + n], ci[j, C_KNOT1 + n], ci[j, C_COEF0 + n], ci[j, C_DEGREE] - n
+    k0, k1, c0, k = ci[j, ht.C_KNOT0 + n], ci[j, ht.C_KNOT1 + n], ci[j, ht.C_COEF0 + n], ci[j, ht.C_DEGREE] - n
     x = u
-    if ci[j, C_CLOSED]:
-        lo, period = cr[j, C_LO], cr[j, C_HI] - cr[j, C_LO]
+    if ci[j, ht.C_CLOSED]:
+        lo, period = cr[j, ht.C_LO], cr[j, ht.C_HI] - cr[j, ht.C_LO]
         x = lo + (x - lo) % period                          # Shape.wrap
         first, last = cv.knots[k0 + k], cv.knots[k1 - k - 1]
         x = first + (x - first) % (last - first)            # BSpline's periodic extrapolation
     return _deboor(cv.knots, cv.coefs, k0, k1, c0, k, x, wk)
-
-
-@_part
-def _path(cv, j, u, n, wk):
-    """(x, y) of dⁿc/duⁿ of curve j (n = 0 … 3; 0 … 2 for an offset curve, `Offset.point`)."""
-    if not cv.ints[j, C_OFFSET]:
-        return _base(cv, j, u, n, wk)
-    d1x, d1y = _base(cv, j, u, 1, wk)
-    if n == 0:
-        bx, by = _base(cv, j, u, 0, wk)
-        return _offset(cv.reals[j, C_DISTANCE], bx, by, d1x, d1y, 0.0, 0.0, 0.0, 0.0, 0)
-    d2x, d2y = _base(cv, j, u, 2, wk)
-    d3x, d3y = _base(cv, j, u, 3, wk)
-    return _offset(cv.reals[j, C_DISTANCE], 0.0, 0.0, d1x, d1y, d2x, d2y, d3x, d3y, n)
 
 
 @_part
@@ -129,7 +114,7 @@ def _curve_into(cv, j, u, count, link, ps, wk, hc, h):
     with it) into hc[h, 2n], hc[h, 2n + 1]; an offset curve's (count <= 3) from its base's point and
     three derivatives, each evaluated once."""
     c, s = ps[1, link], ps[2, link]
-    if not cv.ints[j, C_OFFSET]:
+    if not cv.ints[j, ht.C_OFFSET]:
         for n in range(count):
             x, y = _base(cv, j, u, n, wk)
             hc[h, 2 * n], hc[h, 2 * n + 1] = c * x - s * y, s * x + c * y
@@ -138,7 +123,7 @@ def _curve_into(cv, j, u, count, link, ps, wk, hc, h):
     d1x, d1y = _base(cv, j, u, 1, wk)
     d2x, d2y = _base(cv, j, u, 2, wk)
     d3x, d3y = _base(cv, j, u, 3, wk)
-    dist = cv.reals[j, C_DISTANCE]
+    dist = cv.reals[j, ht.C_DISTANCE]
     for n in range(count):
         x, y = _offset(dist, bx, by, d1x, d1y, d2x, d2y, d3x, d3y, n)
         hc[h, 2 * n], hc[h, 2 * n + 1] = c * x - s * y, s * x + c * y
@@ -146,13 +131,13 @@ def _curve_into(cv, j, u, count, link, ps, wk, hc, h):
 
 @_part
 def _higher_closure(h, hp, cv, ps, q, hc, wk, res):
-    """Residual rows H_ROW … of higher pair h in its block's residual `res` (`Gear`, `Rack`,
+    """Residual rows (from its H_ROW on) of higher pair h in its block's residual `res` (`Gear`, `Rack`,
     `PointOnCurve`, `FaceOnCurve`.closure), its contact parameter read from q; caches hc[h]. (One small
     function per kind: LLVM inlines the small ones where the kernel calls this.)"""
     hi = hp.ints
-    if hi[h, H_GEAR]:
+    if hi[h, ht.H_GEAR]:
         _gear_closure(h, hp, ps, res)
-    elif hi[h, H_RACK]:
+    elif hi[h, ht.H_RACK]:
         _rack_closure(h, hp, ps, hc, res)
     else:
         _curve_closure(h, hp, cv, ps, q, hc, wk, res)
@@ -162,22 +147,22 @@ def _higher_closure(h, hp, cv, ps, q, hc, wk, res):
 def _gear_closure(h, hp, ps, res):
     """r_a(θ_a − θ_c) ± r_b(θ_b − θ_c) (`Gear.closure`)."""
     hi, hr = hp.ints, hp.reals
-    res[hi[h, H_ROW]] = (hr[h, H_COEF] * ps[0, hi[h, H_A]] + hr[h, H_COEF + 1] * ps[0, hi[h, H_B]]
-                         + hr[h, H_COEF + 2] * ps[0, hi[h, H_CARRIER]])
+    res[hi[h, ht.H_ROW]] = (hr[h, ht.H_COEF] * ps[0, hi[h, ht.H_A]] + hr[h, ht.H_COEF + 1] * ps[0, hi[h, ht.H_B]]
+                         + hr[h, ht.H_COEF + 2] * ps[0, hi[h, ht.H_CARRIER]])
 
 
 @_part
 def _rack_closure(h, hp, ps, hc, res):
     """(X_C − X_A)·U + σr·(θ_p − θ_k), a the pinion, b the rack (`Rack.closure`)."""
     hi, hr = hp.ints, hp.reals
-    row, a, b = hi[h, H_ROW], hi[h, H_A], hi[h, H_B]
-    cx, cy, ax, ay = hr[h, H_CENTRE], hr[h, H_CENTRE + 1], hr[h, H_AT], hr[h, H_AT + 1]
-    lx, ly = hr[h, H_AXIS], hr[h, H_AXIS + 1]
+    row, a, b = hi[h, ht.H_ROW], hi[h, ht.H_A], hi[h, ht.H_B]
+    cx, cy, ax, ay = hr[h, ht.H_CENTRE], hr[h, ht.H_CENTRE + 1], hr[h, ht.H_AT], hr[h, ht.H_AT + 1]
+    lx, ly = hr[h, ht.H_AXIS], hr[h, ht.H_AXIS + 1]
     rcx, rcy = ps[1, a] * cx - ps[2, a] * cy, ps[2, a] * cx + ps[1, a] * cy
     rax, ray = ps[1, b] * ax - ps[2, b] * ay, ps[2, b] * ax + ps[1, b] * ay
     dx, dy = ps[3, a] + rcx - ps[3, b] - rax, ps[4, a] + rcy - ps[4, b] - ray
     ux, uy = ps[1, b] * lx - ps[2, b] * ly, ps[2, b] * lx + ps[1, b] * ly
-    res[row] = (dx * ux + dy * uy) + hr[h, H_SIGMA_R] * (ps[0, a] - ps[0, b])
+    res[row] = (dx * ux + dy * uy) + hr[h, ht.H_SIGMA_R] * (ps[0, a] - ps[0, b])
     hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3] = rcx, rcy, rax, ray
     hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7] = dx, dy, ux, uy
 
@@ -187,18 +172,18 @@ def _curve_closure(h, hp, cv, ps, q, hc, wk, res):
     """X_F(P) − X_C(c(u)) (a point on the curve, `PointOnCurve.closure`) or N·(X_C(c(u)) − X_F(A)), N·T
     (a flat face, `FaceOnCurve.closure`), a the curve's link, b the follower's."""
     hi, hr = hp.ints, hp.reals
-    row, a, b = hi[h, H_ROW], hi[h, H_A], hi[h, H_B]
-    j, u = hi[h, H_CURVE], q[hi[h, H_VAR]]
-    px, py = hr[h, H_AT], hr[h, H_AT + 1]
+    row, a, b = hi[h, ht.H_ROW], hi[h, ht.H_A], hi[h, ht.H_B]
+    j, u = hi[h, ht.H_CURVE], q[hi[h, ht.H_VAR]]
+    px, py = hr[h, ht.H_AT], hr[h, ht.H_AT + 1]
     rfx, rfy = ps[1, b] * px - ps[2, b] * py, ps[2, b] * px + ps[1, b] * py
-    _curve_into(cv, j, u, 3 if not hi[h, H_FLAT] else 4, a, ps, wk, hc, h)  # (R·c, R·c', R·c'' and a face's R·c⁽³⁾)
-    if not hi[h, H_FLAT]:   # a curve, b point
+    _curve_into(cv, j, u, 3 if not hi[h, ht.H_FLAT] else 4, a, ps, wk, hc, h)  # (R·c … R·c'', a face's R·c⁽³⁾)
+    if not hi[h, ht.H_FLAT]:   # a curve, b point
         res[row] = ps[3, b] + rfx - ps[3, a] - hc[h, 0]
         res[row + 1] = ps[4, b] + rfy - ps[4, a] - hc[h, 1]
         hc[h, 8], hc[h, 9] = rfx, rfy
         return
     # a curve, b face
-    ex, ey = hr[h, H_AXIS], hr[h, H_AXIS + 1]
+    ex, ey = hr[h, ht.H_AXIS], hr[h, ht.H_AXIS + 1]
     nx, ny = ps[1, b] * ex - ps[2, b] * ey, ps[2, b] * ex + ps[1, b] * ey
     dx, dy = ps[3, a] + hc[h, 0] - ps[3, b] - rfx, ps[4, a] + hc[h, 1] - ps[4, b] - rfy
     res[row] = nx * dx + ny * dy
@@ -225,11 +210,11 @@ def _higher_rates(h, hp, hc, rt, sl, pu, vel, big_u):
     unknowns' unit rates), the velocity's or (vel >= 0: the velocities in slot vel, the parameter's big_u)
     the acceleration's right-hand side. (One function per kind, as `_higher_closure`.)"""
     hi = hp.ints
-    if hi[h, H_GEAR]:
+    if hi[h, ht.H_GEAR]:
         return _gear_rates(h, hp, rt, sl), 0.0
-    if hi[h, H_RACK]:
+    if hi[h, ht.H_RACK]:
         return _rack_rates(h, hp, hc, rt, sl, vel), 0.0
-    if not hi[h, H_FLAT]:
+    if not hi[h, ht.H_FLAT]:
         return _point_rates(h, hp, hc, rt, sl, pu, vel, big_u)
     return _face_rates(h, hp, hc, rt, sl, pu, vel, big_u)
 
@@ -238,15 +223,15 @@ def _higher_rates(h, hp, hc, rt, sl, pu, vel, big_u):
 def _gear_rates(h, hp, rt, sl):
     """The gear's row's rate (`Gear.closure_rates`: linear in the angles, no acceleration terms)."""
     hi, hr = hp.ints, hp.reals
-    return (hr[h, H_COEF] * rt[sl, 0, hi[h, H_A]] + hr[h, H_COEF + 1] * rt[sl, 0, hi[h, H_B]]
-            + hr[h, H_COEF + 2] * rt[sl, 0, hi[h, H_CARRIER]])
+    return (hr[h, ht.H_COEF] * rt[sl, 0, hi[h, ht.H_A]] + hr[h, ht.H_COEF + 1] * rt[sl, 0, hi[h, ht.H_B]]
+            + hr[h, ht.H_COEF + 2] * rt[sl, 0, hi[h, ht.H_CARRIER]])
 
 
 @_part
 def _rack_rates(h, hp, hc, rt, sl, vel):
     """The rack's row's rate (`Rack.closure_rates`)."""
     hi, hr = hp.ints, hp.reals
-    a, b = hi[h, H_A], hi[h, H_B]
+    a, b = hi[h, ht.H_A], hi[h, ht.H_B]
     accel = vel >= 0
     wa, wb = rt[sl, 0, a], rt[sl, 0, b]
     va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
@@ -261,14 +246,14 @@ def _rack_rates(h, hp, hc, rt, sl, vel):
         dvx = (rt[vel, 1, a] + va * -rcy) - (rt[vel, 1, b] + vb * -ray)
         dvy = (rt[vel, 2, a] + va * rcx) - (rt[vel, 2, b] + vb * rax)
         out = out + 2 * (dvx * (vb * -uy) + dvy * (vb * ux))
-    return out + hr[h, H_SIGMA_R] * (wa - wb)
+    return out + hr[h, ht.H_SIGMA_R] * (wa - wb)
 
 
 @_part
 def _point_rates(h, hp, hc, rt, sl, pu, vel, big_u):
     """The rates of X_F(P) − X_C(c(u)), a the curve's link, b the point's (`PointOnCurve.closure_rates`)."""
     hi = hp.ints
-    a, b = hi[h, H_A], hi[h, H_B]
+    a, b = hi[h, ht.H_A], hi[h, ht.H_B]
     accel = vel >= 0
     va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
     tfx, tfy = _turning(rt[sl, 0, b], hc[h, 8], hc[h, 9], 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
@@ -282,11 +267,12 @@ def _face_rates(h, hp, hc, rt, sl, pu, vel, big_u):
     """The rates of N·(X_C(c(u)) − X_F(A)) and N·T, a the curve's link, b the face's
     (`FaceOnCurve.closure_rates`)."""
     hi = hp.ints
-    a, b = hi[h, H_A], hi[h, H_B]
+    a, b = hi[h, ht.H_A], hi[h, ht.H_B]
     accel = vel >= 0
     wa, wb = rt[sl, 0, a], rt[sl, 0, b]
     va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
-    o0x, o0y, o1x, o1y, o2x, o2y, o3x, o3y = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3], hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
+    o0x, o0y, o1x, o1y = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3]
+    o2x, o2y, o3x, o3y = hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
     rfx, rfy, nx, ny, dx, dy = hc[h, 8], hc[h, 9], hc[h, 10], hc[h, 11], hc[h, 12], hc[h, 13]
     tcx, tcy = _turning(wa, o0x, o0y, pu, o1x, o1y, o2x, o2y, va, big_u, accel)
     tfx, tfy = _turning(wb, rfx, rfy, 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)

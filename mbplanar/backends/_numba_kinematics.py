@@ -27,7 +27,7 @@ from . import _threads
 from ._jit import njit
 from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ._numba_higher import _gear_closure, _gear_rates, _higher_closure, _higher_rates
-from ..engine._higher_tables import H_COLUMN, H_EQUATIONS, H_GEAR, H_HI, H_LO, H_ROW, H_VAR
+from ..engine import _higher_tables as ht  # (the tables' column names)
 from ..engine._tables import SweepOut, SweepWork, work_sizes
 
 __all__ = ["run"]
@@ -167,7 +167,7 @@ def _sweep(tables, atlas, tol, inp, out, work):
                         for k in range(c0, c1):  # closure rows of cut k (Revolute/Prismatic.closure)
                             _closure(k, cuts, ps, cc, res, 2 * (k - c0))
                         for h in range(h0, h1):  # (Gear, Rack, PointOnCurve, FaceOnCurve.closure)
-                            if h_ints[h, H_GEAR]:
+                            if h_ints[h, ht.H_GEAR]:
                                 _gear_closure(h, hp, ps, res)
                             else:
                                 _higher_closure(h, hp, cv, ps, q, hc, wk, res)
@@ -243,21 +243,21 @@ def _sweep(tables, atlas, tol, inp, out, work):
                         else:
                             col[row], col[row + 1] = ox, oy
                 for h in range(h0, h1):  # the higher pairs' rates (their closure_rates): the contact parameter's
-                    row, par = h_ints[h, H_ROW], h_ints[h, H_VAR] - var0  # unit rate in its column, its velocity
+                    row, par = h_ints[h, ht.H_ROW], h_ints[h, ht.H_VAR] - var0  # unit rate in its column, its velocity
                     big_u = qd_u[par] if phase == 2 and par >= 0 else 0.0
                     for sl in range(s_lo, s_hi):
                         pu = 1.0 if phase == 0 and par == sl else 0.0
-                        if h_ints[h, H_GEAR]:  # (the small gear law called on its own: LLVM inlines it)
+                        if h_ints[h, ht.H_GEAR]:  # (the small gear law called on its own: LLVM inlines it)
                             ox, oy = _gear_rates(h, hp, rt, sl), 0.0
                         else:
                             ox, oy = _higher_rates(h, hp, hc, rt, sl, pu, vel if phase == 2 else -1, big_u)
                         if phase == 0:
                             jac[row, sl] = ox
-                            if h_ints[h, H_EQUATIONS] == 2:
+                            if h_ints[h, ht.H_EQUATIONS] == 2:
                                 jac[row + 1, sl] = oy
                         else:
                             col[row] = ox
-                            if h_ints[h, H_EQUATIONS] == 2:
+                            if h_ints[h, ht.H_EQUATIONS] == 2:
                                 col[row + 1] = oy
                 if phase == 0:
                     # the Jacobian made dimensionless (BlockSolver's ScaledLU); its determinant and pivot
@@ -296,8 +296,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
                             if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
                                 return 1
                         for h in range(h0, h1):  # a contact past an open curve's end: numpy's (a limit there)
-                            var = h_ints[h, H_VAR]
-                            if var >= 0 and not (h_reals[h, H_LO] <= q[var] <= h_reals[h, H_HI]):
+                            var = h_ints[h, ht.H_VAR]
+                            if var >= 0 and not (h_reals[h, ht.H_LO] <= q[var] <= h_reals[h, ht.H_HI]):
                                 return 1
                         if not rates:
                             break
@@ -415,8 +415,8 @@ def _sweep(tables, atlas, tol, inp, out, work):
                     rows[b, o_fa + 2 * l + 1] = rt[acc, 2, l] + (el * rhx - wl * wl * rhy)
             o_contact = offsets[11]  # the contact parameters (0 for a gear or a rack: none)
             for h in range(len(h_ints)):
-                var = h_ints[h, H_VAR]
-                rows[b, o_contact + h_ints[h, H_COLUMN]] = q[var] if var >= 0 else 0.0
+                var = h_ints[h, ht.H_VAR]
+                rows[b, o_contact + h_ints[h, ht.H_COLUMN]] = q[var] if var >= 0 else 0.0
         if not want_joints:
             continue
         o_val, o_rq, o_aq = offsets[4], offsets[9], offsets[10]

@@ -30,7 +30,7 @@ HIGHER_CACHE = 14   # columns of a pair's cache in the kernels' work arrays (`ba
 CURVE_WORK = 12     # the Cox–de Boor recursion's work vector: 2·(degree + 1) for the highest degree (5)
 
 # the columns of `HigherTables.ints`: flags (0, 1), link indices, where its curve, unknown and rows are
-H_GEAR, H_RACK, H_FLAT = 0, 1, 2  # r_a(θ_a − θ_c) ± r_b(θ_b − θ_c) = 0; (X_C − X_A)·U + σr·(θ_p − θ_k) = 0; a face
+H_GEAR, H_RACK, H_FLAT = 0, 1, 2  # a gear pair (`Gear`), a rack (`Rack`), a flat face (`FaceOnCurve`)
 H_A, H_B, H_CARRIER = 3, 4, 5     # the first link (gear a, the pinion, the curve's), the second, a gear's carrier
 H_CURVE, H_VAR = 6, 7             # the curve (`CurveTables` row; −1: none), the contact parameter (global; −1)
 H_ROW, H_EQUATIONS, H_COLUMN = 8, 9, 10  # its first residual row in its block, its rows (1, 2), its `higher` place
@@ -45,7 +45,7 @@ H_LO, H_HI = 10, 11  # the contact parameter's range on an open curve (±inf: no
 H_REALS = 12
 # the columns of `CurveTables.ints`
 C_CIRCLE, C_CLOSED, C_OFFSET, C_DEGREE = 0, 1, 2, 3  # a circle (else a spline); a closed spline; an offset curve; k
-C_KNOT0, C_KNOT1, C_COEF0 = 4, 8, 12  # 4 each: where c⁽ⁿ⁾'s knots start and end in `knots`, its coefficients in `coefs`
+C_KNOT0, C_KNOT1, C_COEF0 = 4, 8, 12  # 4 each: c⁽ⁿ⁾'s knots' start and end in `knots`, its first coefficient
 C_INTS = 16
 # the columns of `CurveTables.reals`
 C_CENTRE, C_RADIUS = 0, 2         # a circle's centre (2) and radius: c(u) = centre + radius·(cos u, sin u)

@@ -232,7 +232,8 @@ FIELDS = (("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1), ("r", "L", 2), ("val
 RATE_FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("fv", "L", 2), ("fa", "L", 2), ("rate_q", "J", 1),
                ("accel_q", "J", 1))
 CONTACT_FIELDS = (("contact", "H", 1),)
-RECORD_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_q", "accel_q", "contact")  # `SweepIn.offsets`
+RECORD_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_q", "accel_q",
+                "contact")  # `SweepIn.offsets`
 
 
 def record_layout(n_links: int, n_joints: int, rates: bool, n_higher: int = 0) -> tuple[np.dtype, np.ndarray]:
