@@ -99,7 +99,8 @@ class SweepTables(NamedTuple):
     its joints, each link's reference angle `alpha` (L,) in the drawn pose, the input's sense (±1) and
     drawn value (SI), the ground's link index, and the origin `centre` (2,) of the engine's frame
     (`Engine.centre`: the steps', cuts' and joints' points are in that frame; the kernel writes the link
-    frames and points in the world's)."""
+    frames and points in the world's); the higher pairs, whose rows follow their block's cuts, and their
+    curves (`higher`, `curves`: `engine._higher_tables`). `cuts` holds the lower pairs only."""
 
     steps: StepTables
     cuts: CutTables
