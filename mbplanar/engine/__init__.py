@@ -5,7 +5,8 @@ atlas) and singular positions.
 `Engine.atlas` answer for batches of input values.
 """
 
+from ._atlas import FAR_TURNS, LOST_PRECISION
 from ._solver import Crossing, Engine, Limit, Solution
 from ._tolerances import Tolerances
 
-__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing"]
+__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "FAR_TURNS", "LOST_PRECISION"]
