@@ -97,7 +97,7 @@ def simulate_table(doc, engine=None) -> tuple[list, np.ndarray]:
     >>> doc = simulate_document(engine, simulate_motion(engine, read_simulate(engine.mech, t=0.01, steps=4)))
     >>> header, columns = simulate_table(doc, engine)
     >>> header[:2], columns.shape[0]
-    (['t[s]', 'phi[rad]'], 5)
+    (['t[s]', 'beta[rad]'], 5)
     """
     prismatic = {} if engine is None else {n: j.kind == "P" for n, j in engine.mech.joints.items()}
     header, cols = ["t[s]"], [doc["t"]]

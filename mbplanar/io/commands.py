@@ -27,7 +27,38 @@ __all__ = ["info", "solve", "forces", "dynamics", "simulate", "balance", "check"
 
 
 def info(engine, args) -> int:
-    """`mbplanar info`: links, joints, DOF, loops and Assur groups, as JSON (``--json``) or text."""
+    """`mbplanar info`: links, joints, DOF, loops and Assur groups, printed as JSON (``--json``) or text.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar info`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0 (the document is printed).
+
+    Raises
+    ------
+    ModelError
+        An unknown ``--units``.
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import info
+    >>> args = build_parser("info").parse_args(["info", "models/fourbar.toml"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = info(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> out.getvalue().splitlines()[2]
+    'DOF = 1, independent loops = 1'
+    """
     display = display_units(engine.mech, args.units)
     doc = convert_info(engine, info_document(engine), display)
     if args.json:
@@ -81,7 +112,43 @@ def _higher_words(h: dict, length: str) -> str:
 
 
 def solve(engine, args) -> int:
-    """`mbplanar solve`: one position (``--at``) with its velocities and accelerations."""
+    """`mbplanar solve`: one position (``--at``) with its velocities and accelerations, printed as JSON
+    (``--json``, with the partial derivatives) or as text tables.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar solve`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0 (the document is printed).
+
+    Raises
+    ------
+    ModelError
+        ``--at`` without one finite value per input, contradicting speed options, rates out of the
+        floating-point range.
+    MotionError
+        A position the drawn branch cannot reach (with the range the input moves through).
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import solve
+    >>> args = build_parser("solve").parse_args(["solve", "models/fourbar.toml", "--at", "30", "--json"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = solve(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> import json
+    >>> round(json.loads(out.getvalue())["points"]["A"]["x"], 12)  # 0.1 m · cos 30°
+    0.086602540378
+    """
     values = inputs_at(engine, args.at)
     phi = at_si(engine, values)
     omega, epsilon, _ = speeds(engine, phi[:, 0], args)
@@ -131,7 +198,43 @@ NO_FORCE_DATA = ("the model has no loads, gravity or masses, so every reaction a
 
 
 def forces(engine, args) -> int:
-    """`mbplanar forces`: one position's reactions and balancing loads (with friction where asked)."""
+    """`mbplanar forces`: one position's reactions and balancing loads, with friction where the model or
+    ``--mu`` asks for it; at the true motion where the model has ``[dynamics]`` and no speed is given.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar forces`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0 (the document is printed).
+
+    Raises
+    ------
+    ModelError
+        A model without loads, gravity or masses, a bad ``--at`` or ``--mu``, friction out of scale.
+    MotionError
+        A position the drawn branch cannot reach, or a kinetostatic system (or friction) without a
+        solution there.
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import forces
+    >>> args = build_parser("forces").parse_args(["forces", "models/fourbar_loaded.toml", "--at", "30", "--json"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = forces(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> import json
+    >>> round(json.loads(out.getvalue())["reactions"]["O"]["magnitude"], 4)
+    71.0255
+    """
     from ..forces import has_force_data, kinetostatics, true_motion
     values = inputs_at(engine, args.at)
     if not has_force_data(engine.mech):
@@ -201,7 +304,40 @@ def forces(engine, args) -> int:
 
 
 def dynamics(engine, args) -> int:
-    """`mbplanar dynamics`: the reduced model, the flywheel and the true motion over a cycle."""
+    """`mbplanar dynamics`: the reduced model, the flywheel and the true motion over a cycle, printed as
+    JSON or text, the cycle's table written to ``-o``.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar dynamics`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0 (the document is printed).
+
+    Raises
+    ------
+    ModelError
+        A model of several inputs or driven by a slider, without ``[dynamics]`` and ``--delta``, or a
+        ``--steps`` or ``--delta`` out of range.
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import dynamics
+    >>> args = build_parser("dynamics").parse_args(["dynamics", "models/shaper.toml", "--steps", "36"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = dynamics(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> out.getvalue().splitlines()[0]
+    'shaper: machine dynamics over one cycle of f (36 steps)'
+    """
     from ..forces import machine_dynamics, read_dynamics
     if args.steps < 36:
         raise ModelError("--steps must be at least 36")
@@ -259,7 +395,43 @@ def _from_state(path, engine) -> tuple[list, list]:
 
 
 def simulate(engine, args) -> int:
-    """`mbplanar simulate`: the motion under given forces, integrated in time."""
+    """`mbplanar simulate`: the motion under given forces, integrated in time, printed as JSON or as the
+    last state, the motion written to ``-o`` (also the part done when interrupted).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar simulate`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 1 where the integration stops before the end time.
+
+    Raises
+    ------
+    ModelError
+        Options that are not finite numbers, one per input, or a ``--from`` file that is not a simulation
+        of this model.
+    Interrupted
+        Ctrl-C, or a run refused as too long.
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import simulate
+    >>> argv = ["simulate", "models/squeezer.toml", "--t", "0.001", "--steps", "2"]
+    >>> args = build_parser("simulate").parse_args(argv)
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = simulate(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> out.getvalue().splitlines()[1]
+    '  beta: -0.0544693109481 rad, speed 14.7576007696 rad/s, acceleration 15838.2764706 rad/s²; drive 0.033 N·m, balancing 0.033 N·m'
+    """
     from .._progress import Progress
     from ..forces import read_simulate, simulate_motion
     from ._documents import simulate_document, simulate_table
@@ -310,7 +482,39 @@ def simulate(engine, args) -> int:
 
 
 def balance(engine, args) -> int:
-    """`mbplanar balance`: counterweights on ``--links`` and the shaking force before and after."""
+    """`mbplanar balance`: counterweights on ``--links`` and the shaking force, moment, reactions and
+    balancing loads before and after, printed as JSON or text.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar balance`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0 (the document is printed).
+
+    Raises
+    ------
+    ModelError
+        Unknown links, a ``--radius`` that is not positive, a model of several inputs.
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import balance
+    >>> args = build_parser("balance").parse_args(["balance", "models/fourbar_loaded.toml", "--links", "1,3"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = balance(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> out.getvalue().splitlines()[1]
+    "  link 1: 1 kg at (-0.05, -0.0866025) m, first moment 0.1 kg·m about O at 180.0000° to the link's line"
+    """
     from ..forces import balance as counterweights
     from ..model import drawing_size, warn_scale
     from ._documents import balance_document
@@ -346,8 +550,39 @@ def balance(engine, args) -> int:
 
 
 def check(engine, args) -> int:
-    """`mbplanar check`: full turn, dead points, extreme positions, transmission angles (a region of two
-    inputs)."""
+    """`mbplanar check`: full turn, dead points, extreme positions, transmission angles (for two inputs,
+    the region they reach), printed as JSON or text.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine of the command's model.
+    args : argparse.Namespace
+        The parsed arguments of ``mbplanar check`` (`mbplanar.cli.build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status: 0 (the document is printed).
+
+    Raises
+    ------
+    ModelError
+        An unknown ``--units``.
+
+    Examples
+    --------
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
+    >>> from mbplanar.io.commands import check
+    >>> args = build_parser("check").parse_args(["check", "models/fourbar.toml"])
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     code = check(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    >>> code
+    0
+    >>> out.getvalue().splitlines()[2]
+    'the input turns fully (numerically: a whole turn without a motion limit)'
+    """
     from ..analysis import check as check_motion, check_region, format_region, format_report
     if len(engine.inputs) == 2:
         region = check_region(engine)

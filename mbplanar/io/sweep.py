@@ -176,17 +176,15 @@ def sweep(engine, planned, args) -> int:
 
     Examples
     --------
-    >>> import argparse, contextlib, io, mbplanar
+    >>> import contextlib, io, mbplanar
+    >>> from mbplanar.cli import build_parser
     >>> from mbplanar.io.sweep import plan, sweep
-    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
-    >>> args = argparse.Namespace(steps=[2], step=None, start=None, stop=None, grid=False, true_motion=False,
-    ...                           omega=None, epsilon=None, input_inertia=None, forces="no", angles=None,
-    ...                           units=None, output=None, progress=False, yes=False)
+    >>> args = build_parser("sweep").parse_args(["sweep", "models/fourbar.toml", "--steps", "2"])
+    >>> engine = mbplanar.Engine(mbplanar.read_model(args.model))
     >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     sweep(engine, plan(engine, args), args)
-    0
-    >>> len(out.getvalue().splitlines())
-    4
+    ...     code = sweep(engine, plan(engine, args), args)
+    >>> code, out.getvalue().splitlines()[2][:5]
+    (0, '180,1')
     """
     from .._progress import Progress
     from ..forces import has_force_data
