@@ -100,14 +100,9 @@ def _bounded_int(lo, hi):
     return parse
 
 
-def _steps_list(text) -> list[int]:
-    """--steps: one positive count, or one per input of a grid (argparse type)."""
-    return [_positive_int(part) for part in str(text).split(",")]
-
-
-def _values_list(text) -> list[float]:
-    """--from / --to: one finite value per input, comma-separated (argparse type)."""
-    return [_finite_float(part) for part in str(text).split(",")]
+def _list_of(parse):
+    """Comma-separated values, each read by `parse` (argparse type): --steps of a grid, --from, --to."""
+    return lambda text: [parse(part) for part in str(text).split(",")]
 
 
 # -- the commands: each one's work is in the library (`io.commands`, `io.sweep`, `viz.command`, the packages
@@ -179,7 +174,7 @@ def _speed_options(s):
 
 
 def _units_option(s):
-    from .model._units import add_units_option
+    from .model import add_units_option
     add_units_option(s)
 
 
@@ -200,12 +195,12 @@ def _solve_options(s):
 def _sweep_options(s):
     s.add_argument("model")
     g = s.add_mutually_exclusive_group()
-    g.add_argument("--steps", type=_steps_list, help="number of equal intervals (both ends included); with "
+    g.add_argument("--steps", type=_list_of(_positive_int), help="number of equal intervals (both ends included); with "
                    "--grid one per input (e.g. 20,30) or one for all")
     g.add_argument("--step", type=_finite_float, help="spacing in the model's unit")
-    s.add_argument("--from", dest="start", type=_values_list,
+    s.add_argument("--from", dest="start", type=_list_of(_finite_float),
                    help="first value (default: the model's sweep); one per input, comma-separated")
-    s.add_argument("--to", dest="stop", type=_values_list, help="last value (one per input)")
+    s.add_argument("--to", dest="stop", type=_list_of(_finite_float), help="last value (one per input)")
     s.add_argument("--grid", action="store_true",
                    help="several inputs: every combination over the box from --from to --to, not a path")
     _speed_options(s)
