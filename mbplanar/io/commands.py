@@ -26,39 +26,57 @@ from .inputs import at_si, inputs_at, motion_of, numbers_of, one_position, speed
 __all__ = ["info", "solve", "forces", "dynamics", "simulate", "balance", "check", "NO_FORCE_DATA"]
 
 
-def info(engine, args) -> int:
-    """`mbplanar info`: links, joints, DOF, loops and Assur groups, printed as JSON (``--json``) or text.
+#: the numpydoc docstring of a command's work, written once (`_documented`): the summary is the function's
+#: own, the example runs it on a bundled model and shows what it printed
+_DOC = """{summary}
 
     Parameters
     ----------
     engine : Engine
         The engine of the command's model.
     args : argparse.Namespace
-        The parsed arguments of ``mbplanar info`` (`mbplanar.cli.build_parser`).
+        The parsed arguments of ``mbplanar {name}`` (`mbplanar.cli.build_parser`).
 
     Returns
     -------
     int
-        The exit status: 0 (the document is printed).
+        The exit status: {status}
 
     Raises
     ------
-    ModelError
-        An unknown ``--units``.
+{raises}
 
     Examples
     --------
-    >>> import contextlib, io, mbplanar
+    >>> import contextlib, io, json, mbplanar
     >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import info
-    >>> args = build_parser("info").parse_args(["info", "models/fourbar.toml"])
+    >>> from mbplanar.io.commands import {name}
+    >>> args = build_parser("{name}").parse_args({argv!r})
     >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = info(mbplanar.Engine(mbplanar.read_model(args.model)), args)
+    ...     code = {name}(mbplanar.Engine(mbplanar.read_model(args.model)), args)
     >>> code
     0
-    >>> out.getvalue().splitlines()[2]
-    'DOF = 1, independent loops = 1'
+    >>> {shown}
+    {result}
     """
+
+
+def _documented(raises, argv, shown, result, status="0 (the document is printed)."):
+    """The command's docstring from `_DOC`: the errors it raises ((name, why) pairs) and its example (the
+    command's arguments `argv`, an expression `shown` of what it printed and its value `result`)."""
+    def document(work):
+        work.__doc__ = _DOC.format(summary=work.__doc__, name=work.__name__, status=status,
+                                   argv=[work.__name__, *argv],
+                                   raises="\n".join(f"    {error}\n        {why}" for error, why in raises),
+                                   shown=shown, result=result)
+        return work
+    return document
+
+
+@_documented([("ModelError", "An unknown ``--units``.")], ["models/fourbar.toml"],
+             "out.getvalue().splitlines()[2]", "'DOF = 1, independent loops = 1'")
+def info(engine, args) -> int:
+    """`mbplanar info`: links, joints, DOF, loops and Assur groups, printed as JSON (``--json``) or text."""
     display = display_units(engine.mech, args.units)
     doc = convert_info(engine, info_document(engine), display)
     if args.json:
@@ -111,44 +129,14 @@ def _higher_words(h: dict, length: str) -> str:
     return f"pin in a {h['curve']} slot; at {at}"
 
 
+@_documented([("ModelError", "``--at`` without one finite value per input, contradicting speed options, "
+                            "rates out of the floating-point range."),
+              ("MotionError", "A position the drawn branch cannot reach (with the range the input moves through).")],
+             ["models/fourbar.toml", "--at", "30", "--json"],
+             'round(json.loads(out.getvalue())["points"]["A"]["x"], 12)  # 0.1 m · cos 30°', "0.086602540378")
 def solve(engine, args) -> int:
     """`mbplanar solve`: one position (``--at``) with its velocities and accelerations, printed as JSON
-    (``--json``, with the partial derivatives) or as text tables.
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine of the command's model.
-    args : argparse.Namespace
-        The parsed arguments of ``mbplanar solve`` (`mbplanar.cli.build_parser`).
-
-    Returns
-    -------
-    int
-        The exit status: 0 (the document is printed).
-
-    Raises
-    ------
-    ModelError
-        ``--at`` without one finite value per input, contradicting speed options, rates out of the
-        floating-point range.
-    MotionError
-        A position the drawn branch cannot reach (with the range the input moves through).
-
-    Examples
-    --------
-    >>> import contextlib, io, mbplanar
-    >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import solve
-    >>> args = build_parser("solve").parse_args(["solve", "models/fourbar.toml", "--at", "30", "--json"])
-    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = solve(mbplanar.Engine(mbplanar.read_model(args.model)), args)
-    >>> code
-    0
-    >>> import json
-    >>> round(json.loads(out.getvalue())["points"]["A"]["x"], 12)  # 0.1 m · cos 30°
-    0.086602540378
-    """
+    (``--json``, with the partial derivatives) or as text tables."""
     values = inputs_at(engine, args.at)
     phi = at_si(engine, values)
     omega, epsilon, _ = speeds(engine, phi[:, 0], args)
@@ -197,44 +185,15 @@ NO_FORCE_DATA = ("the model has no loads, gravity or masses, so every reaction a
                  "be zero; add [[loads]], [gravity] or link masses")
 
 
+@_documented([("ModelError", "A model without loads, gravity or masses, a bad ``--at`` or ``--mu``, friction out "
+                            "of scale."),
+              ("MotionError", "A position the drawn branch cannot reach, or a kinetostatic system (or friction) "
+                              "without a solution there.")],
+             ["models/fourbar_loaded.toml", "--at", "30", "--json"],
+             'round(json.loads(out.getvalue())["reactions"]["O"]["magnitude"], 4)', "71.0255")
 def forces(engine, args) -> int:
     """`mbplanar forces`: one position's reactions and balancing loads, with friction where the model or
-    ``--mu`` asks for it; at the true motion where the model has ``[dynamics]`` and no speed is given.
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine of the command's model.
-    args : argparse.Namespace
-        The parsed arguments of ``mbplanar forces`` (`mbplanar.cli.build_parser`).
-
-    Returns
-    -------
-    int
-        The exit status: 0 (the document is printed).
-
-    Raises
-    ------
-    ModelError
-        A model without loads, gravity or masses, a bad ``--at`` or ``--mu``, friction out of scale.
-    MotionError
-        A position the drawn branch cannot reach, or a kinetostatic system (or friction) without a
-        solution there.
-
-    Examples
-    --------
-    >>> import contextlib, io, mbplanar
-    >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import forces
-    >>> args = build_parser("forces").parse_args(["forces", "models/fourbar_loaded.toml", "--at", "30", "--json"])
-    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = forces(mbplanar.Engine(mbplanar.read_model(args.model)), args)
-    >>> code
-    0
-    >>> import json
-    >>> round(json.loads(out.getvalue())["reactions"]["O"]["magnitude"], 4)
-    71.0255
-    """
+    ``--mu`` asks for it; at the true motion where the model has ``[dynamics]`` and no speed is given."""
     from ..forces import has_force_data, kinetostatics, true_motion
     values = inputs_at(engine, args.at)
     if not has_force_data(engine.mech):
@@ -303,41 +262,13 @@ def forces(engine, args) -> int:
     return 0
 
 
+@_documented([("ModelError", "A model of several inputs or driven by a slider, without ``[dynamics]`` and "
+                            "``--delta``, or a ``--steps`` or ``--delta`` out of range.")],
+             ["models/shaper.toml", "--steps", "36"],
+             "out.getvalue().splitlines()[0]", "'shaper: machine dynamics over one cycle of f (36 steps)'")
 def dynamics(engine, args) -> int:
     """`mbplanar dynamics`: the reduced model, the flywheel and the true motion over a cycle, printed as
-    JSON or text, the cycle's table written to ``-o``.
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine of the command's model.
-    args : argparse.Namespace
-        The parsed arguments of ``mbplanar dynamics`` (`mbplanar.cli.build_parser`).
-
-    Returns
-    -------
-    int
-        The exit status: 0 (the document is printed).
-
-    Raises
-    ------
-    ModelError
-        A model of several inputs or driven by a slider, without ``[dynamics]`` and ``--delta``, or a
-        ``--steps`` or ``--delta`` out of range.
-
-    Examples
-    --------
-    >>> import contextlib, io, mbplanar
-    >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import dynamics
-    >>> args = build_parser("dynamics").parse_args(["dynamics", "models/shaper.toml", "--steps", "36"])
-    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = dynamics(mbplanar.Engine(mbplanar.read_model(args.model)), args)
-    >>> code
-    0
-    >>> out.getvalue().splitlines()[0]
-    'shaper: machine dynamics over one cycle of f (36 steps)'
-    """
+    JSON or text, the cycle's table written to ``-o``."""
     from ..forces import machine_dynamics, read_dynamics
     if args.steps < 36:
         raise ModelError("--steps must be at least 36")
@@ -394,44 +325,16 @@ def _from_state(path, engine) -> tuple[list, list]:
         raise ModelError(f"{path}: not the JSON output of 'mbplanar simulate' for this model ({exc})") from None
 
 
+@_documented([("ModelError", "Options that are not finite numbers, one per input, or a ``--from`` file that is "
+                            "not a simulation of this model."),
+              ("Interrupted", "Ctrl-C, or a run refused as too long.")],
+             ["models/squeezer.toml", "--t", "0.001", "--steps", "2"],
+             "out.getvalue().splitlines()[2]",
+             "'  energy: kinetic 0.000252660316 J, potential 1.43578281 J, work of the drive 0.000239071109 J'",
+             status="0, or 1 where the integration stops before the end time.")
 def simulate(engine, args) -> int:
     """`mbplanar simulate`: the motion under given forces, integrated in time, printed as JSON or as the
-    last state, the motion written to ``-o`` (also the part done when interrupted).
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine of the command's model.
-    args : argparse.Namespace
-        The parsed arguments of ``mbplanar simulate`` (`mbplanar.cli.build_parser`).
-
-    Returns
-    -------
-    int
-        The exit status: 0, or 1 where the integration stops before the end time.
-
-    Raises
-    ------
-    ModelError
-        Options that are not finite numbers, one per input, or a ``--from`` file that is not a simulation
-        of this model.
-    Interrupted
-        Ctrl-C, or a run refused as too long.
-
-    Examples
-    --------
-    >>> import contextlib, io, mbplanar
-    >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import simulate
-    >>> argv = ["simulate", "models/squeezer.toml", "--t", "0.001", "--steps", "2"]
-    >>> args = build_parser("simulate").parse_args(argv)
-    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = simulate(mbplanar.Engine(mbplanar.read_model(args.model)), args)
-    >>> code
-    0
-    >>> out.getvalue().splitlines()[1]
-    '  beta: -0.0544693109481 rad, speed 14.7576007696 rad/s, acceleration 15838.2764706 rad/s²; drive 0.033 N·m, balancing 0.033 N·m'
-    """
+    last state, the motion written to ``-o`` (also the part done when interrupted)."""
     from .._progress import Progress
     from ..forces import read_simulate, simulate_motion
     from ._documents import simulate_document, simulate_table
@@ -481,40 +384,12 @@ def simulate(engine, args) -> int:
     return 0 if tr.success else 1
 
 
+@_documented([("ModelError", "Unknown links, a ``--radius`` that is not positive, a model of several inputs.")],
+             ["models/fourbar_loaded.toml", "--links", "1,3"], "out.getvalue().splitlines()[1][:39]",
+             "'  link 1: 1 kg at (-0.05, -0.0866025) m'")
 def balance(engine, args) -> int:
     """`mbplanar balance`: counterweights on ``--links`` and the shaking force, moment, reactions and
-    balancing loads before and after, printed as JSON or text.
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine of the command's model.
-    args : argparse.Namespace
-        The parsed arguments of ``mbplanar balance`` (`mbplanar.cli.build_parser`).
-
-    Returns
-    -------
-    int
-        The exit status: 0 (the document is printed).
-
-    Raises
-    ------
-    ModelError
-        Unknown links, a ``--radius`` that is not positive, a model of several inputs.
-
-    Examples
-    --------
-    >>> import contextlib, io, mbplanar
-    >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import balance
-    >>> args = build_parser("balance").parse_args(["balance", "models/fourbar_loaded.toml", "--links", "1,3"])
-    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = balance(mbplanar.Engine(mbplanar.read_model(args.model)), args)
-    >>> code
-    0
-    >>> out.getvalue().splitlines()[1]
-    "  link 1: 1 kg at (-0.05, -0.0866025) m, first moment 0.1 kg·m about O at 180.0000° to the link's line"
-    """
+    balancing loads before and after, printed as JSON or text."""
     from ..forces import balance as counterweights
     from ..model import drawing_size, warn_scale
     from ._documents import balance_document
@@ -549,40 +424,11 @@ def balance(engine, args) -> int:
     return 0
 
 
+@_documented([("ModelError", "An unknown ``--units``.")], ["models/fourbar.toml"], "out.getvalue().splitlines()[2]",
+             "'the input turns fully (numerically: a whole turn without a motion limit)'")
 def check(engine, args) -> int:
     """`mbplanar check`: full turn, dead points, extreme positions, transmission angles (for two inputs,
-    the region they reach), printed as JSON or text.
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine of the command's model.
-    args : argparse.Namespace
-        The parsed arguments of ``mbplanar check`` (`mbplanar.cli.build_parser`).
-
-    Returns
-    -------
-    int
-        The exit status: 0 (the document is printed).
-
-    Raises
-    ------
-    ModelError
-        An unknown ``--units``.
-
-    Examples
-    --------
-    >>> import contextlib, io, mbplanar
-    >>> from mbplanar.cli import build_parser
-    >>> from mbplanar.io.commands import check
-    >>> args = build_parser("check").parse_args(["check", "models/fourbar.toml"])
-    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
-    ...     code = check(mbplanar.Engine(mbplanar.read_model(args.model)), args)
-    >>> code
-    0
-    >>> out.getvalue().splitlines()[2]
-    'the input turns fully (numerically: a whole turn without a motion limit)'
-    """
+    the region they reach), printed as JSON or text."""
     from ..analysis import check as check_motion, check_region, format_region, format_report
     if len(engine.inputs) == 2:
         region = check_region(engine)
