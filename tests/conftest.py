@@ -3,6 +3,7 @@ trammel (a slider-driven mechanism with a dead point) used by several test files
 
 import math
 import os
+import signal
 from pathlib import Path
 
 import pytest
@@ -17,6 +18,12 @@ settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
+
+# A shell starts a background job (`pytest &`, a CI runner's script) with SIGINT ignored, and an ignored signal
+# stays ignored in every process started from it: the tests that interrupt `mbplanar` with SIGINT would wait
+# for nothing. A handled signal goes back to its default in a child, so handle it here.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def linkage_models() -> list[Path]:
