@@ -41,7 +41,7 @@ _HOME = {**dict.fromkeys(["CheckReport", "check"], "analysis"), **dict.fromkeys(
          **dict.fromkeys(["Input", "Joint", "Link", "Mechanism", "Point", "assemble", "parse_model", "read_model"],
                          "model"), "widget": "web"}
 _SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-                "gears", "study", "synthesis", "formats", "web", "cli", "errors")
+                "gears", "study", "accuracy", "synthesis", "formats", "web", "cli", "errors")
 
 
 def __getattr__(name: str):

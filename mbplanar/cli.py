@@ -113,11 +113,15 @@ def _imported(target: str):
     return getattr(importlib.import_module(f"mbplanar.{module}"), name)
 
 
-def _on_engine(target: str, positions: int | None = None, checks_first: bool = False):
+def _on_engine(target: str, positions: int | None = None, checks_first: bool = False, registers=()):
     """The run of a command whose work `target` ("module:name") takes the engine of the command's model
     and the arguments (with `checks_first`: the arguments and a loader, called once it has checked them);
-    a command of one position leaves out a backend that would not pay (`positions`)."""
+    a command of one position leaves out a backend that would not pay (`positions`). `registers`: modules
+    of the packages above viz whose pictures or report sections the command registers first (so that the
+    other commands do not import those packages)."""
     def run_command(args):
+        for module in registers:
+            _imported(f"{module}:register")()
         if checks_first:
             return _imported(target)(args, lambda: _load(args))
         engine = _load(args)
@@ -140,12 +144,6 @@ def cmd_sweep(args):
     planned = plan(engine, args)
     _numpy_unless_it_pays(engine, planned[0])
     return sweep(engine, planned, args)
-
-
-def cmd_report(args):
-    for module in ("cam.present", "gears.report", "synthesis.report"):  # (the report's sections of the packages
-        _imported(f"{module}:register")()  # above viz: registered here, so that other commands do not import them)
-    return _on_engine("viz.command:report", checks_first=True)(args)
 
 
 def cmd_compile(args):
@@ -313,10 +311,12 @@ COMMANDS = {
     "balance": ("counterweights that cancel the shaking force (or minimise its RMS)", _balance_options,
                 _on_engine("io.commands:balance")),
     "plot": ("a picture: diagram, vectors, trajectories, kinematics, analogues, transmission, forces, ...",
-             _plot_options, _on_engine("viz.command:plot", checks_first=True)),
+             _plot_options, _on_engine("viz.command:plot", checks_first=True, registers=("accuracy.plots",))),
     "animate": ("animation of a cycle: GIF or a browser page (SVG)", _animate_options,
                 _on_engine("viz.command:animate", checks_first=True)),
-    "report": ("one self-contained HTML report of the model", _report_options, cmd_report),
+    "report": ("one self-contained HTML report of the model", _report_options,
+               _on_engine("viz.command:report", checks_first=True,
+                          registers=("accuracy.plots", "cam.present", "gears.report", "synthesis.report"))),
     "synth": ("synthesis: seed 001's guiding mechanism, function, motion and path generation",
               *_own("synthesis.command")),
     "check": ("full turn?, dead points, extreme positions, transmission angles", _json_options,
@@ -329,6 +329,8 @@ COMMANDS = {
              "trains by tooth numbers", *_own("gears.command")),
     "study": ("a table of design variants: full turn, motion limits, strokes, transmission angles per variant",
               None, None),
+    "accuracy": ("tolerances and clearances: sensitivities, worst-case and statistical stacks, Monte Carlo",
+                 *_own("accuracy.command")),
     "schema": ("the JSON Schema of the model table (for editors: completion and checks)",
               *_own("formats.command", "run", "schema")),
     "import": ("a Pyslvs, PMKS+ or pylinkage file as an mbplanar model (TOML)",
@@ -340,8 +342,8 @@ COMMANDS = {
               "(pip install 'mbplanar[web]')", _own("web.command")[0], cmd_serve),
 }
 #: commands whose options live in a package of their own
-OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "schema", "import", "export",
-                                                    "examples", "serve")}
+OWN_MODULE = {name: COMMANDS[name][0] for name in ("synth", "cam", "gear", "study", "accuracy", "schema", "import",
+                                                    "export", "examples", "serve")}
 CORE_COMMANDS = tuple(name for name in COMMANDS if name not in OWN_MODULE)  # the commands of this module
 GLOBAL_VALUED = ("--backend", "--threads")  # the global options that take a value
 HELP = ("-h", "--help")

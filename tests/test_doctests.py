@@ -16,7 +16,7 @@ from conftest import MODELS
 
 ROOT = MODELS.parent
 SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-               "study", "synthesis")
+               "study", "accuracy", "synthesis")
 
 
 #: public modules outside the subpackages' `__all__`: the commands' work, which the command line calls

@@ -78,7 +78,7 @@ def test_every_builder_is_found_by_the_home_of_its_public_class():
     from mbplanar.io import _export
     public = {"Engine": mbplanar.Engine, "Motion": mbplanar.Motion, "Position": mbplanar.Position,
               "Kinetostatics": mbplanar.Kinetostatics, "Dynamics": mbplanar.Dynamics,
-              "CheckReport": mbplanar.CheckReport}
+              "CheckReport": mbplanar.CheckReport, "Accuracy": mbplanar.accuracy.Accuracy}
     homes = set(_export.DOCUMENTS) | set(_export.TABLES) | {_export.POSITION}
     assert {home.split(":")[1] for home in homes} == set(public)
     for home in homes:

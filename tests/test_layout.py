@@ -1,6 +1,6 @@
 """The package layout: subpackages export their names, imports run one way (model → structure → engine →
-kinematics → forces → backends → analysis → io, viz → cam → gears → synthesis → formats → cli), and the module
-paths of the old flat layout are gone."""
+kinematics → forces → backends → analysis → study → io, viz → accuracy → cam → gears → synthesis → formats →
+cli), and the module paths of the old flat layout are gone."""
 
 import ast
 import importlib
@@ -13,7 +13,7 @@ import mbplanar
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
 LAYERS = ["errors", "_progress", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
-          "study", "io", "viz", "cam", "gears", "synthesis", "formats", "web",
+          "study", "io", "viz", "accuracy", "cam", "gears", "synthesis", "formats", "web",
           "cli"]  # cams, gears, synthesis, formats, studies, the workbench use what precedes them
 
 

@@ -55,7 +55,8 @@ def test_every_model_renders_every_picture(model, tmp_path):
             with pytest.raises(mbplanar.ModelError, match=r"reduces a machine to its one crank; this model has 2"):
                 plotting.make_figure(eng, what, count=13)
             continue
-        missing = {"dynamics": "dynamics", "efficiency": "friction", "simulation": "simulate"}.get(what)
+        missing = {"dynamics": "dynamics", "efficiency": "friction", "simulation": "simulate",
+                   "accuracy": "tolerances"}.get(what)   # (accuracy: registered by `plot`, tests/test_accuracy.py)
         if missing and missing not in eng.mech.extras and not (what == "dynamics" and eng.mech.dynamics):
             with pytest.raises(mbplanar.ModelError, match=rf"no \[{missing}\] section"):
                 plotting.make_figure(eng, what, count=13)

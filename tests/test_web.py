@@ -376,6 +376,29 @@ def test_a_panel_runs_the_cli_and_its_files_are_downloaded(client):
             assert why in receive_until(ws, "run_done", limit=200)["stderr"]
 
 
+def test_the_accuracy_panel_runs_the_command_and_offers_its_csv(client):
+    """The accuracy panel on a model with [tolerances]: the command's summary and its CSV; on a model
+    with a higher pair, the command's refusal naming the pair."""
+    (client.folder / "geared_five_bar.toml").write_text((MODELS / "geared_five_bar.toml").read_text(encoding="utf-8"),
+                                                        encoding="utf-8")
+    with client.websocket_connect(f"/ws?token={client.token}") as ws:
+        receive_until(ws, "welcome")
+        ws.send_text(json.dumps({"type": "open", "path": "fourbar.toml"}))
+        receive_until(ws, "picture")
+        ws.send_text(json.dumps({"type": "run", "id": "a", "command": "accuracy",
+                                 "values": {"samples": "200", "positions": "12", "output": "acc.csv"}}))
+        done = receive_until(ws, "run_done", limit=400)
+        assert done["code"] == 0 and [f["name"] for f in done["files"]] == ["acc.csv"]
+        csv = client.get(f"/{done['files'][0]['url']}?token={client.token}")
+        assert csv.status_code == 200 and "M.x" in csv.text.splitlines()[0]
+        assert len(csv.text.splitlines()) == 13
+        ws.send_text(json.dumps({"type": "open", "path": "geared_five_bar.toml"}))
+        receive_until(ws, "picture")
+        ws.send_text(json.dumps({"type": "run", "id": "b", "command": "accuracy", "values": {"samples": "10"}}))
+        done = receive_until(ws, "run_done", limit=400)
+        assert done["code"] == 2 and "higher pair G (gear)" in done["stderr"]
+
+
 def test_the_panels_forms_follow_the_cli_parser():
     from mbplanar.cli import build_parser
     from mbplanar.web._runs import argv, form

@@ -112,6 +112,11 @@ class JointLaw:
         self.links = joint.links
         self.s0 = np.array(joint.at, dtype=float) - np.asarray(centre, float)  # in the engine's frame
 
+    def point(self, link: str) -> np.ndarray:
+        """The joint's point in `link`'s frame: the drawn point on both links (a made mechanism's links
+        hold their own, `mbplanar.accuracy.made`)."""
+        return self.s0
+
     def place(self, pose: Pose, parent: str, child: str, q, relative: bool):
         raise NotImplementedError
 
@@ -131,10 +136,10 @@ class Revolute(JointLaw):
     kind = "R"
 
     def place(self, pose, parent, child, q, relative):
-        rho_p = pose.rot(parent, self.s0)
+        rho_p = pose.rot(parent, self.point(parent))
         th = pose.th[parent] + q if relative else q
         pose.place(child, th)
-        rho_c = pose.rot(child, self.s0)
+        rho_c = pose.rot(child, self.point(child))
         pose.r[child] = pose.r[parent] + rho_p - rho_c
         return rho_p, rho_c, perp(rho_p)[:, None], perp(rho_c)[:, None]
 
@@ -150,7 +155,7 @@ class Revolute(JointLaw):
 
     def closure(self, pose):
         a, b = self.links
-        rho_a, rho_b = pose.rot(a, self.s0), pose.rot(b, self.s0)
+        rho_a, rho_b = pose.rot(a, self.point(a)), pose.rot(b, self.point(b))
         return pose.r[a] + rho_a - pose.r[b] - rho_b, (rho_a, rho_b, perp(rho_a)[:, None], perp(rho_b)[:, None])
 
     def closure_rates(self, cache, rates, vel=None):
@@ -202,9 +207,9 @@ class Prismatic(JointLaw):
     def closure(self, pose):
         c, s = self.carrier, self.slider
         n = pose.rot(c, self.n0)
-        rho_s, rho_c = pose.rot(s, self.s0), pose.rot(c, self.s0)
+        rho_s, rho_c = pose.rot(s, self.point(s)), pose.rot(c, self.point(c))
         delta = pose.r[s] + rho_s - pose.r[c] - rho_c
-        out = np.empty((2, pose.batch))
+        out = np.empty((2, pose.batch), dtype=delta.dtype)
         out[0] = pose.th[s] - pose.th[c]
         out[1] = dot(n, delta)
         perps = perp(rho_s)[:, None], perp(rho_c)[:, None]

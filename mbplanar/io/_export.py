@@ -2,7 +2,8 @@
 and the report.
 
 `document(result)` and `table(result)` pick the builder for the result's type (an `Engine`: the model;
-a `Motion`: one position, or the sweep table; a `Kinetostatics`; a `Dynamics`; a `CheckReport`); the
+a `Motion`: one position, or the sweep table; a `Kinetostatics`; a `Dynamics`; a `CheckReport`; an
+`Accuracy`, which builds its own with `Accuracy.document` and `Accuracy.table`); the
 builders are public too, for their options. Documents hold plain floats (non-finite → None), ready for
 `json.dumps`; tables are (header, columns (B, k)), written by `write_csv`.
 
@@ -38,6 +39,7 @@ POSITION = "mbplanar.kinematics._single:Position"
 KINETOSTATICS = "mbplanar.forces._kinetostatics:Kinetostatics"
 DYNAMICS = "mbplanar.forces._dynamics:Dynamics"
 CHECK_REPORT = "mbplanar.analysis._check:CheckReport"
+ACCURACY = "mbplanar.accuracy.run:Accuracy"
 
 
 def is_a(obj, home: str) -> bool:
@@ -96,9 +98,18 @@ def _check_document(result, engine=None, units: str | None = None) -> dict:
     return _in_units(convert_check, engine, doc, units)
 
 
+def _accuracy_document(result, units: str | None = None) -> dict:
+    return result.as_dict() if units is None else result.document(units)
+
+
+def _accuracy_table(result, units: str | None = None):
+    return result.table(units)
+
+
 #: the builder of `document` for each result type (home → function)
 DOCUMENTS = {ENGINE: _engine_document, MOTION: _motion_document, POSITION: _position_document,
-             KINETOSTATICS: _forces_document, DYNAMICS: _dynamics_document, CHECK_REPORT: _check_document}
+             KINETOSTATICS: _forces_document, DYNAMICS: _dynamics_document, CHECK_REPORT: _check_document,
+             ACCURACY: _accuracy_document}
 
 
 def table(result, *args, **options):
@@ -127,7 +138,8 @@ def _dynamics_table(result, mech=None, units: str | None = None):
 
 
 #: the builder of `table` for each result type (home → function)
-TABLES = {MOTION: _motion_table, KINETOSTATICS: _forces_table, DYNAMICS: _dynamics_table}
+TABLES = {MOTION: _motion_table, KINETOSTATICS: _forces_table, DYNAMICS: _dynamics_table,
+          ACCURACY: _accuracy_table}
 
 
 def _finite(x):

@@ -17,7 +17,7 @@ from ._model import (ANGLE_UNITS, FOLLOWERS, HIGHER_KINDS, INERTIA_UNITS, LENGTH
 
 __all__ = ["Key", "Section", "MISSING", "UNITS", "DOCUMENT", "LINK", "JOINT", "POINT", "INPUT", "GRAVITY",
            "DYNAMICS", "FLYWHEEL", "PARAMETER", "LOAD_COMMON", "SWITCH", "LOADS", "GUIDE_LOADS", "CURVE", "HIGHER",
-           "SECTIONS"]
+           "TOLERANCE", "CLEARANCE", "TOLERANCES", "SECTIONS"]
 
 
 class _Missing:
@@ -46,6 +46,8 @@ UNITS = {
     "s": "seconds",
     "input": "the input's unit (deg, rad, or a length unit for a prismatic input)",
     "per input": "one value per input, in its unit",
+    "dimension": "the dimension's own unit: the length_unit for lengths and coordinates, degrees for a guide's "
+                 "angle, the input's unit for its zero, a parameter's unit for a parameter",
 }
 
 
@@ -337,6 +339,42 @@ PARAMETER = Section("parameter", "[parameters] entry", "a named design dimension
     COMMENT,
 ))
 
+# -- [tolerances]: the accuracy of the mechanism (mbplanar.accuracy, docs/accuracy.md) -------------------
+_BAND = {"anyOf": [{"type": "number", "minimum": 0},
+                   {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}]}
+TOLERANCE = Section("tolerance", "[tolerances] dimensions[]", "one toleranced dimension and its band", (
+    Key("name", "text", "the dimension: a parameter's name, links.L.length, links.L.P-Q, joints.J.x, joints.J.y, "
+        "joints.J.guide, joints.J.offset, points.P.x, .y, .fraction, .distance, .offset, or input.zero",
+        required=True),
+    Key("band", "custom", "a symmetric band ±b, or the deviations [lower, upper] (uniform between them)",
+        unit="dimension", schema=_BAND),
+    Key("sigma", "number", "or: the standard deviation of a normal distribution about the nominal value",
+        unit="dimension", minimum=0.0, message="'sigma' must not be negative, got {value:g}"),
+    COMMENT,
+))
+CLEARANCE = Section("clearance", "[tolerances] clearances[]", "the clearance of one pair", (
+    Key("joint", "text", "the pair (R or P)", required=True),
+    Key("clearance", "number", "R: the radial clearance (hole radius minus pin radius); P: the block's largest "
+        "offset across its guide", unit="length", required=True, minimum=0.0,
+        message="'clearance' must not be negative, got {value:g}"),
+    COMMENT,
+))
+TOLERANCES = Section("tolerances", "[tolerances]", "the mechanism's tolerances and clearances (docs/accuracy.md)", (
+    Key("dimensions", "rows", "the toleranced dimensions, one row each", section=TOLERANCE),
+    Key("clearances", "rows", "the pairs' clearances, one row each", section=CLEARANCE),
+    Key("outputs", "custom", "what is reported: points and joints (their x and y), links (their angle), or "
+        "X.x, X.y, L.angle, J.value", default_doc="every joint, point and moving link",
+        schema={"type": "array", "items": {"type": ["string", "integer"]}}),
+    Key("samples", "integer", "Monte Carlo samples", default=100000, minimum=1,
+        message="'samples' must be a whole number >= 1, got {value:g}"),
+    Key("seed", "integer", "the Monte Carlo's seed", default=0, minimum=0,
+        message="'seed' must be a whole number >= 0, got {value:g}"),
+    Key("positions", "integer", "positions over the cycle", default=360, minimum=2,
+        message="'positions' must be a whole number >= 2, got {value:g}"),
+    COMMENT,
+))
+
+
 # -- loads: the keys every row may have, then each type's -----------------------------------------------
 _NAME_OR_XY = {"anyOf": [_NAME_SCHEMA, _XY]}
 LOAD_COMMON = (
@@ -444,8 +482,10 @@ DOCUMENT = Section("document", "top level", "a mechanism's table of kinematic pa
     Key("friction", "table", "friction in the pairs (see docs/forces.md)", section="friction"),
     Key("simulate", "table", "the motion under given forces (see docs/forces.md)", section="simulate"),
     Key("synthesis", "any", "the summary of the synthesis that made the model (written by mbplanar synth)"),
+    Key("tolerances", "table", "tolerances and clearances, for mbplanar accuracy (see docs/accuracy.md)",
+        section=TOLERANCES),
 ))
 
 #: every section of the model layer by name (the cam's and the forces' sit beside their readers)
 SECTIONS = {s.name: s for s in (DOCUMENT, LINK, JOINT, POINT, INPUT, GRAVITY, DYNAMICS, FLYWHEEL, PARAMETER,
-                                *LOADS.values(), CURVE, *HIGHER.values())}
+                                TOLERANCES, TOLERANCE, CLEARANCE, *LOADS.values(), CURVE, *HIGHER.values())}

@@ -212,7 +212,7 @@ class Template:
             self.used.add(raw)
             self.uses.setdefault(raw, {}).setdefault("angle", where)
             return values[raw]
-        return np.radians(self._value(raw, "angle", values, where))
+        return self._value(raw, "angle", values, where) * (math.pi / 180.0)  # (np.radians' product; complex too)
 
     def _check_values(self, values: dict) -> dict:
         unknown = set(values) - set(self.parameters)
@@ -332,6 +332,72 @@ class Template:
             guide = row.get("guide")
             if guide is not None and not isinstance(guide, list) and _higher_kind(row) is None:
                 out[str(row.get("name"))] = self._value(guide, "angle", values, f"joints[{i}] guide")
+        return out
+
+    def link_lengths(self, values: dict) -> dict:
+        """Every declared link length for `values` (numbers or arrays, as `positions`), in the file's length
+        unit: (link, P, Q) → value, with P = Q = "" for a link's `length`."""
+        out = {}
+        for i, row in enumerate(r for r in _row_list(self.data, "links") if isinstance(r, dict)):
+            link = str(row.get("name"))
+            if "length" in row:
+                out[(link, "", "")] = self._value(row["length"], "length", values, f"links[{i}] length")
+            items = row.get("lengths") if isinstance(row.get("lengths"), list) else []
+            for k, item in enumerate(items):
+                if isinstance(item, list) and len(item) == 3:
+                    out[(link, str(item[0]), str(item[1]))] = self._value(item[2], "length", values,
+                                                                          f"links[{i}] lengths[{k}]")
+        return out
+
+    def point_fields(self, values: dict) -> dict:
+        """Each point's numbers for `values` (numbers or arrays): "x", "y" of a point given by `at`, or
+        "fraction", "distance", "offset" of one built along two others (lengths in the file's unit)."""
+        out = {}
+        for i, row in enumerate(r for r in _row_list(self.data, "points") if isinstance(r, dict)):
+            got = {}
+            if isinstance(row.get("at"), list) and len(row["at"]) == 2:
+                got["x"], got["y"] = (self._value(x, "length", values, f"points[{i}] at") for x in row["at"])
+            for key, kind in _POINT_FIELDS.items():
+                if key in row and key != "at":
+                    got[key] = self._value(row[key], kind, values, f"points[{i}] {key}")
+            out[str(row.get("name"))] = got
+        return out
+
+    def parameter_kinds(self) -> dict:
+        """The kinds of the fields each parameter stands for: "length", "angle", "input", "plain" (a
+        fraction), "mass", "inertia", "omega" or "drawn_at"."""
+        out: dict = {}
+
+        def note(raw, kind):
+            if isinstance(raw, str) and raw in self.parameters:
+                out.setdefault(raw, set()).add(kind)
+
+        for row in (r for r in _row_list(self.data, "links") if isinstance(r, dict)):
+            note(row.get("length"), "length")
+            note(row.get("mass"), "mass")
+            note(row.get("inertia"), "inertia")
+            for item in row.get("lengths") if isinstance(row.get("lengths"), list) else []:
+                if isinstance(item, list) and len(item) == 3:
+                    note(item[2], "length")
+        for row in (r for r in _row_list(self.data, "joints") if isinstance(r, dict)):
+            at = row.get("at")
+            if isinstance(at, list):
+                for x in at:
+                    note(x, "length")
+            elif isinstance(at, dict):
+                note(at.get("length"), "length")
+                note(at.get("angle"), "angle")
+            note(row.get("guide"), "angle")
+        for row in (r for r in _row_list(self.data, "points") if isinstance(r, dict)):
+            for x in row.get("at") if isinstance(row.get("at"), list) else []:
+                note(x, "length")
+            note(row.get("fraction"), "plain")
+            note(row.get("distance"), "length")
+            note(row.get("offset"), "length")
+        for row in (r for r in _input_rows(self.data) if isinstance(r, dict)):
+            note(row.get("zero"), "input")
+            note(row.get("drawn_at"), "drawn_at")
+            note(row.get("omega"), "omega")
         return out
 
     def input_zero(self, values: dict) -> list:

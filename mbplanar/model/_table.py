@@ -327,11 +327,11 @@ def _read_units(top: Row) -> Units:
     return Units(*chosen)
 
 
-# Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, the gears, friction and
-# simulate (mbplanar.cam, mbplanar.gears, mbplanar.forces.read_friction and read_simulate read and check
-# theirs); `synthesis`: the summary a synthesised model carries (mbplanar.synthesis.report shows it in the
-# report).
-_EXTRA_SECTIONS = ("plot", "description", "cam", "gears", "friction", "simulate", "synthesis")
+# Sections kept raw in `Mechanism.extras` for the pictures, the report, the cam, the gears, friction,
+# simulate and the tolerances (mbplanar.cam, mbplanar.gears, mbplanar.forces.read_friction and
+# read_simulate, mbplanar.accuracy read and check theirs); `synthesis`: the summary a synthesised model
+# carries (mbplanar.synthesis.report shows it in the report).
+_EXTRA_SECTIONS = ("plot", "description", "cam", "gears", "friction", "simulate", "synthesis", "tolerances")
 
 
 def _read_links(mech: Mechanism, rows, unit) -> dict[str, str]:

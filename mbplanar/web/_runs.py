@@ -26,7 +26,7 @@ from ._files import Refused
 __all__ = ["PANELS", "EXPORTS", "form", "argv", "Run"]
 
 #: the panels, in the page's order
-PANELS = ("info", "check", "forces", "dynamics", "cam", "study", "synth", "simulate", "balance")
+PANELS = ("info", "check", "forces", "dynamics", "cam", "study", "accuracy", "synth", "simulate", "balance")
 #: the exports of the file menu: the command each runs and the options the page fills in
 EXPORTS = ("report", "animate", "sweep", "plot")
 #: options whose value is a file the command reads (positional `model`/`file` is the editor's model), and
@@ -36,7 +36,7 @@ READS = {"variants": None, "start": "simulate", "input": None, "model": None}
 WRITES = {"output": "{model}.{ext}", "dxf": "profile.dxf", "svg": "profile.svg", "plot_output": "picture.png",
           "curve": "curves.csv"}
 OUTPUT_EXT = {"sweep": "csv", "dynamics": "csv", "simulate": "csv", "cam": "csv", "synth": "toml",
-              "study": "csv", "report": "html", "animate": "html", "plot": "png"}
+              "study": "csv", "accuracy": "csv", "report": "html", "animate": "html", "plot": "png"}
 CANCEL_GRACE = 5.0        # seconds between Ctrl-C and the end of a cancelled run
 
 
