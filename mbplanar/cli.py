@@ -41,20 +41,21 @@ def _load(args):
     from .engine._cache import load_engine
     engine = load_engine(args.model, backend=args.backend, threads=args.threads,
                          use_cache=not getattr(args, "no_cache", False))
-    if args.backend != "numpy":   # a backend that takes none of this model's batches says why, once
-        why = getattr(engine.compiled, "declines", lambda e: None)(engine)
+    if args.backend != "numpy":   # kernels that take none of this model's jobs: why, once (the seam logs each)
+        from .engine._tables import kernels_decline
+        why = kernels_decline(engine.mech)
         if why:
             print(f"mbplanar: note: backend {args.backend}: {why}", file=sys.stderr)
-            engine.compiled = None
     return engine
 
 
-def _numpy_unless_it_pays(engine, positions: int) -> None:
-    """Leave the compiled backend out of a command of `positions` positions where loading it would cost
-    this process more than it saves (the backend's `pays`: numba's own start is ~0.6 s, a position saves
-    ~1 µs); the answers are the same to rounding."""
-    if not getattr(engine.compiled, "pays", lambda n: True)(positions):
-        engine.compiled = None
+def _plan(positions: int) -> None:
+    """Tell the backends that this command (one per process) solves `positions` positions: a backend
+    whose loading costs more than it saves then declines (`Backend.should_run`; numba's own start is
+    ~0.8 s, a position saves ~1 µs); the answers are the same to rounding. `_run` forgets the plan
+    when the command ends."""
+    from .engine._backend import planned
+    planned.positions = positions
 
 
 def _positive_int(text) -> int:
@@ -126,7 +127,7 @@ def _on_engine(target: str, positions: int | None = None, checks_first: bool = F
             return _imported(target)(args, lambda: _load(args))
         engine = _load(args)
         if positions is not None:
-            _numpy_unless_it_pays(engine, positions)
+            _plan(positions)
         return _imported(target)(engine, args)
     return run_command
 
@@ -142,7 +143,7 @@ def cmd_sweep(args):
     from .io.sweep import plan, sweep
     engine = _load(args)
     planned = plan(engine, args)
-    _numpy_unless_it_pays(engine, planned[0])
+    _plan(planned[0])
     return sweep(engine, planned, args)
 
 
@@ -464,8 +465,10 @@ def _run(args) -> tuple[int, str | None]:
     """Run the command: its exit status, and the error's one-line message (None on success). mbplanar's
     errors map to their exit status (2 bad input, 1 cannot move); a closed standard output (a pipe into
     `head`) ends quietly with status 0."""
+    from .engine._backend import planned
     try:
-        return args.func(args), None
+        with planned(None):
+            return args.func(args), None
     except BrokenPipeError:
         return _quiet_broken_pipe(), None
     except KeyboardInterrupt:  # (the long commands say what they wrote: `Interrupted`)
