@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .clearance import ClearanceErrors, clearance_errors
-from .geometry import DesignSpace, refuse_higher
+from .geometry import DesignSpace
 from .montecarlo import MonteCarlo, monte_carlo
 from .sensitivity import Sensitivities, resolve_outputs, sensitivities
 from .spec import ToleranceSpec, read_tolerances
@@ -88,7 +88,6 @@ def load(model, backend: str = "numpy"):
 
     template = load_template(model)
     raw = parse_model(template.bind(), source=template.source)
-    refuse_higher(raw)
     return template, raw, Engine(raw, backend=backend)
 
 
