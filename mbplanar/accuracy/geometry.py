@@ -176,6 +176,7 @@ class DesignSpace:
         self.names = tuple(d.name for d in self.dimensions)
         self._nominal_template = None
         self._derivatives = None
+        self.derived = {n for n in mech.higher if higher.derived_radius(template, n)}
         if template is not None and any(d.kind == "parameter" for d in self.dimensions):
             self._nominal_template = _template_numbers(template, template.defaults())
         self._check_lengths()
@@ -246,7 +247,7 @@ class DesignSpace:
         made = {}
         for name, changes in pairs.items():
             made[name] = higher.nominal_numbers(self.engine, name, count, dtype)
-            higher.apply(self.engine, name, made[name], changes, side, point)
+            higher.apply(self.engine, name, made[name], changes, side, point, name in self.derived)
         return Sided(side, guide, point, zero, alpha, ok, made)
 
     def derivatives(self) -> Sided:
@@ -525,7 +526,7 @@ def catalogue(engine, raw, template=None, shapes=None) -> dict:
             for what, v in _along_fields(p).items():
                 add(f"points.{name}.{what}", "point", (name, what), "plain" if what == "fraction" else "length",
                     1.0 if what == "fraction" else length, v if what == "fraction" else v / length)
-    higher.higher_dimensions(engine, add)
+    higher.higher_dimensions(engine, add, template)
     several = len(mech.inputs) > 1
     for i, inp in enumerate(mech.inputs):
         add(f"inputs.{inp.joint}.zero" if several else "input.zero", "zero", (i,), inp.unit, inp.scale, inp.zero)

@@ -41,12 +41,23 @@ def _deg(v) -> float:
     return math.degrees(math.atan2(v[1], v[0]))
 
 
-def higher_dimensions(engine, add):
+def derived_radius(template, name) -> bool:
+    """Whether slot `name`'s circle takes its radius from the pin (its table gives none: the pin's distance
+    from the centre, which then follows the pin and the centre as editing the table would)."""
+    if template is None:
+        return False
+    for pair, kind, row in _higher_rows(template):
+        if pair == name:
+            return kind == "slot" and isinstance(row.get("path"), dict) and "radius" not in row["path"]
+    return False
+
+
+def higher_dimensions(engine, add, template=None):
     """Offer every higher pair's dimensions through `add(name, kind, target, unit, scale, nominal)`
     (kind "higher", target (pair, what)): a gear's `radius_a`, `radius_b`; a rack's `radius`, `guide`,
     `x`, `y` (its pitch point on the rack); a cam's `radius` (roller, circle), `face` (flat), a cam's or
     slot's `x`, `y` (its point drawn as [x, y]); a circle's `profile.x`, `.y`, `.radius` (cam) or
-    `path.x`, `.y`, `.radius` (slot)."""
+    `path.x`, `.y`, `.radius` (slot; no radius where the table takes it from the pin)."""
     mech = engine.mech
     length = mech.units.length_scale
     deg = math.pi / 180.0
@@ -76,8 +87,9 @@ def higher_dimensions(engine, add):
             for k, word in enumerate("xy"):
                 add(f"{head}.{key}.{word}", "higher", (name, "centre", k), "length", length,
                     h.curve.centre[k] / length)
-            add(f"{head}.{key}.radius", "higher", (name, "curve_radius", 0), "length", length,
-                h.curve.radius / length)
+            if not derived_radius(template, name):
+                add(f"{head}.{key}.radius", "higher", (name, "curve_radius", 0), "length", length,
+                    h.curve.radius / length)
 
 
 def _curve_of(law):
@@ -123,10 +135,11 @@ def _turned(u, t):
     return np.stack([c * u[0] - s * u[1], s * u[0] + c * u[1]])
 
 
-def apply(engine, name, out: dict, changes: dict, side: dict, point: dict):
+def apply(engine, name, out: dict, changes: dict, side: dict, point: dict, derived: bool = False):
     """The made numbers `out` of pair `name` with the changes of its own dimensions (`changes`: what →
     (2, D) or (D,) array, "at", "radius", "guide", "face", "centre", "curve_radius") and the made points
-    of its links (`side`, `point` of `geometry.Sided`) where the law holds a joint's or a point's."""
+    of its links (`side`, `point` of `geometry.Sided`) where the law holds a joint's or a point's;
+    `derived`: a slot's radius is the pin's distance from the centre (`derived_radius`)."""
     law = engine.laws[name]
     h = law.pair
     if law.kind == "gear":
@@ -157,6 +170,9 @@ def apply(engine, name, out: dict, changes: dict, side: dict, point: dict):
     if "centre" in out:
         out["centre"] = out["centre"] + changes.get("centre", 0.0)
         out["curve_radius"] = out["curve_radius"] + changes.get("curve_radius", 0.0)
+        if derived:
+            d = out["at"] - out["centre"]
+            out["curve_radius"] = np.sqrt(d[0] * d[0] + d[1] * d[1])
 
 
 # -- curves with a value per batch element -------------------------------------------------------------
@@ -267,7 +283,7 @@ def sources(engine, pose, nominal: dict, deriv: dict, columns: int, step: float)
         law = engine.laws[name]
         moved = np.zeros(columns, bool)
         for v in d.values():
-            moved |= np.any(np.abs(v.reshape(-1, columns)) > 0, axis=0)
+            moved |= np.any(np.abs(v.reshape(-1, columns)) > 0, axis=0) if columns else moved
         cols = np.flatnonzero(moved)
         if not len(cols):
             continue
