@@ -144,6 +144,41 @@ def test_sensitivities_match_central_differences_of_made_designs(path):
     output to that dimension over the positions (1e-3 of the dimension's largest, for the outputs it
     hardly moves; a dimension that moves nothing to first order, a rack's pitch point across its line, a
     scotch yoke's pin along its slot: differences below 1e-9 of the model's largest sensitivity)."""
+    _check_against_differences(path, STEPS.get(path.stem, 1e-4))
+
+
+CAMS = {
+    "flat": '{ name = "K", type = "cam", links = ["cam", "f"], follower = "flat", face = 0.0, at = [0.0, 0.06], '
+            'profile = { centre = [0.02, 0.0], radius = 0.06 } }',
+    "knife": '{ name = "K", type = "cam", links = ["cam", "f"], follower = "knife", at = [0.01, 0.07533923280734944], '
+             'profile = { centre = [0.02, 0.0], radius = 0.076 } }',
+    "circle": '{ name = "K", type = "cam", links = ["cam", "f"], follower = "circle", radius = 0.015, at = "T", '
+              'profile = { centre = [0.02, 0.0], radius = 0.06 } }',
+}
+
+
+@pytest.mark.parametrize("follower", list(CAMS))
+def test_the_other_followers_against_central_differences(follower):
+    """An eccentric disc (e = 20 mm, R = 60 mm) with a translating flat-faced follower (the face's
+    direction and point toleranced), an offset knife (its tip drawn as [x, y]) and a circular face on a
+    point of the follower: every dimension against the central differences of made designs, as above."""
+    model = f"""
+        name = "cam_{follower}"
+        links = [ {{ name = "cam" }}, {{ name = "f" }} ]
+        joints = [
+          {{ name = "O", type = "R", links = ["0", "cam"], at = [0.0, 0.0] }},
+          {{ name = "F", type = "P", links = ["0", "f"], at = [0.0, 0.06], guide = 80.0 }},
+          {CAMS[follower]},
+        ]
+        points = [ {{ name = "T", link = "f", at = [0.002270069465426503, 0.07287420368854261] }} ]
+        [input]
+        joint = "O"
+        """
+    import tomllib
+    _check_against_differences(tomllib.loads(model), 1e-3)
+
+
+def _check_against_differences(path, h):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         template, raw, engine = load(path)
@@ -154,7 +189,6 @@ def test_sensitivities_match_central_differences_of_made_designs(path):
     outputs = resolve_outputs(engine.mech)
     sens = sensitivities(space, phi, outputs)
     assert sens.success
-    h = STEPS.get(path.stem, 1e-4)
     K = len(names)
     steps = np.array([h * engine.size if d.unit in ("length", "m", "mm", "cm") else h for d in space.dimensions])
     delta = np.zeros((4 * K, K))
@@ -661,6 +695,18 @@ def _moved(tmp_path, name, offset):
     path = tmp_path / f"{name}_{offset:g}.toml"
     path.write_text(text, encoding="utf-8")
     return path
+
+
+def test_a_higher_pair_model_far_from_the_origin_gives_the_origins_answers(tmp_path):
+    """models/rack_pinion.toml moved 10⁶ m: the rack's radius, line and pitch point and a rod's length give
+    the sensitivities (1e-6 relative, measured 1e-9) and the Monte Carlo's σ (1e-5, measured 2e-7) found
+    at the origin."""
+    spec = ToleranceSpec(tuple(Tolerance(d, -1e-5, 1e-5) for d in ("joints.K.radius", "joints.K.guide",
+                                                                    "joints.K.x", "links.2.length")),
+                         outputs=("4", "B"), samples=300, positions=24)
+    near, far = (accuracy(path, spec=spec) for path in (MODELS / "rack_pinion.toml", _moved(tmp_path, "rack_pinion", 1e6)))
+    assert np.abs(far.sensitivities.d - near.sensitivities.d).max() <= 1e-6 * np.abs(near.sensitivities.d).max()
+    assert np.abs(far.monte_carlo.std - near.monte_carlo.std).max() <= 1e-5 * np.abs(near.monte_carlo.std).max()
 
 
 @pytest.mark.parametrize("backend", ["numpy", "numba"])

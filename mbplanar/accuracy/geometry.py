@@ -7,8 +7,9 @@ slider) and its points of interest, in its own frame. `Sided` holds them for a b
 the frames of the nominal drawn pose (link frames that coincide there with the engine's, centred on `Engine.centre`): `side[(J, L)]`
 (2, D) is joint J's point on link L, `guide[J]` (2, D) a prismatic pair's direction on its carrier,
 `point[P]` (2, D) a point of interest on its link, `zero` (n_in, D) each input's zero (the joint value
-at φ = 0, SI) and `alpha[L]` (D,) the direction of link L's reference line in its frame (its reported
-angle is the frame's rotation plus alpha). Nominally every joint's two points coincide.
+at φ = 0, SI), `alpha[L]` (D,) the direction of link L's reference line in its frame (its reported
+angle is the frame's rotation plus alpha) and `higher[H]` a higher pair's made numbers (`higher.py`).
+Nominally every joint's two points coincide.
 
 `DesignSpace.sided(delta)` builds the made geometry from deviations `delta` (D, K) of the K toleranced
 dimensions (SI), by the table's own rules:
@@ -26,6 +27,9 @@ dimensions (SI), by the table's own rules:
 - ``points.P.x``, ``.y``: the point moves on its link; ``.fraction``, ``.distance``, ``.offset``: the point
   is built along its two points with the new value.
 - ``input.zero`` (``inputs.J.zero`` with several inputs): the driven joint's value at φ = 0.
+- a higher pair's numbers (``joints.G.radius_a``, ``joints.K.radius``, ``joints.K.guide``, ``joints.K.x``,
+  ``joints.K.face``, ``joints.K.profile.radius``, ...): the numbers its law holds (`higher.py`), in
+  `Sided.higher`.
 - a parameter's name: every field the parameter stands for changes as the template computes it (a polar
   placement moves the joints placed from it, and so on), each field with the meaning above.
 
@@ -61,7 +65,8 @@ class Dimension:
 
     `kind`: "length" (target (link, entry index)), "coordinate" (joint, axis), "guide" (joint), "offset"
     (joint), "point" (point, field: "x", "y", "fraction", "distance", "offset"), "zero" (input index),
-    "parameter" (its name). `unit`: "length", "deg", "rad", "input", "plain" or a parameter's unit word;
+    "higher" (a higher pair, its number: "radii", "radius", "guide", "at", "face", "centre",
+    "curve_radius", entry index; `higher.higher_dimensions`), "parameter" (its name). `unit`: "length", "deg", "rad", "input", "plain" or a parameter's unit word;
     `scale`: SI per unit (a band of b units is b·scale in SI); `nominal`: the nominal value, in its unit.
     """
 
@@ -76,7 +81,8 @@ class Dimension:
 @dataclass
 class Sided:
     """The made geometry of D designs (see the module docstring); arrays may be complex (the complex step).
-    `ok` (D,): the designs whose link shapes could be met."""
+    `ok` (D,): the designs whose link shapes could be met; `higher`: each higher pair's made numbers
+    (`higher.nominal_numbers`' keys, designs last)."""
 
     side: dict
     guide: dict

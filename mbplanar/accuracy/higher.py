@@ -30,11 +30,8 @@ import numpy as np
 
 from ..model._curves import Circle, Offset, Shape
 
-__all__ = ["higher_dimensions", "nominal_numbers", "made_law", "MadePairs", "sources", "FIELDS"]
-
-# what each higher pair's made numbers hold (the keys of `nominal_numbers`)
-FIELDS = {"gear": ("radii",), "rack": ("radius", "at", "line", "centre"),
-          "point": ("at", "radius", "centre", "curve_radius"), "face": ("at", "normal", "centre", "curve_radius")}
+__all__ = ["higher_dimensions", "nominal_numbers", "apply", "made_law", "MadePairs", "sources", "derived_radius",
+           "parameter_kinds", "template_numbers"]
 
 
 def _deg(v) -> float:
@@ -81,7 +78,8 @@ def higher_dimensions(engine, add, template=None):
             add(f"{head}.radius", "higher", (name, "radius", 0), "length", length, h.radius / length)
         if h.kind == "cam" and h.follower == "flat":
             n = law.geometry.normal
-            add(f"{head}.face", "higher", (name, "face", 0), "deg", deg, _deg((n[1], -n[0])))
+            face = math.degrees(h.face) if h.face is not None else _deg((n[1], -n[0]))
+            add(f"{head}.face", "higher", (name, "face", 0), "deg", deg, face)
         if h.curve.kind == "circle":
             key = "profile" if h.kind == "cam" else "path"
             for k, word in enumerate("xy"):

@@ -12,7 +12,9 @@ changes in each joint law at fixed q, analytically:
 - a prismatic pair: the line point's and the slider point's moves across the guide, n·(R_s·δs_s − R_c·δs_l),
   and the guide's turn δγ times perp(n)·Δ (Δ the slider point from the line point), or, as a tree joint,
   R_c·δs_l − R_s·δs_s + q·δγ·perp(u);
-- the input: δzero − δα_b + δα_a (its value is measured between the links' reference lines).
+- the input: δzero − δα_b + δα_a (its value is measured between the links' reference lines);
+- a higher pair (gear, rack, cam, slot; always a cut): its residuals' change with its made numbers at fixed
+  q and contact parameter, by the complex step through the law's own closure (`higher.sources`).
 
 The pass reuses each block's factorised Jacobian from the position solve (the factorisation the rates
 use) and its sensitivities of the links' rates to the block's unknowns; its cost is that of a rate
