@@ -494,7 +494,8 @@ def _template_numbers(template, values) -> dict:
 
 def catalogue(engine, raw, template=None, shapes=None) -> dict:
     """Every dimension of a model that a tolerance may name, by name (`Dimension`), in the model's order:
-    lengths, joints' coordinates, guides and offsets, points, the inputs' zeros, then the parameters. A
+    lengths, joints' coordinates, guides and offsets, points, the higher pairs' numbers, the inputs'
+    zeros, then the parameters. A
     coordinate that every link's lengths fix (it changes nothing) is left out."""
     mech = engine.mech
     units = mech.units
