@@ -229,6 +229,48 @@ def _check_against_differences(path, h):
                                    err.max())
 
 
+def test_planetary_train_against_its_gear_laws_solved_and_differentiated_by_hand():
+    """models/planetary.toml (sun r1 on the input, planet on the carrier H, fixed ring r3): the laws
+    r1(θ1 − θH) + r2'(θ2 − θH) = 0 and r2(θ2 − θH) + r3·θH = 0 (r2' and r2 the planet's radius in each mesh)
+    give θH = r1·r2·θ1 / D, D = r1·r2 + r3·r2', and θ2 = θH(1 − r3/r2); their partial derivatives by hand
+    against the sensitivities of H's and the planet's angles to the four radii, to 1e-12."""
+    template, raw, engine = load(MODELS / "planetary.toml")
+    names = ["joints.G12.radius_a", "joints.G12.radius_b", "joints.G23.radius_a", "joints.G23.radius_b"]
+    space = DesignSpace(engine, raw, template, names)
+    phi = engine.phi_drawn[0] + np.radians([-200.0, -35.0, 10.0, 95.0, 400.0])
+    sens = sensitivities(space, phi, resolve_outputs(engine.mech, ["H", "2"]))
+    r1, r2p, r2, r3 = 0.02, 0.046, 0.046, 0.112
+    t1 = phi - engine.phi_drawn[0]
+    d = r1 * r2 + r3 * r2p
+    th = r1 * r2 * t1 / d
+    dth = {"r1": r2 * r3 * r2p * t1 / d ** 2, "r2p": -r1 * r2 * r3 * t1 / d ** 2, "r2": r1 * r3 * r2p * t1 / d ** 2,
+           "r3": -r1 * r2 * r2p * t1 / d ** 2}
+    f = 1 - r3 / r2
+    dplanet = {"r1": dth["r1"] * f, "r2p": dth["r2p"] * f, "r2": dth["r2"] * f + th * r3 / r2 ** 2,
+               "r3": dth["r3"] * f - th / r2}
+    for k, key in enumerate(["r1", "r2p", "r2", "r3"]):
+        for y, hand in enumerate((dth[key], dplanet[key])):
+            assert np.max(np.abs(sens.d[:, y, k] - hand)) <= 1e-12 * np.max(np.abs(hand)), (key, y)
+
+
+def test_rack_and_pinion_against_the_rolled_length():
+    """models/rack_pinion.toml: the pinion turns by θ4 = ∓s/r for the rack's travel s (checked), so
+    ∂θ4/∂r = −θ4/r, and its sensitivity to the crank's length is ∓(∂x_B/∂l₁)/r, x_B the rack's point; to
+    1e-12."""
+    template, raw, engine = load(MODELS / "rack_pinion.toml")
+    space = DesignSpace(engine, raw, template, ["joints.K.radius", "links.1.length"])
+    phi = np.radians([20.0, 75.0, 130.0, 250.0, 320.0])
+    sens = sensitivities(space, np.concatenate([phi, engine.phi_drawn]),
+                         resolve_outputs(engine.mech, ["4.angle", "B.x"]))
+    turn = sens.value[:-1, 0] - sens.value[-1, 0]
+    travel = sens.value[:-1, 1] - sens.value[-1, 1]
+    r = 0.025
+    side = -np.sign(turn[0] * travel[0])           # the pinion's side of the rack: θ4 = −side·s/r
+    assert np.allclose(turn, -side * travel / r, rtol=1e-12, atol=0)
+    assert np.max(np.abs(sens.d[:-1, 0, 0] + turn / r)) <= 1e-12 * np.max(np.abs(turn / r))
+    assert np.max(np.abs(sens.d[:-1, 0, 1] + side * sens.d[:-1, 1, 1] / r)) <= 1e-12 * np.max(np.abs(sens.d[:, 0, 1]))
+
+
 # -- the meaning of a dimension is the table's --------------------------------------------------------
 def _edited(data, dim, h):
     data = copy.deepcopy(data)
