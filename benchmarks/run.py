@@ -17,6 +17,10 @@ after the case), so that the load of the moment cancels. The compiled backend ru
 (`mbplanar solve`, `import mbplanar` alone and with its first use, numba's cold and warm start) are medians
 of subprocess runs.
 
+Beside them, the paths that must cost about what the fastest one does (no cliffs): the analogues vq, aq
+read after `analyse` against v, a; `analyse` of one value [φ] against `position`; the numpy backend's one
+position.
+
 `--json FILE` writes the run ('-': stdout), `--docs` rewrites the table in docs/speed.md from
 benchmarks/latest.json, `--study` runs the design-study cases (benchmarks/study.py).
 """
@@ -76,14 +80,18 @@ TARGETS = [  # (label, case name, work, column, limit)
     ("six-bar with reactions, µs/position", "six_bar_press", "reactions", "mbplanar_us", 1.2),
     ("class IV group with reactions, µs/position", "class4_group", "reactions", "mbplanar_us", 2.5),
     ("one position with velocities and accelerations, µs", "fourbar", "one position", "mbplanar_us", 10.0),
+    # no cliffs: the paths beside the fastest cost about as much
+    ("reading the analogues vq, aq after analyse, × reading v, a", "fourbar", "analogues", "ratio_to_real", 1.1),
+    ("analyse of one value [φ], × position()", "fourbar", "one position", "analyse_ratio", 1.5),
+    ("numpy backend's one position, µs", "fourbar", "one position", "position_numpy_us", 100.0),
     # processes: CPU time of the child (on a loaded shared machine its wall time is 2 to 3 times longer)
     ("mbplanar solve end to end, CPU s", "fourbar", "mbplanar solve", "cpu_s", 0.25),
     ("numba cold start over numpy, CPU s", "fourbar_loaded", "numba cold start", "cpu_s", 5.0),
     ("numba warm start over numpy, CPU s", "fourbar_loaded", "numba warm start", "cpu_s", 0.3),
     ("import mbplanar, CPU s", "mbplanar", "import", "cpu_s", 0.2),
-    ("four-bar positions, × pylinkage+numba", "fourbar", "positions", "pylinkage_ratio", 1.0),
+    ("four-bar positions, × pylinkage+numba", "fourbar", "positions", "pylinkage_ratio", 0.9),
     ("four-bar positions + velocities + accelerations, × pylinkage+numba", "fourbar", "kinematics",
-     "pylinkage_ratio", 1.0),
+     "pylinkage_ratio", 0.6),
 ]
 
 
@@ -165,8 +173,17 @@ def read_reactions(result) -> float:
 
 
 def positions_request() -> dict:
-    """Keyword arguments of `analyse` that ask for positions only, where this version has them."""
-    return {"rates": False} if "rates" in inspect.signature(mbplanar.analyse).parameters else {}
+    """Keyword arguments of `analyse` that ask for positions only (every point's x, y and every link's
+    angle, none of the optional outputs: what the baselines produce), where this version has them."""
+    parameters = inspect.signature(mbplanar.analyse).parameters
+    return {"rates": False, **({"outputs": ()} if "outputs" in parameters else {})} if "rates" in parameters else {}
+
+
+def kinematics_request() -> dict:
+    """Keyword arguments of `analyse` that ask for the points' velocities and accelerations beside the
+    positions and angles (none of the other optional outputs: what the baselines produce), where this
+    version has them."""
+    return {"outputs": ("v", "a")} if "outputs" in inspect.signature(mbplanar.analyse).parameters else {}
 
 
 def mbplanar_call(engine, phi, work):
@@ -175,7 +192,8 @@ def mbplanar_call(engine, phi, work):
         request = positions_request()
         return lambda: read_motion(mbplanar.analyse(engine, phi, **request), rates=False)
     if work == "kinematics":
-        return lambda: read_motion(mbplanar.analyse(engine, phi))
+        request = kinematics_request()
+        return lambda: read_motion(mbplanar.analyse(engine, phi, **request))
     return lambda: read_reactions(mbplanar.kinetostatics(engine, mbplanar.analyse(engine, phi)))
 
 
@@ -327,12 +345,12 @@ def sweep_cases(n, rounds, burst, plk=None):
         phi = full_turn(found["numpy"], n)
         columns = {f"{b}_us": mbplanar_call(e, phi, work) for b, e in found.items()}
         if "numba" in found and work != "reactions":  # analyse alone, the lazily derived arrays unread
-            request = positions_request() if work == "positions" else {}
+            request = positions_request() if work == "positions" else kinematics_request()
             columns["analyse_only_us"] = lambda e=found["numba"], phi=phi, r=request: mbplanar.analyse(e, phi, **r)
         closed = closed_form(name, found["numpy"])
         if closed is not None and work != "reactions":
             only = work == "positions"
-            ref, request = closed(phi, only), positions_request() if only else {}
+            ref, request = closed(phi, only), positions_request() if only else kinematics_request()
             for e in found.values():
                 check_equal_work(mbplanar.analyse(e, phi, **request), ref, rates=not only)
             columns["closed_form_us"] = lambda closed=closed, phi=phi, only=only: cf.read(closed(phi, only))
@@ -383,6 +401,8 @@ def one_position_cases(rounds, burst, plk_one=None):
             if b != "numba_2t":
                 check_equal_work(lean(e, phi), ref, rates=True)
                 columns[f"position_{b}_us"] = lambda e=e: read_one(lean(e, phi))
+        # `analyse` of a batch of one value, beside `position` (no cliff between them)
+        columns["analyse_list_us"] = lambda e=found[BEST]: read_one(mbplanar.analyse(e, [phi]))
     if plk_one is not None:
         columns["pylinkage_us"] = plk_one
     for call in columns.values():
@@ -393,6 +413,31 @@ def one_position_cases(rounds, burst, plk_one=None):
         row[column] = 1e6 * statistics.median(times)
     # the target is met through the public API's fastest path
     finish(row, seen, min((k for k in seen if k != "pylinkage_us"), key=row.get))
+    if lean is not None:
+        row["analyse_ratio"] = statistics.median(a / b for a, b in zip(seen["analyse_list_us"],
+                                                                       seen[f"position_{BEST}_us"]))
+    return row
+
+
+def analogue_case(n, rounds, burst):
+    """The four-bar's sweep on the compiled backend (one core), its velocity and acceleration analogues
+    read after `analyse` (`vq`, `aq`), beside the same sweep with its real velocities and accelerations
+    read (`v`, `a`): reading the one costs what reading the other does (µs per position; the ratio, the
+    median over the rounds of the ratios within a round)."""
+    engine = engines_of("fourbar")[BEST]
+    phi = full_turn(engine, n)
+
+    def read(names):
+        return lambda: sum(float(getattr(m, name).sum()) for m in [mbplanar.analyse(engine, phi)] for name in names)
+    columns = {"analogues_us": read(("xy", "angle", "vq", "aq")), "real_us": read(("xy", "angle", "v", "a"))}
+    for call in columns.values():
+        call()
+    row = dict(name="fourbar", work="analogues", n=n, backend=BEST, headline="analogues_us")
+    seen = dict(zip(columns, in_rounds(list(columns.values()), rounds, burst)))
+    for column, times in seen.items():
+        row[column] = 1e6 * statistics.median(times) / n
+    row["mbplanar_us"] = row["analogues_us"]
+    row["ratio_to_real"] = statistics.median(a / b for a, b in zip(seen["analogues_us"], seen["real_us"]))
     return row
 
 
@@ -542,7 +587,14 @@ def markdown(doc) -> str:
     if one:
         lines += ["", "One position of the four-bar with velocities and accelerations of every point, µs per "
                   "call: " + ", ".join(f"{k[:-3].replace('_', ' ')} {fmt(v)}" for k, v in one.items()
-                                       if k.endswith("_us") and k != "mbplanar_us" and v is not None) + "."]
+                                       if k.endswith("_us") and k != "mbplanar_us" and v is not None) + "."
+                  + (f" `analyse` of [φ] over `position`: × {fmt(one['analyse_ratio'])}." if one.get("analyse_ratio")
+                     else "")]
+    analogues = next((c for c in doc["cases"] if c["work"] == "analogues"), None)
+    if analogues:
+        lines += ["", f"The four-bar's sweep with its analogues vq, aq read after `analyse`: "
+                  f"{fmt(analogues['analogues_us'])} µs per position; with v, a read: {fmt(analogues['real_us'])} "
+                  f"(× {fmt(analogues['ratio_to_real'])})."]
     procs = [c for c in doc["cases"] if "seconds" in c]
     if procs:
         lines += ["", "New processes, medians of the rounds (s; the cold start is one process, and the cold and "
@@ -654,6 +706,10 @@ def main(argv=None):
     one = one_position_cases(rounds, 20, plk[2] if plk else None)
     print("  " + ", ".join(f"{k[:-3]} {v:.1f}" for k, v in one.items() if k.endswith("_us") and v is not None))
     cases.append(one)
+    analogues = analogue_case(n, rounds, 3)
+    print(f"analogues read after analyse (four-bar): vq, aq {analogues['analogues_us']:.3f} µs/position, v, a "
+          f"{analogues['real_us']:.3f}; × {analogues['ratio_to_real']:.3f}")
+    cases.append(analogues)
     print("processes:")
     cases += process_cases(3 if quick else 7, cold=not quick)
     slopes = slopes4 = None

@@ -53,20 +53,21 @@ def _load(args):
     from .engine._cache import load_engine
     engine = load_engine(args.model, backend=args.backend, threads=args.threads,
                          use_cache=not getattr(args, "no_cache", False))
-    if args.backend != "numpy":   # a backend that takes none of this model's batches says why, once
-        why = getattr(engine.compiled, "declines", lambda e: None)(engine)
+    if args.backend != "numpy":   # kernels that take none of this model's jobs: why, once (the seam logs each)
+        from .engine._tables import kernels_decline
+        why = kernels_decline(engine.mech)
         if why:
             print(f"mbplanar: note: backend {args.backend}: {why}", file=sys.stderr)
-            engine.compiled = None
     return engine
 
 
-def _numpy_unless_it_pays(engine, positions: int) -> None:
-    """Leave the compiled backend out of a command of `positions` positions where loading it would cost
-    this process more than it saves (the backend's `pays`: numba's own start is ~0.6 s, a position saves
-    ~1 µs); the answers are the same to rounding."""
-    if not getattr(engine.compiled, "pays", lambda n: True)(positions):
-        engine.compiled = None
+def _plan(positions: int) -> None:
+    """Tell the backends that this command (one per process) solves `positions` positions: a backend
+    whose loading costs more than it saves then declines (`Backend.should_run`; numba's own start is
+    ~0.8 s, a position saves ~1 µs); the answers are the same to rounding. `_run` forgets the plan
+    when the command ends."""
+    from .engine._backend import planned
+    planned.positions = positions
 
 
 def _positive_int(text) -> int:
@@ -303,7 +304,7 @@ def _inputs_at(engine, text) -> list[float]:
 
 def cmd_solve(args):
     engine = _load(args)
-    _numpy_unless_it_pays(engine, 1)
+    _plan(1)
     values = _inputs_at(engine, args.at)
     phi = _at_si(engine, values)
     omega, epsilon, _ = _speeds(engine, phi[:, 0], args)
@@ -548,7 +549,7 @@ def cmd_sweep(args):
     if args.grid and n_in == 1:
         raise ModelError("--grid applies to several inputs")
     count, values_of, shape = sweep_plan(engine, args.steps, args.step, start, stop, args.grid)
-    _numpy_unless_it_pays(engine, count)
+    _plan(count)
     if args.true_motion or n_in == 1:
         _speeds(engine, None, args, check_only=True)
     with_forces = args.forces == "yes" or (args.forces == "auto" and has_force_data(engine.mech))
@@ -618,7 +619,7 @@ def cmd_forces(args):
     from .forces._kinetostatics import kinetostatics
     from .forces._loads import has_force_data
     engine = _load(args)
-    _numpy_unless_it_pays(engine, 1)
+    _plan(1)
     values = _inputs_at(engine, args.at)
     if not has_force_data(engine.mech):
         raise ModelError(NO_FORCE_DATA, source=engine.mech.source)
@@ -1373,8 +1374,10 @@ def _run(args) -> tuple[int, str | None]:
     """Run the command: its exit status, and the error's one-line message (None on success). mbplanar's
     errors map to their exit status (2 bad input, 1 cannot move); a closed standard output (a pipe into
     `head`) ends quietly with status 0."""
+    from .engine._backend import planned
     try:
-        return args.func(args), None
+        with planned(None):
+            return args.func(args), None
     except BrokenPipeError:
         return _quiet_broken_pipe(), None
     except KeyboardInterrupt:  # (the long commands say what they wrote: `Interrupted`)

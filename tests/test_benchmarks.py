@@ -24,7 +24,9 @@ def test_targets_read_their_cases_and_limits():
     cases = [case("fourbar", "positions", ratio=1.4, pylinkage_us=0.2, pylinkage_ratio=1.1),
              case("fourbar", "kinematics", ratio=2.1), case("slider_crank", "kinematics", ratio=2.9),
              case("six_bar_press", "kinematics", mbplanar_us=0.9), case("six_bar_press", "reactions", mbplanar_us=1.3),
-             case("class4_group", "reactions", mbplanar_us=2.4), case("fourbar", "one position", mbplanar_us=9.0),
+             case("class4_group", "reactions", mbplanar_us=2.4),
+             case("fourbar", "one position", mbplanar_us=9.0, analyse_ratio=1.6, position_numpy_us=90.0),
+             case("fourbar", "analogues", ratio_to_real=1.05),
              case("fourbar", "mbplanar solve", seconds=0.2, cpu_s=0.3),
              case("fourbar_loaded", "numba cold start", seconds=9.0, cpu_s=4.0),
              case("fourbar_loaded", "numba warm start", seconds=0.2, cpu_s=0.2),
@@ -37,6 +39,8 @@ def test_targets_read_their_cases_and_limits():
                    "six-bar with reactions, µs/position": False,
                    "class IV group with reactions, µs/position": True,
                    "one position with velocities and accelerations, µs": True,
+                   "reading the analogues vq, aq after analyse, × reading v, a": True,
+                   "analyse of one value [φ], × position()": False, "numpy backend's one position, µs": True,
                    "mbplanar solve end to end, CPU s": False, "numba cold start over numpy, CPU s": True,
                    "numba warm start over numpy, CPU s": True, "import mbplanar, CPU s": False,
                    "four-bar positions, × pylinkage+numba": False}   # (no pylinkage figure for kinematics)
@@ -89,8 +93,13 @@ def test_one_position_through_every_public_path():
     against the closed form first; the headline is the fastest of them."""
     row = run.one_position_cases(rounds=1, burst=1)
     paths = {k for k in row if k.endswith("_us")} - {"mbplanar_us"}
-    assert {"numpy_us", "position_numpy_us"} <= paths
-    assert row["mbplanar_us"] == min(row[k] for k in paths)
+    assert {"numpy_us", "position_numpy_us", "analyse_list_us"} <= paths
+    assert row["mbplanar_us"] == min(row[k] for k in paths) and row["analyse_ratio"] > 0
+
+
+def test_the_analogues_and_the_real_rates_are_read_alike():
+    row = run.analogue_case(36, rounds=1, burst=1)
+    assert row["work"] == "analogues" and row["ratio_to_real"] == pytest.approx(row["analogues_us"] / row["real_us"])
 
 
 def test_pylinkage_fourbar_is_the_same_work():

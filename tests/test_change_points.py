@@ -130,7 +130,7 @@ joint = "O"
 """)
     report = mbplanar.check(mbplanar.Engine(mbplanar.read_model(path)))
     assert report.full_turn and not report.limits
-    assert sorted(round(c["phi"], 6) for c in report.change_points) == [180.0, 360.0]
+    assert sorted(round(c.phi, 6) for c in report.change_points) == [180.0, 360.0]
     assert main(["sweep", str(path), "--step", "45", "-o", str(tmp_path / "out.csv")]) == 0
     assert "change point at phi = 180 deg" in capsys.readouterr().err
     rows = np.genfromtxt(tmp_path / "out.csv", delimiter=",", names=True)

@@ -33,8 +33,8 @@ def _rocker_extremes():
 
 def test_fourbar_crank_rocker():
     report = check(_engine("fourbar.toml"))
-    assert report.grashof["grashof"] and report.grashof["kind"] == "crank-rocker"
-    assert report.grashof["input_turns"] and report.full_turn and not report.limits
+    assert report.grashof.grashof and report.grashof.kind == "crank-rocker"
+    assert report.grashof.input_turns and report.full_turn and not report.limits
     rocker = next(e for e in report.extremes if e.name == "3")
     at = sorted(x % 360.0 for x in (rocker.at_min, rocker.at_max))
     expected = sorted(c for _, c in _rocker_extremes())
@@ -80,9 +80,9 @@ def test_fourbar_driven_at_the_rocker_has_two_dead_points():
     m.add_joint("C", "R", "3", "0", at=(OC, 0))
     m.add_input("C", unit="deg")
     report = check(mbplanar.Engine(m))
-    assert report.grashof["kind"].startswith("crank-rocker") is False and not report.grashof["input_turns"]
+    assert report.grashof.kind.startswith("crank-rocker") is False and not report.grashof.input_turns
     assert not report.full_turn and len(report.limits) == 2
-    assert all(" A " in lim["kind"] or "at A" in lim["kind"] for lim in report.limits)
+    assert all(" A " in lim.kind or "at A" in lim.kind for lim in report.limits)
     c = np.array([OC, 0.0])
     swing = abs(math.remainder(math.atan2(*(b1 - c)[::-1]) - math.atan2(*(b2 - c)[::-1]), 2 * math.pi))
     assert abs(math.radians(report.range[1] - report.range[0]) - swing) < 1e-12
@@ -108,9 +108,9 @@ def test_shaper_stroke_and_lever_swing():
 def test_locking_model_limits():
     report = check(_engine("crank_slider_rocker_locking.toml"))
     assert not report.full_turn
-    up = next(lim for lim in report.limits if lim["direction"] == 1)
-    assert abs(up["phi"] - 1.799912) < 5e-7 and "stretched at B" in up["kind"]
-    assert report.range[1] == up["phi"]
+    up = next(lim for lim in report.limits if lim.direction == 1)
+    assert abs(up.phi - 1.799912) < 5e-7 and "stretched at B" in up.kind
+    assert report.range[1] == up.phi
     mu = next(a for a in report.transmission if a.points == ("C", "B", "D"))
     assert math.degrees(mu.minimum) < 0.1  # the dyad is stretched at the lock
 
@@ -165,7 +165,7 @@ def test_extreme_on_a_sample_is_found():
     assert abs(math.degrees(rod.minimum) - (45 - swing)) < 1e-9
     assert abs(math.degrees(rod.maximum) - (45 + swing)) < 1e-9
     assert sorted(x % 360 for x in (rod.at_min, rod.at_max)) == pytest.approx([135.0, 315.0], abs=1e-7)
-    assert [loc["kind"] for loc in rod.local] in (["min", "max"], ["max", "min"])
+    assert [loc.kind for loc in rod.local] in (["min", "max"], ["max", "min"])
 
 
 def test_every_local_extreme_is_a_zero_of_the_rate():
@@ -174,30 +174,30 @@ def test_every_local_extreme_is_a_zero_of_the_rate():
     engine = _engine("shaper.toml")
     report = check(engine)
     dp = next(e for e in report.extremes if e.name == "Dp")
-    assert len(dp.local) == 4 and [loc["kind"] for loc in dp.local].count("max") == 2
+    assert len(dp.local) == 4 and [loc.kind for loc in dp.local].count("max") == 2
     inp = engine.inputs[0]
     for loc in dp.local:
-        phi = inp.to_si(loc["at"]) + np.array([-1e-3, 0.0, 1e-3])
+        phi = inp.to_si(loc.at) + np.array([-1e-3, 0.0, 1e-3])
         m = mbplanar.analyse(engine, phi)
         k = m.joint("Dp")
         assert abs(m.rate_q[1, k]) < 1e-10
-        assert abs(m.value[1, k] - loc["value"]) < 1e-12
+        assert abs(m.value[1, k] - loc.value) < 1e-12
         side = m.value[[0, 2], k] - m.value[1, k]
-        assert np.all(side < 0) if loc["kind"] == "max" else np.all(side > 0)
+        assert np.all(side < 0) if loc.kind == "max" else np.all(side > 0)
 
 
 def test_double_rocker_interior_and_end_extremes():
     report = check(mbplanar.Engine(mbplanar.read_model(DATA / "double_rocker.toml")))
     out = next(e for e in report.extremes if e.name == "3")
-    assert [loc["kind"] for loc in out.local] == ["max", "min", "max"]
-    assert [loc["end"] for loc in out.local] == [True, False, True]
+    assert [loc.kind for loc in out.local] == ["max", "min", "max"]
+    assert [loc.end for loc in out.local] == [True, False, True]
     # the interior minimum: the output stands still where v_B = 0, i.e. where O, A and B are in line
     engine = mbplanar.Engine(mbplanar.read_model(DATA / "double_rocker.toml"))
-    m = mbplanar.analyse(engine, [math.radians(out.local[1]["at"])])
+    m = mbplanar.analyse(engine, [math.radians(out.local[1].at)])
     a, b = m.xy[0, m.point("A")], m.xy[0, m.point("B")]
     assert abs(a[0] * b[1] - a[1] * b[0]) < 1e-12 * 0.4 * 0.6
     # the ends are the configurations at the input's dead points: AB and O4B stretched in line
-    assert out.local[0]["value"] == pytest.approx(-out.local[2]["value"], abs=1e-9)
+    assert out.local[0].value == pytest.approx(-out.local[2].value, abs=1e-9)
 
 
 @pytest.mark.parametrize("lengths, drawn_crossed, kind", [
@@ -232,12 +232,12 @@ def test_grashof_names(lengths, drawn_crossed, kind):
     m.add_input("O", unit="deg")
     g = mbplanar.Engine(m)
     from mbplanar.analysis import grashof
-    assert grashof(g)["kind"] == kind
+    assert grashof(g).kind == kind
 
 
 def test_parallelogram_is_not_a_crank_rocker():
     report = check(mbplanar.Engine(mbplanar.read_model(DATA / "parallelogram.toml")))
     g = report.grashof
-    assert g["kind"] == "parallelogram (change point)" and g["change_point"]
-    assert g["input_turns"] and g["output_turns"] and report.full_turn
+    assert g.kind == "parallelogram (change point)" and g.change_point
+    assert g.input_turns and g.output_turns and report.full_turn
     assert next(e for e in report.extremes if e.name == "3").turns

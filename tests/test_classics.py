@@ -494,7 +494,7 @@ def test_oscillating_cylinder_driven_by_its_extension():
     report = mbplanar.check(engine)
     assert not report.full_turn
     close(f"{tag}: check range (m)", report.range, (lo, hi), 1e-13)
-    close(f"{tag}: check limits (m)", sorted(lim["phi"] for lim in report.limits), [lo, hi], 1e-13)
+    close(f"{tag}: check limits (m)", sorted(lim.phi for lim in report.limits), [lo, hi], 1e-13)
     # the crank's extremes are where crank and cylinder line up (φ = 0, π): at the limits, where φ moves
     # like the square root of the input (a sample 1e-9 of the range inside would be off by ~7e-5 rad);
     # `check` takes them from the configuration solved at the limits
@@ -752,8 +752,8 @@ def test_crank_rocker_driven_by_its_rocker_follows_the_circles_and_stops_at_the_
     for lim in past.limits:
         assert "A" in lim.joints or " A" in lim.kind, lim
     report = mbplanar.check(engine)
-    assert not report.full_turn and report.grashof is not None and not report.grashof["input_turns"]
-    got = sorted(lim["phi"] for lim in report.limits)
+    assert not report.full_turn and report.grashof is not None and not report.grashof.input_turns
+    got = sorted(lim.phi for lim in report.limits)
     close(f"{tag}: check limits (deg)", got, [math.degrees(lo), math.degrees(hi)], 1e-10)
     close(f"{tag}: check range (deg)", report.range, (math.degrees(lo), math.degrees(hi)), 1e-10)
 
@@ -1009,7 +1009,7 @@ def test_chebyshev_straight_line_linkage():
           1e-12)
     report = mbplanar.check(engine)
     lo, hi = math.degrees(math.atan2(3, 4)), math.degrees(math.acos(-0.2))
-    close("8 Chebyshev: dead points driven at O1 (deg)", sorted(lim["phi"] for lim in report.limits), [lo, hi],
+    close("8 Chebyshev: dead points driven at O1 (deg)", sorted(lim.phi for lim in report.limits), [lo, hi],
           1e-10)
     # next to that dead point (1e-7° inside) P is still where the circles put it, near (0.4, 0.4)
     psi = np.radians([lo + 1e-7])
@@ -1036,7 +1036,7 @@ def test_drag_link_turns_everything_fully():
     text, _ = fourbar_table((0.1, 0.0), 0.3, 0.35, 0.3, 0.5)
     engine = engine_of(text)
     report = mbplanar.check(engine)
-    assert report.full_turn and report.grashof["kind"] == "double crank" and report.grashof["input_turns"]
+    assert report.full_turn and report.grashof.kind == "double crank" and report.grashof.input_turns
     assert all(e.turns for e in report.extremes)
     fourbar_turn_matches_circles("9 drag link", engine, (0.1, 0.0), 0.3, 0.35, 0.3, "3")
 
@@ -1047,10 +1047,10 @@ def test_triple_rocker_stops_where_coupler_and_rocker_stretch():
     a, b, c, d = 0.35, 0.30, 0.22, 0.45
     engine = engine_of(fourbar_table((d, 0.0), a, b, c, 1.2)[0])
     report = mbplanar.check(engine)
-    assert not report.full_turn and report.grashof["kind"].startswith("non-Grashof")
+    assert not report.full_turn and report.grashof.kind.startswith("non-Grashof")
     phi_m = math.degrees(math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d)))
-    close("9 triple rocker: limits (deg)", sorted(lim["phi"] for lim in report.limits), [-phi_m, phi_m], 1e-10)
-    assert all("stretched at B" in lim["kind"] for lim in report.limits)
+    close("9 triple rocker: limits (deg)", sorted(lim.phi for lim in report.limits), [-phi_m, phi_m], 1e-10)
+    assert all("stretched at B" in lim.kind for lim in report.limits)
 
 
 def test_slider_crank_with_an_offset_too_large_to_turn():
@@ -1066,7 +1066,7 @@ def test_slider_crank_with_an_offset_too_large_to_turn():
     engine = engine_of(text)
     report = mbplanar.check(engine)
     assert not report.full_turn
-    close("9 large offset slider-crank: limits (deg)", sorted(lim["phi"] for lim in report.limits), [-30.0, 210.0],
+    close("9 large offset slider-crank: limits (deg)", sorted(lim.phi for lim in report.limits), [-30.0, 210.0],
           1e-10)
     phi = np.radians(np.linspace(-29.0, 209.0, 239))
     x, x1, x2 = slider_closed_form(phi, r, l, e)

@@ -77,10 +77,10 @@ def test_shaper_values_at_the_reference_position(shaper):
 def test_shaper_flywheel_on_the_motor_shaft(shaper):
     _, d = shaper
     fw = d.flywheel
-    assert fw["shaft"] == "motor" and fw["needed"]
-    assert fw["inertia"] == pytest.approx(0.305132, rel=1e-4)
-    assert fw["rim"]["outer_diameter"] == pytest.approx(0.34465, rel=1e-4)
-    assert fw["rim"]["mass"] == pytest.approx(18.048, rel=1e-4)
+    assert fw.shaft == "motor" and fw.needed
+    assert fw.inertia == pytest.approx(0.305132, rel=1e-4)
+    assert fw.rim.outer_diameter == pytest.approx(0.34465, rel=1e-4)
+    assert fw.rim.mass == pytest.approx(18.048, rel=1e-4)
 
 
 def test_simulated_delta_is_near_the_target(shaper, press):
@@ -106,12 +106,12 @@ def test_press_physically_correct_values(press):
     assert s["epsilon"][0] == pytest.approx(-2.7679, rel=1e-3)
     # the seed's flywheel on the crank shaft, J_O = 2.5 kg·m² already there: rim and disc as printed
     fw = d.flywheel
-    assert fw["inertia"] == pytest.approx(d.inertia_first_group - 2.5)
-    assert (fw["rim"]["outer_diameter"], fw["rim"]["inner_diameter"], fw["rim"]["width"]) == \
+    assert fw.inertia == pytest.approx(d.inertia_first_group - 2.5)
+    assert (fw.rim.outer_diameter, fw.rim.inner_diameter, fw.rim.width) == \
         pytest.approx((1.876, 1.501, 0.375), abs=6e-4)
-    assert fw["rim"]["mass"] == pytest.approx(2912, abs=0.5)     # printed 2.912·10² for 2.912·10³ kg
-    assert (fw["disc"]["diameter"], fw["disc"]["width"]) == pytest.approx((1.571, 0.314), abs=6e-4)
-    assert fw["disc"]["mass"] == pytest.approx(4773, abs=1)
+    assert fw.rim.mass == pytest.approx(2912, abs=0.5)     # printed 2.912·10² for 2.912·10³ kg
+    assert (fw.disc.diameter, fw.disc.width) == pytest.approx((1.571, 0.314), abs=6e-4)
+    assert fw.disc.mass == pytest.approx(4773, abs=1)
 
 
 def test_press_with_the_seeds_mass_slip_gives_its_printed_values():
@@ -295,10 +295,9 @@ def test_dynamics_needs_a_crank(engine_of):
 
 def test_simulate_reports_a_stall(shaper):
     _, d = shaper
-    import copy
-    weak = copy.copy(d)
-    weak.driving_moment = 0.2 * d.driving_moment
-    weak.inertia_first_group = 0.05 * d.inertia_first_group
+    import dataclasses
+    weak = dataclasses.replace(d, driving_moment=0.2 * d.driving_moment,
+                               inertia_first_group=0.05 * d.inertia_first_group)
     with pytest.raises(mbplanar.MotionError, match="stalls"):
         simulate(weak)
 

@@ -77,7 +77,7 @@ def test_crank_rocker_far_from_the_origin_turns_fully(backend, off):
     near, far = (mbplanar.Engine(crank_rocker(x), backend=backend) for x in (0.0, off))
     assert far.centre.tolist() != [0.0, 0.0] and near.centre.tolist() == [0.0, 0.0]
     report = mbplanar.check(far)
-    assert report.full_turn and report.limits == [] and report.grashof["kind"] == "crank-rocker"
+    assert report.full_turn and report.limits == [] and report.grashof.kind == "crank-rocker"
     phi = np.linspace(0.0, 2 * np.pi, 73)
     m0, m1 = mbplanar.analyse(near, phi, omega=10.0), mbplanar.analyse(far, phi, omega=10.0)
     assert m1.success and len(m1.phi) == 73
@@ -236,10 +236,10 @@ def test_a_model_moved_and_turned_gives_the_origins_answers(path, backend, angle
         d0, d1 = inp.from_si(float(e0.phi_drawn[0])), inp.from_si(float(e1.phi_drawn[0]))
         per_unit = inp.to_si(1.0) / (1.0 if mech.joints[inp.joint].kind == "R" else size)
         assert c1.full_turn == c0.full_turn
-        assert [(lim["direction"], lim["links"], lim["kind"]) for lim in c1.limits] == \
-            [(lim["direction"], lim["links"], lim["kind"]) for lim in c0.limits]
+        assert [(lim.direction, lim.links, lim.kind) for lim in c1.limits] == \
+            [(lim.direction, lim.links, lim.kind) for lim in c0.limits]
         for l1, l0 in zip(c1.limits, c0.limits):
-            assert abs((l1["phi"] - d1) - (l0["phi"] - d0)) * per_unit <= 10 * tol
+            assert abs((l1.phi - d1) - (l0.phi - d0)) * per_unit <= 10 * tol
         assert len(c1.change_points) == len(c0.change_points)
         if not c0.full_turn:
             assert np.abs(np.subtract(c1.range, d1) - np.subtract(c0.range, d0)).max() * per_unit <= 10 * tol

@@ -377,7 +377,7 @@ def test_a_pyslvs_slot_on_a_moving_link_slides_on_the_fixed_pin(tmp_path):
     m = mbplanar.analyse(engine, th)
     a = 30 * np.stack([np.cos(th), np.sin(th)], axis=-1)
     expect = np.arctan2(0 - a[:, 1], 100 - a[:, 0])
-    got = m.frames["th"][:, engine.link_index["L2"]] - m.frames["th"][0, engine.link_index["L2"]] + expect[0]
+    got = m.frames.th[:, engine.link_index["L2"]] - m.frames.th[0, engine.link_index["L2"]] + expect[0]
     assert np.allclose(np.angle(np.exp(1j * (got - expect))), 0, atol=1e-9)
 
 

@@ -248,7 +248,7 @@ def test_pin_in_a_circular_slot_is_a_four_bar():
     d = _circles(a, cc, np.linalg.norm(a0 - d0), np.linalg.norm(c - d0), left=True)
     np.testing.assert_allclose(m.xy[:, m.point("D")], d, atol=1e-10)
     rocker = np.unwrap(np.arctan2(d[:, 1] - c[1], d[:, 0] - c[0]) - math.atan2(d0[1] - c[1], d0[0] - c[0]))
-    np.testing.assert_allclose(m.frames["th"][:, engine.link_index["2"]], rocker, atol=1e-10)
+    np.testing.assert_allclose(m.frames.th[:, engine.link_index["2"]], rocker, atol=1e-10)
     assert [g.kind for g in engine.topology.structure.groups] == ["RRR"]   # the equivalent four-bar's dyad
 
 
@@ -263,7 +263,7 @@ def test_scotch_yoke_written_with_a_slot():
     np.testing.assert_allclose(m.value[:, k], a * np.cos(phi) - a, atol=1e-10)
     np.testing.assert_allclose(m.rate_q[:, k], -a * np.sin(phi), atol=1e-10)
     np.testing.assert_allclose(m.accel_q[:, k], -a * np.cos(phi), atol=1e-10)
-    np.testing.assert_allclose(m.frames["contact"][:, 0] - 0.08, a * np.sin(phi), atol=1e-10)
+    np.testing.assert_allclose(m.frames.contact[:, 0] - 0.08, a * np.sin(phi), atol=1e-10)
     assert engine.topology.structure.groups[0].kind == "RPP"
 
 
@@ -372,13 +372,13 @@ def test_geared_shaper_flywheel_on_the_motor_shaft():
     geared = machine_dynamics(_engine("shaper_geared"), simulate_motion=False)
     plain = machine_dynamics(_engine("shaper"), simulate_motion=False)
     u = 7062 / 365
-    assert geared.flywheel["speed_ratio"] == pytest.approx(u, rel=1e-12)
-    assert geared.flywheel["shaft"] == "m"
+    assert geared.flywheel.speed_ratio == pytest.approx(u, rel=1e-12)
+    assert geared.flywheel.shaft == "m"
     assert geared.inertia_first_group == pytest.approx(plain.inertia_first_group, rel=1e-12)
     np.testing.assert_allclose(geared.J_II, plain.J_II, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(geared.reduced.J_input, 0.1625 + 0.0875 * u * u, rtol=1e-12)
-    assert geared.flywheel["inertia"] == pytest.approx(plain.flywheel["inertia"], rel=1e-10)
-    assert geared.flywheel["inertia"] == pytest.approx(0.305132, abs=5e-7)
+    assert geared.flywheel.inertia == pytest.approx(plain.flywheel.inertia, rel=1e-10)
+    assert geared.flywheel.inertia == pytest.approx(0.305132, abs=5e-7)
 
 
 # -- property tests: closure and rates on random pairs ------------------------------------------------
@@ -424,8 +424,8 @@ def test_random_geared_five_bars(r1, r2, internal, lean):
     phi = engine.phi_drawn[0] + np.linspace(-0.4, 0.4, 9)
 
     def law(m):
-        th1 = m.frames["th"][:, engine.link_index["1"]]
-        th4 = m.frames["th"][:, engine.link_index["4"]]
+        th1 = m.frames.th[:, engine.link_index["1"]]
+        th4 = m.frames.th[:, engine.link_index["4"]]
         sign = -1.0 if internal else 1.0
         np.testing.assert_allclose(radii[0] * th1 + sign * radii[1] * th4, 0.0, atol=1e-12 * engine.size)
     _closure_and_rates(engine, phi, law)
@@ -475,7 +475,7 @@ def test_random_cam_profiles(points, follower, offset):
 
     def touches(m):
         f_xy = m.xy[:, m.point("F")]
-        th = m.frames["th"][:, engine.link_index["cam"]]
+        th = m.frames.th[:, engine.link_index["cam"]]
         local = np.stack([np.cos(th) * f_xy[:, 0] + np.sin(th) * f_xy[:, 1],
                           -np.sin(th) * f_xy[:, 0] + np.cos(th) * f_xy[:, 1]], axis=1)
         for p in local:
@@ -585,19 +585,25 @@ def test_bad_higher_pairs_are_refused_naming_the_joint(name, edit, says, tmp_pat
 
 
 # -- the backends -------------------------------------------------------------------------------------
-def test_the_compiled_backend_declines_higher_pairs_and_says_why(capsys):
-    """Until its kernels hold the higher pairs' laws, the numba backend declines such a model at the seam,
-    with a stated reason (and a note from the command line), and numpy's answers are the answers."""
+def test_the_compiled_backend_declines_higher_pairs_and_says_why(capsys, caplog):
+    """Until its kernels hold the higher pairs' laws, the numba backend declines such a model at the seam
+    (its `can_run` answers the reason the request gives), with a stated reason (and a note from the
+    command line), and numpy's answers are the answers."""
     pytest.importorskip("numba")
+    import logging
+    from mbplanar.engine._tables import kernels_decline
     fast, ref = _engine("cam_eccentric", backend="numba"), _engine("cam_eccentric")
-    why = fast.compiled.declines(fast)
+    why = kernels_decline(fast.mech)
     assert "higher pairs (cam)" in why and "numpy solves it" in why
-    assert fast.compiled.declines(_engine("fourbar", backend="numba")) is None
+    assert kernels_decline(_engine("fourbar", backend="numba").mech) == ""
     phi = _turn_of(ref, 50)
+    caplog.set_level(logging.DEBUG, logger="mbplanar.backends")
     a, b = mbplanar.analyse(fast, phi), mbplanar.analyse(ref, phi)
-    assert a.rows is None and a.refill is None                     # not the compiled kernel's Motion
+    assert f"kinematics of 50: numba declines: {why}" in caplog.text
+    assert a.records is None                                       # not the compiled kernel's Motion
     np.testing.assert_array_equal(a.xy, b.xy)
     np.testing.assert_array_equal(kinetostatics(fast, a).balancing["O"], kinetostatics(ref, b).balancing["O"])
+    assert f"kinetostatics of 50: numba declines: {why}" in caplog.text
     assert main(["--backend", "numba", "solve", str(MODELS / "cam_eccentric.toml"), "--at", "30"]) == 0
     assert "note: backend numba: the model has higher pairs (cam)" in capsys.readouterr().err
 

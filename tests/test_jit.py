@@ -26,7 +26,7 @@ def test_a_kernels_cache_folder_is_checked_when_it_is_made(kernel):
 
 
 def test_kernel_modules_import_without_numba():
-    probe = ("import sys\nfrom mbplanar.backends import _numba_kinematics, _numba_kinetostatics, _numba_single, "
+    probe = ("import sys\nfrom mbplanar.backends import _numba_kinematics, _numba_kinetostatics, "
              "_numba_design\nprint('numba' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", probe], env=dict(os.environ, PYTHONPATH=str(ROOT)),
                          capture_output=True, text=True, check=True)

@@ -87,8 +87,8 @@ def _equilibrium_residual(engine, motion, result):
         for j in mech.joints_of(link):
             force, moment = _on(result, j.name, link)
             at_link = j.slider if j.kind == "P" else link
-            p = motion.frames["r"][:, engine.link_index[at_link]] + _rot(
-                motion.frames["th"][:, engine.link_index[at_link]], j.at)
+            p = motion.frames.r[:, engine.link_index[at_link]] + _rot(
+                motion.frames.th[:, engine.link_index[at_link]], j.at)
             f += force
             m += p[:, 0] * force[:, 1] - p[:, 1] * force[:, 0] + moment
         for ld in result.loads:

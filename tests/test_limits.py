@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mbplanar
-from mbplanar.engine import Tolerances, _nodes, _singular
+from mbplanar.engine import Tolerances, _nodes, _singular, solve_positions
 from mbplanar.analysis import check
 from mbplanar.kinematics import positions_at_limits
 
@@ -80,7 +80,7 @@ def test_rocker_driven_crank_rocker_limits_and_crank_extremes_are_exact():
     report = check(engine)
     want = np.degrees([psi_lo, psi_hi])
     assert np.abs(np.subtract(report.range, want)).max() < 1e-10
-    assert np.abs(np.subtract(sorted(lim["phi"] for lim in report.limits), want)).max() < 1e-10
+    assert np.abs(np.subtract(sorted(lim.phi for lim in report.limits), want)).max() < 1e-10
     crank = next(e for e in report.extremes if e.name == "1")
     assert not crank.turns
     extremes = sorted([(crank.at_min, crank.minimum), (crank.at_max, crank.maximum)])
@@ -165,8 +165,8 @@ def test_seed_002_lock_against_its_closure_equation():
     down, up = lock_closed_form()
     assert up == pytest.approx(1.799912, abs=5e-7)   # the seed's printed lock
     assert np.abs(np.subtract(report.range, (down, up))).max() < 1e-13
-    lock = next(lim for lim in report.limits if lim["direction"] == 1)
-    assert "stretched at B" in lock["kind"] and lock["phi"] == report.range[1]
+    lock = next(lim for lim in report.limits if lim.direction == 1)
+    assert "stretched at B" in lock.kind and lock.phi == report.range[1]
     mu = next(a for a in report.transmission if a.points == ("C", "B", "D"))
     assert mu.minimum < 1e-6 and mu.at_min in report.range   # C, B, D in line at the lock
 
@@ -217,7 +217,7 @@ def test_a_change_point_is_not_taken_for_a_fold():
     for d in (1e-3, 1e-6, 2e-10):
         for way in (+1.0, -1.0):
             phi = np.array([math.pi - way * d])
-            sol = engine.solve(phi)
+            sol = solve_positions(engine, phi)
             node = _nodes.node_at(engine.solver, phi, np.array([way]), [st.q for st in sol.blocks])
             k = int(np.argmin(np.abs(node.dets)))
             assert _singular._locate_fold(engine.solver, k, node, np.array([way])) is None

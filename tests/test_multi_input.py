@@ -165,9 +165,9 @@ def test_check_region_and_its_singular_curve(tmp_path):
     g1, g2 = np.meshgrid(np.radians(region.grid[0]), np.radians(region.grid[1]), indexing="ij")
     ab = np.hypot(GROUND + CRANK * (np.cos(g2) - np.cos(g1)), CRANK * (np.sin(g2) - np.sin(g1)))
     assert not region.reachable[ab > 0.6].any() and region.reachable.sum() > 0.7 * region.reachable.size
-    folds = [s for s in region.singular if "A, P, B in line" in s["kind"]]
+    folds = [s for s in region.singular if "A, P, B in line" in s.kind]
     assert folds
     for s in folds:
-        a1, a2 = np.radians(s["at"])
+        a1, a2 = np.radians(s.at)
         dist = math.hypot(GROUND + CRANK * (math.cos(a2) - math.cos(a1)), CRANK * (math.sin(a2) - math.sin(a1)))
         assert dist == pytest.approx(0.6, abs=1e-9)

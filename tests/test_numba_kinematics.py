@@ -24,8 +24,8 @@ RATES = ("w", "e", "v", "a", "rate", "accel", "wq", "eq", "vq", "aq", "rate_q", 
 
 
 def _compiled(m):
-    """Whether the compiled kernel made the Motion (its records, or positions only its refill)."""
-    return m.rows is not None or m.refill is not None
+    """Whether the compiled kernel made the Motion (its records: every output is asked for)."""
+    return m.records is not None
 
 
 def _pair(mech):
@@ -57,7 +57,7 @@ def _assert_same(ref, fast, size, rate_tol=1e-8):
         scale = 1.0 + np.max(np.abs(x), axis=tuple(range(1, x.ndim)), keepdims=True)
         np.testing.assert_allclose(y / scale, x / scale, rtol=0, atol=rate_tol, err_msg=name)
     for name in ("th", "r", "w", "v", "e", "a"):
-        x, y = ref.frames[name], fast.frames[name]
+        x, y = getattr(ref.frames, name), getattr(fast.frames, name)
         scale = 1.0 + np.max(np.abs(x), axis=tuple(range(1, x.ndim)), keepdims=True)
         np.testing.assert_allclose(y / scale, x / scale, rtol=0, atol=rate_tol, err_msg=f"frames[{name}]")
     finite = np.isfinite(ref.ic)
@@ -148,24 +148,27 @@ def test_cli_backend_option_gives_the_same_table(tmp_path):
     np.testing.assert_allclose(b, a, rtol=1e-9, atol=1e-9)
 
 
-def test_outputs_written_by_the_kernel_and_the_rest_derived_when_read():
-    """The kernel writes the angles, the points and the real rates straight into the Motion's arrays;
-    the points' analogues and the joints' real rates follow from its records on first read, once, by
-    v = v_q·ω and a = a_q·ω² + v_q·ε."""
+def test_every_output_written_by_the_kernel_in_one_pass():
+    """The kernel writes every array of the Motion straight into it in one pass: the angles, the points,
+    the real rates and their analogues, the joints and the instantaneous centres, with the frames and
+    joint analogues as views of its records; v = v_q·ω and a = a_q·ω² + v_q·ε hold bit for bit, and
+    nothing is left to compute when a field is read (a frozen record)."""
     mech = mbplanar.read_model(MODELS / "shaper.toml")
     ref_engine, engine = _pair(mech)
     phi = engine.phi_drawn[0] + np.linspace(0.0, 6.0, 50)
     m, ref = mbplanar.analyse(engine, phi, omega=2.0, epsilon=0.5), mbplanar.analyse(ref_engine, phi, 2.0, 0.5)
-    assert not {"xy", "vq", "aq", "w", "v", "a", "rate", "ic"} & set(m.rows.dtype.names)
-    assert {"xy", "v", "a", "angle", "w", "e"} <= set(vars(m)) and not {"vq", "aq", "rate", "ic"} & set(vars(m))
+    assert not {"xy", "vq", "aq", "w", "v", "a", "rate", "ic"} & set(m.records.dtype.names)
+    assert all(getattr(m, name) is not None for name in mbplanar.kinematics.OUTPUTS)
+    assert np.may_share_memory(m.records, m.wq) and np.may_share_memory(m.records, m.frames.r)
     np.testing.assert_allclose(m.xy, ref.xy, rtol=0, atol=1e-12)
     np.testing.assert_allclose(m.aq, ref.aq, rtol=0, atol=1e-9)
     np.testing.assert_array_equal(m.v, m.vq * 2.0)
-    assert m.vq is m.vq  # kept after the first read
     np.testing.assert_array_equal(m.a, m.aq * 4.0 + m.vq * 0.5)
     np.testing.assert_array_equal(m.rate, m.rate_q * 2.0)
     with pytest.raises(AttributeError, match="no attribute 'speed'"):
         m.speed  # noqa: B018
+    with pytest.raises(AttributeError):
+        m.xy = m.v  # (frozen)
 
 
 # the compiled answers on what a caller asks for: some points, positions only. Positions to 1e-11 of
@@ -182,16 +185,14 @@ def test_asked_points_and_positions_only_same_as_numpy(name):
         # (a model with higher pairs: the compiled backend declines it, numpy solves it)
         assert _compiled(fast) != bool(ref_engine.mech.higher), "the compiled path took the batch"
         assert fast.point_names == ref.point_names == kw.get("points", every)
-        assert fast.has_rates == ref.has_rates == kw.get("rates", True)
         for field in POSITIONS:
             np.testing.assert_allclose(getattr(fast, field), getattr(ref, field), rtol=0,
                                        atol=1e-11 * ref_engine.size, err_msg=f"{kw}: {field}")
-        if fast.has_rates:
+        if kw.get("rates", True):
             _assert_same(ref, fast, ref_engine.size, rate_tol=1e-6 if ref.limits else 1e-8)
         else:
-            for field in ("v", "wq", "rate"):
-                with pytest.raises(mbplanar.kinematics.RatesNotComputed):
-                    getattr(fast, field)
+            for field in ("v", "wq", "rate", "ic", "w"):
+                assert getattr(fast, field) is None and getattr(ref, field) is None
 
 
 def test_differences_are_numpys_batch_coupling():
@@ -208,42 +209,39 @@ def test_differences_are_numpys_batch_coupling():
 
 
 
-def test_positions_only_write_no_records_and_give_joint_values_when_read():
-    """Positions only, the kernel writes the angles and points alone; the joint values and link frames
-    come from a second compiled pass when first read, equal to numpy's."""
+def test_outputs_asked_for_and_the_rest_none():
+    """``outputs=`` asks for some arrays: the others are None on both backends, and the kernel writes
+    no records where neither the frames nor the joints' values and analogues are asked for."""
     ref_engine, engine = _pair(mbplanar.read_model(MODELS / "shaper.toml"))
     phi = engine.phi_drawn[0] + np.linspace(0.0, 6.0, 40)
-    m, ref = mbplanar.analyse(engine, phi, rates=False), mbplanar.analyse(ref_engine, phi, rates=False)
-    assert not {"rows", "value", "frames"} & set(vars(m))
-    np.testing.assert_allclose(m.value, ref.value, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(m.frames["r"], ref.frames["r"], rtol=0, atol=1e-12)
-    assert m.value is m.value and "frames" in vars(m)  # kept after the first read
-    assert "array(40, 6)" in repr(m)
+    for outputs in (["v", "a"], ["vq"], ["value"], ["frames", "ic"], []):
+        m, ref = (mbplanar.analyse(e, phi, 2.0, outputs=outputs) for e in (engine, ref_engine))
+        for name in mbplanar.kinematics.OUTPUTS:
+            assert (getattr(m, name) is None) == (getattr(ref, name) is None) == (name not in outputs), name
+        assert (m.records is None) == (not {"value", "frames"} & set(outputs))
+        np.testing.assert_allclose(m.xy, ref.xy, rtol=0, atol=1e-12)
+        for name in outputs:
+            x, y = getattr(ref, name), getattr(m, name)
+            if name == "frames":
+                x, y = x.r, y.r
+            np.testing.assert_allclose(y, x, rtol=0, atol=1e-9 * (1 + np.nanmax(np.abs(x))), err_msg=name)
+    with pytest.raises(MbplanarError, match="'speed' is not one of"):
+        mbplanar.analyse(engine, phi, outputs=["speed"])
 
 
-def test_rates_write_records_only_where_the_kinetostatics_reads_them():
-    """With rates, a model without loads or masses gets no records in the sweep: the joint values,
-    analogues and derived arrays come from a second compiled pass when first read, equal to numpy's, and
-    the kinetostatics reads that pass's records. A model with loads gets them in the same pass."""
-    ref_engine, engine = _pair(mbplanar.read_model(MODELS / "fourbar.toml"))
+def test_kinetostatics_of_a_motion_without_frames_is_refused():
+    engine = mbplanar.Engine(mbplanar.read_model(MODELS / "fourbar_loaded.toml"), backend="numba")
     phi = engine.phi_drawn[0] + np.linspace(0.0, 6.0, 40)
-    m, ref = mbplanar.analyse(engine, phi, 2.0, -3.0), mbplanar.analyse(ref_engine, phi, 2.0, -3.0)
-    assert not {"rows", "value", "frames", "wq", "rate_q", "vq"} & set(vars(m))
-    _assert_same(ref, m, 1.0, rate_tol=1e-12)  # (reads vq first: the refill comes through a derived array)
-    assert np.may_share_memory(m.rows, m.wq) and m.frames["w"] is m.wq
-    kin, kin_ref = mbplanar.kinetostatics(engine, m), mbplanar.kinetostatics(ref_engine, ref)
-    for joint, r in kin_ref.reactions.items():
-        np.testing.assert_allclose(kin.reactions[joint].fx, r.fx, rtol=0, atol=1e-9 * (1 + np.abs(r.fx).max()))
-    assert "rows" in vars(mbplanar.analyse(engine, phi))  # (this engine's kinetostatics has read them)
-    loaded = mbplanar.Engine(mbplanar.read_model(MODELS / "fourbar_loaded.toml"), backend="numba")
-    m = mbplanar.analyse(loaded, loaded.phi_drawn[0] + np.linspace(0.0, 6.0, 40))
-    assert vars(m)["rows"] is not None and "wq" in vars(m)
+    with pytest.raises(MbplanarError, match="frames"):
+        mbplanar.kinetostatics(engine, mbplanar.analyse(engine, phi, outputs=["v", "a"]))
+    m = mbplanar.analyse(engine, phi)
+    assert m.records is not None and mbplanar.kinetostatics(engine, m).success
 
 
 def test_one_compiled_kernel_for_every_request():
-    """Positions only or with rates, every point or some, on one thread or two, the records written or
-    refilled, and the one-position path: the sweep kernel takes the same argument types every time, so
-    numba compiles it once (one signature, the first use's compile) and a process never pays twice."""
+    """Positions only or with rates, every point or some, every output or some, on one thread or two,
+    and one position: the sweep kernel takes the same argument types every time, so numba compiles it
+    once (one signature, the first use's compile) and a process never pays twice."""
     from mbplanar.backends import _numba_kinematics
 
     mech = mbplanar.read_model(MODELS / "fourbar.toml")
@@ -253,6 +251,7 @@ def test_one_compiled_kernel_for_every_request():
             mbplanar.analyse(one, phi[:40], points=["M"]), mbplanar.analyse(two, phi, rates=False),
             mbplanar.analyse(two, phi, 2.0, -1.0, points=["B", "M"])]
     assert all(_compiled(m) for m in made)
-    assert made[0].value.shape == (40, len(mech.joints))  # (positions only: refilled by the kernel)
+    assert made[0].value.shape == (40, len(mech.joints))
+    mbplanar.analyse(one, phi[:40], outputs=["v"])
     mbplanar.position(one, float(phi[3]))
     assert len(_numba_kinematics._sweep.signatures) == 1, _numba_kinematics._sweep.signatures

@@ -3,6 +3,7 @@ the loads that acted, the virtual-power residual and the singular positions, on 
 data, on random mechanisms with random masses and loads, and it leaves to numpy what it does not take
 (input inertia, loads given by the caller, a numpy Motion). Skipped without numba."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -30,7 +31,7 @@ def _motions(mech, phi, omega=2.5, epsilon=-0.7):
     ref = mbplanar.analyse(ref_engine, phi, omega, epsilon)
     fast = mbplanar.analyse(fast_engine, phi, omega, epsilon)
     # (a model with higher pairs: the compiled backend declines it, numpy solves it)
-    assert (fast.rows is not None) != bool(mech.higher), "the compiled kinematics took the batch"
+    assert (fast.records is not None) != bool(mech.higher), "the compiled kinematics took the batch"
     return (ref_engine, ref), (fast_engine, fast)
 
 
@@ -113,9 +114,8 @@ def test_random_mechanisms_same_as_numpy(mech_kind, data):
     assume(len(ref.phi) > 0)
     # away from dead points, where the balancing moment grows without bound
     keep = np.all(np.abs(ref.wq) < 50, axis=1)
-    a, b = kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)
-    for result in (a, b):
-        result.singular = result.singular | ~keep
+    a, b = (dataclasses.replace(r, singular=r.singular | ~keep)
+            for r in (kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)))
     _assert_same(a, b, rtol=1e-7)
 
 
@@ -248,7 +248,7 @@ def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch
     """The class IV group's dense part (6 moment rows) starts in the order its LU's partial pivoting
     usually ends with (`pivot_orders`, a permutation of its rows), so the kernel's pivot steps seldom
     swap; the pivots, and so every number, are those of the rows in the table's order."""
-    from mbplanar.backends import _numba_kinetostatics as nk
+    from mbplanar.forces import _program
     from mbplanar.forces._kinetostatics import pivot_orders, plan_of
     mech = mbplanar.read_model(MODELS / "class4_group.toml")
     phi = mbplanar.Engine(mech).phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 90, endpoint=False)
@@ -259,7 +259,7 @@ def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch
     assert all(sorted(orders[i]) == list(range(len(plan_of(fast_engine).blocks[i].rest_rows))) for i in dense)
     assert any(orders[i] != tuple(range(len(orders[i]))) for i in dense)  # (the usual order is not the table's)
     learnt = kinetostatics(fast_engine, fast)
-    monkeypatch.setattr(nk, "pivot_orders", lambda engine, motion: {})
+    monkeypatch.setattr(_program, "pivot_orders", lambda engine, motion: {})
     plain_engine = mbplanar.Engine(mech, backend="numba")
     plain = kinetostatics(plain_engine, mbplanar.analyse(plain_engine, phi, 2.5, -0.7))
     for name, r in plain.reactions.items():
@@ -268,19 +268,22 @@ def test_dense_rows_in_their_usual_pivot_order_give_the_same_numbers(monkeypatch
     _assert_same(kinetostatics(ref_engine, ref), learnt)
 
 
-def test_the_kernel_is_looked_up_once_per_plan():
-    """A plan keeps the compiled kernel it looked up (per read-only flag of the records), calls it again
-    with the same answers, and a pickled plan leaves it behind."""
+def test_the_kernel_is_looked_up_once_per_program():
+    """A program keeps the compiled kernel the backend looked up (per read-only flag of the records),
+    calls it again with the same answers, and a pickled program leaves it behind; the backend gets the
+    program, the records and the inputs, not the engine."""
+    import dataclasses
     import pickle
-    from mbplanar.backends import _numba_kinetostatics as nk
-    from mbplanar.forces._kinetostatics import plan_of
+    from mbplanar.forces._kinetostatics import KinetostaticsJob, plan_of
+    from mbplanar.forces._program import program_for
     mech = mbplanar.read_model(MODELS / "six_bar_press.toml")
     engine = mbplanar.Engine(mech, backend="numba", threads=1)
     motion = mbplanar.analyse(engine, engine.phi_drawn[0] + np.linspace(0.0, 1.0, 20))
     first = kinetostatics(engine, motion).reactions["B"].fx.copy()
-    plan = nk._plan(engine, plan_of(engine), motion, True)
-    assert list(plan.entries) == [True]
-    found = plan.entries[True]
+    program = program_for(engine, plan_of(engine), motion, True)
+    assert list(program.store["entries"]) == [True]
+    found = program.store["entries"][True]
     np.testing.assert_array_equal(kinetostatics(engine, motion).reactions["B"].fx, first)
-    assert plan.entries == {True: found}
-    assert pickle.loads(pickle.dumps(plan)).entries == {}
+    assert program.store["entries"] == {True: found}
+    assert pickle.loads(pickle.dumps(program)).store == {}
+    assert {f.name for f in dataclasses.fields(KinetostaticsJob)} == {"program", "why", "records", "inputs", "threads"}

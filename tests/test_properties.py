@@ -86,7 +86,7 @@ def _engine(m):
 
 def _closure_residual(engine, motion):
     """Largest violation of any joint (m or rad) in the solved poses."""
-    th, r = motion.frames["th"], motion.frames["r"]
+    th, r = motion.frames.th, motion.frames.r
     zeros = np.zeros_like(th)
     worst = 0.0
     for j in engine.mech.joints.values():

@@ -57,8 +57,10 @@ def test_compiled_answers_do_not_depend_on_threads(name):
     one, three = (mbplanar.Engine(mech, backend="numba", threads=t) for t in (1, 3))
     phi = one.phi_drawn[0] + np.linspace(0.0, 2 * math.pi, 3 * _threads.MIN_CHUNK + 17)
     a, b = mbplanar.analyse(one, phi, 3.0, 0.5), mbplanar.analyse(three, phi, 3.0, 0.5)
-    assert a.rows is not None and b.rows is not None
-    np.testing.assert_array_equal(b.rows.view(np.float64), a.rows.view(np.float64))  # NaN where NaN
+    assert a.records is not None and b.records is not None
+    np.testing.assert_array_equal(b.records.view(np.float64), a.records.view(np.float64))  # NaN where NaN
+    for name in ("xy", "v", "a", "vq", "aq", "w", "e", "rate", "accel", "ic"):
+        np.testing.assert_array_equal(getattr(b, name), getattr(a, name), err_msg=name)
     ka, kb = kinetostatics(one, a), kinetostatics(three, b)
     for joint, r in ka.reactions.items():
         np.testing.assert_array_equal(kb.reactions[joint].fx, r.fx)
@@ -73,7 +75,7 @@ def test_a_chunk_that_needs_numpy_sends_the_whole_batch_there():
     ref, fast = mbplanar.Engine(mech), mbplanar.Engine(mech, backend="numba", threads=3)
     phi = ref.phi_drawn[0] + np.linspace(-2.0, 1.1 * math.pi - 1.0, 3 * _threads.MIN_CHUNK)
     a, b = mbplanar.analyse(ref, phi), mbplanar.analyse(fast, phi)
-    assert b.crossings and b.rows is None
+    assert b.crossings and b.records is None
     np.testing.assert_array_equal(b.xy, a.xy)
 
 

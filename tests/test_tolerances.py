@@ -10,7 +10,7 @@ import pytest
 
 import mbplanar
 from mbplanar.engine import Tolerances
-from mbplanar.engine._tolerances import KERNEL_FIELDS
+from mbplanar.engine._tolerances import KernelTol
 
 MODELS = pathlib.Path(__file__).resolve().parent.parent / "models"
 
@@ -33,7 +33,9 @@ def test_tolerances_are_frozen_and_checked_by_the_engine():
     assert mbplanar.Engine(mech, tol=tol).tol is tol and mbplanar.Engine(mech).tol == Tolerances()
     with pytest.raises(ValueError, match="tol must be"):
         mbplanar.Engine(mech, tol={"closure": 1e-12})
-    assert list(tol.as_array()) == [getattr(tol, name) for name in KERNEL_FIELDS]
+    kernel = tol.kernel()
+    assert isinstance(kernel, KernelTol) and kernel._fields == tuple(f.name for f in dataclasses.fields(tol))
+    assert kernel == tuple(getattr(tol, name) for name in kernel._fields) and type(kernel.max_newton) is int
 
 
 def _both(tol, phi):
@@ -50,7 +52,7 @@ def test_a_changed_closure_tolerance_reaches_the_compiled_kernel():
     phi = np.linspace(0.1, 6.0, 40)
     reference = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model(MODELS / "fourbar.toml")), phi)
     loose, fast = _both(Tolerances(closure=1e-6, polish=1e-6, h_dense=math.radians(10)), phi)
-    assert fast.rows is not None, "the compiled kernel took the batch"
+    assert fast.records is not None, "the compiled kernel took the batch"
     assert np.abs(loose.xy - reference.xy).max() > 1e-8
     np.testing.assert_allclose(fast.xy, loose.xy, rtol=0, atol=1e-14)
     np.testing.assert_allclose(fast.w, loose.w, rtol=0, atol=1e-12)

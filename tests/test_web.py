@@ -206,7 +206,7 @@ def test_marks_are_the_checks_limits_and_dead_centres():
     bench = Workbench(path.read_text(encoding="utf-8"), str(path))
     marks = answers(bench, {"type": "hello"})["marks"]["marks"]
     report = mbplanar.check(mbplanar.Engine(mbplanar.read_model(path)))
-    assert sorted(m["at"] for m in marks if m["kind"] == "limit") == sorted(lim["phi"] for lim in report.limits)
+    assert sorted(m["at"] for m in marks if m["kind"] == "limit") == sorted(lim.phi for lim in report.limits)
     assert any(m["kind"] == "dead" for m in marks)
 
 

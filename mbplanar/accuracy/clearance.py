@@ -25,6 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..engine._solver import solve_positions
+
 from .sensitivity import Patch, Sources, output_rates, source_pass
 
 __all__ = ["ClearanceErrors", "clearance_errors"]
@@ -101,7 +103,7 @@ def clearance_errors(engine, phi, clearances, outputs, cyclic: bool = False) -> 
     phi = np.asarray(phi, float).reshape(-1)
     loaded = has_force_data(engine.mech)
     with np.errstate(all="ignore"):
-        sol = engine.solve(phi[:, None])
+        sol = solve_positions(engine, phi[:, None])
         if loaded:
             motion = analyse(engine, phi)
             forces = kinetostatics(engine, motion).reactions

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..engine._constraints import Rates, perp
+from ..engine._solver import solve_positions
 from ..errors import ModelError
 from . import higher
 from .geometry import STEP
@@ -480,7 +481,7 @@ def sensitivities(space, phi, outputs=None, client=None, chunk: int = CHUNK) -> 
     values = any(o.kind == "value" and engine.mech.joints[o.target].kind == "P" for o in outputs)
     at = np.concatenate([phi, engine.phi_drawn[None, :]]) if values else phi
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        sol = engine.solve(at)
+        sol = solve_positions(engine, at)
         frames = _link_arrays(engine, sol.pose)
         src = dimension_sources(engine, sol, space.derivatives(), frames)
         known = source_pass(engine, sol, src)

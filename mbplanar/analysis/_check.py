@@ -15,26 +15,40 @@ to degrees at its edge (`as_dict`).
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
 from ..errors import ModelError
 from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_limit, positions_at_limits,
                                   range_text)
+from ..engine import solve_positions
 from ..engine._atlas import met_along
 
-__all__ = ["Extreme", "AngleRange", "CheckReport", "RegionReport", "check", "check_region", "format_region",
+__all__ = ["Extreme", "AngleRange", "CheckReport", "Separation", "RegionReport", "check", "check_region", "format_region",
            "grashof", "transmission_angles", "pressure_angles", "contact_angles", "separations", "format_report"]
 
 SAMPLES = 721          # sweep resolution of a full turn (0.5°)
 FULL_TURN = 2 * math.pi
 
 
-@dataclass
+@dataclass(frozen=True)
+class LocalExtreme:
+    """A local extreme of an output over the input's range: "min" or "max", its value (rad or m), where
+    (the input's value, model unit), and `end`: an end of the range (a motion limit), where the output
+    reverses with the input."""
+
+    kind: str
+    value: float
+    at: float
+    end: bool = False
+
+
+@dataclass(frozen=True)
 class Extreme:
     """Extreme positions of one output quantity: a link angle (rad) or a slider displacement (m).
-    `at_min`/`at_max` are the input values (model unit) where they occur; `turns` marks a full rotation."""
+    `at_min`/`at_max` are the input values (model unit) where they occur; `turns` marks a full rotation;
+    `local` every local extreme, sorted by input value."""
 
     name: str
     kind: str               # "link" or "slider"
@@ -43,12 +57,10 @@ class Extreme:
     maximum: float | None
     at_max: float | None
     turns: bool = False
-    # every local extreme, sorted by input value: {"kind": "min" | "max", "value", "at", "end"}; `end`
-    # marks an end of the input's range (a motion limit), where the output reverses with the input
     local: list = field(default_factory=list)
 
 
-@dataclass
+@dataclass(frozen=True)
 class AngleRange:
     """Min/max over the cycle of a transmission or pressure angle (rad), with the input values."""
 
@@ -60,26 +72,82 @@ class AngleRange:
     at_max: float
 
 
-@dataclass
+@dataclass(frozen=True)
+class LimitReport:
+    """A motion limit as `check` reports it: the input value (model unit), the direction it is met in
+    (+1 going up, −1 going down), the links and joints in line, its kind, and the sentence."""
+
+    phi: float
+    direction: int
+    links: list
+    joints: list
+    kind: str
+    message: str
+
+
+@dataclass(frozen=True)
+class ChangePointReport:
+    """A change point (two assembly branches cross) as `check` reports it: the input value (model unit),
+    the links and joints in line, its kind, and the sentence."""
+
+    phi: float
+    links: list
+    joints: list
+    kind: str
+    message: str
+
+
+@dataclass(frozen=True)
+class Grashof:
+    """The Grashof verdict of a four-bar (`grashof`): link lengths (m), s + l and p + q, whether the
+    criterion holds (`grashof`), whether s + l = p + q (`change_point`), the shortest link, the input and
+    output links, the kind (crank-rocker, double crank, ...) and whether the input and output turn fully."""
+
+    lengths: dict
+    s_plus_l: float
+    p_plus_q: float
+    grashof: bool
+    change_point: bool
+    shortest: str
+    input_link: str
+    output_link: str
+    kind: str
+    input_turns: bool
+    output_turns: bool
+
+
+@dataclass(frozen=True)
+class Separation:
+    """A stretch of the input where a cam's contact force would pull (the follower would leave the cam):
+    the pair's name, the stretch's ends (model unit) and the sentence."""
+
+    pair: str
+    start: float
+    end: float
+    message: str
+
+
+@dataclass(frozen=True)
 class CheckReport:
-    """What `check` finds over the input's range (angles and lengths in the model's input unit).
+    """What `check` finds over the whole input range of a one-input mechanism.
 
     Attributes
     ----------
     model, input, unit : str
-        The model's name, the input's name and its unit.
+        The model's name, its input's name and unit.
     full_turn : bool
-        Whether the input turns a whole revolution from the drawn pose.
-    range : tuple
-        (lo, hi): the input values the input moves through.
-    limits, change_points : list of dict
-        Motion limits and branch crossings: "phi", "direction", "links", "joints", "kind", "message".
-    extremes : list
-        Each output's extreme positions, strokes and quick-return ratio.
-    transmission, pressure : list
-        Transmission angles of the R–R–R pairs, pressure angles of the sliders, over the range.
-    grashof : dict or None
-        For a four-bar: the lengths, s + l and p + q, its kind.
+        The input turns fully (a whole turn without a motion limit).
+    range : tuple of float
+        (lo, hi) the input moves through (model unit).
+    limits : list of LimitReport
+    change_points : list of ChangePointReport
+    extremes : list of Extreme
+        Every output link's angle and slider's displacement.
+    transmission, pressure : list of AngleRange
+    grashof : Grashof or None
+        A four-bar's verdict (None for another mechanism).
+    separations : list of Separation
+        Where a cam's contact force would pull (empty without cams, loads or masses).
 
     Examples
     --------
@@ -93,14 +161,14 @@ class CheckReport:
     input: str
     unit: str
     full_turn: bool
-    range: tuple            # (lo, hi) the input can move through, model unit
-    limits: list            # [{"phi", "direction", "links", "joints", "kind", "message"}]
-    change_points: list = field(default_factory=list)  # [{"phi", "links", "joints", "kind", "message"}]
+    range: tuple
+    limits: list
+    change_points: list = field(default_factory=list)
     extremes: list = field(default_factory=list)
     transmission: list = field(default_factory=list)
     pressure: list = field(default_factory=list)
-    grashof: dict | None = None
-    separations: list = field(default_factory=list)  # cams whose contact force would pull: [{"pair", "from", ...}]
+    grashof: Grashof | None = None
+    separations: list = field(default_factory=list)
 
     def as_dict(self) -> dict:
         """JSON-ready document, angles in degrees."""
@@ -114,6 +182,8 @@ class CheckReport:
         for key in ("transmission", "pressure"):
             for ang in doc[key]:
                 ang["minimum"], ang["maximum"] = math.degrees(ang["minimum"]), math.degrees(ang["maximum"])
+        doc["separations"] = [{"pair": s["pair"], "from": s["start"], "to": s["end"], "message": s["message"]}
+                              for s in doc["separations"]]
         return doc
 
     def _repr_html_(self) -> str:
@@ -160,10 +230,8 @@ def grashof(engine) -> dict | None:
     turns = holds and bool(ties & {input_link, mech.ground})
     output_turns = holds and bool(ties & {output_link, mech.ground})
     kind = _grashof_kind(mech, lengths, holds, change_point, ties, input_link, output_link, coupler, tol)
-    return {"lengths": lengths, "s_plus_l": s + l_, "p_plus_q": p + q, "grashof": bool(holds),
-            "change_point": bool(change_point), "shortest": shortest, "input_link": input_link,
-            "output_link": output_link, "kind": kind, "input_turns": bool(turns),
-            "output_turns": bool(output_turns)}
+    return Grashof(lengths, s + l_, p + q, bool(holds), bool(change_point), shortest, input_link, output_link, kind,
+                   bool(turns), bool(output_turns))
 
 
 def _grashof_kind(mech, lengths, holds, change_point, ties, input_link, output_link, coupler, tol) -> str:
@@ -297,7 +365,7 @@ def pressure_angles(engine, motion: Motion):
     if not pairs:
         return pairs, np.zeros((len(motion.phi), 0))
     mech = engine.mech
-    th = motion.frames["th"]
+    th = motion.frames.th
 
     def guide_angle(name):
         j = mech.joints[name]
@@ -327,10 +395,10 @@ def contact_angles(engine, motion: Motion):
     return names, np.stack([found[n].pressure_angle for n in names], axis=1)
 
 
-def separations(engine, motion: Motion) -> list[dict]:
+def separations(engine, motion: Motion) -> list[Separation]:
     """Where a cam's contact force would pull (the follower would leave the cam), with the model's loads
-    at the motion's speed: [{"pair", "from", "to", "message"}] per stretch of the input (model unit);
-    nothing without cams or without loads and masses (every force is then zero)."""
+    at the motion's speed: a `Separation` per stretch of the input (model unit); nothing without cams or
+    without loads and masses (every force is then zero)."""
     from ..forces._kinetostatics import kinetostatics
     from ..forces._loads import has_force_data
     cams = [n for n, h in engine.mech.higher.items() if h.kind == "cam"]
@@ -345,10 +413,10 @@ def separations(engine, motion: Motion) -> list[dict]:
         edges = np.flatnonzero(np.diff(np.concatenate([[False], bad, [False]]).astype(int)))
         for lo, hi in zip(edges[::2], edges[1::2] - 1):
             a, b = float(phi[lo]), float(phi[hi])
-            out.append({"pair": name, "from": a, "to": b,
-                        "message": f"cam '{name}': the contact force would pull from {inp.name} = {a:.6g} to {b:.6g} "
-                                   f"{inp.unit}: the follower leaves the cam there unless a spring or a preload "
-                                   "holds it on (force closure)"})
+            out.append(Separation(
+                name, a, b, f"cam '{name}': the contact force would pull from {inp.name} = {a:.6g} to {b:.6g} "
+                            f"{inp.unit}: the follower leaves the cam there unless a spring or a preload "
+                            "holds it on (force closure)"))
     return out
 
 
@@ -499,8 +567,8 @@ def _within_turn(engine, values, full_turn: bool):
     return np.where(np.minimum(reduced, turn - reduced) <= 1e-12 * turn, 0.0, reduced)
 
 
-def _local(kind, value, at, end=False):
-    return {"kind": kind, "value": float(value), "at": float(at), "end": bool(end)}
+def _local(kind, value, at, end=False) -> LocalExtreme:
+    return LocalExtreme(kind, float(value), float(at), bool(end))
 
 
 def _extremes(engine, motion, full_turn, at_limits=None):
@@ -547,11 +615,10 @@ def _extremes(engine, motion, full_turn, at_limits=None):
             shift = FULL_TURN * math.floor((vmin + math.pi) / FULL_TURN)
             vmin, vmax = vmin - shift, vmax - shift
         ats = _within_turn(engine, inp.from_si(np.asarray(ats_n, float)), full_turn)
-        ext = Extreme(name, kind, vmin, float(ats[lo]), vmax, float(ats[hi]))
         places = _within_turn(engine, [inp.from_si(c[0]) for c in local], full_turn)
-        ext.local = sorted((_local(c[2], c[1] - shift, at, len(c) > 3) for c, at in zip(local, places)),
-                           key=lambda loc: loc["at"])
-        out.append(ext)
+        out.append(Extreme(name, kind, vmin, float(ats[lo]), vmax, float(ats[hi]),
+                           local=sorted((_local(c[2], c[1] - shift, at, len(c) > 3) for c, at in zip(local, places)),
+                                        key=lambda loc: loc.at)))
     return out
 
 
@@ -613,7 +680,7 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     --------
     >>> import mbplanar
     >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
-    >>> report.full_turn, report.grashof["kind"]
+    >>> report.full_turn, report.grashof.kind
     (True, 'crank-rocker')
     """
     if len(engine.inputs) != 1:
@@ -629,25 +696,25 @@ def check(engine, samples: int = SAMPLES) -> CheckReport:
     report = CheckReport(
         model=engine.mech.name, input=inp.name, unit=inp.unit, full_turn=full,
         range=(float(inp.from_si(lo)), float(inp.from_si(hi))),
-        limits=[{"phi": float(inp.from_si(lim.phi[0])), "direction": lim.direction,
-                 "links": list(lim.links), "joints": list(lim.joints), "kind": lim.kind,
-                 "message": describe_limit(engine, lim)} for lim in limits],
-        change_points=[{"phi": float(inp.from_si(c.phi[0])), "links": list(c.links), "joints": list(c.joints),
-                        "kind": c.kind, "message": describe_crossing(engine, c)} for c in crossings],
+        limits=[LimitReport(float(inp.from_si(lim.phi[0])), lim.direction, list(lim.links), list(lim.joints),
+                            lim.kind, describe_limit(engine, lim)) for lim in limits],
+        change_points=[ChangePointReport(float(inp.from_si(c.phi[0])), list(c.links), list(c.joints), c.kind,
+                                         describe_crossing(engine, c)) for c in crossings],
         grashof=grashof(engine))
     if len(motion.phi) < 2:
         return report
-    report.extremes = _extremes(engine, motion, full, at_limits)
-    report.transmission = _angle_ranges(engine, motion, at_limits, transmission_angles,
-                                        lambda t: f"{t[0]}-{t[1]}-{t[2]}", full)
-    report.pressure = _angle_ranges(engine, motion, at_limits, pressure_angles,
-                                    lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
-                                    f"{t[2]} (normal of {t[0]})", full)
+    pressure = _angle_ranges(engine, motion, at_limits, pressure_angles,
+                             lambda t: f"{t[2]} ({t[0]}-{t[1]})" if t[0] != t[1] else
+                             f"{t[2]} (normal of {t[0]})", full)
+    pulls = []
     if engine.mech.higher:
-        report.pressure += _angle_ranges(engine, motion, at_limits, _contact_angle_labels,
-                                         lambda t: f"{t[0]} (contact normal)", full)
-        report.separations = separations(engine, motion)
-    return report
+        pressure += _angle_ranges(engine, motion, at_limits, _contact_angle_labels,
+                                  lambda t: f"{t[0]} (contact normal)", full)
+        pulls = separations(engine, motion)
+    return replace(report, extremes=_extremes(engine, motion, full, at_limits),
+                   transmission=_angle_ranges(engine, motion, at_limits, transmission_angles,
+                                              lambda t: f"{t[0]}-{t[1]}-{t[2]}", full),
+                   pressure=pressure, separations=pulls)
 
 
 def _contact_angle_labels(engine, motion):
@@ -662,17 +729,17 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
     lines = [f"{report.model}: input {report.input} [{u}]"]
     if report.grashof is not None:
         g = report.grashof
-        lines.append(f"Grashof: s + l = {g['s_plus_l'] / k:.6g} {lu} {'≤' if g['grashof'] else '>'} p + q = "
-                     f"{g['p_plus_q'] / k:.6g} {lu}: {g['kind']}; the input "
-                     f"{'turns fully' if g['input_turns'] else 'does not turn fully'}")
+        lines.append(f"Grashof: s + l = {g.s_plus_l / k:.6g} {lu} {'≤' if g.grashof else '>'} p + q = "
+                     f"{g.p_plus_q / k:.6g} {lu}: {g.kind}; the input "
+                     f"{'turns fully' if g.input_turns else 'does not turn fully'}")
     if report.full_turn:
         lines.append("the input turns fully (numerically: a whole turn without a motion limit)")
     else:
         lines.append(f"the input does NOT turn fully: it moves through {range_text(*report.range, 8)} {u}")
     for lim in report.limits:
-        lines.append(f"  dead point / limit: {lim['message']}")
+        lines.append(f"  dead point / limit: {lim.message}")
     for c in report.change_points:
-        lines.append(f"  {c['message']}")
+        lines.append(f"  {c.message}")
     for e in report.extremes:
         if e.turns:
             lines.append(f"  link {e.name}: turns fully")
@@ -690,27 +757,38 @@ def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -
             lines.append(f"  {title} {a.name}: min {math.degrees(a.minimum):.4f}° at {a.at_min:.8g} {u}, "
                          f"max {math.degrees(a.maximum):.4f}° at {a.at_max:.8g} {u}")
     for sep in report.separations:
-        lines.append(f"  force closure: {sep['message']}")
+        lines.append(f"  force closure: {sep.message}")
     return "\n".join(lines)
 
 
-def _format_local(ext: Extreme, loc: dict, unit: str, lu: str = "m", k: float = 1.0) -> str:
+def _format_local(ext: Extreme, loc: LocalExtreme, unit: str, lu: str = "m", k: float = 1.0) -> str:
     """One local extreme: 'max 61.601550° at 315 deg' (an end of the range marked '(limit)'); lengths
     in `lu`, k metres each."""
-    value = f"{math.degrees(loc['value']):.6f}°" if ext.kind == "link" else f"{loc['value'] / k:.9g} {lu}"
-    return f"{loc['kind']} {value} at {loc['at']:.8g} {unit}" + (" (limit)" if loc["end"] else "")
+    value = f"{math.degrees(loc.value):.6f}°" if ext.kind == "link" else f"{loc.value / k:.9g} {lu}"
+    return f"{loc.kind} {value} at {loc.at:.8g} {unit}" + (" (limit)" if loc.end else "")
 
 
 # -- two inputs: the reachable region and the singular curves ----------------------------------------
 REGION_SAMPLES = 19    # grid points per input (20° over a full turn)
 
 
-@dataclass
+@dataclass(frozen=True)
+class SingularPoint:
+    """A point of a singular curve of a two-input mechanism: where (the inputs' values, model units),
+    the links and joints in line, its kind."""
+
+    at: list
+    links: list
+    joints: list
+    kind: str
+
+
+@dataclass(frozen=True, eq=False)
 class RegionReport:
     """What a two-input mechanism can reach: a grid over both inputs' sweeps (model units), which grid
-    points the drawn branch reaches, the range each input reaches, and the points of the singular
-    curves (a block's Jacobian determinant changes sign between neighbouring reached grid points:
-    there the branch folds, the links line up)."""
+    points the drawn branch reaches (`reachable` (n_1, n_2) bool), the range each input reaches, and the
+    points of the singular curves (`SingularPoint` records: a block's Jacobian determinant changes sign
+    between neighbouring reached grid points: there the branch folds, the links line up)."""
 
     model: str
     inputs: list            # names
@@ -726,7 +804,7 @@ class RegionReport:
                 "grid": [list(map(float, g)) for g in self.grid],
                 "reachable": self.reachable.tolist(), "reached": int(self.reachable.sum()),
                 "ranges": [list(r) if r is not None else None for r in self.ranges],
-                "singular": self.singular}
+                "singular": [asdict(p) for p in self.singular]}
 
 
 def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
@@ -750,18 +828,18 @@ def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
         for part in (np.flatnonzero(up), np.flatnonzero(~up)[::-1]):
             values = np.column_stack([np.full(len(part) + 1, a), np.append(drawn[1], grid[1][part])])
             phi = np.column_stack([inp.to_si(values[:, k]) for k, inp in enumerate(inputs)])
-            sol = engine.solve(phi)
+            sol = solve_positions(engine, phi)
             ok = sol.valid[1:]
             reach[i, part] = ok
             dets[i, part] = np.where(ok[:, None], engine.dets(sol)[1:], np.nan)
-            folds += [{"at": [float(inp.from_si(p)) for inp, p in zip(inputs, lim.phi)], "links": list(lim.links),
-                       "joints": list(lim.joints), "kind": lim.kind} for lim in sol.limits]
+            folds += [SingularPoint([float(inp.from_si(p)) for inp, p in zip(inputs, lim.phi)], list(lim.links),
+                                    list(lim.joints), lim.kind) for lim in sol.limits]
     ranges = []
     for axis in (0, 1):
         hit = np.flatnonzero(reach.any(axis=1 - axis))
         ranges.append((float(grid[axis][hit[0]]), float(grid[axis][hit[-1]])) if len(hit) else None)
     return RegionReport(engine.mech.name, [i.name for i in inputs], [i.unit for i in inputs], grid, reach,
-                        ranges, sorted(_singular_points(engine, grid, dets) + folds, key=lambda s: s["at"]))
+                        ranges, sorted(_singular_points(engine, grid, dets) + folds, key=lambda s: s.at))
 
 
 def _singular_points(engine, grid, dets) -> list:
@@ -777,8 +855,8 @@ def _singular_points(engine, grid, dets) -> list:
             nxt = grid[axis][(a if axis == 0 else b) + 1]
             p[axis] = p[axis] + t * (nxt - p[axis])
             bp = engine.blocks[blk]
-            out.append({"at": [float(p[0]), float(p[1])], "links": list(bp.links), "joints": list(bp.joints),
-                        "kind": "change of assembly sign between grid points"})
+            out.append(SingularPoint([float(p[0]), float(p[1])], list(bp.links), list(bp.joints),
+                                     "change of assembly sign between grid points"))
     return out
 
 
@@ -796,8 +874,8 @@ def format_region(report: RegionReport) -> str:
     if report.singular:
         lines.append(f"  singular curves ({len(report.singular)} points, links in line):")
         for s in report.singular:
-            lines.append(f"    {report.inputs[0]} = {s['at'][0]:.8g}, {report.inputs[1]} = {s['at'][1]:.8g}: "
-                         f"links {', '.join(s['links'])} — {s['kind']}")
+            lines.append(f"    {report.inputs[0]} = {s.at[0]:.8g}, {report.inputs[1]} = {s.at[1]:.8g}: "
+                         f"links {', '.join(s.links)} — {s.kind}")
     return "\n".join(lines)
 
 

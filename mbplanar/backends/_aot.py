@@ -39,18 +39,22 @@ __all__ = ["build", "prepare", "status", "sources", "digest", "INDEX", "KERNEL_M
 FORMAT = 1  # of the index; bump when it changes
 INDEX = "mbplanar-kernels.json"
 #: the modules holding kernels (`_jit.njit`), imported by `build` so that every kernel is known
-KERNEL_MODULES = ("_numba_blocks", "_numba_kinematics", "_numba_kinetostatics", "_numba_single", "_numba_design")
+KERNEL_MODULES = ("_numba_blocks", "_numba_kinematics", "_numba_kinetostatics", "_numba_design")
 HERE = Path(__file__).resolve().parent
+#: the engine's modules the kernels read: the continuation's rules they compile (`_numba_blocks`), the named
+#: tuples of their tables and bundles, and of their tolerances
+ENGINE_SOURCES = ("_continuation", "_tables", "_tolerances")
 #: numba's cache files of a kernel (index and data), named after the kernel's module
 SUFFIXES = (".nbi", ".nbc")
 
 
 def sources() -> list[Path]:
     """The files a compiled kernel depends on: the kernel modules (the kernels, the building blocks they
-    inline, the constants they freeze), the decorator (`_jit`: the pipeline) and the named tuples of the
-    kernels' tables (`_tables`). A kernel reads nothing else at compile time (`tests/test_aot.py` checks
-    that the globals the kernels read are defined in these modules)."""
-    return [HERE / f"{name}.py" for name in sorted(KERNEL_MODULES + ("_jit", "_tables"))]
+    inline, the constants they freeze), the decorator (`_jit`: the pipeline), the names old cache indexes
+    hold (`_tables`) and the engine's modules of `ENGINE_SOURCES`. A kernel reads nothing else at compile time
+    (`tests/test_aot.py` checks that the globals the kernels read are defined in these modules)."""
+    return ([HERE / f"{name}.py" for name in sorted(KERNEL_MODULES + ("_jit", "_tables"))]
+            + [HERE.parent / "engine" / f"{name}.py" for name in ENGINE_SOURCES])
 
 
 def digest() -> str:
@@ -62,7 +66,7 @@ def digest() -> str:
         for part in (str(FORMAT), sys.implementation.cache_tag, sys.version, numba.__version__):
             h.update(part.encode() + b"\0")
         for path in sources():
-            h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+            h.update(f"{path.parent.name}/{path.name}".encode() + b"\0" + path.read_bytes() + b"\0")
         _digest.append(h.hexdigest())
     return _digest[0]
 

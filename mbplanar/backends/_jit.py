@@ -22,9 +22,11 @@ bit where they were.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
-__all__ = ["Kernel", "njit", "lean_pipeline", "signature", "forget", "kernels", "cache_path"]
+__all__ = ["Kernel", "njit", "lean_pipeline", "signature", "forget", "kernels", "cache_path", "interpret", "plain"]
 
 
 def njit(**options):
@@ -76,6 +78,8 @@ class Kernel:
         return found
 
     def __call__(self, *args):
+        if _plain.on:
+            return self.py_func(*args)
         return self.entry(args)(*args)
 
     def __getattr__(self, name):
@@ -89,6 +93,45 @@ class Kernel:
 
 
 _kernels: list = []  # every kernel made
+class _Plain(threading.local):
+    """Per thread: whether it runs the kernels as plain Python (`interpret`); off in every thread until
+    it says otherwise (a design batch calls its kernel from worker threads too)."""
+
+    on = False
+
+
+_plain = _Plain()
+
+
+def interpret(kernel: Kernel, args: tuple, viewed: tuple = ()):
+    """`kernel(*args)` run as plain Python, with the kernels it calls: every array of `args` (and of the
+    named tuples among them) read through a memoryview (`plain`), whose elements are Python floats, ints
+    and bools (a numpy scalar's arithmetic costs several times a float's); `viewed`: arguments already
+    made `plain`, passed first. The kernels use only element access, len(), .shape and `math` on their
+    arrays, so the same function runs either way, with the same floating-point operations in the same
+    order. A division by zero or an overflow Python raises, where the compiled code gives inf or NaN,
+    propagates (as ArithmeticError)."""
+    plain_args = viewed + tuple(_viewed(a) for a in args)
+    before, _plain.on = getattr(_plain, "on", False), True
+    try:
+        return kernel.py_func(*plain_args)
+    finally:
+        _plain.on = before
+
+
+def plain(value):
+    """`value` as `interpret` hands it to a kernel: its arrays (and those of its named tuples) as
+    memoryviews."""
+    return _viewed(value)
+
+
+def _viewed(value):
+    """`value` with its arrays as memoryviews (named tuples and tuples member by member)."""
+    if value.__class__ is np.ndarray:
+        return memoryview(value)
+    if isinstance(value, tuple):
+        return value.__class__(*map(_viewed, value)) if hasattr(value, "_fields") else tuple(map(_viewed, value))
+    return value
 
 
 def kernels() -> list:

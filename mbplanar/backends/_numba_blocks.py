@@ -8,11 +8,13 @@ every caller, which made the kinematics kernel's first compile about 0.5 s (5 %)
 
 from __future__ import annotations
 
-import numpy as np
+import math
 
 from ._jit import njit
+from ..engine import _continuation
 
-__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval"]
+__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval", "_step_verdict", "_rate_jump",
+           "_hermite_coefficients", "_hermite_value", "_hermite_slope"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
@@ -37,7 +39,7 @@ def _place(k, steps, q, q_in, ps, sc):
         s0x, s0y = steps.s0[k, 0], steps.s0[k, 1]
         rpx, rpy = cp * s0x - sp * s0y, sp * s0x + cp * s0y
         t = ps[0, parent] + value if rel else value
-        cc, ss = np.cos(t), np.sin(t)
+        cc, ss = math.cos(t), math.sin(t)
         ps[0, child], ps[1, child], ps[2, child] = t, cc, ss
         rcx, rcy = cc * s0x - ss * s0y, ss * s0x + cc * s0y
         ps[3, child] = ps[3, parent] + rpx - rcx
@@ -94,7 +96,7 @@ def _lu(a, m, perm):
             a[i, k] /= a[k, k]
             for j in range(k + 1, m):
                 a[i, j] -= a[i, k] * a[k, j]
-    det, lo, hi = sign, np.inf, 0.0
+    det, lo, hi = sign, math.inf, 0.0
     for i in range(m):
         det *= a[i, i]
         lo, hi = min(lo, abs(a[i, i])), max(hi, abs(a[i, i]))
@@ -126,3 +128,12 @@ def _interval(grid, count, x):
         else:
             hi = mid
     return lo
+
+
+# the continuation's rules, written once in `engine._continuation` for numpy and compiled here, as they are,
+# for the kernels (the acceptance of a step, the rate jump, the quintic Hermite interpolant)
+_step_verdict = _part(_continuation.step_verdict)
+_rate_jump = _part(_continuation.rate_jump)
+_hermite_coefficients = _part(_continuation.hermite_coefficients)
+_hermite_value = _part(_continuation.hermite_value)
+_hermite_slope = _part(_continuation.hermite_slope)

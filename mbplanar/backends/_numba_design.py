@@ -8,239 +8,197 @@ method. Per design the kernel
    status (the batch words the reason);
 2. marches the input up and down from the drawn pose with the engine's continuation rules, as
    `DesignBatch._march` does for all designs at once (second-order predictor, block Newton, a step
-   accepted when it converges close to its prediction in positions and derivatives with no change of
-   sign of a block's determinant, halved otherwise); a step below `h_min` is a motion limit, whose
-   bracket is handed back for the engine's fold Newton; a change point hands the design back;
-3. predicts every requested position by the quintic Hermite interpolant of its nodes, corrects it by
-   the block Newton, checks it (converged, same signs as the nearest node, a correction within
-   `max_correction`) and writes the chosen links' angles and analogue rates and the chosen points'
-   positions, velocity (and acceleration) analogues. A position it cannot vouch for hands the design back.
+   judged by `engine._continuation.step_verdict`, halved where it is refused); a step below `h_min` is a
+   motion limit, whose bracket is handed back for the engine's fold Newton; a change point hands the
+   design back;
+3. predicts every requested position by the quintic Hermite interpolant of its nodes
+   (`engine._continuation`), corrects it by the block Newton, checks it (converged, same signs as the
+   nearest node, a correction within `max_correction`) and writes the chosen links' angles and analogue
+   rates and the chosen points' positions, velocity (and acceleration) analogues. A position it cannot
+   vouch for hands the design back.
 
 When a design's input values are an ordered sweep with no gap wider than `h_max` (`_walk`), steps 2
 and 3 are one: the sweep itself is walked from the drawn pose, every requested position a march node
-accepted by the march's rules and written at once; a position they refuse sends the design to step 2.
+accepted by the march's rule and written at once; a position it refuses sends the design to step 2.
 
-The per-design constants (every joint's point in the link frames, each guide's direction, the drawn
-input value, each link's drawn angle, the chosen points) are tables with a design axis; before a design
-the kernel copies its row into the engine's step and cut tables (`_tables.kinematics_tables`, the sweep
-kernel's), so that the per-position arithmetic (placement, closure, Jacobian, LU, rates) runs on them
-unchanged.
+The kernels take named bundles: the request's designs (`DesignIn`), the answer's arrays (`engine._tables.DesignResult`, which it writes),
+the tolerances (`engine._tables.KernelTol`, every threshold named in it) and a thread's work arrays
+(`DesignWork`, whose unknowns come in `Unknowns` bundles). The per-design constants (every joint's point
+in the link frames, each guide's direction, the drawn input value, each link's drawn angle, the chosen
+points) have a design axis; before a design the kernel copies its row into its own copy of the engine's
+step and cut tables (`engine._tables.sweep_tables`, the sweep kernel's), so that the per-position
+arithmetic (placement, closure, Jacobian, LU, rates) runs on them unchanged.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from typing import NamedTuple
 
 import numpy as np
 
 from . import _threads
 from ._jit import njit
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place
-from ._tables import kinematics_tables
-from ..engine._nodes import HERMITE5
-from ..kinematics._motion import _tables
+from ._numba_blocks import (_closure, _hermite_coefficients, _hermite_slope, _hermite_value, _interval, _lu,
+                            _lu_solve, _place, _rate_jump, _step_verdict)
+from ..engine._continuation import HERMITE5
+from ..engine._tables import CutTables, DesignResult, DesignTables, StepTables
 
-__all__ = ["DesignTables", "design_tables", "solve", "STATUS"]
+__all__ = ["solve", "DesignIn", "DesignWork", "Unknowns"]
 
-#: per-design status the kernel returns
-STATUS = {"ok": 0, "open": 1, "singular": 2, "crossing": 3, "numpy": 4}
 MAX_NODES = 4096  # march nodes per design (more: the design is handed back)
 MIN_DESIGNS = 64  # designs per thread below which another thread costs more than it saves
-TURN = 0.05  # largest turn (rad) of a link placed by `_turn` (by series) rather than by cos and sin
-NUDGE = 1e-8  # largest move (rad) of a link within a solve placed by `_nudge` (to first order) rather than `_turn`
-LAZY_STEP = 1e-6  # largest last Newton step (scaled) after which a converged block keeps its Jacobian (`_solve`)
 
 
-@dataclass
-class DesignTables:
-    """An engine's kernel tables and, per design (D designs), the constants that differ.
+class DesignIn(NamedTuple):
+    """What the kernel solves: the designs' `tables` (`engine._tables.DesignTables`: the engine's blocks,
+    and per design (D designs) the constants that differ), whether each block's row and unknown scales
+    are `uniform` (n_blocks,), the input's `sense`, the ground's link index, the march parameter's unit
+    `scale`, whether the `accelerations` are wanted, the input values x (D, N) with their lo, hi (D,),
+    and the quintic Hermite interpolant's weights `hermite` (6, 6) (`engine._continuation.HERMITE5`)."""
 
-    step_s0, step_u0 (D, S, 2): each tree step's joint point and guide direction; cut_s0, cut_n0
-    (D, C, 2): each cut's point and guide normal; phi0 (D,): the drawn input value (SI); reference (D, L):
-    each link's drawn angle; point_at (D, P, 2) and point_link (P,): the chosen points, drawn, and their
-    links; link_out (K,): the links whose angle and rates are written."""
-
-    steps: tuple
-    cuts: tuple
-    blocks: tuple
-    step_s0: np.ndarray
-    step_u0: np.ndarray
-    cut_s0: np.ndarray
-    cut_n0: np.ndarray
-    phi0: np.ndarray
-    reference: np.ndarray
-    point_at: np.ndarray
-    point_link: np.ndarray
-    link_out: np.ndarray
+    tables: DesignTables
+    uniform: np.ndarray
+    sense: float
+    ground: int
+    scale: float
+    accelerations: bool
+    x: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    hermite: np.ndarray
 
 
-def _step_joints(engine) -> tuple[list, list]:
-    """The joint of every tree step and of every cut, in the kernel tables' order."""
-    steps = [st.law.name for bp in engine.blocks for st in bp.steps]
-    cuts = [law.name for bp in engine.blocks for law in bp.cuts]
-    return steps, cuts
+class Unknowns(NamedTuple):
+    """Every block's unknowns q (M,), their derivatives qd, qdd (M,) and each block's determinant (or its
+    sign) `dets` (n_blocks,)."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    dets: np.ndarray
 
 
-def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
-                  designs, link_out=None) -> DesignTables:
-    """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
-    guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
-    `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
-    wanted (default all)."""
-    steps, cuts, blocks, _ = kinematics_tables(engine, _tables(engine)[1])
-    step_names, cut_names = _step_joints(engine)
-    kind = {name: j.kind for name, j in engine.mech.joints.items()}
+class DesignWork(NamedTuple):
+    """One thread's work arrays: its own copies of the step and cut tables (a design's row is copied in);
+    the pose `ps` (8, L): θ, cos θ, sin θ, r_x, r_y per link, then each link's anchor angle θa, cos θa,
+    sin θa (`_turn`); rates `rt` (slots, 3, L) and the step and cut caches `sc`, `cc` of
+    `_numba_kinematics`; a block's Jacobian as solved and scaled (`jac`, `jac_s`) with their permutations,
+    its residual, Newton step and the unknowns' rates (`res`, `step`, `qd_u`, `qdd_u`); the unknowns of the
+    position being solved (`now`), of the drawn pose (`drawn`) and of the march's current node (`node`,
+    its dets holding the signs); the prediction `guess` and its rates' `qdp` (M,); the last two positions
+    followed `prev` (2, 2, M) (q and dq/dφ); the march's nodes (node_phi, node_q (nodes, 3, M),
+    node_sign) and their interpolant `coef` (nodes, 6, M)."""
 
-    def stacked(names, table):
-        out = np.zeros((len(designs), len(names), 2))
-        for k, n in enumerate(names):
-            if table is at or kind[n] == "P":
-                out[:, k] = table[n][:, designs].T
-        return out
+    steps: StepTables
+    cuts: CutTables
+    ps: np.ndarray
+    rt: np.ndarray
+    sc: np.ndarray
+    cc: np.ndarray
+    jac: np.ndarray
+    jac_s: np.ndarray
+    perm: np.ndarray
+    perm_s: np.ndarray
+    res: np.ndarray
+    step: np.ndarray
+    qd_u: np.ndarray
+    qdd_u: np.ndarray
+    now: Unknowns
+    drawn: Unknowns
+    node: Unknowns
+    guess: np.ndarray
+    qdp: np.ndarray
+    prev: np.ndarray
+    node_phi: np.ndarray
+    node_q: np.ndarray
+    node_sign: np.ndarray
+    coef: np.ndarray
 
-    u0 = stacked(step_names, guide)
-    n = stacked(cut_names, guide)
-    cut_n0 = np.stack([-n[..., 1], n[..., 0]], axis=-1)  # perp(u0)
-    return DesignTables(steps, cuts, blocks, stacked(step_names, at), u0, stacked(cut_names, at), cut_n0,
-                        np.ascontiguousarray(phi0[designs], float),
-                        np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
-                        np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
-                                             .reshape(len(designs), len(points), 2)),
-                        np.asarray(point_link, np.int64),
-                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
+    @classmethod
+    def new(cls, steps, cuts, n_links: int, m_all: int, m_max: int, n_blocks: int) -> "DesignWork":
+        """Work arrays for tables `steps`, `cuts`, L links, M unknowns, the largest block's unknowns."""
+        vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
+        m1 = max(m_all, 1)
 
-
-@dataclass
-class DesignResult:
-    """What the kernel gives per design (B designs × N positions).
-
-    status (B,): `STATUS`; valid (B, N); angle, wq (B, N, K) of the links `link_out`; eq (B, N, K) or None;
-    xy, vq (B, N, P, 2); aq or None. Limits per design and direction (index 0: going up, 1: going down): flag (B, 2),
-    phi (B, 2) the last node's input value, h (B, 2) the last step tried, q, qd, qdd (B, 2, M) the last
-    node's unknowns and their derivatives along the march parameter, signs (B, 2, n_blocks)."""
-
-    status: np.ndarray
-    valid: np.ndarray
-    angle: np.ndarray
-    wq: np.ndarray
-    eq: np.ndarray | None
-    xy: np.ndarray
-    vq: np.ndarray
-    aq: np.ndarray | None
-    limit: np.ndarray
-    limit_phi: np.ndarray
-    limit_h: np.ndarray
-    limit_q: np.ndarray
-    limit_qd: np.ndarray
-    limit_qdd: np.ndarray
-    limit_signs: np.ndarray
-
-
-def _march_tolerances(tol) -> np.ndarray:
-    """The tolerances the kernel reads, in its order."""
-    return np.array([tol.closure, tol.max_newton, tol.pivot_polish, tol.pivot_cross, tol.max_correction,
-                     tol.h_start, tol.h_max, tol.h_min, tol.rate_jump, tol.h_cross, tol.cross_dist, tol.polish], float)
+        def unknowns():
+            return Unknowns(vec(m_all), vec(m_all), vec(m_all), np.ones(n_blocks))
+        return cls(steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
+                   cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()),
+                   np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(len(steps.parent), 1), 5)),
+                   np.zeros((max(len(cuts.a), 1), 9)), np.zeros((m_max, m_max)), np.zeros((m_max, m_max)),
+                   np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max),
+                   vec(m_max), unknowns(), unknowns(), unknowns(), vec(m_all), vec(m_all), np.zeros((2, 2, m1)),
+                   np.zeros(MAX_NODES), np.zeros((MAX_NODES, 3, m1)), np.zeros((MAX_NODES, n_blocks)),
+                   np.zeros((MAX_NODES, 6, m1)))
 
 
-def _scratch(steps, cuts, n_links, m_all, m_max, n_blocks, n_steps, n_cuts):
-    """One thread's work arrays, in `_designs`' order: its own copies of the step and cut tables (a
-    design's row is copied in), the pose, rate slots and caches of `_numba_kinematics`, a block's
-    Jacobian (as solved and scaled) with its permutations, the unknowns and their rates, the drawn pose,
-    the march nodes and their interpolant, the march's current node, the last two positions followed
-    (q and dq/dφ) and the predicted dq/dφ."""
-    vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
-    m1 = max(m_all, 1)
-    return (steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
-            cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()),
-            np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
-            np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-            np.zeros((m_max, m_max)), np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max),
-            vec(m_max), vec(m_max), vec(m_all), vec(m_all), np.ones(n_blocks), vec(m_all), vec(m_all), vec(m_all),
-            np.ones(n_blocks), np.zeros(MAX_NODES), np.zeros((MAX_NODES, 3, m1)), np.zeros((MAX_NODES, n_blocks)),
-            np.zeros((MAX_NODES, 6, m1)), vec(m_all), vec(m_all), vec(m_all), np.zeros(n_blocks),
-            np.zeros((2, 2, m1)), vec(m_all))
-
-
-def solve(engine, tables: DesignTables, x, scale: float, accelerations: bool = True, threads=None) -> DesignResult:
-    """The kernel over designs (B,) at input values x (B, N) (SI): march, then every position.
-
-    Parameters
-    ----------
-    engine : Engine
-        The reference design's engine (its blocks and tolerances serve every design).
-    tables : DesignTables
-        The designs' constants (`design_tables`).
-    x : ndarray (B, N)
-        Input values per design.
-    scale : float
-        The march parameter's unit: 1 for a revolute input, the mechanism's size for a slider.
-    accelerations : bool
-        Also the acceleration analogues (eq, aq).
-    threads : int, optional
-        Threads the designs are split over (default: `_threads.available()`).
+def solve(request) -> DesignResult:
+    """The kernel over a design request's designs (D,) at their input values x (D, N) (SI): march, then
+    every position (`engine._tables.DesignJob`); the designs split over `request.threads` threads.
 
     Returns
     -------
     DesignResult
     """
-    x = np.ascontiguousarray(x, float)
+    tables, accelerations = request.tables, request.accelerations
+    x = np.ascontiguousarray(request.x, float)
     count, n = x.shape
     n_links, n_points = tables.link_out.shape[0], tables.point_link.shape[0]
     n_blocks = len(tables.blocks.m)
     m_all = int(tables.blocks.m.sum())
     m_max = max([1] + [int(m) for m in tables.blocks.m])
-    valid = np.empty((count, n), np.bool_)
-    angle, wq = np.empty((count, n, n_links)), np.empty((count, n, n_links))
-    eq = np.empty((count, n, n_links)) if accelerations else np.empty((0, 0, n_links))
-    xy, vq = np.empty((count, n, n_points, 2)), np.empty((count, n, n_points, 2))
-    aq = np.empty((count, n, n_points, 2)) if accelerations else np.empty((0, 0, n_points, 2))
-    status = np.zeros(count, np.int64)
     m1 = max(m_all, 1)
-    limit, limit_phi, limit_h = np.zeros((count, 2), np.bool_), np.zeros((count, 2)), np.zeros((count, 2))
-    limit_q, limit_qd, limit_qdd = (np.zeros((count, 2, m1)) for _ in range(3))
-    limit_signs = np.zeros((count, 2, n_blocks))
+    out = DesignResult(np.zeros(count, np.int64), np.empty((count, n), np.bool_), np.empty((count, n, n_links)),
+                       np.empty((count, n, n_links)),
+                       np.empty((count, n, n_links)) if accelerations else np.empty((0, 0, n_links)),
+                       np.empty((count, n, n_points, 2)), np.empty((count, n, n_points, 2)),
+                       np.empty((count, n, n_points, 2)) if accelerations else np.empty((0, 0, n_points, 2)),
+                       np.zeros((count, 2), np.bool_), np.zeros((count, 2)), np.zeros((count, 2)),
+                       *(np.zeros((count, 2, m1)) for _ in range(3)), np.zeros((count, 2, n_blocks)))
     lo, hi = x.min(axis=1) if n else tables.phi0, x.max(axis=1) if n else tables.phi0
-    sense = float(engine.inputs[0].sense)
-    tol = _march_tolerances(engine.tol)
-    ground = engine.link_index[engine.mech.ground]
-    sizes = (len(tables.reference[0]), m_all, m_max, n_blocks, len(tables.steps.parent), len(tables.cuts.a))
-    k = 1 if count < 2 * MIN_DESIGNS else max(1, min(threads or _threads.available(), count // MIN_DESIGNS))
+    inp = DesignIn(tables, request.uniform, float(request.sense), int(request.ground), float(request.scale),
+                   bool(accelerations), x, lo, hi, HERMITE5)
+    sizes = (len(tables.reference[0]), m_all, m_max, n_blocks)
+    k = 1 if count < 2 * MIN_DESIGNS else max(1, min(request.threads or _threads.available(), count // MIN_DESIGNS))
     cuts_at = [count * i // k for i in range(k + 1)]
     parts = [slice(a, b) for a, b in zip(cuts_at[:-1], cuts_at[1:])]
-    store = engine.prepared.setdefault("numba design scratch", {}).setdefault(sizes, [])
-    work = _threads.work_arrays(store, lambda: _scratch(tables.steps, tables.cuts, *sizes), len(parts))
-    t = tables
-    uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1])) and bool(np.all(bp.var_scale == bp.var_scale[:1]))
-                        for bp in engine.blocks], np.bool_)
-
-    def call(p, w):
-        return _designs(w[0], w[1], t.blocks, uniform, sense, ground, tol, scale, accelerations, t.step_s0[p], t.step_u0[p],
-                        t.cut_s0[p], t.cut_n0[p], t.phi0[p], t.reference[p], t.point_at[p], t.point_link, t.link_out,
-                        x[p], lo[p], hi[p], status[p], valid[p], angle[p], wq[p], eq[p] if accelerations else eq,
-                        xy[p], vq[p], aq[p] if accelerations else aq, limit[p], limit_phi[p], limit_h[p], limit_q[p],
-                        limit_qd[p], limit_qdd[p], limit_signs[p], HERMITE5, *w[2:])
-
-    _threads.run([lambda p=p, w=w: call(p, w) for p, w in zip(parts, work)])
-    failed = status != 0  # rows the kernel left unwritten
+    store = request.store.setdefault(sizes, [])
+    work = _threads.work_arrays(store, lambda: DesignWork.new(tables.steps, tables.cuts, *sizes), len(parts))
+    _threads.run([lambda p=p, w=w: _designs(_part_in(inp, p), _part_out(out, p, accelerations), request.tol, w)
+                  for p, w in zip(parts, work)])
+    failed = out.status != 0  # rows the kernel left unwritten
     if failed.any():
-        valid[failed] = False
-        for arr in (angle, wq, xy, vq) + ((eq, aq) if accelerations else ()):
+        out.valid[failed] = False
+        for arr in (out.angle, out.wq, out.xy, out.vq) + ((out.eq, out.aq) if accelerations else ()):
             arr[failed] = np.nan
-    return DesignResult(status, valid, angle, wq, eq if accelerations else None, xy, vq,
-                        aq if accelerations else None, limit, limit_phi, limit_h, limit_q, limit_qd, limit_qdd,
-                        limit_signs)
+    return out if accelerations else out._replace(eq=None, aq=None)
+
+
+def _part_in(inp: DesignIn, p: slice) -> DesignIn:
+    """The designs `p` of a request (the per-design arrays sliced)."""
+    t = inp.tables
+    return inp._replace(tables=t._replace(step_s0=t.step_s0[p], step_u0=t.step_u0[p], cut_s0=t.cut_s0[p],
+                                          cut_n0=t.cut_n0[p], phi0=t.phi0[p], reference=t.reference[p],
+                                          point_at=t.point_at[p]), x=inp.x[p], lo=inp.lo[p], hi=inp.hi[p])
+
+
+def _part_out(out: DesignResult, p: slice, accelerations: bool) -> DesignResult:
+    """The designs `p` of the answer's arrays (eq, aq left empty without accelerations)."""
+    return DesignResult(*(a if not accelerations and name in ("eq", "aq") else a[p] for name, a in zip(out._fields, out)))
 
 
 # -- kernels ----------------------------------------------------------------------------------------
 # As in `_numba_kinematics`: scalar loops over arrays indexed in place, compiled without numba's reference
 # counting, nothing allocated, every work array passed by the caller. Pose ps (8, L): θ, cos θ, sin θ,
-# r_x, r_y per link, then each link's anchor angle θa, cos θa, sin θa (`_turn`). Rates rt (slots, 3, L): ω, v_x, v_y per link; slots 0 … m−1 hold a block's
-# sensitivities to its unknowns, then the velocities, then the accelerations. q, qd, qdd (M,) hold every
-# block's unknowns and their derivatives. The per-position building blocks (placement, closure, their
-# rates, the Jacobian, a block's rate pass) are the joint laws' arithmetic (`engine._constraints`), as
-# the sweep kernel has it written out in its loop.
-_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath={"contract"})
-_inline = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath={"contract"})
+# r_x, r_y per link, then each link's anchor angle θa, cos θa, sin θa (`_turn`). Rates rt (slots, 3, L):
+# ω, v_x, v_y per link; slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities,
+# then the accelerations. q, qd, qdd (M,) hold every block's unknowns and their derivatives. The
+# per-position building blocks (placement, closure, their rates, the Jacobian, a block's rate pass) are the
+# joint laws' arithmetic (`engine._constraints`), as the sweep kernel has it written out in its loop. The
+# floating-point options are the building blocks' (fastmath off: no contraction into fused multiply-adds).
+_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath=False)
+_inline = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath=False)
 
 
 @_inline
@@ -338,12 +296,15 @@ def _closure_rates(k, cuts, cc, rt, slot, vel, out, row):
 
 
 @_inline
-def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt, jac, col):
-    """Closure Jacobian (m, m) of a block, and in rt[0 … m − 1] the sensitivities of its links' rates to
-    each unknown (the links outside the block stay at 0)."""
+def _jacobian(bk, blocks, steps, cuts, work):
+    """Closure Jacobian (m, m) of block bk in work.jac, and in rt[0 … m − 1] the sensitivities of its links'
+    rates to each unknown (the links outside the block stay at 0); work.step holds a column."""
+    k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
+    m, var0, anchors = blocks.m[bk], blocks.var0[bk], blocks.anchors
+    sc, cc, rt, jac, col = work.sc, work.cc, work.rt, work.jac, work.step
     for j in range(m):
-        for t in range(a0, a1):  # the links the block reads but does not place are at rest
-            for comp in range(3):
+        for t in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # the links the block reads but does not place
+            for comp in range(3):                                # are at rest
                 rt[j, comp, anchors[t]] = 0.0
         for k in range(k0, k1):
             _step_rates(k, steps, sc, rt, j, 1.0 if steps.var[k] - var0 == j and steps.var[k] >= 0 else 0.0, -1,
@@ -355,26 +316,27 @@ def _jacobian(k0, k1, c0, c1, a0, a1, m, var0, steps, cuts, anchors, sc, cc, rt,
 
 
 @_jit
-def _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel,
-                 q_in_vel, rhs, out, delta):
-    """A block's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
+def _block_rates(bk, blocks, work, slot, vel, q_in_rate, qd_vel, q_in_vel, out):
+    """Block bk's link rates into rt[slot] (accelerations with vel >= 0), its unknowns' rates into
     out[:m]; qd_vel, q_in_vel: the unknowns' and the input's velocities (for the Coriolis terms). It is
     `_refine` from rates 0 (compiled on its own and called: it runs off the followed path only)."""
-    for i in range(m):
+    for i in range(blocks.m[bk]):
         out[i] = 0.0
-    _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
-            out, delta)
+    _refine(bk, blocks, work, slot, vel, q_in_rate, qd_vel, q_in_vel, out)
 
 
 @_inline
-def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
-            out, delta):
-    """One step of iterative refinement of a block's rates out[:m] (and its links' rates in rt[slot]) with
-    the factors `lu` and the sensitivities rt[0 … m − 1] (those of the pose as placed, or of a nearby one,
-    the Newton iterate before the last): the rates of the block's links recomputed forward from out at
-    the pose as placed, the closure's rate residual r, out += δ with J δ = −r (δ in `delta`), the links'
-    rates moved by the sensitivities times δ. From out = 0 with the pose's own factors it is the rate
-    pass itself (`_block_rates`); the error left otherwise is bounded in `_lazy_rates`."""
+def _refine(bk, blocks, work, slot, vel, q_in_rate, qd_vel, q_in_vel, out):
+    """One step of iterative refinement of block bk's rates out[:m] (and its links' rates in rt[slot]) with
+    the factors in work.jac, work.perm and the sensitivities rt[0 … m − 1] (those of the pose as placed,
+    or of a nearby one, the Newton iterate before the last): the rates of the block's links recomputed
+    forward from out at the pose as placed, the closure's rate residual r, out += δ with J δ = −r (δ in
+    work.step), the links' rates moved by the sensitivities times δ. From out = 0 with the pose's own
+    factors it is the rate pass itself (`_block_rates`); the error left otherwise is bounded in
+    `_lazy_rates`."""
+    k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
+    m, var0 = blocks.m[bk], blocks.var0[bk]
+    steps, cuts, sc, cc, rt, rhs, delta = work.steps, work.cuts, work.sc, work.cc, work.rt, work.res, work.step
     for k in range(k0, k1):
         var, sign = steps.var[k], steps.sign[k]
         qd = out[var - var0] if var >= 0 else sign * q_in_rate
@@ -386,7 +348,7 @@ def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, per
         _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
     for i in range(m):
         rhs[i] = -rhs[i]
-    _solve_factored(lu, m, perm, rhs, delta)
+    _solve_factored(work.jac, m, work.perm, rhs, delta)
     for i in range(m):
         out[i] += delta[i]
     for k in range(k0, k1):
@@ -397,18 +359,17 @@ def _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, per
 
 
 @_inline
-def _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
-                out, delta, var_scale, unit, reach, polish):
-    """A block's rates (as `_block_rates`) from the factors `lu` and sensitivities of the Newton iterate
-    before the last, a scaled distance s away, starting from the guess in out[:m]: `_refine` steps until
-    the error left is below `polish` (relative to 1 + |rate|, in the input's `unit`). A step from a guess
-    e away leaves at most ‖J₀⁻¹(J₀ − J₁)‖·e ≤ `reach`·e (`reach` = 4·m·s / pivot ratio, a bound with a
+def _lazy_rates(bk, blocks, work, slot, vel, q_in_rate, qd_vel, q_in_vel, out, unit, reach, polish):
+    """Block bk's rates (as `_block_rates`) from the factors and sensitivities of the Newton iterate before
+    the last, a scaled distance s away, starting from the guess in out[:m]: `_refine` steps until the
+    error left is below `polish` (relative to 1 + |rate|, in the input's `unit`). A step from a guess e
+    away leaves at most ‖J₀⁻¹(J₀ − J₁)‖·e ≤ `reach`·e (`reach` = 4·m·s / pivot ratio, a bound with a
     safety factor of 4 on ‖J₀⁻¹‖·‖∂J/∂q‖·s), e being about the step's own size: with the followed
     sweep's guesses (e ~ 1e-9 at 1° steps) and s ~ 3e-9 one step is enough for 98 % of the positions;
-    each further step gains a factor `reach` (≤ 2e-5 with s ≤ `LAZY_STEP`), so at most four are taken."""
+    each further step gains a factor `reach` (≤ 2e-5 with s ≤ `lazy_step`), so at most four are taken."""
+    m, var0, var_scale, delta = blocks.m[bk], blocks.var0[bk], blocks.var_scale, work.step
     for _ in range(4):
-        _refine(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu, perm, q_in_rate, qd_vel, q_in_vel, rhs,
-                out, delta)
+        _refine(bk, blocks, work, slot, vel, q_in_rate, qd_vel, q_in_vel, out)
         done = True
         for i in range(m):
             vs = var_scale[var0 + i] * unit
@@ -417,14 +378,15 @@ def _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, vel, lu,
         if done:
             return
 
-@_jit
-def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, accelerations, lazy, unit, gain, q, qd, qdd, dets,
-           ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u):
-    """Block Newton at input variable q_in from the guesses in q (solved in place), then the rates for
-    input rate `rate` (qd) and, with `accelerations`, input acceleration 0 (qdd). Fills dets (n_blocks,)
-    with each block's scaled determinant. Returns (converged, smallest scaled pivot ratio).
 
-    With `lazy`, a block whose last Newton step was below `LAZY_STEP` (scaled), taken from a Jacobian
+@_jit
+def _solve(inp, work, tol, state, q_in, rate, accelerations, lazy, unit, gain):
+    """Block Newton at input variable q_in from the guesses in state.q (solved in place), then the rates
+    for input rate `rate` (state.qd) and, with `accelerations`, input acceleration 0 (state.qdd). Fills
+    state.dets (n_blocks,) with each block's scaled determinant. Returns (converged, smallest scaled pivot
+    ratio).
+
+    With `lazy`, a block whose last Newton step was below `tol.lazy_step` (scaled), taken from a Jacobian
     whose pivot ratio is at least twice `pivot_polish`, and whose residual after it is below `polish`
     is accepted without a new Jacobian: the iteration a converged block ends with only confirms the
     rounding floor, and what it would compute besides, the Jacobian's determinant sign and pivot
@@ -435,8 +397,15 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
     a revolute input, the mechanism's size for a slider). The rates' guess is first moved by `gain`
     times Newton's correction of the positions: a predictor's error in q' is that factor times its
     error in q (to leading order), which Newton has just measured."""
-    closure, max_newton, pivot_polish, pivot_cross, polish = tol[0], int(tol[1]), tol[2], tol[3], tol[11]
-    lazy_ratio = 2 * pivot_polish
+    closure, max_newton, pivot_polish, pivot_cross, polish = (tol.closure, tol.max_newton, tol.pivot_polish,
+                                                              tol.pivot_cross, tol.polish)
+    lazy_ratio, lazy_step, turn, nudge = 2 * pivot_polish, tol.lazy_step, tol.turn, tol.nudge
+    steps, cuts, blocks = work.steps, work.cuts, inp.tables.blocks
+    uniform, sense, ground = inp.uniform, inp.sense, inp.ground
+    q, qd, qdd, dets = state
+    ps, rt, sc, cc, jac, jac_s, perm, perm_s = work.ps, work.rt, work.sc, work.cc, work.jac, work.jac_s, work.perm, \
+        work.perm_s
+    res, step, qd_u, qdd_u = work.res, work.step, work.qd_u, work.qdd_u
     n_blocks = len(blocks.m)
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
@@ -458,10 +427,10 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             for k in range(k0, k1):
                 if steps.prismatic[k]:
                     _place(k, steps, q, q_in, ps, sc)
-                elif not (it > 0 and _nudge(k, steps, q, q_in, ps, sc)):
+                elif not (it > 0 and _nudge(k, steps, q, q_in, ps, sc, nudge)):
                     # turned from where the link is (the position before, or the last iterate), unless
                     # moved by a step at the rounding floor (`_nudge`)
-                    _turn(k, steps, q, q_in, ps, sc)
+                    _turn(k, steps, q, q_in, ps, sc, turn)
             err = 0.0
             for k in range(c0, c1):
                 _closure(k, cuts, ps, cc, res, 2 * (k - c0))
@@ -473,8 +442,7 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             if small and err < polish:  # at the rounding floor after a tiny step (see the docstring)
                 ok, stale = True, True
                 break
-            _jacobian(k0, k1, c0, c1, blocks.anchor0[bk], blocks.anchor1[bk], m, var0, steps, cuts, blocks.anchors,
-                      sc, cc, rt, jac, step)
+            _jacobian(bk, blocks, steps, cuts, work)
             if uniform[bk]:  # R·J·V⁻¹ a multiple of J: the same pivot ratio and sign
                 det, ratio = _factor(jac, m, perm)
             else:  # the dimensionless Jacobian R·J·V⁻¹: its pivots and sign, as numpy's
@@ -497,11 +465,11 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             small = lazy and ratio >= lazy_ratio
             moved = 0.0
             for i in range(m):
-                if np.isfinite(step[i]):
+                if math.isfinite(step[i]):
                     q[var0 + i] += step[i]
                 moved = max(moved, abs(step[i]) * var_scale[var0 + i])
-            small = small and moved <= LAZY_STEP
-        if not (ok and np.isfinite(err)):
+            small = small and moved <= lazy_step
+        if not (ok and math.isfinite(err)):
             return False, smallest
         dets[bk] = det
         smallest = min(smallest, ratio)
@@ -515,14 +483,12 @@ def _solve(steps, cuts, blocks, uniform, tol, sense, ground, q_in, rate, acceler
             else:
                 slot, before, in_rate, in_vel, out, unit_p = acc, vel, 0.0, sense * rate, qdd_u, unit * unit
             if fresh:
-                _block_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
-                             in_vel, res, out, step)
+                _block_rates(bk, blocks, work, slot, before, in_rate, qd_u, in_vel, out)
             else:
                 for i in range(m):
                     guess = qd[var0 + i] + gain * (q[var0 + i] - qd_u[i]) if p == 0 else qdd[var0 + i]
-                    out[i] = guess if np.isfinite(guess) else 0.0
-                _lazy_rates(k0, k1, c0, c1, m, var0, steps, cuts, sc, cc, rt, slot, before, jac, perm, in_rate, qd_u,
-                            in_vel, res, out, step, var_scale, unit_p, reach, polish)
+                    out[i] = guess if math.isfinite(guess) else 0.0
+                _lazy_rates(bk, blocks, work, slot, before, in_rate, qd_u, in_vel, out, unit_p, reach, polish)
             for i in range(m):
                 if p == 0:
                     qd[var0 + i] = out[i]
@@ -537,17 +503,18 @@ _solve_inline = _inline(_solve.py_func)
 
 
 @_inline
-def _turn(k, steps, q, q_in, ps, sc):
+def _turn(k, steps, q, q_in, ps, sc, turn):
     """`_place` of a revolute step k by turning its child from an anchor angle θa, whose cos and sin were
     computed by `_place` (ps[5:8, child]): cos and sin of the new angle by the angle-addition formulas,
-    those of the turn δ = θ − θa by their series (|δ| < `TURN`: the first omitted terms, δ¹⁰/10! and
-    δ¹¹/11!, are below 1e-19), so that every placement is one rotation from exactly computed values and
-    no rounding accumulates. A larger turn is placed by `_place` and becomes the anchor."""
+    those of the turn δ = θ − θa by their series (|δ| < `turn`, ``Tolerances.turn``: the first omitted
+    terms, δ¹⁰/10! and δ¹¹/11!, are below 1e-19 at 0.05), so that every placement is one rotation from
+    exactly computed values and no rounding accumulates. A larger turn is placed by `_place` and becomes
+    the anchor."""
     parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
     value = q[var] if var >= 0 else steps.sign[k] * q_in
     t = ps[0, parent] + value if rel else value
     delta = t - ps[5, child]
-    if not abs(delta) < TURN:
+    if not abs(delta) < turn:
         _place(k, steps, q, q_in, ps, sc)
         ps[5, child], ps[6, child], ps[7, child] = ps[0, child], ps[1, child], ps[2, child]
         return
@@ -560,19 +527,19 @@ def _turn(k, steps, q, q_in, ps, sc):
 
 
 @_inline
-def _nudge(k, steps, q, q_in, ps, sc):
-    """`_turn` of a revolute step k whose child moved by less than `NUDGE` since it was placed (a Newton
-    step at the rounding floor): cos and sin from the placed ones to first order, cos(θ + ε) =
-    cos θ − ε sin θ, sin(θ + ε) = sin θ + ε cos θ (the terms left out, ε²/2, below 5e-17: a rounding
-    of its own, no more). Used only within one solve, after its first placement by `_turn`: a solve's
-    Newton steps below `NUDGE` are its last one or two, so a position is at most that many such
-    rotations from exactly computed values and nothing accumulates from one position to the next.
-    Returns False, placing nothing, for a larger move (placed by `_turn`)."""
+def _nudge(k, steps, q, q_in, ps, sc, nudge):
+    """`_turn` of a revolute step k whose child moved by less than `nudge` (``Tolerances.nudge``) since it
+    was placed (a Newton step at the rounding floor): cos and sin from the placed ones to first order,
+    cos(θ + ε) = cos θ − ε sin θ, sin(θ + ε) = sin θ + ε cos θ (the terms left out, ε²/2, below 5e-17 at
+    1e-8: a rounding of its own, no more). Used only within one solve, after its first placement by
+    `_turn`: a solve's Newton steps below `nudge` are its last one or two, so a position is at most that
+    many such rotations from exactly computed values and nothing accumulates from one position to the
+    next. Returns False, placing nothing, for a larger move (placed by `_turn`)."""
     parent, child, rel, var = steps.parent[k], steps.child[k], steps.relative[k], steps.var[k]
     value = q[var] if var >= 0 else steps.sign[k] * q_in
     t = ps[0, parent] + value if rel else value
     eps = t - ps[0, child]
-    if not abs(eps) < NUDGE:
+    if not abs(eps) < nudge:
         return False
     c0, s0 = ps[1, child], ps[2, child]
     _pose_at(k, steps, ps, sc, parent, child, t, c0 - eps * s0, s0 + eps * c0)
@@ -607,8 +574,9 @@ def _reverse(node_phi, node_q, node_sign, count):
 
 
 @_jit
-def _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations):
+def _blank(d, n, out, accelerations):
     """NaN in every output of position n of design d (not on the design's branch)."""
+    angle, wq, eq, xy, vq, aq = out.angle, out.wq, out.eq, out.xy, out.vq, out.aq
     for l in range(angle.shape[2]):  # noqa: E741
         angle[d, n, l], wq[d, n, l] = np.nan, np.nan
         if accelerations:
@@ -627,15 +595,17 @@ def _sign(v):
 
 
 @_jit
-def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target, direction, q0, qd0, qdd0, dets0,
-           node_phi, node_q, node_sign, start, limit, limit_phi, limit_h, limit_q, limit_qd, limit_qdd, limit_signs,
-           side, q, qd, qdd, dets, qc, qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u,
-           qdd_u):
-    """Walk one design from its drawn pose (q0, qd0, qdd0 per unit input; dets0) towards `target` in
-    `direction`, as `DesignBatch._march`: the accepted nodes go to node_*[start:] (q, dq/dφ, d²q/dφ²);
-    returns (nodes added, status). A motion limit fills limit_*[side]."""
-    max_correction, h_start, h_max, h_min = tol[4], tol[5], tol[6], tol[7]
-    rate_jump, h_cross, cross_dist, pivot_cross = tol[8], tol[9], tol[10], tol[3]
+def _march(d, inp, out, tol, work, target, direction, start, side):
+    """Walk design d from its drawn pose (work.drawn: q, dq/dφ, d²q/dφ² per unit input, dets) towards
+    `target` in `direction`, as `DesignBatch._march`: the accepted nodes go to node_*[start:] (q, dq/dφ,
+    d²q/dφ²); returns (nodes added, status). A motion limit fills out.limit*[d, side]."""
+    max_correction, h_start, h_max, h_min = tol.max_correction, tol.h_start, tol.h_max, tol.h_min
+    blocks, scale, phi0 = inp.tables.blocks, inp.scale, inp.tables.phi0[d]
+    q0, qd0, qdd0, dets0 = work.drawn
+    qc, qdc, qddc, signs = work.node
+    now = work.now
+    q, qd, qdd, dets = now
+    node_phi, node_q, node_sign = work.node_phi, work.node_q, work.node_sign
     m_all = len(blocks.var_scale)
     n_blocks = len(blocks.m)
     var_scale = blocks.var_scale
@@ -653,21 +623,19 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
         phi = target if end else phi0 + rate * (s + h_try)
         for i in range(m_all):
             q[i] = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, sense * (phi - phi0), rate, yes,
-                                  no, scale, 0.0, q, qd, qdd, dets, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step,
-                                  qd_u, qdd_u)
+        converged, ratio = _solve(inp, work, tol, now, inp.sense * (phi - phi0), rate, yes, no, scale, 0.0)
         dist, jump = 0.0, 0.0
         for i in range(m_all):
             guess = qc[i] + qdc[i] * h_try + 0.5 * qddc[i] * h_try * h_try
             dist = max(dist, abs(q[i] - guess) * var_scale[i])
-            err = abs(qd[i] - qdc[i] - qddc[i] * h_try) * var_scale[i] / (1.0 + abs(qdc[i]) * var_scale[i])
-            jump = max(jump, err) if np.isfinite(err) else np.inf
-        good = converged and ratio >= pivot_cross and dist <= max_correction and jump <= rate_jump
+            err = _rate_jump(qd[i], qdc[i], qddc[i], h_try, var_scale[i])
+            jump = max(jump, err) if math.isfinite(err) else math.inf
         same = True
         for b in range(n_blocks):
             if _sign(dets[b]) != signs[b]:
                 same = False
-        if good and same:
+        verdict = _step_verdict(converged, ratio, dist, jump, same, h_try, tol)
+        if verdict == 1:  # (engine._continuation.ACCEPT)
             k = start + added
             if k >= len(node_phi):
                 return added, 4
@@ -683,28 +651,32 @@ def _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0, target
             if dist < 0.1 * max_correction:
                 h = min(h_try * 1.6, h_max)
             continue
-        if good and h_try <= h_cross and dist <= cross_dist:
-            return added, 3  # a change point: the design's own engine goes through it
+        if verdict == 2:  # (CROSS) a change point: the design's own engine goes through it
+            return added, 3
         h = h_try / 2
         if h < h_min:
-            limit[side] = True
-            limit_phi[side] = phi0 + rate * s
-            limit_h[side] = 2 * h
+            out.limit[d, side] = True
+            out.limit_phi[d, side] = phi0 + rate * s
+            out.limit_h[d, side] = 2 * h
             for i in range(m_all):
-                limit_q[side, i], limit_qd[side, i], limit_qdd[side, i] = qc[i], qdc[i], qddc[i]
+                out.limit_q[d, side, i], out.limit_qd[d, side, i], out.limit_qdd[d, side, i] = qc[i], qdc[i], qddc[i]
             for b in range(n_blocks):
-                limit_signs[side, b] = signs[b]
+                out.limit_signs[d, side, b] = signs[b]
             return added, 0
     return added, 0
 
 
 @_inline
-def _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq,
-           aq):
-    """Write position n of design d from the solved pose ps and rates rt: the chosen links' angle and
-    ω_q (ε_q), the chosen points' positions and velocity (acceleration) analogues."""
+def _store(d, n, inp, out, work):
+    """Write position n of design d from the solved pose and rates: the chosen links' angle and ω_q (ε_q),
+    the chosen points' positions and velocity (acceleration) analogues."""
+    ps, rt = work.ps, work.rt
+    t = inp.tables
+    reference, point_at, point_link, link_out = t.reference, t.point_at, t.point_link, t.link_out
+    accelerations = inp.accelerations
+    angle, wq, eq, xy, vq, aq = out.angle, out.wq, out.eq, out.xy, out.vq, out.aq
     vel, acc = len(rt) - 2, len(rt) - 1
-    valid[d, n] = True
+    out.valid[d, n] = True
     for j in range(link_out.shape[0]):
         l = link_out[j]  # noqa: E741
         angle[d, n, j] = ps[0, l] + reference[d, l]
@@ -726,28 +698,32 @@ def _store(d, n, ps, rt, reference, point_at, point_link, link_out, acceleration
 
 
 @_jit
-def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense, ground, scale,
-          accelerations, x, phi0, q0, qd0, qdd0, dets0, reference, point_at, point_link, link_out, valid, angle, wq, eq,
-          xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u, qdp,
-          signs, prev):
+def _walk(d, follow, total, inp, out, tol, work):
     """Every requested position of design d, solved and written, in one loop around one inlined copy of
     the block solver (each copy lengthens the kernel's first compile): with `follow`, the followed sweep
     below (returns 1, or 0 when x[d] is not such a sweep or a position is not accepted); else every
-    position predicted by the interpolant of the march's `total` nodes (node_phi, node_q, node_sign and
-    the intervals' coefficients `coef`), its rates' guess the interpolant's derivative, corrected and
+    position predicted by the interpolant of the march's `total` nodes (work.node_phi, node_q, node_sign
+    and the intervals' coefficients `coef`), its rates' guess the interpolant's derivative, corrected and
     checked (converged, same signs as the nearer node, within `max_correction` of the prediction);
     positions outside the nodes are blanked; returns 0, or 4 when a position cannot be vouched for.
 
-    Followed: design d's positions x[d] (increasing, no gap wider than the march's largest step) followed from its
-    drawn pose (q0, qd0, qdd0 per unit input; dets0) up through those above it and down through those
-    below, every position a march node: predicted from the two positions before it (the cubic Hermite
-    extrapolant of their q and dq/dφ; the first by the drawn pose's Taylor polynomial), corrected by the
-    block Newton and accepted by the march's rules (converged, not singular, within `max_correction`
-    of its prediction, dq/dφ within `rate_jump` of the predicted one, no change of sign of a block's
-    determinant), then written. At 1° the prediction is within ~1e-8 and one Newton step ends at the
-    rounding floor. Returns False when x[d] is not such a sweep or a position is not accepted: the
-    design then takes the march (which meets the limit or change point there)."""
-    max_correction, h_max, rate_jump, pivot_cross = tol[4], tol[6], tol[8], tol[3]
+    Followed: design d's positions x[d] (increasing, no gap wider than the march's largest step) followed
+    from its drawn pose (work.drawn: q, dq/dφ, d²q/dφ² per unit input, dets) up through those above it
+    and down through those below, every position a march node: predicted from the two positions before it
+    (the cubic Hermite extrapolant of their q and dq/dφ; the first by the drawn pose's Taylor polynomial),
+    corrected by the block Newton and accepted by the march's rule (`engine._continuation.step_verdict`:
+    converged, not singular, within `max_correction` of its prediction, dq/dφ within `rate_jump` of the
+    predicted one, no change of sign of a block's determinant), then written. At 1° the prediction is
+    within ~1e-8 and one Newton step ends at the rounding floor. Returns False when x[d] is not such a
+    sweep or a position is not accepted: the design then takes the march (which meets the limit or change
+    point there)."""
+    max_correction, h_max = tol.max_correction, tol.h_max
+    blocks, x, scale, phi0, accelerations = inp.tables.blocks, inp.x, inp.scale, inp.tables.phi0[d], inp.accelerations
+    q0, qd0, qdd0, dets0 = work.drawn
+    now = work.now
+    q, qd, qdd, dets = now
+    guess, qdp, prev, signs = work.guess, work.qdp, work.prev, work.node.dets
+    node_phi, node_q, node_sign, coef = work.node_phi, work.node_q, work.node_sign, work.coef
     n_pos = x.shape[1]
     m_all, n_blocks = len(blocks.var_scale), len(blocks.m)
     var_scale = blocks.var_scale
@@ -776,8 +752,8 @@ def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, bloc
             gain, near = 0.0, 0
             if not follow:  # the march's interpolant and its derivative (the rates' guess)
                 if xb < first or xb > last:  # past a limit (or outside the march): not on the branch
-                    valid[d, n] = False
-                    _blank(d, n, angle, wq, eq, xy, vq, aq, accelerations)
+                    out.valid[d, n] = False
+                    _blank(d, n, out, accelerations)
                     continue
                 j, t, width = 0, 0.0, 0.0
                 if total > 1:
@@ -786,12 +762,11 @@ def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, bloc
                     t = (xb - node_phi[j]) / width if width > 0 else 0.0
                     near = j if abs(xb - node_phi[j]) <= abs(xb - node_phi[j + 1]) else j + 1
                 for i in range(m_all):
-                    if total > 1:  # by Horner's rule
-                        value, slope = coef[j, 5, i], 5.0 * coef[j, 5, i]
-                        for c in range(4, 0, -1):
-                            value = value * t + coef[j, c, i]
-                            slope = slope * t + c * coef[j, c, i]
-                        value = value * t + coef[j, 0, i]
+                    if total > 1:
+                        value = _hermite_value(coef[j, 0, i], coef[j, 1, i], coef[j, 2, i], coef[j, 3, i],
+                                               coef[j, 4, i], coef[j, 5, i], t)
+                        slope = _hermite_slope(coef[j, 1, i], coef[j, 2, i], coef[j, 3, i], coef[j, 4, i],
+                                               coef[j, 5, i], t)
                         slope = slope / width if width > 0 else node_q[near, 1, i]
                     else:
                         value, slope = node_q[0, 0, i], node_q[0, 1, i]
@@ -819,9 +794,8 @@ def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, bloc
                 gain = 3.0 / h if h != 0.0 else 0.0  # the errors ~ h³/6 and h²/2
             for i in range(m_all):
                 q[i], qd[i] = guess[i], qdp[i]  # qd: the rates' guess (`_solve`'s lazy rates)
-            converged, ratio = _solve_inline(steps, cuts, blocks, uniform, tol, sense, ground, sense * (xb - phi0), 1.0,
-                                             accelerations, True, scale, gain, q, qd, qdd, dets, ps, rt, sc, cc, jac,
-                                             jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            converged, ratio = _solve_inline(inp, work, tol, now, inp.sense * (xb - phi0), 1.0, accelerations, True,
+                                             scale, gain)
             if not follow:
                 ok = converged
                 for b in range(n_blocks):
@@ -832,21 +806,22 @@ def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, bloc
                         ok = False
                 if not ok:
                     return 4
-                _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy,
-                       vq, aq)
+                _store(d, n, inp, out, work)
                 continue
-            if not (converged and ratio >= pivot_cross):
-                return 0
-            for i in range(m_all):
+            dist, jump = 0.0, 0.0
+            for i in range(m_all):  # (NaN counts as infinitely far)
                 vs = var_scale[i]
-                if not abs(q[i] - guess[i]) * vs <= max_correction:
-                    return 0
-                if not abs(qd[i] - qdp[i]) * vs * scale <= rate_jump * (1.0 + abs(qdp[i]) * vs * scale):
-                    return 0
+                gap = abs(q[i] - guess[i]) * vs
+                dist = max(dist, gap) if gap == gap else math.inf
+                err = _rate_jump(qd[i], qdp[i], 0.0, 0.0, vs * scale)
+                jump = max(jump, err) if err == err else math.inf
+            same = True
             for b in range(n_blocks):
                 if _sign(dets[b]) != signs[b]:
-                    return 0
-            _store(d, n, ps, rt, reference, point_at, point_link, link_out, accelerations, valid, angle, wq, eq, xy, vq, aq)
+                    same = False
+            if _step_verdict(converged, ratio, dist, jump, same, 0.0, tol) != 1:  # (not ACCEPT)
+                return 0
+            _store(d, n, inp, out, work)
             if xb != phi_b:
                 phi_a, older = phi_b, True
                 for i in range(m_all):
@@ -858,59 +833,51 @@ def _walk(d, follow, total, node_phi, node_q, node_sign, coef, steps, cuts, bloc
 
 
 @_jit
-def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerations, step_s0, step_u0, cut_s0, cut_n0, phi0,
-             reference, point_at, point_link, link_out, x, lo, hi, status, valid, angle, wq, eq, xy, vq, aq, limit, limit_phi,
-             limit_h, limit_q, limit_qd, limit_qdd, limit_signs, hermite, ps, rt, sc, cc, q, guess, jac, jac_s, perm,
-             perm_s, res, step, qd_u, qdd_u, qd, qdd, dets, q0, qd0, qdd0, dets0, node_phi, node_q, node_sign, coef,
-             qc, qdc, qddc, signs, prev, qdp):
+def _designs(inp, out, tol, work):
     """Every design of a part: its drawn pose, its march both ways, then its positions (see the module
-    docstring); status (B,) as `STATUS`."""
-    max_correction = tol[4]
+    docstring); out.status (D,) as `engine._tables.DESIGN_STATUS`."""
+    blocks, x, lo, hi, phi0 = inp.tables.blocks, inp.x, inp.lo, inp.hi, inp.tables.phi0
+    steps, cuts, ps, status, valid = work.steps, work.cuts, work.ps, out.status, out.valid
+    drawn, node_phi, node_q, node_sign, coef, hermite = work.drawn, work.node_phi, work.node_q, work.node_sign, \
+        work.coef, inp.hermite
+    q0, qd0, qdd0, dets0 = drawn
     n_designs, n_pos = x.shape
     m_all = len(blocks.var_scale)
-    n_blocks, n_links, n_points = len(blocks.m), reference.shape[1], point_link.shape[0]
-    var_scale = blocks.var_scale
-    vel, acc = len(rt) - 2, len(rt) - 1
-    ps[:, :] = 0.0
-    ps[1, :] = 1.0
-    ps[6, :] = 1.0  # every link's anchor (`_turn`) at 0
+    n_blocks = len(blocks.m)
+    for l in range(ps.shape[1]):  # noqa: E741
+        for r in range(8):
+            ps[r, l] = 0.0
+        ps[1, l], ps[6, l] = 1.0, 1.0  # cos 0 of every link and of its anchor (`_turn`) at 0
     # `_march`'s first node and sides as run-time integers: a constant 0 or 1 would be typed as a literal,
     # and numba would compile `_march` once for each (a second first compile of it)
     origin, down = n_pos - n_pos, n_pos - n_pos + 1
     yes, no = n_pos >= 0, n_pos < 0  # and `_solve`'s flags as run-time booleans, for the same reason
     for d in range(n_designs):
         for k in range(len(steps.parent)):
-            steps.s0[k, 0], steps.s0[k, 1] = step_s0[d, k, 0], step_s0[d, k, 1]
-            steps.u0[k, 0], steps.u0[k, 1] = step_u0[d, k, 0], step_u0[d, k, 1]
+            steps.s0[k, 0], steps.s0[k, 1] = inp.tables.step_s0[d, k, 0], inp.tables.step_s0[d, k, 1]
+            steps.u0[k, 0], steps.u0[k, 1] = inp.tables.step_u0[d, k, 0], inp.tables.step_u0[d, k, 1]
         for k in range(len(cuts.a)):
-            cuts.s0[k, 0], cuts.s0[k, 1] = cut_s0[d, k, 0], cut_s0[d, k, 1]
-            cuts.n0[k, 0], cuts.n0[k, 1] = cut_n0[d, k, 0], cut_n0[d, k, 1]
+            cuts.s0[k, 0], cuts.s0[k, 1] = inp.tables.cut_s0[d, k, 0], inp.tables.cut_s0[d, k, 1]
+            cuts.n0[k, 0], cuts.n0[k, 1] = inp.tables.cut_n0[d, k, 0], inp.tables.cut_n0[d, k, 1]
         for i in range(n_pos):
             valid[d, i] = False
         # 1. the drawn pose
         for i in range(m_all):
             q0[i] = 0.0
-        converged, ratio = _solve(steps, cuts, blocks, uniform, tol, sense, ground, 0.0, 1.0, yes, no, 1.0, 0.0, q0, qd0,
-                                  qdd0, dets0, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+        converged, ratio = _solve(inp, work, tol, drawn, 0.0, 1.0, yes, no, 1.0, 0.0)
         if not converged:
             status[d] = 1
             continue
-        if not ratio >= tol[3]:
+        if not ratio >= tol.pivot_cross:
             status[d] = 2
             continue
         # 2. an ordered sweep at steps the march could take: followed position by position
-        if _walk(d, yes, origin, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense, ground,
-                 scale, accelerations, x, phi0[d], q0, qd0, qdd0, dets0, reference, point_at, point_link, link_out, valid,
-                 angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s, perm, perm_s, res, step,
-                 qd_u, qdd_u, qdp, signs, prev):
+        if _walk(d, yes, origin, inp, out, tol, work):
             continue
         # 3. else the march down (stored reversed), the drawn pose, the march up
         total, state = 0, 0
         if lo[d] < phi0[d]:
-            total, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], lo[d], -1.0, q0, qd0,
-                                  qdd0, dets0, node_phi, node_q, node_sign, origin, limit[d], limit_phi[d], limit_h[d],
-                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], down, q, qd, qdd, dets, qc,
-                                  qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            total, state = _march(d, inp, out, tol, work, lo[d], -1.0, origin, down)
             _reverse(node_phi, node_q, node_sign, total)
         if state != 0:
             status[d] = state
@@ -925,27 +892,20 @@ def _designs(steps, cuts, blocks, uniform, sense, ground, tol, scale, accelerati
             node_sign[total, b] = _sign(dets0[b])
         total += 1
         if hi[d] > phi0[d]:
-            added, state = _march(steps, cuts, blocks, uniform, tol, sense, ground, scale, phi0[d], hi[d], 1.0, q0, qd0,
-                                  qdd0, dets0, node_phi, node_q, node_sign, total, limit[d], limit_phi[d], limit_h[d],
-                                  limit_q[d], limit_qd[d], limit_qdd[d], limit_signs[d], origin, q, qd, qdd, dets, qc,
-                                  qdc, qddc, signs, ps, rt, sc, cc, jac, jac_s, perm, perm_s, res, step, qd_u, qdd_u)
+            added, state = _march(d, inp, out, tol, work, hi[d], 1.0, total, origin)
             total += added
             if state != 0:
                 status[d] = state
                 continue
-        # the interpolant of every interval: coef[j, c, i] (the same sums as numpy's HERMITE5 @ ends)
+        # the interpolant of every interval (`engine._continuation.hermite_coefficients`, as numpy's)
         for j in range(total - 1):
             width = node_phi[j + 1] - node_phi[j]
             for i in range(m_all):
-                e0, e1 = node_q[j, 0, i], node_q[j + 1, 0, i]
-                e2, e3 = width * node_q[j, 1, i], width * node_q[j + 1, 1, i]
-                e4, e5 = width * width * node_q[j, 2, i], width * width * node_q[j + 1, 2, i]
-                for c in range(6):
-                    coef[j, c, i] = (hermite[c, 0] * e0 + hermite[c, 1] * e1 + hermite[c, 2] * e2
-                                     + hermite[c, 3] * e3 + hermite[c, 4] * e4 + hermite[c, 5] * e5)
+                c0, c1, c2, c3, c4, c5 = _hermite_coefficients(
+                    node_q[j, 0, i], node_q[j + 1, 0, i], width * node_q[j, 1, i], width * node_q[j + 1, 1, i],
+                    width * width * node_q[j, 2, i], width * width * node_q[j + 1, 2, i], hermite)
+                coef[j, 0, i], coef[j, 1, i], coef[j, 2, i], coef[j, 3, i], coef[j, 4, i], coef[j, 5, i] = \
+                    c0, c1, c2, c3, c4, c5
         # 4. the requested positions
-        status[d] = _walk(d, no, total, node_phi, node_q, node_sign, coef, steps, cuts, blocks, uniform, tol, sense,
-                          ground, scale, accelerations, x, phi0[d], q0, qd0, qdd0, dets0, reference, point_at, point_link,
-                          link_out, valid, angle, wq, eq, xy, vq, aq, ps, rt, sc, cc, q, guess, qd, qdd, dets, jac, jac_s,
-                          perm, perm_s, res, step, qd_u, qdd_u, qdp, signs, prev)
+        status[d] = _walk(d, no, total, inp, out, tol, work)
     return 0

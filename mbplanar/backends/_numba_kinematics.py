@@ -1,221 +1,74 @@
-"""Compiled kinematics of a one-input sweep (optional, needs numba): the engine's corrector, checks and
-rate passes run position by position as scalar loops, and the outputs of `Motion` the caller asked for
-are written in the same pass, straight into the arrays `Motion` returns (batch first, no copies).
+"""The kinematics kernel of a one-input sweep: the engine's corrector, checks and rate passes run position
+by position as scalar loops, and the outputs the caller asked for are written in the same pass, straight
+into the arrays the `Motion` holds (batch first, no copies). numba compiles it (`backends._numba`); the
+same function runs as plain Python for a single position on numpy (`backends._python`).
 
 It is the same engine, not a second one: the branch atlas, its nodes and interpolant, the joint laws'
-formulas, the tolerances (the engine's `Tolerances`, passed as an argument), the scaled block Jacobians
-(explicit inverse up to 2 × 2, else LU with partial pivoting, as `engine._linalg.factor`) and the
-acceptance checks are the engine's; only the loop order differs (per position instead of per operation
-over the batch). It takes the common case only: every position between two atlas nodes or past a
-located limit, corrected on the branch at the first try. Anything else (a change point's bracket, a
-position the batch corrector would hand to `_repair`, an atlas of one node) returns None and the numpy
-path does the whole batch. Tests hold both paths equal to rounding on every model.
+formulas, the tolerances (the engine's `KernelTol`, an argument), the scaled block Jacobians (explicit
+inverse up to 2 × 2, else LU with partial pivoting, as `engine._linalg.factor`) and the acceptance checks
+are the engine's; only the loop order differs (per position instead of per operation over the batch).
+It takes the common case only: every position between two atlas nodes or past a located limit,
+corrected on the branch at the first try. Anything else (a position the batch corrector would hand to
+`_repair`, an atlas of one node) returns 1 and the numpy path does the whole batch. Tests hold both
+paths equal to rounding on every model.
 
-Per position the kernel writes: the link angles (B, L); the requested points' positions (B, P, 2);
-with rates their real velocities and accelerations (B, P, 2) and the links' ω, ε (B, L); and a record
-of the link frames and joint values (`FIELDS`, `RATE_FIELDS` with rates) from which `Motion` derives
-the rest (the analogues of the points, the joints' real rates, the instantaneous centres) when first
-read, and which the compiled kinetostatics reads.
-
-The plan is the engine's `BlockPlan`s as named tables of arrays (`_tables`), built once per engine.
+Per position the kernel writes what `SweepOut` holds and the call asked for (an output array with no
+rows is not written): the link angles; the points' positions; with rates the real and the analogue
+velocities and accelerations of links and points, the instantaneous centres, the joints' values and
+rates; and the record of the link frames and joints (`engine._tables.FIELDS`) that the `Motion`'s
+frames, joint values and link analogues are views of and the compiled kinetostatics reads.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
-import numpy as np
+import math
 
 from . import _threads
 from ._jit import njit
-from ._numba_blocks import _closure, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
-from ._tables import kinematics_tables
-from ..engine._atlas import _in_brackets
+from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
+from ..engine._tables import SweepOut, SweepWork, work_sizes
 
-__all__ = ["FIELDS", "RATE_FIELDS", "Outputs", "record_dtype", "sweep"]
-
-# the record of a position, in this order: (name, per link / joint, components); `RATE_FIELDS` only
-# with rates. The kinetostatics kernel reads it by offset.
-FIELDS = (("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1), ("r", "L", 2), ("value", "J", 1))
-RATE_FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("fv", "L", 2), ("fa", "L", 2), ("rate_q", "J", 1),
-               ("accel_q", "J", 1))
-_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_q", "accel_q")  # offsets' order
-
-_LIMITS = {(lo, hi): np.array([lo, hi], np.bool_) for lo in (False, True) for hi in (False, True)}
+__all__ = ["run"]
 
 
-@dataclass
-class Outputs:
-    """What `sweep` wrote for the valid positions: angle (B, L), xy (B, P, 2), and with rates w, e
-    (B, L), v, a (B, P, 2) (else None); rows (B,) structured records (`FIELDS`, `RATE_FIELDS`); valid
-    (B,) the positions solved (the rest lie past a motion limit), complete: all of them."""
-
-    angle: np.ndarray
-    xy: np.ndarray
-    w: np.ndarray | None
-    e: np.ndarray | None
-    v: np.ndarray | None
-    a: np.ndarray | None
-    rows: np.ndarray | None
-    valid: np.ndarray
-    complete: bool  # every position valid
-
-
-
-@dataclass
-class _KernelPlan:
-    """An engine compiled for the kernel, built once: `args`, the engine's blocks, joints and reference
-    angles as arrays in `_sweep`'s order; `rows` the record dtypes (without, with rates) and their
-    offsets; `sizes` of the kernel's work arrays, `scratch` one set of them per thread (so that an
-    engine is not for several callers at once)."""
-
-    args: tuple
-    rows: dict
-    sizes: tuple
-    scratch: list
-    entry: object = None  # the compiled `_sweep` for these argument types, once known (`_run`)
-    empty: dict = field(default_factory=dict)  # the empty arrays standing for outputs not asked for (`_none`)
+def run(job) -> int:
+    """Solve and write every position of a `SweepJob` (its outputs in ``job.out``), split over
+    ``job.threads`` threads; returns 0, or 1 when the numpy path must take the batch."""
+    inp, out, store = job.inp, job.out, job.store
+    if len(inp.x) < 2 * _threads.MIN_CHUNK:  # (one thread: no slicing)
+        work = store.get("sweep work")
+        if not work:
+            work = store["sweep work"] = [SweepWork.new(work_sizes(job.tables))]
+        return _call(store, (job.tables, job.atlas, job.tol, inp, out, work[0]))
+    parts = _threads.chunks(len(inp.x), job.threads)
+    work = _threads.work_arrays(store.setdefault("sweep work", []), lambda: SweepWork.new(work_sizes(job.tables)),
+                                len(parts))
+    fixed = (job.tables, job.atlas, job.tol)
+    if len(parts) == 1:
+        return _call(store, (*fixed, inp, out, work[0]))
+    status = _threads.run([lambda p=p, wk=wk: _call(job.store, (*fixed, _part_in(inp, p), _part_out(out, p), wk))
+                           for p, wk in zip(parts, work)])
+    return max(status)
 
 
-def _plan(engine, joint_table) -> _KernelPlan:
-    return engine.prepare("numba kinematics", lambda: _make_plan(engine, joint_table))
+def _part_in(inp, part: slice):
+    return inp._replace(x=inp.x[part], om=inp.om[part], ep=inp.ep[part])
 
 
-def _record(per: dict, fields) -> tuple:
-    """The structured dtype of `fields` and the offsets (in float64s) of `_ORDER` in it (−1: absent)."""
-    dtype = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],)) for name, kind, comp in fields])
-    offsets = np.array([dtype.fields[n][1] // 8 if n in dtype.names else -1 for n in _ORDER], np.int64)
-    return dtype, offsets
+def _part_out(out, part: slice):
+    """The outputs of the positions `part` (the arrays not written, with no rows, as they are)."""
+    return SweepOut(*(a[part] if len(a) else a for a in out))
 
 
-def _make_plan(engine, joint_table) -> _KernelPlan:
-    """The engine's blocks and output tables as the kernel's arguments (`_tables.kinematics_tables`)."""
-    steps, cuts, blocks, joints = kinematics_tables(engine, joint_table)
-    alpha = np.array([engine.reference_angle[n] for n in engine.links], float)
-    args = (steps, cuts, blocks, joints, alpha, float(engine.inputs[0].sense), float(engine.phi_drawn[0]),
-            engine.link_index[engine.mech.ground], engine.tol.as_array(), np.array(engine.centre, float))
-    per = {"L": len(engine.links), "J": len(joints.drawn)}
-    rows = {False: _record(per, FIELDS), True: _record(per, FIELDS + RATE_FIELDS)}
-    m_max = max([1] + [bp.m for bp in engine.blocks])
-    sizes = (len(steps.parent), len(cuts.a), per["L"], len(blocks.var_scale), m_max)
-    return _KernelPlan(args, rows, sizes, [])
-
-
-def record_dtype(engine, joint_table, rates: bool) -> np.dtype:
-    """The dtype of the records `sweep` writes (`Outputs.rows`), with or without rates."""
-    return _plan(engine, joint_table).rows[bool(rates)][0]
-
-
-def _scratch(n_steps: int, n_cuts: int, n_links: int, m_all: int, m_max: int) -> tuple:
-    """Work arrays of `_sweep`: pose (5, L), rates (slots, 3, L), step and cut caches, unknowns and
-    their guesses, a block's Jacobian with its row permutation, and four vectors of a block's size."""
-    vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
-    return (np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
-            np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-            np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))  # res, col, sol, qd_u
-
-
-def _atlas_tables(engine, atlas):
-    """The atlas' interpolant with every block's unknowns stacked: grid (K,), coefficients
-    (K − 1, 6, M), node signs (K, n_blocks); made again when the atlas has grown."""
-    arrays = atlas.arrays()
-    cached = engine.prepared.get("numba atlas")
-    if cached is not None and cached[0] is arrays:
-        return cached[1]
-    grid, per_block, signs = arrays
-    coefs = [coef for _, _, _, coef in per_block if coef.shape[1]]
-    coef = (np.ascontiguousarray(np.concatenate(coefs, axis=1).transpose(2, 0, 1)) if coefs
-            else np.zeros((len(grid) - 1, 6, 0)))
-    tables = (np.ascontiguousarray(grid), coef, np.ascontiguousarray(signs, float))
-    engine.prepared["numba atlas"] = (arrays, tables)
-    return tables
-
-
-def _covering_tables(engine, atlas, lo: float, hi: float):
-    """`_atlas_tables` of the atlas covering lo … hi (`Atlas.cover`). A sweep inside the nodes the tables
-    were made from (the usual case: the same range again) neither asks the atlas to grow nor makes them
-    again: `cover` would find nothing to do there."""
-    found = engine.prepared.get("numba covered")
-    if found is not None and found[0] <= lo and hi <= found[1] and found[2] is atlas.arrays():
-        return found[3]
-    atlas.cover(lo, hi)
-    tables = _atlas_tables(engine, atlas)
-    grid = tables[0]
-    span = (float(grid[0]), float(grid[-1])) if len(grid) else (np.inf, -np.inf)
-    engine.prepared["numba covered"] = (*span, atlas.arrays(), tables)
-    return tables
-
-
-def sweep(engine, x, lo, hi, joint_table, om, ep, p_link, p_at, rates, records=True) -> Outputs | None:
-    """Kinematics of the one-input positions x (B,) (SI, contiguous, between lo and hi) with input speed
-    om and acceleration ep (B,), for the points on links p_link (P,) drawn at p_at (P, 2); with `rates`
-    the velocities and accelerations too; with `records` the frames and joints (`Outputs.rows`, else
-    None). None where the numpy path must take the batch."""
-    atlas = engine.atlas()
-    grid, coef, signs = _covering_tables(engine, atlas, lo, hi)
-    if len(grid) < 2:
-        return None
-    if atlas.crossings and _in_brackets(atlas.crossings, x).any():
-        return None
-    plan = _plan(engine, joint_table)
-    batch, n_l, n_p = len(x), plan.sizes[2], len(p_link)
-    rates = bool(rates)
-    dtype, offsets = plan.rows[rates]
-    rows = np.empty(batch, dtype) if records else None
-    flat = rows.view(np.float64).reshape(batch, -1) if records else _none(plan, "flat", (0, 0))
-    angle, xy = np.empty((batch, n_l)), np.empty((batch, n_p, 2))
-    if rates:
-        w, e, v, a = np.empty((batch, n_l)), np.empty((batch, n_l)), np.empty((batch, n_p, 2)), np.empty((batch, n_p, 2))
-    else:  # (not written: empty arrays of the kernel's types)
-        w = e = _none(plan, "links", (0, n_l))
-        v = a = _none(plan, "points", (0, n_p, 2))
-    valid = np.empty(batch, np.bool_)
-    limits = _LIMITS[atlas.limits[-1] is not None, atlas.limits[+1] is not None]
-    ep_any = rates and bool(ep.any())
-    parts = _threads.chunks(batch, engine.threads)
-    work = _threads.work_arrays(plan.scratch, lambda: _scratch(*plan.sizes), len(parts))
-    fixed = (*plan.args, grid, coef, signs, limits)
-    if len(parts) == 1:  # (one thread: no slicing)
-        status = [_run(plan, (*fixed, x, om, ep, ep_any, rates, p_link, p_at, offsets, angle, xy, w, e, v, a, flat,
-                              valid, *work[0]))]
-    else:
-        every = slice(None)
-        status = _threads.run([
-            lambda p=p, wk=wk, r=(p if rates else every): _run(plan, (
-                *fixed, x[p], om[p], ep[p], ep_any, rates, p_link, p_at, offsets,
-                angle[p], xy[p], w[r], e[r], v[r], a[r], flat[p], valid[p], *wk))
-            for p, wk in zip(parts, work)])
-    if any(status):
-        return None
-    complete = bool(valid.all())
-    out = Outputs(angle, xy, w if rates else None, e if rates else None, v if rates else None,
-                  a if rates else None, rows, valid, complete)
-    if not complete:
-        keep = np.flatnonzero(valid)
-        for name in ("angle", "xy", "w", "e", "v", "a", "rows"):  # (None where not asked for)
-            if getattr(out, name) is not None:
-                setattr(out, name, getattr(out, name)[keep])
-    return out
-
-
-def _none(plan: _KernelPlan, name: str, shape: tuple) -> np.ndarray:
-    """An empty float array of `shape` (a zero in it) standing for an output not asked for, made once
-    per plan and shape."""
-    key = (name, shape)
-    found = plan.empty.get(key)
-    if found is None:
-        found = plan.empty[key] = np.empty(shape)
-    return found
-
-
-def _run(plan: _KernelPlan, args: tuple) -> int:
-    """`_sweep(*args)`. The first call looks the compiled function up for the arguments' types (the
-    ahead-of-time build's, else numba's, compiled or loaded now: `_jit.Kernel.entry`); later calls with
-    the same plan pass the same types (the plan's tables, and arrays made here as C-contiguous float64,
-    int64 and bool arrays of fixed dimensions), so they call it directly."""
-    if plan.entry is None:
-        plan.entry = _sweep.entry(args)
-    return plan.entry(*args)
+def _call(store: dict, args: tuple) -> int:
+    """`_sweep(*args)`. The first call on an engine looks the compiled function up for the arguments'
+    types (the ahead-of-time build's, else numba's, compiled or loaded now: `_jit.Kernel.entry`); later
+    calls pass the same types (the engine's tables, and arrays made by `kinematics` as C-contiguous
+    float64, int64 and bool arrays of fixed dimensions), so they call it directly."""
+    entry = store.get("numba entry")
+    if entry is None:
+        entry = store["numba entry"] = _sweep.entry(args)
+    return entry(*args)
 
 
 # -- kernel -----------------------------------------------------------------------------------------
@@ -226,28 +79,37 @@ def _run(plan: _KernelPlan, args: tuple) -> int:
 # pass (a rate pass, the closure's rates, the solve, the correction by the sensitivities).
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its
 # atomic increments on every array passed or aliased would cost more than the arithmetic): nothing is
-# allocated here, the caller passes every work array (`_scratch`).
-# Pose ps (5, L): θ, cos θ, sin θ, r_x, r_y per link. Rates rt (slots, 3, L): ω, v_x, v_y per link;
-# slots 0 … m−1 hold a block's sensitivities to its unknowns, then the velocities, then the accelerations.
+# allocated here, the caller passes every work array (`SweepWork`). Only element access, len() and
+# .shape are used on arrays, so that the same function runs as plain Python on memoryviews.
 _jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True)
 
 
 @_jit
-def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, centre, grid, coef, signs, limits, x,
-           om, ep, ep_any, rates, p_link, p_at, offsets, angle, xy, w_out, e_out, v_out, a_out, rows, valid,
-           ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u):
-    """Solve and write every position; returns 0, or 1 when a position needs the numpy path. tol: the
-    engine's `Tolerances.as_array()` (an argument, so that no tolerance is frozen into numba's cache).
-    The pose is solved in the engine's frame (centred on `centre` (2,), `Engine.centre`; the tables'
-    points are in it, `p_at` is drawn in the world), and so are the joint values; the records'
-    link frames converted to the world convention (`engine._constraints.world_frames`), and the points
-    follow from those."""
-    closure, max_newton, pivot_polish, pivot_cross, max_correction = (  # Tolerances.KERNEL_FIELDS
-        tol[0], int(tol[1]), tol[2], tol[3], tol[4])
+def _sweep(tables, atlas, tol, inp, out, work):
+    """Solve and write every position of `inp` into `out` (`SweepTables`, `AtlasTables`, `KernelTol`,
+    `SweepIn`, `SweepOut`, `SweepWork`); returns 0, or 1 when a position needs the numpy path."""
+    steps, cuts, blocks, joints, alpha = tables.steps, tables.cuts, tables.blocks, tables.joints, tables.alpha
+    sense, phi_drawn = tables.sense, tables.phi_drawn
+    grid, coef, signs, limits = atlas.grid, atlas.coef, atlas.signs, atlas.limits
+    x, om, ep, ep_any, rates, p_link, p_at, offsets = inp
+    ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u = work
+    angle, xy, w_out, e_out, v_out, a_out = out.angle, out.xy, out.w, out.e, out.v, out.a
+    wq_out, eq_out, vq_out, aq_out = out.wq, out.eq, out.vq, out.aq
+    value_out, rate_out, accel_out, rate_q_out, accel_q_out = out.value, out.rate, out.accel, out.rate_q, out.accel_q
+    ic_out, rows, valid = out.ic, out.rows, out.valid
+    closure, max_newton, pivot_polish, pivot_cross = tol.closure, tol.max_newton, tol.pivot_polish, tol.pivot_cross
+    max_correction = tol.max_correction
     n_blocks, n_grid, m_all, n_l = len(blocks.m), len(grid), coef.shape[2], ps.shape[1]
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
-    cx0, cy0 = centre[0], centre[1]
+    # the outputs asked for (an array with no rows is not written)
+    want_w, want_wq, want_v, want_vq = len(w_out) > 0, len(wq_out) > 0, len(v_out) > 0, len(vq_out) > 0
+    want_ic, want_rows = len(ic_out) > 0, rows.shape[1] > 0
+    want_value, want_rate, want_rate_q = len(value_out) > 0, len(rate_out) > 0, len(rate_q_out) > 0
+    want_joints = want_rows or want_value or want_rate or want_rate_q
+    cx0, cy0 = tables.centre[0], tables.centre[1]  # (the engine's frame's origin, `Engine.centre`)
+    far = cx0 != 0.0 or cy0 != 0.0  # (else the frame is the world's: ρ = 0, no product to form)
+    rhx, rhy = 0.0, 0.0
     for l in range(n_l):  # noqa: E741  (the ground stays at rest; every other link is placed at every position)
         ps[0, l], ps[1, l], ps[2, l], ps[3, l], ps[4, l] = 0.0, 1.0, 0.0, 0.0, 0.0
         for sl in range(len(rt)):
@@ -275,9 +137,8 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, ce
         t = (xb - left) * inv
         near = lo if abs(xb - left) <= abs(xb - right) else lo + 1
         for i in range(m_all):
-            value = coef[lo, 5, i]
-            for p in range(4, -1, -1):
-                value = value * t + coef[lo, p, i]
+            value = _hermite_value(coef[lo, 0, i], coef[lo, 1, i], coef[lo, 2, i], coef[lo, 3, i], coef[lo, 4, i],
+                                   coef[lo, 5, i], t)
             q[i] = value
             guess[i] = value
         q_in = sense * (xb - phi_drawn)
@@ -302,7 +163,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, ce
                             _closure(k, cuts, ps, cc, res, 2 * (k - c0))
                         for i in range(m):
                             r = abs(res[i]) * row_scale[var0 + i]
-                            finite = finite and np.isfinite(r)
+                            finite = finite and math.isfinite(r)
                             err = max(err, r)
                 # the rate passes, step by step: the sensitivities to each unknown (slots 0 … m − 1, the
                 # Jacobian's columns), or the velocities, or the accelerations (with the velocities' terms)
@@ -402,7 +263,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, ce
                     if done:  # the checks of atlas.solve_along; a position failing one goes to numpy
                         if not ok:
                             return 1
-                        if not (det != 0.0 and np.isfinite(det)) or (det > 0) != (signs[near, bk] > 0):
+                        if not (det != 0.0 and math.isfinite(det)) or (det > 0) != (signs[near, bk] > 0):
                             return 1
                         for i in range(m):
                             if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
@@ -441,7 +302,7 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, ce
                         sol[i] = sol[i] / var_scale[var0 + i]
                 if phase == 0:
                     for i in range(m):
-                        if np.isfinite(sol[i]):
+                        if math.isfinite(sol[i]):
                             q[var0 + i] += sol[i]
                     it += 1
                     continue
@@ -467,13 +328,28 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, ce
         if rates:
             for l in range(n_l):  # noqa: E741
                 wq, eq = rt[vel, 0, l], rt[acc, 0, l]
-                w_out[b, l] = wq * omb
-                e_out[b, l] = eq * om2 + wq * epb if ep_any else eq * om2
-        # the points from the link frames in the world convention (as the records hold them, see below)
+                wl = wq * omb
+                if want_w:
+                    w_out[b, l] = wl
+                    e_out[b, l] = eq * om2 + wq * epb if ep_any else eq * om2
+                if want_wq:
+                    wq_out[b, l], eq_out[b, l] = wq, eq
+                if want_ic:  # r + perp(v)/ω of the link's frame (kinematics._instant_centres); NaN where ω = 0
+                    icx, icy = math.nan, math.nan
+                    if wl != 0.0:  # (a test, not a division by 0: the kernel also runs as plain Python)
+                        if far:
+                            rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+                        icx = ((ps[3, l] + rhx) + cx0) + -((rt[vel, 2, l] + wq * rhx) * omb) / wl
+                        icy = ((ps[4, l] + rhy) + cy0) + ((rt[vel, 1, l] - wq * rhy) * omb) / wl
+                    ic_out[b, l, 0] = icx if math.isfinite(icx) else math.nan
+                    ic_out[b, l, 1] = icy if math.isfinite(icy) else math.nan
+        # the points from the link frames in the world convention (as the records hold them, see below):
+        # the frame's origin ρ = −R(θ)·c from the engine's, c the engine's frame's origin (`world_frames`)
         for p in range(len(p_link)):
             k = p_link[p]
             c, s, atx, aty = ps[1, k], ps[2, k], p_at[p, 0], p_at[p, 1]
-            rhx, rhy = s * cy0 - c * cx0, -(s * cx0 + c * cy0)
+            if far:
+                rhx, rhy = s * cy0 - c * cx0, -(s * cx0 + c * cy0)
             rx, ry = c * atx - s * aty, s * atx + c * aty
             xy[b, p, 0], xy[b, p, 1] = ((ps[3, k] + rhx) + cx0) + rx, ((ps[4, k] + rhy) + cy0) + ry
             if rates:
@@ -483,51 +359,67 @@ def _sweep(steps, cuts, blocks, joints, alpha, sense, phi_drawn, ground, tol, ce
                 vx, vy = (rt[vel, 1, k] - wl * rhy) - wl * ry, (rt[vel, 2, k] + wl * rhx) + wl * rx
                 ax = (rt[acc, 1, k] - (el * rhy + w2 * rhx)) - el * ry - w2 * rx
                 ay = (rt[acc, 2, k] + (el * rhx - w2 * rhy)) + el * rx - w2 * ry
-                v_out[b, p, 0], v_out[b, p, 1] = vx * omb, vy * omb
-                if ep_any:
-                    a_out[b, p, 0], a_out[b, p, 1] = ax * om2 + vx * epb, ay * om2 + vy * epb
-                else:
-                    a_out[b, p, 0], a_out[b, p, 1] = ax * om2, ay * om2
-        if rows.shape[1] == 0:
+                if want_vq:
+                    vq_out[b, p, 0], vq_out[b, p, 1], aq_out[b, p, 0], aq_out[b, p, 1] = vx, vy, ax, ay
+                if want_v:
+                    v_out[b, p, 0], v_out[b, p, 1] = vx * omb, vy * omb
+                    if ep_any:
+                        a_out[b, p, 0], a_out[b, p, 1] = ax * om2 + vx * epb, ay * om2 + vy * epb
+                    else:
+                        a_out[b, p, 0], a_out[b, p, 1] = ax * om2, ay * om2
+        if want_rows:  # the record: frames (in the world convention, as `world_frames`) and joints
+            o_th, o_cos, o_sin, o_r = offsets[0], offsets[1], offsets[2], offsets[3]  # (offsets in RECORD_ORDER)
+            o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
+            for l in range(n_l):  # noqa: E741
+                rows[b, o_th + l], rows[b, o_cos + l], rows[b, o_sin + l] = ps[0, l], ps[1, l], ps[2, l]
+                if far:
+                    rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
+                rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = (ps[3, l] + rhx) + cx0, (ps[4, l] + rhy) + cy0
+                if rates:
+                    wl, el = rt[vel, 0, l], rt[acc, 0, l]
+                    rows[b, o_wq + l], rows[b, o_eq + l] = wl, el
+                    rows[b, o_fv + 2 * l] = rt[vel, 1, l] - wl * rhy
+                    rows[b, o_fv + 2 * l + 1] = rt[vel, 2, l] + wl * rhx
+                    rows[b, o_fa + 2 * l] = rt[acc, 1, l] - (el * rhy + wl * wl * rhx)
+                    rows[b, o_fa + 2 * l + 1] = rt[acc, 2, l] + (el * rhx - wl * wl * rhy)
+        if not want_joints:
             continue
-        # the record: frames and joints (offsets in _ORDER)
-        o_th, o_cos, o_sin, o_r, o_val = offsets[0], offsets[1], offsets[2], offsets[3], offsets[4]
-        # the link frames in the world convention, as `world_frames`: ρ = −R(θ)·c
-        o_wq, o_eq, o_fv, o_fa = offsets[5], offsets[6], offsets[7], offsets[8]
-        for l in range(n_l):  # noqa: E741
-            rows[b, o_th + l], rows[b, o_cos + l], rows[b, o_sin + l] = ps[0, l], ps[1, l], ps[2, l]
-            rhx, rhy = ps[2, l] * cy0 - ps[1, l] * cx0, -(ps[2, l] * cx0 + ps[1, l] * cy0)
-            rows[b, o_r + 2 * l], rows[b, o_r + 2 * l + 1] = (ps[3, l] + rhx) + cx0, (ps[4, l] + rhy) + cy0
-            if rates:
-                wl, el = rt[vel, 0, l], rt[acc, 0, l]
-                rows[b, o_wq + l], rows[b, o_eq + l] = wl, el
-                rows[b, o_fv + 2 * l], rows[b, o_fv + 2 * l + 1] = rt[vel, 1, l] - wl * rhy, rt[vel, 2, l] + wl * rhx
-                rows[b, o_fa + 2 * l] = rt[acc, 1, l] - (el * rhy + wl * wl * rhx)
-                rows[b, o_fa + 2 * l + 1] = rt[acc, 2, l] + (el * rhx - wl * wl * rhy)
-        o_rq, o_aq = offsets[9], offsets[10]
+        o_val, o_rq, o_aq = offsets[4], offsets[9], offsets[10]
         for j in range(len(joints.a)):
             la, lb = joints.a[j], joints.b[j]
+            rq, acq = 0.0, 0.0
             if not joints.prismatic[j]:
-                rows[b, o_val + j] = ps[0, lb] - ps[0, la] + joints.drawn[j]
+                val = ps[0, lb] - ps[0, la] + joints.drawn[j]
                 if rates:
-                    rows[b, o_rq + j] = rt[vel, 0, lb] - rt[vel, 0, la]
-                    rows[b, o_aq + j] = rt[acc, 0, lb] - rt[acc, 0, la]
-                continue
-            # slider point minus carrier point, along the carrier's guide (kinematics._joint_values)
-            atx, aty = joints.at[j, 0], joints.at[j, 1]
-            psx, psy = ps[1, lb] * atx - ps[2, lb] * aty, ps[2, lb] * atx + ps[1, lb] * aty
-            pcx, pcy = ps[1, la] * atx - ps[2, la] * aty, ps[2, la] * atx + ps[1, la] * aty
-            dx, dy = ps[3, lb] + psx - ps[3, la] - pcx, ps[4, lb] + psy - ps[4, la] - pcy
-            ux = ps[1, la] * joints.u0[j, 0] - ps[2, la] * joints.u0[j, 1]
-            uy = ps[2, la] * joints.u0[j, 0] + ps[1, la] * joints.u0[j, 1]
-            pud, ud = -uy * dx + ux * dy, ux * dx + uy * dy
-            rows[b, o_val + j] = joints.drawn[j] + ud
+                    rq = rt[vel, 0, lb] - rt[vel, 0, la]
+                    acq = rt[acc, 0, lb] - rt[acc, 0, la]
+            else:  # slider point minus carrier point, along the carrier's guide (kinematics._joint_values)
+                atx, aty = joints.at[j, 0], joints.at[j, 1]
+                psx, psy = ps[1, lb] * atx - ps[2, lb] * aty, ps[2, lb] * atx + ps[1, lb] * aty
+                pcx, pcy = ps[1, la] * atx - ps[2, la] * aty, ps[2, la] * atx + ps[1, la] * aty
+                dx, dy = ps[3, lb] + psx - ps[3, la] - pcx, ps[4, lb] + psy - ps[4, la] - pcy
+                ux = ps[1, la] * joints.u0[j, 0] - ps[2, la] * joints.u0[j, 1]
+                uy = ps[2, la] * joints.u0[j, 0] + ps[1, la] * joints.u0[j, 1]
+                pud, ud = -uy * dx + ux * dy, ux * dx + uy * dy
+                val = joints.drawn[j] + ud
+                if rates:
+                    ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]
+                    ddx = rt[vel, 1, lb] - ws * psy - rt[vel, 1, la] + wc * pcy
+                    ddy = rt[vel, 2, lb] + ws * psx - rt[vel, 2, la] - wc * pcx
+                    dddx = (rt[acc, 1, lb] - es * psy - ws * ws * psx) - (rt[acc, 1, la] - ec * pcy - wc * wc * pcx)
+                    dddy = (rt[acc, 2, lb] + es * psx - ws * ws * psy) - (rt[acc, 2, la] + ec * pcx - wc * wc * pcy)
+                    rq = wc * pud + ux * ddx + uy * ddy
+                    acq = ec * pud - wc * wc * ud + 2 * wc * (-uy * ddx + ux * ddy) + ux * dddx + uy * dddy
+            if want_rows:
+                rows[b, o_val + j] = val
+                if rates:
+                    rows[b, o_rq + j], rows[b, o_aq + j] = rq, acq
+            if want_value:
+                value_out[b, j] = val
             if rates:
-                ws, wc, es, ec = rt[vel, 0, lb], rt[vel, 0, la], rt[acc, 0, lb], rt[acc, 0, la]
-                ddx = rt[vel, 1, lb] - ws * psy - rt[vel, 1, la] + wc * pcy
-                ddy = rt[vel, 2, lb] + ws * psx - rt[vel, 2, la] - wc * pcx
-                dddx = (rt[acc, 1, lb] - es * psy - ws * ws * psx) - (rt[acc, 1, la] - ec * pcy - wc * wc * pcx)
-                dddy = (rt[acc, 2, lb] + es * psx - ws * ws * psy) - (rt[acc, 2, la] + ec * pcx - wc * wc * pcy)
-                rows[b, o_rq + j] = wc * pud + ux * ddx + uy * ddy
-                rows[b, o_aq + j] = ec * pud - wc * wc * ud + 2 * wc * (-uy * ddx + ux * ddy) + ux * dddx + uy * dddy
+                if want_rate_q:
+                    rate_q_out[b, j], accel_q_out[b, j] = rq, acq
+                if want_rate:
+                    rate_out[b, j] = rq * omb
+                    accel_out[b, j] = acq * om2 + rq * epb if ep_any else acq * om2
     return 0

@@ -38,7 +38,10 @@ class Extreme:
 
 @dataclass(frozen=True)
 class CamDesign:
-    """Everything `design` found."""
+    """Everything `design` found: the spec, the motion program, the follower (given or sized), the
+    geometry, the self-check, the pressure-angle extremes of rise and return, the events found on the
+    linkage, the start angle and window, the smallest radius of curvature and where, the sizing, the
+    forces, the warnings, and whether the events were timed on a linkage."""
 
     spec: CamSpec
     program: laws.Program
@@ -55,7 +58,7 @@ class CamDesign:
     sizing: Sizing | None = None
     forces: CamForces | None = None
     warnings: tuple[str, ...] = field(default=())
-    engine: object = field(default=None, repr=False)
+    timed: bool = False  # the events were found on a linkage model (`spec.linkage`)
 
 
 def design(spec: CamSpec) -> CamDesign:
@@ -101,7 +104,7 @@ def design(spec: CamSpec) -> CamDesign:
     window = tuple(evaluate(w, names, f"{spec.source}: [cam] window") for w in spec.window)
     rho_min, rho_at = smallest_radius(follower, program, geometry)
     out = CamDesign(spec, program, follower, geometry, check, rise, ret, events, start, window, rho_min,
-                    rho_at, sizing, forces, engine=engine)
+                    rho_at, sizing, forces, timed=engine is not None)
     return CamDesign(**{**out.__dict__, "warnings": tuple(_warnings(out))})
 
 

@@ -58,7 +58,7 @@ def document(d) -> dict:
                                                              for x in r.roots],
                                 "stroke": None if r.stroke is None else r.stroke.stroke}
                          for name, r in d.events.items()},
-              "start": d.start if d.engine is not None else None, "window": list(d.window) or None}
+              "start": d.start if d.timed else None, "window": list(d.window) or None}
     out = {"cam": d.spec.source, "title": d.spec.title,
            "model": d.spec.model or (d.spec.source if d.spec.linkage is not None else None),
            "sized": d.sizing is not None, "follower": follower, "timing": timing,

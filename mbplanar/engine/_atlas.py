@@ -15,7 +15,9 @@ import numpy as np
 from ..errors import ModelError, MotionError, PrecisionWarning
 
 from ._blocks import BlockSolver, Solution
-from ._nodes import HERMITE5, Node, hermite_between, node_at
+from ._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_curvature, hermite_slope,
+                            hermite_value, rate_jump, step_verdict)
+from ._nodes import Node, hermite_between, node_at
 from ._singular import Crossing, limit_after, limit_kind, locate_crossing
 
 __all__ = ["Atlas", "solve_along", "solve_sequence", "met_along", "far_span", "FAR_TURNS", "FAR_SIZES",
@@ -99,7 +101,7 @@ class Atlas:
         parts = np.ceil(np.diff(grid) / width).astype(int)
         x = np.concatenate([grid[i] + (grid[i + 1] - grid[i]) * np.arange(1, k) / k
                             for i, k in enumerate(parts) if k > 1] or [np.zeros(0)])
-        x = x[~_in_brackets(self.crossings, x)]  # nothing between the two nodes around a change point
+        x = x[~in_brackets(self.crossings, x)]  # nothing between the two nodes around a change point
         if not len(x):
             return
         inside = np.ones(len(x), bool)
@@ -136,9 +138,9 @@ class Atlas:
                 q = np.stack([n.q[k] for n in self.nodes], axis=1)
                 qd = np.stack([d[0][k] for d in derivatives], axis=1)
                 qdd = np.stack([d[1][k] for d in derivatives], axis=1)
-                ends = np.stack([q[:, :-1], q[:, 1:], h * qd[:, :-1], h * qd[:, 1:],
-                                 h * h * qdd[:, :-1], h * h * qdd[:, 1:]])  # (6, m, K − 1)
-                per_block.append((q, qd, qdd, np.einsum("ce,emk->cmk", HERMITE5, ends)))
+                coef = hermite_coefficients(q[:, :-1], q[:, 1:], h * qd[:, :-1], h * qd[:, 1:], h * h * qdd[:, :-1],
+                                            h * h * qdd[:, 1:], HERMITE5)
+                per_block.append((q, qd, qdd, np.stack(coef)))  # (6, m, K − 1)
             self._arrays = phi, per_block, np.stack([n.signs for n in self.nodes])
         return self._arrays
 
@@ -163,20 +165,17 @@ def _predict(node: Node, s: float):
 
 
 def _accept(solver: BlockSolver, node: Node, new: Node | None, guesses, h: float) -> tuple[str, float]:
-    """Verdict on a step of length h from `node`: "ok" when it converged on the same branch, close to
-    its prediction in position and in derivatives; "cross" when it went smoothly through a change point
-    (a determinant changed sign, but positions and derivatives follow the prediction closely, which the
-    other branch crossing there does not, and a dead point has no solution beyond it); else "reject"."""
-    if new is None or new.pivot < solver.tol.pivot_cross:  # no node on a singular position: rates unknown
+    """Verdict on a step of length h from `node` (`engine._continuation.step_verdict`): "ok" when it
+    converged on the same branch, close to its prediction in position and in derivatives; "cross" when it
+    went smoothly through a change point (a determinant changed sign, but positions and derivatives follow
+    the prediction closely, which the other branch crossing there does not, and a dead point has no
+    solution beyond it); else "reject". No node is placed on a singular position (its rates are unknown)."""
+    if new is None:
         return "reject", math.inf
     dist = _distance(solver, new, guesses)
-    if dist > solver.tol.max_correction or _rate_jump(solver, node, new, h) > solver.tol.rate_jump:
-        return "reject", dist
-    if np.array_equal(new.signs, node.signs):
-        return "ok", dist
-    if h <= solver.tol.h_cross and dist <= solver.tol.cross_dist:  # (no node is placed on a singular position)
-        return "cross", dist
-    return "reject", dist
+    verdict = step_verdict(True, new.pivot, dist, _rate_jump(solver, node, new, h),
+                           np.array_equal(new.signs, node.signs), h, solver.tol)
+    return ("ok" if verdict == ACCEPT else "cross" if verdict == CROSS else "reject"), dist
 
 
 def _distance(solver: BlockSolver, new: Node, guesses) -> float:
@@ -191,7 +190,7 @@ def _rate_jump(solver: BlockSolver, node: Node, new: Node, h: float) -> float:
     worst = 0.0
     for qd, qdd, qd_new, bp in zip(node.qd, node.qdd, new.qd, solver.blocks):
         if bp.m:
-            err = np.abs(qd_new - qd - qdd * h) * bp.var_scale / (1.0 + np.abs(qd) * bp.var_scale)
+            err = rate_jump(qd_new, qd, qdd, h, bp.var_scale)
             worst = max(worst, float(np.max(err)) if np.all(np.isfinite(err)) else math.inf)
     return worst
 
@@ -438,7 +437,7 @@ def solve_along(atlas: Atlas, phi: np.ndarray, reduce: bool = True) -> Solution:
     with np.errstate(invalid="ignore", over="ignore"):
         guesses = _interpolate(nodes_phi, per_block, x, idx, inside)
     sol = solver.solve_batch(phi, guesses)
-    at_crossing = _in_brackets(atlas.crossings, x) & inside
+    at_crossing = in_brackets(atlas.crossings, x) & inside
     good = sol.valid & inside & (np.all(solver.signs(sol) == node_signs[idx], axis=1) | at_crossing)
     for state, g, bp in zip(sol.blocks, guesses, solver.blocks):
         if bp.m:
@@ -466,7 +465,7 @@ def met_along(atlas: Atlas, lo: float, hi: float) -> tuple[list, list]:
     return limits, [c for c in atlas.crossings if lo <= c.phi[0] <= hi]
 
 
-def _in_brackets(crossings: list, x: np.ndarray) -> np.ndarray:
+def in_brackets(crossings: list, x: np.ndarray) -> np.ndarray:
     """Which of x (B,) lie between the atlas nodes on either side of a change point."""
     out = np.zeros(len(x), bool)
     for c in crossings:
@@ -484,9 +483,8 @@ def _hermite_rates(grid, per_block, x):
     out = []
     for _, _, _, coef in per_block:
         c = coef.take(lo, axis=2)  # (6, m, R)
-        d1 = sum(k * c[k] * t ** (k - 1) for k in range(1, 6)) / width
-        d2 = sum(k * (k - 1) * c[k] * t ** (k - 2) for k in range(2, 6)) / (width * width)
-        out.append((d1, d2))
+        out.append((hermite_slope(c[1], c[2], c[3], c[4], c[5], t) / width,
+                    hermite_curvature(c[2], c[3], c[4], c[5], t) / (width * width)))
     return out
 
 
@@ -510,9 +508,7 @@ def _interpolate(grid, per_block, x, idx, inside):
     for q, qd, qdd, coef in per_block:
         if len(grid) > 1:
             c = coef.take(lo, axis=2)  # (6, m, B)
-            inner = c[5]
-            for k in range(4, -1, -1):
-                inner = inner * t + c[k]
+            inner = hermite_value(c[0], c[1], c[2], c[3], c[4], c[5], t)
         else:
             inner = q.take(lo, axis=1)
         if not every:

@@ -1,53 +1,70 @@
-"""The backend seam: one place where a compiled implementation may take a batch, and numpy (the
-reference) takes whatever it declines.
+"""The backend seam: the one place that picks who computes a job, and says why.
 
-`analyse` and `kinetostatics` each read as one path: ``dispatch(engine, job, reference, *args)`` asks the
-engine's compiled backend for the job and falls back to the numpy reference when there is none or when
-it answers None (it cannot vouch for that batch: several inputs, a change point's bracket, loads given
-by the caller, ...), as networkx's backends answer ``can_run``. The implementations live in
-`mbplanar.backends` and are loaded by name when an engine asks for them (`load`); this module sits in
-the engine layer because the functions that dispatch (kinematics, forces) sit below `backends`.
+numpy is the reference: every job (``"kinematics"``, ``"kinetostatics"``, ``"design"``,
+``"simulation"``) has a numpy implementation, and a backend may take a request instead. As in networkx's
+backend dispatch, a backend declares for each request whether it can take it (`Backend.can_run`: the
+kind of problem) and whether it should (`Backend.should_run`: the size, what loading it costs), each
+answering True or the reason why not; `dispatch` asks, runs the first backend that answers True to both,
+and logs every answer at debug level on the ``mbplanar.backends`` logger::
+
+    import logging; logging.basicConfig(); logging.getLogger("mbplanar.backends").setLevel(logging.DEBUG)
+
+A backend is handed the request's tables and arrays (`engine._tables`, `forces._program`), never the engine; what a backend
+writes becomes the result in the layer that made the request (its `finish`). A backend that finds a
+position it cannot vouch for while it runs hands the whole request back (its `run` returns the reason),
+and numpy computes it.
+
+Which backends an engine asks: its own (`Engine(mech, backend="numba")`, loaded by name from `BACKENDS`)
+and then the kernels run as plain Python (``"python"``, needs nothing: one position costs less there
+than numpy's batch machinery). This module sits in the engine layer because the functions that
+dispatch (kinematics, forces, study) sit below `backends`; the implementations are loaded by name, as
+networkx loads its backends from entry points.
 """
 
 from __future__ import annotations
 
 import importlib
 import importlib.util
+import logging
 from typing import TYPE_CHECKING, Callable, Protocol
 
 from ..errors import MbplanarError
 
 if TYPE_CHECKING:
-    import numpy as np
+    from ._solver import Engine
 
-    from ..forces import Kinetostatics
-    from ..kinematics import Motion
+__all__ = ["Backend", "BACKENDS", "JOBS", "check", "load", "dispatch", "candidates", "planned"]
 
-__all__ = ["Backend", "BACKENDS", "check", "load", "dispatch"]
+log = logging.getLogger("mbplanar.backends")
+
+#: the jobs a backend may take
+JOBS = ("kinematics", "kinetostatics", "design", "simulation")
 
 
 class Backend(Protocol):
-    """A compiled implementation of the batch computations. Each method returns None where it cannot
-    vouch for the batch; the numpy reference then computes all of it. Tables a backend builds for an
-    engine are kept in ``engine.prepared`` (`Engine.prepare`)."""
+    """An implementation of some jobs. Tables a backend keeps for an engine live in the request's
+    ``store`` (the engine's `Engine.prepared`), never on the backend."""
 
     name: str
 
-    def kinematics(self, engine, phi: np.ndarray, omega, epsilon, points, rates: bool) -> Motion | None:
-        """`analyse` of input values phi (as given, float), of the points `points` (a
-        `kinematics.PointSelection`), with or without the rates."""
+    def can_run(self, job: str, request) -> bool | str:
+        """True when the backend can compute `request` (a job's request record), else why not; a str
+        request is the reason its layer could not write one for the kernels (several inputs, higher
+        pairs, ...), which a backend of kernels answers as its own."""
 
-    def kinetostatics(self, engine, motion: Motion, input_inertia, loads, inertia: bool) -> Kinetostatics | None:
-        """`kinetostatics` of a motion."""
+    def should_run(self, job: str, size: int) -> bool | str:
+        """True when computing a request of `size` (positions, or designs × positions) here beats the
+        next choice, else why not."""
 
-    # optional: ``single(engine)`` → a solver ``(phi, omega, epsilon) → Position`` of one position, made
-    # once per engine (`mbplanar.kinematics.position`), or None; numpy's is used where there is none
+    def run(self, job: str, request):
+        """The answer to `request` (what the job's `finish` turns into the result), or a str: why the
+        backend handed it back while it ran."""
 
 
-#: name → (module defining ``BACKEND``, the package it needs, the extra that installs it);
-#: None for numpy, the reference, which needs no module
-BACKENDS: dict[str, tuple[str, str, str] | None] = {
-    "numpy": None,
+#: name → (module defining ``BACKEND``, the package it needs or None, the extra that installs it); an
+#: engine's `backend` names one of them ("numpy": the kernels as plain Python, besides the reference)
+BACKENDS: dict[str, tuple[str, str | None, str | None]] = {
+    "numpy": ("mbplanar.backends._python", None, None),
     "numba": ("mbplanar.backends._numba", "numba", "fast"),
 }
 
@@ -59,31 +76,75 @@ def check(name: str) -> None:
     if name not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(BACKENDS)}, not {name!r}")
     spec = BACKENDS[name]
-    if spec is not None and importlib.util.find_spec(spec[1]) is None:
+    if spec[1] is not None and importlib.util.find_spec(spec[1]) is None:
         raise _missing(name, spec)
 
 
-def load(name: str) -> Backend | None:
-    """The backend called `name` (None for numpy). ValueError for an unknown name, `MbplanarError`
-    naming the extra to install when its package is missing."""
+def load(name: str) -> Backend:
+    """The backend called `name`. ValueError for an unknown name, `MbplanarError` naming the extra to
+    install when its package is missing."""
     check(name)
-    spec = BACKENDS[name]
-    if spec is None:
-        return None
-    return importlib.import_module(spec[0]).BACKEND  # (numba itself is imported when first used)
+    return importlib.import_module(BACKENDS[name][0]).BACKEND  # (numba itself is imported when first used)
 
 
-def _missing(name: str, spec: tuple[str, str, str]) -> MbplanarError:
+def _missing(name: str, spec) -> MbplanarError:
     _, package, extra = spec
     return MbplanarError(f"backend {name!r} needs {package}: pip install 'mbplanar[{extra}]'")
 
 
-def dispatch(engine, job: str, reference: Callable, *args):
-    """`job` ("kinematics", "kinetostatics") of the engine's compiled backend, or `reference` (the numpy
-    implementation, same arguments) where there is none or it declines the batch."""
-    compiled = engine.compiled
-    if compiled is not None:
-        answer = getattr(compiled, job)(engine, *args)
-        if answer is not None:
-            return answer
-    return reference(engine, *args)
+def candidates(engine: Engine) -> list:
+    """The backends `dispatch` asks for an engine, in order: the engine's own (`Engine.backend`), then
+    the kernels as plain Python (``"python"``) where the engine's is another."""
+    found = engine.prepared.get("backends")
+    if found is None:
+        own = load(engine.backend)
+        found = engine.prepared["backends"] = [own] if own.name == "python" else [own, load("numpy")]
+    return found
+
+
+def dispatch(engine: Engine, job: str, size: int, reference: Callable, request: Callable | None = None,
+             finish: Callable | None = None):
+    """`job` for a request of `size` computed by the first of the engine's backends (`candidates`) that
+    can and should run it, else by `reference()` (numpy). `request()` makes the request the backends are
+    handed (made once, when a backend is willing; a str: why the kernels cannot take it, for the backends'
+    `can_run` to answer); ``finish(request, answer)`` makes the result of a
+    backend's answer. Every backend's verdict is logged at debug level."""
+    made = None
+    for backend in candidates(engine):
+        verdict = backend.should_run(job, size)
+        if verdict is True:
+            if made is None:
+                made = request() if request is not None else None
+            verdict = backend.can_run(job, made)
+        if verdict is True:
+            answer = backend.run(job, made)
+            if not isinstance(answer, str):
+                log.debug("%s of %d: %s", job, size, backend.name)
+                return finish(made, answer) if finish is not None else answer
+            verdict = answer
+        _declined(job, size, backend.name, verdict)
+    log.debug("%s of %d: numpy", job, size)
+    return reference()
+
+
+def _declined(job: str, size: int, name: str, why: str) -> None:
+    if log.isEnabledFor(logging.DEBUG):
+        log.debug("%s of %d: %s declines: %s", job, size, name, why)
+
+
+class planned:
+    """``with planned(positions):`` the work a process plans (the command line: one command per process),
+    for a backend's `should_run` to weigh what loading it costs against what it saves (numba's own start
+    is ~0.8 s of CPU); outside, a long-lived process is assumed (None: loading pays)."""
+
+    positions: int | None = None
+
+    def __init__(self, positions: int | None):
+        self.value = None if positions is None else int(positions)
+
+    def __enter__(self):
+        self.before, planned.positions = planned.positions, self.value
+        return self
+
+    def __exit__(self, *exc):
+        planned.positions = self.before

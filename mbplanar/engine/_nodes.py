@@ -9,19 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._blocks import BlockSolver
+from ._continuation import HERMITE5, hermite_coefficients, hermite_value
 
 __all__ = ["HERMITE5", "Node", "node_at", "hermite_between"]
-
-
-# coefficients of t⁰ … t⁵ (rows) of the quintic Hermite interpolant on t ∈ [0, 1] from the end values
-# (q0, q1, h·q0', h·q1', h²·q0'', h²·q1'') (columns)
-HERMITE5 = np.array([
-    [1, 0, 0, 0, 0, 0],
-    [0, 0, 1, 0, 0, 0],
-    [0, 0, 0, 0, 0.5, 0],
-    [-10, 10, -6, -4, -1.5, 0.5],
-    [15, -15, 8, 7, 1.5, -1],
-    [-6, 6, -3, -3, -0.5, 0.5]], float)
 
 
 @dataclass
@@ -63,8 +53,7 @@ def hermite_between(a: Node, b: Node, phi: np.ndarray) -> list:
     k = int(np.argmax(np.abs(b.phi - a.phi)))
     h = float(b.phi[k] - a.phi[k])
     t = float((phi[k] - a.phi[k]) / h)
-    basis = np.array([t ** n for n in range(6)]) @ HERMITE5
     (qda, qdda), (qdb, qddb) = a.per_input(k), b.per_input(k)
-    return [(basis @ np.stack([q0, q1, h * d0, h * d1, h * h * dd0, h * h * dd1]))[:, None]
-            for q0, q1, d0, d1, dd0, dd1 in zip(a.q, b.q, qda, qdb, qdda, qddb)]
+    return [hermite_value(*hermite_coefficients(q0, q1, h * d0, h * d1, h * h * dd0, h * h * dd1, HERMITE5),
+                          t)[:, None] for q0, q1, d0, d1, dd0, dd1 in zip(a.q, b.q, qda, qdb, qdda, qddb)]
 

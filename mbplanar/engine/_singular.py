@@ -17,7 +17,7 @@ from ._tolerances import Tolerances
 __all__ = ["Limit", "Crossing", "limit_after", "locate_crossing", "limit_kind"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Limit:
     """Where the motion ends along the input: φ (SI), the block at fault, and what happens there.
 
@@ -44,7 +44,7 @@ class Limit:
     q: list | None = None
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Crossing:
     """A change point on the branch: a block's Jacobian is singular there, but the branch goes on
     smoothly through it (another assembly branch crosses it, e.g. the parallelogram four-bar with all

@@ -40,7 +40,6 @@ import numpy as np
 
 from ._atlas import Atlas, far_span, solve_along, solve_sequence
 from ._backend import check as check_backend
-from ._backend import load as load_backend
 from ._blocks import BlockSolver, Solution
 from ._constraints import make_law, world_frames
 from ._higher import make_higher_law
@@ -51,7 +50,7 @@ from ..model._model import Mechanism
 from ..model._scale import check_far, frame_origin
 from ..structure._topology import analyse_topology, check_mobility
 
-__all__ = ["Engine", "Solution", "Limit", "Crossing", "higher_laws", "wheels"]
+__all__ = ["Engine", "Solution", "Limit", "Crossing", "solve_positions", "higher_laws", "wheels"]
 
 
 def higher_laws(mech: Mechanism, centre=(0.0, 0.0)) -> dict:
@@ -101,6 +100,9 @@ class Engine:
     (`model._scale.frame_origin`; 0 near the world's origin), so that what it judges does not depend on
     where the mechanism is drawn; results are in world coordinates.
 
+    The engine answers through the functions that take it: ``analyse(engine, phi)`` for a batch
+    (``rates=False`` for positions alone), ``position(engine, phi)`` for one value.
+
     Examples
     --------
     >>> import numpy as np
@@ -121,7 +123,7 @@ class Engine:
         self.tol = tol
         if threads is not None and (not isinstance(threads, int) or threads < 1):
             raise ValueError(f"threads must be a positive integer, not {threads!r}")
-        check_backend(backend)  # (loaded on first use: `compiled`)
+        check_backend(backend)  # (loaded on first use: `engine._backend.candidates`)
         self.threads = threads
         self.backend = backend
         self.prepared: dict = {}  # tables built on first use, by name (`prepare`)
@@ -163,24 +165,11 @@ class Engine:
             table = self.prepared[name] = make()
         return table
 
-    @property
-    def compiled(self):
-        """The compiled backend (None: numpy alone), loaded when a batch first reaches it, so that a
-        command that never dispatches to it does not import numba (~0.4 s)."""
-        try:
-            return self._compiled
-        except AttributeError:
-            self._compiled = load_backend(self.backend)
-            return self._compiled
-
-    @compiled.setter
-    def compiled(self, backend):
-        self._compiled = backend
-
     def __getstate__(self) -> dict:
-        """Pickled without the compiled backend (a module's object), which is loaded again on first use."""
+        """Pickled without the tables made on first use (`prepared`: kernels' tables, backends, compiled
+        entries), which are made again where it is unpickled."""
         state = dict(self.__dict__)
-        state.pop("_compiled", None)
+        state["prepared"] = {}
         return state
 
     # -- compile --------------------------------------------------------------------------------
@@ -267,22 +256,6 @@ class Engine:
         from ..model._views import view
         return view("html", self)
 
-    def solve(self, phi) -> Solution:
-        """Solve positions for input values `phi` (SI): (B,) for one input, (B, n_in) for several.
-        Positions past a motion limit are left out (`valid` False, `limits` says where)."""
-        phi = np.asarray(phi, dtype=float)
-        if phi.ndim == 0:
-            phi = phi[None]
-        if phi.ndim == 1:
-            phi = phi[:, None] if len(self.inputs) == 1 else phi[None, :]
-        if phi.shape[1] != len(self.inputs):
-            raise ValueError(f"expected {len(self.inputs)} input value(s) per position")
-        if not np.all(np.isfinite(phi)):
-            raise ValueError("input values must be finite")
-        if len(self.inputs) != 1:
-            return solve_sequence(self.solver, phi)
-        return solve_along(self.atlas(), phi)
-
     def period(self) -> float | None:
         """The period (rad) of the drawn branch along a single revolute input: one or two turns when
         the mechanism returns to its configuration (relative angles up to whole turns), else None (a
@@ -321,3 +294,21 @@ class Engine:
         return sol
 
 
+def solve_positions(engine: Engine, phi) -> Solution:
+    """The engine layer's own positions at input values `phi` (SI): (B,) for one input, (B, n_in) for
+    several. Positions past a motion limit are left out (`valid` False, `limits` says where).
+
+    Numpy only, no rates, no backend: the layers above use it where they need a `Solution`. Users ask
+    ``analyse(engine, phi, rates=False)``, which goes through the backend seam."""
+    phi = np.asarray(phi, dtype=float)
+    if phi.ndim == 0:
+        phi = phi[None]
+    if phi.ndim == 1:
+        phi = phi[:, None] if len(engine.inputs) == 1 else phi[None, :]
+    if phi.shape[1] != len(engine.inputs):
+        raise ValueError(f"expected {len(engine.inputs)} input value(s) per position")
+    if not np.all(np.isfinite(phi)):
+        raise ValueError("input values must be finite")
+    if len(engine.inputs) != 1:
+        return solve_sequence(engine.solver, phi)
+    return solve_along(engine.atlas(), phi)

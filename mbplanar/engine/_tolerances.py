@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Tolerances", "KERNEL_FIELDS"]
+__all__ = ["Tolerances", "KernelTol"]
 
 
 @dataclass(frozen=True)
@@ -59,6 +60,14 @@ class Tolerances:
         Largest relative departure from the square-root law between a node and its fold.
     singular : float
         Kinetostatics: a block whose ``|det| / Π‖row‖`` is not above this is singular (NaN reactions).
+    turn : float
+        Design kernel: the largest turn (rad) of a link placed from its anchor angle by the series of
+        cos and sin of the turn rather than by cos and sin of the new angle.
+    nudge : float
+        Design kernel: the largest move (rad) of a link within one solve placed to first order.
+    lazy_step : float
+        Design kernel: the largest last Newton step (scaled) after which a converged block keeps its
+        Jacobian for its rates.
     """
 
     closure: float = 1e-13
@@ -79,6 +88,9 @@ class Tolerances:
     fold_step: float = 1e-14
     fold_sqrt_law: float = 0.1
     singular: float = 1e-12
+    turn: float = 0.05
+    nudge: float = 1e-8
+    lazy_step: float = 1e-6
 
     def __post_init__(self):
         for f in fields(self):
@@ -95,11 +107,37 @@ class Tolerances:
             raise ValueError(f"Tolerances: need h_min <= h_start <= h_max, not {self.h_min}, {self.h_start}, "
                              f"{self.h_max}")
 
-    def as_array(self) -> np.ndarray:
-        """The values the compiled kinematics kernel reads, in the order of `KERNEL_FIELDS` (float64)."""
-        return np.array([getattr(self, name) for name in KERNEL_FIELDS], float)
+    def kernel(self) -> "KernelTol":
+        """The same values as the compiled kernels read them: a `KernelTol` (integers as int, the rest as
+        float), one argument of every kernel, so that no threshold is a constant frozen into numba's
+        cache."""
+        return KernelTol(*(int(getattr(self, f.name)) if f.type == "int" else float(getattr(self, f.name))
+                           for f in fields(self)))
 
 
-#: what `Tolerances.as_array` holds, in order (the kernel unpacks it in this order)
-KERNEL_FIELDS = ("closure", "max_newton", "pivot_polish", "pivot_cross", "max_correction")
+class KernelTol(NamedTuple):
+    """`Tolerances` as the kernels read them (`Tolerances.kernel`): one named field per tolerance, in
+    the order of `Tolerances`' fields (see there for each one's meaning)."""
+
+    closure: float
+    polish: float
+    max_newton: int
+    h_start: float
+    h_max: float
+    h_min: float
+    h_dense: float
+    max_correction: float
+    rate_jump: float
+    h_cross: float
+    cross_dist: float
+    pivot_polish: float
+    pivot_cross: float
+    fold_iterations: int
+    fold_delta: float
+    fold_step: float
+    fold_sqrt_law: float
+    singular: float
+    turn: float
+    nudge: float
+    lazy_step: float
 

@@ -38,7 +38,7 @@ a disc D = 0.366·(J·ρ₀/ρ)^(1/5), b = 0.2·D, m = 1230·(ρ/ρ₀)·D³.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -48,8 +48,9 @@ from ._loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
 from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
 from ..model._table import crank_input
 
-__all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "read_dynamics",
-           "reduce", "machine_dynamics", "true_motion", "simulate", "stall_ahead", "flywheel_sizes", "summary"]
+__all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "Flywheel", "Rim", "Disc",
+           "read_dynamics", "reduce", "machine_dynamics", "true_motion", "simulate", "stall_ahead", "flywheel_sizes",
+           "summary"]
 
 _RIM = (0.437, 6123.0)    # D₂ = c·J^(1/5), m = k·(D₂² − D₁²)·b at ρ₀ (course-book constants)
 _DISC = (0.366, 1230.0)   # D = c·J^(1/5), m = k·D³ at ρ₀
@@ -76,14 +77,25 @@ def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
 
 
 # -- reduction to the crank -------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True, eq=False, repr=False)
 class Reduced:
     """The machine reduced to its crank over a batch of positions φ (B,), rad.
 
-    J_II, dJ_II (B,): reduced inertia of the second group and its derivative dJ_II/dφ (kg·m²);
-    J_input (B,): reduced inertia of the input link (constant for a crank; part of the first group);
-    moments: load name → reduced moment (B,) in N·m; kinds: load name → its kind (resistance, friction,
-    gravity (weights too), force, moment); M_red (B,): their sum.
+    Attributes
+    ----------
+    phi : ndarray (B,)
+    J_II, dJ_II : ndarray (B,)
+        Reduced inertia of the second group (kg·m²) and its derivative dJ_II/dφ.
+    J_input : ndarray (B,)
+        Reduced inertia of the input link (constant for a crank; part of the first group).
+    moments : dict of str to ndarray (B,)
+        Load name → its reduced moment (N·m).
+    kinds : dict of str to str
+        Load name → its kind (resistance, friction, gravity (weights too), force, moment).
+    motion : Motion
+        The positions (at ω = 1, ε = 0: the analogues).
+    M_red : ndarray (B,)
+        The reduced moments' sum (N·m).
     """
 
     phi: np.ndarray
@@ -93,10 +105,10 @@ class Reduced:
     moments: dict
     kinds: dict
     motion: object = None
+    M_red: np.ndarray | None = None
 
-    @property
-    def M_red(self) -> np.ndarray:
-        return sum(self.moments.values(), np.zeros(len(self.phi)))
+    def __repr__(self) -> str:
+        return f"Reduced({len(self.phi)} positions, loads {', '.join(self.moments)})"
 
     def by_kind(self) -> dict:
         """Reduced moment (B,) summed per kind of load."""
@@ -121,12 +133,12 @@ def reduce(engine, phi, omega: float = 1.0) -> Reduced:
     loads = evaluate_loads(engine, at_speed)
     kinds = {ld.name: ld.kind for ld in engine.mech.loads}  # LoadValue names are the rows' names
     moments, kind_of = {}, {}
-    w, v, r = motion.frames["w"], motion.frames["v"], motion.frames["r"]
+    w, v, r = motion.frames.w, motion.frames.v, motion.frames.r
     for ld in loads:
         moments[ld.name] = moments.get(ld.name, 0.0) + load_power(ld, w, v, r)  # a spring: both ends
         kind = kinds.get(ld.name, "gravity")
         kind_of[ld.name] = "gravity" if kind == "weight" else kind
-    return Reduced(phi, J_II, dJ_II, J_input, moments, kind_of, motion)
+    return Reduced(phi, J_II, dJ_II, J_input, moments, kind_of, motion, sum(moments.values(), np.zeros(len(phi))))
 
 
 def _input_links(engine) -> set:
@@ -151,8 +163,8 @@ def first_group(engine) -> frozenset:
         k = np.array([engine.link_index[w] for w in wheels])
         centres = np.array([engine.mech.joints_of(w)[0].at for w in wheels], float)
         f = motion.frames
-        _, v, _ = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], k, centres)
-        wq = f["w"][:, k]
+        _, v, _ = material_points(f.th, f.r, f.w, f.v, f.e, f.a, k, centres)
+        wq = f.w[:, k]
         speed = np.hypot(v[..., 0], v[..., 1])
         steady = [w for j, w in enumerate(wheels)
                   if np.ptp(np.abs(wq[:, j])) <= 1e-9 * (1 + np.abs(wq[:, j]).max())
@@ -173,8 +185,8 @@ def _reduced_inertia(engine, motion):
             continue
         k = engine.link_index[name]
         at = np.array([centre_of(mech, name)]) if lk.mass else np.zeros((1, 2))
-        _, vq, aq = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], np.array([k]), at)
-        vq, aq, wq, eq = vq[:, 0], aq[:, 0], f["w"][:, k], f["e"][:, k]
+        _, vq, aq = material_points(f.th, f.r, f.w, f.v, f.e, f.a, np.array([k]), at)
+        vq, aq, wq, eq = vq[:, 0], aq[:, 0], f.w[:, k], f.e[:, k]
         J = lk.mass * np.einsum("bi,bi->b", vq, vq) + lk.inertia * wq * wq
         if name in inputs:
             J_input += J
@@ -185,9 +197,10 @@ def _reduced_inertia(engine, motion):
 
 
 # -- the energy–mass method -------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Simulation:
-    """The exact steady-state motion over the cycle grid: ω, ε (N,), its δ, ω range and the period."""
+    """The exact steady-state motion over the cycle grid: ω, ε (N,) (rad/s, rad/s²), its δ, ω range, time
+    mean and period (s); `success` when the periodic state was found, `message` says so or why not."""
 
     omega: np.ndarray
     epsilon: np.ndarray
@@ -200,16 +213,101 @@ class Simulation:
     message: str
 
 
-@dataclass
-class Dynamics:
-    """Machine dynamics over one cycle φ = 0 … 2π (grid `phi` (N,), rad).
+@dataclass(frozen=True)
+class Rim:
+    """A flywheel rim (m, kg): outer and inner diameter, width, mass."""
 
-    Arrays (N,): J_II, dJ_II, M_red (total) and `reduced.moments` per load, A_c (work of the loads
-    from φ = 0), A_total (A_c + M_dr·φ), T_II, dT_I, omega, epsilon (the energy–mass method).
-    Scalars: driving_moment M_dr (N·m along φ), resistance_work A_c(2π) (J), inertia_first_group J_I,
-    input_link_inertia (the input link's share of J_I), dT_I_max/min and where (phi_dT_max/min),
-    omega_mean, omega_min, omega_max, epsilon_min, epsilon_max; `simulation` (exact motion) and
-    `flywheel` (sizes), see `flywheel_sizes`.
+    outer_diameter: float
+    inner_diameter: float
+    width: float
+    mass: float
+
+
+@dataclass(frozen=True)
+class Disc:
+    """A flywheel disc (m, kg): diameter, width, mass."""
+
+    diameter: float
+    width: float
+    mass: float
+
+
+@dataclass(frozen=True)
+class Flywheel:
+    """The flywheel the energy–mass method asks for (`flywheel_sizes`).
+
+    Attributes
+    ----------
+    inertia : float
+        J of the flywheel on its shaft (kg·m²).
+    inertia_on_crank_shaft : float
+        The same on the crank shaft (kg·m²).
+    shaft : str
+        "crank", "motor" (``motor_rpm`` given), or the link of the model it is on (``link`` given).
+    speed_ratio : float
+        Its shaft's speed over the crank's (1 on the crank shaft; from the gears on a link).
+    density : float
+        Of its material (kg/m³).
+    needed : bool
+        False when the machine's own first-group inertia is enough (no rim, no disc).
+    rim, disc : Rim, Disc or None
+        Its sizes as a rim and as a disc (None where not needed).
+    """
+
+    inertia: float
+    inertia_on_crank_shaft: float
+    shaft: str
+    speed_ratio: float
+    density: float
+    needed: bool
+    rim: Rim | None = None
+    disc: Disc | None = None
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Dynamics:
+    """Machine dynamics over one cycle φ = 0 … 2π (grid `phi` (N,), rad), by the energy–mass method.
+
+    Attributes
+    ----------
+    spec : DynamicsSpec
+        The `[dynamics]` section it was computed for.
+    reduced : Reduced
+        Reduced inertias and moments over the grid (per load in ``reduced.moments``).
+    phi : ndarray (N,)
+        The grid (rad).
+    A_c : ndarray (N,)
+        Work of the loads from φ = 0 (J).
+    driving_moment : float
+        M_dr (N·m along φ).
+    inertia_first_group : float
+        J_I (kg·m²).
+    dT_I_max, dT_I_min : float
+        Extremes of ΔT_I (J), at `phi_dT_max`, `phi_dT_min` (rad).
+    J_II, dJ_II, M_red : ndarray (N,)
+        Second group's reduced inertia and its derivative, the total reduced moment.
+    omega_mean : float
+        ω_m (rad/s).
+    resistance_work : float
+        A_c(2π) (J).
+    input_link_inertia : float
+        The input link's share of J_I (kg·m²).
+    A_total, T_II, dT_I : ndarray (N,)
+        A_c + M_dr·φ, J_II·ω_m²/2, ΔT_I (J).
+    omega, epsilon : ndarray (N,)
+        ω(φ), ε(φ) of the crank (rad/s, rad/s²).
+    omega_min, omega_max, epsilon_min, epsilon_max : float
+        Their extremes.
+    simulation : Simulation or None
+        The exact steady-state motion (`machine_dynamics(..., simulate_motion=True)`).
+    delta_simulated : float or None
+        Its δ.
+    flywheel : Flywheel
+        The flywheel's inertia and sizes.
+    success : bool
+        The simulation, where asked for, found the periodic motion.
+    message : str
+        "solved", or the simulation's message.
 
     Examples
     --------
@@ -229,73 +327,30 @@ class Dynamics:
     dT_I_min: float
     phi_dT_max: float
     phi_dT_min: float
+    J_II: np.ndarray
+    dJ_II: np.ndarray
+    M_red: np.ndarray
+    omega_mean: float
+    resistance_work: float
+    input_link_inertia: float
+    A_total: np.ndarray
+    T_II: np.ndarray
+    dT_I: np.ndarray
+    omega: np.ndarray
+    epsilon: np.ndarray
+    omega_min: float
+    omega_max: float
+    epsilon_min: float
+    epsilon_max: float
     simulation: Simulation | None = None
-    flywheel: dict = field(default_factory=dict)
+    delta_simulated: float | None = None
+    flywheel: Flywheel | None = None
+    success: bool = True
+    message: str = "solved"
 
-    # derived curves ------------------------------------------------------------------------------
-    @property
-    def J_II(self):
-        return self.reduced.J_II
-
-    @property
-    def dJ_II(self):
-        return self.reduced.dJ_II
-
-    @property
-    def M_red(self):
-        return self.reduced.M_red
-
-    @property
-    def omega_mean(self) -> float:
-        return self.spec.omega_mean
-
-    @property
-    def resistance_work(self) -> float:
-        return float(self.A_c[-1])
-
-    @property
-    def input_link_inertia(self) -> float:
-        return float(np.mean(self.reduced.J_input))
-
-    @property
-    def A_total(self):
-        return self.A_c + self.driving_moment * self.phi
-
-    @property
-    def T_II(self):
-        return self.J_II * self.omega_mean ** 2 / 2
-
-    @property
-    def dT_I(self):
-        return _energy_change(self.A_c, self.driving_moment, self.phi, self.J_II, self.omega_mean)
-
-    @property
-    def omega(self):
-        return self.omega_at(self.dT_I)
-
-    @property
-    def epsilon(self):
-        return self.epsilon_at(self.omega, self.M_red, self.J_II, self.dJ_II)
-
-    @property
-    def omega_min(self) -> float:
-        return self.omega_at(self.dT_I_min)
-
-    @property
-    def omega_max(self) -> float:
-        return self.omega_at(self.dT_I_max)
-
-    @property
-    def epsilon_min(self) -> float:
-        return float(np.min(self.epsilon))
-
-    @property
-    def epsilon_max(self) -> float:
-        return float(np.max(self.epsilon))
-
-    @property
-    def _dT_mid(self) -> float:
-        return (self.dT_I_max + self.dT_I_min) / 2
+    def __repr__(self) -> str:
+        return (f"Dynamics({len(self.phi)} grid points, J_I={self.inertia_first_group:.6g} kg·m², "
+                f"omega {self.omega_min:.6g} … {self.omega_max:.6g} rad/s, success={self.success})")
 
     def work_by_kind(self) -> dict:
         """Work (J) over the cycle of the loads of each kind (resistance, friction, gravity, ...)."""
@@ -303,12 +358,11 @@ class Dynamics:
 
     def omega_at(self, dT_I):
         """ω from ΔT_I (the seeds' linearised relation)."""
-        return self.omega_mean + (dT_I - self._dT_mid) / (self.inertia_first_group * self.omega_mean)
+        return _omega_at(dT_I, self.omega_mean, self.dT_I_max, self.dT_I_min, self.inertia_first_group)
 
     def epsilon_at(self, omega, M_red, J_II, dJ_II):
         """ε from the equation of motion with the first group's J_I."""
-        J = self.inertia_first_group + J_II
-        return (M_red + self.driving_moment) / J - omega * omega * dJ_II / (2 * J)
+        return _epsilon_at(omega, M_red, J_II, dJ_II, self.inertia_first_group, self.driving_moment)
 
     def state_at(self, engine, phi) -> dict:
         """The values at input values `phi` (SI, (B,), any, taken modulo the cycle): J_II, dJ_II, M_red,
@@ -325,10 +379,6 @@ class Dynamics:
         return {"phi": phi, "J_II": red.J_II, "dJ_II": red.dJ_II, "M_red": M, "A_c": A_c, "dT_I": dT,
                 "omega": omega, "epsilon": self.epsilon_at(omega, M, red.J_II, red.dJ_II),
                 "moments": red.moments}
-
-    @property
-    def delta_simulated(self) -> float | None:
-        return None if self.simulation is None else self.simulation.delta
 
     def to_frame(self):
         """A pandas DataFrame of the cycle, one row per grid position, with the columns of
@@ -402,11 +452,39 @@ def machine_dynamics(engine, spec: DynamicsSpec | None = None, steps: int = 3600
     if not J_I > 0:
         raise MotionError("the kinetic energy does not vary over the cycle "
                           "(no loads and no inertia?): nothing for a flywheel to even out", source=engine.mech.source)
-    dyn = Dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min)
-    dyn.flywheel = flywheel_sizes(dyn)
+    dyn = _dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min)
+    dyn = replace(dyn, flywheel=flywheel_sizes(dyn))
     if simulate_motion:
-        dyn.simulation = simulate(dyn)
+        sim = simulate(dyn)
+        dyn = replace(dyn, simulation=sim, delta_simulated=sim.delta, success=sim.success,
+                      message="solved" if sim.success else sim.message)
     return dyn
+
+
+def _dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min) -> Dynamics:
+    """The record of the energy–mass method's results, every curve computed (no simulation, no flywheel)."""
+    om_m = spec.omega_mean
+    dT = _energy_change(A_c, M_dr, phi, red.J_II, om_m)
+    omega = _omega_at(dT, om_m, dT_max, dT_min, J_I)
+    epsilon = _epsilon_at(omega, red.M_red, red.J_II, red.dJ_II, J_I, M_dr)
+    return Dynamics(spec, red, phi, A_c, M_dr, J_I, dT_max, dT_min, phi_max, phi_min, J_II=red.J_II,
+                    dJ_II=red.dJ_II, M_red=red.M_red, omega_mean=om_m, resistance_work=float(A_c[-1]),
+                    input_link_inertia=float(np.mean(red.J_input)), A_total=A_c + M_dr * phi,
+                    T_II=red.J_II * om_m ** 2 / 2, dT_I=dT, omega=omega, epsilon=epsilon,
+                    omega_min=_omega_at(dT_min, om_m, dT_max, dT_min, J_I),
+                    omega_max=_omega_at(dT_max, om_m, dT_max, dT_min, J_I),
+                    epsilon_min=float(np.min(epsilon)), epsilon_max=float(np.max(epsilon)))
+
+
+def _omega_at(dT_I, omega_mean, dT_max, dT_min, J_I):
+    """ω from ΔT_I (the seeds' linearised relation)."""
+    return omega_mean + (dT_I - (dT_max + dT_min) / 2) / (J_I * omega_mean)
+
+
+def _epsilon_at(omega, M_red, J_II, dJ_II, J_I, M_dr):
+    """ε from the equation of motion with the first group's J_I."""
+    J = J_I + J_II
+    return (M_red + M_dr) / J - omega * omega * dJ_II / (2 * J)
 
 
 def _energy_change(A_c, M_dr, phi, J_II, omega_mean):
@@ -435,7 +513,7 @@ def _parabola_peak(x, y, i):
 
 
 # -- flywheel ---------------------------------------------------------------------------------------
-def flywheel_sizes(dyn: Dynamics) -> dict:
+def flywheel_sizes(dyn: Dynamics) -> Flywheel:
     """The flywheel's inertia and its size as a rim and as a disc.
 
     J_fw (on the crank shaft) = J_I − the first group's own inertia (the input link's, and the gears' turned
@@ -451,31 +529,26 @@ def flywheel_sizes(dyn: Dynamics) -> dict:
         u, shaft = _gear_ratio(dyn, fs.link), fs.link
     on_crank = dyn.inertia_first_group - dyn.input_link_inertia - fs.shaft_inertia - fs.motor_inertia * u * u
     J = on_crank / (u * u)
-    out = {"inertia": J, "inertia_on_crank_shaft": on_crank,
-           "shaft": shaft, "speed_ratio": u, "density": fs.density,
-           "needed": J > 0}
+    out = Flywheel(J, on_crank, shaft, u, fs.density, J > 0)
     if J <= 0:
         return out
     scale = (J * RHO_STEEL / fs.density) ** 0.2
     d2 = _RIM[0] * scale
     d1, b = 0.8 * d2, 0.2 * d2
-    out["rim"] = {"outer_diameter": d2, "inner_diameter": d1, "width": b,
-                  "mass": _RIM[1] * fs.density / RHO_STEEL * (d2 * d2 - d1 * d1) * b}
     d = _DISC[0] * scale
-    out["disc"] = {"diameter": d, "width": 0.2 * d, "mass": _DISC[1] * fs.density / RHO_STEEL * d ** 3}
-    return out
+    return replace(out, rim=Rim(d2, d1, b, _RIM[1] * fs.density / RHO_STEEL * (d2 * d2 - d1 * d1) * b),
+                   disc=Disc(d, 0.2 * d, _DISC[1] * fs.density / RHO_STEEL * d ** 3))
 
 
 def _gear_ratio(dyn: Dynamics, link: str) -> float:
     """How many times faster than the crank the gears turn `link` (|ω_q|, constant over the cycle, else a
     `ModelError`)."""
     motion = dyn.reduced.motion
-    engine = motion.engine
-    wq = np.abs(motion.frames["w"][:, engine.link_index[link]])
+    wq = np.abs(motion.frames.w[:, motion.link_names.index(link)])
     if not wq.max() > 0 or np.ptp(wq) > 1e-9 * wq.max():
         raise ModelError(f"the flywheel's link '{link}' does not turn at a constant ratio to the crank "
                          f"(|ω_q| from {wq.min():.6g} to {wq.max():.6g}): put it on a shaft the gears drive",
-                         source=engine.mech.source, where="dynamics.flywheel")
+                         source=motion.model.source, where="dynamics.flywheel")
     return float(np.mean(wq))
 
 
@@ -497,14 +570,14 @@ def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
     if sim is not None:
         rows += [("simulated δ (solve_ivp)", sim.delta, sim.message),
                  ("simulated ω min … max", f"{sim.omega_min:.6g} … {sim.omega_max:.6g}", "rad/s")]
-    if not fw.get("needed"):
+    if not fw.needed:
         return rows + [("flywheel", "not needed", "the machine's own inertia is enough")]
-    rim, disc = fw["rim"], fw["disc"]
+    rim, disc = fw.rim, fw.disc
     return rows + [
-        (f"flywheel on the {fw['shaft']} shaft J", fw["inertia"], f"kg·m² (speed ratio {fw['speed_ratio']:.6g})"),
-        ("  rim D2, D1, b", f"{rim['outer_diameter']:.5g}, {rim['inner_diameter']:.5g}, {rim['width']:.5g}",
-         f"m; mass {rim['mass']:.5g} kg"),
-        ("  disc D, b", f"{disc['diameter']:.5g}, {disc['width']:.5g}", f"m; mass {disc['mass']:.5g} kg")]
+        (f"flywheel on the {fw.shaft} shaft J", fw.inertia, f"kg·m² (speed ratio {fw.speed_ratio:.6g})"),
+        ("  rim D2, D1, b", f"{rim.outer_diameter:.5g}, {rim.inner_diameter:.5g}, {rim.width:.5g}",
+         f"m; mass {rim.mass:.5g} kg"),
+        ("  disc D, b", f"{disc.diameter:.5g}, {disc.width:.5g}", f"m; mass {disc.mass:.5g} kg")]
 
 
 def true_motion(engine, phi, cache: dict | None = None):

@@ -206,7 +206,7 @@ def not_converged(engine, spec: FrictionSpec, result, at: str = "") -> str:
             "the friction grows with the forces faster than the drive can overcome it")
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class FrictionResult:
     """Kinetostatics with friction: `kinetostatics` (reactions and balancing loads with friction),
     `ideal` (without), `iterations` (fixed-point iterations made), `residual` (B,) (the last relative
@@ -264,7 +264,7 @@ def contact_slips(engine, motion) -> dict:
     """Per higher pair (contact point (B, 2), unit tangent (B, 2), sliding speed (B,)): the velocity of the
     second link's material point at the contact less the first's, along the tangent (real velocities)."""
     w, v, _, _ = real_frames(engine, motion)
-    r = motion.frames["r"]
+    r = motion.frames.r
     out = {}
     for name, g in contact_geometry(engine, motion).items():
         ka, kb = (engine.link_index[n] for n in g.links)
@@ -329,7 +329,7 @@ def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
 def _losses(engine, motion, spec, ks) -> np.ndarray:
     """The friction's power (B,) (W, ≤ 0) at the reactions `ks`: −μ·r·|F|·|ω_rel| and −(friction)·|v_rel|."""
     w, v, _, _ = real_frames(engine, motion)
-    r = motion.frames["r"]
+    r = motion.frames.r
     return sum((load_power(ld, w, v, r) for ld in friction_loads(engine, motion, spec, ks.reactions)),
                np.zeros(len(motion.phi)))
 

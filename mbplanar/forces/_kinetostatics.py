@@ -34,17 +34,19 @@ import numpy as np
 from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
+from ..engine._tables import kernels_decline
 from ..kinematics._contacts import contact_geometry
 from ..kinematics._motion import Motion, material_points
-from ._loads import (LoadValue, evaluate_loads, guide_direction, heavy_links, load_power, real_frames,
-                     world_points)
+from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
+                     real_frames, world_points)
 
 __all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Reaction:
-    """Force (fx, fy) (B,) and moment (B,) on link `on` from link `source` in joint `joint`."""
+    """Force (fx, fy) (B,) (N) and moment (B,) (N·m; a prismatic pair's, else 0) on link `on` from link
+    `source` in joint `joint`. `magnitude` and `direction_deg` are functions of fx, fy."""
 
     joint: str
     on: str
@@ -63,17 +65,37 @@ class Reaction:
         return np.degrees(np.arctan2(self.fy, self.fx)) % 360.0
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Kinetostatics:
-    """Reactions and balancing loads over a batch (the positions of `motion`).
+    """Reactions and balancing loads over a batch of B positions (those of `motion`), SI.
 
-    reactions: joint name → Reaction (as reported: on the moving link for pairs with the ground; a higher
-    pair's contact force on its second link from its first);
-    contact_forces: higher pair name → (B,) the signed size of its force along its direction: a cam's or a
-    slot's normal force on the second link along the normal out of the first (< 0: it would pull), a
-    gear's or a rack's tangential force on the second link along the tangent;
-    balancing: input joint name → (B,) moment (N·m) or force (N) the drive applies to the input link;
-    virtual_power_residual (B,): relative residual of the virtual-power balance; loads: what acted.
+    Attributes
+    ----------
+    motion : Motion
+        The positions.
+    reactions : dict of str to Reaction
+        Joint name → its reaction (as reported: on the moving link for pairs with the ground); a higher
+        pair's name → its contact force on its second link from its first.
+    balancing : dict of str to ndarray (B,)
+        Input joint name → the moment (N·m) or force (N) the drive applies to the input link.
+    virtual_power_residual : ndarray (B,)
+        Relative residual of the virtual-power balance.
+    loads : list of LoadValue
+        What acted (the model's loads, gravity, the d'Alembert loads).
+    singular : ndarray (B,) of bool
+        Positions where the force system is singular (their reactions NaN).
+    contact_forces : dict of str to ndarray (B,)
+        Higher pair name → the signed size of its force along its direction (N): a cam's or a slot's
+        normal force on the second link along the normal out of the first (< 0: it would pull), a
+        gear's or a rack's tangential force on the second link along the tangent; empty without higher
+        pairs.
+    pulling : dict of str to ndarray (B,) of bool
+        Cam pair name → where its contact force would pull the follower onto the cam: the contact needs
+        force closure there (a spring, a preload, gravity) or the follower leaves the cam.
+    success : bool
+        No position is singular and no cam's contact force pulls.
+    message : str
+        "solved", or where the system is singular and where a cam's contact would pull.
 
     Examples
     --------
@@ -93,39 +115,13 @@ class Kinetostatics:
     loads: list = field(default_factory=list)
     singular: np.ndarray | None = None
     contact_forces: dict = field(default_factory=dict)
+    pulling: dict = field(default_factory=dict)
+    success: bool = True
+    message: str = "solved"
 
-    @property
-    def pulling(self) -> dict:
-        """Per cam pair, where (B,) its contact force would pull the follower onto the cam: the contact
-        needs force closure there (a spring, a preload, gravity) or the follower leaves the cam."""
-        mech = self.motion.engine.mech
-        return {name: np.asarray(f) < 0 for name, f in self.contact_forces.items() if mech.higher[name].kind == "cam"}
-
-    @property
-    def success(self) -> bool:
-        singular = self.singular is not None and bool(np.any(self.singular))
-        return not singular and not any(bool(np.any(p)) for p in self.pulling.values())
-
-    @property
-    def message(self) -> str:
-        if self.success:
-            return "solved"
-        words = []
-        inp = self.motion.engine.inputs[0]
-        where = lambda bad: ", ".join(f"{inp.from_si(self.motion.phi[k, 0]):.6g}" for k in bad[:5]) + (  # noqa: E731
-            ", ..." if len(bad) > 5 else "")
-        if self.singular is not None and np.any(self.singular):
-            bad = np.flatnonzero(self.singular)
-            words.append(f"the force system is singular at {len(bad)} position(s) ({inp.name} = {where(bad)}): "
-                         "links in line at a dead point, where the drive cannot balance the loads, or at a change "
-                         "point, where the reactions are statically indeterminate")
-        for name, pull in self.pulling.items():
-            if np.any(pull):
-                bad = np.flatnonzero(pull)
-                words.append(f"cam '{name}': the contact force would pull at {len(bad)} position(s) ({inp.name} = "
-                             f"{where(bad)}): the follower leaves the cam there unless a spring or a preload "
-                             "holds it on")
-        return "; ".join(words)
+    def __repr__(self) -> str:
+        return (f"Kinetostatics({len(self.motion.phi)} positions, reactions at {', '.join(self.reactions)}, "
+                f"balancing at {', '.join(self.balancing)}, success={self.success}, message={self.message!r})")
 
     def reaction(self, joint: str) -> Reaction:
         return self.reactions[joint]
@@ -142,12 +138,19 @@ class Kinetostatics:
 
 
 # -- kinematics of the link frames ------------------------------------------------------------------
+def _frames_of(motion):
+    """The motion's link frames with rates, or ModelError: the forces need them."""
+    f = motion.frames
+    if f is None or f.w is None:
+        raise ModelError("kinetostatics needs the motion's link frames and rates: analyse(engine, phi) with "
+                         "rates=True and 'frames' among its outputs (the default)", where="kinetostatics")
+    return f
+
+
 def _virtual_frames(engine, motion):
     """Virtual velocities (w, v) of every link frame: the analogues with one input, else real."""
-    if "v" in motion.frames and motion.wq is not None:
-        return motion.wq, motion.frames["v"]
-    w, v, _, _ = real_frames(engine, motion)
-    return w, v
+    f = _frames_of(motion)
+    return f.w, f.v
 
 
 def _input_link(engine, inp) -> tuple[str, str]:
@@ -168,7 +171,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     if heavy:
         w, v, e, a = real_frames(engine, motion, ks)
         at = np.array([centre for _, _, centre in heavy], float)
-        th, r = motion.frames["th"][:, ks], motion.frames["r"][:, ks]
+        th, r = motion.frames.th[:, ks], motion.frames.r[:, ks]
         xy, _, acc = material_points(th, r, w, v, e, a, np.arange(len(ks)), at)
         for i, ((name, lk, _), k) in enumerate(zip(heavy, ks)):
             out.append(LoadValue(f"inertia of {name}", int(k), -lk.mass * acc[:, i], xy[:, i],
@@ -481,7 +484,7 @@ def _features(engine, motion, plan, directions: dict | None = None):
     """The per-position scalars (F, B) (batch last) the entries of the system are made of (`directions`:
     the higher pairs' `pair_directions`, when already made)."""
     L = engine.size
-    th = motion.frames["th"].T  # (L, B) view
+    th = motion.frames.th.T  # (L, B) view
     # the joints' points are the motion's own (a revolute pair's point is common to both its links)
     xy = motion.xy[:, [motion.point(name) for name in plan.joints]].transpose(2, 1, 0)  # (2, J, B)
     n_joints, n_guides, batch = xy.shape[1], len(plan.guides), th.shape[1]
@@ -566,7 +569,7 @@ def _right_side(lay, loads, centre, L, batch):
 def _virtual_power(engine, motion, loads, drive):
     """Relative residual (B,) of Σ(F·v + M·ω) over the loads plus Σ Q·(input rate), virtual velocities."""
     w, v = _virtual_frames(engine, motion)
-    r = motion.frames["r"]
+    r = motion.frames.r
     rates = motion.rate_q if motion.rate_q is not None else motion.rate
     total = np.zeros(len(motion.phi))  # Σ of the terms
     scale = np.zeros(len(motion.phi))  # what they could be
@@ -677,7 +680,83 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     True
     """
     _check_input_inertia(engine, input_inertia)
-    return dispatch(engine, "kinetostatics", _reference, motion, input_inertia, loads, inertia)
+    _frames_of(motion)
+    return dispatch(engine, "kinetostatics", len(motion.phi),
+                    lambda: _reference(engine, motion, input_inertia, loads, inertia),
+                    lambda: _program_request(engine, motion, inertia, loads, input_inertia),
+                    lambda job, out: _program_result(engine, motion, job.program, out))
+
+
+@dataclass(frozen=True)
+class KinetostaticsJob:
+    """A request of the kinetostatics job (`engine._backend.dispatch`): the `program` of the engine's
+    system and loads (`forces._program.Program`; None where the program cannot express the call,
+    `why` says why), the motion's `records` (B,) it reads (the compiled kinematics' record layout), its
+    `inputs` (2 + G, B): ω, ε and the sizes of the G guide loads (`guide_force_size`), and the
+    `threads` to split the positions over (None: the machine's cores). A backend answers the program's
+    outputs (`Program.outputs_rows`, B)."""
+
+    program: object
+    why: str
+    records: np.ndarray | None
+    inputs: np.ndarray | None
+    threads: int | None
+
+
+def _program_request(engine, motion, inertia, loads, input_inertia) -> KinetostaticsJob:
+    """The request of the program (`forces._program`), written where it can express the call: one input,
+    the model's own loads (no springs, dampers, torques or switched rows) with or without the
+    d'Alembert loads, no input inertia, and a motion with the compiled kinematics' records holding its
+    frames."""
+    why = _unwritable(engine, motion, loads, input_inertia)
+    if why:
+        return KinetostaticsJob(None, why, None, None, engine.threads)
+    from ._program import program_for  # (written for a compiled backend only: numpy never imports it)
+    rows = motion.records
+    program = program_for(engine, plan_of(engine), motion, inertia)
+    inputs = np.empty((2 + len(program.guide_loads), len(rows)))
+    inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
+    for g, load in enumerate(program.guide_loads):
+        inputs[2 + g] = guide_force_size(engine, motion, load)
+    return KinetostaticsJob(program, "", rows, inputs, engine.threads)
+
+
+def _unwritable(engine, motion, loads, input_inertia) -> str:
+    """Why the program cannot express a call ("" where it can)."""
+    why = kernels_decline(engine.mech)
+    if why:
+        return why
+    if len(engine.inputs) != 1:
+        return "several inputs"
+    if loads is not None:
+        return "loads given by the caller"
+    if not _no_input_inertia(input_inertia):
+        return "input inertia"
+    if needs_numpy(engine.mech):
+        return "springs, dampers, torques or switched loads (numpy evaluates them)"
+    rows = motion.records
+    if rows is None or not len(rows) or rows.dtype.names is None or "fa" not in rows.dtype.names:
+        return "a motion without the compiled kinematics' records with rates (numpy's, or outputs= without 'frames')"
+    if not np.may_share_memory(rows, motion.frames.w):
+        return "records that do not hold the motion's frames"
+    return ""
+
+
+def _program_result(engine, motion, program, out) -> Kinetostatics:
+    """The `Kinetostatics` of a program's outputs `out` (O, B): the unknowns, the loads' values (views of
+    `out`), the virtual-power residual and the singular flag."""
+    values = [LoadValue(name, k, out[f:f + 2].T, out[p:p + 2].T, out[m])
+              for name, k, (f, p, m) in zip(program.names, program.links, program.sources)]
+    x, residual, singular = out[:program.size], out[-2], out[-1] != 0.0
+    if singular.any():
+        x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
+        residual[singular] = np.nan
+    return result(engine, motion, plan_of(engine).lay, x, singular, residual, values)
+
+
+def _no_input_inertia(input_inertia) -> bool:
+    """Whether `input_inertia` is 0 (the default 0 recognised without np.any, ~4 µs a call)."""
+    return input_inertia == 0 if type(input_inertia) in (int, float) else not np.any(input_inertia)
 
 
 def _check_input_inertia(engine, input_inertia):
@@ -743,7 +822,34 @@ def result(engine, motion, lay, x, singular, residual, loads, contact: dict | No
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
     balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}
-    normal = {name: x[lay.cols[name]] for name in mech.higher}
+    contact_forces = {name: x[lay.cols[name]] for name in mech.higher}
+    pulling = {name: np.asarray(f) < 0 for name, f in contact_forces.items() if mech.higher[name].kind == "cam"}
+    words = []
+    if np.any(singular):
+        words.append(_singular_message(engine, motion, singular))
+    for name, pull in pulling.items():
+        if np.any(pull):
+            bad = np.flatnonzero(pull)
+            words.append(f"cam '{name}': the contact force would pull at {len(bad)} position(s) "
+                         f"({_where(engine, motion, bad)}): the follower leaves the cam there unless a spring or "
+                         "a preload holds it on")
     return Kinetostatics(motion=motion, reactions=_report(engine, lay, x, contact), balancing=balancing,
-                         virtual_power_residual=residual, loads=loads, singular=singular, contact_forces=normal)
+                         virtual_power_residual=residual, loads=loads, singular=singular,
+                         contact_forces=contact_forces, pulling=pulling, success=not words,
+                         message="; ".join(words) or "solved")
+
+
+def _where(engine, motion, bad) -> str:
+    """"φ = 10, 20, ..." of the positions `bad` (at most five named)."""
+    inp = engine.inputs[0]
+    return (f"{inp.name} = " + ", ".join(f"{inp.from_si(motion.phi[k, 0]):.6g}" for k in bad[:5])
+            + (", ..." if len(bad) > 5 else ""))
+
+
+def _singular_message(engine, motion, singular) -> str:
+    """What `Kinetostatics.message` says where the force system is singular."""
+    bad = np.flatnonzero(singular)
+    return (f"the force system is singular at {len(bad)} position(s) ({_where(engine, motion, bad)}): links in "
+            "line at a dead point, where the drive cannot balance the loads, or at a change point, where the "
+            "reactions are statically indeterminate")
 

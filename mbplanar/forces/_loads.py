@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -51,10 +51,10 @@ __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evalua
            "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class LoadValue:
-    """A load evaluated over a batch: `force` (B, 2) at `point` (B, 2) and `moment` (B,) on link index
-    `link` (engine.links order)."""
+    """A load evaluated over a batch: `force` (B, 2) (N) at `point` (B, 2) (m) and `moment` (B,) (N·m) on
+    link index `link` (engine.links order)."""
 
     name: str
     link: int
@@ -94,7 +94,7 @@ def centre_of(mech, link: str, why: str = "a link with mass needs a 'centre' poi
 # -- evaluating -------------------------------------------------------------------------------------
 def world_points(motion, link: int, at) -> np.ndarray:
     """Positions (B, 2) of the material point drawn at `at` (2,) on link index `link`."""
-    th, r = motion.frames["th"][:, link], motion.frames["r"][:, link]
+    th, r = motion.frames.th[:, link], motion.frames.r[:, link]
     c, s = np.cos(th), np.sin(th)
     out = np.empty(r.shape)
     out[:, 0] = r[:, 0] + (c * at[0] - s * at[1])
@@ -116,7 +116,7 @@ def guide_direction(engine, motion, joint: str) -> np.ndarray:
     """Unit vector (B, 2) of a prismatic joint's guide, turning with its carrier."""
     j = engine.mech.joints[joint]
     u0 = engine.laws[joint].u0
-    th = motion.frames["th"][:, engine.link_index[j.carrier]]
+    th = motion.frames.th[:, engine.link_index[j.carrier]]
     c, s = np.cos(th), np.sin(th)
     out = np.empty(th.shape + (2,))
     out[:, 0] = c * u0[0] - s * u0[1]
@@ -171,21 +171,19 @@ def needs_numpy(mech) -> bool:
 def real_frames(engine, motion, links=slice(None)):
     """Real (w, v, e, a) of the link frames `links` (default all): (B, L), (B, L, 2), (B, L), (B, L, 2)."""
     f = motion.frames
-    if "v" in f and motion.wq is not None:
+    if f.analogues:
         om, ep = motion.omega[:, :1], motion.epsilon[:, :1]
-        v, a = f["v"][:, links], f["a"][:, links]
+        v, a = f.v[:, links], f.a[:, links]
         real_a = a * om[..., None] ** 2 + v * ep[..., None]
         return motion.w[:, links], v * om[..., None], motion.e[:, links], real_a
-    sol = engine.solve(motion.phi)
-    engine.rates(sol, motion.omega, motion.epsilon)
-    return sol.w[:, links], sol.v[:, links], sol.e[:, links], sol.a[:, links]
+    return f.w[:, links], f.v[:, links], f.e[:, links], f.a[:, links]
 
 
 def point_motion(engine, motion, link: int, at) -> tuple[np.ndarray, np.ndarray]:
     """Position and real velocity (B, 2) each of the material point drawn at `at` (2,) on link `link`."""
     xy = world_points(motion, link, at)
     w, v, _, _ = real_frames(engine, motion, [link])
-    r = motion.frames["r"][:, link]
+    r = motion.frames.r[:, link]
     vel = v[:, 0].copy()
     vel[:, 0] -= w[:, 0] * (xy[:, 1] - r[:, 1])
     vel[:, 1] += w[:, 0] * (xy[:, 0] - r[:, 0])
@@ -199,10 +197,8 @@ def _evaluate_switched(engine, motion, load: Load) -> list[LoadValue]:
         return out
     speed = _switch_speed(engine, motion, load)
     on = (speed >= 0) if load.when == "forward" else (speed <= 0)
-    for value in out:
-        value.force = np.where(on[:, None], value.force, 0.0)
-        value.moment = np.where(on, value.moment, 0.0)
-    return out
+    return [replace(value, force=np.where(on[:, None], value.force, 0.0), moment=np.where(on, value.moment, 0.0))
+            for value in out]
 
 
 def _switch_speed(engine, motion, load: Load) -> np.ndarray:
@@ -271,7 +267,7 @@ def _evaluate_element(engine, motion, load: Load) -> list[LoadValue]:
         else:
             w, _, _, _ = real_frames(engine, motion, [ka, kb])
             m = -load.damping * (w[:, 1] - w[:, 0])
-        origin = motion.frames["r"]
+        origin = motion.frames.r
         return [LoadValue(load.name, kb, zero2, origin[:, kb].copy(), m),
                 LoadValue(load.name, ka, zero2.copy(), origin[:, ka].copy(), -m)]
     ka, kb, pa, va, pb, vb = _element_ends(engine, motion, load)

@@ -36,9 +36,9 @@ __all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balanci
            "inertia_shaking_force", "inertia_shaking"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Shaking:
-    """Force (B, 2) (N) and moment (B,) (N·m, about `about`) on the frame."""
+    """Force (B, 2) (N) and moment (B,) (N·m, about `about`) on the frame; `magnitude` is |force|."""
 
     force: np.ndarray
     moment: np.ndarray
@@ -122,7 +122,7 @@ class Counterweight:
     angle_deg: float
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Balancing:
     """Counterweights found, the balanced `mechanism` (the counterweights added to the links' mass,
     centre and inertia), and the RMS of the inertia shaking force at unit speed (N per (rad/s)²) before
@@ -144,7 +144,7 @@ def inertia_shaking_force(engine, motion) -> np.ndarray:
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
     w, v, e, a = real_frames(engine, motion, ks)
     at = np.array([c for _, _, c in heavy], float)
-    _, _, acc = material_points(motion.frames["th"][:, ks], motion.frames["r"][:, ks], w, v, e, a,
+    _, _, acc = material_points(motion.frames.th[:, ks], motion.frames.r[:, ks], w, v, e, a,
                                 np.arange(len(ks)), at)
     for i, (_, lk, _) in enumerate(heavy):
         out -= lk.mass * acc[:, i]
@@ -180,7 +180,7 @@ def inertia_shaking(engine, motion, about=(0.0, 0.0)) -> Shaking:
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
     w, v, e, a = real_frames(engine, motion, ks)
     at = np.array([c for _, _, c in heavy], float)
-    xy, _, acc = material_points(motion.frames["th"][:, ks], motion.frames["r"][:, ks], w, v, e, a,
+    xy, _, acc = material_points(motion.frames.th[:, ks], motion.frames.r[:, ks], w, v, e, a,
                                  np.arange(len(ks)), at)
     c = np.asarray(about, float)
     for i, (_, lk, _) in enumerate(heavy):
@@ -206,9 +206,9 @@ def _columns(engine, motion, link: str):
     k = engine.link_index[link]
     j = _reference_joint(mech, link)
     f = motion.frames
-    _, _, acc = material_points(f["th"], f["r"], f["w"], f["v"], f["e"], f["a"], np.array([k]),
+    _, _, acc = material_points(f.th, f.r, f.w, f.v, f.e, f.a, np.array([k]),
                                 np.array([j.at], float))
-    th, w, e = f["th"][:, k], f["w"][:, k], f["e"][:, k]
+    th, w, e = f.th[:, k], f.w[:, k], f.e[:, k]
     c, s = np.cos(th), np.sin(th)
     out = np.empty((len(th), 2, 3))
     out[:, :, 0] = -acc[:, 0]

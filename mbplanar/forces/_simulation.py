@@ -55,6 +55,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .._progress import Interrupted
+from ..engine import solve_positions
+from ..engine._backend import dispatch
 from ..errors import MbplanarError, ModelError, MotionError
 from ..kinematics._motion import analyse, material_points
 from ._kinetostatics import kinetostatics
@@ -192,10 +194,10 @@ def _columns(engine, q, qd) -> _Columns:
     if not m.success:
         raise MotionError(f"the motion reaches a position it cannot pass: {m.message}", source=engine.mech.source)
     f = m.frames
-    if n == 1 and "v" in f:
+    if f.analogues:
         om = qd[0]
-        return _Columns(m, [(f["w"], f["v"])], f["e"] * om * om, f["a"] * om * om)
-    sol = engine.solve(q[None, :])
+        return _Columns(m, [(f.w, f.v)], f.e * om * om, f.a * om * om)
+    sol = solve_positions(engine, q[None, :])
     cols = []
     for k in range(n):
         unit = np.zeros((1, n))
@@ -223,7 +225,7 @@ def _mass_and_forces(engine, c: _Columns, qd, spec: SimulateSpec, input_inertia)
     heavy = heavy_links(engine.mech)
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
     at = np.array([centre for _, _, centre in heavy], float).reshape(-1, 2)
-    th, r = m.frames["th"], m.frames["r"]
+    th, r = m.frames.th, m.frames.r
     mass = np.array([lk.mass for _, lk, _ in heavy])
     inertia = np.array([lk.inertia for _, lk, _ in heavy])
     zero_w, zero_v = np.zeros_like(c.cols[0][0]), np.zeros_like(c.cols[0][1])
@@ -270,7 +272,7 @@ def _solve_mass(engine, M, rhs):
 
 
 # -- integration ------------------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Trajectory:
     """The motion over time: t (N,), phi, omega, epsilon (N, n) of the inputs; `motion` (a Motion with
     the real rates at every t), `kinetostatics` (the reactions along it, the balancing loads equal to
@@ -312,6 +314,14 @@ def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None
     J_in = np.broadcast_to(np.asarray(input_inertia, float), (n,))
     if machine is not None and qd0[0] > 0:
         _check_cycle(engine, machine, float(J_in[0]), float(q0[0]), float(qd0[0]))
+    # (no backend integrates: the seam says so and numpy does; each evaluation's position goes through it)
+    return dispatch(engine, "simulation", int(spec.steps) + 1,
+                    lambda: _simulate(engine, spec, q0, qd0, J_in, machine, progress))
+
+
+def _simulate(engine, spec: SimulateSpec, q0, qd0, J_in, machine, progress) -> Trajectory:
+    """`simulate_motion` from q0, qd0 (n,) with J_in (n,) on the input links, the drive settled."""
+    mech, n = engine.mech, len(engine.inputs)
     calls = [0]
 
     def rhs(t, y):
@@ -525,11 +535,11 @@ def _kinetic(engine, motion, omega, J_in) -> np.ndarray:
     at = np.array([centre for _, _, centre in heavy], float)
     f = motion.frames
     w = motion.w
-    if "v" in f and motion.wq is not None:
-        v = f["v"] * motion.omega[:, :1, None]
+    if f.analogues:
+        v = f.v * motion.omega[:, :1, None]
     else:
         w, v, _, _ = real_frames(engine, motion)
-    _, vel, _ = material_points(f["th"], f["r"], w, v, np.zeros_like(w), np.zeros_like(v), ks, at)
+    _, vel, _ = material_points(f.th, f.r, w, v, np.zeros_like(w), np.zeros_like(v), ks, at)
     for i, (_, lk, _) in enumerate(heavy):
         out += 0.5 * (lk.mass * np.einsum("bi,bi->b", vel[:, i], vel[:, i]) + lk.inertia * w[:, ks[i]] ** 2)
     return out

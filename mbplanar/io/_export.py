@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import sys
+from dataclasses import asdict
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,7 +29,8 @@ if TYPE_CHECKING:
     from ..forces import Kinetostatics
     from ..kinematics import Motion, Position
 
-__all__ = ["document", "table", "plain", "write_csv", "info_document", "solve_document", "partials_document",
+__all__ = ["document", "table", "engine_for", "plain", "write_csv", "info_document", "solve_document",
+           "partials_document",
            "forces_document", "dynamics_document"]
 
 #: where each result type a builder takes is defined: "module:name" (the module that defines the class,
@@ -72,16 +74,32 @@ def _engine_document(result, units: str | None = None) -> dict:
     return _in_units(convert_info, result, info_document(result), units)
 
 
-def _motion_document(result, row: int = 0, values=None, units: str | None = None) -> dict:
-    return _in_units(convert_solution, result.engine, solve_document(result.engine, result, row, values), units)
+def engine_for(result, engine=None):
+    """The engine a result's documents, tables and pictures are made with: `engine` when given, else one
+    made from the model the result holds (`Motion.model`: a record holds no engine)."""
+    if engine is not None:
+        return engine
+    model = getattr(result, "model", None)
+    if model is None and hasattr(result, "motion"):
+        model = result.motion.model
+    if model is None:
+        raise TypeError(f"a {type(result).__name__} without its model needs its engine: engine=...")
+    from ..engine._solver import Engine
+    return Engine(model)
 
 
-def _position_document(result, values=None, units: str | None = None) -> dict:
-    return _in_units(convert_solution, result.engine, solve_document(result.engine, result, 0, values), units)
+def _motion_document(result, row: int = 0, values=None, units: str | None = None, engine=None) -> dict:
+    engine = engine_for(result, engine)
+    return _in_units(convert_solution, engine, solve_document(engine, result, row, values), units)
 
 
-def _forces_document(result, row: int = 0, values=None, units: str | None = None) -> dict:
-    engine = result.motion.engine
+def _position_document(result, values=None, units: str | None = None, engine=None) -> dict:
+    engine = engine_for(result, engine)
+    return _in_units(convert_solution, engine, solve_document(engine, result, 0, values), units)
+
+
+def _forces_document(result, row: int = 0, values=None, units: str | None = None, engine=None) -> dict:
+    engine = engine_for(result, engine)
     return _in_units(convert_forces, engine, forces_document(engine, result.motion, result, row, values), units)
 
 
@@ -122,12 +140,13 @@ def _table_in_units(header, cols, mech, units):
     return (header, cols) if units is None else convert_table(header, cols, display_units(mech, units))
 
 
-def _motion_table(result, angle_unit: str = "deg", units: str | None = None):
-    return _table_in_units(*sweep_table(result.engine, result, angle_unit), result.engine.mech, units)
+def _motion_table(result, angle_unit: str = "deg", units: str | None = None, engine=None):
+    engine = engine_for(result, engine)
+    return _table_in_units(*sweep_table(engine, result, angle_unit), engine.mech, units)
 
 
-def _forces_table(result, units: str | None = None):
-    engine = result.motion.engine
+def _forces_table(result, units: str | None = None, engine=None):
+    engine = engine_for(result, engine)
     return _table_in_units(*forces_columns(engine, result), engine.mech, units)
 
 
@@ -390,7 +409,7 @@ def dynamics_document(engine, dyn, at=None) -> dict:
            "simulation": None if sim is None else {
                "omega_min": sim.omega_min, "omega_max": sim.omega_max, "omega_time_mean": sim.omega_time_mean,
                "period": sim.period, "success": sim.success, "message": sim.message},
-           "flywheel": dyn.flywheel}
+           "flywheel": {k: v for k, v in asdict(dyn.flywheel).items() if v is not None}}
     if at is not None:
         state = dyn.state_at(engine, at)
         doc["at"] = [{"value": inp.from_si(float(p)), "J_II": state["J_II"][k], "dJ_II": state["dJ_II"][k],

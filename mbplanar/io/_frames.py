@@ -24,16 +24,18 @@ def frame(header, columns):
     return pd.DataFrame(columns, columns=list(header))
 
 
-def motion_frame(motion):
+def motion_frame(motion, engine=None):
     """The sweep table of a `Motion` (the columns of `mbplanar sweep` without forces), one row per position."""
-    engine = motion.engine
+    from ._export import engine_for
+    engine = engine_for(motion, engine)
     unit = "rad" if engine.inputs[0].unit == "rad" else "deg"
     return frame(*sweep_table(engine, motion, unit))
 
 
-def kinetostatics_frame(result):
+def kinetostatics_frame(result, engine=None):
     """The force columns of `mbplanar sweep` for a `Kinetostatics`, with the input column first."""
-    engine = result.motion.engine
+    from ._export import engine_for
+    engine = engine_for(result, engine)
     inp = engine.inputs[0]
     header, cols = forces_columns(engine, result)
     header = [f"{inp.name}[{inp.unit}]"] + header

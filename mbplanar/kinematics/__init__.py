@@ -6,8 +6,8 @@ pressure angle).
 """
 
 from ._contacts import Contact, contacts
-from ._motion import Motion, RatesNotComputed, analyse, material_points, positions_at_limits
+from ._motion import OUTPUTS, Frames, Motion, analyse, material_points, positions_at_limits
 from ._single import Position, position
 
-__all__ = ["Motion", "RatesNotComputed", "analyse", "positions_at_limits", "material_points", "Position",
+__all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "Position",
            "position", "Contact", "contacts"]

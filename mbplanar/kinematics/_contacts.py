@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..engine._solver import Engine
+from ..engine._solver import Engine, solve_positions
 
 __all__ = ["Contact", "ContactGeometry", "contact_geometry", "contacts"]
 
@@ -84,7 +84,7 @@ def _turn(th: np.ndarray, vec) -> np.ndarray:
 def _place(motion, engine, link: str, at) -> np.ndarray:
     """World positions (B, 2) of a material point drawn at `at` ((2,) or (B, 2)) of `link`."""
     k = engine.link_index[link]
-    return motion.frames["r"][:, k] + _turn(motion.frames["th"][:, k], at)
+    return motion.frames.r[:, k] + _turn(motion.frames.th[:, k], at)
 
 
 def _perp(v: np.ndarray) -> np.ndarray:
@@ -101,7 +101,7 @@ def contact_geometry(engine: Engine, motion) -> dict[str, ContactGeometry]:
         h, g = law.pair, law.geometry
         a, b = h.links
         nan = np.full(batch, np.nan)
-        th = motion.frames["th"]
+        th = motion.frames.th
         if h.kind == "gear":
             th_c = th[:, engine.link_index[law.carrier]]
             point = _place(motion, engine, law.carrier, g.pitch)
@@ -113,7 +113,7 @@ def contact_geometry(engine: Engine, motion) -> dict[str, ContactGeometry]:
             point = _place(motion, engine, a, g.centres[0]) + h.radius * normal
             u = nan
         else:
-            u = motion.frames["contact"][:, col]
+            u = motion.frames.contact[:, col]
             path = law.path
             th_a = th[:, engine.link_index[a]]
             if h.kind == "slot":
@@ -165,7 +165,7 @@ def contacts(engine: Engine, motion) -> dict[str, Contact]:
     if not geometry or not len(motion.phi):
         return {name: Contact(g.name, g.kind, g.links, g.links[1], g.point, g.normal, g.tangent, g.parameter,
                               np.zeros(len(motion.phi)), np.zeros(len(motion.phi))) for name, g in geometry.items()}
-    sol = engine.solve(motion.phi)
+    sol = solve_positions(engine, motion.phi)
     released = _released(engine, sol, geometry)
     engine.rates(sol, motion.omega, motion.epsilon)
     out = {}
@@ -175,7 +175,7 @@ def contacts(engine: Engine, motion) -> dict[str, Contact]:
         ka, kb = engine.link_index[a], engine.link_index[b]
 
         def velocity(k):
-            r = motion.frames["r"][:, k]
+            r = motion.frames.r[:, k]
             return sol.v[:, k] + sol.w[:, k, None] * _perp(g.point - r)
 
         slip = np.einsum("bi,bi->b", velocity(kb) - velocity(ka), g.tangent)

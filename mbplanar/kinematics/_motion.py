@@ -1,40 +1,127 @@
 """Kinematic results for every link, joint and point: positions, analogues (d/dφ, d²/dφ²) and real
 velocities and accelerations, instantaneous centres of velocity.
 
-`analyse(engine, phi, omega, epsilon)` solves a batch and returns a `Motion`: arrays with the batch
-first, in SI units (m, rad, s). Real values follow the analogues: v = v_q·ω, a = a_q·ω² + v_q·ε.
-``points=[...]`` asks for some points only, ``rates=False`` for positions only (the link angles are
-always there).
+`analyse(engine, phi, omega, epsilon)` solves a batch and returns a `Motion`: a frozen record of arrays
+with the batch first, in SI units (m, rad, s). Real values follow the analogues: v = v_q·ω,
+a = a_q·ω² + v_q·ε. ``points=[...]`` asks for some points only, ``rates=False`` for positions only, and
+``outputs=[...]`` for some arrays only; what a call did not compute is None.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from dataclasses import fields as dataclass_fields
+import math
+import threading
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
-from ..errors import MbplanarError, ModelError, did_you_mean
+from ..errors import ModelError, did_you_mean
+from ..engine._atlas import far_span, met_along
 from ..engine._backend import dispatch
 from ..engine._constraints import dot, perp, world_frames
-from ..engine._solver import Crossing, Engine, Limit
+from ..engine._solver import Crossing, Engine, Limit, solve_positions
+from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, kernels_decline, record_layout, sweep_tables
 
-__all__ = ["Motion", "RatesNotComputed", "analyse", "positions_at_limits", "point_selection"]
+__all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "OUTPUTS"]
+
+#: the arrays of a `Motion` a call may leave out (`analyse(..., outputs=)`); the others are always there
+OUTPUTS = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "value", "rate", "accel", "rate_q", "accel_q", "ic", "frames")
+#: the velocities and accelerations among them (``rates=False`` leaves them out)
+RATE_OUTPUTS = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "rate", "accel", "rate_q", "accel_q", "ic")
+#: the analogues (one input only: with several they are None)
+ANALOGUE_OUTPUTS = ("wq", "eq", "vq", "aq", "rate_q", "accel_q")
 
 
-@dataclass
+@dataclass(frozen=True, eq=False, repr=False)
+class Frames:
+    """The link frames of a batch (B positions, L links in `Motion.link_names` order), SI.
+
+    Attributes
+    ----------
+    th : ndarray (B, L)
+        Each frame's angle (rad; the link's angle less its reference angle in the drawn pose).
+    r : ndarray (B, L, 2)
+        Each frame's origin (m).
+    w, e : ndarray (B, L) or None
+        Angular velocity and acceleration of each frame; None without rates.
+    v, a : ndarray (B, L, 2) or None
+        Velocity and acceleration of each frame's origin; None without rates.
+    analogues : bool
+        True: w, v, e, a are analogues (per unit input: rad/rad, m/rad, ...; one input); False: real
+        (rad/s, m/s, ...; several inputs).
+    contact : ndarray (B, H) or None
+        The contact parameter of every higher pair (the model's `higher` order): where on its curve a
+        cam's or a slot's contact is (0 for gears and racks, which have none); None without higher pairs.
+    """
+
+    th: np.ndarray
+    r: np.ndarray
+    w: np.ndarray | None = None
+    v: np.ndarray | None = None
+    e: np.ndarray | None = None
+    a: np.ndarray | None = None
+    analogues: bool = True
+    contact: np.ndarray | None = None
+
+    def __repr__(self) -> str:
+        return "Frames(" + ", ".join(f"{f.name}={_shape(getattr(self, f.name))}" for f in fields(self)) + ")"
+
+
+@dataclass(frozen=True, eq=False, repr=False)
 class Motion:
-    """Kinematics of a batch of positions (only those reached on the drawn branch).
+    """Kinematics of a batch of B positions (only those reached on the drawn branch), SI, batch first.
 
-    phi (B, n_in): input values (SI); omega, epsilon (B, n_in): input speed and acceleration.
-    Links: angle, w, e (B, L) real; wq, eq analogues. Points: xy, v, a (B, P, 2); vq, aq analogues.
-    Joints: value, rate, accel (B, J); rate_q, accel_q analogues. Analogues are None with several inputs.
-    `point_names` are the points asked for (`analyse(..., points=)`, default every joint and point).
-    Without rates (`has_rates` False, `analyse(..., rates=False)`) the arrays of `RATE_NAMES` were not
-    computed: reading one raises `RatesNotComputed`.
-    The compiled backend passes None for the arrays of `DERIVED`: the points' analogues from the link
-    frames, the joints' real rates from their analogues (v = v_q·ω, a = a_q·ω² + v_q·ε, ...), computed
-    when first read, and kept.
+    Made by `analyse`; nothing is computed when a field is read. An array a call did not compute is
+    None: the velocities and accelerations without ``rates=True``, the analogues with several inputs,
+    and whatever ``outputs=`` leaves out (default: every array).
+
+    Attributes
+    ----------
+    phi, omega, epsilon : ndarray (B, n_in)
+        Input values, speeds and accelerations (rad or m, /s, /s²).
+    link_names, point_names, joint_names : list of str
+        The links (L), the points asked for (P; `analyse(..., points=)`, default every joint and point)
+        and the joints (J): the order of the arrays' axes.
+    angle : ndarray (B, L)
+        Each link's angle (rad, the direction of its reference line).
+    xy : ndarray (B, P, 2)
+        Each point's position (m).
+    w, e : ndarray (B, L) or None
+        Angular velocity and acceleration (rad/s, rad/s²); ``rates=True``, output "w" or "e".
+    v, a : ndarray (B, P, 2) or None
+        Velocity and acceleration of each point (m/s, m/s²); ``rates=True``, output "v" or "a".
+    wq, eq : ndarray (B, L) or None
+        Angular velocity and acceleration analogues (rad/rad, rad/rad²); one input, ``rates=True``.
+    vq, aq : ndarray (B, P, 2) or None
+        Velocity and acceleration analogues of each point (m/rad, m/rad²); one input, ``rates=True``.
+    value : ndarray (B, J) or None
+        Each joint's value: relative angle of a revolute joint (rad), displacement along the guide of
+        a prismatic one (m); output "value".
+    rate, accel : ndarray (B, J) or None
+        Their rates and accelerations (rad/s or m/s, /s²); ``rates=True``.
+    rate_q, accel_q : ndarray (B, J) or None
+        Their analogues; one input, ``rates=True``.
+    ic : ndarray (B, L, 2) or None
+        Each link's instantaneous centre of velocity (m; NaN where the link does not turn);
+        ``rates=True``, output "ic".
+    frames : Frames or None
+        The link frames (what the forces are computed from); output "frames".
+    limits : list of Limit
+        The motion limits the batch ran into (its rows past them are left out).
+    crossings : list of Crossing
+        The change points passed within the range asked.
+    requested : int
+        Positions asked for (B ≤ requested).
+    success : bool
+        Every position asked for was reached.
+    message : str
+        "solved", or why some were not.
+    records : ndarray (B,) or None
+        The compiled backend's per-position records (structured: the frames and joints), of which
+        `frames`, `value`, `wq`, `eq`, `rate_q`, `accel_q` are views; None from numpy.
+    model : Mechanism
+        The (assembled) model these are positions of: its names and units, for documents and pictures
+        (`mbplanar.io.document`, `to_frame`).
 
     Examples
     --------
@@ -47,86 +134,40 @@ class Motion:
            [-0.866, -0.5  ]]))
     """
 
-    engine: Engine
     phi: np.ndarray
     omega: np.ndarray
     epsilon: np.ndarray
     link_names: list
-    angle: np.ndarray
-    w: np.ndarray
-    e: np.ndarray
     point_names: list
-    xy: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
     joint_names: list
-    value: np.ndarray
-    rate: np.ndarray
-    accel: np.ndarray
-    ic: np.ndarray
-    vq: np.ndarray | None  # no default: a derived array is missing from the instance until first read
-    aq: np.ndarray | None
+    angle: np.ndarray
+    xy: np.ndarray
+    w: np.ndarray | None = None
+    e: np.ndarray | None = None
+    v: np.ndarray | None = None
+    a: np.ndarray | None = None
     wq: np.ndarray | None = None
     eq: np.ndarray | None = None
+    vq: np.ndarray | None = None
+    aq: np.ndarray | None = None
+    value: np.ndarray | None = None
+    rate: np.ndarray | None = None
+    accel: np.ndarray | None = None
     rate_q: np.ndarray | None = None
     accel_q: np.ndarray | None = None
+    ic: np.ndarray | None = None
+    frames: Frames | None = None
+    limits: list = field(default_factory=list)
+    crossings: list = field(default_factory=list)
     requested: int = 0
-    limits: list[Limit] = field(default_factory=list)
-    frames: dict = field(default_factory=dict)
-    crossings: list[Crossing] = field(default_factory=list)  # change points passed in the range asked
-    # the compiled backend's output (B,) of structured rows: the frames, analogues and joint values above
-    # are views of it, the arrays of DERIVED are computed from it; None from the numpy path (the
-    # compiled kinetostatics reads it a position at a time)
-    rows: np.ndarray | None = field(default=None, repr=False)
-    has_rates: bool = True  # False: positions only, the arrays of RATE_NAMES were not computed
-    # a backend's (motion) → {name: array} of `REFILLED` where it did not write them (the compiled
-    # backend's records, the frames and joint values, and with rates the analogues, all views of the
-    # records): computed when first read
-    refill: object = field(default=None, repr=False, compare=False)
-
-    @property
-    def success(self) -> bool:
-        return len(self.phi) == self.requested
-
-    @property
-    def message(self) -> str:
-        if self.success:
-            return "solved"
-        return "; ".join(describe_limit(self.engine, lim) for lim in self.limits) or \
-            f"{self.requested - len(self.phi)} position(s) could not be solved on the drawn branch"
-
-    def __post_init__(self):
-        lazy = self.refill is not None
-        absent = ((RATE_NAMES if not self.has_rates else ())
-                  + (DERIVED if self.rows is not None or (lazy and self.has_rates) else ())
-                  + (REFILLED if lazy else ()))
-        for name in absent:
-            if self.__dict__.get(name, 0) is None:
-                del self.__dict__[name]  # so that reading it reaches __getattr__
-
-    def __getattr__(self, name):
-        if name in RATE_NAMES and not self.__dict__.get("has_rates", True):
-            raise RatesNotComputed(f"Motion.{name}: this motion holds positions only (analyse(..., rates=False)); "
-                                   "ask analyse(..., rates=True) for velocities and accelerations")
-        if (name in REFILLED or name in DERIVED) and self.__dict__.get("refill") is not None \
-                and "rows" not in self.__dict__:  # (the records and their views not made yet)
-            for key, value in self.refill(self).items():
-                if key not in self.__dict__:
-                    setattr(self, key, value)
-            return getattr(self, name)
-        if name not in DERIVED or (self.__dict__.get("rows") is None and self.__dict__.get("refill") is None):
-            raise AttributeError(f"'Motion' object has no attribute '{name}'")
-        value = _derived(self, name)
-        setattr(self, name, value)
-        return value
-
-    def fields(self) -> dict:
-        """Every field's value as stored (None for an array not computed or not derived yet)."""
-        return {f.name: self.__dict__.get(f.name) for f in dataclass_fields(self)}
+    success: bool = True
+    message: str = "solved"
+    records: np.ndarray | None = None
+    model: object = None
 
     def __repr__(self) -> str:
-        shown = ", ".join(f"{k}=array{v.shape}" if isinstance(v, np.ndarray) else f"{k}={v!r}"
-                          for k, v in self.fields().items() if k not in ("engine", "rows", "frames", "refill"))
+        shown = ", ".join(f"{f.name}={_shape(getattr(self, f.name))}" for f in fields(self)
+                          if f.name not in ("records", "frames", "model"))
         return f"Motion({shown})"
 
     def point(self, name: str) -> int:
@@ -155,49 +196,28 @@ class Motion:
         return view("html", self)
 
 
-class _Absent:
-    """The class-level default of a field that may be missing from an instance (the analogues wq, eq,
-    rate_q, accel_q and the compiled records, None by default): reading it where the instance has none goes to
-    `Motion.__getattr__` (positions only: `RatesNotComputed`), as for the fields without a default."""
-
-    def __init__(self, name: str):
-        self.name = name
-
-    def __get__(self, obj, owner=None):
-        if obj is None:
-            return None
-        return obj.__getattr__(self.name)
+def _shape(value) -> str:
+    return f"array{value.shape}" if isinstance(value, np.ndarray) else repr(value)
 
 
-for _name in ("wq", "eq", "rate_q", "accel_q", "rows"):  # after @dataclass has taken their default None
-    setattr(Motion, _name, _Absent(_name))
+_MOTION_FIELDS = tuple(f.name for f in fields(Motion))
+_new = object.__new__
 
 
-DERIVED = ("vq", "aq", "rate", "accel", "ic")  # follow from the compiled frames and joint analogues
-REFILLED = ("value", "frames", "rows", "wq", "eq", "rate_q", "accel_q")  # a backend's `refill` gives them
-# (positions only: the first three)
-RATE_NAMES = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "rate", "accel", "rate_q", "accel_q", "ic")
+def _record(cls, values: dict):
+    """``cls(**values)`` of a frozen record without its ``__init__`` (one ``object.__setattr__`` per
+    field): `values` holds every field."""
+    out = _new(cls)
+    out.__dict__.update(values)
+    return out
 
 
-class RatesNotComputed(AttributeError, MbplanarError):
-    """A velocity or acceleration read from a `Motion` analysed with ``rates=False``."""
-
-
-def _derived(m: Motion, name: str) -> np.ndarray:
-    """An array of `DERIVED` of a one-input Motion from its link frames (analogues) and the input's
-    ω, ε (B, 1)."""
-    om, ep = m.omega, m.epsilon
-    if name in ("vq", "aq"):  # (the compiled records hold cos θ, sin θ)
-        sel = point_selection(m.engine, m.point_names)
-        r = m.rows
-        _, m.vq, m.aq = (None if x is None else _first(x) for x in _moving_points(
-            r["cos"].T, r["sin"].T, _last(r["r"]), r["wq"].T, _last(r["fv"]), r["eq"].T, _last(r["fa"]), sel.links,
-            sel.at, position=False))
-        return getattr(m, name)
-    if name == "ic":  # r + perp(v)/ω of every link frame; NaN where the link does not turn
-        return _first(_instant_centres(_last(m.frames["r"]), _last(m.frames["v"] * om[..., None]), m.w.T))
-    rate, accel = _real(m.rate_q, m.accel_q, om, ep)  # "rate", "accel"
-    return rate if name == "rate" else accel
+def _message(engine: Engine, requested: int, reached: int, limits: list) -> str:
+    """`Motion.message`: "solved", or why positions were left out."""
+    if reached == requested:
+        return "solved"
+    return "; ".join(describe_limit(engine, lim) for lim in limits) or \
+        f"{requested - reached} position(s) could not be solved on the drawn branch"
 
 
 def describe_limit(engine: Engine, lim: Limit) -> str:
@@ -240,6 +260,7 @@ def describe_crossing(engine: Engine, c: Crossing) -> str:
     return (f"change point at {where}: links {', '.join(c.links)} — {c.kind}; two assembly branches cross "
             "here: the analysis follows the smooth branch, a real mechanism may switch branch unless "
             "something guides it through")
+
 
 
 def _point_table(engine: Engine):
@@ -319,6 +340,10 @@ class PointSelection:
 def point_selection(engine: Engine, points=None) -> PointSelection:
     """The points `points` (names, in the order given; None: every joint and point of the model).
     `ModelError` for a name the model does not have, or one asked twice."""
+    if points is None:
+        found = engine.prepared.get("every point")
+        if found is not None:
+            return found
     names, links, at = _tables(engine)[0]
     if points is None:
         return engine.prepare("every point", lambda: PointSelection(list(names), links, at))
@@ -469,15 +494,17 @@ def _per_position(value, default, batch, n_in):
     return np.broadcast_to(arr, (batch, n_in))
 
 
-CHUNK = 25_000  # positions solved at once: bounds the working memory of very long sweeps
+CHUNK = 25_000  # positions solved at once by numpy: bounds the working memory of very long sweeps
 
 
-def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates: bool = True) -> Motion:
-    """Solve `phi` and return the kinematics of the positions reached.
+def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates: bool = True,
+            outputs=None) -> Motion:
+    """Solve `phi` and return the kinematics of the positions reached (rows past a motion limit, which
+    hold no solution, are dropped before anything is returned).
 
-    Rows past a motion limit, which hold no solution, are dropped before anything is returned (the
-    limit is in `Motion.limits`). The engine's compiled backend takes the batch where it can
-    (`engine._backend.dispatch`); numpy, the reference, does the rest.
+    Who computes it is the backend seam's choice (`engine._backend.dispatch`): the engine's compiled
+    backend where it can vouch for the batch, the kernels as plain Python for one position, numpy (the
+    reference) otherwise; the answers agree to rounding.
 
     Parameters
     ----------
@@ -491,8 +518,13 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
         The joints and points whose positions (and rates) to compute, in this order
         (`Motion.point_names`); default every joint and point. Points not asked for cost nothing.
     rates : bool
-        False: positions only (link angles, points, joint values); the velocities and accelerations
-        are not computed and reading one raises `RatesNotComputed`.
+        False: positions only (link angles, points, joint values, frames); every velocity and
+        acceleration array of the `Motion` is None.
+    outputs : collection of str, optional
+        The arrays to compute among `OUTPUTS` ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "value",
+        "rate", "accel", "rate_q", "accel_q", "ic", "frames"); default every one (``rates`` and the
+        number of inputs allowing). The others are None. The link angles and the points' positions are
+        always computed. `kinetostatics` needs "frames".
 
     Returns
     -------
@@ -502,9 +534,9 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
     Raises
     ------
     ModelError
-        Input values that are not finite, a point the model does not have, a speed `omega` or
-        acceleration `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``, ``|ε| ≤ 1e200`` (their
-        squares and products must stay finite).
+        Input values that are not finite, a point the model does not have, an unknown output name, a
+        speed `omega` or acceleration `epsilon` that is not finite or beyond ``|ω| ≤ 1e100``,
+        ``|ε| ≤ 1e200`` (their squares and products must stay finite).
 
     Examples
     --------
@@ -518,22 +550,47 @@ def analyse(engine: Engine, phi, omega=None, epsilon=None, *, points=None, rates
     array([-5.    ,  3.7222])
     """
     phi = np.asarray(phi, float)
-    if not np.all(np.isfinite(phi)):
+    if not (phi.size == 1 and math.isfinite(phi.flat[0])) and not np.all(np.isfinite(phi)):
         raise ModelError("the input values phi must be finite", source=engine.mech.source, where="analyse")
     omega = _checked_rate("omega", omega, MAX_OMEGA, engine)
     epsilon = _checked_rate("epsilon", epsilon, MAX_EPSILON, engine)
-    return dispatch(engine, "kinematics", _reference, phi, omega, epsilon, point_selection(engine, points),
-                    bool(rates))
+    n_in = len(engine.inputs)
+    phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
+    sel = point_selection(engine, points)
+    wanted = _wanted(engine, outputs, bool(rates))
+    return dispatch(engine, "kinematics", len(phi), lambda: _reference(engine, phi, omega, epsilon, sel, wanted),
+                    lambda: _sweep_request(engine, phi, omega, epsilon, sel, wanted),
+                    lambda job, status: _sweep_motion(engine, job, phi, sel, wanted))
 
 
 MAX_OMEGA = 1e100      # |ω|: ω² and ω²·(model size) stay far from overflow
 MAX_EPSILON = 1e200
 
 
+def _wanted(engine: Engine, outputs, rates: bool) -> frozenset:
+    """The optional arrays a call computes (`OUTPUTS`), or ModelError naming an unknown one."""
+    key = (None if outputs is None else tuple(outputs), rates)
+    cache = engine.prepare("kinematics outputs", dict)
+    found = cache.get(key)
+    if found is None:
+        asked = OUTPUTS if outputs is None else ([outputs] if isinstance(outputs, str) else list(outputs))
+        unknown = [name for name in asked if name not in OUTPUTS]
+        if unknown:
+            raise ModelError(f"analyse: outputs: {', '.join(map(repr, unknown))} is not one of {', '.join(OUTPUTS)}",
+                             source=engine.mech.source, where="analyse")
+        left = set() if rates else set(RATE_OUTPUTS)
+        if len(engine.inputs) != 1:
+            left |= set(ANALOGUE_OUTPUTS)
+        found = cache[key] = frozenset(asked) - left
+    return found
+
+
 def _checked_rate(name: str, value, bound: float, engine):
     """`value` (None, a number or an array) unchanged when finite and within ±bound, else ModelError."""
     if value is None:
         return None
+    if value.__class__ is float and abs(value) <= bound:
+        return value
     try:
         arr = np.asarray(value, float)
     except (TypeError, ValueError):
@@ -546,15 +603,288 @@ def _checked_rate(name: str, value, bound: float, engine):
     return value
 
 
-def _reference(engine: Engine, phi: np.ndarray, omega, epsilon, points=None, rates=True) -> Motion:
+# -- the kernels' request (engine._backend, engine._tables) -----------------------------------------
+def _sweep_request(engine: Engine, phi, omega, epsilon, sel: PointSelection, wanted: frozenset) -> SweepJob | str:
+    """What the kinematics kernel solves and where it writes: the engine's tables, the atlas covering
+    the batch, the inputs and the output arrays asked for; or why no kernel can take the batch."""
+    shared = engine.prepared.get("sweep tables")
+    if shared is None:
+        why = kernels_decline(engine.mech)
+        if why:
+            return why
+        shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
+    if not shared.one_input:
+        return "several inputs (the kernels follow one)"
+    batch = len(phi)
+    if not batch:
+        return "no positions"
+    plan = shared.plans.get((wanted, len(sel.names)))
+    if plan is None:
+        plan = shared.plans[wanted, len(sel.names)] = _OutputPlan(shared, wanted, len(sel.names))
+    if batch == 1:
+        return plan.one(engine, shared, float(phi[0, 0]), omega, epsilon, sel)
+    else:
+        x = np.array(phi[:, 0], float)  # (contiguous, writeable: the types the compiled kernel was made for)
+        lo, hi = float(x.min()), float(x.max())
+        om, ep = _speed(omega, shared.omega, batch), _speed(epsilon, shared.epsilon, batch)
+        ep_any = bool(ep.any())
+        out = plan.many(batch)
+    if not (abs(lo - shared.phi0) <= shared.reach and abs(hi - shared.phi0) <= shared.reach):  # `within_walk`
+        return "input values beyond the walk from the drawn pose (numpy reduces them by the period)"
+    rates = plan.rates
+    return SweepJob(shared.tables, _covering(engine, lo, hi), shared.tol,
+                    SweepIn(x, om, ep, rates and ep_any, rates, sel.links, sel.at, shared.offsets[rates]), out,
+                    engine.threads, shared.store, batch)
+
+
+class _SweepShared:
+    """What every kinematics request of an engine shares: the kernel's tables and tolerances, the
+    record layouts (without, with rates), the output plans (`_OutputPlan`), the empty arrays standing
+    for outputs not asked for, the Motion's names, and the store where backends keep their work arrays
+    and compiled entries."""
+
+    def __init__(self, engine: Engine):
+        self.one_input = len(engine.inputs) == 1
+        self.tables = sweep_tables(engine)
+        self.tol = engine.tol.kernel()
+        n_l, n_j = len(engine.links), len(engine.mech.joints)
+        self.layouts = {r: record_layout(n_l, n_j, r) for r in (False, True)}
+        self.offsets = {r: self.layouts[r][1] for r in (False, True)}
+        self.sizes = (n_l, n_j)
+        self.empty, self.plans, self.store = {}, {}, {}
+        if self.one_input:
+            inp = engine.inputs[0]
+            self.omega, self.epsilon = float(inp.omega), float(inp.epsilon)
+            self.phi0, self.reach = float(engine.phi_drawn[0]), far_span(engine.solver)
+        self.names = dict(link_names=list(engine.links), joint_names=list(engine.mech.joints), model=engine.mech)
+        self.fields = {**_NONE, **self.names}  # (a Motion's fields before a request fills them)
+
+    def none(self, shape: tuple) -> np.ndarray:
+        """An empty float array of `shape` (its first dimension 0): an output not asked for."""
+        found = self.empty.get(shape)
+        if found is None:
+            found = self.empty[shape] = np.empty(shape)
+        return found
+
+
+_RECORDED = ("frames", "value", "wq", "eq", "rate_q", "accel_q")  # views of the kernel's records
+_PAIRS = {"w": "e", "e": "w", "v": "a", "a": "v", "vq": "aq", "aq": "vq", "rate": "accel", "accel": "rate"}
+_OUT = SweepOut._fields
+
+
+class _OutputPlan:
+    """The arrays the kernel writes for one kind of request (the outputs `wanted`, P points): those
+    asked for, allocated per call (`one`, `many`), the others empty (a w or v asked for brings its e or
+    a: the kernel writes them together); the frames, joint values and link analogues go to the records.
+    One position's arrays are the fields of one structured array (one allocation, every field
+    C-contiguous). Which `Motion` field each output becomes (`motion_arrays`, `motion_records`)."""
+
+    def __init__(self, shared: _SweepShared, wanted: frozenset, n_p: int, direct: bool = False):
+        n_l, n_j = shared.sizes
+        self.rates = rates = any(name in wanted for name in RATE_OUTPUTS)
+        per = {"angle": (n_l,), "xy": (n_p, 2), "w": (n_l,), "e": (n_l,), "v": (n_p, 2), "a": (n_p, 2),
+               "wq": (n_l,), "eq": (n_l,), "vq": (n_p, 2), "aq": (n_p, 2), "value": (n_j,), "rate": (n_j,),
+               "accel": (n_j,), "rate_q": (n_j,), "accel_q": (n_j,), "ic": (n_l, 2), "rows": (0,), "valid": ()}
+        own = ("w", "e", "v", "a", "vq", "aq", "rate", "accel", "ic") + (_RECORDED[1:] if direct else ())
+        written = {"angle", "xy", "valid"} | {name for name in own if name in wanted or _PAIRS.get(name) in wanted}
+        self.layout = shared.layouts[rates][0] if not direct and any(n in wanted for n in _RECORDED) else None
+        if self.layout is not None:
+            written.add("rows")
+            per["rows"] = (self.layout.itemsize // 8,)
+        self.shapes = {name: per[name] for name in _OUT if name in written}
+        self.width = sum(math.prod(shape) for name, shape in self.shapes.items() if name != "valid")  # (per position)
+        self.template = [None if name in written else shared.none((0,) + per[name]) for name in _OUT]
+        self.slots = [k for k, name in enumerate(_OUT) if name in written]
+        fields_ = [("phi", float, (1,)), ("omega", float, (1,)), ("epsilon", float, (1,))]  # (as `Position` names them)
+        fields_ += [(name, float, self.shapes[name]) for name in _OUT if name in written and name not in ("valid", "rows")]
+        if self.layout is not None:
+            fields_.append(("rows", self.layout))  # (the records, a structured field: no view to make)
+        self.one_dtype = np.dtype(fields_)  # (floats only: a copy of its buffer is a memcpy)
+        self.motion_arrays = [(name, _OUT.index(name)) for name in ("w", "e", "v", "a", "vq", "aq", "rate", "accel", "ic")
+                              if name in wanted]
+        self.motion_records = [name for name in ("value", "wq", "eq", "rate_q", "accel_q") if name in wanted]
+        self.frames = "frames" in wanted
+
+        self.local = threading.local()
+
+    def one(self, engine: Engine, shared: _SweepShared, x: float, omega, epsilon, sel) -> SweepJob | str:
+        """The request of one position: the kernel writes into this thread's own record (`one_dtype`,
+        made once; `copied` gives the answer its own copy), so that a request costs no allocation and
+        its arrays have the types the compiled kernel was made for."""
+        state = getattr(self.local, "state", None)
+        if state is None:
+            buffer = np.zeros(self.one_dtype.itemsize // 8)
+            rec, inputs = np.ndarray((1,), self.one_dtype, buffer), np.ndarray((), self.one_dtype, buffer)
+            slots = self.template.copy()
+            for k in self.slots:
+                name = _OUT[k]
+                slots[k] = (np.zeros(1, np.bool_) if name == "valid" else
+                            rec["rows"].view(np.float64).reshape(1, -1) if name == "rows" else rec[name])
+            state = self.local.state = [buffer, inputs["phi"], inputs["omega"], inputs["epsilon"],
+                                        tuple.__new__(SweepOut, slots), {}]
+        buffer, xs, om, ep, out, jobs = state
+        if not abs(x - shared.phi0) <= shared.reach:  # `within_walk`
+            return "input values beyond the walk from the drawn pose (numpy reduces them by the period)"
+        xs[0] = x
+        om[0] = shared.omega if omega is None else float(_per_position(omega, [0.0], 1, 1)[0, 0])
+        ep[0] = shared.epsilon if epsilon is None else float(_per_position(epsilon, [0.0], 1, 1)[0, 0])
+        atlas = _covering(engine, x, x)
+        key = (ep[0] != 0.0, tuple(sel.names))
+        job = jobs.get(key)
+        if job is None or job.atlas is not atlas:
+            rates = self.rates
+            job = jobs[key] = SweepJob(shared.tables, atlas, shared.tol,
+                                       SweepIn(xs, om, ep, rates and key[0], rates, sel.links, sel.at,
+                                               shared.offsets[rates]), out, 1, shared.store, 1)
+        return job
+
+    def copied(self, shape: tuple = (1,)) -> np.ndarray:
+        """A copy of this thread's one-position record (`one`), of `shape` ((1,): with the batch axis; ():
+        without): the answer's own arrays."""
+        return _ndarray(shape, self.one_dtype, self.local.state[0].copy())
+
+    def many(self, batch: int) -> SweepOut:
+        """The outputs of `batch` positions: the float arrays consecutive parts of one block, each
+        C-contiguous (one allocation: freed together, the block is kept by the allocator for the next
+        request, where a dozen arrays freed at once went back to the system and the next request's
+        pages faulted in again, as much time as the kernel's); `valid` its own."""
+        slots = self.template.copy()
+        block = np.empty(batch * self.width)
+        start = 0
+        for k in self.slots:
+            name = _OUT[k]
+            if name == "valid":
+                slots[k] = np.empty(batch, np.bool_)
+                continue
+            shape = self.shapes[name]
+            size = batch * math.prod(shape)
+            slots[k] = block[start:start + size].reshape((batch,) + shape)
+            start += size
+        return tuple.__new__(SweepOut, slots)
+
+
+def _speed(value, default, batch: int) -> np.ndarray:
+    """The input's speed or acceleration per position (B,), contiguous: `value` one number (None: the
+    model's `default`) or one per position."""
+    if value is None or isinstance(value, (int, float)):
+        out = np.empty(batch)
+        out.fill(default if value is None else value)  # (np.full's Python wrapper costs more than the fill)
+        return out
+    return np.ascontiguousarray(_per_position(value, [default], batch, 1).reshape(-1), float)
+
+
+def _covering(engine: Engine, lo: float, hi: float):
+    """`AtlasTables` of the atlas covering lo … hi (`Atlas.cover`). A batch inside the nodes the tables
+    were made from (the usual case: the same range again) neither asks the atlas to grow nor makes them
+    again: `cover` would find nothing to do there."""
+    found = engine.prepared.get("atlas tables")
+    atlas = engine._atlas
+    if found is not None and found[0] <= lo and hi <= found[1] and atlas is not None and found[2] is atlas._arrays:
+        return found[3]
+    atlas = engine.atlas()
+    atlas.cover(lo, hi)
+    arrays = atlas.arrays()
+    tables = atlas_tables(arrays, (atlas.limits[-1] is not None, atlas.limits[+1] is not None), atlas.crossings)
+    grid = tables.grid
+    engine.prepared["atlas tables"] = (float(grid[0]), float(grid[-1]), arrays, tables,
+                                       bool(atlas.crossings or atlas.limits[-1] is not None
+                                            or atlas.limits[+1] is not None))
+    return tables
+
+
+def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wanted: frozenset) -> Motion:
+    """The `Motion` of a request the kernel wrote (its valid rows)."""
+    out, inp = job.out, job.inp
+    batch = job.size
+    valid = out.valid
+    complete = valid[0] if batch == 1 else bool(valid.all())
+    if engine.prepared["atlas tables"][4]:  # (a limit or a change point known: those met)
+        x = inp.x
+        lo, hi = (float(x[0]),) * 2 if batch == 1 else (float(x.min()), float(x.max()))
+        limits, crossings = met_along(engine.atlas(), lo, hi)
+    else:
+        limits, crossings = [], []
+    shared = engine.prepared["sweep tables"]
+    plan = shared.plans[wanted, len(sel.names)]
+    fields_ = shared.fields.copy()
+    if batch == 1 and complete:  # (the thread's one-position record: the answer gets its own copy)
+        rec = plan.copied()
+        fields_.update(phi=phi, omega=rec["omega"], epsilon=rec["epsilon"], point_names=list(sel.names),
+                       angle=rec["angle"], xy=rec["xy"], limits=limits, crossings=crossings, requested=1,
+                       success=True, message="solved")
+        for name, _ in plan.motion_arrays:
+            fields_[name] = rec[name]
+        rows = rec["rows"] if plan.layout is not None else None
+    else:
+        if complete:
+            fields_.update(phi=phi, omega=inp.om[:, None], epsilon=inp.ep[:, None], point_names=list(sel.names),
+                           angle=out.angle, xy=out.xy, limits=limits, crossings=crossings, requested=batch,
+                           success=True, message="solved")
+        else:
+            keep = np.flatnonzero(valid)
+            out = tuple.__new__(SweepOut, [(a[keep] if len(a) else a) for a in out])
+            fields_.update(phi=phi[keep], omega=inp.om[keep, None], epsilon=inp.ep[keep, None],
+                           point_names=list(sel.names), angle=out.angle, xy=out.xy, limits=limits,
+                           crossings=crossings, requested=batch, success=len(keep) == batch,
+                           message=_message(engine, batch, len(keep), limits))
+        for name, k in plan.motion_arrays:
+            fields_[name] = out[k]
+        rows = out.rows.reshape(-1).view(plan.layout) if plan.layout is not None else None
+    if rows is not None:
+        fields_["records"] = rows
+        for name in plan.motion_records:
+            fields_[name] = rows[name]
+        if plan.frames:
+            frames = fields_["frames"] = _new(Frames)
+            state = frames.__dict__
+            state.update(_NO_RATES)
+            for name, key in _FRAME_FIELDS[plan.rates]:
+                state[name] = rows[key]
+    return _record(Motion, fields_)
+
+
+#: the `Frames` fields that are fields of the records (without, with rates), and those left None
+_FRAME_FIELDS = {False: (("th", "th"), ("r", "r")),
+                 True: (("th", "th"), ("r", "r"), ("w", "wq"), ("v", "fv"), ("e", "eq"), ("a", "fa"))}
+_NO_RATES = dict(w=None, v=None, e=None, a=None, analogues=True)
+
+
+_NONE = dict.fromkeys(_MOTION_FIELDS)
+_ndarray = np.ndarray
+
+
+def one_position(engine: Engine, x: float, omega, epsilon, reference):
+    """One position's record (0-d, structured: angle, xy, w, e, v, a, wq, eq, vq, aq, value, rate, accel,
+    rate_q, accel_q, ic, and phi, omega, epsilon the input's value, speed, acceleration; batch axis taken off) as
+    a backend solves it (`mbplanar.position`), or ``reference()`` where every backend declines: the
+    request is `analyse`'s of a batch of one, its arrays the record's own."""
+    shared = engine.prepared.get("sweep tables")
+    if shared is None:
+        if kernels_decline(engine.mech):  # (`dispatch` is asked, and logs why)
+            return dispatch(engine, "kinematics", 1, reference, lambda: kernels_decline(engine.mech))
+        shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
+    plan = shared.plans.get("position")
+    if plan is None:
+        sel = point_selection(engine)
+        plan = shared.plans["position"] = _OutputPlan(shared, _wanted(engine, None, True), len(sel.names), direct=True)
+        plan.sel = sel
+    if not shared.one_input:
+        return reference()
+    return dispatch(engine, "kinematics", 1, reference,
+                    lambda: plan.one(engine, shared, x, omega, epsilon, plan.sel),
+                    lambda job, status: plan.copied(()) if job.out.valid[0] else reference())
+
+
+# -- numpy ------------------------------------------------------------------------------------------
+def _reference(engine: Engine, phi: np.ndarray, omega, epsilon, sel: PointSelection, wanted: frozenset) -> Motion:
     """`analyse` by numpy: one batch, or chunks of a long sweep of one input."""
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        if len(engine.inputs) != 1 or phi.size <= CHUNK:
-            return _analyse(engine, phi, omega, epsilon, points, rates)
-        return _analyse_chunks(engine, phi.reshape(-1, 1), omega, epsilon, points, rates)
+        if len(engine.inputs) != 1 or len(phi) <= CHUNK:
+            return _motion(engine, solve_positions(engine, phi), omega, epsilon, sel, wanted)
+        return _analyse_chunks(engine, phi, omega, epsilon, sel, wanted)
 
 
-def _analyse_chunks(engine: Engine, phi, omega, epsilon, points, rates) -> Motion:
+def _analyse_chunks(engine: Engine, phi, omega, epsilon, sel, wanted) -> Motion:
     """A long sweep of one input in chunks of `CHUNK` positions, copied into arrays allocated once, so
     that the peak memory is the result plus one chunk's work. Same answers as one batch: every position
     is predicted from the same atlas and corrected on its own."""
@@ -564,42 +894,28 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon, points, rates) -> Motio
     out, frames, fill, limits, crossings, first = {}, {}, 0, [], [], None
     for start in range(0, batch, CHUNK):
         part = slice(start, start + CHUNK)
-        m = _analyse(engine, phi[part], omega[part], epsilon[part], points, rates)
+        m = _motion(engine, solve_positions(engine, phi[part]), omega[part], epsilon[part], sel, wanted)
         if first is None:
             first = m
-            for name, value in vars(m).items():
-                if isinstance(value, np.ndarray):
-                    out[name] = np.empty((batch,) + value.shape[1:], value.dtype)
-            aliases = {name: next((f for f in out if np.may_share_memory(value, getattr(m, f))), None)
-                       for name, value in m.frames.items()}  # frames["w"] is the array of wq, ...
-            frames = {name: np.empty((batch,) + value.shape[1:]) for name, value in m.frames.items()
-                      if aliases[name] is None}
+            out = {f.name: np.empty((batch,) + getattr(m, f.name).shape[1:]) for f in fields(m)
+                   if isinstance(getattr(m, f.name), np.ndarray)}
+            if m.frames is not None:
+                frames = {f.name: np.empty((batch,) + getattr(m.frames, f.name).shape[1:]) for f in fields(m.frames)
+                          if isinstance(getattr(m.frames, f.name), np.ndarray)}
         n = len(m.phi)
         for name, arr in out.items():
             arr[fill:fill + n] = getattr(m, name)
         for name, arr in frames.items():
-            arr[fill:fill + n] = m.frames[name]
+            arr[fill:fill + n] = getattr(m.frames, name)
         fill += n
         limits += [lim for lim in m.limits if not any(lim is seen for seen in limits)]
         crossings += [c for c in m.crossings if not any(c is seen for seen in crossings)]
         del m
-    fields = {name: arr[:fill] for name, arr in out.items()}
-    frames = {name: (fields[aliases[name]] if aliases[name] else frames[name][:fill]) for name in aliases}
-    return Motion(**{**first.fields(), **fields, "requested": batch, "limits": limits, "frames": frames,
-                     "crossings": crossings})
-
-
-def _analyse(engine: Engine, phi, omega=None, epsilon=None, points=None, rates=True) -> Motion:
-    """Solve `phi` (SI; (B,) or (B, n_in)) and return the kinematics of the positions reached.
-
-    omega, epsilon: input speed and acceleration, scalars or per position (default: the model's).
-    With one input everything is computed once as analogues (d/dφ, d²/dφ²) and the real rates follow
-    by v = v_q·ω, a = a_q·ω² + v_q·ε.
-    """
-    n_in = len(engine.inputs)
-    phi = np.asarray(phi, float)
-    phi = phi.reshape(-1, n_in) if phi.ndim <= 1 and n_in == 1 else np.atleast_2d(phi)
-    return _motion(engine, engine.solve(phi), omega, epsilon, points, rates)
+    made = {name: arr[:fill] for name, arr in out.items()}
+    if first.frames is not None:
+        made["frames"] = replace(first.frames, **{name: arr[:fill] for name, arr in frames.items()})
+    return replace(first, **made, requested=batch, limits=limits, crossings=crossings, success=fill == batch,
+                   message=_message(engine, batch, fill, limits))
 
 
 def positions_at_limits(engine: Engine, limits: list) -> Motion:
@@ -607,17 +923,17 @@ def positions_at_limits(engine: Engine, limits: list) -> Motion:
     exact positions, link angles and joint values where a sweep can only come within `H_MIN`. Every
     rate and analogue is NaN: at a fold (dead point) the driven links' rates are infinite."""
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        m = _motion(engine, engine.solve_limits(limits), None, None)
-    for name in ("w", "e", "v", "a", "rate", "accel", "ic", "wq", "eq", "vq", "aq", "rate_q", "accel_q"):
-        if getattr(m, name) is not None:
-            setattr(m, name, np.full_like(getattr(m, name), np.nan))
-    m.frames = {name: (x if name in ("th", "r", "contact") else np.full_like(x, np.nan)) for name, x in m.frames.items()}
-    return m
+        m = _motion(engine, engine.solve_limits(limits), None, None, point_selection(engine),
+                    _wanted(engine, None, True))
+    nan = {name: np.full_like(getattr(m, name), np.nan) for name in RATE_OUTPUTS if getattr(m, name) is not None}
+    frames = replace(m.frames, **{name: np.full_like(getattr(m.frames, name), np.nan) for name in ("w", "v", "e", "a")
+                                  if getattr(m.frames, name) is not None})
+    return replace(m, **nan, frames=frames)
 
 
-def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Motion:
-    """The kinematics of a solved batch (only its valid rows), of the points `points` (a
-    `PointSelection`, or None for every point), with or without the rates."""
+def _motion(engine: Engine, sol, omega, epsilon, sel: PointSelection, wanted: frozenset) -> Motion:
+    """The kinematics of a solved batch (only its valid rows), of the points `sel`, with the arrays
+    `wanted`."""
     n_in = len(engine.inputs)
     phi = sol.phi
     batch = len(phi)
@@ -628,25 +944,25 @@ def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Mot
     # are vectors within the mechanism; the link frames are converted to the world convention
     # (`world_frames`) and the points follow from them, as `Motion.frames` reports them
     th, c, s, r_engine = _link_states(engine, sol)
-    sel = points if points is not None else point_selection(engine)
     links, at = sel.links, sel.at
     joints = _tables(engine)[1]
     alpha = np.array([engine.reference_angle[n] for n in engine.links])
-    common = dict(engine=engine, phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep], link_names=list(engine.links),
-                  angle=(th.T + alpha)[keep], point_names=list(sel.names), joint_names=list(engine.mech.joints),
-                  requested=batch, limits=sol.limits, crossings=sol.crossings)
-    frames = {"th": th.T[keep]}
-    if engine.mech.higher:
-        frames["contact"] = _contact_parameters(engine, sol)[keep]
+    out = dict.fromkeys(_MOTION_FIELDS)
+    out.update(phi=phi[keep], omega=omega[keep], epsilon=epsilon[keep], link_names=list(engine.links),
+               point_names=list(sel.names), joint_names=list(engine.mech.joints), angle=(th.T + alpha)[keep],
+               limits=sol.limits, crossings=sol.crossings, requested=batch, model=engine.mech)
+    contact = _contact_parameters(engine, sol)[keep] if engine.mech.higher else None
+    rates = any(name in wanted for name in RATE_OUTPUTS)
     if not rates:
-        value = _joint_values(joints, th, c, s, r_engine, None, None, None, None)[0]
         r = world_frames(engine.centre, c, s, r_engine)[0]
-        frames["r"] = _first(r)[keep]
-        return Motion(**common, w=None, e=None, xy=_first(_placed_points(c, s, r, links, at))[keep], v=None, a=None,
-                      value=value.T[keep], rate=None, accel=None, ic=None, vq=None, aq=None,
-                      frames=frames, has_rates=False)
-    analog = n_in == 1
-    if analog:
+        out["xy"] = _first(_placed_points(c, s, r, links, at))[keep]
+        if "value" in wanted:
+            out["value"] = _joint_values(joints, th, c, s, r_engine, None, None, None, None)[0].T[keep]
+        if "frames" in wanted:
+            out["frames"] = Frames(th.T[keep], _first(r)[keep], contact=contact)
+        return _finished(engine, out)
+    frames = dict(th=th.T[keep], contact=contact)
+    if n_in == 1:
         engine.solver.rates(sol, np.ones((batch, 1)), np.zeros((batch, 1)))
         wq, eq = sol.w.T, sol.e.T
         value, rq, accq = _joint_values(joints, th, c, s, r_engine, wq, _last(sol.v), eq, _last(sol.a))
@@ -658,18 +974,27 @@ def _motion(engine: Engine, sol, omega, epsilon, points=None, rates=True) -> Mot
         xy, pvq, paq = _moving_points(c, s, r, wq, vq_f, eq, aq_f, links, at)
         pv, pa = _real(pvq, paq, om, ep)
         rate, accel = _real(rq, accq, om, ep)
+        out.update(wq=wq.T[keep], eq=eq.T[keep], vq=_first(pvq)[keep], aq=_first(paq)[keep], rate_q=rq.T[keep],
+                   accel_q=accq.T[keep])
+        frames.update(w=wq.T[keep], v=_first(vq_f)[keep], e=eq.T[keep], a=_first(aq_f)[keep], analogues=True)
     else:
         engine.solver.rates(sol, omega, epsilon)
         w, e = sol.w.T, sol.e.T
         value, rate, accel = _joint_values(joints, th, c, s, r_engine, w, _last(sol.v), e, _last(sol.a))
         r, v, a = world_frames(engine.centre, c, s, r_engine, w, _last(sol.v), e, _last(sol.a))
         xy, pv, pa = _moving_points(c, s, r, w, v, e, a, links, at)
-    frames["r"] = _first(r)[keep]
-    m = Motion(**common, w=w.T[keep], e=e.T[keep], xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
-               vq=None, aq=None, value=value.T[keep], rate=rate.T[keep], accel=accel.T[keep],
-               ic=_first(_instant_centres(r, v, w))[keep], frames=frames)
-    if analog:
-        m.wq, m.eq, m.vq, m.aq = wq.T[keep], eq.T[keep], _first(pvq)[keep], _first(paq)[keep]
-        m.rate_q, m.accel_q = rq.T[keep], accq.T[keep]
-        m.frames.update(w=wq.T[keep], v=_first(vq_f)[keep], e=eq.T[keep], a=_first(aq_f)[keep])
-    return m
+        frames.update(w=w.T[keep], v=_first(v)[keep], e=e.T[keep], a=_first(a)[keep], analogues=False)
+    out.update(w=w.T[keep], e=e.T[keep], xy=_first(xy)[keep], v=_first(pv)[keep], a=_first(pa)[keep],
+               value=value.T[keep], rate=rate.T[keep], accel=accel.T[keep],
+               ic=_first(_instant_centres(r, v, w))[keep], frames=Frames(r=_first(r)[keep], **frames))
+    for name in OUTPUTS:
+        if name not in wanted:
+            out[name] = None
+    return _finished(engine, out)
+
+
+def _finished(engine: Engine, out: dict) -> Motion:
+    reached, requested = len(out["angle"]), out["requested"]
+    out["success"] = reached == requested
+    out["message"] = _message(engine, requested, reached, out["limits"])
+    return _record(Motion, out)

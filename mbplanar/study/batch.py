@@ -28,10 +28,14 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..engine._atlas import Atlas
+from ..engine._backend import dispatch
 from ..engine._blocks import BlockSolver
 from ..engine._constraints import perp
-from ..engine._nodes import HERMITE5, Node
+from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
+                                    step_verdict)
+from ..engine._nodes import Node
 from ..engine._singular import limit_after
+from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, kernels_decline, sweep_tables
 from ..kinematics import analyse
 from ..model import parse_model
 from ..model._scale import frame_origin
@@ -43,7 +47,7 @@ __all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "compil
 CHUNK = 25_000  # (design, position) pairs corrected at once
 
 
-@dataclass
+@dataclass(frozen=True)
 class DesignLimit:
     """A motion limit of design `design`: input value φ (SI), direction (+1 up, −1 down), the block's
     links and joints, its kind (as `Engine` words it) and, when located, the configuration there."""
@@ -57,15 +61,15 @@ class DesignLimit:
     limit: object = None  # the engine's `Limit` when located by the fold Newton
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class DesignMotion:
     """Kinematics of D designs at N input values each (batch first: design, then position).
 
     phi (D, N) SI; valid (D, N): solved on the drawn branch; ok (D,): the design could be analysed,
     else reasons[d] says why. Links (`links` order, default engine.links): angle, wq (D, N, L) (rad, rad/rad);
-    eq (D, N, L).
-    Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²). limits: [DesignLimit] met
-    inside the requested range, per design in `limits_of(d)`.
+    eq (D, N, L) or None (``accelerations=False``).
+    Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²; aq None without accelerations).
+    limits: [DesignLimit] met inside the requested range, per design in `limits_of(d)`.
     """
 
     phi: np.ndarray
@@ -275,13 +279,11 @@ class DesignBatch:
                         continue
                     vs = bp.var_scale[:, None]
                     dist = np.maximum(dist, np.max(np.abs(st.q - gk) * vs, axis=0))
-                    err = np.abs(st.qd - qd[k][:, a] - qdd[k][:, a] * h_try) * vs / (1.0 + np.abs(qd[k][:, a]) * vs)
+                    err = rate_jump(st.qd, qd[k][:, a], qdd[k][:, a], h_try, vs)
                     jump = np.maximum(jump, np.where(np.all(np.isfinite(err), axis=0), np.max(err, axis=0), np.inf))
-            good = (sol.valid & (eng.pivots(sol) >= S.pivot_cross) & (dist <= S.max_correction)
-                    & (jump <= S.rate_jump))
             same = np.all(np.sign(new_dets) == signs[a], axis=1)
-            ok = good & same
-            cross = good & ~same & (h_try <= S.h_cross) & (dist <= S.cross_dist)
+            verdict = step_verdict(sol.valid, eng.pivots(sol), dist, jump, same, h_try, S)
+            ok, cross = verdict == ACCEPT, verdict == CROSS
             if ok.any():
                 acc = a[ok]
                 for k, st in enumerate(sol.blocks):
@@ -353,9 +355,11 @@ class DesignBatch:
         unknown = [n for n in link_names if n not in self.engine.links]
         if unknown:
             raise ValueError(f"{', '.join(unknown)}: not a link of the model")
-        if self.engine.backend == "numba" and not self.engine.mech.higher:
-            return self._solve_compiled(phi, exact_limits, fallback, names, accelerations, link_names)
-        return self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names)
+        return dispatch(self.engine, "design", int(phi.size),
+                        lambda: self._solve_numpy(phi, exact_limits, fallback, names, accelerations, link_names),
+                        lambda: self._design_request(phi, names, accelerations, link_names),
+                        lambda job, got: self._from_compiled(job, got, phi, exact_limits, fallback, names,
+                                                             accelerations, link_names))
 
     def _solve_numpy(self, phi, exact_limits: bool, fallback: bool, names=None,
                      accelerations: bool = True, links=None) -> DesignMotion:
@@ -382,58 +386,63 @@ class DesignBatch:
                         self._march(designs[side], _take_solution(origin, side), dets[side], target[side],
                                     direction, nodes, limits)
         self.nodes = nodes.arrays() if nodes.parts else None
-        motion = self._positions(phi, nodes, designs)
-        motion.limits = self._limits(limits, exact_limits)
+        motion = replace(self._positions(phi, nodes, designs), limits=self._limits(limits, exact_limits))
         self._past_limits(motion)
         if fallback or self.own:   # (a model with higher pairs: its designs' own engines are the only way)
-            self._fall_back(motion, phi)
-        motion.ok = np.array([r is None for r in self.reasons], bool)
-        self.motion = motion
-        motion.reasons = [None if motion.ok[d] else self.reasons[d] for d in range(D)]
-        return motion
+            motion = self._fall_back(motion, phi)
+        return self._finished(motion, D)
 
-    def _solve_compiled(self, phi, exact_limits: bool, fallback: bool, names: list,
-                        accelerations: bool, links: list) -> DesignMotion:
-        """`solve` by the compiled kernel: designs × positions in one call; the designs it hands back
-        (a change point passed, a position it cannot vouch for) are solved by numpy's batch."""
-        from ..backends import _numba_design as kernel
+    def _finished(self, motion: DesignMotion, count: int) -> DesignMotion:
+        """The motion with every design's verdict (`ok`, `reasons`), kept as the batch's last."""
+        ok = np.array([r is None for r in self.reasons], bool)
+        self.motion = replace(motion, ok=ok, reasons=[None if ok[d] else self.reasons[d] for d in range(count)])
+        return self.motion
 
-        D, N = phi.shape
+    def _design_request(self, phi, names: list, accelerations: bool, links: list) -> DesignJob | str:
+        """The compiled design job's request: the designs that can be analysed, their tables and input
+        values (or why no kernel can take them)."""
         g, eng = self.geometry, self.engine
+        why = kernels_decline(eng.mech)  # (`own`: each design solved by its own engine)
+        if why:
+            return why
         designs = np.flatnonzero(g.ok)
+        if not len(designs):
+            return "no design can be assembled"
         point_link = [self.point_link[self.points.index(p)] for p in names]
-        out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, links, names,
-                           *[None] * 6)
+        tables = design_tables(eng, self.local, g.guide, g.phi0, g.reference, names, point_link, designs,
+                               [eng.link_index[n] for n in links])
+        x = np.ascontiguousarray(phi if len(designs) == self.count else phi[designs], float)
+        uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1]) and np.all(bp.var_scale == bp.var_scale[:1]))
+                            for bp in eng.blocks], np.bool_)
+        return DesignJob(tables, x, float(self.scale), bool(accelerations), eng.threads, float(eng.inputs[0].sense),
+                         eng.link_index[eng.mech.ground], eng.tol.kernel(), uniform,
+                         eng.prepare("design kernel store", dict), designs)
+
+    def _from_compiled(self, job, got, phi, exact_limits: bool, fallback: bool, names: list,
+                       accelerations: bool, links: list) -> DesignMotion:
+        """`solve` from the compiled kernel's answer (designs × positions in one call); the designs it
+        hands back (a change point passed, a position it cannot vouch for) are solved by numpy's batch."""
+        D, N = phi.shape
+        eng = self.engine
+        designs = job.designs
         self.nodes = None
         whole = len(designs) == D
-        if len(designs):
-            tables = kernel.design_tables(eng, self.local, g.guide, g.phi0, g.reference, names, point_link, designs,
-                                          [eng.link_index[n] for n in links])
-            got = kernel.solve(eng, tables, out.phi if whole else phi[designs], self.scale, accelerations,
-                               eng.threads)
-            got.xy += self.centre.T[designs][:, None, None, :]  # (solved in each design's frame)
+        arrays = dict.fromkeys(("angle", "wq", "eq", "xy", "vq", "aq"))
+        got.xy[...] += self.centre.T[designs][:, None, None, :]  # (solved in each design's frame)
         for name, shape in (("angle", (len(links),)), ("wq", (len(links),)), ("eq", (len(links),)),
                             ("xy", (len(names), 2)), ("vq", (len(names), 2)), ("aq", (len(names), 2))):
             if not accelerations and name in ("eq", "aq"):
                 continue
             if whole:
-                setattr(out, name, getattr(got, name))
+                arrays[name] = getattr(got, name)
             else:
-                arr = np.full((D, N) + shape, np.nan)
-                if len(designs):
-                    arr[designs] = getattr(got, name)
-                setattr(out, name, arr)
-        if not len(designs):
-            out.ok = np.array([r is None for r in self.reasons], bool)
-            out.reasons = list(self.reasons)
-            self.motion = out
-            return out
-        if whole:
-            out.valid = got.valid
-        else:
-            out.valid[designs] = got.valid
-        words = {kernel.STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
-                 kernel.STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
+                arrays[name] = np.full((D, N) + shape, np.nan)
+                arrays[name][designs] = getattr(got, name)
+        valid = got.valid if whole else np.zeros((D, N), bool)
+        if not whole:
+            valid[designs] = got.valid
+        words = {DESIGN_STATUS["open"]: "the drawn pose does not close: it cannot be assembled",
+                 DESIGN_STATUS["singular"]: ("the drawn pose is a singular position (links in line: a dead point "
                                              "or a change point)")}
         for k in np.flatnonzero(got.status):
             self.reasons[designs[k]] = words.get(int(got.status[k]))
@@ -444,30 +453,29 @@ class DesignBatch:
                          (got.limit_q, got.limit_qd, got.limit_qdd)) for b in range(len(eng.blocks))]
             found.append((int(designs[k]), 1 if side == 0 else -1, float(got.limit_phi[k, side]),
                           float(got.limit_h[k, side]), per, got.limit_signs[k, side].copy()))
-        out.limits = self._limits(found, exact_limits)
+        out = DesignMotion(phi.copy(), valid, np.zeros(D, bool), [None] * D, links, names, **arrays,
+                           limits=self._limits(found, exact_limits))
         self._past_limits(out)
-        handed = designs[(got.status == kernel.STATUS["crossing"]) | (got.status == kernel.STATUS["numpy"])]
+        handed = designs[(got.status == DESIGN_STATUS["crossing"]) | (got.status == DESIGN_STATUS["numpy"])]
         if len(handed):
-            self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
-        out.ok = np.array([r is None for r in self.reasons], bool)
-        out.reasons = [None if out.ok[d] else self.reasons[d] for d in range(D)]
-        self.motion = out
-        return out
+            out = self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
+        return self._finished(out, D)
 
-    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations, links):
-        """Designs `handed` solved by numpy's batch (a batch of their own) and copied into `out`."""
+    def _by_numpy(self, out: DesignMotion, phi, handed, exact_limits, fallback, names, accelerations,
+                  links) -> DesignMotion:
+        """`out` with the designs `handed` solved by numpy's batch (a batch of their own)."""
         sub = DesignBatch(self.engine, _take_geometry(self.geometry, handed))
         got = sub._solve_numpy(phi[handed], exact_limits, fallback, names, accelerations, links)
         out.valid[handed] = got.valid
         for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
             if getattr(out, name) is not None:
                 getattr(out, name)[handed] = getattr(got, name)
-        out.limits = [lim for lim in out.limits if lim.design not in set(handed.tolist())]
-        out.limits += [replace(lim, design=int(handed[lim.design])) for lim in got.limits]
         for k, d in enumerate(handed):
             self.reasons[d] = got.reasons[k]
             if sub._engines.get(k) is not None:
                 self._engines[int(d)] = sub._engines[k]
+        kept = [lim for lim in out.limits if lim.design not in set(handed.tolist())]
+        return replace(out, limits=kept + [replace(lim, design=int(handed[lim.design])) for lim in got.limits])
 
     def _positions(self, phi, nodes: _Nodes, designs) -> DesignMotion:
         """Predict every (design, position) from its design's nodes, correct in one batch, check."""
@@ -605,8 +613,8 @@ class DesignBatch:
                 node = Node(np.array([phi_node]), dirs, q, qd, qdd, signs, 1.0)
                 with np.errstate(all="ignore"):
                     located = limit_after(eng.solver, node, dirs, h)
-                lim.phi, lim.links, lim.joints, lim.kind, lim.limit = (float(located.phi[0]), located.links,
-                                                                     located.joints, located.kind, located)
+                lim = replace(lim, phi=float(located.phi[0]), links=located.links, joints=located.joints,
+                              kind=located.kind, limit=located)
             out.append(lim)
         return out
 
@@ -616,8 +624,8 @@ class DesignBatch:
             past = (motion.phi[lim.design] - lim.phi) * lim.direction > 0
             motion.valid[lim.design] &= ~past
 
-    def _fall_back(self, motion: DesignMotion, phi):
-        """Designs the batch left to their own engines: solved one by one (`analyse`)."""
+    def _fall_back(self, motion: DesignMotion, phi) -> DesignMotion:
+        """`motion` with the designs the batch left to their own engines solved one by one (`analyse`)."""
         for d in range(self.count):
             reason = self.reasons[d]
             if reason is None or not reason.endswith("own engine)") or not self.geometry.ok[d]:
@@ -636,11 +644,48 @@ class DesignBatch:
                 if getattr(motion, name) is not None:
                     getattr(motion, name)[d] = np.nan
                     getattr(motion, name)[d, idx] = getattr(m, name)[:, [m.point(p) for p in motion.points]]
-            motion.limits = [lim for lim in motion.limits if lim.design != d]
-            motion.limits += [DesignLimit(d, float(lim.phi[0]), lim.direction, lim.links, lim.joints, lim.kind, lim)
-                              for lim in m.limits]
+            motion = replace(motion, limits=[lim for lim in motion.limits if lim.design != d] + [
+                DesignLimit(d, float(lim.phi[0]), lim.direction, lim.links, lim.joints, lim.kind, lim)
+                for lim in m.limits])
             self.reasons[d] = None
-            motion.ok[d] = True
+        return motion
+
+
+def _step_joints(engine) -> tuple[list, list]:
+    """The joint of every tree step and of every cut, in the kernel tables' order."""
+    steps = [st.law.name for bp in engine.blocks for st in bp.steps]
+    cuts = [law.name for bp in engine.blocks for law in bp.cuts]
+    return steps, cuts
+
+
+def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
+                  designs, link_out=None) -> DesignTables:
+    """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
+    guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
+    `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
+    wanted (default all)."""
+    base = sweep_tables(engine)
+    steps, cuts, blocks = base.steps, base.cuts, base.blocks
+    step_names, cut_names = _step_joints(engine)
+    kind = {name: j.kind for name, j in engine.mech.joints.items()}
+
+    def stacked(names, table):
+        out = np.zeros((len(designs), len(names), 2))
+        for k, n in enumerate(names):
+            if table is at or kind[n] == "P":
+                out[:, k] = table[n][:, designs].T
+        return out
+
+    u0 = stacked(step_names, guide)
+    n = stacked(cut_names, guide)
+    cut_n0 = np.stack([-n[..., 1], n[..., 0]], axis=-1)  # perp(u0)
+    return DesignTables(steps, cuts, blocks, stacked(step_names, at), u0, stacked(cut_names, at), cut_n0,
+                        np.ascontiguousarray(phi0[designs], float),
+                        np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
+                        np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
+                                             .reshape(len(designs), len(points), 2)),
+                        np.asarray(point_link, np.int64),
+                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
 
 
 def _one_step(tol):
@@ -678,9 +723,8 @@ def _interval_coefficients(arrays) -> list:
     for q, qd, qdd in per_block:
         def after(a):
             return np.concatenate([a[:, 1:], a[:, -1:]], axis=1)
-        ends = np.stack([q, after(q), width * qd, width * after(qd), width * width * qdd,
-                         width * width * after(qdd)])  # (6, m, K)
-        out.append(np.einsum("ce,emk->cmk", HERMITE5, ends))
+        out.append(np.stack(hermite_coefficients(q, after(q), width * qd, width * after(qd), width * width * qdd,
+                                                 width * width * after(qdd), HERMITE5)))  # (6, m, K)
     return out
 
 
@@ -707,10 +751,7 @@ def _interpolate(arrays, coefs, chunk, rows, x):
     guesses = []
     for coef in coefs:
         c = coef.take(lo, axis=2)  # (6, m, B)
-        inner = c[5]
-        for k in range(4, -1, -1):
-            inner = inner * t + c[k]
-        guesses.append(inner)
+        guesses.append(hermite_value(c[0], c[1], c[2], c[3], c[4], c[5], t))
     near = np.where(np.abs(x - left) <= np.abs(x - phi[hi]), lo, hi)
     return guesses, inside, np.sign(dets[near])
 

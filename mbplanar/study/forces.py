@@ -27,7 +27,7 @@ from ..forces._loads import constant_parts, heavy_links
 __all__ = ["DesignForces", "design_kinetostatics"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class DesignForces:
     """Reactions and balancing loads of D designs × N positions (NaN where a position is not valid or
     singular).

@@ -42,7 +42,7 @@ def study_document(study: Study, display: DisplayUnits | None = None) -> dict:
 
 
 def _limit(design, direction):
-    return next((lim for lim in design.limits if lim["direction"] == direction), None)
+    return next((lim for lim in design.limits if lim.direction == direction), None)
 
 
 def _cell(value):
@@ -63,8 +63,8 @@ def study_table(study: Study, display: DisplayUnits | None = None) -> tuple[list
     outputs = []
     for d in study.designs:
         for e in d.extremes:
-            if (e["name"], e["kind"]) not in outputs:
-                outputs.append((e["name"], e["kind"]))
+            if (e.name, e.kind) not in outputs:
+                outputs.append((e.name, e.kind))
     unit = study.unit
     header = (["variant"] + list(study.parameters) + ["assembles", "full_turn", f"range_lo[{unit}]", f"range_hi[{unit}]",
               "limit_lo[deg]", "limit_lo_kind", "limit_hi[deg]", "limit_hi_kind", "min_transmission[deg]",
@@ -80,8 +80,8 @@ def study_table(study: Study, display: DisplayUnits | None = None) -> tuple[list
         row = [d.name] + [_cell(d.parameters.get(p)) for p in study.parameters]
         row += [_cell(d.assembles), _cell(d.full_turn), _cell(d.range[0] if d.range else None),
                 _cell(d.range[1] if d.range else None),
-                _cell(lo and lo["phi_deg"]), lo["kind"] if lo else "", _cell(hi and hi["phi_deg"]),
-                hi["kind"] if hi else "", _cell(d.transmission_min_deg), _cell(d.transmission_at)]
+                _cell(lo and lo.phi_deg), lo.kind if lo else "", _cell(hi and hi.phi_deg),
+                hi.kind if hi else "", _cell(d.transmission_min_deg), _cell(d.transmission_at)]
         by_name = {(e["name"], e["kind"]): e for e in doc["extremes"]}
         for key in outputs:
             e = by_name.get(key, {})
@@ -107,7 +107,7 @@ def format_study(study: Study) -> str:
         if d.full_turn:
             what = "full turn"
         else:
-            what = "; ".join(f"{lim['phi_deg']:.7f}°: {lim['kind']}" for lim in d.limits) or "—"
+            what = "; ".join(f"{lim.phi_deg:.7f}°: {lim.kind}" for lim in d.limits) or "—"
         tmin = "" if d.transmission_min_deg is None else f"  {d.transmission_min_deg:.4f}"
         lines.append(f"{d.name:<{width}}  {'yes' if d.full_turn else 'no':<5}  {what}{tmin}")
     return "\n".join(lines)

@@ -18,7 +18,7 @@ from ..model._model import Units
 from ..model._parameters import Template
 from ..forces import has_force_data
 from ..kinematics import analyse
-from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design
+from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design, with_forces
 from .variants import Variants, read_variants
 
 __all__ = ["Study", "run_study", "solve_designs", "load_template", "join_motions", "CHUNK"]
@@ -27,9 +27,11 @@ CHUNK = 64  # designs per task
 FULL_TURN = 2 * np.pi
 
 
-@dataclass
+@dataclass(frozen=True)
 class Study:
-    """The summaries of a study's designs (in table order) and what they were computed for."""
+    """The summaries of a study's designs (in table order) and what they were computed for: the model's
+    name and source, its input's name and unit, the parameters' names, the designs' `DesignSummary`s and
+    how many there are (`counts`: designs, assembled, full_turn, locking)."""
 
     model: str
     source: str
@@ -37,15 +39,15 @@ class Study:
     unit: str
     parameters: tuple
     designs: list[DesignSummary]
+    counts: dict  # how many designs: in all, assembled, turning fully, stopping at a motion limit
     units: Units = field(default_factory=Units)   # the units the model was written in
 
-    @property
-    def counts(self) -> dict:
-        """How many designs: in all, assembled, turning fully, stopping at a motion limit."""
-        ok = [d for d in self.designs if d.assembles]
-        return {"designs": len(self.designs), "assembled": len(ok),
-                "full_turn": sum(bool(d.full_turn) for d in ok),
-                "locking": sum(bool(d.limits) and not d.full_turn for d in ok)}
+
+def _counts(designs: list) -> dict:
+    """`Study.counts` of the summaries `designs`."""
+    ok = [d for d in designs if d.assembles]
+    return {"designs": len(designs), "assembled": len(ok), "full_turn": sum(bool(d.full_turn) for d in ok),
+            "locking": sum(bool(d.limits) and not d.full_turn for d in ok)}
 
 
 def load_template(model) -> Template:
@@ -126,20 +128,19 @@ def _batch_forces(batch, template: Template, variants: Variants, out: list):
     sub = DesignBatch(batch.engine, _take_geometry(batch.geometry, idx))
     with np.errstate(invalid="ignore"):
         motion = sub.solve(phi)
-        motion.valid &= np.arange(width) < np.array([len(r) for r in rows])[:, None]  # not the padding
+        motion.valid[...] &= np.arange(width) < np.array([len(r) for r in rows])[:, None]  # not the padding
         got = design_kinetostatics(sub, motion, template, variants.take(idx))
     if got is None:
         for k in idx:
             engine = batch.seeded_engine(int(k))
-            out[k].max_reaction, out[k].max_reaction_joint, out[k].mean_balancing = _forces(
-                engine, analyse(engine, inp.to_si(np.asarray(out[k].samples_phi, float))))
+            out[k] = with_forces(out[k], *_forces(engine, analyse(engine, inp.to_si(np.asarray(out[k].samples_phi,
+                                                                                                float)))))
         return
     largest, joints = got.largest()
     mean = got.mean_balancing()
     for i, k in enumerate(idx):
-        out[k].max_reaction = None if joints[i] is None else float(largest[i])
-        out[k].max_reaction_joint = joints[i]
-        out[k].mean_balancing = None if not np.isfinite(mean[i]) else float(mean[i])
+        out[k] = with_forces(out[k], None if joints[i] is None else float(largest[i]), joints[i],
+                             None if not np.isfinite(mean[i]) else float(mean[i]))
 
 
 def _chunks(count: int, size: int) -> list[slice]:
@@ -202,8 +203,9 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
                 if progress is not None:
                     progress(done, len(variants))
         except KeyboardInterrupt:
-            partial = Study(base.mech.name, template.source, inp.name, inp.unit, template.names,
-                            [d for part in results for d in part], base.mech.units)
+            done_designs = [d for part in results for d in part]
+            partial = Study(base.mech.name, template.source, inp.name, inp.unit, template.names, done_designs,
+                            _counts(done_designs), base.mech.units)
             raise Interrupted(f"interrupted (Ctrl-C) after {done} of {len(variants)} designs",
                               source=template.source, partial=partial) from None
     else:
@@ -211,7 +213,8 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
 
         results = run_on_client(client, run_chunk, template.raw, template.source, parts, args, progress)
     designs = [d for part in results for d in part]
-    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs, base.mech.units)
+    return Study(base.mech.name, template.source, inp.name, inp.unit, template.names, designs, _counts(designs),
+                 base.mech.units)
 
 
 def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: bool = True,

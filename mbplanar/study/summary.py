@@ -12,11 +12,11 @@ the largest reaction and the mean balancing moment over the samples. Angles insi
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from ..analysis import check
+from ..analysis import LimitReport, check
 from ..errors import MbplanarError, ModelError
 from ..kinematics import analyse
 from ..forces import kinetostatics
@@ -24,12 +24,51 @@ from ..forces import has_force_data
 from ..model import parse_model
 from .dimensions import with_dimensions
 
-__all__ = ["DesignSummary", "summarise", "summarise_design", "failed_design", "SAMPLES"]
+__all__ = ["DesignSummary", "SummaryLimit", "SummaryChangePoint", "SummaryExtreme", "summarise", "summarise_design",
+           "failed_design", "with_forces", "SAMPLES"]
 
 SAMPLES = 36  # coupler-curve (and force) samples over the range the input moves through
 
 
-@dataclass
+@dataclass(frozen=True)
+class SummaryLimit(LimitReport):
+    """A design's motion limit: `check`'s (`LimitReport`: the input value in the model's unit, the
+    direction it is met in, the links and joints in line, its kind and the sentence) and the input value
+    in degrees."""
+
+    phi_deg: float
+
+
+@dataclass(frozen=True)
+class SummaryChangePoint:
+    """A change point a design passes: the input value (model unit, and in degrees), the links and
+    joints in line, its kind."""
+
+    phi: float
+    links: list
+    joints: list
+    kind: str
+    phi_deg: float
+
+
+@dataclass(frozen=True)
+class SummaryExtreme:
+    """An output's extremes: a link's angle (rad) or a slider's displacement (m), at input values (model
+    unit); `stroke` (None for a link that turns) and `quick_return` (the input's travel over the slower
+    stroke divided by its travel over the faster one, ≥ 1; full turn only, else None)."""
+
+    name: str
+    kind: str
+    minimum: float | None
+    at_min: float | None
+    maximum: float | None
+    at_max: float | None
+    turns: bool
+    stroke: float | None
+    quick_return: float | None
+
+
+@dataclass(frozen=True, eq=False)
 class DesignSummary:
     """The numbers one design is judged by (see the module docstring).
 
@@ -39,12 +78,10 @@ class DesignSummary:
     assembles : the drawn pose closes and is not singular; `reason` says why not.
     full_turn : the input turns a whole revolution without a motion limit (None: not assembled).
     range : (lo, hi) input values (model unit) the input moves through from the drawn pose.
-    limits : [{"phi", "phi_deg", "direction", "links", "joints", "kind", "message"}]: motion limits.
-    change_points : [{"phi", "phi_deg", "links", "joints", "kind"}]: branch crossings passed.
-    extremes : [{"name", "kind", "minimum", "at_min", "maximum", "at_max", "stroke", "turns",
-        "quick_return"}]: link angles (rad) and slider displacements (m), at input values (model unit);
-        `quick_return` = the input's travel over the slower stroke (minimum to maximum or back) divided by
-        its travel over the faster one, ≥ 1: the time ratio at constant input speed (full turn only).
+    limits : [SummaryLimit]: motion limits.
+    change_points : [SummaryChangePoint]: branch crossings passed.
+    extremes : [SummaryExtreme]: link angles (rad) and slider displacements (m), at input values (model
+        unit), strokes and quick-return ratios.
     transmission_min_deg, transmission_at, transmission_pair : the smallest transmission angle, where.
     samples_phi : (S,) input values of the samples (model unit); samples : {point: (S, 2) m}.
     max_reaction (N), max_reaction_joint, mean_balancing (N·m or N): with loads or masses only.
@@ -88,8 +125,8 @@ def _to_deg(inp, value: float) -> float:
 
 
 def _limits(inp, report) -> tuple[list, list]:
-    limits = [dict(lim, phi_deg=_to_deg(inp, lim["phi"])) for lim in report.limits]
-    crossings = [{k: c[k] for k in ("phi", "links", "joints", "kind")} | {"phi_deg": _to_deg(inp, c["phi"])}
+    limits = [SummaryLimit(**asdict(lim), phi_deg=_to_deg(inp, lim.phi)) for lim in report.limits]
+    crossings = [SummaryChangePoint(c.phi, c.links, c.joints, c.kind, _to_deg(inp, c.phi))
                  for c in report.change_points]
     return limits, crossings
 
@@ -97,15 +134,14 @@ def _limits(inp, report) -> tuple[list, list]:
 def _extremes(inp, report) -> list:
     out = []
     for e in report.extremes:
-        doc = {"name": e.name, "kind": e.kind, "minimum": e.minimum, "at_min": e.at_min,
-               "maximum": e.maximum, "at_max": e.at_max, "turns": e.turns,
-               "stroke": None if e.turns else e.maximum - e.minimum, "quick_return": None}
+        quick = None
         if report.full_turn and not e.turns:
             turn = inp.from_si(2 * math.pi)
             forward = (e.at_max - e.at_min) % turn
             if 0 < forward < turn:
-                doc["quick_return"] = max(forward, turn - forward) / min(forward, turn - forward)
-        out.append(doc)
+                quick = max(forward, turn - forward) / min(forward, turn - forward)
+        out.append(SummaryExtreme(e.name, e.kind, e.minimum, e.at_min, e.maximum, e.at_max, e.turns,
+                                  None if e.turns else e.maximum - e.minimum, quick))
     return out
 
 
@@ -167,8 +203,13 @@ def summarise(engine, name: str = "", parameters: dict | None = None, points=(),
     out = DesignSummary(name, dict(parameters or {}), True, None, report.full_turn, tuple(report.range), limits,
                         crossings, _extremes(inp, report), t_min, t_at, t_pair, phi, xy)
     if (has_force_data(engine.mech) if forces is None else forces) and len(motion.phi):
-        out.max_reaction, out.max_reaction_joint, out.mean_balancing = _forces(engine, motion)
+        out = with_forces(out, *_forces(engine, motion))
     return out
+
+
+def with_forces(summary: DesignSummary, max_reaction, joint, mean_balancing) -> DesignSummary:
+    """The summary with its largest reaction (N), where it acts, and its mean balancing load."""
+    return replace(summary, max_reaction=max_reaction, max_reaction_joint=joint, mean_balancing=mean_balancing)
 
 
 def summarise_design(base, template, name: str, values: dict, points=(), samples: int = SAMPLES,

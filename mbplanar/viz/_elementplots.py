@@ -81,7 +81,7 @@ def draw_elements(ax, engine, motion, b: int, size: float) -> int:
         if load.kind == "torque" or load.joint:
             link = engine.link_index[load.link]
             centre = (world_points(motion, link, np.asarray(engine.mech.joints[load.joint].at, float))[b]
-                      if load.joint else motion.frames["r"][b, link])
+                      if load.joint else motion.frames.r[b, link])
             _arc(ax, centre, 0.06 * size, SPRING_COLOR if load.joint else LOAD_COLOR, gid,
                  np.sign(load.moment) or 1.0)
             count += 1

@@ -85,7 +85,8 @@ def engine_html(engine) -> str:
 
 
 def motion_html(motion) -> str:
-    engine = motion.engine
+    from ..io import engine_for
+    engine = engine_for(motion)
     inp = engine.inputs[0]
     rows = [("positions", f"{len(motion.phi)} of {motion.requested}"), ("range", _range(inp, motion.phi)),
             ("links", ", ".join(motion.link_names)), ("points", ", ".join(motion.point_names)),
@@ -94,8 +95,9 @@ def motion_html(motion) -> str:
 
 
 def kinetostatics_html(result) -> str:
+    from ..io import engine_for
     motion = result.motion
-    engine = motion.engine
+    engine = engine_for(result)
     rows = [("positions", len(motion.phi)), ("range", _range(engine.inputs[0], motion.phi))]
     for name, r in result.reactions.items():
         rows.append((f"|F| at {name} (on {r.on} from {r.source})", f"max {_g(float(np.nanmax(r.magnitude)))} N"
@@ -112,7 +114,8 @@ def kinetostatics_html(result) -> str:
 
 def dynamics_html(dyn) -> str:
     from ..forces._dynamics import summary
-    engine = dyn.reduced.motion.engine
+    from ..io import engine_for
+    engine = engine_for(dyn.reduced.motion)
     rows = []
     for label, value, unit in summary(dyn, engine.inputs[0]):
         text = _g(value) if isinstance(value, float) and math.isfinite(value) else str(value)
@@ -123,8 +126,8 @@ def dynamics_html(dyn) -> str:
 def check_html(report) -> str:
     rows = [("input", f"{report.input} [{report.unit}]"), ("full turn", "yes" if report.full_turn else "no"),
             ("range", f"{_g(report.range[0])} … {_g(report.range[1])} {report.unit}")]
-    rows += [("motion limit", lim["message"]) for lim in report.limits]
-    rows += [("change point", c["message"]) for c in report.change_points]
+    rows += [("motion limit", lim.message) for lim in report.limits]
+    rows += [("change point", c.message) for c in report.change_points]
     for ang in report.transmission:
         rows.append((f"transmission angle {ang.name}", f"{math.degrees(ang.minimum):.4g}° … "
                      f"{math.degrees(ang.maximum):.4g}°"))

@@ -14,7 +14,7 @@ model's unit (default: the drawn pose). Other modules add their pictures (e.g. d
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -90,12 +90,10 @@ def cycle_motion(engine, count: int = 72):
     swing = swing_values(engine, count) if not several and engine.inputs[0].sweep is None else None
     if swing is not None:
         fine = analyse(engine, swing)
-        fine.limits = [lim for lim in engine.atlas().limits.values() if lim is not None]
-        return fine
+        return replace(fine, limits=[lim for lim in engine.atlas().limits.values() if lim is not None])
     lo, hi = motion.phi[0], motion.phi[-1]
     fine = analyse(engine, np.linspace(lo, hi, count) if several else np.linspace(lo[0], hi[0], count))
-    fine.limits = motion.limits
-    return fine
+    return replace(fine, limits=motion.limits)
 
 
 def path_rates(engine) -> np.ndarray:

@@ -103,8 +103,8 @@ class Scene:
 
 def place(motion, link_index: int, at) -> np.ndarray:
     """World coordinates (B, n, 2) of points drawn at `at` (n, 2) on link `link_index`."""
-    th = motion.frames["th"][:, link_index]
-    r = motion.frames["r"][:, link_index]
+    th = motion.frames.th[:, link_index]
+    r = motion.frames.r[:, link_index]
     at = np.asarray(at, float).reshape(-1, 2)
     c, s = np.cos(th)[:, None], np.sin(th)[:, None]
     x = c * at[:, 0] - s * at[:, 1]

@@ -546,14 +546,14 @@ def marks(engine, cycle) -> dict:
         return {"type": "marks", "marks": []}
     from ..analysis import check
     report = check(engine)
-    out = [{"at": float(lim["phi"]), "kind": "limit", "text": lim["message"]} for lim in report.limits]
-    out += [{"at": float(c["phi"]), "kind": "change", "text": c["message"]} for c in report.change_points]
+    out = [{"at": float(lim.phi), "kind": "limit", "text": lim.message} for lim in report.limits]
+    out += [{"at": float(c.phi), "kind": "change", "text": c.message} for c in report.change_points]
     for ext in report.extremes:
         for loc in ext.local:
-            if not loc.get("end"):
+            if not loc.end:
                 what = f"link {ext.name}" if ext.kind == "link" else f"slider {ext.name}"
-                out.append({"at": float(loc["at"]), "kind": "dead",
-                            "text": f"dead centre: {what} at its {loc['kind']} ({report.input} = {loc['at']:.6g} "
+                out.append({"at": float(loc.at), "kind": "dead",
+                            "text": f"dead centre: {what} at its {loc.kind} ({report.input} = {loc.at:.6g} "
                                     f"{report.unit})"})
     return {"type": "marks", "marks": out, "full_turn": bool(report.full_turn),
             "range": [float(report.range[0]), float(report.range[1])]}
