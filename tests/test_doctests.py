@@ -19,9 +19,14 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
                "study", "accuracy", "synthesis")
 
 
+#: public modules outside the subpackages' `__all__`: the commands' work, which the command line calls
+COMMAND_MODULES = ("mbplanar.io.commands", "mbplanar.io.sweep", "mbplanar.io.inputs", "mbplanar.kinematics.plan",
+                   "mbplanar.viz.command")
+
+
 def public_modules() -> list[str]:
-    """The package, its subpackages, and the modules that define their public names."""
-    found = {"mbplanar", "mbplanar.errors"}
+    """The package, its subpackages, the modules that define their public names, and `COMMAND_MODULES`."""
+    found = {"mbplanar", "mbplanar.errors", *COMMAND_MODULES}
     for name in SUBPACKAGES:
         package = importlib.import_module(f"mbplanar.{name}")
         found.add(package.__name__)
@@ -54,12 +59,20 @@ def _sections(obj) -> dict:
     return (ClassDoc if inspect.isclass(obj) else FunctionDoc)(obj, config={"show_class_members": False})
 
 
-@pytest.mark.parametrize("name", mbplanar.__all__)
+def _public_functions_of_command_modules() -> list[str]:
+    """"module:name" of every public function of `COMMAND_MODULES`, and of the io documents they added."""
+    found = [f"{m}:{n}" for m in COMMAND_MODULES for n in importlib.import_module(m).__all__
+             if inspect.isfunction(getattr(importlib.import_module(m), n))]
+    return found + [f"mbplanar.io:{n}" for n in ("simulate_document", "simulate_table", "balance_document")]
+
+
+@pytest.mark.parametrize("name", mbplanar.__all__ + _public_functions_of_command_modules())
 def test_public_names_have_numpydoc_docstrings_with_examples(name):
     """A function: Parameters, Returns, Raises and Examples; a class: Examples (its fields described in
     its docstring); every example with ``>>>`` (run by the test above)."""
     pytest.importorskip("numpydoc")
-    obj = getattr(mbplanar, name)
+    module, _, name = name.rpartition(":")
+    obj = getattr(importlib.import_module(module or "mbplanar"), name)
     doc = _sections(obj)
     assert any(">>>" in line for line in doc["Examples"]), f"{name}: no Examples section"
     if inspect.isclass(obj):

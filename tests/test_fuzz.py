@@ -262,16 +262,17 @@ def test_forces_on_a_model_without_loads_writes_no_zeros(capsys):
 
 def test_streamed_sweep_equals_one_batch(tmp_path, monkeypatch):
     """A sweep written in chunks (here of 7 positions) is the sweep of one batch, row for row."""
-    import mbplanar.cli as cli
+    import mbplanar.io.sweep as io_sweep
+    from mbplanar.kinematics.plan import sweep_plan
     whole, parts = tmp_path / "whole.csv", tmp_path / "parts.csv"
     assert main(["sweep", SHAPER, "--steps", "40", "-o", str(whole)]) == 0
-    monkeypatch.setattr(cli, "SWEEP_CHUNK", 7)
+    monkeypatch.setattr(io_sweep, "SWEEP_CHUNK", 7)
     assert main(["sweep", SHAPER, "--steps", "40", "-o", str(parts)]) == 0
     a, b = (np.genfromtxt(p, delimiter=",", skip_header=1) for p in (whole, parts))
     assert parts.read_text().splitlines()[0] == whole.read_text().splitlines()[0]
     assert a.shape == b.shape == (41, a.shape[1])
     assert np.all(np.abs(a - b) <= 1e-12 * (1 + np.abs(a).max(axis=0)))  # (round-off of Newton, forces in N)
-    count, values, _ = cli.sweep_plan(mbplanar.Engine(mbplanar.read_model(FOURBAR)), [10 ** 8])
+    count, values, _ = sweep_plan(mbplanar.Engine(mbplanar.read_model(FOURBAR)), [10 ** 8])
     assert count == 10 ** 8 + 1 and values(count - 2, count)[:, 0].tolist() == [360 - 3.6e-6, 360.0]
 
 

@@ -7,8 +7,9 @@ slider) and its points of interest, in its own frame. `Sided` holds them for a b
 the frames of the nominal drawn pose (link frames that coincide there with the engine's, centred on `Engine.centre`): `side[(J, L)]`
 (2, D) is joint J's point on link L, `guide[J]` (2, D) a prismatic pair's direction on its carrier,
 `point[P]` (2, D) a point of interest on its link, `zero` (n_in, D) each input's zero (the joint value
-at φ = 0, SI) and `alpha[L]` (D,) the direction of link L's reference line in its frame (its reported
-angle is the frame's rotation plus alpha). Nominally every joint's two points coincide.
+at φ = 0, SI), `alpha[L]` (D,) the direction of link L's reference line in its frame (its reported
+angle is the frame's rotation plus alpha) and `higher[H]` a higher pair's made numbers (`higher.py`).
+Nominally every joint's two points coincide.
 
 `DesignSpace.sided(delta)` builds the made geometry from deviations `delta` (D, K) of the K toleranced
 dimensions (SI), by the table's own rules:
@@ -26,6 +27,9 @@ dimensions (SI), by the table's own rules:
 - ``points.P.x``, ``.y``: the point moves on its link; ``.fraction``, ``.distance``, ``.offset``: the point
   is built along its two points with the new value.
 - ``input.zero`` (``inputs.J.zero`` with several inputs): the driven joint's value at φ = 0.
+- a higher pair's numbers (``joints.G.radius_a``, ``joints.K.radius``, ``joints.K.guide``, ``joints.K.x``,
+  ``joints.K.face``, ``joints.K.profile.radius``, ...): the numbers its law holds (`higher.py`), in
+  `Sided.higher`.
 - a parameter's name: every field the parameter stands for changes as the template computes it (a polar
   placement moves the joints placed from it, and so on), each field with the meaning above.
 
@@ -45,6 +49,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model._assembly import reference_points
+from . import higher
 from .spec import closest
 
 __all__ = ["Dimension", "Sided", "DesignSpace", "catalogue", "STEP"]
@@ -60,7 +65,8 @@ class Dimension:
 
     `kind`: "length" (target (link, entry index)), "coordinate" (joint, axis), "guide" (joint), "offset"
     (joint), "point" (point, field: "x", "y", "fraction", "distance", "offset"), "zero" (input index),
-    "parameter" (its name). `unit`: "length", "deg", "rad", "input", "plain" or a parameter's unit word;
+    "higher" (a higher pair, its number: "radii", "radius", "guide", "at", "face", "centre",
+    "curve_radius", entry index; `higher.higher_dimensions`), "parameter" (its name). `unit`: "length", "deg", "rad", "input", "plain" or a parameter's unit word;
     `scale`: SI per unit (a band of b units is b·scale in SI); `nominal`: the nominal value, in its unit.
     """
 
@@ -75,7 +81,8 @@ class Dimension:
 @dataclass
 class Sided:
     """The made geometry of D designs (see the module docstring); arrays may be complex (the complex step).
-    `ok` (D,): the designs whose link shapes could be met."""
+    `ok` (D,): the designs whose link shapes could be met; `higher`: each higher pair's made numbers
+    (`higher.nominal_numbers`' keys, designs last)."""
 
     side: dict
     guide: dict
@@ -83,13 +90,15 @@ class Sided:
     zero: np.ndarray
     alpha: dict
     ok: np.ndarray
+    higher: dict = field(default_factory=dict)
 
     def imag(self, step: float = STEP) -> "Sided":
         """The derivative parts (Im / step) of a geometry evaluated at imaginary deviations."""
         im = lambda x: np.imag(x) / step  # noqa: E731
         return Sided({k: im(v) for k, v in self.side.items()}, {k: im(v) for k, v in self.guide.items()},
                      {k: im(v) for k, v in self.point.items()}, im(self.zero),
-                     {k: im(v) for k, v in self.alpha.items()}, self.ok)
+                     {k: im(v) for k, v in self.alpha.items()}, self.ok,
+                     {h: {k: im(v) for k, v in nums.items()} for h, nums in self.higher.items()})
 
 
 def _cross(a, b):
@@ -131,29 +140,6 @@ class _LinkShape:
         return np.sqrt(dx * dx + dy * dy)
 
 
-def refuse_higher(mech):
-    """Raise `ModelError` naming the higher pairs (gear, rack, cam, slot) of `mech`, if it has any: the
-    made geometry and the sensitivities' source terms cover the lower pairs only.
-
-    Examples
-    --------
-    >>> from mbplanar.model import parse_model
-    >>> try:
-    ...     refuse_higher(parse_model(open("models/geared_five_bar.toml").read()))
-    ... except Exception as e:
-    ...     print("higher pair G (gear)" in str(e))
-    True
-    """
-    other = [f"{n} ({j.kind})" for n, j in mech.joints.items() if j.kind not in ("R", "P")]
-    other += [f"{n} ({h.kind})" for n, h in getattr(mech, "higher", {}).items()]
-    if other:
-        word = "pair" if len(other) == 1 else "pairs"
-        raise ModelError(f"the accuracy analysis takes revolute and prismatic pairs; the model has the higher "
-                         f"{word} {', '.join(other)}, whose dimensions (pitch radii, profiles, slots) and "
-                         f"contact it does not differentiate yet: analyse a model without them",
-                         source=mech.source)
-
-
 class DesignSpace:
     """The dimensions of one model and the geometry of designs made with deviations from them.
 
@@ -178,7 +164,6 @@ class DesignSpace:
     def __init__(self, engine, raw, template=None, names=()):
         self.engine, self.raw, self.template = engine, raw, template
         mech = engine.mech
-        refuse_higher(mech)
         self.mech = mech
         self.source = mech.source
         self.centre = np.asarray(engine.centre, float)    # the made geometry sits in the engine's frame
@@ -197,6 +182,7 @@ class DesignSpace:
         self.names = tuple(d.name for d in self.dimensions)
         self._nominal_template = None
         self._derivatives = None
+        self.derived = {n for n in mech.higher if higher.derived_radius(template, n)}
         if template is not None and any(d.kind == "parameter" for d in self.dimensions):
             self._nominal_template = _template_numbers(template, template.defaults())
         self._check_lengths()
@@ -219,6 +205,7 @@ class DesignSpace:
                    for k, s in self.shapes.items()}
         fields = {n: {f: np.full(count, v, dtype) for f, v in _along_fields(p).items()}
                   for n, p in raw.points.items() if p.along is not None}
+        pairs = {n: {} for n in mech.higher}
         params = {}
         for k, dim in enumerate(self.dimensions):
             d = delta[:, k]
@@ -238,10 +225,12 @@ class DesignSpace:
                     fields[name][what] += d
             elif dim.kind == "zero":
                 zero[dim.target[0]] += d
+            elif dim.kind == "higher":
+                _change(pairs[dim.target[0]], dim.target[1], dim.target[2], d, count)
             else:
                 params[dim.name] = dim.nominal + d / dim.scale
         if params:
-            self._parameter_changes(params, count, shift, turn, zero, lengths, fields)
+            self._parameter_changes(params, count, shift, turn, zero, lengths, fields, pairs)
         shaped, ok = self._shapes(lengths, count)
         side = {}
         for name, j in mech.joints.items():
@@ -261,7 +250,11 @@ class DesignSpace:
                 a, b = (self._local(p.link, n, side, point) for n in p.along)
                 point[name] = _along(a, b, fields[name])
         alpha = {link: self._alpha(link, side, point, guide, count) for link in self.engine.links}
-        return Sided(side, guide, point, zero, alpha, ok)
+        made = {}
+        for name, changes in pairs.items():
+            made[name] = higher.nominal_numbers(self.engine, name, count, dtype)
+            higher.apply(self.engine, name, made[name], changes, side, point, name in self.derived)
+        return Sided(side, guide, point, zero, alpha, ok, made)
 
     def derivatives(self) -> Sided:
         """d(made geometry)/d(each dimension) at nominal: arrays (2, K) and (K,), per SI unit (computed
@@ -276,12 +269,22 @@ class DesignSpace:
         return self.sided(np.zeros((1, len(self.dimensions))))
 
     # -- the steps ------------------------------------------------------------------------------------
-    def _parameter_changes(self, params, count, shift, turn, zero, lengths, fields):
+    def _parameter_changes(self, params, count, shift, turn, zero, lengths, fields, pairs):
         """What the toleranced parameters change, as the template computes it: the changes of the drawn
-        coordinates, guides, zeros, link lengths and point fields from their nominal values."""
+        coordinates, guides, zeros, link lengths, point fields and higher pairs' numbers from their
+        nominal values."""
         values = {**self.template.defaults(), **params}
         new, old = _template_numbers(self.template, values), self._nominal_template
         scale = self.mech.units.length_scale
+        for name, got in new["higher"].items():
+            for what, v in got.items():
+                before = old["higher"][name][what]
+                unit = math.pi / 180.0 if what in ("guide", "face") else scale
+                if isinstance(v, tuple):
+                    for k, (a, b) in enumerate(zip(v, before)):
+                        _change(pairs[name], what, k, (a - b) * unit, count)
+                else:
+                    _change(pairs[name], what, 0, (v - before) * unit, count)
         for name, (x, y) in new["at"].items():
             if name in shift:
                 shift[name][0] += (x - old["at"][name][0]) * scale
@@ -405,6 +408,17 @@ class DesignSpace:
         return out
 
 
+def _change(changes: dict, what: str, k: int, d, count: int):
+    """Add the deviation d (D,) of entry k of a higher pair's number `what` to its `changes`: a pair of
+    values ("at", "centre", a gear's "radii") as (2, D), one value as (D,)."""
+    if what in ("at", "centre", "radii"):
+        out = changes.get(what, np.zeros((2, count))).astype(np.result_type(d, float))
+        out[k] = out[k] + d
+        changes[what] = out
+    else:
+        changes[what] = changes.get(what, 0.0) + d
+
+
 def _along_fields(p) -> dict:
     """The numbers that build a point along two others: fraction or distance, and offset (SI)."""
     out = {"distance": p.distance} if p.distance is not None else {"fraction": p.fraction}
@@ -474,12 +488,14 @@ def _template_numbers(template, values) -> dict:
     coordinates and guide angle, each input's zero (file units), each declared length and each point's
     coordinates and along numbers."""
     return {"at": template.positions(values), "guide": template.guides(values), "zero": template.input_zero(values),
-            "lengths": template.link_lengths(values), "fields": template.point_fields(values)}
+            "lengths": template.link_lengths(values), "fields": template.point_fields(values),
+            "higher": higher.template_numbers(template, values)}
 
 
 def catalogue(engine, raw, template=None, shapes=None) -> dict:
     """Every dimension of a model that a tolerance may name, by name (`Dimension`), in the model's order:
-    lengths, joints' coordinates, guides and offsets, points, the inputs' zeros, then the parameters. A
+    lengths, joints' coordinates, guides and offsets, points, the higher pairs' numbers, the inputs'
+    zeros, then the parameters. A
     coordinate that every link's lengths fix (it changes nothing) is left out."""
     mech = engine.mech
     units = mech.units
@@ -517,6 +533,7 @@ def catalogue(engine, raw, template=None, shapes=None) -> dict:
             for what, v in _along_fields(p).items():
                 add(f"points.{name}.{what}", "point", (name, what), "plain" if what == "fraction" else "length",
                     1.0 if what == "fraction" else length, v if what == "fraction" else v / length)
+    higher.higher_dimensions(engine, add, template)
     several = len(mech.inputs) > 1
     for i, inp in enumerate(mech.inputs):
         add(f"inputs.{inp.joint}.zero" if several else "input.zero", "zero", (i,), inp.unit, inp.scale, inp.zero)
@@ -532,6 +549,8 @@ def template_parameters(template, mech) -> dict:
     their unit word and SI scale: a parameter with a unit uses it; one without takes the kind of the
     fields it stands for."""
     kinds = template.parameter_kinds()
+    for name, got in higher.parameter_kinds(template).items():
+        kinds.setdefault(name, set()).update(got)
     out = {}
     for name, p in template.parameters.items():
         used = kinds.get(name, set()) - {"mass", "inertia", "omega", "drawn_at"}

@@ -2,6 +2,9 @@
 coincide) closed in its drawn pose, and that pose written as the drawn geometry of a `DesignBatch`.
 
 The engine's joint laws hold one point per joint, shared by its two links; a made link holds its own.
+A higher pair's law holds its made numbers (`higher.made_law`); the design batch gets them with each
+link's place in its design's closed pose (`higher.MadePairs`), so that it solves every made design over
+the cycle with its own pairs.
 `_SidedRevolute` and `_SidedPrismatic` are the same laws with a point on each side (`JointLaw.point`: a
 revolute pair's two points, a prismatic pair's line point on the carrier and the slider's point), so that
 the engine's block Newton closes the made mechanism at the nominal drawn input from the nominal pose
@@ -19,6 +22,7 @@ import numpy as np
 from ..engine._blocks import BlockSolver
 from ..engine._constraints import Prismatic, Revolute, perp
 from ..study.geometry import DesignGeometry
+from .higher import MadePairs, made_law
 
 __all__ = ["made_geometry", "ASSEMBLY_REASON", "SHAPE_REASON"]
 
@@ -65,7 +69,7 @@ class _SidedPrismatic(Prismatic):
 
 
 def _laws(engine, sided) -> dict:
-    laws = {}
+    laws = {name: made_law(engine.laws[name], numbers) for name, numbers in sided.higher.items()}
     for name, j in engine.mech.joints.items():
         law = engine.laws[name]
         if j.kind == "R":
@@ -100,8 +104,8 @@ def made_geometry(engine, sided) -> DesignGeometry:
     solver = BlockSolver(engine.mech, _laws(engine, sided), engine.topology.blocks, engine.links, engine.size,
                          drawn, engine.tol)
     with np.errstate(all="ignore"):
-        sol = solver.solve_batch(phi0.copy(), [np.zeros((bp.m, count)) for bp in solver.blocks])
-        nominal = engine.solver.solve_batch(engine.phi_drawn[None, :], [np.zeros((bp.m, 1)) for bp in solver.blocks])
+        sol = solver.solve_batch(phi0.copy(), [np.repeat(bp.q0[:, None], count, axis=1) for bp in solver.blocks])
+        nominal = engine.solver.solve_batch(engine.phi_drawn[None, :], [bp.q0[:, None] for bp in solver.blocks])
     signs = np.sign(solver.dets(sol)) == np.sign(engine.solver.dets(nominal))
     assembled = sol.valid & np.all(signs, axis=1) & (solver.pivots(sol) >= engine.tol.pivot_cross)
     pose = sol.pose
@@ -126,4 +130,9 @@ def made_geometry(engine, sided) -> DesignGeometry:
             arr[:, ~good] = arr[:, pick][:, None] if pick is not None else 0.0
         for arr in reference.values():
             arr[~good] = arr[pick] if pick is not None else 0.0
-    return DesignGeometry(count, at, guide, zero, reference, phi0[:, 0].copy(), reasons)
+    pairs = None
+    if sided.higher:   # the higher pairs' numbers and where each link sits in its design's closed pose
+        frame = {link: (pose.c[link], pose.s[link], pose.r[link] + centre, pose.th[link])
+                 for link in [engine.mech.ground] + list(engine.links) if link in pose.th}
+        pairs = MadePairs(sided.higher, frame)
+    return DesignGeometry(count, at, guide, zero, reference, phi0[:, 0].copy(), reasons, pairs)

@@ -161,7 +161,7 @@ def figure_of_engine(engine, at=None, *, samples=None, count=None, **options):
 
 def report_section(engine, ctx):
     """The report's Accuracy section: None for a model without `[tolerances]`; the reason, for a model the
-    analysis refuses (higher pairs: the rest of the report stands)."""
+    analysis refuses (a bad row: the rest of the report stands)."""
     from ..errors import ModelError
     from ..model import Units
     from ..viz._report import html_table

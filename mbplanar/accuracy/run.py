@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .clearance import ClearanceErrors, clearance_errors
-from .geometry import DesignSpace, refuse_higher
+from .geometry import DesignSpace
 from .montecarlo import MonteCarlo, monte_carlo
 from .sensitivity import Sensitivities, resolve_outputs, sensitivities
 from .spec import ToleranceSpec, read_tolerances
@@ -88,7 +88,6 @@ def load(model, backend: str = "numpy"):
 
     template = load_template(model)
     raw = parse_model(template.bind(), source=template.source)
-    refuse_higher(raw)
     return template, raw, Engine(raw, backend=backend)
 
 
@@ -157,13 +156,20 @@ def accuracy(model, samples: int | None = None, seed: int | None = None, positio
         section = template.data.get("tolerances")
         if section is None:
             raise ModelError("the model has no [tolerances] section (docs/format.md, [tolerances])", source=source)
-        spec = read_tolerances(section, source, every, engine.mech.joints, engine.mech.units.length_scale)
+        spec = read_tolerances(section, source, every, engine.mech.joints, engine.mech.units.length_scale,
+                               engine.mech.higher)
     else:
+        from .spec import closest
         for t in spec.dimensions:
             if t.name not in every:
-                from .spec import closest
                 raise ModelError(f"'{t.name}' is not a dimension of the model{closest(t.name, every)}",
                                  source=source, where="[tolerances]")
+        for c in spec.clearances:
+            if c.joint not in engine.mech.joints:
+                kind = engine.mech.higher[c.joint].kind if c.joint in engine.mech.higher else None
+                raise ModelError((f"'{c.joint}' is a {kind} pair: clearances are for revolute and prismatic pairs"
+                                  if kind else f"'{c.joint}' is not a joint of the model"
+                                  f"{closest(c.joint, engine.mech.joints)}"), source=source, where="[tolerances]")
     for name, value in (("samples", samples), ("seed", seed), ("positions", positions)):
         low = 0 if name == "seed" else (2 if name == "positions" else 1)
         if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < low):

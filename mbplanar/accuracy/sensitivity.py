@@ -12,7 +12,9 @@ changes in each joint law at fixed q, analytically:
 - a prismatic pair: the line point's and the slider point's moves across the guide, n·(R_s·δs_s − R_c·δs_l),
   and the guide's turn δγ times perp(n)·Δ (Δ the slider point from the line point), or, as a tree joint,
   R_c·δs_l − R_s·δs_s + q·δγ·perp(u);
-- the input: δzero − δα_b + δα_a (its value is measured between the links' reference lines).
+- the input: δzero − δα_b + δα_a (its value is measured between the links' reference lines);
+- a higher pair (gear, rack, cam, slot; always a cut): its residuals' change with its made numbers at fixed
+  q and contact parameter, by the complex step through the law's own closure (`higher.sources`).
 
 The pass reuses each block's factorised Jacobian from the position solve (the factorisation the rates
 use) and its sensitivities of the links' rates to the block's unknowns; its cost is that of a rate
@@ -24,13 +26,15 @@ there). Everything is SI per SI unit of the dimension.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..engine._constraints import Rates, perp
 from ..engine._solver import solve_positions
 from ..errors import ModelError
+from . import higher
+from .geometry import STEP
 from .spec import closest
 
 CHUNK = 20_000   # positions per Dask task
@@ -155,8 +159,9 @@ class Sources:
     """What a perturbation changes at fixed q, seen in the world, for C columns over B positions:
     `side[(joint, link)]` (`Patch`) moves of the joints' points, `turn[joint]` (C, B) turns of the prismatic
     pairs' guides, `point[name]` (`Patch`) moves of the points of interest, `alpha[link]` (C, B) turns of
-    the links' reference lines in their frames, `input` (n_in, C, B) changes of the inputs' joint values.
-    Absent entries are zero."""
+    the links' reference lines in their frames, `input` (n_in, C, B) changes of the inputs' joint values,
+    `higher[pair]` (cols (n,), value (rows, n, B)) changes of a higher pair's residuals. Absent entries
+    are zero."""
 
     columns: int
     side: dict
@@ -164,6 +169,7 @@ class Sources:
     point: dict
     alpha: dict
     input: np.ndarray
+    higher: dict = field(default_factory=dict)
 
 
 def _link_arrays(engine, pose):
@@ -213,7 +219,9 @@ def dimension_sources(engine, sol, deriv, frames=None) -> Sources:
         if j.kind == "R":
             change = change - deriv.alpha[j.links[1]] + deriv.alpha[j.links[0]]
         inp[i] = change[:, None]
-    return Sources(K, side, turn, point, alpha, inp)
+    nominal = {name: higher.nominal_numbers(engine, name, 1) for name in deriv.higher}
+    pairs = higher.sources(engine, pose, nominal, deriv.higher, K, STEP)
+    return Sources(K, side, turn, point, alpha, inp, pairs)
 
 
 def _solve_columns(factors, rhs):
@@ -293,7 +301,13 @@ def _tree_source(st, cache, src: Sources, v):
 
 def _cut_source(law, cache, src: Sources, r):
     """Add to a cut joint's closure rates r (2, C, B) what the sources change at fixed q: a revolute
-    pair's first point less its second; a prismatic pair's n·(slider point − line point) + δγ·perp(n)·Δ."""
+    pair's first point less its second; a prismatic pair's n·(slider point − line point) + δγ·perp(n)·Δ;
+    a higher pair's residuals' change (`higher.sources`)."""
+    if law.kind not in ("R", "P"):
+        got = src.higher.get(law.name)
+        if got is not None:
+            r[:, got[0]] += got[1]
+        return
     if law.kind == "R":
         for key, sign in (((law.name, law.links[0]), 1.0), ((law.name, law.links[1]), -1.0)):
             patch = src.side.get(key)

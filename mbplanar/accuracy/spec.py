@@ -100,7 +100,7 @@ def closest(name: str, names) -> str:
     return f" (closest: {', '.join(near)})" if near else ""
 
 
-def read_tolerances(raw, source: str, dimensions, joints, length_scale: float = 1.0) -> ToleranceSpec:
+def read_tolerances(raw, source: str, dimensions, joints, length_scale: float = 1.0, higher=None) -> ToleranceSpec:
     """The `[tolerances]` table `raw` (as TOML gives it) of the model `source`.
 
     Parameters
@@ -115,6 +115,8 @@ def read_tolerances(raw, source: str, dimensions, joints, length_scale: float = 
         The model's joints by name (a clearance names one).
     length_scale : float
         Metres per length unit of the table (clearances are returned in metres).
+    higher : dict, optional
+        The model's higher pairs by name (their kinds), for the message of a clearance naming one.
 
     Raises
     ------
@@ -146,6 +148,10 @@ def read_tolerances(raw, source: str, dimensions, joints, length_scale: float = 
         label = f"{where} clearances[{k}]" + (f" '{joint}'" if isinstance(joint, (str, int)) else "")
         row = Row(spec, label, section=CLEARANCE)
         joint = row.get("joint")
+        if higher and joint in higher:
+            row.fail(f"'{joint}' is a {higher[joint].kind} pair: clearances are for revolute and prismatic pairs "
+                     "(a higher pair's play, its backlash, is outside its rigid contact law); give the clearance "
+                     "of the pairs its links turn or slide in")
         if joint not in joints:
             row.fail(f"'{joint}' is not a joint of the model{closest(joint, joints)}")
         if joint in given:

@@ -5,7 +5,8 @@ atlas) and singular positions.
 `Engine.atlas` answer for batches of input values (the layers above use them; users call `analyse`).
 """
 
+from ._atlas import FAR_TURNS, LOST_PRECISION
 from ._solver import Crossing, Engine, Limit, Solution, solve_positions
 from ._tolerances import Tolerances
 
-__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_positions"]
+__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_positions", "FAR_TURNS", "LOST_PRECISION"]

@@ -49,8 +49,9 @@ def dot(p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 def rotate(c: np.ndarray, s: np.ndarray, vec: np.ndarray) -> np.ndarray:
-    """R(θ)·vec for a batch of angles given by cos, sin (B,); vec (2,) → (2, B)."""
-    out = np.empty((2,) + c.shape)
+    """R(θ)·vec for a batch of angles given by cos, sin (B,); vec (2,) → (2, B) (complex for a complex vec:
+    the complex step of `mbplanar.accuracy`)."""
+    out = np.empty((2,) + c.shape, np.result_type(c, vec))
     out[0] = c * vec[0] - s * vec[1]
     out[1] = s * vec[0] + c * vec[1]
     return out

@@ -29,7 +29,7 @@ def same_structure(a: Mechanism, b: Mechanism) -> bool:
             == [(n, h.kind, h.links, h.follower) for n, h in b.higher.items()])
 
 
-def with_dimensions(engine, mechanism: Mechanism):
+def with_dimensions(engine, mechanism: Mechanism, higher=None):
     """A copy of `engine` for `mechanism`, a re-dimensioned variant of its model (same links, joints,
     points and inputs; other coordinates, dimensions, guides or input zero).
 
@@ -42,6 +42,9 @@ def with_dimensions(engine, mechanism: Mechanism):
         A compiled engine of the reference design.
     mechanism : Mechanism
         The variant (assembled or a sketch).
+    higher : callable, optional
+        higher(centre) → the higher pairs' laws in the engine's frame centred on `centre` (a made design's,
+        `mbplanar.accuracy`); default: built from the variant's drawing and checked against it.
 
     Returns
     -------
@@ -68,7 +71,7 @@ def with_dimensions(engine, mechanism: Mechanism):
     new.size = max([1e-9] + [math.dist(a.at, b.at) for a in mech.joints.values() for b in mech.joints.values()])
     new.centre = frame_origin([j.at for j in mech.joints.values()] or [(0.0, 0.0)], new.size)
     new.laws = {name: make_law(j, new.centre) for name, j in mech.joints.items()}
-    new.laws.update(higher_laws(mech, new.centre))
+    new.laws.update(higher_laws(mech, new.centre) if higher is None else higher(new.centre))
     new.reference_angle = {link: new._drawn_link_angle(link) for link in new.links}
     new.phi_drawn = np.array([new._drawn_phi(inp) for inp in new.inputs])
     new.joint_value_drawn = {name: new._drawn_joint_value(name) for name in mech.joints}

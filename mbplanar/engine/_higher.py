@@ -218,7 +218,7 @@ class FaceOnCurve(_OnCurve):
         rho_f = pose.rot(f, self.at)
         normal = pose.rot(f, self.n0)
         d = pose.r[c] + on[0] - pose.r[f] - rho_f
-        res = np.empty((2, pose.batch))
+        res = np.empty((2, pose.batch), np.result_type(normal, d))
         res[0] = dot(normal, d)
         res[1] = dot(normal, on[1])
         return res, (on, rho_f, normal, d)

@@ -9,11 +9,13 @@ under given forces (`simulate_motion`).
 #: result type (``mbplanar solve`` reaches `Kinetostatics` and `Dynamics` through `mbplanar.io`) does not
 #: load friction, shaking and the simulation
 _HOME = {**dict.fromkeys(["Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "flywheel_sizes",
-                          "machine_dynamics", "reduce", "simulate", "stall_ahead", "true_motion"], "_dynamics"),
-         **dict.fromkeys(["FrictionResult", "FrictionSpec", "PairFriction", "friction_kinetostatics", "read_friction"],
-                         "_friction"),
+                          "machine_dynamics", "read_dynamics", "reduce", "simulate", "stall_ahead", "summary",
+                          "true_motion"], "_dynamics"),
+         **dict.fromkeys(["FrictionResult", "FrictionSpec", "PairFriction", "friction_kinetostatics", "read_friction",
+                          "implausible_friction", "not_converged"], "_friction"),
          **dict.fromkeys(["Kinetostatics", "Reaction", "inertia_loads", "kinetostatics"], "_kinetostatics"),
-         **dict.fromkeys(["Gravity", "Load", "LoadValue", "evaluate_loads", "has_force_data", "load_power"], "_loads"),
+         **dict.fromkeys(["Gravity", "Load", "LoadValue", "evaluate_loads", "has_force_data", "load_power",
+                          "warn_idle_resistances"], "_loads"),
          **dict.fromkeys(["Balancing", "Counterweight", "Shaking", "balance", "shaking", "shaking_from_loads",
                           "inertia_shaking"], "_shaking"),
          **dict.fromkeys(["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"], "_simulation")}
@@ -33,9 +35,11 @@ def __dir__():
 
 
 __all__ = ["Load", "Gravity", "LoadValue", "evaluate_loads", "load_power", "has_force_data",
+           "warn_idle_resistances",
            "Kinetostatics", "Reaction", "kinetostatics", "inertia_loads",
            "Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "machine_dynamics", "true_motion",
-           "reduce", "simulate", "stall_ahead", "flywheel_sizes",
-           "PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
+           "reduce", "simulate", "stall_ahead", "flywheel_sizes", "read_dynamics", "summary",
+           "PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics", "implausible_friction",
+           "not_converged",
            "Shaking", "shaking", "shaking_from_loads", "inertia_shaking", "Counterweight", "Balancing", "balance",
            "SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"]

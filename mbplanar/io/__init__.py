@@ -1,10 +1,12 @@
 """Results as data for people and files: JSON documents (`document`) and CSV tables (`table`), in SI or
 in the model's units, shared by the command line, the report and `to_frame()`."""
 
+from ._documents import balance_document, simulate_document, simulate_table
 from ._export import (document, dynamics_document, engine_for, forces_document, info_document, partials_document,
                       plain, solve_document, table, write_csv)
 from ._tables import dynamics_table, forces_columns, forces_table, sweep_table
 
 __all__ = ["document", "table", "engine_for", "plain", "write_csv", "info_document", "solve_document",
            "partials_document",
-           "forces_document", "dynamics_document", "sweep_table", "forces_table", "forces_columns", "dynamics_table"]
+           "forces_document", "dynamics_document", "sweep_table", "forces_table", "forces_columns", "dynamics_table",
+           "simulate_document", "simulate_table", "balance_document"]

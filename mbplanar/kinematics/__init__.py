@@ -6,8 +6,9 @@ pressure angle).
 """
 
 from ._contacts import Contact, contacts
-from ._motion import OUTPUTS, Frames, Motion, analyse, material_points, positions_at_limits
+from ._motion import (OUTPUTS, Frames, Motion, analyse, describe_crossing, describe_limit, material_points,
+                      positions_at_limits, reach_text)
 from ._single import Position, position
 
 __all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "Position",
-           "position", "Contact", "contacts"]
+           "position", "Contact", "contacts", "describe_limit", "describe_crossing", "reach_text"]

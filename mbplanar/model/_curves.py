@@ -160,7 +160,7 @@ class Offset(Shape):
     def point(self, u, n: int = 0) -> np.ndarray:
         b = self.base
         d1 = b.point(u, 1)
-        speed = np.hypot(d1[0], d1[1])
+        speed = np.sqrt(d1[0] * d1[0] + d1[1] * d1[1])    # (not hypot: complex numbers too)
         if n == 0:
             return b.point(u) + self.distance * np.stack([-d1[1], d1[0]]) / speed
         d2, d3 = b.point(u, 2), b.point(u, 3)

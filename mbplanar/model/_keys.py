@@ -344,7 +344,10 @@ _BAND = {"anyOf": [{"type": "number", "minimum": 0},
                    {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}]}
 TOLERANCE = Section("tolerance", "[tolerances] dimensions[]", "one toleranced dimension and its band", (
     Key("name", "text", "the dimension: a parameter's name, links.L.length, links.L.P-Q, joints.J.x, joints.J.y, "
-        "joints.J.guide, joints.J.offset, points.P.x, .y, .fraction, .distance, .offset, or input.zero",
+        "joints.J.guide, joints.J.offset, points.P.x, .y, .fraction, .distance, .offset, input.zero, or a "
+        "higher pair's: joints.G.radius_a, .radius_b (gear), joints.K.radius, .guide, .x, .y (rack), "
+        "joints.K.radius, .face, .x, .y, .profile.x, .profile.y, .profile.radius (cam), joints.S.x, .y, "
+        ".path.x, .path.y, .path.radius (slot)",
         required=True),
     Key("band", "custom", "a symmetric band ±b, or the deviations [lower, upper] (uniform between them)",
         unit="dimension", schema=_BAND),

@@ -152,7 +152,8 @@ class DesignBatch:
         self.motion = None
         # a model with higher pairs: its laws hold curves and radii the batch's laws cannot vary over the
         # designs, so each design is solved by its own engine, made from its own table (`model_of`)
-        self.own = bool(mech.higher)
+        # (unless the geometry carries each design's higher pairs: made designs, `mbplanar.accuracy`)
+        self.own = bool(mech.higher) and geometry.higher is None
         self.model_of = None
         if self.own:
             for d in np.flatnonzero(geometry.ok):
@@ -174,6 +175,9 @@ class DesignBatch:
                 law.u0 = g.guide[name][:, index]
                 law.n0 = perp(law.u0)
             laws[name] = law
+        if g.higher is not None:
+            for name in base.mech.higher:
+                laws[name] = g.higher.law(base.laws[name], index, -self.centre[:, index])
         return BlockSolver(base.mech, laws, base.topology.blocks, base.links, base.size, g.phi0[index][:, None],
                            base.tol if tol is None else tol)
 
@@ -184,7 +188,12 @@ class DesignBatch:
                 mech = self.model_of(design)
             else:
                 mech = mechanism_of(self.engine.mech, self.geometry, design)
-            self._engines[design] = with_dimensions(self.engine, mech)
+            made = None
+            if self.geometry.higher is not None:   # its higher pairs' laws as the geometry holds them
+                index = np.array([design])
+                made = lambda centre: {name: self.geometry.higher.law(  # noqa: E731
+                    self.engine.laws[name], index, -np.asarray(centre, float)[:, None]) for name in mech.higher}
+            self._engines[design] = with_dimensions(self.engine, mech, made)
         return self._engines[design]
 
     def seeded_engine(self, design: int):
@@ -226,8 +235,8 @@ class DesignBatch:
         """Every design's drawn pose (q = 0 there) with its derivatives along +φ; designs drawn at a
         singular position or not closing get their reason."""
         g = self.geometry
-        zeros = [np.zeros((bp.m, len(designs))) for bp in self.engine.blocks]
-        eng, sol = self._solve_nodes(designs, g.phi0[designs], zeros, np.ones(len(designs)))
+        drawn = [np.repeat(bp.q0[:, None], len(designs), axis=1) for bp in self.engine.blocks]
+        eng, sol = self._solve_nodes(designs, g.phi0[designs], drawn, np.ones(len(designs)))
         pivots, dets = eng.pivots(sol), eng.dets(sol)
         singular = sol.valid & ~(pivots >= self.engine.tol.pivot_cross)
         for k in np.flatnonzero(~sol.valid):
@@ -691,7 +700,7 @@ def _take_geometry(g: DesignGeometry, index) -> DesignGeometry:
     return DesignGeometry(len(index), {n: a[:, index] for n, a in g.at.items()},
                           {n: a[:, index] for n, a in g.guide.items()}, g.zero[:, index],
                           {n: a[index] for n, a in g.reference.items()}, g.phi0[index],
-                          [g.reasons[k] for k in index])
+                          [g.reasons[k] for k in index], g.higher and g.higher.take(index))
 
 
 def _take_solution(sol, mask):

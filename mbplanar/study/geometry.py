@@ -33,6 +33,9 @@ class DesignGeometry:
     reference : {link: (D,)} the drawn angle of each link's reference line (rad).
     phi0 : (D,) the input's value in the drawn pose (SI).
     reasons : per design, None or why it cannot be analysed (then its arrays hold placeholders).
+    higher : the higher pairs' laws per design, or None (each design then solved by its own engine):
+        an object whose `law(base, index, shift)` is pair `base.name`'s law for designs `index` (B,) in
+        frames moved by `shift` (2, B) (`mbplanar.accuracy.higher.MadePairs`).
     """
 
     count: int
@@ -42,6 +45,7 @@ class DesignGeometry:
     reference: dict
     phi0: np.ndarray
     reasons: list
+    higher: object = None
 
     @property
     def ok(self) -> np.ndarray:

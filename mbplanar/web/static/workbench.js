@@ -759,9 +759,9 @@ export function mount(root, transport, options = {}) {
     } else if (st.picture && !st.editing) {
       st.poses++;
       st.shown = { kind: "pose", pose: msg };
-      st.values = msg.values;
       drawFrame(msg.frame, 0, msg.frame);
-      setValueBoxes(msg.values);
+      // a newer request waits: the boxes hold what was typed since, which this older answer must not undo
+      if (!st.pending) { st.values = msg.values; setValueBoxes(msg.values); }
       if (msg.numbers) renderNumbers(msg);
       updateCursors();
       delete el.numbers.dataset.error;
