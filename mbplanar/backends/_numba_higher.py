@@ -228,13 +228,19 @@ def _gear_rates(h, hp, rt, sl):
 
 
 @_part
+def _spins(h, hp, rt, sl, vel):
+    """Pair h's links a, b and their angular rates in slot sl, with their angular velocities (slot vel;
+    0 when vel < 0: not an acceleration pass)."""
+    a, b = hp.ints[h, ht.H_A], hp.ints[h, ht.H_B]
+    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if vel >= 0 else (0.0, 0.0)
+    return a, b, rt[sl, 0, a], rt[sl, 0, b], va, vb
+
+
+@_part
 def _rack_rates(h, hp, hc, rt, sl, vel):
     """The rack's row's rate (`Rack.closure_rates`)."""
-    hi, hr = hp.ints, hp.reals
-    a, b = hi[h, ht.H_A], hi[h, ht.H_B]
+    a, b, wa, wb, va, vb = _spins(h, hp, rt, sl, vel)
     accel = vel >= 0
-    wa, wb = rt[sl, 0, a], rt[sl, 0, b]
-    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
     rcx, rcy, rax, ray = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3]
     dx, dy, ux, uy = hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
     tcx, tcy = _turning(wa, rcx, rcy, 0.0, 0.0, 0.0, 0.0, 0.0, va, 0.0, accel)
@@ -246,19 +252,16 @@ def _rack_rates(h, hp, hc, rt, sl, vel):
         dvx = (rt[vel, 1, a] + va * -rcy) - (rt[vel, 1, b] + vb * -ray)
         dvy = (rt[vel, 2, a] + va * rcx) - (rt[vel, 2, b] + vb * rax)
         out = out + 2 * (dvx * (vb * -uy) + dvy * (vb * ux))
-    return out + hr[h, ht.H_SIGMA_R] * (wa - wb)
+    return out + hp.reals[h, ht.H_SIGMA_R] * (wa - wb)
 
 
 @_part
 def _point_rates(h, hp, hc, rt, sl, pu, vel, big_u):
     """The rates of X_F(P) − X_C(c(u)), a the curve's link, b the point's (`PointOnCurve.closure_rates`)."""
-    hi = hp.ints
-    a, b = hi[h, ht.H_A], hi[h, ht.H_B]
+    a, b, wa, wb, va, vb = _spins(h, hp, rt, sl, vel)
     accel = vel >= 0
-    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
-    tfx, tfy = _turning(rt[sl, 0, b], hc[h, 8], hc[h, 9], 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
-    tcx, tcy = _turning(rt[sl, 0, a], hc[h, 0], hc[h, 1], pu, hc[h, 2], hc[h, 3], hc[h, 4], hc[h, 5], va, big_u,
-                        accel)
+    tfx, tfy = _turning(wb, hc[h, 8], hc[h, 9], 0.0, 0.0, 0.0, 0.0, 0.0, vb, 0.0, accel)
+    tcx, tcy = _turning(wa, hc[h, 0], hc[h, 1], pu, hc[h, 2], hc[h, 3], hc[h, 4], hc[h, 5], va, big_u, accel)
     return (rt[sl, 1, b] + tfx) - (rt[sl, 1, a] + tcx), (rt[sl, 2, b] + tfy) - (rt[sl, 2, a] + tcy)
 
 
@@ -266,11 +269,8 @@ def _point_rates(h, hp, hc, rt, sl, pu, vel, big_u):
 def _face_rates(h, hp, hc, rt, sl, pu, vel, big_u):
     """The rates of N·(X_C(c(u)) − X_F(A)) and N·T, a the curve's link, b the face's
     (`FaceOnCurve.closure_rates`)."""
-    hi = hp.ints
-    a, b = hi[h, ht.H_A], hi[h, ht.H_B]
+    a, b, wa, wb, va, vb = _spins(h, hp, rt, sl, vel)
     accel = vel >= 0
-    wa, wb = rt[sl, 0, a], rt[sl, 0, b]
-    va, vb = (rt[vel, 0, a], rt[vel, 0, b]) if accel else (0.0, 0.0)
     o0x, o0y, o1x, o1y = hc[h, 0], hc[h, 1], hc[h, 2], hc[h, 3]
     o2x, o2y, o3x, o3y = hc[h, 4], hc[h, 5], hc[h, 6], hc[h, 7]
     rfx, rfy, nx, ny, dx, dy = hc[h, 8], hc[h, 9], hc[h, 10], hc[h, 11], hc[h, 12], hc[h, 13]
