@@ -39,11 +39,11 @@ __all__ = ["build", "prepare", "status", "sources", "digest", "INDEX", "KERNEL_M
 FORMAT = 1  # of the index; bump when it changes
 INDEX = "mbplanar-kernels.json"
 #: the modules holding kernels (`_jit.njit`), imported by `build` so that every kernel is known
-KERNEL_MODULES = ("_numba_blocks", "_numba_kinematics", "_numba_kinetostatics", "_numba_design")
+KERNEL_MODULES = ("_numba_blocks", "_numba_higher", "_numba_kinematics", "_numba_kinetostatics", "_numba_design")
 HERE = Path(__file__).resolve().parent
 #: the engine's modules the kernels read: the continuation's rules they compile (`_numba_blocks`), the named
 #: tuples of their tables and bundles, and of their tolerances
-ENGINE_SOURCES = ("_continuation", "_tables", "_tolerances")
+ENGINE_SOURCES = ("_continuation", "_higher_tables", "_tables", "_tolerances")
 #: numba's cache files of a kernel (index and data), named after the kernel's module
 SUFFIXES = (".nbi", ".nbc")
 

@@ -26,6 +26,8 @@ import math
 from . import _threads
 from ._jit import njit
 from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
+from ._numba_higher import _gear_closure, _gear_rates, _higher_closure, _higher_rates
+from ..engine import _higher_tables as ht  # (the tables' column names)
 from ..engine._tables import SweepOut, SweepWork, work_sizes
 
 __all__ = ["run"]
@@ -92,7 +94,9 @@ def _sweep(tables, atlas, tol, inp, out, work):
     sense, phi_drawn = tables.sense, tables.phi_drawn
     grid, coef, signs, limits = atlas.grid, atlas.coef, atlas.signs, atlas.limits
     x, om, ep, ep_any, rates, p_link, p_at, offsets = inp
-    ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u = work
+    ps, rt, sc, cc, q, guess, jac, perm, res, col, sol, qd_u, hc, wk = work
+    hp, cv = tables.higher, tables.curves
+    h_ints, h_reals = hp.ints, hp.reals
     angle, xy, w_out, e_out, v_out, a_out = out.angle, out.xy, out.w, out.e, out.v, out.a
     wq_out, eq_out, vq_out, aq_out = out.wq, out.eq, out.vq, out.aq
     value_out, rate_out, accel_out, rate_q_out, accel_q_out = out.value, out.rate, out.accel, out.rate_q, out.accel_q
@@ -145,6 +149,7 @@ def _sweep(tables, atlas, tol, inp, out, work):
         for bk in range(n_blocks):
             k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
             var0, m = blocks.var0[bk], blocks.m[bk]
+            h0, h1 = hp.first[bk], hp.first[bk + 1]  # (the block's higher pairs: their rows follow the cuts')
             # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
             # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
             phase, it, polished, err, finite = 0, 0, False, 0.0, True
@@ -161,6 +166,11 @@ def _sweep(tables, atlas, tol, inp, out, work):
                         err, finite = 0.0, True
                         for k in range(c0, c1):  # closure rows of cut k (Revolute/Prismatic.closure)
                             _closure(k, cuts, ps, cc, res, 2 * (k - c0))
+                        for h in range(h0, h1):  # (Gear, Rack, PointOnCurve, FaceOnCurve.closure)
+                            if h_ints[h, ht.H_GEAR]:
+                                _gear_closure(h, hp, ps, res)
+                            else:
+                                _higher_closure(h, hp, cv, ps, q, hc, wk, res)
                         for i in range(m):
                             r = abs(res[i]) * row_scale[var0 + i]
                             finite = finite and math.isfinite(r)
@@ -232,6 +242,23 @@ def _sweep(tables, atlas, tol, inp, out, work):
                             jac[row, sl], jac[row + 1, sl] = ox, oy
                         else:
                             col[row], col[row + 1] = ox, oy
+                for h in range(h0, h1):  # the higher pairs' rates (their closure_rates): the contact parameter's
+                    row, par = h_ints[h, ht.H_ROW], h_ints[h, ht.H_VAR] - var0  # unit rate in its column, its velocity
+                    big_u = qd_u[par] if phase == 2 and par >= 0 else 0.0
+                    for sl in range(s_lo, s_hi):
+                        pu = 1.0 if phase == 0 and par == sl else 0.0
+                        if h_ints[h, ht.H_GEAR]:  # (the small gear law called on its own: LLVM inlines it)
+                            ox, oy = _gear_rates(h, hp, rt, sl), 0.0
+                        else:
+                            ox, oy = _higher_rates(h, hp, hc, rt, sl, pu, vel if phase == 2 else -1, big_u)
+                        if phase == 0:
+                            jac[row, sl] = ox
+                            if h_ints[h, ht.H_EQUATIONS] == 2:
+                                jac[row + 1, sl] = oy
+                        else:
+                            col[row] = ox
+                            if h_ints[h, ht.H_EQUATIONS] == 2:
+                                col[row + 1] = oy
                 if phase == 0:
                     # the Jacobian made dimensionless (BlockSolver's ScaledLU); its determinant and pivot
                     # ratio as _linalg.factor has them: explicit inverse up to 2 × 2 (made when a solve
@@ -267,6 +294,10 @@ def _sweep(tables, atlas, tol, inp, out, work):
                             return 1
                         for i in range(m):
                             if not abs(q[var0 + i] - guess[var0 + i]) * var_scale[var0 + i] <= max_correction:
+                                return 1
+                        for h in range(h0, h1):  # a contact past an open curve's end: numpy's (a limit there)
+                            var = h_ints[h, ht.H_VAR]
+                            if var >= 0 and not (h_reals[h, ht.H_LO] <= q[var] <= h_reals[h, ht.H_HI]):
                                 return 1
                         if not rates:
                             break
@@ -382,6 +413,10 @@ def _sweep(tables, atlas, tol, inp, out, work):
                     rows[b, o_fv + 2 * l + 1] = rt[vel, 2, l] + wl * rhx
                     rows[b, o_fa + 2 * l] = rt[acc, 1, l] - (el * rhy + wl * wl * rhx)
                     rows[b, o_fa + 2 * l + 1] = rt[acc, 2, l] + (el * rhx - wl * wl * rhy)
+            o_contact = offsets[11]  # the contact parameters (0 for a gear or a rack: none)
+            for h in range(len(h_ints)):
+                var = h_ints[h, ht.H_VAR]
+                rows[b, o_contact + h_ints[h, ht.H_COLUMN]] = q[var] if var >= 0 else 0.0
         if not want_joints:
             continue
         o_val, o_rq, o_aq = offsets[4], offsets[9], offsets[10]

@@ -18,23 +18,27 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._higher_tables import CURVE_WORK, HIGHER_CACHE, CurveTables, HigherTables, higher_tables
+
 __all__ = ["REVOLUTE", "PRISMATIC", "StepTables", "CutTables", "BlockTables", "JointTables", "SweepTables",
-           "AtlasTables", "SweepIn", "SweepOut", "SweepWork", "SweepJob", "FIELDS", "RATE_FIELDS", "RECORD_ORDER",
+           "AtlasTables", "SweepIn", "SweepOut", "SweepWork", "SweepJob", "FIELDS", "RATE_FIELDS", "CONTACT_FIELDS",
+           "RECORD_ORDER",
            "sweep_tables", "atlas_tables", "record_layout", "work_sizes", "DESIGN_STATUS", "DesignTables", "DesignJob",
            "DesignResult", "kernels_decline"]
 
 REVOLUTE, PRISMATIC = "R", "P"                          # JointLaw.kind, Joint.kind
 
 
-def kernels_decline(mech) -> str:
-    """Why these tables cannot describe the model `mech` for the kernels ("" where they can): they hold
-    the laws of the revolute and prismatic pairs only, so a model with higher pairs (gear, rack, cam,
-    slot) is numpy's, whatever the engine's backend. The layers that write requests return it for the
+def kernels_decline(mech, job: str = "kinematics") -> str:
+    """Why these tables cannot describe the model `mech` for the kernels of `job` ("" where they can):
+    the kinematics and kinetostatics kernels hold the laws of every pair (`HigherTables` for the higher
+    pairs); the design kernel's tables hold the lower pairs' only, so a design batch of a model with
+    higher pairs (gear, rack, cam, slot) is numpy's. The layers that write requests return it for the
     backends' `can_run` to answer (`engine._backend.dispatch`)."""
-    if not mech.higher:
+    if not mech.higher or job != "design":
         return ""
     return ("the model has higher pairs (" + ", ".join(sorted({h.kind for h in mech.higher.values()}))
-            + "), whose laws the kernels do not hold: numpy solves it")
+            + "), whose laws the design kernel does not hold: numpy solves the batch")
 
 
 class StepTables(NamedTuple):
@@ -95,7 +99,8 @@ class SweepTables(NamedTuple):
     its joints, each link's reference angle `alpha` (L,) in the drawn pose, the input's sense (±1) and
     drawn value (SI), the ground's link index, and the origin `centre` (2,) of the engine's frame
     (`Engine.centre`: the steps', cuts' and joints' points are in that frame; the kernel writes the link
-    frames and points in the world's)."""
+    frames and points in the world's); the higher pairs, whose rows follow their block's cuts, and their
+    curves (`higher`, `curves`: `engine._higher_tables`). `cuts` holds the lower pairs only."""
 
     steps: StepTables
     cuts: CutTables
@@ -106,6 +111,8 @@ class SweepTables(NamedTuple):
     phi_drawn: float
     ground: int
     centre: np.ndarray
+    higher: HigherTables
+    curves: CurveTables
 
 
 class AtlasTables(NamedTuple):
@@ -173,7 +180,8 @@ class SweepWork(NamedTuple):
     unknowns, then the velocities, then the accelerations; step and cut caches `sc` (S, 5), `cc` (C, 9);
     the unknowns `q` and their prediction `guess` (M,); a block's Jacobian `jac` (m, m) with its row
     permutation `perm`; four vectors of a block's size (residual, a Jacobian column, a solution, the
-    unknowns' velocities)."""
+    unknowns' velocities); the higher pairs' caches `hc` (H, `HIGHER_CACHE`) and the curves' work vector
+    `wk` (`CURVE_WORK`,) (`backends._numba_higher`)."""
 
     ps: np.ndarray
     rt: np.ndarray
@@ -187,15 +195,19 @@ class SweepWork(NamedTuple):
     col: np.ndarray
     sol: np.ndarray
     qd_u: np.ndarray
+    hc: np.ndarray
+    wk: np.ndarray
 
     @classmethod
     def new(cls, sizes: tuple) -> "SweepWork":
-        """Work arrays for `work_sizes` (steps, cuts, links, unknowns, the largest block's unknowns)."""
-        n_steps, n_cuts, n_links, m_all, m_max = sizes
+        """Work arrays for `work_sizes` (steps, cuts, links, unknowns, the largest block's unknowns, higher
+        pairs)."""
+        n_steps, n_cuts, n_links, m_all, m_max, n_higher = sizes
         vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
         return cls(np.zeros((5, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(n_steps, 1), 5)),
                    np.zeros((max(n_cuts, 1), 9)), vec(m_all), vec(m_all), np.zeros((m_max, m_max)),
-                   np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max))
+                   np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max), vec(m_max),
+                   np.zeros((max(n_higher, 1), HIGHER_CACHE)), np.zeros(CURVE_WORK))
 
 
 class SweepJob(NamedTuple):
@@ -214,28 +226,33 @@ class SweepJob(NamedTuple):
     size: int
 
 
-# the record of a position, in this order: (name, per link / joint, components); `RATE_FIELDS` only with
-# rates. The kinetostatics kernel reads it by offset.
+# the record of a position, in this order: (name, per link / joint / higher pair, components); `RATE_FIELDS`
+# only with rates, `CONTACT_FIELDS` (the higher pairs' contact parameters) only with higher pairs. The
+# kinetostatics kernel reads it by offset.
 FIELDS = (("th", "L", 1), ("cos", "L", 1), ("sin", "L", 1), ("r", "L", 2), ("value", "J", 1))
 RATE_FIELDS = (("wq", "L", 1), ("eq", "L", 1), ("fv", "L", 2), ("fa", "L", 2), ("rate_q", "J", 1),
                ("accel_q", "J", 1))
-RECORD_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_q", "accel_q")  # `SweepIn.offsets`
+CONTACT_FIELDS = (("contact", "H", 1),)
+RECORD_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_q", "accel_q",
+                "contact")  # `SweepIn.offsets`
 
 
-def record_layout(n_links: int, n_joints: int, rates: bool) -> tuple[np.dtype, np.ndarray]:
+def record_layout(n_links: int, n_joints: int, rates: bool, n_higher: int = 0) -> tuple[np.dtype, np.ndarray]:
     """The structured dtype of the kernel's per-position record and its offsets (`SweepIn.offsets`)."""
-    per = {"L": n_links, "J": n_joints}
+    per = {"L": n_links, "J": n_joints, "H": n_higher}
     dtype = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
-                      for name, kind, comp in FIELDS + (RATE_FIELDS if rates else ())])
+                      for name, kind, comp in FIELDS + (RATE_FIELDS if rates else ())
+                      + (CONTACT_FIELDS if n_higher else ())])
     offsets = np.array([dtype.fields[n][1] // 8 if n in dtype.names else -1 for n in RECORD_ORDER], np.int64)
     return dtype, offsets
 
 
 def work_sizes(tables: SweepTables) -> tuple:
-    """The sizes `SweepWork.new` takes: steps, cuts, links, unknowns, the largest block's unknowns."""
+    """The sizes `SweepWork.new` takes: steps, cuts, links, unknowns, the largest block's unknowns, higher
+    pairs."""
     m = tables.blocks.m
     return (len(tables.steps.parent), len(tables.cuts.a), len(tables.alpha), len(tables.blocks.var_scale),
-            max([1] + [int(k) for k in m]))
+            max([1] + [int(k) for k in m]), len(tables.higher.ints))
 
 
 def sweep_tables(engine) -> SweepTables:
@@ -245,11 +262,13 @@ def sweep_tables(engine) -> SweepTables:
     var0, written = 0, set()
     for bp in engine.blocks:
         placed = {idx[st.child] for st in bp.steps}
-        read = {idx[st.parent] for st in bp.steps} | {idx[n] for law in bp.cuts for n in law.links[:2]}
+        read = ({idx[st.parent] for st in bp.steps} | {idx[n] for law in bp.cuts for n in law.links[:2]}
+                | {idx[law.carrier] for law in bp.cuts if law.kind == "gear"})
         mine = sorted((read - placed) & written)
         if bp.m:
             written |= placed
-        blocks.append((len(steps), len(steps) + len(bp.steps), len(cuts), len(cuts) + len(bp.cuts), var0, bp.m,
+        lower = [law for law in bp.cuts if law.kind in (REVOLUTE, PRISMATIC)]  # (the higher pairs: `higher_tables`)
+        blocks.append((len(steps), len(steps) + len(bp.steps), len(cuts), len(cuts) + len(lower), var0, bp.m,
                        len(anchors), len(anchors) + len(mine)))
         anchors += mine
         for st in bp.steps:
@@ -259,7 +278,7 @@ def sweep_tables(engine) -> SweepTables:
                            -1 if st.var is None else var0 + st.var, -1 if st.input is None else st.input, st.sign,
                            tuple(law.s0), tuple(law.u0) if prismatic else (0.0, 0.0),
                            1.0 if not prismatic or st.parent == law.carrier else -1.0))
-        for law in bp.cuts:
+        for law in lower:
             prismatic = law.kind == PRISMATIC
             cuts.append((prismatic, idx[law.links[0]], idx[law.links[1]], tuple(law.s0),
                          tuple(law.n0) if prismatic else (0.0, 0.0)))
@@ -278,7 +297,7 @@ def sweep_tables(engine) -> SweepTables:
                        BlockTables(*block_cols, np.array(anchors, np.int64), np.array(rows, float),
                                    np.array(vars_, float)),
                        _columns(JointTables, joints), alpha, sense, float(engine.phi_drawn[0]),
-                       int(idx[engine.mech.ground]), np.array([cx, cy], float))
+                       int(idx[engine.mech.ground]), np.array([cx, cy], float), *higher_tables(engine))
 
 
 def atlas_tables(arrays, limits: tuple, crossings: list) -> AtlasTables:

@@ -517,8 +517,12 @@ def pair_directions(engine, motion) -> dict:
     """Per higher pair (point (B, 2), unit direction (B, 2)) of the force its unknown stands for: a gear's or
     a rack's tangential force at the pitch point (its radial part follows from it, `_radial_loads`), a cam's
     or a slot's normal force at the contact."""
-    return {name: (g.point, g.tangent if g.kind in ("gear", "rack") else g.normal)
-            for name, g in contact_geometry(engine, motion).items()}
+    return _directions(contact_geometry(engine, motion))
+
+
+def _directions(geometry: dict) -> dict:
+    """`pair_directions` of the contacts' `geometry` (`contact_geometry`)."""
+    return {name: (g.point, g.tangent if g.kind in ("gear", "rack") else g.normal) for name, g in geometry.items()}
 
 
 def pivot_orders(engine, motion) -> dict:
@@ -684,7 +688,7 @@ def kinetostatics(engine, motion, input_inertia=0.0, loads: list[LoadValue] | No
     return dispatch(engine, "kinetostatics", len(motion.phi),
                     lambda: _reference(engine, motion, input_inertia, loads, inertia),
                     lambda: _program_request(engine, motion, inertia, loads, input_inertia),
-                    lambda job, out: _program_result(engine, motion, job.program, out))
+                    lambda job, out: _program_result(engine, motion, job, out))
 
 
 @dataclass(frozen=True)
@@ -692,15 +696,17 @@ class KinetostaticsJob:
     """A request of the kinetostatics job (`engine._backend.dispatch`): the `program` of the engine's
     system and loads (`forces._program.Program`; None where the program cannot express the call,
     `why` says why), the motion's `records` (B,) it reads (the compiled kinematics' record layout), its
-    `inputs` (2 + G, B): ω, ε and the sizes of the G guide loads (`guide_force_size`), and the
-    `threads` to split the positions over (None: the machine's cores). A backend answers the program's
-    outputs (`Program.outputs_rows`, B)."""
+    `inputs` (2 + G + 7·H, B): ω, ε, the sizes of the G guide loads (`guide_force_size`) and the H higher
+    pairs' geometry (`_program.pair_inputs`), and the `threads` to split the positions over (None: the
+    machine's cores); `directions` the higher pairs' (`pair_directions`, for their contact forces). A
+    backend answers the program's outputs (`Program.outputs_rows`, B)."""
 
     program: object
     why: str
     records: np.ndarray | None
     inputs: np.ndarray | None
     threads: int | None
+    directions: dict | None = None
 
 
 def _program_request(engine, motion, inertia, loads, input_inertia) -> KinetostaticsJob:
@@ -711,14 +717,21 @@ def _program_request(engine, motion, inertia, loads, input_inertia) -> Kinetosta
     why = _unwritable(engine, motion, loads, input_inertia)
     if why:
         return KinetostaticsJob(None, why, None, None, engine.threads)
-    from ._program import program_for  # (written for a compiled backend only: numpy never imports it)
+    from ._program import PAIR_INPUTS, pair_inputs, program_for  # (for a compiled backend only)
     rows = motion.records
-    program = program_for(engine, plan_of(engine), motion, inertia)
-    inputs = np.empty((2 + len(program.guide_loads), len(rows)))
+    plan = plan_of(engine)
+    program = program_for(engine, plan, motion, inertia)
+    guides = len(program.guide_loads)
+    inputs = np.empty((2 + guides + PAIR_INPUTS * len(plan.higher), len(rows)))
     inputs[0], inputs[1] = motion.omega[:, 0], motion.epsilon[:, 0]
     for g, load in enumerate(program.guide_loads):
         inputs[2 + g] = guide_force_size(engine, motion, load)
-    return KinetostaticsJob(program, "", rows, inputs, engine.threads)
+    directions = None
+    if plan.higher:
+        geometry = contact_geometry(engine, motion)
+        directions = _directions(geometry)
+        inputs[2 + guides:] = pair_inputs(engine, plan, directions, geometry, len(rows))
+    return KinetostaticsJob(program, "", rows, inputs, engine.threads, directions)
 
 
 def _unwritable(engine, motion, loads, input_inertia) -> str:
@@ -742,16 +755,22 @@ def _unwritable(engine, motion, loads, input_inertia) -> str:
     return ""
 
 
-def _program_result(engine, motion, program, out) -> Kinetostatics:
+def _program_result(engine, motion, job, out) -> Kinetostatics:
     """The `Kinetostatics` of a program's outputs `out` (O, B): the unknowns, the loads' values (views of
-    `out`), the virtual-power residual and the singular flag."""
+    `out`), the virtual-power residual and the singular flag; the higher pairs' contact forces from their
+    unknowns (`_contact_forces`)."""
+    program = job.program
     values = [LoadValue(name, k, out[f:f + 2].T, out[p:p + 2].T, out[m])
               for name, k, (f, p, m) in zip(program.names, program.links, program.sources)]
     x, residual, singular = out[:program.size], out[-2], out[-1] != 0.0
     if singular.any():
         x[:, singular] = np.nan  # (the residual is NaN there too, as numpy's, whose drive is NaN there)
         residual[singular] = np.nan
-    return result(engine, motion, plan_of(engine).lay, x, singular, residual, values)
+    lay = plan_of(engine).lay
+    contact = None
+    if job.directions is not None:
+        contact = _contact_forces(engine, lay, x, job.directions, _radial_loads(engine, motion, x, lay))
+    return result(engine, motion, lay, x, singular, residual, values, contact)
 
 
 def _no_input_inertia(input_inertia) -> bool:

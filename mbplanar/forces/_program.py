@@ -37,7 +37,7 @@ from ..kinematics._motion import _tables
 from ._kinetostatics import pivot_orders
 from ._loads import constant_parts, heavy_links
 
-__all__ = ["Program", "program_for", "LoadTables", "load_tables", "LOAD_FIXED", "LOAD_GUIDE", "LOAD_INERTIA"]
+__all__ = ["Program", "program_for", "pair_inputs", "PAIR_INPUTS", "LoadTables", "load_tables", "LOAD_FIXED", "LOAD_GUIDE", "LOAD_INERTIA"]
 
 # the record fields (`engine._tables.record_layout`) the program reads
 _READS = ("cos", "sin", "r", "fv", "fa", "wq", "eq", "rate_q")
@@ -492,12 +492,16 @@ def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
     for g, j in ks_plan.p_inputs:
         ux, uy = feat[base + 2 * g], feat[base + 2 * g + 1]
         feat.append(T.val(DOT, feat[1 + 2 * j], uy, feat[2 + 2 * j], T.mulk(ux, -1.0)))
+    tabled = [load for load in guides if load.table]  # (their sizes `solve` interpolates: inputs 2, 3, ...)
+    pairs = [[T.val(INPUT, 2 + len(tabled) + PAIR_INPUTS * h + i) for i in range(PAIR_INPUTS)]
+             for h in range(len(ks_plan.higher))]  # (the higher pairs' geometry: `pair_inputs`)
+    for d_x, d_y, lever, *_ in pairs:
+        feat += [d_x, d_y, lever]
     # the loads (loads._evaluate, inertia_loads) and the right-hand side (kinetostatics._right_side)
     n = lay.size
     bvec = [T.value(0.0)] * n
     values = []
     om, ep = T.val(INPUT, 0), T.val(INPUT, 1)
-    tabled = [load for load in guides if load.table]  # (their sizes `solve` interpolates: inputs 2, 3, ...)
     joint_index = {name: i for i, name in enumerate(mech.joints)}
 
     def guide_size(load):  # loads.guide_force_size: against the joint's rate, signed by ω's direction
@@ -543,6 +547,12 @@ def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
     bad = T.set(0.0)
     for index, blk in enumerate(ks_plan.blocks):
         _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular), (orders or {}).get(index))
+    radial = _radial_right_side(T, engine, ks_plan, x, pairs)
+    if radial:  # (the tangential forces stay as they are: the radial pairs pass through the centres)
+        bvec = [T.add(v, radial[r]) if r in radial else v for r, v in enumerate(bvec)]
+        x = [None] * n
+        for index, blk in enumerate(ks_plan.blocks):
+            _program_block(T, blk, feat, bvec, x, bad, float(engine.tol.singular), (orders or {}).get(index))
     out_bad = outputs.top + 1  # the row of `bad`, the residual's before it
     for i in range(n):
         if lay.scale[i] != 1.0:  # (x·1 = x)
@@ -558,6 +568,14 @@ def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
         (ux, uy), wq = turn(k, p_at[p]), fr(k, "wq")
         vx, vy = T.val(MSUB, fr(k, "fvx"), wq, uy), T.val(MADD, fr(k, "fvy"), wq, ux)
         speed = T.val(MAX, speed, T.val(DOT, vx, vx, vy, vy))
+    for h, pair in zip(mech.higher.values(), pairs):  # and the contacts' on both their links
+        px, py = pair[3], pair[4]
+        for link in h.links:
+            k = engine.link_index[link]
+            wq = fr(k, "wq")
+            dx, dy = T.sub(px, fr(k, "rx")), T.sub(py, fr(k, "ry"))
+            vx, vy = T.val(MSUB, fr(k, "fvx"), wq, dy), T.val(MADD, fr(k, "fvy"), wq, dx)
+            speed = T.val(MAX, speed, T.val(DOT, vx, vx, vy, vy))
     speed = T.val(SQRT, speed)  # the largest point speed (one root: the root keeps the order)
     turning = T.value(0.0)
     for k in range(len(engine.links)):
@@ -576,6 +594,57 @@ def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
         bound = T.val(MADD, bound, T.val(ABS, term), T.value(1.0))
     T.out(OUT, out_bad - 1, T.val(RESIDUAL, total, bound))  # (relative to what the loads could do)
     return names, links, tabled, sources, T
+
+
+def _radial_right_side(T, engine, ks_plan, x, pairs) -> dict:
+    """The right-hand side (row → value) of the gears' and racks' radial forces from the tangential
+    unknowns x (`kinetostatics._radial_loads` and `_right_side`: tan α·|F_t| along the normal at the
+    pitch point, on the second link, its opposite on the first); empty without gears or racks."""
+    mech, lay = engine.mech, ks_plan.lay
+    cx, cy = ks_plan.centre
+    inv_size = 1.0 / engine.size
+    zero, one = T.value(0.0), T.value(1.0)
+    out = {}
+    for h, pair in zip(mech.higher.values(), pairs):
+        if h.kind not in ("gear", "rack"):
+            continue
+        px, py, nx, ny = pair[3:]
+        size = T.mulk(T.val(ABS, x[lay.cols[h.name]]), math.tan(h.pressure_angle))
+        fx, fy = T.mul(size, nx), T.mul(size, ny)
+        for link, sign in ((h.links[1], 1.0), (h.links[0], -1.0)):
+            r = lay.rows.get(engine.link_index[link])
+            if r is None:
+                continue
+            gx, gy = (fx, fy) if sign > 0 else (T.mulk(fx, -1.0), T.mulk(fy, -1.0))
+            out[r] = T.val(MSUB, out.get(r, zero), gx, one)
+            out[r + 1] = T.val(MSUB, out.get(r + 1, zero), gy, one)
+            lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
+            m = T.add(T.val(DOT, lx, gy, ly, T.mulk(gx, -1.0)), zero)
+            out[r + 2] = T.val(MSUB, out.get(r + 2, zero), T.mulk(m, inv_size), one)
+    return out
+
+
+#: the inputs per higher pair after ω, ε and the guide loads (`pair_inputs`): the direction (x, y) of
+#: the force its unknown stands for, its lever about the system's centre / size (the entries' features),
+#: the contact point (x, y) and the normal (x, y) (a gear's or a rack's radial force)
+PAIR_INPUTS = 7
+
+
+def pair_inputs(engine, ks_plan, directions: dict, geometry: dict, batch: int) -> np.ndarray:
+    """The higher pairs' inputs (`PAIR_INPUTS` × H, B) from their force directions
+    (`kinetostatics.pair_directions`) and contact geometry (`kinematics.contact_geometry`), with numpy's
+    formulas (`kinetostatics._features`)."""
+    out = np.empty((PAIR_INPUTS * len(ks_plan.higher), batch))
+    cx, cy = ks_plan.centre
+    size = engine.size
+    for h, name in enumerate(ks_plan.higher):
+        point, d = directions[name]
+        rows = out[PAIR_INPUTS * h:PAIR_INPUTS * (h + 1)]
+        rows[0], rows[1] = d[:, 0], d[:, 1]
+        rows[2] = ((point[:, 0] - cx) * d[:, 1] - (point[:, 1] - cy) * d[:, 0]) / size
+        rows[3], rows[4] = geometry[name].point[:, 0], geometry[name].point[:, 1]
+        rows[5], rows[6] = geometry[name].normal[:, 0], geometry[name].normal[:, 1]
+    return out
 
 
 class _LoadOutputs:

@@ -648,7 +648,8 @@ class _SweepShared:
         self.tables = sweep_tables(engine)
         self.tol = engine.tol.kernel()
         n_l, n_j = len(engine.links), len(engine.mech.joints)
-        self.layouts = {r: record_layout(n_l, n_j, r) for r in (False, True)}
+        self.contact = bool(engine.mech.higher)  # (the records hold the contact parameters)
+        self.layouts = {r: record_layout(n_l, n_j, r, len(engine.mech.higher)) for r in (False, True)}
         self.offsets = {r: self.layouts[r][1] for r in (False, True)}
         self.sizes = (n_l, n_j)
         self.empty, self.plans, self.store = {}, {}, {}
@@ -840,6 +841,8 @@ def _sweep_motion(engine: Engine, job: SweepJob, phi, sel: PointSelection, wante
             state.update(_NO_RATES)
             for name, key in _FRAME_FIELDS[plan.rates]:
                 state[name] = rows[key]
+            if shared.contact:
+                state["contact"] = rows["contact"]
     return _record(Motion, fields_)
 
 

@@ -402,7 +402,7 @@ class DesignBatch:
         """The compiled design job's request: the designs that can be analysed, their tables and input
         values (or why no kernel can take them)."""
         g, eng = self.geometry, self.engine
-        why = kernels_decline(eng.mech)  # (`own`: each design solved by its own engine)
+        why = kernels_decline(eng.mech, "design")  # (`own`: each design solved by its own engine)
         if why:
             return why
         designs = np.flatnonzero(g.ok)
