@@ -15,6 +15,7 @@ import mbplanar
 from conftest import linkage_models
 from mbplanar.forces import kinetostatics
 from mbplanar.forces import evaluate_loads, has_force_data
+from mbplanar.forces._loads import joint_rate_sign
 
 pytest.importorskip("numba")
 
@@ -113,6 +114,9 @@ def test_random_mechanisms_same_as_numpy(mech_kind, data):
     assume(len(ref.phi) > 0)
     # away from dead points, where the balancing moment grows without bound
     keep = np.all(np.abs(ref.wq) < 50, axis=1)
+    if prismatic:  # and where the slider's rate is round-off, where "forward" is either answer
+        rate = joint_rate_sign(ref, prismatic[0])
+        keep &= np.abs(rate) > 1e-9 * max(1e-300, np.max(np.abs(rate)))
     a, b = (dataclasses.replace(r, singular=r.singular | ~keep)
             for r in (kinetostatics(ref_engine, ref), kinetostatics(fast_engine, fast)))
     _assert_same(a, b, rtol=1e-7)
