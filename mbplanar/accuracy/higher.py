@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from ..model._curves import Circle, Offset, Shape
+from ..model._curves import Circle, Offset, Placed, Shape
 
 __all__ = ["higher_dimensions", "nominal_numbers", "apply", "made_law", "MadePairs", "sources", "derived_radius",
            "parameter_kinds", "template_numbers"]
@@ -190,22 +190,6 @@ class _Offsets(Offset):
         self.closed, self.lo, self.hi, self.scale = base.closed, base.lo, base.hi, base.scale
 
 
-class _Placed(Shape):
-    """A curve carried by a rigid motion per batch element: R·c(u) + r (cos, sin (B,), r (2, B))."""
-
-    def __init__(self, base: Shape, c, s, r):
-        self.base, self.c, self.s, self.r = base, c, s, r
-        self.closed, self.lo, self.hi, self.scale = base.closed, base.lo, base.hi, base.scale
-
-    def wrap(self, u):
-        return self.base.wrap(u)
-
-    def point(self, u, n: int = 0):
-        p = self.base.point(u, n)
-        out = np.stack([self.c * p[0] - self.s * p[1], self.s * p[0] + self.c * p[1]])
-        return out + self.r if n == 0 else out
-
-
 def made_law(law, numbers: dict, frame: dict | None = None):
     """`law` holding the made `numbers` (arrays with one value per batch element, designs last), each
     link's numbers carried by `frame[link]` = (cos, sin (B,), r (2, B), θ (B,)) when given (a design placed
@@ -243,7 +227,7 @@ def made_law(law, numbers: dict, frame: dict | None = None):
     path = _Offsets(base, sign * numbers["radius"]) if sign else base
     if frame is not None and curve_link in frame:
         c, s, r = frame[curve_link][:3]
-        path = _Placed(path, c, s, r)
+        path = Placed(path, c, s, r)
     new.path = path
     new.at = place(other, numbers["at"])
     if law.kind == "face":

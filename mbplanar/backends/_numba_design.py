@@ -41,7 +41,10 @@ from . import _threads
 from ._jit import njit
 from ._numba_blocks import (_closure, _hermite_coefficients, _hermite_slope, _hermite_value, _interval, _lu,
                             _lu_solve, _place, _rate_jump, _step_verdict)
+from ._numba_higher import _higher_closure, _higher_rates
+from ..engine import _higher_tables as ht  # (the tables' column names)
 from ..engine._continuation import HERMITE5
+from ..engine._higher_tables import CURVE_WORK, HIGHER_CACHE, CurveTables, HigherTables
 from ..engine._tables import CutTables, DesignResult, DesignTables, StepTables
 
 __all__ = ["solve", "DesignIn", "DesignWork", "Unknowns"]
@@ -80,7 +83,9 @@ class Unknowns(NamedTuple):
 
 
 class DesignWork(NamedTuple):
-    """One thread's work arrays: its own copies of the step and cut tables (a design's row is copied in);
+    """One thread's work arrays: its own copies of the step and cut tables and of the higher pairs' and
+    their curves' reals (a design's rows are copied in), the higher pairs' caches `hc` (H,
+    `HIGHER_CACHE`) and the curves' work vector `wk` (`backends._numba_higher`);
     the pose `ps` (8, L): θ, cos θ, sin θ, r_x, r_y per link, then each link's anchor angle θa, cos θa,
     sin θa (`_turn`); rates `rt` (slots, 3, L) and the step and cut caches `sc`, `cc` of
     `_numba_kinematics`; a block's Jacobian as solved and scaled (`jac`, `jac_s`) with their permutations,
@@ -92,6 +97,10 @@ class DesignWork(NamedTuple):
 
     steps: StepTables
     cuts: CutTables
+    higher: HigherTables
+    curves: CurveTables
+    hc: np.ndarray
+    wk: np.ndarray
     ps: np.ndarray
     rt: np.ndarray
     sc: np.ndarray
@@ -116,16 +125,19 @@ class DesignWork(NamedTuple):
     coef: np.ndarray
 
     @classmethod
-    def new(cls, steps, cuts, n_links: int, m_all: int, m_max: int, n_blocks: int) -> "DesignWork":
-        """Work arrays for tables `steps`, `cuts`, L links, M unknowns, the largest block's unknowns."""
+    def new(cls, tables: DesignTables, n_links: int, m_all: int, m_max: int, n_blocks: int) -> "DesignWork":
+        """Work arrays for the `tables`' steps, cuts and higher pairs, L links, M unknowns, the largest
+        block's unknowns."""
         vec = lambda n: np.zeros(max(n, 1))  # noqa: E731
         m1 = max(m_all, 1)
+        steps, cuts, higher, curves = tables.steps, tables.cuts, tables.higher, tables.curves
 
         def unknowns():
             return Unknowns(vec(m_all), vec(m_all), vec(m_all), np.ones(n_blocks))
         return cls(steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
-                   cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()),
-                   np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(len(steps.parent), 1), 5)),
+                   cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()), higher._replace(reals=higher.reals.copy()),
+                   curves._replace(reals=curves.reals.copy()), np.zeros((max(len(higher.ints), 1), HIGHER_CACHE)),
+                   np.zeros(CURVE_WORK), np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)), np.zeros((max(len(steps.parent), 1), 5)),
                    np.zeros((max(len(cuts.a), 1), 9)), np.zeros((m_max, m_max)), np.zeros((m_max, m_max)),
                    np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max),
                    vec(m_max), unknowns(), unknowns(), unknowns(), vec(m_all), vec(m_all), np.zeros((2, 2, m1)),
@@ -163,8 +175,11 @@ def solve(request) -> DesignResult:
     k = 1 if count < 2 * MIN_DESIGNS else max(1, min(request.threads or _threads.available(), count // MIN_DESIGNS))
     cuts_at = [count * i // k for i in range(k + 1)]
     parts = [slice(a, b) for a, b in zip(cuts_at[:-1], cuts_at[1:])]
-    store = request.store.setdefault(sizes, [])
-    work = _threads.work_arrays(store, lambda: DesignWork.new(tables.steps, tables.cuts, *sizes), len(parts))
+    store = request.store.setdefault(sizes + tables.higher.reals.shape + tables.curves.reals.shape, [])
+    work = _threads.work_arrays(store, lambda: DesignWork.new(tables, *sizes), len(parts))
+    # (the request's integers: which pair, which curve; the work arrays' reals, a design's copied in)
+    work = [w._replace(higher=tables.higher._replace(reals=w.higher.reals),
+                       curves=tables.curves._replace(reals=w.curves.reals)) for w in work]
     _threads.run([lambda p=p, w=w: _designs(_part_in(inp, p), _part_out(out, p, accelerations), request.tol, w)
                   for p, w in zip(parts, work)])
     failed = out.status != 0  # rows the kernel left unwritten
@@ -180,7 +195,9 @@ def _part_in(inp: DesignIn, p: slice) -> DesignIn:
     t = inp.tables
     return inp._replace(tables=t._replace(step_s0=t.step_s0[p], step_u0=t.step_u0[p], cut_s0=t.cut_s0[p],
                                           cut_n0=t.cut_n0[p], phi0=t.phi0[p], reference=t.reference[p],
-                                          point_at=t.point_at[p]), x=inp.x[p], lo=inp.lo[p], hi=inp.hi[p])
+                                          point_at=t.point_at[p], higher_reals=t.higher_reals[p],
+                                          curve_reals=t.curve_reals[p], q0=t.q0[p]),
+                        x=inp.x[p], lo=inp.lo[p], hi=inp.hi[p])
 
 
 def _part_out(out: DesignResult, p: slice, accelerations: bool) -> DesignResult:
@@ -296,12 +313,24 @@ def _closure_rates(k, cuts, cc, rt, slot, vel, out, row):
 
 
 @_inline
+def _higher_into(h, hp, hc, rt, slot, pu, vel, big_u, out):
+    """Rate rows of higher pair h (from its H_ROW on in out) from rt[slot] and its contact parameter's
+    rate pu (`_numba_higher._higher_rates`; vel >= 0: the acceleration's, big_u its parameter's velocity)."""
+    row = hp.ints[h, ht.H_ROW]
+    o0, o1 = _higher_rates(h, hp, hc, rt, slot, pu, vel, big_u)
+    out[row] = o0
+    if hp.ints[h, ht.H_EQUATIONS] == 2:
+        out[row + 1] = o1
+
+
+@_inline
 def _jacobian(bk, blocks, steps, cuts, work):
     """Closure Jacobian (m, m) of block bk in work.jac, and in rt[0 … m − 1] the sensitivities of its links'
     rates to each unknown (the links outside the block stay at 0); work.step holds a column."""
     k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
     m, var0, anchors = blocks.m[bk], blocks.var0[bk], blocks.anchors
     sc, cc, rt, jac, col = work.sc, work.cc, work.rt, work.jac, work.step
+    hp, hc = work.higher, work.hc
     for j in range(m):
         for t in range(blocks.anchor0[bk], blocks.anchor1[bk]):  # the links the block reads but does not place
             for comp in range(3):                                # are at rest
@@ -311,6 +340,8 @@ def _jacobian(bk, blocks, steps, cuts, work):
                         0.0)
         for k in range(c0, c1):
             _closure_rates(k, cuts, cc, rt, j, -1, col, 2 * (k - c0))
+        for h in range(hp.first[bk], hp.first[bk + 1]):  # a contact parameter's column: its unit rate
+            _higher_into(h, hp, hc, rt, j, 1.0 if hp.ints[h, ht.H_VAR] - var0 == j else 0.0, -1, 0.0, col)
         for i in range(m):
             jac[i, j] = col[i]
 
@@ -346,6 +377,11 @@ def _refine(bk, blocks, work, slot, vel, q_in_rate, qd_vel, q_in_vel, out):
         return
     for k in range(c0, c1):
         _closure_rates(k, cuts, cc, rt, slot, vel, rhs, 2 * (k - c0))
+    hp = work.higher
+    for h in range(hp.first[bk], hp.first[bk + 1]):  # (a contact parameter's rate is an unknown's)
+        par = hp.ints[h, ht.H_VAR] - var0
+        _higher_into(h, hp, work.hc, rt, slot, out[par] if par >= 0 else 0.0, vel,
+                     qd_vel[par] if vel >= 0 and par >= 0 else 0.0, rhs)
     for i in range(m):
         rhs[i] = -rhs[i]
     _solve_factored(work.jac, m, work.perm, rhs, delta)
@@ -406,6 +442,7 @@ def _solve(inp, work, tol, state, q_in, rate, accelerations, lazy, unit, gain):
     ps, rt, sc, cc, jac, jac_s, perm, perm_s = work.ps, work.rt, work.sc, work.cc, work.jac, work.jac_s, work.perm, \
         work.perm_s
     res, step, qd_u, qdd_u = work.res, work.step, work.qd_u, work.qdd_u
+    hp, cv, hc, wk = work.higher, work.curves, work.hc, work.wk
     n_blocks = len(blocks.m)
     row_scale, var_scale = blocks.row_scale, blocks.var_scale
     vel, acc = len(rt) - 2, len(rt) - 1
@@ -434,6 +471,8 @@ def _solve(inp, work, tol, state, q_in, rate, accelerations, lazy, unit, gain):
             err = 0.0
             for k in range(c0, c1):
                 _closure(k, cuts, ps, cc, res, 2 * (k - c0))
+            for h in range(hp.first[bk], hp.first[bk + 1]):  # (Gear, Rack, PointOnCurve, FaceOnCurve.closure)
+                _higher_closure(h, hp, cv, ps, q, hc, wk, res)
             for i in range(m):
                 err = max(err, abs(res[i]) * row_scale[var0 + i])
             if m == 0:
@@ -469,6 +508,10 @@ def _solve(inp, work, tol, state, q_in, rate, accelerations, lazy, unit, gain):
                     q[var0 + i] += step[i]
                 moved = max(moved, abs(step[i]) * var_scale[var0 + i])
             small = small and moved <= lazy_step
+        for h in range(hp.first[bk], hp.first[bk + 1]):  # a contact past an open curve's end (`law.inside`)
+            var = hp.ints[h, ht.H_VAR]
+            if var >= 0 and not (hp.reals[h, ht.H_LO] <= q[var] <= hp.reals[h, ht.H_HI]):
+                ok = False
         if not (ok and math.isfinite(err)):
             return False, smallest
         dets[bk] = det
@@ -838,6 +881,7 @@ def _designs(inp, out, tol, work):
     docstring); out.status (D,) as `engine._tables.DESIGN_STATUS`."""
     blocks, x, lo, hi, phi0 = inp.tables.blocks, inp.x, inp.lo, inp.hi, inp.tables.phi0
     steps, cuts, ps, status, valid = work.steps, work.cuts, work.ps, out.status, out.valid
+    h_reals, c_reals = work.higher.reals, work.curves.reals
     drawn, node_phi, node_q, node_sign, coef, hermite = work.drawn, work.node_phi, work.node_q, work.node_sign, \
         work.coef, inp.hermite
     q0, qd0, qdd0, dets0 = drawn
@@ -859,11 +903,17 @@ def _designs(inp, out, tol, work):
         for k in range(len(cuts.a)):
             cuts.s0[k, 0], cuts.s0[k, 1] = inp.tables.cut_s0[d, k, 0], inp.tables.cut_s0[d, k, 1]
             cuts.n0[k, 0], cuts.n0[k, 1] = inp.tables.cut_n0[d, k, 0], inp.tables.cut_n0[d, k, 1]
+        for h in range(h_reals.shape[0]):
+            for c in range(h_reals.shape[1]):
+                h_reals[h, c] = inp.tables.higher_reals[d, h, c]
+        for j in range(c_reals.shape[0]):
+            for c in range(c_reals.shape[1]):
+                c_reals[j, c] = inp.tables.curve_reals[d, j, c]
         for i in range(n_pos):
             valid[d, i] = False
-        # 1. the drawn pose
+        # 1. the drawn pose (its unknowns: 0, a contact parameter its drawn value)
         for i in range(m_all):
-            q0[i] = 0.0
+            q0[i] = inp.tables.q0[d, i]
         converged, ratio = _solve(inp, work, tol, drawn, 0.0, 1.0, yes, no, 1.0, 0.0)
         if not converged:
             status[d] = 1

@@ -109,14 +109,29 @@ def _offset(dist, bx, by, d1x, d1y, d2x, d2y, d3x, d3y, n):
 
 
 @_part
+def _carried(cv, j, x, y, n):
+    """(x, y) of the n-th derivative of curve j carried by its rigid motion (`Placed.point`: turned, and
+    the point shifted), from the derivative (x, y) before it."""
+    cr = cv.reals
+    c, s = cr[j, ht.C_PLACE], cr[j, ht.C_PLACE + 1]
+    ox, oy = c * x - s * y, s * x + c * y
+    if n == 0:
+        return ox + cr[j, ht.C_PLACE + 2], oy + cr[j, ht.C_PLACE + 3]
+    return ox, oy
+
+
+@_part
 def _curve_into(cv, j, u, count, link, ps, wk, hc, h):
     """R(θ_link)·dⁿc/duⁿ of curve j for n = 0 … count − 1 (the curve's derivatives on its link, turned
     with it) into hc[h, 2n], hc[h, 2n + 1]; an offset curve's (count <= 3) from its base's point and
-    three derivatives, each evaluated once."""
+    three derivatives, each evaluated once; a placed curve's carried by its rigid motion first."""
     c, s = ps[1, link], ps[2, link]
+    placed = cv.ints[j, ht.C_PLACED]
     if not cv.ints[j, ht.C_OFFSET]:
         for n in range(count):
             x, y = _base(cv, j, u, n, wk)
+            if placed:
+                x, y = _carried(cv, j, x, y, n)
             hc[h, 2 * n], hc[h, 2 * n + 1] = c * x - s * y, s * x + c * y
         return
     bx, by = _base(cv, j, u, 0, wk)
@@ -126,6 +141,8 @@ def _curve_into(cv, j, u, count, link, ps, wk, hc, h):
     dist = cv.reals[j, ht.C_DISTANCE]
     for n in range(count):
         x, y = _offset(dist, bx, by, d1x, d1y, d2x, d2y, d3x, d3y, n)
+        if placed:
+            x, y = _carried(cv, j, x, y, n)
         hc[h, 2 * n], hc[h, 2 * n + 1] = c * x - s * y, s * x + c * y
 
 

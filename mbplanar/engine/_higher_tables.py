@@ -9,7 +9,12 @@ of them is a point on a curve: a cam's knife, roller or circular face, a pin in 
 kernel compares against a code. A curve is a circle (or an arc of one) or scipy's interpolating
 B-spline, stored as the B-splines of c, c', c'' and c''' (scipy's `BSpline.derivative`, degrees
 k … k − 3) so that a kernel evaluates each as scipy does (the knot interval, then the Cox–de Boor
-recursion); a roller's path is the profile's offset by a distance along its normal (`Offset`).
+recursion); a roller's path is the profile's offset by a distance along its normal (`Offset`), and a
+curve may be carried by a rigid motion (`Placed`: a made design's curve where its link sits).
+
+The reals of a pair and of a curve are a function of its law alone (`pair_reals`, `curve_reals`), so
+that a design batch gives every design its own rows (`design_reals`: `engine._tables.DesignTables`) while
+the integers (which pair, which curve, which B-spline) are the engine's.
 """
 
 from __future__ import annotations
@@ -18,9 +23,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..model._curves import Circle, Offset, Spline
+from ..model._curves import Circle, Offset, Placed, Spline
 
-__all__ = ["HigherTables", "CurveTables", "higher_tables", "curve_tables", "HIGHER_CACHE", "CURVE_WORK",
+__all__ = ["HigherTables", "CurveTables", "higher_tables", "curve_tables", "pair_reals", "curve_reals",
+           "design_reals", "shared_curves", "HIGHER_CACHE", "CURVE_WORK", "C_PLACED", "C_PLACE",
            "H_GEAR", "H_RACK", "H_FLAT", "H_A", "H_B", "H_CARRIER", "H_CURVE", "H_VAR", "H_ROW", "H_EQUATIONS",
            "H_COLUMN", "H_COEF", "H_CENTRE", "H_AT", "H_AXIS", "H_SIGMA_R", "H_LO", "H_HI", "C_CIRCLE", "C_CLOSED",
            "C_OFFSET", "C_DEGREE", "C_KNOT0", "C_KNOT1", "C_COEF0", "C_CENTRE", "C_RADIUS", "C_LO", "C_HI",
@@ -46,12 +52,14 @@ H_REALS = 12
 # the columns of `CurveTables.ints`
 C_CIRCLE, C_CLOSED, C_OFFSET, C_DEGREE = 0, 1, 2, 3  # a circle (else a spline); a closed spline; an offset curve; k
 C_KNOT0, C_KNOT1, C_COEF0 = 4, 8, 12  # 4 each: c⁽ⁿ⁾'s knots' start and end in `knots`, its first coefficient
-C_INTS = 16
+C_PLACED = 16                     # carried by a rigid motion (C_PLACE; else not read)
+C_INTS = 17
 # the columns of `CurveTables.reals`
 C_CENTRE, C_RADIUS = 0, 2         # a circle's centre (2) and radius: c(u) = centre + radius·(cos u, sin u)
 C_LO, C_HI = 3, 4                 # the parameter's first and last value (a spline's t[k], t[n])
 C_DISTANCE = 5                    # the offset along the left normal (a roller's radius, signed; else 0)
-C_REALS = 6
+C_PLACE = 6                       # 4: the rigid motion's cos, sin and shift (x, y): R·c(u) + r (`Placed`)
+C_REALS = 10
 
 
 class HigherTables(NamedTuple):
@@ -72,19 +80,55 @@ class CurveTables(NamedTuple):
     coefs: np.ndarray       # (N, 2) float: every B-spline's coefficients, concatenated
 
 
-def curve_tables(shapes: list) -> CurveTables:
-    """`CurveTables` of `Shape`s (circles, splines, their offsets)."""
+def _base(shape):
+    """The circle or spline under a shape's rigid motion and offset."""
+    if isinstance(shape, Placed):
+        shape = shape.base
+    return shape.base if isinstance(shape, Offset) else shape
+
+
+def curve_reals(shape, count: int = 1) -> np.ndarray:
+    """The reals (count, C_REALS) of a `Shape` (a circle or a spline, offset or not, placed or not) whose
+    numbers hold one value, or one per design (arrays (count,), (2, count))."""
+    out = np.zeros((count, C_REALS))
+    out[:, C_PLACE] = 1.0                                  # (no rigid motion: the identity)
+    if isinstance(shape, Placed):
+        out[:, C_PLACE], out[:, C_PLACE + 1] = shape.c, shape.s
+        out[:, C_PLACE + 2], out[:, C_PLACE + 3] = shape.r[0], shape.r[1]
+        shape = shape.base
+    if isinstance(shape, Offset):
+        out[:, C_DISTANCE] = shape.distance
+        shape = shape.base
+    out[:, C_LO], out[:, C_HI] = shape.lo, shape.hi
+    if isinstance(shape, Circle):
+        out[:, C_CENTRE], out[:, C_CENTRE + 1], out[:, C_RADIUS] = shape.centre[0], shape.centre[1], shape.radius
+    return out
+
+
+def shared_curves(a, b) -> bool:
+    """Whether shapes `a` and `b` run on the same B-spline (or both on circles), so that one
+    `CurveTables` serves both with their own reals."""
+    a, b = _base(a), _base(b)
+    if isinstance(a, Circle) or isinstance(b, Circle):
+        return isinstance(a, Circle) and isinstance(b, Circle)
+    return a is b or all(np.array_equal(x.t, y.t) and np.array_equal(x.c, y.c)
+                         for x, y in zip(a.derivatives, b.derivatives))
+
+
+def curve_tables(shapes: list, numbers: bool = True) -> CurveTables:
+    """`CurveTables` of `Shape`s (circles, splines, their offsets, placed or not); without `numbers` the
+    reals are left 0 (shapes with one value per design: `design_reals` gives them)."""
     n = len(shapes)
     ints, reals = np.zeros((n, C_INTS), np.int64), np.zeros((n, C_REALS))
     knots, coefs, nk, nc = [], [], 0, 0
     for j, shape in enumerate(shapes):
-        if isinstance(shape, Offset):
-            ints[j, C_OFFSET], reals[j, C_DISTANCE] = 1, shape.distance
-            shape = shape.base
-        reals[j, C_LO], reals[j, C_HI] = shape.lo, shape.hi
+        if numbers:
+            reals[j] = curve_reals(shape)[0]
+        ints[j, C_PLACED] = isinstance(shape, Placed)
+        ints[j, C_OFFSET] = isinstance(shape.base if isinstance(shape, Placed) else shape, Offset)
+        shape = _base(shape)
         if isinstance(shape, Circle):
             ints[j, C_CIRCLE] = 1
-            reals[j, C_CENTRE:C_CENTRE + 2], reals[j, C_RADIUS] = shape.centre, shape.radius
             continue
         if not isinstance(shape, Spline):
             raise TypeError(f"no kernel tables for a curve of type {type(shape).__name__}")
@@ -99,8 +143,55 @@ def curve_tables(shapes: list) -> CurveTables:
                        np.ascontiguousarray(np.concatenate(coefs)) if coefs else np.zeros((1, 2)))
 
 
-def higher_tables(engine) -> tuple[HigherTables, CurveTables]:
-    """The engine's higher pairs (its `BlockPlan`s' cuts that are higher laws) and their curves."""
+def pair_reals(law, count: int = 1) -> np.ndarray:
+    """The reals (count, H_REALS) of a higher pair's law whose numbers hold one value, or one per design
+    (arrays (count,), (2, count): `mbplanar.accuracy.higher.made_law`)."""
+    r = np.zeros((count, H_REALS))
+    r[:, H_LO], r[:, H_HI] = law.param_range
+    if law.kind == "gear":
+        (_, ca), (_, cb), (_, cc) = law.coef
+        r[:, H_COEF], r[:, H_COEF + 1], r[:, H_COEF + 2] = ca, cb, cc
+    elif law.kind == "rack":
+        for col, v in ((H_CENTRE, law.centre), (H_AT, law.at), (H_AXIS, law.line)):
+            r[:, col], r[:, col + 1] = v[0], v[1]
+        r[:, H_SIGMA_R] = law.sigma_r
+    else:
+        r[:, H_AT], r[:, H_AT + 1] = law.at[0], law.at[1]
+        if law.kind == "face":
+            r[:, H_AXIS], r[:, H_AXIS + 1] = law.n0[0], law.n0[1]
+    return r
+
+
+def _higher_cuts(engine):
+    """(block, law) of the engine's higher pairs in solving order (a block's after its lower cuts)."""
+    return [(bp, law) for bp in engine.blocks for law in bp.cuts if law.kind not in ("R", "P")]
+
+
+def design_reals(engine, laws: dict, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per design (count designs) the reals of the engine's higher pairs (count, H, H_REALS) and of their
+    curves (count, K, C_REALS), in `higher_tables`' order, from `laws` (name → the pair's law with one
+    value or one per design), and every unknown's drawn value (count, M) (the contact parameters'
+    `param0`, else 0)."""
+    pairs = _higher_cuts(engine)
+    hr = np.zeros((count, len(pairs), H_REALS))
+    curves = []
+    for h, (_, law) in enumerate(pairs):
+        hr[:, h] = pair_reals(laws[law.name], count)
+        if law.parameters:
+            curves.append(curve_reals(laws[law.name].path, count))
+    cr = np.stack(curves, axis=1) if curves else np.zeros((count, 0, C_REALS))
+    q0 = np.zeros((count, sum(bp.m for bp in engine.blocks)))
+    var0 = 0
+    for bp in engine.blocks:
+        for law, k in bp.params:
+            q0[:, var0 + k] = laws[law.name].param0
+        var0 += bp.m
+    return hr, cr, q0
+
+
+def higher_tables(engine, laws: dict | None = None) -> tuple[HigherTables, CurveTables]:
+    """The engine's higher pairs (its `BlockPlan`s' cuts that are higher laws) and their curves; with
+    `laws` (name → law) those laws' curves (a design batch's: `Placed` ones are marked so)."""
     idx = engine.link_index
     names = list(engine.mech.higher)
     ints, reals, shapes, first, var0 = [], [], [], [0], 0
@@ -110,28 +201,20 @@ def higher_tables(engine) -> tuple[HigherTables, CurveTables]:
         for law in bp.cuts:
             if law.kind in ("R", "P"):
                 continue
-            i, r = np.zeros(H_INTS, np.int64), np.zeros(H_REALS)
+            i = np.zeros(H_INTS, np.int64)
             i[H_GEAR], i[H_RACK], i[H_FLAT] = law.kind == "gear", law.kind == "rack", law.kind == "face"
             i[H_A], i[H_B], i[H_CURVE], i[H_VAR] = idx[law.links[0]], idx[law.links[1]], -1, -1
             i[H_ROW], i[H_EQUATIONS], i[H_COLUMN] = row, law.equations, names.index(law.name)
-            r[H_LO], r[H_HI] = -np.inf, np.inf
             if law.kind == "gear":
-                (_, ca), (_, cb), (carrier, cc) = law.coef
-                i[H_CARRIER], r[H_COEF:H_COEF + 3] = idx[carrier], (ca, cb, cc)
-            elif law.kind == "rack":
-                r[H_CENTRE:H_CENTRE + 2], r[H_AT:H_AT + 2] = law.centre, law.at
-                r[H_AXIS:H_AXIS + 2], r[H_SIGMA_R] = law.line, law.sigma_r
-            else:
+                i[H_CARRIER] = idx[law.carrier]
+            elif law.parameters:
                 i[H_CURVE], i[H_VAR] = len(shapes), var0 + params[law.name]
-                r[H_AT:H_AT + 2], (r[H_LO], r[H_HI]) = law.at, law.param_range
-                if law.kind == "face":
-                    r[H_AXIS:H_AXIS + 2] = law.n0
-                shapes.append(law.path)
+                shapes.append((law if laws is None else laws[law.name]).path)
             ints.append(i)
-            reals.append(r)
+            reals.append(pair_reals(law)[0])
             row += law.equations
         first.append(len(ints))
         var0 += bp.m
     tables = HigherTables(np.array(ints, np.int64).reshape(-1, H_INTS), np.array(reals, float).reshape(-1, H_REALS),
                           np.array(first, np.int64))
-    return tables, curve_tables(shapes)
+    return tables, curve_tables(shapes, laws is None)

@@ -31,14 +31,10 @@ REVOLUTE, PRISMATIC = "R", "P"                          # JointLaw.kind, Joint.k
 
 def kernels_decline(mech, job: str = "kinematics") -> str:
     """Why these tables cannot describe the model `mech` for the kernels of `job` ("" where they can):
-    the kinematics and kinetostatics kernels hold the laws of every pair (`HigherTables` for the higher
-    pairs); the design kernel's tables hold the lower pairs' only, so a design batch of a model with
-    higher pairs (gear, rack, cam, slot) is numpy's. The layers that write requests return it for the
-    backends' `can_run` to answer (`engine._backend.dispatch`)."""
-    if not mech.higher or job != "design":
-        return ""
-    return ("the model has higher pairs (" + ", ".join(sorted({h.kind for h in mech.higher.values()}))
-            + "), whose laws the design kernel does not hold: numpy solves the batch")
+    the kinematics, kinetostatics and design kernels hold the laws of every pair (`HigherTables` for the
+    higher pairs), so nothing is declined here today; the layers that write requests return what this
+    says for the backends' `can_run` to answer (`engine._backend.dispatch`)."""
+    return ""
 
 
 class StepTables(NamedTuple):
@@ -341,7 +337,10 @@ class DesignTables(NamedTuple):
     point and guide direction; cut_s0, cut_n0 (D, C, 2): each cut's point and guide normal; phi0 (D,): the
     drawn input value (SI); reference (D, L): each link's drawn angle; point_at (D, P, 2) and point_link
     (P,): the chosen points, drawn, and their links; link_out (K,): the links whose angle and rates are
-    written."""
+    written; higher, curves: the engine's higher pairs and their curves (`SweepTables`; their reals are
+    a design's, copied in per design), with per design the pairs' reals higher_reals (D, H, H_REALS),
+    the curves' curve_reals (D, K, C_REALS) (`engine._higher_tables.design_reals`) and every unknown's
+    drawn value q0 (D, M) (the contact parameters', else 0)."""
 
     steps: StepTables
     cuts: CutTables
@@ -355,6 +354,11 @@ class DesignTables(NamedTuple):
     point_at: np.ndarray
     point_link: np.ndarray
     link_out: np.ndarray
+    higher: HigherTables
+    curves: CurveTables
+    higher_reals: np.ndarray
+    curve_reals: np.ndarray
+    q0: np.ndarray
 
 
 class DesignJob(NamedTuple):

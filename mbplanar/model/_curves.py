@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import ModelError
 from ._model import Curve
 
-__all__ = ["Shape", "Circle", "Spline", "Offset", "shape", "curvature"]
+__all__ = ["Shape", "Circle", "Spline", "Offset", "Placed", "shape", "curvature"]
 
 
 class Shape:
@@ -177,6 +177,25 @@ class Offset(Shape):
         profile's bend: undercut)."""
         b = self.base
         return 1.0 - self.distance * curvature(b.point(u, 1), b.point(u, 2))
+
+
+class Placed(Shape):
+    """The curve `base` carried by a rigid motion: R·c(u) + r, R the turn whose cosine and sine are `c`,
+    `s` and r (2,) the shift (each may hold one value per batch element: (B,), (2, B)); a made design's
+    curve where its link sits in the design's closed drawn pose (`mbplanar.accuracy`), a design's curve
+    in its own frame."""
+
+    def __init__(self, base: Shape, c, s, r):
+        self.base, self.c, self.s, self.r = base, c, s, r
+        self.closed, self.lo, self.hi, self.scale = base.closed, base.lo, base.hi, base.scale
+
+    def wrap(self, u):
+        return self.base.wrap(u)
+
+    def point(self, u, n: int = 0) -> np.ndarray:
+        p = self.base.point(u, n)
+        out = np.stack([self.c * p[0] - self.s * p[1], self.s * p[0] + self.c * p[1]])
+        return out + self.r if n == 0 else out
 
 
 def shape(curve: Curve) -> Shape:

@@ -35,9 +35,13 @@ from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficient
                                     step_verdict)
 from ..engine._nodes import Node
 from ..engine._singular import limit_after
+from ..engine._higher_tables import design_reals, higher_tables, shared_curves
+from ..engine._solver import higher_laws
 from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, kernels_decline, sweep_tables
+from ..errors import MbplanarError
 from ..kinematics import analyse
 from ..model import parse_model
+from ..model._assembly import assemble
 from ..model._scale import frame_origin
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
@@ -45,6 +49,7 @@ from .geometry import DesignGeometry, mechanism_of
 __all__ = ["DesignBatch", "DesignMotion", "DesignLimit", "design_batch", "compile_sample"]
 
 CHUNK = 25_000  # (design, position) pairs corrected at once
+OWN = "a model with higher pairs (each design solved by its own engine)"  # (numpy's, until it is solved)
 
 
 @dataclass(frozen=True)
@@ -150,16 +155,14 @@ class DesignBatch:
         self._want = (list(self.points), True, list(engine.links))  # the points, rates and links asked for
         self.nodes = None
         self.motion = None
-        # a model with higher pairs: its laws hold curves and radii the batch's laws cannot vary over the
-        # designs, so each design is solved by its own engine, made from its own table (`model_of`)
-        # (unless the geometry carries each design's higher pairs: made designs, `mbplanar.accuracy`)
+        # a model with higher pairs: its laws hold curves and radii numpy's batched laws cannot vary over
+        # the designs, so numpy solves each design by its own engine, made from its own table (`model_of`),
+        # and the compiled kernel takes each design's pairs from that table (`_higher_reals`) (unless the
+        # geometry carries each design's higher pairs: made designs, `mbplanar.accuracy`)
         self.own = bool(mech.higher) and geometry.higher is None
         self.model_of = None
-        if self.own:
-            for d in np.flatnonzero(geometry.ok):
-                self.reasons[d] = "a model with higher pairs (each design solved by its own engine)"
-            if template is not None:
-                self.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
+        if self.own and template is not None:
+            self.model_of = lambda d: parse_model(template.bind(variants.row(d)), source=template.source)
 
     # -- engines over batches of designs --------------------------------------------------------------
     def bound(self, index: np.ndarray, tol=None) -> BlockSolver:
@@ -367,6 +370,9 @@ class DesignBatch:
         self._want = (list(self.points) if names is None else list(names), accelerations,
                       list(self.engine.links) if links is None else list(links))
         D = self.count
+        if self.own:
+            for d in np.flatnonzero(self.geometry.ok):
+                self.reasons[d] = self.reasons[d] or OWN
         designs = np.flatnonzero(self.geometry.ok & ~self.own)
         limits, nodes = [], _Nodes(len(self.engine.blocks))
         if len(designs):
@@ -400,23 +406,55 @@ class DesignBatch:
 
     def _design_request(self, phi, names: list, accelerations: bool, links: list) -> DesignJob | str:
         """The compiled design job's request: the designs that can be analysed, their tables and input
-        values (or why no kernel can take them)."""
+        values (or why no kernel can take them). A model with higher pairs gets each design's pairs
+        (`_higher_reals`); a design whose table does not give them gets its reason here, and one whose
+        curve is not the engine's spline is left to numpy (`_from_compiled`)."""
         g, eng = self.geometry, self.engine
-        why = kernels_decline(eng.mech, "design")  # (`own`: each design solved by its own engine)
+        why = kernels_decline(eng.mech, "design")
         if why:
             return why
         designs = np.flatnonzero(g.ok)
+        higher = None
+        if eng.mech.higher and len(designs):
+            higher, kept = self._higher_reals(designs)
+            designs = designs[kept]
         if not len(designs):
             return "no design can be assembled"
         point_link = [self.point_link[self.points.index(p)] for p in names]
         tables = design_tables(eng, self.local, g.guide, g.phi0, g.reference, names, point_link, designs,
-                               [eng.link_index[n] for n in links])
+                               [eng.link_index[n] for n in links], higher)
         x = np.ascontiguousarray(phi if len(designs) == self.count else phi[designs], float)
         uniform = np.array([bool(np.all(bp.row_scale == bp.row_scale[:1]) and np.all(bp.var_scale == bp.var_scale[:1]))
                             for bp in eng.blocks], np.bool_)
         return DesignJob(tables, x, float(self.scale), bool(accelerations), eng.threads, float(eng.inputs[0].sense),
                          eng.link_index[eng.mech.ground], eng.tol.kernel(), uniform,
                          eng.prepare("design kernel store", dict), designs)
+
+    def _higher_reals(self, designs) -> tuple[tuple, np.ndarray]:
+        """The higher pairs of designs `designs` (B,) for the design kernel, each in its design's frame
+        (`centre`): (`HigherTables`, `CurveTables`, the pairs' reals (B', H, H_REALS), the curves' (B', K,
+        C_REALS), the unknowns' drawn values (B', M)) of the designs kept (B,) bool. Made designs' from
+        the geometry (`DesignGeometry.higher`); else each design's from its own table, as its own engine
+        has them (`higher_laws`): a design whose table gives no such pair (gears that cannot mesh, ...)
+        gets the reason numpy's engine would give, one whose curve is another spline than the engine's
+        is not kept (numpy's batch takes it)."""
+        eng, g = self.engine, self.geometry
+        if g.higher is not None:
+            laws = {name: g.higher.law(eng.laws[name], designs, -self.centre[:, designs]) for name in eng.mech.higher}
+            return (*higher_tables(eng, laws), *design_reals(eng, laws, len(designs))), np.ones(len(designs), bool)
+        kept, rows = np.zeros(len(designs), bool), []
+        for k, d in enumerate(designs):
+            try:
+                laws = higher_laws(assemble(self.model_of(d)), self.centre[:, d])
+            except MbplanarError as exc:
+                self.reasons[d] = str(exc)
+                continue
+            kept[k] = all(shared_curves(eng.laws[name].path, law.path) for name, law in laws.items()
+                          if law.parameters)
+            if kept[k]:
+                rows.append(design_reals(eng, laws, 1))
+        hr, cr, q0 = (np.concatenate(parts) for parts in zip(*rows)) if rows else (None, None, None)
+        return (*higher_tables(eng), hr, cr, q0), kept
 
     def _from_compiled(self, job, got, phi, exact_limits: bool, fallback: bool, names: list,
                        accelerations: bool, links: list) -> DesignMotion:
@@ -457,6 +495,8 @@ class DesignBatch:
                            limits=self._limits(found, exact_limits))
         self._past_limits(out)
         handed = designs[(got.status == DESIGN_STATUS["crossing"]) | (got.status == DESIGN_STATUS["numpy"])]
+        left = np.setdiff1d(np.flatnonzero(self.geometry.ok), designs)  # (not in the request: see `_higher_reals`)
+        handed = np.union1d(handed, left[[self.reasons[d] is None for d in left]]).astype(np.int64)
         if len(handed):
             out = self._by_numpy(out, phi, handed, exact_limits, fallback, names, accelerations, links)
         return self._finished(out, D)
@@ -465,6 +505,8 @@ class DesignBatch:
                   links) -> DesignMotion:
         """`out` with the designs `handed` solved by numpy's batch (a batch of their own)."""
         sub = DesignBatch(self.engine, _take_geometry(self.geometry, handed))
+        if self.model_of is not None:
+            sub.model_of = lambda k: self.model_of(int(handed[k]))
         got = sub._solve_numpy(phi[handed], exact_limits, fallback, names, accelerations, links)
         out.valid[handed] = got.valid
         for name in ("angle", "wq", "eq", "xy", "vq", "aq"):
@@ -630,8 +672,13 @@ class DesignBatch:
             reason = self.reasons[d]
             if reason is None or not reason.endswith("own engine)") or not self.geometry.ok[d]:
                 continue
-            eng = self.engine_of(d)
-            m = analyse(eng, phi[d])
+            try:
+                eng = self.engine_of(d)
+                m = analyse(eng, phi[d])
+            except MbplanarError as exc:   # (a design's own table that gives no mechanism: its reason)
+                self.reasons[d] = str(exc)
+                motion.valid[d] = False
+                continue
             hit = np.isin(phi[d], m.phi[:, 0])
             idx = np.flatnonzero(hit)
             motion.valid[d] = hit
@@ -654,16 +701,17 @@ class DesignBatch:
 def _step_joints(engine) -> tuple[list, list]:
     """The joint of every tree step and of every cut, in the kernel tables' order."""
     steps = [st.law.name for bp in engine.blocks for st in bp.steps]
-    cuts = [law.name for bp in engine.blocks for law in bp.cuts]
+    cuts = [law.name for bp in engine.blocks for law in bp.cuts if law.kind in ("R", "P")]
     return steps, cuts
 
 
 def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, point_link,
-                  designs, link_out=None) -> DesignTables:
+                  designs, link_out=None, higher=None) -> DesignTables:
     """`DesignTables` of designs `designs` (B,) from the batch's drawn geometry: at {joint or point: (2, D)},
     guide {prismatic joint: (2, D)}, phi0 (D,), reference {link: (D,)}; `points` the chosen points' names,
     `point_link` their links' indices; `link_out` the indices of the links whose angle and rates are
-    wanted (default all)."""
+    wanted (default all); `higher` the designs' higher pairs (`DesignBatch._higher_reals`; default: the
+    engine's, the same for every design)."""
     base = sweep_tables(engine)
     steps, cuts, blocks = base.steps, base.cuts, base.blocks
     step_names, cut_names = _step_joints(engine)
@@ -676,6 +724,13 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
                 out[:, k] = table[n][:, designs].T
         return out
 
+    if higher is None:
+        count = len(designs)
+        q0 = np.concatenate([bp.q0 for bp in engine.blocks] + [np.zeros(0)])
+        higher = (base.higher, base.curves, np.ascontiguousarray(np.broadcast_to(base.higher.reals, (count,) + base.higher.reals.shape)),
+                  np.ascontiguousarray(np.broadcast_to(base.curves.reals, (count,) + base.curves.reals.shape)),
+                  np.ascontiguousarray(np.broadcast_to(q0, (count, len(q0)))))
+    hp, cv, hr, cr, q0 = higher
     u0 = stacked(step_names, guide)
     n = stacked(cut_names, guide)
     cut_n0 = np.stack([-n[..., 1], n[..., 0]], axis=-1)  # perp(u0)
@@ -685,7 +740,9 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
                         np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
                                              .reshape(len(designs), len(points), 2)),
                         np.asarray(point_link, np.int64),
-                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64))
+                        np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64),
+                        hp, cv, np.ascontiguousarray(hr, float), np.ascontiguousarray(cr, float),
+                        np.ascontiguousarray(q0, float))
 
 
 def _one_step(tol):

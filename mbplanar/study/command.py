@@ -56,7 +56,7 @@ def cmd_study(args) -> int:
     bar = _ProgressOnce(args.progress, args.yes, args.variants)
     try:
         study = run_study(args.model, args.variants, points=points, samples=args.samples, client=client,
-                          chunk=args.chunk or CHUNK, progress=bar)
+                          chunk=args.chunk or CHUNK, progress=bar, backend=args.backend)
     except Interrupted as exc:
         if exc.partial is not None and args.output:
             _write_table(args.output, exc.partial, args.units)

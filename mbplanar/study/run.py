@@ -67,23 +67,24 @@ def load_template(model) -> Template:
         raise ModelError(f"{path}: TOML syntax error: {exc}") from None
 
 
-def _base_engine(template: Template):
+def _base_engine(template: Template, backend: str = "numpy"):
     from ..engine import Engine
 
-    return Engine(parse_model(template.bind(), source=template.source))
+    return Engine(parse_model(template.bind(), source=template.source), backend=backend)
 
 
 def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: int = SAMPLES,
-              forces=None, method: str = "batch") -> list[DesignSummary]:
+              forces=None, method: str = "batch", backend: str = "numpy") -> list[DesignSummary]:
     """Summaries of a chunk of designs (one Dask task).
 
     method "serial": the reference engine is re-dimensioned for each design, which then walks its own
     branch (`summarise_design`). "batch": a `DesignBatch` marches every design's branch at once, over a
     whole turn either way from the drawn pose, and locates their limits; each design's summary then reads
-    the atlas its march built (`DesignBatch.seeded_engine`), so it walks no further itself.
+    the atlas its march built (`DesignBatch.seeded_engine`), so it walks no further itself. `backend`:
+    the reference engine's (numba: the design batch in the compiled design kernel).
     """
     template = Template(data, source)
-    base = _base_engine(template)
+    base = _base_engine(template, backend)
     values = [{**template.defaults(), **variants.row(k)} for k in range(len(variants))]
     if method == "serial" or base.mech.joints[base.inputs[0].joint].kind != "R":
         return [summarise_design(base, template, variants.names[k], values[k], points, samples, forces)
@@ -91,7 +92,7 @@ def run_chunk(data: dict, source: str, variants: Variants, points=(), samples: i
     from .batch import DesignBatch
     from .geometry import design_geometry
 
-    batch = DesignBatch(base, design_geometry(template, variants, base.mech))
+    batch = DesignBatch(base, design_geometry(template, variants, base.mech), template, variants)
     phi0 = batch.geometry.phi0
     with np.errstate(invalid="ignore"):
         batch.solve(np.stack([phi0 - FULL_TURN, phi0 + FULL_TURN], axis=1))
@@ -148,7 +149,7 @@ def _chunks(count: int, size: int) -> list[slice]:
 
 
 def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None, client=None,
-              chunk: int = CHUNK, progress=None, method: str = "batch") -> Study:
+              chunk: int = CHUNK, progress=None, method: str = "batch", backend: str = "numpy") -> Study:
     """Summarise every design of a variant table.
 
     Parameters
@@ -172,6 +173,8 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
     method : {"batch", "serial"}
         "batch" marches the designs of a chunk together (`run_chunk`); "serial" is the reference, one
         engine per design through the public API.
+    backend : {"numpy", "numba"}
+        The engines' backend (numba: the design batch in compiled loops, extra `fast`).
 
     Returns
     -------
@@ -192,7 +195,7 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
             raise ModelError(f"{template.source}: point '{p}' is neither a joint nor a point of the model; "
                              f"{did_you_mean(p, [*base.mech.joints, *base.mech.points], 'joints and points')}")
     parts = [variants.take(s) for s in _chunks(len(variants), chunk)]
-    args = (tuple(points), samples, forces, method)
+    args = (tuple(points), samples, forces, method, backend)
     inp = base.inputs[0]
     if client is None:
         results, done = [], 0
