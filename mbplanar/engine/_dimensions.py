@@ -19,12 +19,13 @@ __all__ = ["with_dimensions", "same_structure"]
 
 
 def same_structure(a: Mechanism, b: Mechanism) -> bool:
-    """Whether two mechanisms have the same links, joints (names, kinds, links) and inputs."""
+    """Whether two mechanisms have the same links, joints (names, kinds, links), inputs and points (in any
+    order: assembling a sketch places its points in the order it can)."""
     return (a.ground == b.ground and list(a.links) == list(b.links)
             and [(n, j.kind, j.links, j.guide_points) for n, j in a.joints.items()]
             == [(n, j.kind, j.links, j.guide_points) for n, j in b.joints.items()]
             and [(i.joint, i.unit, i.sense) for i in a.inputs] == [(i.joint, i.unit, i.sense) for i in b.inputs]
-            and [(n, p.link) for n, p in a.points.items()] == [(n, p.link) for n, p in b.points.items()]
+            and {n: p.link for n, p in a.points.items()} == {n: p.link for n, p in b.points.items()}
             and [(n, h.kind, h.links, h.follower) for n, h in a.higher.items()]
             == [(n, h.kind, h.links, h.follower) for n, h in b.higher.items()])
 
