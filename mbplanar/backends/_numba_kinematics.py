@@ -150,6 +150,39 @@ def _sweep(tables, atlas, tol, inp, out, work):
             k0, k1, c0, c1 = blocks.step0[bk], blocks.step1[bk], blocks.cut0[bk], blocks.cut1[bk]
             var0, m = blocks.var0[bk], blocks.m[bk]
             h0, h1 = hp.first[bk], hp.first[bk + 1]  # (the block's higher pairs: their rows follow the cuts')
+            lin = blocks.linear[bk]
+            if lin != 0.0:
+                # one revolute unknown closed by one gear pair (`engine._tables.linear_block`): linear in it,
+                # its Jacobian the constant lin, so a Newton step from the prediction is exact and the
+                # rates need no sensitivities (the unknown's rate solves the gear row's rate directly)
+                var = var0
+                err = 0.0
+                for it in range(max_newton + 1):
+                    _place(k0, steps, q, q_in, ps, sc)
+                    _gear_closure(h0, hp, ps, res)
+                    err = abs(res[0]) * row_scale[var]
+                    if not err >= closure:  # (converged, or not finite: checked below)
+                        break
+                    q[var] -= res[0] / lin
+                if not (err < closure and (lin > 0) == (signs[near, bk] > 0)
+                        and abs(q[var] - guess[var]) * var_scale[var] <= max_correction):
+                    return 1
+                if rates:
+                    parent, child, relative = steps.parent[k0], steps.child[k0], steps.relative[k0]
+                    rpx, rpy, rcx, rcy = sc[k0, 0], sc[k0, 1], sc[k0, 2], sc[k0, 3]
+                    for slot in range(vel, acc + 1):  # the velocities, then the accelerations
+                        wp, vpx, vpy = rt[slot, 0, parent], rt[slot, 1, parent], rt[slot, 2, parent]
+                        rt[slot, 0, child] = wp if relative else 0.0  # (the unknown's rate 0: the row's rate)
+                        qd = -_gear_rates(h0, hp, rt, slot) / lin
+                        wc = qd + wp if relative else qd
+                        cx = vpx + wp * -rpy - wc * -rcy
+                        cy = vpy + wp * rpx - wc * rcx
+                        if slot == acc:
+                            wvp, wvc = rt[vel, 0, parent], rt[vel, 0, child]
+                            cx = cx - (wvp * wvp) * rpx + (wvc * wvc) * rcx
+                            cy = cy - (wvp * wvp) * rpy + (wvc * wvc) * rcy
+                        rt[slot, 0, child], rt[slot, 1, child], rt[slot, 2, child] = wc, cx, cy
+                continue
             # phase 0: Newton (BlockSolver.newton); 1: velocity analogues (input rate sense·1);
             # 2: acceleration analogues (input acceleration 0) (BlockSolver._block_rates)
             phase, it, polished, err, finite = 0, 0, False, 0.0, True

@@ -77,6 +77,7 @@ class BlockTables(NamedTuple):
     #                         sensitivities an earlier block's Jacobian wrote (the rest are still at rest)
     row_scale: np.ndarray   # (M,) float: every block's residual row scales, concatenated
     var_scale: np.ndarray   # (M,) float: every block's unknown scales, concatenated
+    linear: np.ndarray      # (K,) float: a block linear in its unknown (`linear_block`): its Jacobian, else 0
 
 
 class JointTables(NamedTuple):
@@ -291,9 +292,23 @@ def sweep_tables(engine) -> SweepTables:
     sense = float(engine.inputs[0].sense) if len(engine.inputs) == 1 else 1.0
     return SweepTables(_columns(StepTables, steps), _columns(CutTables, cuts),
                        BlockTables(*block_cols, np.array(anchors, np.int64), np.array(rows, float),
-                                   np.array(vars_, float)),
+                                   np.array(vars_, float), np.array([linear_block(bp) for bp in engine.blocks], float)),
                        _columns(JointTables, joints), alpha, sense, float(engine.phi_drawn[0]),
                        int(idx[engine.mech.ground]), np.array([cx, cy], float), *higher_tables(engine))
+
+
+def linear_block(bp) -> float:
+    """The Jacobian (unscaled, constant) of a block that is linear in its one unknown, else 0: one tree
+    step, a revolute pair's angle, closed by one gear pair (r_a θ_a ± r_b θ_b − (r_a ± r_b) θ_c = 0,
+    linear in the angles): the sum of the gear's coefficients of the links that turn with the unknown
+    (the step's child). The kinematics kernel solves such a block in one step and its rates without
+    sensitivities (`backends._numba_kinematics`)."""
+    if bp.m != 1 or len(bp.steps) != 1 or len(bp.cuts) != 1 or bp.cuts[0].kind != "gear":
+        return 0.0
+    step = bp.steps[0]
+    if step.var is None or step.law.kind != REVOLUTE:
+        return 0.0
+    return float(sum(c for link, c in bp.cuts[0].coef if link == step.child))
 
 
 def atlas_tables(arrays, limits: tuple, crossings: list) -> AtlasTables:
