@@ -23,8 +23,9 @@ the Monte Carlo through the compiled design batch, and both on Dask workers.
 4. Models with higher pairs: the Monte Carlo of the geared five-bar (its gears' pitch radii, a crank's
    length, a frame pivot: 4 dimensions, the coupler point P) and of the eccentric cam with its roller
    (the roller's and the disc's radius, the eccentricity, the arm's pivot: 4 dimensions, the arm's angle),
-   N/10 samples × 360 positions each, numpy (the compiled kernel holds no higher pair yet): CPU µs per
-   design-position, and its ratio to the four-bar's on numpy in the same run (case 2).
+   N/10 samples × 360 positions each, through the compiled design batch and on numpy: CPU µs per
+   design-position, numpy's ratio to the compiled one's, and numpy's to the four-bar's on numpy in the
+   same run (case 2).
 
 The load average is recorded beside each figure (the development machine is shared).
 """
@@ -130,26 +131,31 @@ HIGHER = {"geared_five_bar": (("links.1.length", 2e-5), ("joints.E.x", 2e-5), ("
 
 
 def higher_cases(samples: int, baseline: float) -> list:
-    """The Monte Carlo of the higher-pair models of `HIGHER` (numpy), against the four-bar's µs per
-    design-position `baseline` of the same run."""
+    """The Monte Carlo of the higher-pair models of `HIGHER` through the compiled design batch and on
+    numpy, against the four-bar's µs per design-position `baseline` on numpy of the same run."""
     from mbplanar.accuracy import Tolerance
     out = []
     for name, rows in HIGHER.items():
-        template, raw, engine = load(ROOT / "models" / f"{name}.toml")
-        bands = [Tolerance(n, -b, b) for n, b in rows[:-1]]
-        space = DesignSpace(engine, raw, template, [t.name for t in bands])
-        phi, _ = cycle(engine, 360)
-        outputs = resolve_outputs(engine.mech, list(rows[-1]))
-        monte_carlo(space, bands, phi, outputs, samples=50, seed=1)
-        load_avg = os.getloadavg()[0]
-        c, t = time.process_time(), time.perf_counter()
-        mc = monte_carlo(space, bands, phi, outputs, samples=samples, seed=1)
-        wall, cpu = time.perf_counter() - t, time.process_time() - c
-        assert mc.count == samples
-        us = 1e6 * cpu / (samples * len(phi))
-        out.append({"case": f"{name} Monte Carlo, numpy", "samples": samples, "positions": len(phi),
-                    "seconds": wall, "cpu_seconds": cpu, "us_per_design_position_cpu": us,
-                    "over_fourbar_numpy": us / baseline, "load": load_avg})
+        got = {}
+        for backend in ("numba", "numpy"):
+            template, raw, engine = load(ROOT / "models" / f"{name}.toml", backend)
+            bands = [Tolerance(n, -b, b) for n, b in rows[:-1]]
+            space = DesignSpace(engine, raw, template, [t.name for t in bands])
+            phi, _ = cycle(engine, 360)
+            outputs = resolve_outputs(engine.mech, list(rows[-1]))
+            monte_carlo(space, bands, phi, outputs, samples=50, seed=1)      # (the kernels loaded)
+            load_avg = os.getloadavg()[0]
+            c, t = time.process_time(), time.perf_counter()
+            mc = monte_carlo(space, bands, phi, outputs, samples=samples, seed=1)
+            wall, cpu = time.perf_counter() - t, time.process_time() - c
+            assert mc.count == samples
+            got[backend] = mc
+            us = 1e6 * cpu / (samples * len(phi))
+            out.append({"case": f"{name} Monte Carlo, {backend}", "samples": samples, "positions": len(phi),
+                        "seconds": wall, "cpu_seconds": cpu, "us_per_design_position_cpu": us,
+                        "over_fourbar_numpy": us / baseline, "load": load_avg})
+        out[-1]["numpy_over_numba"] = out[-1]["cpu_seconds"] / out[-2]["cpu_seconds"]
+        assert np.allclose(got["numba"].std, got["numpy"].std, rtol=0, atol=1e-12 * np.abs(got["numpy"].mean).max())
     return out
 
 
@@ -219,7 +225,8 @@ def main(argv=None) -> dict:
     for c in doc["higher"]:
         print(f"{c['case']}: {c['samples']} samples × {c['positions']} positions: {c['seconds']:.2f} s wall, "
               f"{c['cpu_seconds']:.2f} s CPU ({c['us_per_design_position_cpu']:.3f} µs CPU per design-position, "
-              f"{c['over_fourbar_numpy']:.2f} × the four-bar's), load {c['load']:.1f}")
+              f"{c['over_fourbar_numpy']:.2f} × the four-bar's on numpy), load {c['load']:.1f}"
+              + (f"; numpy / numba {c['numpy_over_numba']:.1f}" if "numpy_over_numba" in c else ""))
     if not args.no_dask:
         doc["dask"] = dask_cases(args.rounds or 2, 4000 if args.quick else 20_000, 100_000 if args.quick else 400_000)
         d = doc["dask"]

@@ -1,6 +1,6 @@
 """Higher-pair sweeps on the compiled backend against numpy, in the same run and on equal work.
 
-    python benchmarks/higher.py [--positions N] [--rounds R] [--json FILE]
+    python benchmarks/higher.py [--positions N] [--rounds R] [--designs D] [--json FILE]
 
 Cases (N positions over a turn of the input, one core: `Engine(threads=1)`, numpy's own threads held to
 one):
@@ -10,6 +10,14 @@ one):
   reactions and contact forces (`kinetostatics`);
 - `cam_follower` (a roller on a spline cam profile read from `mbplanar cam`'s CSV, a translating
   follower), positions + velocities + accelerations of every point.
+
+and a design batch (`design_batch(...).solve`): D geared five-bars (default 1000; `[parameters]` the
+gears' module m and the crank EB's pivot at the centre distance 24·m, random within ±5 %) × 360 input
+values over a turn, the coupler point P's position and velocity analogue asked for and read
+(`points=["P"], links=[], accelerations=False`), on numpy (each design by its own engine, built from its
+own table) and on numba (the compiled design kernel, each design's gears from its own table): CPU time
+of one batch each (after a warm batch of 20 designs), their ratio, and the answers checked equal (1e-12
+of the size).
 
 Equal work: each timed call solves the sweep and reads every point's position, velocity and
 acceleration and every link's angle (and every reaction and balancing load), as `run.py` reads them
@@ -61,6 +69,42 @@ def _check(engines, phi):
     assert np.max(np.abs(fast.xy - ref.xy)) <= 1e-12 * engines[0].size
 
 
+def geared_designs(count: int, seed: int = 2) -> tuple[dict, dict]:
+    """The geared five-bar with `[parameters]` m (the gears' module) and e (the crank EB's pivot, at the
+    centre distance 24·m: the gears mesh), and `count` designs with m within ±5 % of 5 mm."""
+    import tomllib
+    text = (ROOT / "models" / "geared_five_bar.toml").read_text(encoding="utf-8")
+    text = (text.replace("module = 0.005", 'module = "m"').replace("at = [0.12, 0.0]", 'at = ["e", 0.0]')
+            .replace("at = [0.12, 0.05]", 'at = ["e", 0.05]'))
+    data = dict(tomllib.loads(text), parameters={"m": 0.005, "e": 0.12})
+    m = 0.005 * np.random.default_rng(seed).uniform(0.95, 1.05, count)
+    return data, {"m": m, "e": 24 * m}
+
+
+def design_case(designs: int, positions: int = 360) -> dict:
+    """A design batch of `designs` geared five-bars × `positions` on numpy and on numba (CPU s each)."""
+    import time
+    from mbplanar.study import design_batch
+    data, values = geared_designs(designs)
+    few = {k: v[:20] for k, v in values.items()}
+    got, cpu = {}, {}
+    for backend in ("numba", "numpy"):
+        design_batch(data, few, backend=backend).solve(np.linspace(0.0, 2 * np.pi, positions), points=["P"],
+                                                        links=[], accelerations=False)     # (warm)
+        t = time.process_time()
+        batch = design_batch(data, values, backend=backend)
+        phi = batch.geometry.phi0[:, None] + np.linspace(0.0, 2 * np.pi, positions, endpoint=False)
+        motion = batch.solve(phi, points=["P"], links=[], accelerations=False)
+        float(motion.xy.sum() + motion.vq.sum())
+        cpu[backend] = time.process_time() - t
+        got[backend] = motion
+    a, b = got["numpy"], got["numba"]
+    assert a.ok.all() and b.ok.all() and np.array_equal(a.valid, b.valid)
+    assert np.nanmax(np.abs(a.xy - b.xy)) <= 1e-12 * 0.3
+    return dict(designs=designs, positions=positions, numpy_s=cpu["numpy"], numba_s=cpu["numba"],
+                numpy_over_numba=cpu["numpy"] / cpu["numba"], load=os.getloadavg()[0])
+
+
 def run(n: int, rounds: int, burst: int = 3) -> dict:
     rows, calls = [], []
     for name, work in CASES:
@@ -89,13 +133,18 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--positions", type=int, default=3600)
     parser.add_argument("--rounds", type=int, default=7)
+    parser.add_argument("--designs", type=int, default=1000)
     parser.add_argument("--json", metavar="FILE")
     args = parser.parse_args(argv)
     doc = run(args.positions, args.rounds)
+    doc["design_batch"] = design_case(args.designs)
     print(f"{doc['date']}, load {doc['load']:.1f}, {args.positions} positions, {args.rounds} rounds, one core")
     for row in doc["cases"]:
         print(f"{row['name']:15s} {row['work']:11s} numpy {row['numpy_us']:8.2f} µs/position   "
               f"numba {row['numba_us']:6.2f} µs/position   numpy / numba {row['numpy_over_numba']:6.1f}")
+    d = doc["design_batch"]
+    print(f"design batch: {d['designs']} geared five-bars × {d['positions']} positions: numpy {d['numpy_s']:.2f} s CPU, "
+          f"numba {d['numba_s']:.2f} s CPU, numpy / numba {d['numpy_over_numba']:.1f} (load {d['load']:.1f})")
     if args.json:
         Path(args.json).write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
     return 0
