@@ -187,8 +187,8 @@ class DesignBatch:
     def engine_of(self, design: int):
         """Design `design`'s own engine (the reference re-dimensioned, `with_dimensions`)."""
         if design not in self._engines:
-            if self.model_of is not None:
-                mech = self.model_of(design)
+            if self.own:
+                mech = self._mechanism(design)
             else:
                 mech = mechanism_of(self.engine.mech, self.geometry, design)
             made = None
@@ -198,6 +198,16 @@ class DesignBatch:
                     self.engine.laws[name], index, -np.asarray(centre, float)[:, None]) for name in mech.higher}
             self._engines[design] = with_dimensions(self.engine, mech, made)
         return self._engines[design]
+
+    def _mechanism(self, design: int):
+        """Design `design` of a model with higher pairs as its own table gives it: assembled one by one
+        already (a sketch: `DesignGeometry.mechanisms`), else made from its table (`model_of`), or, without
+        one, the reference with the design's coordinates."""
+        if self.geometry.mechanisms is not None and self.geometry.mechanisms[design] is not None:
+            return self.geometry.mechanisms[design]
+        if self.model_of is not None:
+            return self.model_of(design)
+        return mechanism_of(self.engine.mech, self.geometry, design)
 
     def seeded_engine(self, design: int):
         """Design `design`'s own engine with the branch atlas its march built (the nodes, densified as
@@ -445,7 +455,7 @@ class DesignBatch:
         kept, rows = np.zeros(len(designs), bool), []
         for k, d in enumerate(designs):
             try:
-                laws = higher_laws(assemble(self.model_of(d)), self.centre[:, d])
+                laws = higher_laws(assemble(self._mechanism(d)), self.centre[:, d])
             except MbplanarError as exc:
                 self.reasons[d] = str(exc)
                 continue
@@ -757,7 +767,8 @@ def _take_geometry(g: DesignGeometry, index) -> DesignGeometry:
     return DesignGeometry(len(index), {n: a[:, index] for n, a in g.at.items()},
                           {n: a[:, index] for n, a in g.guide.items()}, g.zero[:, index],
                           {n: a[index] for n, a in g.reference.items()}, g.phi0[index],
-                          [g.reasons[k] for k in index], g.higher and g.higher.take(index))
+                          [g.reasons[k] for k in index], g.higher and g.higher.take(index),
+                          None if g.mechanisms is None else [g.mechanisms[k] for k in index])
 
 
 def _take_solution(sol, mask):

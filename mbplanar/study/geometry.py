@@ -36,6 +36,8 @@ class DesignGeometry:
     higher : the higher pairs' laws per design, or None (each design then solved by its own engine):
         an object whose `law(base, index, shift)` is pair `base.name`'s law for designs `index` (B,) in
         frames moved by `shift` (2, B) (`mbplanar.accuracy.higher.MadePairs`).
+    mechanisms : each design's assembled `Mechanism` where the designs were assembled one by one (a
+        sketch: their own engines and pairs are made from these), else None.
     """
 
     count: int
@@ -46,6 +48,7 @@ class DesignGeometry:
     phi0: np.ndarray
     reasons: list
     higher: object = None
+    mechanisms: list | None = None
 
     @property
     def ok(self) -> np.ndarray:
@@ -106,7 +109,8 @@ def _exact(template: Template, mech, values: dict, count: int):
 
 
 def _one_by_one(template: Template, variants: Variants):
-    """Coordinates, guides and zeros of sketched designs, each assembled on its own."""
+    """Coordinates, guides and zeros of sketched designs, each assembled on its own, and the assembled
+    mechanisms (None where one cannot be)."""
     mechs, reasons = [], []
     for k in range(len(variants)):
         try:
@@ -118,7 +122,8 @@ def _one_by_one(template: Template, variants: Variants):
             reasons.append(str(exc))
     ref = next((m for m in mechs if m is not None), None)
     if ref is None:
-        return {}, {}, np.zeros((0, len(variants))), reasons
+        return {}, {}, np.zeros((0, len(variants))), reasons, mechs
+    assembled = mechs
     mechs = [m if m is not None else ref for m in mechs]
     names = list(ref.joints) + list(ref.points)
     at = {n: np.array([(m.joints[n].at if n in m.joints else m.points[n].at) for m in mechs], float).T
@@ -129,7 +134,7 @@ def _one_by_one(template: Template, variants: Variants):
             g = np.radians([m.joints[n].guide_deg for m in mechs])
             guide[n] = np.stack([np.cos(g), np.sin(g)])
     zero = np.array([[inp.zero for inp in m.inputs] for m in mechs], float).T
-    return at, guide, zero, reasons
+    return at, guide, zero, reasons, assembled
 
 
 def _reference_angles(mech, at: dict, guide: dict, count: int) -> dict:
@@ -163,8 +168,9 @@ def _drawn_input(mech, reference: dict, zero: np.ndarray) -> np.ndarray:
 def design_geometry(template: Template, variants: Variants, mech) -> DesignGeometry:
     """The per-design constants of `variants` of `template` (`mech`: its reference design, assembled)."""
     count = len(variants)
+    mechanisms = None
     if template.needs_assembly:
-        at, guide, zero, reasons = _one_by_one(template, variants)
+        at, guide, zero, reasons, mechanisms = _one_by_one(template, variants)
         if not at:
             return DesignGeometry(count, {}, {}, zero, {}, np.zeros(count), reasons)
     else:
@@ -178,7 +184,7 @@ def design_geometry(template: Template, variants: Variants, mech) -> DesignGeome
         finite &= np.all(np.isfinite(arr), axis=0)
     for k in np.flatnonzero(~finite):
         reasons[k] = reasons[k] or "the parameters give a drawn pose with undefined coordinates"
-    return DesignGeometry(count, at, guide, zero, reference, phi0, reasons)
+    return DesignGeometry(count, at, guide, zero, reference, phi0, reasons, None, mechanisms)
 
 
 def mechanism_of(mech, geometry: DesignGeometry, k: int):
