@@ -16,7 +16,27 @@ from conftest import MODELS
 
 ROOT = MODELS.parent
 SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends", "analysis", "io", "viz", "cam",
-               "study", "accuracy", "synthesis")
+               "study", "accuracy", "synthesis", "gears", "formats", "web")
+#: subpackages whose public names do not all have their numpydoc docstring yet; one per line, removed as each
+#: is completed (issue 29, item 7)
+DOCS_YET = {
+    "accuracy",
+    "analysis",
+    "backends",
+    "cam",
+    "engine",
+    "forces",
+    "formats",
+    "gears",
+    "io",
+    "kinematics",
+    "model",
+    "structure",
+    "study",
+    "synthesis",
+    "viz",
+    "web",
+}
 
 
 #: public modules outside the subpackages' `__all__`: the commands' work, which the command line calls
@@ -66,7 +86,21 @@ def _public_functions_of_command_modules() -> list[str]:
     return found + [f"mbplanar.io:{n}" for n in ("simulate_document", "simulate_table", "balance_document")]
 
 
-@pytest.mark.parametrize("name", mbplanar.__all__ + _public_functions_of_command_modules())
+def _public_names_of_subpackages() -> list:
+    """"mbplanar.sub:name" of every class and function a subpackage exports, as pytest params (those of the
+    subpackages in `DOCS_YET` expected to fail)."""
+    found = []
+    for sub in SUBPACKAGES:
+        package = importlib.import_module(f"mbplanar.{sub}")
+        for name in package.__all__:
+            if inspect.isclass(getattr(package, name)) or inspect.isfunction(getattr(package, name)):
+                marks = [pytest.mark.xfail(reason="not yet documented")] if sub in DOCS_YET else []
+                found.append(pytest.param(f"mbplanar.{sub}:{name}", marks=marks))
+    return found
+
+
+@pytest.mark.parametrize("name", mbplanar.__all__ + _public_functions_of_command_modules()
+                         + _public_names_of_subpackages())
 def test_public_names_have_numpydoc_docstrings_with_examples(name):
     """A function: Parameters, Returns, Raises and Examples; a class: Examples (its fields described in
     its docstring); every example with ``>>>`` (run by the test above)."""

@@ -77,7 +77,7 @@ def list_examples() -> tuple[Example, ...]:
     --------
     >>> from mbplanar.formats import list_examples
     >>> [e.name for e in list_examples() if e.kind == "model"][:2]
-    ['class3_triad', 'class4_group']
+    ['cam_eccentric', 'cam_follower']
     """
     out = []
     for file, entry in _files(_root()):
