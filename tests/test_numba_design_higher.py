@@ -177,3 +177,16 @@ def test_the_monte_carlo_of_a_higher_pair_model_runs_on_numba_and_agrees(caplog)
     for field in ("mean", "std", "low", "high"):
         gap = np.abs(getattr(b, field) - getattr(a, field)) / size
         assert gap.max() <= 1e-12, (field, gap.max())
+
+
+def test_a_design_batch_asked_for_links_only_on_numba():
+    """No point asked for (a Monte Carlo of a link's angle): the kernel writes the links' angles and
+    rates alone, equal to numpy's."""
+    text, defaults, values, bad = _case("cam_eccentric")
+    data = dict(tomllib.loads(text), parameters=defaults)
+    got = [design_batch(data, values, backend=b).solve(np.radians(np.arange(0.0, 360.0, 10.0)), points=[],
+                                                        links=["arm"], accelerations=False)
+           for b in ("numpy", "numba")]
+    assert got[1].xy.shape == (4, 36, 0, 2) and got[1].ok.tolist() == got[0].ok.tolist() == [True] * 3 + [False]
+    np.testing.assert_allclose(got[1].angle, got[0].angle, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(got[1].wq, got[0].wq, rtol=0, atol=1e-12 * np.nanmax(np.abs(got[0].wq)))

@@ -748,7 +748,8 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
                         np.ascontiguousarray(phi0[designs], float),
                         np.ascontiguousarray(np.stack([reference[n][designs] for n in engine.links], axis=1)),
                         np.ascontiguousarray(np.stack([at[p][:, designs].T for p in points], axis=1)
-                                             .reshape(len(designs), len(points), 2)),
+                                             .reshape(len(designs), len(points), 2) if len(points)
+                                             else np.zeros((len(designs), 0, 2))),   # (links only asked for)
                         np.asarray(point_link, np.int64),
                         np.arange(len(engine.links)) if link_out is None else np.asarray(link_out, np.int64),
                         hp, cv, np.ascontiguousarray(hr, float), np.ascontiguousarray(cr, float),
