@@ -143,8 +143,9 @@ def main(argv=None) -> int:
         print(f"{row['name']:15s} {row['work']:11s} numpy {row['numpy_us']:8.2f} µs/position   "
               f"numba {row['numba_us']:6.2f} µs/position   numpy / numba {row['numpy_over_numba']:6.1f}")
     d = doc["design_batch"]
-    print(f"design batch: {d['designs']} geared five-bars × {d['positions']} positions: numpy {d['numpy_s']:.2f} s CPU, "
-          f"numba {d['numba_s']:.2f} s CPU, numpy / numba {d['numpy_over_numba']:.1f} (load {d['load']:.1f})")
+    print(f"design batch: {d['designs']} geared five-bars × {d['positions']} positions: "
+          f"numpy {d['numpy_s']:.2f} s CPU, numba {d['numba_s']:.2f} s CPU, "
+          f"numpy / numba {d['numpy_over_numba']:.1f} (load {d['load']:.1f})")
     if args.json:
         Path(args.json).write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
     return 0

@@ -79,7 +79,8 @@ def _case(name: str):
         return text, {"ay": 0.0}, {"ay": np.array([0.0, 0.01, -0.02, 0.1])}, 3
     if name == "shaper_geared":     # the last pair's module: the two shafts and the motor 90·m further
         text = (text.replace('module = 0.004', 'module = "m"').replace("at = [-0.36, 0.0]", 'at = ["x", 0.0]')
-                .replace("at = [-0.36, 0.135]", 'at = ["x", 0.135]').replace("at = [-0.274, 0.135]", 'at = ["xm", 0.135]'))
+                .replace("at = [-0.36, 0.135]", 'at = ["x", 0.135]')
+                .replace("at = [-0.274, 0.135]", 'at = ["xm", 0.135]'))
         m = np.array([0.004, 0.0041, 0.0039, 0.004])
         x = np.append(-90 * m[:3], -0.35)
         return text, {"m": 0.004, "x": -0.36, "xm": -0.274}, {"m": m, "x": x, "xm": x + 0.086}, 3

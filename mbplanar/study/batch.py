@@ -33,9 +33,9 @@ from ..engine._blocks import BlockSolver
 from ..engine._constraints import perp
 from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
                                     step_verdict)
+from ..engine._higher_tables import design_reals, higher_tables, shared_curves
 from ..engine._nodes import Node
 from ..engine._singular import limit_after
-from ..engine._higher_tables import design_reals, higher_tables, shared_curves
 from ..engine._solver import higher_laws
 from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, kernels_decline, sweep_tables
 from ..errors import MbplanarError
@@ -737,9 +737,8 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
     if higher is None:
         count = len(designs)
         q0 = np.concatenate([bp.q0 for bp in engine.blocks] + [np.zeros(0)])
-        higher = (base.higher, base.curves, np.ascontiguousarray(np.broadcast_to(base.higher.reals, (count,) + base.higher.reals.shape)),
-                  np.ascontiguousarray(np.broadcast_to(base.curves.reals, (count,) + base.curves.reals.shape)),
-                  np.ascontiguousarray(np.broadcast_to(q0, (count, len(q0)))))
+        every = lambda a: np.ascontiguousarray(np.broadcast_to(a, (count,) + a.shape))  # noqa: E731
+        higher = (base.higher, base.curves, every(base.higher.reals), every(base.curves.reals), every(q0))
     hp, cv, hr, cr, q0 = higher
     u0 = stacked(step_names, guide)
     n = stacked(cut_names, guide)
