@@ -191,3 +191,31 @@ def test_a_design_batch_asked_for_links_only_on_numba():
     assert got[1].xy.shape == (4, 36, 0, 2) and got[1].ok.tolist() == got[0].ok.tolist() == [True] * 3 + [False]
     np.testing.assert_allclose(got[1].angle, got[0].angle, rtol=0, atol=1e-12)
     np.testing.assert_allclose(got[1].wq, got[0].wq, rtol=0, atol=1e-12 * np.nanmax(np.abs(got[0].wq)))
+
+
+def test_the_design_kernel_takes_every_model_with_the_types_mbplanar_compile_builds():
+    """The request of a higher-pair model's design batch (a study's, a made design's) has the types of
+    `mbplanar compile`'s sample (a four-bar, `study.batch.compile_sample`): one compiled kernel serves
+    every model, none compiles in a process after the install step (a read-only array, say, would be
+    another type to numba)."""
+    from numba import typeof
+    from mbplanar.study.batch import _SAMPLE
+    from mbplanar.accuracy import DesignSpace
+    from mbplanar.accuracy.made import made_geometry
+    from mbplanar.accuracy.run import load
+    from mbplanar.study.batch import DesignBatch
+
+    def request_type(batch):
+        phi = batch.geometry.phi0[:, None] + np.linspace(0.0, 0.5, 3)
+        job = batch._design_request(phi, list(batch.points), True, list(batch.engine.links))
+        return typeof(job.tables), typeof(job.x)
+
+    sample = request_type(design_batch(tomllib.loads(_SAMPLE), {"a": np.linspace(0.09, 0.11, 4)}, backend="numba"))
+    text, defaults, values, bad = _case("cam_follower")
+    assert request_type(design_batch(dict(tomllib.loads(text), parameters=defaults), values)) == sample
+    one = {k: v[:1] for k, v in values.items()}
+    assert request_type(design_batch(dict(tomllib.loads(text), parameters=defaults), one)) == sample
+    template, raw, engine = load(MODELS / "cam_eccentric.toml")
+    space = DesignSpace(engine, raw, template, ["joints.K.radius", "joints.K.profile.x"])
+    made = made_geometry(engine, space.sided(np.zeros((3, 2))))
+    assert request_type(DesignBatch(engine, made)) == sample

@@ -25,9 +25,11 @@ The kernels take named bundles: the request's designs (`DesignIn`), the answer's
 the tolerances (`engine._tables.KernelTol`, every threshold named in it) and a thread's work arrays
 (`DesignWork`, whose unknowns come in `Unknowns` bundles). The per-design constants (every joint's point
 in the link frames, each guide's direction, the drawn input value, each link's drawn angle, the chosen
-points) have a design axis; before a design the kernel copies its row into its own copy of the engine's
-step and cut tables (`engine._tables.sweep_tables`, the sweep kernel's), so that the per-position
-arithmetic (placement, closure, Jacobian, LU, rates) runs on them unchanged.
+points, the higher pairs' and their curves' reals, the drawn contact parameters) have a design axis;
+before a design the kernel copies its row into its own copy of the engine's step, cut, higher-pair and
+curve tables (`engine._tables.sweep_tables`, the sweep kernel's), so that the per-position arithmetic
+(placement, closure, the higher pairs' laws of `_numba_higher`, Jacobian, LU, rates) runs on them
+unchanged.
 """
 
 from __future__ import annotations

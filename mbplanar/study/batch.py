@@ -737,7 +737,8 @@ def design_tables(engine, at: dict, guide: dict, phi0, reference: dict, points, 
     if higher is None:
         count = len(designs)
         q0 = np.concatenate([bp.q0 for bp in engine.blocks] + [np.zeros(0)])
-        every = lambda a: np.ascontiguousarray(np.broadcast_to(a, (count,) + a.shape))  # noqa: E731
+        every = lambda a: np.array(np.broadcast_to(a, (count,) + a.shape))  # noqa: E731  (a writable copy:
+        # a read-only array is another type to numba, another compiled kernel)
         higher = (base.higher, base.curves, every(base.higher.reals), every(base.curves.reals), every(q0))
     hp, cv, hr, cr, q0 = higher
     u0 = stacked(step_names, guide)
