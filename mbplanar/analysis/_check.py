@@ -20,12 +20,12 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..errors import ModelError
-from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_limit, positions_at_limits,
-                                  range_text)
+from ..kinematics import Motion, analyse, describe_crossing, describe_limit, positions_at_limits, range_text
 from ..engine import solve_positions
 from ..engine._atlas import met_along
 
-__all__ = ["Extreme", "AngleRange", "CheckReport", "Separation", "RegionReport", "check", "check_region", "format_region",
+__all__ = ["Extreme", "AngleRange", "CheckReport", "LimitReport", "Separation", "RegionReport", "check", "check_region",
+           "format_region", "transmission_triples",
            "grashof", "transmission_angles", "pressure_angles", "contact_angles", "separations", "format_report"]
 
 SAMPLES = 721          # sweep resolution of a full turn (0.5°)
@@ -385,12 +385,12 @@ def pressure_angles(engine, motion: Motion):
 
 
 def contact_angles(engine, motion: Motion):
-    """The pressure angle of every cam and slot contact (`mbplanar.kinematics._contacts`): the angle from
+    """The pressure angle of every cam and slot contact (`mbplanar.kinematics.contacts`): the angle from
     the driven point's direction of motion to the contact normal, signed (rad). Returns (names, (B, K))."""
     names = [n for n, h in engine.mech.higher.items() if h.kind in ("cam", "slot")]
     if not names or not len(motion.phi):
         return names, np.zeros((len(motion.phi), len(names)))
-    from ..kinematics._contacts import contacts
+    from ..kinematics import contacts
     found = contacts(engine, motion)
     return names, np.stack([found[n].pressure_angle for n in names], axis=1)
 
@@ -399,8 +399,7 @@ def separations(engine, motion: Motion) -> list[Separation]:
     """Where a cam's contact force would pull (the follower would leave the cam), with the model's loads
     at the motion's speed: a `Separation` per stretch of the input (model unit); nothing without cams or
     without loads and masses (every force is then zero)."""
-    from ..forces._kinetostatics import kinetostatics
-    from ..forces._loads import has_force_data
+    from ..forces import has_force_data, kinetostatics
     cams = [n for n, h in engine.mech.higher.items() if h.kind == "cam"]
     if not cams or not has_force_data(engine.mech) or len(motion.phi) < 2:
         return []

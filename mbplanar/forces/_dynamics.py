@@ -43,7 +43,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError, MotionError
-from ..kinematics._motion import analyse, material_points
+from ..kinematics import analyse, material_points
 from ._loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
 from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
 from ..model._table import crank_input

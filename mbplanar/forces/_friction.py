@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, did_you_mean
-from ..kinematics._contacts import contact_geometry
+from ..kinematics import contact_geometry
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
 from ..model._keys import Key, Section
@@ -50,7 +50,7 @@ from ..model._scale import drawing_size
 from ..model._table import Row
 
 __all__ = ["PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
-           "friction_loads", "FRICTION", "implausible_friction", "not_converged"]
+           "friction_loads", "FRICTION", "FRICTION_PAIR", "implausible_friction", "not_converged"]
 
 #: the largest plausible friction coefficient: dry metal pairs 0.1–0.6 (steel on steel ~0.15), lubricated
 #: 0.01–0.1, rubber or brake linings up to ~1

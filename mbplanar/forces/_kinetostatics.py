@@ -35,12 +35,12 @@ from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
 from ..engine._tables import kernels_decline
-from ..kinematics._contacts import contact_geometry
-from ..kinematics._motion import Motion, material_points
+from ..kinematics import Motion, contact_geometry, material_points
 from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
                      real_frames, world_points)
 
-__all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
+__all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads", "plan_of", "solve_blocks", "input_link",
+           "reported_on"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,7 +153,7 @@ def _virtual_frames(engine, motion):
     return f.w, f.v
 
 
-def _input_link(engine, inp) -> tuple[str, str]:
+def input_link(engine, inp) -> tuple[str, str]:
     """(input link, the other link) of an input joint: its second link unless that is the ground."""
     j = engine.mech.joints[inp.joint]
     a, b = j.links
@@ -180,7 +180,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     for inp, J in zip(engine.inputs, inertias):
         if not J:
             continue
-        link, _ = _input_link(engine, inp)
+        link, _ = input_link(engine, inp)
         k = engine.link_index[link]
         jt = mech.joints[inp.joint]
         kj = motion.joint(inp.joint)
@@ -207,7 +207,7 @@ class _Layout:
     cols: dict            # joint name → first column (fx, fy[, moment])
     in_cols: list         # input k → column
     scale: np.ndarray     # (n,) unknown as reported = x · scale (the sign turns a pair's unknown round
-    size: int             # where the reaction is reported on its first link, see `_reported_on`)
+    size: int             # where the reaction is reported on its first link, see `reported_on`)
 
 
 def _layout(engine) -> _Layout:
@@ -225,7 +225,7 @@ def _layout(engine) -> _Layout:
     c = 0
     for j in mech.joints.values():
         cols[j.name] = c
-        sign = 1.0 if _reported_on(mech, j)[0] == j.links[1] else -1.0
+        sign = 1.0 if reported_on(mech, j)[0] == j.links[1] else -1.0
         scale += [sign, sign] + ([sign * L] if j.kind == "P" else [])
         c += 3 if j.kind == "P" else 2
     for h in mech.higher:  # a higher pair: the size of its force along its direction (`_pair_directions`)
@@ -546,7 +546,7 @@ def pivot_orders(engine, motion) -> dict:
     return out
 
 
-def _solve_blocks(plan, features, b, threshold: float):
+def solve_blocks(plan, features, b, threshold: float):
     """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
     singular positions (B,): where a block's |det| / Π‖row‖ is not above `threshold`."""
     x = np.zeros(b.shape)
@@ -619,7 +619,7 @@ def _radial_loads(engine, motion, x, lay) -> list[LoadValue]:
     return out
 
 
-def _reported_on(mech, j) -> tuple[str, str]:
+def reported_on(mech, j) -> tuple[str, str]:
     """(link the reaction of pair j is reported on, the link it comes from): the moving link for a pair
     with the ground, the slider for a prismatic pair, the row's first link for a revolute pair."""
     a, b = j.links
@@ -633,7 +633,7 @@ def _report(engine, lay, x, contact: dict | None = None) -> dict:
     for j in engine.mech.joints.values():
         c = lay.cols[j.name]
         m = x[c + 2] if j.kind == "P" else np.zeros(x.shape[1])
-        out[j.name] = Reaction(j.name, *_reported_on(engine.mech, j), x[c], x[c + 1], m)
+        out[j.name] = Reaction(j.name, *reported_on(engine.mech, j), x[c], x[c + 1], m)
     for name, force in (contact or {}).items():
         a, b = engine.mech.higher[name].links
         out[name] = Reaction(name, b, a, force[:, 0], force[:, 1], np.zeros(x.shape[1]))
@@ -804,11 +804,11 @@ def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
     if batch:
         directions = pair_directions(engine, motion) if plan.higher else None
         features = _features(engine, motion, plan, directions)
-        x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
+        x, singular = solve_blocks(plan, features, b, engine.tol.singular)
         radial = _radial_loads(engine, motion, x, lay) if plan.higher else []
         if radial:  # (the tangential forces stay as they are: the radial pairs pass through the centres)
             b = b + _right_side(lay, radial, plan.centre, engine.size, batch)
-            x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
+            x, singular = solve_blocks(plan, features, b, engine.tol.singular)
         x *= lay.scale[:, None]
         singular |= ~np.all(np.isfinite(x), axis=0)
         x[:, singular] = np.nan
@@ -839,7 +839,7 @@ def result(engine, motion, lay, x, singular, residual, loads, contact: dict | No
     `contact` the higher pairs' contact forces (`_contact_forces`)."""
     mech = engine.mech
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
-    balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
+    balancing = {inp.joint: q if input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}
     contact_forces = {name: x[lay.cols[name]] for name in mech.higher}
     pulling = {name: np.asarray(f) < 0 for name, f in contact_forces.items() if mech.higher[name].kind == "cam"}

@@ -48,7 +48,8 @@ from ..model._model import ELEMENT_TYPES, LOAD_TYPES, Gravity, Load
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
            "has_force_data", "warn_idle_resistances", "real_frames", "point_motion", "spring_tension",
-           "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES"]
+           "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES", "constant_parts",
+           "world_points"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -368,7 +369,7 @@ def _displacement_zero(engine, load: Load) -> float:
 def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
         raise ModelError("'zero_at' needs a model with one input", source=engine.mech.source, where=load.name)
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     inp = engine.inputs[0]
     m = analyse(engine, np.array([inp.to_si(load.zero_at)]))
     if not m.success:

@@ -27,8 +27,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError, MotionError, did_you_mean
-from ..kinematics._contacts import contact_geometry
-from ..kinematics._motion import analyse, material_points
+from ..kinematics import analyse, contact_geometry, material_points
 from ._loads import guide_direction, heavy_links, real_frames, world_points
 from ..model._model import Point
 

@@ -58,7 +58,7 @@ from .._progress import Interrupted
 from ..engine import solve_positions
 from ..engine._backend import dispatch
 from ..errors import MbplanarError, ModelError, MotionError
-from ..kinematics._motion import analyse, material_points
+from ..kinematics import analyse, material_points
 from ._kinetostatics import kinetostatics
 from ._loads import (evaluate_loads, heavy_links, load_power, read_gravity, read_loads, real_frames,
                      spring_energy, world_points)

@@ -328,7 +328,7 @@ def partials_document(engine, phi, position: Position | None = None) -> dict:
     direction u is the acceleration for ω = u, ε = 0, a quadratic form in u, so the mixed partial is
     (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing). With one
     input they are the analogues, read from `position` (of phi) when it is given."""
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     n_in = len(engine.inputs)
     eye = np.eye(n_in)
 

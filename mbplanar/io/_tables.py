@@ -28,7 +28,7 @@ def sweep_table(engine, motion, angle_unit):
         else:
             header += [f"{name}.value[m]", f"{name}.rate[m/s]", f"{name}.accel[m/s^2]"]
             cols += [motion.value[:, k], motion.rate[:, k], motion.accel[:, k]]
-    from ..analysis._check import contact_angles, pressure_angles, transmission_angles
+    from ..analysis import contact_angles, pressure_angles, transmission_angles
     labels, angles = transmission_angles(engine, motion)          # at J between J→P and J→Q: P-J-Q
     header += [f"transmission.{p}-{j}-{q}[{au}]" for p, j, q in labels]
     cols += [to_angle(angles[:, k]) for k in range(len(labels))]
@@ -44,7 +44,7 @@ def sweep_table(engine, motion, angle_unit):
 
 def forces_table(engine, motion, input_inertia=0.0):
     """Header, columns (B, k) and a failure message (or None) of the reactions and balancing loads."""
-    from ..forces._kinetostatics import kinetostatics
+    from ..forces import kinetostatics
     result = kinetostatics(engine, motion, input_inertia or 0.0)
     header, cols = forces_columns(engine, result)
     return header, cols, (None if result.success else result.message)

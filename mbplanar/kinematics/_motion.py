@@ -22,7 +22,8 @@ from ..engine._constraints import dot, perp, world_frames
 from ..engine._solver import Crossing, Engine, Limit, solve_positions
 from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, kernels_decline, record_layout, sweep_tables
 
-__all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "OUTPUTS"]
+__all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "point_table",
+           "describe_limit", "describe_crossing", "range_text", "reach_text", "OUTPUTS"]
 
 #: the arrays of a `Motion` a call may leave out (`analyse(..., outputs=)`); the others are always there
 OUTPUTS = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "value", "rate", "accel", "rate_q", "accel_q", "ic", "frames")
@@ -328,6 +329,11 @@ def _tables(engine: Engine):
     return engine.prepare("output tables", lambda: (_point_table(engine), _joint_table(engine)))
 
 
+def point_table(engine: Engine) -> tuple[list, np.ndarray, np.ndarray]:
+    """POINT_TABLE_DOC"""
+    return _tables(engine)[0]
+
+
 @dataclass(frozen=True)
 class PointSelection:
     """The points a caller asked for: `names` (P,), each on link `links` (P,) drawn at `at` (P, 2)."""
@@ -344,7 +350,7 @@ def point_selection(engine: Engine, points=None) -> PointSelection:
         found = engine.prepared.get("every point")
         if found is not None:
             return found
-    names, links, at = _tables(engine)[0]
+    names, links, at = point_table(engine)
     if points is None:
         return engine.prepare("every point", lambda: PointSelection(list(names), links, at))
     if isinstance(points, str):
