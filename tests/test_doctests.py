@@ -21,7 +21,6 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
 #: is completed (issue 29, item 7)
 DOCS_YET = {
     "accuracy",
-    "analysis",
     "backends",
     "cam",
     "engine",
