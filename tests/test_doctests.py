@@ -28,7 +28,6 @@ DOCS_YET = {
     "formats",
     "gears",
     "io",
-    "kinematics",
     "model",
     "structure",
     "study",
