@@ -27,7 +27,6 @@ DOCS_YET = {
     "forces",
     "formats",
     "gears",
-    "io",
     "model",
     "structure",
     "study",
