@@ -24,7 +24,6 @@ DOCS_YET = {
     "backends",
     "cam",
     "engine",
-    "forces",
     "formats",
     "gears",
     "model",

@@ -139,7 +139,8 @@ class Reduced:
     >>> red.J_II.round(4), red.M_red.round(3) + 0.0
     (array([0.   , 2.327]), array([   0.   , -229.539]))
     >>> {kind: m.round(3) + 0.0 for kind, m in red.by_kind().items()}
-    {'resistance': array([   0.   , -197.373]), 'friction': array([  0.   , -30.503]), 'gravity': array([ 0.   , -1.662])}
+    {'resistance': array([   0.   , -197.373]), 'friction': array([  0.   , -30.503]), 'gravity': array([ 0.   ,
+    -1.662])}
     """
 
     phi: np.ndarray
