@@ -1,13 +1,13 @@
 """Friction in the kinematic pairs, and the efficiency it leaves.
 
 A revolute pair with friction has a friction circle: a pin of radius r and coefficient μ, so the pair
-transmits besides its force F a moment of size μ·r·|F| opposing the relative rotation of its links (on
-the second link b, −μ·r·|F|·sign(ω_b − ω_a); on a the opposite). A prismatic pair with friction pushes
-its slider back along the guide with a force μ·|N| against the sliding, N the pair's normal force; with
+transmits besides its force F a moment of size μ·r·‖F‖ opposing the relative rotation of its links (on
+the second link b, −μ·r·‖F‖·sign(ω_b − ω_a); on a the opposite). A prismatic pair with friction pushes
+its slider back along the guide with a force μ·‖N‖ against the sliding, N the pair's normal force; with
 the block's length b given, the pair's moment M is carried by two normal forces at the block's ends,
 N/2 ∓ M/b, and the friction is μ·(|N/2 − M/b| + |N/2 + M/b|) = μ·max(|N|, 2|M|/b).
 
-A cam's or a slot's contact with friction adds, to its normal force N, a force μ·|N| along the contact's
+A cam's or a slot's contact with friction adds, to its normal force N, a force μ·‖N‖ along the contact's
 tangent against the sliding of its surfaces; gears and racks roll at their pitch point, a roller on its cam
 (no sliding there), and the model gives them no friction.
 
@@ -29,7 +29,7 @@ The `[friction]` section of a model::
     [friction]
     mu = 0.1              # coefficient of every pair (default 0: none)
     pin_radius = 0.01     # pin radius of every revolute pair with friction (the table's length_unit)
-    block_length = 0.08   # length of every slider (default: none, friction μ·|N|)
+    block_length = 0.08   # length of every slider (default: none, friction μ·‖N‖)
     tolerance = 1e-12     # of the fixed-point iteration
     max_iterations = 100
     pairs = [{ joint = "Bp", mu = 0.15, block_length = 0.1 }, { joint = "O", mu = 0.0 }]
@@ -87,10 +87,10 @@ class PairFriction:
     mu : float
         Its coefficient of friction.
     radius : float
-        A revolute pair's pin radius (m): the friction moment is μ·r·|F|.
+        A revolute pair's pin radius (m): the friction moment is μ·r·‖F‖.
     block_length : float or None
-        A prismatic pair's block length (m): its moment adds 2|M|/length to the normal force; None:
-        the friction is μ·|N|.
+        A prismatic pair's block length (m): its moment adds 2‖M‖/length to the normal force; None:
+        the friction is μ·‖N‖.
 
     Examples
     --------
@@ -462,7 +462,7 @@ def contact_slips(engine, motion) -> dict:
 
 
 def _contact_friction(engine, p: PairFriction, reaction, point, tangent, slip) -> list[LoadValue]:
-    """Coulomb friction in a cam's or a slot's contact: μ·|N| along the tangent against the sliding of the
+    """Coulomb friction in a cam's or a slot's contact: μ·‖N‖ along the tangent against the sliding of the
     second link on the first, on the second link; the opposite on the first."""
     a, b = (engine.link_index[n] for n in engine.mech.higher[p.joint].links)
     size = -p.mu * np.hypot(reaction.fx, reaction.fy) * np.sign(slip)
@@ -488,8 +488,8 @@ def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
     """Reactions and balancing loads with friction in the pairs over the batch of `motion` (the model's
     loads, gravity and inertia), by fixed-point iteration; and the efficiency.
 
-    Each iteration adds, for the reactions of the one before, a friction moment μ·r·|F| against the
-    relative rotation in every revolute pair and a friction force μ·|N| against the sliding in every
+    Each iteration adds, for the reactions of the one before, a friction moment μ·r·‖F‖ against the
+    relative rotation in every revolute pair and a friction force μ·‖N‖ against the sliding in every
     prismatic pair and sliding contact, and solves the kinetostatics again.
 
     Parameters
@@ -552,7 +552,7 @@ def friction_kinetostatics(engine, motion, spec: FrictionSpec | None = None,
 
 
 def _losses(engine, motion, spec, ks) -> np.ndarray:
-    """The friction's power (B,) (W, ≤ 0) at the reactions `ks`: −μ·r·|F|·|ω_rel| and −(friction)·|v_rel|."""
+    """The friction's power (B,) (W, ≤ 0) at the reactions `ks`: −μ·r·‖F‖·|ω_rel| and −(friction)·|v_rel|."""
     w, v, _, _ = real_frames(engine, motion)
     r = motion.frames.r
     return sum((load_power(ld, w, v, r) for ld in friction_loads(engine, motion, spec, ks.reactions)),

@@ -58,7 +58,7 @@ class Reaction:
     moment : ndarray, shape (B,)
         A prismatic pair's moment (N·m); 0 for a revolute pair.
     magnitude, direction_deg : ndarray, shape (B,)
-        |F| (N) and its direction (degrees counter-clockwise from +x, in [0, 360)), from fx, fy.
+        ‖F‖ (N) and its direction (degrees counter-clockwise from +x, in [0, 360)), from fx, fy.
 
     Examples
     --------
@@ -665,7 +665,7 @@ def pivot_orders(engine, motion) -> dict:
 
 def solve_blocks(plan, features, b, threshold: float):
     """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
-    singular positions (B,): where a block's |det| / Π‖row‖ is not above `threshold`.
+    singular positions (B,): where a block's abs(det) / Π‖row‖ is not above `threshold`.
 
     Parameters
     ----------

@@ -48,7 +48,7 @@ class Shaking:
     about : tuple of float
         The point moments are taken about (m).
     magnitude : ndarray, shape (B,)
-        |force| (N).
+        ‖force‖ (N).
 
     Examples
     --------
@@ -216,8 +216,8 @@ class Counterweight:
 
     Examples
     --------
-    The classic first moments of the four-bar's static balance: (m₂/2)·|OA| = 1 kg × 0.1 m opposite the
-    crank, (m₂/2 + m₃/2)·|CB| = 1.75 kg × 0.25 m opposite the rocker's pin B.
+    The classic first moments of the four-bar's static balance: (m₂/2)·‖OA‖ = 1 kg × 0.1 m opposite the
+    crank, (m₂/2 + m₃/2)·‖CB‖ = 1.75 kg × 0.25 m opposite the rocker's pin B.
 
     >>> import numpy as np, mbplanar
     >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
