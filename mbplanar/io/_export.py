@@ -87,7 +87,7 @@ def document(result, *args, **options) -> dict:
     ------
     TypeError
         A result of another type, or a `Dynamics` without ``engine=``.
-    ModelError
+    ValueError
         ``units=`` neither "si" nor "model".
 
     Examples
@@ -222,6 +222,8 @@ def table(result, *args, **options):
     ------
     TypeError
         A result of another type, or a `Dynamics` in units without ``mech=``.
+    ValueError
+        ``units=`` neither "si" nor "model".
 
     Examples
     --------

@@ -1135,17 +1135,17 @@ def positions_at_limits(engine: Engine, limits: list) -> Motion:
     engine : Engine
         The mechanism.
     limits : list of Limit
-        Located motion limits of `engine` (`Motion.limits` whose `q` is not None).
+        Motion limits of `engine` (`Motion.limits`); those not located (`q` None) are left out.
 
     Returns
     -------
     Motion
-        One position per limit (batch first, SI), its `phi` the limits' inputs; every rate NaN.
+        One position per located limit (batch first, SI), its `phi` the limits' inputs; every rate NaN.
 
     Raises
     ------
-    TypeError
-        A limit that was not located (its `q` is None).
+    IndexError
+        A limit of another engine (its configuration has other blocks).
 
     Examples
     --------
