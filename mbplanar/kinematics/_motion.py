@@ -1144,8 +1144,8 @@ def positions_at_limits(engine: Engine, limits: list) -> Motion:
 
     Raises
     ------
-    IndexError
-        A limit of another engine (its configuration has other blocks).
+    Nothing is checked: the limits must be `engine`'s own (another engine's give positions that mean
+    nothing).
 
     Examples
     --------
