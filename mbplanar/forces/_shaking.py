@@ -402,8 +402,10 @@ def balance(engine, links, radius=None, steps: int = 360) -> Balancing:
     Raises
     ------
     ModelError
-        A link that is not moving or not in the model, a radius that is not positive, or a model
-        whose input does not turn fully.
+        No link or a link listed twice, a name that is not a moving link of the model, radii of another
+        count than the links, a model without masses or with several inputs.
+    MotionError
+        The input does not turn fully.
 
     Examples
     --------

@@ -558,8 +558,9 @@ def partials_document(engine, phi, position: Position | None = None) -> dict:
 
     Raises
     ------
-    MotionError
-        `phi` cannot be reached on the drawn branch.
+    IndexError
+        `phi` cannot be reached on the drawn branch (no position to differentiate: the command line
+        checks the position first).
 
     Examples
     --------
