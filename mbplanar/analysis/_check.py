@@ -22,8 +22,7 @@ import numpy as np
 from ..errors import ModelError
 from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_limit, positions_at_limits,
                                   range_text)
-from ..engine import solve_positions
-from ..engine._atlas import met_along
+from ..engine import met_along, solve_positions
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "Separation", "RegionReport", "check", "check_region", "format_region",
            "grashof", "transmission_angles", "pressure_angles", "contact_angles", "separations", "format_report"]
@@ -187,7 +186,7 @@ class CheckReport:
         return doc
 
     def _repr_html_(self) -> str:
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
 

@@ -213,11 +213,11 @@ def _run_sample() -> None:
     """Run the linkage kernels on `SAMPLE` (a loaded four-bar) with the argument types the library's paths
     pass: sweeps with and without rates, of every point and of one, the kinetostatics, one position."""
     import numpy as np
-    from ..engine._solver import Engine
+    from ..engine import Engine
     from ..forces._kinetostatics import kinetostatics
     from ..kinematics._motion import analyse
     from ..kinematics._single import position
-    from ..model._table import read_model_text
+    from ..model import read_model_text
 
     engine = Engine(read_model_text(SAMPLE, source="<sample>"), backend="numba", threads=1)
     phi = engine.phi_drawn[0] + np.linspace(0.0, 0.5, 3)

@@ -61,11 +61,13 @@ class Backend(Protocol):
         backend handed it back while it ran."""
 
 
-#: name → (module defining ``BACKEND``, the package it needs or None, the extra that installs it); an
-#: engine's `backend` names one of them ("numpy": the kernels as plain Python, besides the reference)
+#: name → (where the backend is: "module:attribute", as an entry point names an object, or a module
+#: defining ``BACKEND``; the package it needs or None; the extra that installs it); an engine's `backend`
+#: names one of them ("numpy": the kernels as plain Python, besides the reference). mbplanar's own are
+#: public names of `mbplanar.backends`, loaded on first access.
 BACKENDS: dict[str, tuple[str, str | None, str | None]] = {
-    "numpy": ("mbplanar.backends._python", None, None),
-    "numba": ("mbplanar.backends._numba", "numba", "fast"),
+    "numpy": ("mbplanar.backends:PYTHON", None, None),
+    "numba": ("mbplanar.backends:NUMBA", "numba", "fast"),
 }
 
 
@@ -84,7 +86,8 @@ def load(name: str) -> Backend:
     """The backend called `name`. ValueError for an unknown name, `MbplanarError` naming the extra to
     install when its package is missing."""
     check(name)
-    return importlib.import_module(BACKENDS[name][0]).BACKEND  # (numba itself is imported when first used)
+    module, _, attribute = BACKENDS[name][0].partition(":")
+    return getattr(importlib.import_module(module), attribute or "BACKEND")  # (numba: imported when first used)
 
 
 def _missing(name: str, spec) -> MbplanarError:

@@ -28,7 +28,7 @@ from pathlib import Path
 
 from ._solver import Engine
 from ._tolerances import Tolerances
-from ..model._table import read_model, read_model_text
+from ..model import read_model, read_model_text
 
 __all__ = ["load_engine", "cache_dir", "cache_enabled"]
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model._model import Joint
+from ..model import Joint
 
 __all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot", "world_frames"]
 

@@ -11,9 +11,7 @@ import numpy as np
 from ._blocks import BlockSolver
 from ._constraints import make_law
 from ..errors import ModelError
-from ..model._assembly import assemble
-from ..model._model import Mechanism
-from ..model._scale import check_far, frame_origin
+from ..model import Mechanism, assemble, check_far, frame_origin
 
 __all__ = ["with_dimensions", "same_structure"]
 

@@ -45,10 +45,8 @@ from ._constraints import make_law, world_frames
 from ._higher import make_higher_law
 from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
-from ..model._assembly import assemble, reference_points, translated
-from ..model._model import Mechanism
-from ..model._scale import check_far, frame_origin
-from ..structure._topology import analyse_topology, check_mobility
+from ..model import Mechanism, assemble, check_far, frame_origin, reference_points, translated
+from ..structure import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing", "solve_positions", "higher_laws", "wheels"]
 
@@ -59,7 +57,7 @@ def higher_laws(mech: Mechanism, centre=(0.0, 0.0)) -> dict:
     centred on `centre` (`Engine.centre`)."""
     if not mech.higher:
         return {}
-    from ..model._drawn import drawn_pairs
+    from ..model import drawn_pairs
     world = drawn_pairs(mech)
     if not any(centre):
         return {name: make_higher_law(g) for name, g in world.items()}
@@ -253,7 +251,7 @@ class Engine:
 
     def _repr_html_(self) -> str:
         """Jupyter: the diagram in the drawn pose beside the structure (DOF, loops, Assur groups)."""
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
     def period(self) -> float | None:

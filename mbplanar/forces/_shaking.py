@@ -30,7 +30,7 @@ from ..errors import ModelError, MotionError, did_you_mean
 from ..kinematics._contacts import contact_geometry
 from ..kinematics._motion import analyse, material_points
 from ._loads import guide_direction, heavy_links, real_frames, world_points
-from ..model._model import Point
+from ..model import Point
 
 __all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
            "inertia_shaking_force", "inertia_shaking"]

@@ -37,7 +37,7 @@ from ..errors import ModelError
 from ._keys import CURVE, HIGHER, INPUT, LINK, PARAMETER, POINT
 from ._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 
-__all__ = ["Parameter", "Template", "split_parameters"]
+__all__ = ["Parameter", "Template", "split_parameters", "higher_rows"]
 
 _UNITS = (*LENGTH_UNITS, *ANGLE_UNITS)
 
@@ -404,6 +404,44 @@ class Template:
         """Each input's `zero` (in its unit) for `values` (numbers or arrays)."""
         return [self._value(row.get("zero", 0.0), "input", values, f"inputs[{i}] zero", row.get("unit", "deg"))
                 for i, row in enumerate(_input_rows(self.data)) if isinstance(row, dict)]
+
+
+def higher_rows(data: dict):
+    """The higher pairs among a table's ``joints`` rows, as its reader sees them.
+
+    Parameters
+    ----------
+    data : dict
+        A model's TOML document (as `tomllib` gives it, or `Template.data`); ``joints`` an array of
+        tables or a table of tables by name.
+
+    Yields
+    ------
+    name : str
+        The row's ``name`` (``"None"`` when it has none).
+    kind : str
+        The pair's kind, lower case: ``"gear"``, ``"rack"``, ``"cam"`` or ``"slot"``.
+    row : dict
+        The row itself, its numbers possibly parameter names.
+
+    Raises
+    ------
+    Nothing: rows that are not tables, or whose ``type`` is a lower pair's or not a string, are skipped
+    (the model's reader reports them).
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.model import higher_rows
+    >>> with open("models/rack_pinion.toml", "rb") as f:
+    ...     data = tomllib.load(f)
+    >>> [(name, kind) for name, kind, _ in higher_rows(data)]
+    [('G', 'rack')]
+    """
+    for row in _row_list(data, "joints"):
+        kind = _higher_kind(row)
+        if kind is not None:
+            yield str(row.get("name")), kind, row
 
 
 def _row_list(data: dict, key: str) -> list:

@@ -3,6 +3,6 @@ and the Assur-group decomposition (`decompose`, Artobolevsky).
 """
 
 from ._assur import AssurGroup, Structure, decompose, roman
-from ._topology import Topology, analyse_topology
+from ._topology import Topology, analyse_topology, check_mobility
 
-__all__ = ["AssurGroup", "Structure", "decompose", "roman", "Topology", "analyse_topology"]
+__all__ = ["AssurGroup", "Structure", "decompose", "roman", "Topology", "analyse_topology", "check_mobility"]

@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # networkx is imported where a graph is made (it costs ~0.1 s
     import networkx as nx
 
 from ..errors import ModelError
-from ..model._model import Mechanism
+from ..model import Mechanism
 
 __all__ = ["TreeJoint", "Block", "Topology", "analyse_topology", "check_mobility"]
 
@@ -237,7 +237,7 @@ def _replacements(mech: Mechanism) -> list[tuple[str, str, str, str, str]]:
     replaces it in the equivalent lower-pair mechanism (`mbplanar.model._drawn.replacement`)."""
     if not mech.higher:
         return []
-    from ..model._drawn import drawn_pairs, mechanism_size, replacement
+    from ..model import drawn_pairs, mechanism_size, replacement
     size = mechanism_size(mech)
     out = []
     for name, g in drawn_pairs(mech).items():
