@@ -30,7 +30,6 @@ DOCS_YET = {
     "gears",
     "io",
     "kinematics",
-    "model",
     "structure",
     "study",
     "synthesis",

@@ -302,7 +302,7 @@ _ANGLES = ("guide", "face")
 
 def _higher_rows(template):
     from ..model import higher_rows
-    yield from higher_rows(template.data)
+    return higher_rows(template.data)
 
 
 def _curve(row):

@@ -28,9 +28,35 @@ _SYNONYMS = {"inch": "in", "inches": "in", "degrees": "deg", "degree": "deg", "r
 
 
 def unit_spelling(name, allowed) -> str | None:
-    """The key of `allowed` (a dict or tuple of unit names) that `name` spells, in any case and with "·"
-    or "." for "*", "²" for "^2", blanks ignored, "inch" for "in" ("MM" -> "mm", "n*MM" -> "N*mm"); None
-    when it names none of them (or is not text)."""
+    """The unit of `allowed` that `name` spells, however the table's author typed it.
+
+    Case, blanks, "·" or "." for "*", "²" for "^2" and the long names ("inch", "degrees", "radian") are
+    forgiven, so that ``length_unit = "MM"`` reads as "mm" and ``moment_unit = "n·mm"`` as "N*mm".
+
+    Parameters
+    ----------
+    name : object
+        What the table says (usually a str).
+    allowed : dict or tuple of str
+        The unit names to choose from, e.g. `LENGTH_UNITS` (a dict: its keys).
+
+    Returns
+    -------
+    str or None
+        The key of `allowed` spelt, or None when `name` names none of them or is not text.
+
+    Raises
+    ------
+    Nothing: any other input gives None, for the caller to report with the file and the key.
+
+    Examples
+    --------
+    >>> from mbplanar.model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
+    >>> unit_spelling(" MM ", LENGTH_UNITS), unit_spelling("inch", LENGTH_UNITS)
+    ('mm', 'in')
+    >>> unit_spelling("Degrees", ANGLE_UNITS), unit_spelling("furlong", LENGTH_UNITS)
+    ('deg', None)
+    """
     if not isinstance(name, str):
         return None
     key = name.strip().replace("·", "*").replace("²", "^2").replace(" ", "").lower()
@@ -49,6 +75,22 @@ class Units:
     scales, and output in model units (`--units model`) divides by them. `length` applies to every
     length of the table; `inertia` to link and flywheel inertias (kg·m² unless the table says
     otherwise); `moment` to moments (N·m unless the table says otherwise). Masses are kg, forces N.
+
+    Attributes
+    ----------
+    length : str
+        A key of `LENGTH_UNITS` ("m", "cm", "mm", "in"); `length_scale` is its size in metres.
+    inertia : str
+        "kg*m^2", "kg*cm^2", "kg*mm^2" or "kg*in^2"; `inertia_scale` in kg·m².
+    moment : str
+        "N*m", "N*cm", "N*mm" or "N*in"; `moment_scale` in N·m.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> units = read_model("models/jansen.toml").units
+    >>> units.length, units.length_scale
+    ('cm', 0.01)
     """
 
     length: str = "m"
@@ -345,6 +387,18 @@ class Load:
     rotational damper in revolute `joint`; a torque `moment` on b (−moment on a). Any row may be
     switched: active while the rate of joint `switch` (or the velocity of point `switch` along
     `switch_direction`) is ≥ 0 (`when` "forward") or ≤ 0 ("backward").
+
+    `index` is the row's place in the table, `label` its name (`name` gives one or the other, for the
+    messages). The fields that a kind does not use keep their defaults.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> cutting = read_model("models/shaper.toml").loads[0]
+    >>> cutting.name, cutting.kind, cutting.joint, cutting.when
+    ('cutting', 'resistance', 'F', 'forward')
+    >>> cutting.s[:3], cutting.table[:3]                  # the diagram: stroke (m) -> force (N)
+    ((0.0, 0.025, 0.1), (0.0, 0.0, 1100.0))
     """
 
     index: int
@@ -379,7 +433,18 @@ class Load:
 
 @dataclass(frozen=True)
 class Gravity:
-    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2)."""
+    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2: down the y axis).
+
+    A model's ``[gravity]`` section; it acts on every link with a mass, at its centre of mass.
+
+    Examples
+    --------
+    >>> from mbplanar.model import Gravity
+    >>> Gravity().vector.round(2)
+    array([ 0.  , -9.81])
+    >>> Gravity(g=1.62, direction=0.0).vector.round(2)      # the Moon, along +x
+    array([1.62, 0.  ])
+    """
 
     g: float = 9.81
     direction: float = -math.pi / 2
@@ -397,7 +462,17 @@ class FlywheelSpec:
     (kg·m²), the flywheel's density (kg/m³); `inertia`: the machine's first group as built, on the crank
     shaft besides the crank's own (kg·m², flywheel included; None: not given), which `simulate` puts on
     the input; or `link`, a link of the model the gears turn at a constant ratio to the crank (the
-    flywheel sits on it, the ratio from the gears)."""
+    flywheel sits on it, the ratio from the gears).
+
+    A model's ``[dynamics.flywheel]`` section, in SI.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> flywheel = read_model("models/shaper.toml").dynamics.flywheel
+    >>> flywheel.motor_rpm, flywheel.motor_inertia, flywheel.density
+    (1412.4, 0.0875, 7800.0)
+    """
 
     shaft_inertia: float = 0.0
     motor_rpm: float | None = None
@@ -410,7 +485,18 @@ class FlywheelSpec:
 @dataclass(frozen=True)
 class DynamicsSpec:
     """The machine's dynamics data: δ, ω_m (rad/s), the driving moment (N·m, None: balance the cycle)
-    and the slope of the motor characteristic (N·m·s/rad)."""
+    and the slope of the motor characteristic (N·m·s/rad).
+
+    A model's ``[dynamics]`` section, in SI: `delta` the coefficient of speed fluctuation allowed,
+    `omega_mean` the crank's mean speed, `flywheel` where the flywheel goes (`FlywheelSpec`).
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> spec = read_model("models/shaper.toml").dynamics
+    >>> spec.delta, round(spec.omega_mean, 4), spec.driving_moment
+    (0.05, 7.6445, None)
+    """
 
     delta: float
     omega_mean: float
