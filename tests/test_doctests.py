@@ -24,7 +24,6 @@ DOCS_YET = {
     "analysis",
     "backends",
     "cam",
-    "engine",
     "forces",
     "formats",
     "gears",

@@ -16,8 +16,8 @@ pairs' tables), the command line's engine cache (`load_engine`) and the design b
     >>> from mbplanar.model import read_model
     >>> engine = Engine(read_model("models/fourbar.toml"))
     >>> solution = solve_positions(engine, np.radians([60.0]))
-    >>> bool(solution.ok[0]), solution.q.shape[0]
-    (True, 1)
+    >>> bool(solution.valid[0]), solution.phi.shape                     # (B, n_in)
+    (True, (1, 1))
 """
 
 from . import _higher_tables as higher_layout
