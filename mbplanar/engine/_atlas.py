@@ -34,7 +34,7 @@ PERIOD_TOL = 1e-8      # largest scaled difference of the unknowns one period ap
 class Atlas:
     """Nodes of the drawn branch along a single input, sorted by φ, with q, q', q'' per block.
 
-    `nodes` are the solved `Node`s, `limits` the motion limit met in each direction (+1, −1; None:
+    `nodes` are the solved nodes (`Node`), `limits` the motion limit met in each direction (+1, −1; None:
     none yet), `crossings` the change points walked through. `cover(lo, hi)` extends the walk from the
     drawn pose to cover an input range (up to a limit), `arrays()` gives the nodes and their quintic
     Hermite coefficients as arrays, `period()` the branch's period. Built once per engine on first use

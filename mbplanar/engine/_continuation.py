@@ -97,7 +97,7 @@ def rate_jump(qd_new, qd, qdd, h, scale):
     Returns
     -------
     float or array
-        |qd_new − qd − qdd·h|·scale / (1 + |qd|·scale).
+        ``abs(qd_new - qd - qdd * h) * scale / (1 + abs(qd) * scale)``.
 
     Raises
     ------

@@ -32,7 +32,7 @@ def same_structure(a: Mechanism, b: Mechanism) -> bool:
 
     Raises
     ------
-    Nothing on two `Mechanism`s.
+    Nothing on two mechanisms.
 
     Examples
     --------

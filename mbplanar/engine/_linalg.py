@@ -106,8 +106,8 @@ def factor(a: np.ndarray):
     -------
     LU or Cramer
         The explicit inverse for n ≤ 2 (`Cramer`), else the LU factors with partial pivoting (`LU`);
-        both give ``solve(b)`` for b (n, B), ``det`` (B,) and ``pivot_ratio`` (B,), min |pivot| / max
-        |pivot|, near 0 where a matrix is (nearly) singular.
+        both give ``solve(b)`` for b (n, B), ``det`` (B,) and ``pivot_ratio`` (B,), the smallest pivot's
+        size over the largest's, near 0 where a matrix is (nearly) singular.
 
     Raises
     ------
