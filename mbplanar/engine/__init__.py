@@ -20,6 +20,7 @@ pairs' tables), the command line's engine cache (`load_engine`) and the design b
     (True, (1, 1))
 """
 
+from .._lazy import lazy_exports
 from . import _higher_tables as higher_layout
 from ._atlas import FAR_TURNS, LOST_PRECISION, Atlas, far_span, met_along
 from ._backend import BACKENDS, Backend, dispatch, load, planned
@@ -47,18 +48,5 @@ __all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_posit
 
 #: public name → the private module defining it, imported on first use (PEP 562): the command line's
 #: engine cache and the design batch's dimensions are not needed to solve a model
-_LAZY = {"load_engine": "_cache", "with_dimensions": "_dimensions", "same_structure": "_dimensions"}
-
-
-def __getattr__(name: str):
-    """A public name of a module that `import mbplanar.engine` does not load, imported on first use."""
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-    value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, {"load_engine": "_cache", "with_dimensions": "_dimensions",
+                                               "same_structure": "_dimensions"})

@@ -213,23 +213,16 @@ class SweepIn(NamedTuple):
 
     Examples
     --------
-    The request `analyse` hands a backend (`SweepJob`), seen by a backend that only looks:
+    Two positions of a four-bar (4 links, 4 joints) at 2 rad/s, with rates, for one point on link 2 drawn
+    at (0.2, 0.2) (`SweepJob` shows the one `analyse` makes):
 
     >>> import numpy as np
-    >>> from mbplanar import analyse
-    >>> from mbplanar.engine import Engine
-    >>> from mbplanar.model import read_model
-    >>> class Look:
-    ...     name, seen = "look", []
-    ...     def should_run(self, job, size): return True
-    ...     def can_run(self, job, request): self.seen.append(request); return "only looking"
-    ...     def run(self, job, request): pass
-    >>> engine = Engine(read_model("models/fourbar.toml"))
-    >>> engine.prepared["backends"] = [Look()]                     # the backends `dispatch` asks
-    >>> motion = analyse(engine, np.radians([10.0, 20.0, 30.0]), omega=2.0)
-    >>> inp = Look.seen[0].inp
-    >>> np.degrees(inp.x).round(6).tolist(), inp.om.tolist(), inp.rates, inp.p_link.tolist()
-    ([10.0, 20.0, 30.0], [2.0, 2.0, 2.0], True, [0, 1, 2, 3, 2])
+    >>> from mbplanar.engine import SweepIn, record_layout
+    >>> _, offsets = record_layout(4, 4, rates=True)
+    >>> inp = SweepIn(np.radians([10.0, 20.0]), np.full(2, 2.0), np.zeros(2), False, True,
+    ...               np.array([2]), np.array([[0.2, 0.2]]), offsets)
+    >>> len(inp.x), inp.rates, int(inp.offsets[5])                      # wq starts at float 24
+    (2, True, 24)
     """
 
     x: np.ndarray
@@ -253,23 +246,15 @@ class SweepOut(NamedTuple):
 
     Examples
     --------
-    The arrays `analyse` asks a backend to write (`SweepJob`), seen by a backend that only looks:
+    An output not asked for has a first dimension of 0 (`SweepJob` shows the outputs `analyse` asks for):
 
     >>> import numpy as np
-    >>> from mbplanar import analyse
-    >>> from mbplanar.engine import Engine
-    >>> from mbplanar.model import read_model
-    >>> class Look:
-    ...     name, seen = "look", []
-    ...     def should_run(self, job, size): return True
-    ...     def can_run(self, job, request): self.seen.append(request); return "only looking"
-    ...     def run(self, job, request): pass
-    >>> engine = Engine(read_model("models/fourbar.toml"))
-    >>> engine.prepared["backends"] = [Look()]
-    >>> motion = analyse(engine, np.radians([10.0, 20.0, 30.0]))
-    >>> out = Look.seen[0].out
-    >>> out.xy.shape, out.w.shape, out.wq.shape                    # wq not asked for here: first dimension 0
-    ((3, 5, 2), (3, 4), (0, 4))
+    >>> from mbplanar.engine import SweepOut
+    >>> B, L, P, J = 3, 4, 5, 4                                   # positions, links, points, joints
+    >>> shapes = {"angle": (B, L), "xy": (B, P, 2), "rows": (B, 0), "valid": (B,)}
+    >>> out = SweepOut(*(np.zeros(shapes.get(name, (0, 1))) for name in SweepOut._fields))
+    >>> [name for name in SweepOut._fields if len(getattr(out, name))]      # what the kernel writes here
+    ['angle', 'xy', 'rows', 'valid']
     """
 
     angle: np.ndarray
@@ -362,6 +347,10 @@ class SweepJob(NamedTuple):
     >>> job = Look.seen[0]
     >>> type(job).__name__, job.size, job.tables.steps.child.tolist(), bool(job.atlas.grid[-1] >= job.inp.x[-1])
     ('SweepJob', 3, [1, 2, 3], True)
+    >>> np.degrees(job.inp.x).round(6).tolist(), job.inp.rates              # the inputs (`SweepIn`)
+    ([10.0, 20.0, 30.0], True)
+    >>> job.out.xy.shape, job.out.wq.shape                  # the outputs (`SweepOut`): wq not asked for here
+    ((3, 5, 2), (0, 4))
     """
 
     tables: SweepTables
@@ -603,21 +592,15 @@ class DesignTables(NamedTuple):
 
     Examples
     --------
-    The tables of a design batch's request (`DesignJob`), seen by a backend that only looks:
+    Every design shares the engine's steps, cuts and blocks and has its own points, guides and drawn input
+    (`DesignJob` shows the tables a design batch makes):
 
-    >>> import numpy as np
-    >>> from mbplanar.study import design_batch
-    >>> class Look:
-    ...     name, seen = "look", []
-    ...     def should_run(self, job, size): return True
-    ...     def can_run(self, job, request): self.seen.append(request); return "only looking"
-    ...     def run(self, job, request): pass
-    >>> batch = design_batch("models/fourbar_design.toml", {"a": np.array([0.09, 0.10, 0.11])})
-    >>> batch.engine.prepared["backends"] = [Look()]
-    >>> motion = batch.solve(batch.geometry.phi0[:, None] + np.linspace(0.0, 0.5, 4))
-    >>> tables = Look.seen[0].tables
-    >>> tables.step_s0.shape, np.degrees(tables.phi0).round(6).tolist()     # 3 designs, 3 steps each
-    ((3, 3, 2), [60.0, 60.0, 60.0])
+    >>> from mbplanar.engine import DesignTables, Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> DesignTables._fields[:3] == sweep_tables(Engine(read_model("models/fourbar.toml")))._fields[:3]
+    True
+    >>> DesignTables._fields[3:8]
+    ('step_s0', 'step_u0', 'cut_s0', 'cut_n0', 'phi0')
     """
 
     steps: StepTables
@@ -659,6 +642,8 @@ class DesignJob(NamedTuple):
     >>> job = Look.seen[0]
     >>> type(job).__name__, job.x.shape, job.designs.tolist(), job.accelerations
     ('DesignJob', (3, 4), [0, 1, 2], True)
+    >>> job.tables.step_s0.shape, np.degrees(job.tables.phi0).round(6).tolist()   # 3 designs, 3 steps each
+    ((3, 3, 2), [60.0, 60.0, 60.0])
     """
 
     tables: DesignTables
