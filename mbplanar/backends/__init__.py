@@ -13,12 +13,25 @@ there than numpy's batch machinery). `build` (``mbplanar compile``) fills numba'
     (['numba', 'numpy'], 'python')
 """
 
-from .._lazy import lazy_exports
 from ..engine import BACKENDS, Backend, load
 
 __all__ = ["Backend", "BACKENDS", "load", "PYTHON", "NUMBA", "build"]
 
 #: public name → the private module (and its name there), imported on first access (PEP 562): a backend is
 #: loaded when an engine first asks for it, the ahead-of-time build by ``mbplanar compile`` only
-__getattr__, __dir__ = lazy_exports(__name__, {"PYTHON": "_python:BACKEND", "NUMBA": "_numba:BACKEND",
-                                               "build": "_aot"})
+_LAZY = {"PYTHON": "_python:BACKEND", "NUMBA": "_numba:BACKEND", "build": "_aot"}
+
+
+def __getattr__(name: str):
+    """A public name whose module `import mbplanar.backends` does not load, imported on first access."""
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    module, _, attribute = _LAZY[name].partition(":")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -20,7 +20,6 @@ pairs' tables), the command line's engine cache (`load_engine`) and the design b
     (True, (1, 1))
 """
 
-from .._lazy import lazy_exports
 from . import _higher_tables as higher_layout
 from ._atlas import FAR_TURNS, LOST_PRECISION, Atlas, far_span, met_along
 from ._backend import BACKENDS, Backend, dispatch, load, planned
@@ -48,5 +47,19 @@ __all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_posit
 
 #: public name → the private module defining it, imported on first use (PEP 562): the command line's
 #: engine cache and the design batch's dimensions are not needed to solve a model
-__getattr__, __dir__ = lazy_exports(__name__, {"load_engine": "_cache", "with_dimensions": "_dimensions",
-                                               "same_structure": "_dimensions"})
+_LAZY = {"load_engine": "_cache", "with_dimensions": "_dimensions", "same_structure": "_dimensions"}
+
+
+def __getattr__(name: str):
+    """A public name whose module `import mbplanar.engine` does not load, imported on first access."""
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    module, _, attribute = _LAZY[name].partition(":")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
