@@ -388,17 +388,15 @@ class Load:
     switched: active while the rate of joint `switch` (or the velocity of point `switch` along
     `switch_direction`) is ≥ 0 (`when` "forward") or ≤ 0 ("backward").
 
-    `index` is the row's place in the table, `label` its name (`name` gives one or the other, for the
-    messages). The fields that a kind does not use keep their defaults.
-
     Examples
     --------
-    >>> from mbplanar.model import read_model
-    >>> cutting = read_model("models/shaper.toml").loads[0]
-    >>> cutting.name, cutting.kind, cutting.joint, cutting.when
-    ('cutting', 'resistance', 'F', 'forward')
-    >>> cutting.s[:3], cutting.table[:3]                  # the diagram: stroke (m) -> force (N)
-    ((0.0, 0.025, 0.1), (0.0, 0.0, 1100.0))
+    The shaper's cutting force: a resistance on the ram along its guide F, from a diagram over the
+    stroke, on the working stroke only.
+
+    >>> import mbplanar
+    >>> cutting = mbplanar.read_model("models/shaper.toml").loads[0]
+    >>> cutting.name, cutting.kind, cutting.link, cutting.joint, cutting.when, len(cutting.s) == len(cutting.table)
+    ('cutting', 'resistance', '5', 'F', 'forward', True)
     """
 
     index: int
@@ -433,17 +431,15 @@ class Load:
 
 @dataclass(frozen=True)
 class Gravity:
-    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2: down the y axis).
-
-    A model's ``[gravity]`` section; it acts on every link with a mass, at its centre of mass.
+    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2), the model's
+    `[gravity]` (`Mechanism.gravity`); `vector` is the acceleration (2,).
 
     Examples
     --------
-    >>> from mbplanar.model import Gravity
-    >>> Gravity().vector.round(2)
-    array([ 0.  , -9.81])
-    >>> Gravity(g=1.62, direction=0.0).vector.round(2)      # the Moon, along +x
-    array([1.62, 0.  ])
+    >>> import mbplanar
+    >>> gravity = mbplanar.read_model("models/fourbar_loaded.toml").gravity
+    >>> gravity.g, gravity.vector.round(12) + 0.0
+    (9.81, array([ 0.  , -9.81]))
     """
 
     g: float = 9.81
@@ -464,14 +460,14 @@ class FlywheelSpec:
     the input; or `link`, a link of the model the gears turn at a constant ratio to the crank (the
     flywheel sits on it, the ratio from the gears).
 
-    A model's ``[dynamics.flywheel]`` section, in SI.
-
     Examples
     --------
-    >>> from mbplanar.model import read_model
-    >>> flywheel = read_model("models/shaper.toml").dynamics.flywheel
-    >>> flywheel.motor_rpm, flywheel.motor_inertia, flywheel.density
-    (1412.4, 0.0875, 7800.0)
+    The shaper's flywheel goes on its motor's shaft (1412.4 rev/min):
+
+    >>> import mbplanar
+    >>> fw = mbplanar.read_model("models/shaper.toml").dynamics.flywheel
+    >>> fw.shaft_inertia, fw.motor_rpm, fw.motor_inertia, fw.density
+    (0.1625, 1412.4, 0.0875, 7800.0)
     """
 
     shaft_inertia: float = 0.0
@@ -484,18 +480,17 @@ class FlywheelSpec:
 
 @dataclass(frozen=True)
 class DynamicsSpec:
-    """The machine's dynamics data: δ, ω_m (rad/s), the driving moment (N·m, None: balance the cycle)
-    and the slope of the motor characteristic (N·m·s/rad).
-
-    A model's ``[dynamics]`` section, in SI: `delta` the coefficient of speed fluctuation allowed,
-    `omega_mean` the crank's mean speed, `flywheel` where the flywheel goes (`FlywheelSpec`).
+    """The machine's dynamics data (`[dynamics]`, `Mechanism.dynamics`): the coefficient of speed
+    fluctuation `delta`, the mean speed `omega_mean` ω_m (rad/s), the `driving_moment` (N·m, None: the
+    constant that balances the cycle's work), the slope `motor_slope` of the motor characteristic
+    (N·m·s/rad) and where the flywheel goes (`flywheel`, a `FlywheelSpec`).
 
     Examples
     --------
-    >>> from mbplanar.model import read_model
-    >>> spec = read_model("models/shaper.toml").dynamics
-    >>> spec.delta, round(spec.omega_mean, 4), spec.driving_moment
-    (0.05, 7.6445, None)
+    >>> import mbplanar
+    >>> spec = mbplanar.read_model("models/shaper.toml").dynamics
+    >>> spec.delta, round(spec.omega_mean, 6), spec.driving_moment, spec.flywheel.motor_rpm
+    (0.05, 7.644542, None, 1412.4)
     """
 
     delta: float
