@@ -44,10 +44,8 @@ from ._jit import njit
 from ._numba_blocks import (_closure, _hermite_coefficients, _hermite_slope, _hermite_value, _interval, _lu,
                             _lu_solve, _place, _rate_jump, _step_verdict)
 from ._numba_higher import _higher_closure, _higher_rates
-from ..engine import _higher_tables as ht  # (the tables' column names)
-from ..engine._continuation import HERMITE5
-from ..engine._higher_tables import CURVE_WORK, HIGHER_CACHE, CurveTables, HigherTables
-from ..engine._tables import CutTables, DesignResult, DesignTables, StepTables
+from ..engine import higher_layout as ht  # (the tables' column names)
+from ..engine import HERMITE5, CutTables, DesignResult, DesignTables, StepTables
 
 __all__ = ["solve", "DesignIn", "DesignWork", "Unknowns"]
 
@@ -99,8 +97,8 @@ class DesignWork(NamedTuple):
 
     steps: StepTables
     cuts: CutTables
-    higher: HigherTables
-    curves: CurveTables
+    higher: ht.HigherTables
+    curves: ht.CurveTables
     hc: np.ndarray
     wk: np.ndarray
     ps: np.ndarray
@@ -138,8 +136,8 @@ class DesignWork(NamedTuple):
             return Unknowns(vec(m_all), vec(m_all), vec(m_all), np.ones(n_blocks))
         return cls(steps._replace(s0=steps.s0.copy(), u0=steps.u0.copy()),
                    cuts._replace(s0=cuts.s0.copy(), n0=cuts.n0.copy()), higher._replace(reals=higher.reals.copy()),
-                   curves._replace(reals=curves.reals.copy()), np.zeros((max(len(higher.ints), 1), HIGHER_CACHE)),
-                   np.zeros(CURVE_WORK), np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)),
+                   curves._replace(reals=curves.reals.copy()), np.zeros((max(len(higher.ints), 1), ht.HIGHER_CACHE)),
+                   np.zeros(ht.CURVE_WORK), np.zeros((8, n_links)), np.zeros((m_max + 2, 3, n_links)),
                    np.zeros((max(len(steps.parent), 1), 5)),
                    np.zeros((max(len(cuts.a), 1), 9)), np.zeros((m_max, m_max)), np.zeros((m_max, m_max)),
                    np.zeros(m_max, np.int64), np.zeros(m_max, np.int64), vec(m_max), vec(m_max), vec(m_max),

@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..model._curves import Circle, Offset, Placed, Spline
+from ..model import Circle, Offset, Placed, Spline
 
 __all__ = ["HigherTables", "CurveTables", "higher_tables", "curve_tables", "pair_reals", "curve_reals",
            "design_reals", "shared_curves", "HIGHER_CACHE", "CURVE_WORK", "C_PLACED", "C_PLACE",

@@ -27,22 +27,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..engine._atlas import Atlas
-from ..engine._backend import dispatch
-from ..engine._blocks import BlockSolver
-from ..engine._constraints import perp
-from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
+from ..engine import Atlas, BlockSolver, dispatch, perp
+from ..engine import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
                                     step_verdict)
-from ..engine._higher_tables import design_reals, higher_tables, shared_curves
-from ..engine._nodes import Node
-from ..engine._singular import limit_after
-from ..engine._solver import higher_laws
-from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, kernels_decline, sweep_tables
+from ..engine import (DESIGN_STATUS, DesignJob, DesignTables, Node, higher_layout, higher_laws, kernels_decline,
+                      limit_after, sweep_tables)
 from ..errors import MbplanarError
 from ..kinematics import analyse
-from ..model import parse_model
-from ..model._assembly import assemble
-from ..model._scale import frame_origin
+from ..model import assemble, frame_origin, parse_model
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 
@@ -451,7 +443,8 @@ class DesignBatch:
         eng, g = self.engine, self.geometry
         if g.higher is not None:
             laws = {name: g.higher.law(eng.laws[name], designs, -self.centre[:, designs]) for name in eng.mech.higher}
-            return (*higher_tables(eng, laws), *design_reals(eng, laws, len(designs))), np.ones(len(designs), bool)
+            tables = (*higher_layout.higher_tables(eng, laws), *higher_layout.design_reals(eng, laws, len(designs)))
+            return tables, np.ones(len(designs), bool)
         kept, rows = np.zeros(len(designs), bool), []
         for k, d in enumerate(designs):
             try:
@@ -459,12 +452,12 @@ class DesignBatch:
             except MbplanarError as exc:
                 self.reasons[d] = str(exc)
                 continue
-            kept[k] = all(shared_curves(eng.laws[name].path, law.path) for name, law in laws.items()
+            kept[k] = all(higher_layout.shared_curves(eng.laws[name].path, law.path) for name, law in laws.items()
                           if law.parameters)
             if kept[k]:
-                rows.append(design_reals(eng, laws, 1))
+                rows.append(higher_layout.design_reals(eng, laws, 1))
         hr, cr, q0 = (np.concatenate(parts) for parts in zip(*rows)) if rows else (None, None, None)
-        return (*higher_tables(eng), hr, cr, q0), kept
+        return (*higher_layout.higher_tables(eng), hr, cr, q0), kept
 
     def _from_compiled(self, job, got, phi, exact_limits: bool, fallback: bool, names: list,
                        accelerations: bool, links: list) -> DesignMotion:
