@@ -100,14 +100,10 @@ PRIVATE_YET = {
     "backends",
     "engine",
     "forces",
-    "formats",
     "io",
     "kinematics",
     "model",
     "structure",
-    "synthesis",
-    "viz",
-    "web",
 }
 SUBPACKAGES = sorted(p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists())
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..errors import ModelError
 
-__all__ = ["Example", "list_examples", "example", "example_text", "copy_examples"]
+__all__ = ["Example", "list_examples", "example", "example_text", "copy_examples", "examples_folder"]
 
 SUFFIXES = (".toml", ".csv")
 
@@ -35,10 +35,10 @@ class Example:
 
     def text(self) -> str:
         """The file's text."""
-        return _root().joinpath(self.file).read_text(encoding="utf-8")
+        return examples_folder().joinpath(self.file).read_text(encoding="utf-8")
 
 
-def _root():
+def examples_folder():
     """The examples' folder: the package's `mbplanar.examples` (a wheel's copy, or an editable install's
     `models/`), else, run from a checkout that is not installed, the repository's `models/`."""
     try:
@@ -80,7 +80,7 @@ def list_examples() -> tuple[Example, ...]:
     ['cam_eccentric', 'cam_follower']
     """
     out = []
-    for file, entry in _files(_root()):
+    for file, entry in _files(examples_folder()):
         kind, title = _describe(file, entry.read_text(encoding="utf-8"))
         out.append(Example(file.rsplit(".", 1)[0], file, kind, title))
     return tuple(sorted(out, key=lambda e: (e.kind == "synthesis", e.file)))

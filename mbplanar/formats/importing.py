@@ -118,7 +118,7 @@ def import_object(obj, name: str | None = None) -> Imported:
 
 
 def _finish(sketch, fmt: str) -> Imported:
-    from ..synthesis._models import table_toml
+    from ..synthesis import table_toml
     from ._sketch import to_table
     table = to_table(sketch)
     notes = tuple(dict.fromkeys(sketch.notes))

@@ -69,7 +69,7 @@ def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
     ['GROUND', 'JOINTS', 'LABELS', 'LINKS', 'PATHS']
     """
     from ..kinematics._motion import analyse
-    from ..viz._scene import build_scene
+    from ..viz import build_scene
     mech = engine.mech
     phi = np.asarray(phi, float).reshape(1, -1)
     motion = analyse(engine, phi, rates=False)

@@ -323,8 +323,9 @@ def _files_folder(source: str, folder):
         return None
     parts = PurePosixPath(str(source).replace("\\", "/")).parts
     if parts and parts[0] == GALLERY and not (Path(folder) / GALLERY).exists():
-        from ..formats.examples import _root
-        return Path(str(_root().joinpath(*parts[1:-1]))) if len(parts) > 2 else Path(str(_root()))
+        from ..formats import examples_folder
+        gallery = examples_folder()
+        return Path(str(gallery.joinpath(*parts[1:-1]))) if len(parts) > 2 else Path(str(gallery))
     return Path(folder).joinpath(*parts[:-1])
 
 
