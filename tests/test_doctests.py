@@ -33,7 +33,6 @@ DOCS_YET = {
     "model",
     "structure",
     "study",
-    "synthesis",
     "viz",
     "web",
 }
