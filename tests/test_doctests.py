@@ -20,7 +20,6 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
 #: subpackages whose public names do not all have their numpydoc docstring yet; one per line, removed as each
 #: is completed (issue 29, item 7)
 DOCS_YET = {
-    "accuracy",
     "analysis",
     "backends",
     "cam",
