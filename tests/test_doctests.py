@@ -22,7 +22,6 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
 DOCS_YET = {
     "analysis",
     "backends",
-    "cam",
     "engine",
     "forces",
     "formats",
