@@ -24,7 +24,6 @@ DOCS_YET = {
     "backends",
     "engine",
     "forces",
-    "formats",
     "gears",
     "io",
     "kinematics",
