@@ -24,13 +24,11 @@ DOCS_YET = {
     "backends",
     "engine",
     "forces",
-    "gears",
     "io",
     "kinematics",
     "model",
     "structure",
     "study",
-    "web",
 }
 
 
