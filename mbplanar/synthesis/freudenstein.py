@@ -144,7 +144,7 @@ class FunctionTask:
     Attributes
     ----------
     expression : str
-        The function, a formula in x (numbers, + − * / **, pi, e and sin, cos, tan, exp, log, log10,
+        The function, a formula in x (numbers, ``+ - * / **``, pi, e and sin, cos, tan, exp, log, log10,
         log2, sqrt, arcsin, arccos, arctan, sinh, cosh, tanh, abs).
     x_range : (2,) tuple of float
         [x0, x1].

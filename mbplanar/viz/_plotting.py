@@ -882,7 +882,7 @@ def register_figure(name: str, function: Callable, help: str) -> None:
     name : str
         The picture's name (``mbplanar plot MODEL NAME``).
     function : callable
-        function(engine, at=None, **options) -> matplotlib Figure.
+        ``function(engine, at=None, **options)`` returning a matplotlib Figure.
     help : str
         One line for ``mbplanar plot --help``.
 
