@@ -13,7 +13,7 @@ import pytest
 import mbplanar
 
 PACKAGE = pathlib.Path(mbplanar.__file__).parent
-LAYERS = ["errors", "_progress", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
+LAYERS = ["errors", "_lazy", "_progress", "model", "structure", "engine", "kinematics", "forces", "backends", "analysis",
           "study", "io", "viz", "accuracy", "cam", "gears", "synthesis", "formats", "web",
           "cli"]  # cams, gears, synthesis, formats, studies, the workbench use what precedes them
 

@@ -13,6 +13,8 @@ examples.
 Each name is imported on first use.
 """
 
+from .._lazy import lazy_attributes
+
 __all__ = ["model_schema", "import_model", "import_object", "Imported", "drawing", "export_drawing",
            "list_examples", "example_text", "copy_examples", "Example", "examples_folder"]
 
@@ -22,14 +24,4 @@ _HOME = {"model_schema": "schema", "import_model": "importing", "import_object":
          "Example": "examples", "examples_folder": "examples"}
 
 
-def __getattr__(name: str):
-    import importlib
-    if name not in _HOME:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _HOME)

@@ -20,6 +20,8 @@ importers of `mbplanar.formats` use it). Each name is imported on first use. Not
 `mbplanar.formats` imports this package.
 """
 
+from .._lazy import lazy_attributes
+
 _HOME = {"fourbar_coupler_paths": "batch", "path_errors": "batch", "Dyad": "burmester", "MotionResult": "burmester",
          "SliderDyad": "burmester", "burmester_points": "burmester", "centre_point_curve": "burmester",
          "slider_points": "burmester", "synthesise_motion": "burmester", "Defects": "defects",
@@ -39,14 +41,4 @@ __all__ = ["synthesise_seed001", "GuidingResult", "Chain", "SEED001_CHAIN", "Wal
            "synthesise_model_path", "ModelPathResult", "table_toml"]
 
 
-def __getattr__(name: str):
-    import importlib
-    if name not in _HOME:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _HOME)
