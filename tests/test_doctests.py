@@ -20,12 +20,8 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
 #: subpackages whose public names do not all have their numpydoc docstring yet; one per line, removed as each
 #: is completed (issue 29, item 7)
 DOCS_YET = {
-    "analysis",
     "backends",
     "engine",
-    "forces",
-    "io",
-    "kinematics",
     "model",
     "structure",
     "study",
