@@ -19,13 +19,7 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
                "study", "accuracy", "synthesis", "gears", "formats", "web")
 #: subpackages whose public names do not all have their numpydoc docstring yet; one per line, removed as each
 #: is completed (issue 29, item 7)
-DOCS_YET = {
-    "backends",
-    "engine",
-    "model",
-    "structure",
-    "study",
-}
+DOCS_YET: set = set()
 
 
 #: public modules outside the subpackages' `__all__`: the commands' work, which the command line calls

@@ -149,7 +149,7 @@ def import_model(path, fmt: str | None = None) -> Imported:
     >>> imp.format, imp.notes[0]
     ('pmks-csv', 'the input speed 10 taken as rad/s (PMKS+ does not say its unit)')
     """
-    from ..model._table import read_text
+    from ..model import read_text
     path = Path(path)
     text = read_text(path, "the file")
     fmt = fmt or detect_format(path, text)
