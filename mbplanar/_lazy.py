@@ -6,7 +6,10 @@ from __future__ import annotations
 
 import importlib
 import sys
-from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
 __all__ = ["lazy_attributes"]
 
@@ -19,7 +22,8 @@ def lazy_attributes(package: str, homes: dict) -> tuple[Callable, Callable]:
     package : str
         The package's ``__name__``.
     homes : dict
-        {public name: the submodule (relative to the package) that defines it}.
+        {public name: the submodule (relative to the package) that defines it}, or
+        ``"submodule:attribute"`` where the name there differs.
 
     Returns
     -------
@@ -46,7 +50,8 @@ def lazy_attributes(package: str, homes: dict) -> tuple[Callable, Callable]:
     def getattr_(name: str):
         if name not in homes:
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
-        value = getattr(importlib.import_module(f"{package}.{homes[name]}"), name)
+        module, _, attribute = homes[name].partition(":")
+        value = getattr(importlib.import_module(f"{package}.{module}"), attribute or name)
         setattr(sys.modules[package], name, value)
         return value
 
