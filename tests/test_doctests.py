@@ -21,15 +21,11 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
 #: is completed (issue 29, item 7)
 DOCS_YET = {
     "accuracy",
-    "analysis",
     "backends",
     "cam",
     "engine",
-    "forces",
     "formats",
     "gears",
-    "io",
-    "kinematics",
     "model",
     "structure",
     "study",

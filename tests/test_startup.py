@@ -53,6 +53,20 @@ def test_a_forces_name_loads_only_its_own_module():
     assert set(forces.__all__) <= set(dir(forces)) and all(getattr(forces, name) for name in forces.__all__)
 
 
+def test_the_cad_names_of_io_load_on_first_use():
+    """`mbplanar.io` exports the CAD sheet and writers (the cam, the gears and the drawing share them) without
+    loading them: a command that writes no drawing does not import `io._cad`; a misspelt name is an error."""
+    probe = ("import sys, mbplanar.io as io\nprint('mbplanar.io._cad' in sys.modules)\n"
+             "print(io.Sheet.__module__, 'mbplanar.io._cad' in sys.modules)")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "mbplanar.io._cad", "True"]
+    import mbplanar.io
+    assert {"Sheet", "write_dxf"} <= set(dir(mbplanar.io))
+    with pytest.raises(AttributeError, match="no attribute 'Sheets'"):
+        mbplanar.io.Sheets
+
+
 def test_the_lazy_public_names_are_the_subpackages_own():
     import mbplanar
     from mbplanar import analysis, engine, errors, forces, kinematics, model, web

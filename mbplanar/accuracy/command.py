@@ -47,7 +47,7 @@ def add_arguments(s):
 def run(args) -> int:
     """Run the analysis the arguments describe and print or write it."""
     from ..errors import ModelError
-    from ..io._export import write_csv
+    from ..io import write_csv
     from ..study.cluster import close, connect, local_client
     from .report import document, format_text, table
     from .run import accuracy

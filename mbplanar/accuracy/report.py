@@ -34,7 +34,7 @@ def _length_unit(result) -> str:
 
 
 def _plain(x):
-    from ..io._export import plain
+    from ..io import plain
     return plain(x)
 
 

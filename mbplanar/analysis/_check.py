@@ -20,12 +20,12 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..errors import ModelError
-from ..kinematics._motion import (Motion, analyse, describe_crossing, describe_limit, positions_at_limits,
-                                  range_text)
+from ..kinematics import Motion, analyse, describe_crossing, describe_limit, positions_at_limits, range_text
 from ..engine import solve_positions
 from ..engine._atlas import met_along
 
-__all__ = ["Extreme", "AngleRange", "CheckReport", "Separation", "RegionReport", "check", "check_region", "format_region",
+__all__ = ["Extreme", "AngleRange", "CheckReport", "LimitReport", "Separation", "RegionReport", "check", "check_region",
+           "format_region", "transmission_triples",
            "grashof", "transmission_angles", "pressure_angles", "contact_angles", "separations", "format_report"]
 
 SAMPLES = 721          # sweep resolution of a full turn (0.5°)
@@ -46,9 +46,33 @@ class LocalExtreme:
 
 @dataclass(frozen=True)
 class Extreme:
-    """Extreme positions of one output quantity: a link angle (rad) or a slider displacement (m).
-    `at_min`/`at_max` are the input values (model unit) where they occur; `turns` marks a full rotation;
-    `local` every local extreme, sorted by input value."""
+    """Extreme positions of one output quantity over the input's range, as `check` finds them.
+
+    Attributes
+    ----------
+    name : str
+        The link's name (``kind == "link"``) or the prismatic pair's (``kind == "slider"``).
+    kind : str
+        "link": the quantity is the link's angle (rad); "slider": the pair's displacement along its guide (m).
+    minimum, maximum : float or None
+        The smallest and largest value over the range (rad or m); None when the link turns fully.
+    at_min, at_max : float or None
+        The input's values (model unit) where they occur.
+    turns : bool
+        The link turns fully (its angle has no extremes).
+    local : list of LocalExtreme
+        Every local extreme, sorted by input value ("min" or "max", value, where, `end` at a motion limit).
+
+    Examples
+    --------
+    >>> import math, mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), samples=73)
+    >>> rocker = report.extremes[2]
+    >>> rocker.name, rocker.kind, rocker.turns, round(math.degrees(rocker.maximum - rocker.minimum), 4)
+    ('3', 'link', False, 51.4564)
+    >>> report.extremes[0].turns, report.extremes[0].minimum
+    (True, None)
+    """
 
     name: str
     kind: str               # "link" or "slider"
@@ -62,7 +86,29 @@ class Extreme:
 
 @dataclass(frozen=True)
 class AngleRange:
-    """Min/max over the cycle of a transmission or pressure angle (rad), with the input values."""
+    """Min/max over the input's range of a transmission or pressure angle, as `check` finds them.
+
+    Attributes
+    ----------
+    name : str
+        A label: "P-J-Q" for a transmission angle, "S (A-B)" for a slider's pressure angle, "K (contact
+        normal)" for a cam's or a slot's.
+    points : tuple of str
+        (P, J, Q): the angle at J between J→P and J→Q (or the rod A→B and the guide of S).
+    minimum, maximum : float
+        The smallest and largest angle (rad): a transmission angle in [0, π/2] (π/2 is ideal), a pressure
+        angle of a slider in [0, π/2] (0 is ideal), a cam's signed.
+    at_min, at_max : float
+        The input's values (model unit) where they occur.
+
+    Examples
+    --------
+    >>> import math, mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), samples=73)
+    >>> mu = report.transmission[0]
+    >>> mu.name, round(math.degrees(mu.minimum), 4), mu.at_min
+    ('A-B-C', 41.4096, 0.0)
+    """
 
     name: str
     points: tuple           # (P, J, Q): the angle at J between J→P and J→Q (or guide / rod)
@@ -74,8 +120,29 @@ class AngleRange:
 
 @dataclass(frozen=True)
 class LimitReport:
-    """A motion limit as `check` reports it: the input value (model unit), the direction it is met in
-    (+1 going up, −1 going down), the links and joints in line, its kind, and the sentence."""
+    """A motion limit (a dead point of the input) as `check` reports it.
+
+    Attributes
+    ----------
+    phi : float
+        The input's value there (model unit).
+    direction : int
+        +1: met going up, −1: going down.
+    links, joints : list of str
+        The links and joints in line.
+    kind : str
+        How they line up ("stretched at B (C, B, D in line)", "folded at ...").
+    message : str
+        The sentence `format_report` prints.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml")))
+    >>> lim = report.limits[0]
+    >>> round(lim.phi, 6), lim.direction, lim.links, lim.kind
+    (-0.808315, -1, ['3', '4'], 'stretched at B (C, B, D in line)')
+    """
 
     phi: float
     direction: int
@@ -118,8 +185,28 @@ class Grashof:
 
 @dataclass(frozen=True)
 class Separation:
-    """A stretch of the input where a cam's contact force would pull (the follower would leave the cam):
-    the pair's name, the stretch's ends (model unit) and the sentence."""
+    """A stretch of the input where a cam's contact force would pull (the follower would leave the cam).
+
+    Attributes
+    ----------
+    pair : str
+        The cam pair's name.
+    start, end : float
+        The stretch's ends (the input's values, model unit).
+    message : str
+        The sentence `format_report` prints.
+
+    Examples
+    --------
+    The cam follower spun three times as fast as its model says: its spring no longer holds it on.
+
+    >>> import dataclasses, mbplanar
+    >>> model = mbplanar.read_model("models/cam_follower.toml")
+    >>> fast = dataclasses.replace(model, inputs=[dataclasses.replace(i, omega=3 * i.omega) for i in model.inputs])
+    >>> pulls = mbplanar.check(mbplanar.Engine(fast), samples=91).separations
+    >>> [(s.pair, round(s.start), round(s.end)) for s in pulls]
+    [('K', 68, 112), ('K', 184, 224)]
+    """
 
     pair: str
     start: float
@@ -192,8 +279,8 @@ class CheckReport:
 
 
 # -- four-bar closed form ---------------------------------------------------------------------------
-def grashof(engine) -> dict | None:
-    """Grashof verdict for a four-bar (four links, four revolute pairs), else None.
+def grashof(engine) -> Grashof | None:
+    """Grashof verdict for a four-bar (four links, four revolute pairs, one input on the ground), else None.
 
     s + l < p + q: the shortest link turns fully relative to the others (crank-rocker, double crank,
     rocker-crank or Grashof double rocker by where the shortest link is); s + l > p + q: no link turns
@@ -202,6 +289,32 @@ def grashof(engine) -> dict | None:
     (drawn crossed), deltoid (adjacent links equal in two pairs), rhombus (all equal), else change-point
     crank-rocker, double crank, rocker-crank or double rocker. Equality is relative to the mechanism's
     size (1e-9). With ties for the shortest link every one of them counts.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism; its link lengths are the distances between its joints in the drawn pose.
+
+    Returns
+    -------
+    Grashof or None
+        Link lengths (m), s + l and p + q (m), whether the criterion holds, whether s + l = p + q, the
+        shortest link, the input and output links, the kind and whether the input and output turn
+        fully; None for a mechanism that is not a four-bar driven at a ground pivot.
+
+    Raises
+    ------
+    Nothing for an `Engine`: any other mechanism gives None.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.analysis import grashof
+    >>> g = grashof(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    >>> round(g.s_plus_l, 9), round(g.p_plus_q, 9), g.kind, g.input_turns, g.output_turns
+    (0.4, 0.55, 'crank-rocker', True, False)
+    >>> grashof(mbplanar.Engine(mbplanar.read_model("models/slider_crank.toml"))) is None
+    True
     """
     mech = engine.mech
     joints = list(mech.joints.values())
@@ -290,8 +403,32 @@ def _other_revolute(mech, link, joint):
 
 
 def transmission_triples(engine) -> list[tuple[str, str, str]]:
-    """(P, J, Q) for each revolute pair J inside an Assur group (every R pair between moving links
-    without a decomposition) whose two links carry further revolute pairs P and Q."""
+    """The revolute pairs where a transmission angle is measured: (P, J, Q) for each revolute pair J
+    inside an Assur group (every R pair between moving links without a decomposition) whose two links
+    carry further revolute pairs P and Q (the farthest from J in the drawn pose).
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+
+    Returns
+    -------
+    list of tuple of str
+        (P, J, Q) joint names; empty for a mechanism without such a pair (a slider-crank's coupler
+        carries a prismatic pair's slider: its angle is a pressure angle, `pressure_angles`).
+
+    Raises
+    ------
+    Nothing for an `Engine`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.analysis import transmission_triples
+    >>> transmission_triples(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    [('A', 'B', 'C')]
+    """
     mech = engine.mech
     structure = engine.topology.structure
     if structure is not None:
@@ -310,8 +447,40 @@ def transmission_triples(engine) -> list[tuple[str, str, str]]:
 
 
 def transmission_angles(engine, motion: Motion):
-    """Transmission angle at every R–R–R pair: the angle at J between links J→P and J→Q, folded into
-    [0, π/2] (π/2 is ideal, 0 is a dead point). Returns (triples, angles (B, K) rad)."""
+    """Transmission angle at every R–R–R pair (`transmission_triples`): the angle at J between links J→P
+    and J→Q, folded into [0, π/2] (π/2 is ideal, 0 is a dead point).
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions of `engine` (batch B), from `analyse`.
+
+    Returns
+    -------
+    triples : list of tuple of str
+        (P, J, Q) of each of the K angles.
+    angles : ndarray, shape (B, K)
+        The angles (rad); NaN where a position was not solved.
+
+    Raises
+    ------
+    KeyError
+        A `motion` of another engine (a joint it does not hold).
+
+    Examples
+    --------
+    The four-bar of Hartenberg and Denavit's crank-rocker: the angle at B is 41.41° with the crank at 0°.
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.analysis import transmission_angles
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> triples, mu = transmission_angles(engine, mbplanar.analyse(engine, np.radians([0.0, 90.0])))
+    >>> triples, np.degrees(mu).round(4)
+    ([('A', 'B', 'C')], array([[41.4096],
+           [69.5127]]))
+    """
     triples = transmission_triples(engine)
     if not triples:
         return triples, np.zeros((len(motion.phi), 0))
@@ -360,7 +529,41 @@ def pressure_pairs(engine) -> list[tuple[str, str, str]]:
 
 def pressure_angles(engine, motion: Motion):
     """Pressure angle of each slider driven by a rod: the angle between the rod (force direction) and
-    the slider's guide (its relative velocity), in [0, π/2] (0 is ideal). Returns (pairs, (B, K) rad)."""
+    the slider's guide (its relative velocity), in [0, π/2] (0 is ideal).
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions of `engine` (batch B), from `analyse`.
+
+    Returns
+    -------
+    pairs : list of tuple of str
+        (A, B, S) of each of the K angles: the force on the slider of prismatic pair S acts along A→B (a
+        connecting rod's pins), or along the normal of prismatic pair B when A = B.
+    angles : ndarray, shape (B, K)
+        The angles (rad).
+
+    Raises
+    ------
+    KeyError
+        A `motion` of another engine (a joint it does not hold).
+
+    Examples
+    --------
+    A centred slider-crank (crank 0.1 m, rod 0.3 m): the angle is arcsin(r/l) = 19.47° with the crank square
+    to the guide, 0 when the crank lies along it.
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.analysis import pressure_angles
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/slider_crank.toml"))
+    >>> pairs, alpha = pressure_angles(engine, mbplanar.analyse(engine, np.radians([0.0, 90.0])))
+    >>> pairs, np.degrees(alpha).round(4)
+    ([('A', 'B', 'Bp')], array([[ 0.    ],
+           [19.4712]]))
+    """
     pairs = pressure_pairs(engine)
     if not pairs:
         return pairs, np.zeros((len(motion.phi), 0))
@@ -385,12 +588,42 @@ def pressure_angles(engine, motion: Motion):
 
 
 def contact_angles(engine, motion: Motion):
-    """The pressure angle of every cam and slot contact (`mbplanar.kinematics._contacts`): the angle from
-    the driven point's direction of motion to the contact normal, signed (rad). Returns (names, (B, K))."""
+    """The pressure angle of every cam and slot contact (`mbplanar.kinematics.contacts`): the angle from
+    the driven point's direction of motion to the contact normal, signed.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions of `engine` (batch B), from `analyse`.
+
+    Returns
+    -------
+    names : list of str
+        The K cam and slot pairs.
+    angles : ndarray, shape (B, K)
+        Their pressure angles (rad).
+
+    Raises
+    ------
+    KeyError
+        A `motion` of another engine (a pair it does not hold).
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.analysis import contact_angles
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/cam_follower.toml"))
+    >>> names, alpha = contact_angles(engine, mbplanar.analyse(engine, np.radians([0.0, 60.0])))
+    >>> names, np.degrees(alpha).round(3)
+    (['K'], array([[-9.207],
+           [10.591]]))
+    """
     names = [n for n, h in engine.mech.higher.items() if h.kind in ("cam", "slot")]
     if not names or not len(motion.phi):
         return names, np.zeros((len(motion.phi), len(names)))
-    from ..kinematics._contacts import contacts
+    from ..kinematics import contacts
     found = contacts(engine, motion)
     return names, np.stack([found[n].pressure_angle for n in names], axis=1)
 
@@ -399,8 +632,7 @@ def separations(engine, motion: Motion) -> list[Separation]:
     """Where a cam's contact force would pull (the follower would leave the cam), with the model's loads
     at the motion's speed: a `Separation` per stretch of the input (model unit); nothing without cams or
     without loads and masses (every force is then zero)."""
-    from ..forces._kinetostatics import kinetostatics
-    from ..forces._loads import has_force_data
+    from ..forces import has_force_data, kinetostatics
     cams = [n for n, h in engine.mech.higher.items() if h.kind == "cam"]
     if not cams or not has_force_data(engine.mech) or len(motion.phi) < 2:
         return []
@@ -723,7 +955,35 @@ def _contact_angle_labels(engine, motion):
 
 
 def format_report(report: CheckReport, length: tuple[str, float] = ("m", 1.0)) -> str:
-    """Plain-text report (angles in degrees); lengths in `length` = (name, metres per unit)."""
+    """The plain-text report ``mbplanar check`` prints.
+
+    Parameters
+    ----------
+    report : CheckReport
+        What `check` found.
+    length : tuple of (str, float)
+        The lengths' unit: its name and its size in metres (``("mm", 0.001)``); angles are in degrees,
+        the input in its model unit.
+
+    Returns
+    -------
+    str
+        One line per finding: Grashof, the range, the limits and change points, each output's extremes,
+        the transmission and pressure angles, the cams' separations.
+
+    Raises
+    ------
+    ZeroDivisionError
+        A length unit of size 0.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.analysis import format_report
+    >>> report = mbplanar.check(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    >>> print(format_report(report, ("mm", 0.001)).splitlines()[1])
+    Grashof: s + l = 400 mm ≤ p + q = 550 mm: crank-rocker; the input turns fully
+    """
     u = report.unit
     lu, k = length
     lines = [f"{report.model}: input {report.input} [{u}]"]
@@ -785,10 +1045,35 @@ class SingularPoint:
 
 @dataclass(frozen=True, eq=False)
 class RegionReport:
-    """What a two-input mechanism can reach: a grid over both inputs' sweeps (model units), which grid
-    points the drawn branch reaches (`reachable` (n_1, n_2) bool), the range each input reaches, and the
-    points of the singular curves (`SingularPoint` records: a block's Jacobian determinant changes sign
-    between neighbouring reached grid points: there the branch folds, the links line up)."""
+    """What a two-input mechanism can reach, as `check_region` finds it.
+
+    Attributes
+    ----------
+    model : str
+        The model's name.
+    inputs, units : list of str
+        The two inputs' names and model units.
+    grid : list of ndarray
+        Per input the grid values (n_k,), model units.
+    reachable : ndarray, shape (n_1, n_2), bool
+        The grid points the drawn branch reaches.
+    ranges : list of tuple or None
+        Per input (lo, hi) over the reached grid points (None when none is reached).
+    singular : list of SingularPoint
+        Points of the singular curves: the motion limits the walks ran into (the region's edge), and
+        where a block's Jacobian determinant changes sign between neighbouring reached grid points (the
+        branch folds there, links line up).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.analysis import check_region
+    >>> region = check_region(mbplanar.Engine(mbplanar.read_model("models/five_bar.toml")), samples=5)
+    >>> region.inputs, int(region.reachable.sum()), region.ranges[0]
+    (['phi1', 'phi2'], 23, (0.0, 360.0))
+    >>> sorted({tuple(p.links) for p in region.singular})
+    [('2', '3')]
+    """
 
     model: str
     inputs: list            # names
@@ -812,7 +1097,38 @@ def check_region(engine, samples: int = REGION_SAMPLES) -> RegionReport:
     branch from the drawn pose, first along the first input, then along the second up and down from
     its drawn value, so a grid point counts as reached when the branch gets there without crossing a
     motion limit. Sign changes of a block's Jacobian determinant between neighbours on a line or
-    across lines mark the singular curves (located by linear interpolation of the determinant)."""
+    across lines mark the singular curves (located by linear interpolation of the determinant).
+
+    Parameters
+    ----------
+    engine : Engine
+        A two-input mechanism.
+    samples : int
+        Grid points per input over its default sweep (a full turn or the travel).
+
+    Returns
+    -------
+    RegionReport
+        The grid, the reached points, each input's reached range and the singular points.
+
+    Raises
+    ------
+    ModelError
+        A model without exactly two inputs (`check` takes one).
+
+    Examples
+    --------
+    The five-bar reaches its whole 5 × 5 grid but where links 2 and 3 stretch into line (phi1 = 180° with
+    phi2 = 0° or 360°):
+
+    >>> import mbplanar
+    >>> from mbplanar.analysis import check_region
+    >>> region = check_region(mbplanar.Engine(mbplanar.read_model("models/five_bar.toml")), samples=5)
+    >>> int(region.reachable.sum()), region.reachable.size
+    (23, 25)
+    >>> float(region.grid[0][2]), region.reachable[2]
+    (180.0, array([False,  True,  True,  True, False]))
+    """
     if len(engine.inputs) != 2:
         raise ModelError(f"{engine.mech.source}: the region check drives two inputs; this model has "
                          f"{len(engine.inputs)}")
@@ -861,7 +1177,35 @@ def _singular_points(engine, grid, dets) -> list:
 
 
 def format_region(report: RegionReport) -> str:
-    """Plain-text summary of a `RegionReport`."""
+    """The plain-text summary ``mbplanar check`` prints for a two-input mechanism: the reached grid
+    points, each input's range, a map of the grid ('#' reached, '.' not; the second input upwards) and
+    the singular points.
+
+    Parameters
+    ----------
+    report : RegionReport
+        What `check_region` found.
+
+    Returns
+    -------
+    str
+        The summary, one finding a line.
+
+    Raises
+    ------
+    Nothing for a `RegionReport`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.analysis import check_region, format_region
+    >>> region = check_region(mbplanar.Engine(mbplanar.read_model("models/five_bar.toml")), samples=5)
+    >>> print("\\n".join(format_region(region).splitlines()[:4]))
+    five_bar: inputs phi1 [deg], phi2 [deg]; 23 of 25 grid points (5 × 5) reached on the drawn branch
+      phi1 reaches 0 … 360 deg (on the grid)
+      phi2 reaches 0 … 360 deg (on the grid)
+        ##.##  360
+    """
     names = ", ".join(f"{n} [{u}]" for n, u in zip(report.inputs, report.units))
     total = report.reachable.size
     lines = [f"{report.model}: inputs {names}; {int(report.reachable.sum())} of {total} grid points "

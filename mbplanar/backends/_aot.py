@@ -214,9 +214,8 @@ def _run_sample() -> None:
     pass: sweeps with and without rates, of every point and of one, the kinetostatics, one position."""
     import numpy as np
     from ..engine._solver import Engine
-    from ..forces._kinetostatics import kinetostatics
-    from ..kinematics._motion import analyse
-    from ..kinematics._single import position
+    from ..forces import kinetostatics
+    from ..kinematics import analyse, position
     from ..model._table import read_model_text
 
     engine = Engine(read_model_text(SAMPLE, source="<sample>"), backend="numba", threads=1)

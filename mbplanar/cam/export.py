@@ -8,9 +8,9 @@ import math
 import numpy as np
 
 from ..errors import MbplanarError
-from ..io._cad import Layer, Sheet, require_ezdxf
-from ..io._cad import write_dxf as cad_dxf
-from ..io._cad import write_svg as cad_svg
+from ..io import Layer, Sheet, require_ezdxf
+from ..io import write_dxf as cad_dxf
+from ..io import write_svg as cad_svg
 from .geometry import CamGeometry
 
 __all__ = ["write_csv", "write_dxf", "read_dxf_points", "write_svg", "dxf_deviation", "dxf_chordal_error"]

@@ -12,13 +12,15 @@ _HOME = {**dict.fromkeys(["Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced",
                           "machine_dynamics", "read_dynamics", "reduce", "simulate", "stall_ahead", "summary",
                           "true_motion"], "_dynamics"),
          **dict.fromkeys(["FrictionResult", "FrictionSpec", "PairFriction", "friction_kinetostatics", "read_friction",
-                          "implausible_friction", "not_converged"], "_friction"),
-         **dict.fromkeys(["Kinetostatics", "Reaction", "inertia_loads", "kinetostatics"], "_kinetostatics"),
+                          "implausible_friction", "not_converged", "FRICTION", "FRICTION_PAIR"], "_friction"),
+         **dict.fromkeys(["Kinetostatics", "Reaction", "inertia_loads", "kinetostatics", "plan_of", "solve_blocks",
+                          "input_link", "reported_on"], "_kinetostatics"),
          **dict.fromkeys(["Gravity", "Load", "LoadValue", "evaluate_loads", "has_force_data", "load_power",
-                          "warn_idle_resistances"], "_loads"),
+                          "warn_idle_resistances", "read_loads", "heavy_links", "constant_parts", "world_points",
+                          "drawn_end", "ELEMENT_TYPES"], "_loads"),
          **dict.fromkeys(["Balancing", "Counterweight", "Shaking", "balance", "shaking", "shaking_from_loads",
                           "inertia_shaking"], "_shaking"),
-         **dict.fromkeys(["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"], "_simulation")}
+         **dict.fromkeys(["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "SIMULATE"], "_simulation")}
 
 
 def __getattr__(name: str):
@@ -34,12 +36,13 @@ def __dir__():
     return sorted(set(globals()) | set(__all__))
 
 
-__all__ = ["Load", "Gravity", "LoadValue", "evaluate_loads", "load_power", "has_force_data",
-           "warn_idle_resistances",
-           "Kinetostatics", "Reaction", "kinetostatics", "inertia_loads",
+__all__ = ["Load", "Gravity", "LoadValue", "read_loads", "evaluate_loads", "load_power", "has_force_data",
+           "warn_idle_resistances", "heavy_links", "constant_parts", "world_points", "drawn_end", "ELEMENT_TYPES",
+           "Kinetostatics", "Reaction", "kinetostatics", "inertia_loads", "plan_of", "solve_blocks", "input_link",
+           "reported_on",
            "Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced", "Simulation", "machine_dynamics", "true_motion",
            "reduce", "simulate", "stall_ahead", "flywheel_sizes", "read_dynamics", "summary",
            "PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics", "implausible_friction",
-           "not_converged",
+           "not_converged", "FRICTION", "FRICTION_PAIR",
            "Shaking", "shaking", "shaking_from_loads", "inertia_shaking", "Counterweight", "Balancing", "balance",
-           "SimulateSpec", "Trajectory", "read_simulate", "simulate_motion"]
+           "SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "SIMULATE"]

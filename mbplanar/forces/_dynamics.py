@@ -43,7 +43,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError, MotionError
-from ..kinematics._motion import analyse, material_points
+from ..kinematics import analyse, material_points
 from ._loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
 from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
 from ..model._table import crank_input
@@ -59,7 +59,37 @@ _DISC = (0.366, 1230.0)   # D = c·J^(1/5), m = k·D³ at ρ₀
 def read_dynamics(mech, delta: float | None = None) -> DynamicsSpec | None:
     """The model's dynamics data (`Mechanism.dynamics`, read with the table), None when there is none
     and no `delta` is given; `delta` overrides the model's δ (a model without `[dynamics]` then runs at
-    the input's ω)."""
+    the input's ω).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    delta : float, optional
+        The coefficient of speed fluctuation (ω_max − ω_min)/ω_m to use instead of the model's, in (0, 1).
+
+    Returns
+    -------
+    DynamicsSpec or None
+        The section, with `delta` when given; None without a section and without `delta`.
+
+    Raises
+    ------
+    ModelError
+        `delta` outside (0, 1), or `delta` on a model without `[dynamics]` whose input has no positive omega.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import read_dynamics
+    >>> read_dynamics(mbplanar.read_model("models/shaper.toml"), delta=0.02).delta
+    0.02
+    >>> spec = read_dynamics(mbplanar.read_model("models/fourbar_loaded.toml"), delta=0.1)
+    >>> spec.delta, spec.omega_mean                   # at the input's omega
+    (0.1, 10.0)
+    >>> read_dynamics(mbplanar.read_model("models/fourbar_loaded.toml")) is None
+    True
+    """
     spec = mech.dynamics
     if delta is None:
         return spec
@@ -96,6 +126,21 @@ class Reduced:
         The positions (at ω = 1, ε = 0: the analogues).
     M_red : ndarray (B,)
         The reduced moments' sum (N·m).
+
+    Examples
+    --------
+    The shaper at crank angles 0° and 90°: its ram stands still at 0°, so nothing of the second group
+    moves and no load is reduced; `by_kind` sums the moments per kind of load.
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> from mbplanar.forces import reduce
+    >>> red = reduce(engine, np.radians([0.0, 90.0]))
+    >>> red.J_II.round(4), red.M_red.round(3) + 0.0
+    (array([0.   , 2.327]), array([   0.   , -229.539]))
+    >>> {kind: m.round(3) + 0.0 for kind, m in red.by_kind().items()}
+    {'resistance': array([   0.   , -197.373]), 'friction': array([  0.   , -30.503]), 'gravity': array([ 0.   ,
+    -1.662])}
     """
 
     phi: np.ndarray
@@ -121,7 +166,42 @@ class Reduced:
 def reduce(engine, phi, omega: float = 1.0) -> Reduced:
     """Reduced inertia (and its derivative) and reduced moments of the loads at the input values `phi`
     (SI, (B,)); MotionError if a position cannot be reached on the drawn branch. Loads that depend on
-    the speed (dampers) are evaluated at the input speed `omega` (rad/s)."""
+    the speed (dampers) are evaluated at the input speed `omega` (rad/s).
+
+    J_II = Σ m·v_S,q² + I_S·ω_q² over the links outside the first group (v_q, ω_q the analogues),
+    dJ_II/dφ its exact derivative from the second analogues, and per load its power at unit input
+    speed (its reduced moment).
+
+    Parameters
+    ----------
+    engine : Engine
+        A one-input mechanism.
+    phi : array_like, shape (B,)
+        The input's values (SI).
+    omega : float
+        The input speed the speed-dependent loads are evaluated at (rad/s).
+
+    Returns
+    -------
+    Reduced
+        J_II, dJ_II, J_input and the reduced moments (per load and in sum) over the B positions.
+
+    Raises
+    ------
+    MotionError
+        A position that cannot be reached on the drawn branch.
+
+    Examples
+    --------
+    dJ_II/dφ agrees with a central difference of J_II (h = 1e-5 rad):
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.forces import reduce
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> red = reduce(engine, [1.0 - 1e-5, 1.0, 1.0 + 1e-5])
+    >>> round(float(red.dJ_II[1]), 7), round(float(red.J_II[2] - red.J_II[0]) / 2e-5, 7)
+    (0.0220615, 0.0220615)
+    """
     phi = np.asarray(phi, float).reshape(-1)
     motion = analyse(engine, phi, omega=1.0, epsilon=0.0)
     if not motion.success:
@@ -199,8 +279,35 @@ def _reduced_inertia(engine, motion):
 # -- the energy–mass method -------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class Simulation:
-    """The exact steady-state motion over the cycle grid: ω, ε (N,) (rad/s, rad/s²), its δ, ω range, time
-    mean and period (s); `success` when the periodic state was found, `message` says so or why not."""
+    """The exact steady-state motion over the cycle grid (`simulate`, `Dynamics.simulation`).
+
+    Attributes
+    ----------
+    omega, epsilon : ndarray, shape (N,)
+        ω(φ), ε(φ) of the crank on the cycle grid (rad/s, rad/s²).
+    delta : float
+        Its coefficient of speed fluctuation (ω_max − ω_min)/ω_m.
+    omega_min, omega_max : float
+        Its speed range (rad/s).
+    omega_time_mean : float
+        The mean speed over time, 2π / period (rad/s).
+    period : float
+        The time of one cycle (s).
+    success : bool
+        The periodic state was found.
+    message : str
+        "periodic steady state", or why not.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)     # a coarse cycle
+    >>> from mbplanar.forces import simulate
+    >>> sim = simulate(dyn, rtol=1e-6)
+    >>> sim.success, round(sim.delta, 3), round(float(sim.period), 3), sim.omega.shape
+    (True, 0.048, 0.819, (361,))
+    """
 
     omega: np.ndarray
     epsilon: np.ndarray
@@ -514,12 +621,40 @@ def _parabola_peak(x, y, i):
 
 # -- flywheel ---------------------------------------------------------------------------------------
 def flywheel_sizes(dyn: Dynamics) -> Flywheel:
-    """The flywheel's inertia and its size as a rim and as a disc.
+    """The flywheel's inertia and its size as a rim and as a disc (`Dynamics.flywheel`).
 
     J_fw (on the crank shaft) = J_I − the first group's own inertia (the input link's, and the gears' turned
     at a constant ratio to it, reduced to the crank) − shaft_inertia − motor_inertia·u², u = motor speed /
     crank speed; on the motor shaft (motor_rpm given) J_fw/u² (seed 000's J_m); on a link of the model
     (`link`) with u its speed ratio, from the gears.
+
+    Parameters
+    ----------
+    dyn : Dynamics
+        A machine dynamics (its J_I and its spec's flywheel data).
+
+    Returns
+    -------
+    Flywheel
+        `inertia` (kg·m², on its shaft), `inertia_on_crank_shaft`, `shaft`, `speed_ratio`, `density`,
+        `needed` (False when the machine's own inertia is enough), and its sizes as a `rim` and as a
+        `disc` (m, kg).
+
+    Raises
+    ------
+    Nothing for a `Dynamics`.
+
+    Examples
+    --------
+    The shaper's flywheel on its motor shaft, which turns 19.35 times as fast as the crank:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)     # a coarse cycle
+    >>> from mbplanar.forces import flywheel_sizes
+    >>> fw = flywheel_sizes(dyn)
+    >>> fw.shaft, round(fw.speed_ratio, 4), round(fw.inertia, 4), round(fw.rim.outer_diameter, 3), round(fw.disc.mass, 2)
+    ('motor', 19.3479, 0.3051, 0.345, 29.58)
     """
     fs = dyn.spec.flywheel
     crank_rpm = dyn.omega_mean * 60 / (2 * math.pi)
@@ -554,7 +689,40 @@ def _gear_ratio(dyn: Dynamics, link: str) -> float:
 
 def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
     """The results as (quantity, value, unit or note) rows, for the command line and the report;
-    `inp` is the model's input (its name and unit label the positions)."""
+    `inp` is the model's input (its name and unit label the positions).
+
+    Parameters
+    ----------
+    dyn : Dynamics
+        A machine dynamics.
+    inp : Input
+        The model's input (`Engine.inputs[0]`).
+
+    Returns
+    -------
+    list of tuple
+        (quantity, value, unit or note): δ, ω_m, the work per cycle and per kind of load, M_dr, ΔT_I's
+        extremes, J_I, the ω and ε ranges, the simulated δ (when simulated) and the flywheel.
+
+    Raises
+    ------
+    AttributeError
+        `inp` is not an `Input`.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)     # a coarse cycle
+    >>> from mbplanar.forces import summary
+    >>> for quantity, value, unit in summary(dyn, engine.inputs[0])[:5]:
+    ...     print(f"{quantity}: {value:.6g} {unit}".rstrip())
+    coefficient of speed fluctuation δ: 0.05
+    mean speed ω_m: 7.64454 rad/s
+    work of the loads per cycle A_c(2π): -641.221 J
+      of which resistance: -471.222 J
+      of which friction: -169.999 J
+    """
     at = lambda phi: f"at {inp.name} = {inp.from_si(phi):.6g} {inp.unit}"  # noqa: E731
     rows = [("coefficient of speed fluctuation δ", dyn.spec.delta, ""),
             ("mean speed ω_m", dyn.omega_mean, "rad/s"),
@@ -583,7 +751,40 @@ def summary(dyn: Dynamics, inp) -> list[tuple[str, object, str]]:
 def true_motion(engine, phi, cache: dict | None = None):
     """ω, ε (B,) of the input at `phi` (SI) from the machine dynamics, and the first group's J_I less the
     input link's own inertia (the constant inertia the force analysis adds on the input link); `cache`
-    (a dict) keeps the machine dynamics for later calls (the chunks of a streamed sweep)."""
+    (a dict) keeps the machine dynamics for later calls (the chunks of a streamed sweep).
+
+    Parameters
+    ----------
+    engine : Engine
+        A crank-driven mechanism with `[dynamics]`.
+    phi : array_like, shape (B,)
+        The crank's values (SI).
+    cache : dict, optional
+        Holds the `Dynamics` under "dynamics": made (3600 steps, not simulated) on the first call, read
+        on the next ones; put one there to choose it.
+
+    Returns
+    -------
+    omega, epsilon : ndarray, shape (B,)
+        The crank's speed and acceleration (rad/s, rad/s²) by the energy–mass method.
+    inertia : float
+        J_I less the input link's own inertia (kg·m²).
+
+    Raises
+    ------
+    ModelError
+        A model without `[dynamics]`.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)     # a coarse cycle
+    >>> from mbplanar.forces import true_motion
+    >>> omega, epsilon, inertia = true_motion(engine, np.radians([0.0, 90.0]), cache={"dynamics": dyn})
+    >>> omega.round(4), epsilon.round(4), round(inertia, 2)
+    (array([7.811, 7.743]), array([ 0.6936, -0.9986]), 147.14)
+    """
     cache = {} if cache is None else cache
     dyn = cache.get("dynamics") or cache.setdefault("dynamics", machine_dynamics(engine, simulate_motion=False))
     state = dyn.state_at(engine, phi)
@@ -623,7 +824,43 @@ def _cycle_equation(dyn: Dynamics, J_I: float):
 def stall_ahead(dyn: Dynamics, J_I: float, phi0: float, omega0: float) -> tuple[float, float] | None:
     """Where (φ, rad) and when (s) the machine of `dyn` with the first-group inertia `J_I` (kg·m², the
     input link's own included), started at φ0 with the speed ω0 > 0, stalls within its first cycle (its
-    speed falls to zero: the drive cannot carry it through the loads); None when it passes the cycle."""
+    speed falls to zero: the drive cannot carry it through the loads); None when it passes the cycle.
+
+    Parameters
+    ----------
+    dyn : Dynamics
+        The machine (its reduced model and driving moment).
+    J_I : float
+        The first group's inertia on the crank (kg·m²).
+    phi0 : float
+        The start angle (rad).
+    omega0 : float
+        The start speed (rad/s), > 0.
+
+    Returns
+    -------
+    tuple of float or None
+        (φ, t) where and when it stalls; None when it runs through the cycle.
+
+    Raises
+    ------
+    ZeroDivisionError
+        `omega0` = 0 (it starts stalled).
+
+    Examples
+    --------
+    The shaper with its flywheel runs through; without (J_I = 1 kg·m²) from half its speed it stops
+    within the turn:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)     # a coarse cycle
+    >>> from mbplanar.forces import stall_ahead
+    >>> stall_ahead(dyn, dyn.inertia_first_group, 0.0, dyn.omega_mean) is None
+    True
+    >>> tuple(round(x, 3) for x in stall_ahead(dyn, 1.0, 0.0, 0.5))
+    (1.505, 0.333)
+    """
     from scipy.integrate import solve_ivp
 
     rhs, _, stalled = _cycle_equation(dyn, J_I)
@@ -642,6 +879,38 @@ def simulate(dyn: Dynamics, rtol: float = 1e-10, max_iter: int = 60) -> Simulati
     With a constant driving moment every start speed gives a periodic motion; the one whose mean speed
     (ω_max + ω_min)/2 is ω_m is taken. With a motor characteristic (slope > 0) the periodic motion is
     unique: ω(2π) = ω(0). Both conditions are met by a secant iteration on ω(0).
+
+    Parameters
+    ----------
+    dyn : Dynamics
+        The machine, with its first-group inertia J_I (the flywheel found).
+    rtol : float
+        solve_ivp's relative tolerance.
+    max_iter : int
+        The most secant steps.
+
+    Returns
+    -------
+    Simulation
+        ω, ε over the cycle grid, δ, the speed range, the period; `success` False (with the reason in
+        `message`) when the iteration did not converge.
+
+    Raises
+    ------
+    MotionError
+        The machine stalls: the drive cannot carry it through the cycle.
+
+    Examples
+    --------
+    The shaper's true δ with the flywheel sized for δ = 0.05 by the energy–mass method:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)     # a coarse cycle
+    >>> from mbplanar.forces import simulate
+    >>> sim = simulate(dyn, rtol=1e-6)
+    >>> sim.message, round(sim.delta, 4), round(sim.omega_min, 3), round(sim.omega_max, 3)
+    ('periodic steady state', 0.0481, 7.461, 7.828)
     """
     from scipy.integrate import solve_ivp
 

@@ -35,18 +35,40 @@ from ..errors import ModelError
 from ..engine._backend import dispatch
 from ..engine._linalg import factor
 from ..engine._tables import kernels_decline
-from ..kinematics._contacts import contact_geometry
-from ..kinematics._motion import Motion, material_points
+from ..kinematics import Motion, contact_geometry, material_points
 from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
                      real_frames, world_points)
 
-__all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads"]
+__all__ = ["Reaction", "Kinetostatics", "kinetostatics", "inertia_loads", "plan_of", "solve_blocks", "input_link",
+           "reported_on"]
 
 
 @dataclass(frozen=True, eq=False)
 class Reaction:
-    """Force (fx, fy) (B,) (N) and moment (B,) (N·m; a prismatic pair's, else 0) on link `on` from link
-    `source` in joint `joint`. `magnitude` and `direction_deg` are functions of fx, fy."""
+    """The reaction in one pair over a batch of B positions (`Kinetostatics.reactions`), SI.
+
+    Attributes
+    ----------
+    joint : str
+        The pair.
+    on, source : str
+        The link the reaction acts on and the link it comes from (`reported_on`).
+    fx, fy : ndarray, shape (B,)
+        The force (N).
+    moment : ndarray, shape (B,)
+        A prismatic pair's moment (N·m); 0 for a revolute pair.
+    magnitude, direction_deg : ndarray, shape (B,)
+        ‖F‖ (N) and its direction (degrees counter-clockwise from +x, in [0, 360)), from fx, fy.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> r = mbplanar.kinetostatics(engine, motion).reactions["O"]
+    >>> r.on, r.source, r.magnitude.round(4), r.direction_deg.round(3)
+    ('1', '0', array([46.3426,  5.112 ]), array([204.386,  47.289]))
+    """
 
     joint: str
     on: str
@@ -153,8 +175,35 @@ def _virtual_frames(engine, motion):
     return f.w, f.v
 
 
-def _input_link(engine, inp) -> tuple[str, str]:
-    """(input link, the other link) of an input joint: its second link unless that is the ground."""
+def input_link(engine, inp) -> tuple[str, str]:
+    """(input link, the other link) of an input joint: its second link unless that is the ground. The
+    balancing load is reported on the input link.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    inp : Input
+        One of its inputs (`Engine.inputs`).
+
+    Returns
+    -------
+    tuple of str
+        (the input link, the other link of the input's joint).
+
+    Raises
+    ------
+    KeyError
+        An input of another model.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import input_link
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> input_link(engine, engine.inputs[0])
+    ('1', '0')
+    """
     j = engine.mech.joints[inp.joint]
     a, b = j.links
     return (a, b) if b == engine.mech.ground else (b, a)
@@ -162,7 +211,43 @@ def _input_link(engine, inp) -> tuple[str, str]:
 
 def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     """d'Alembert loads: −m·a_S at the centre and −I_S·ε on every link with mass or inertia, and
-    −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I."""
+    −J_I·ε (−J_I·a along the guide for a prismatic input) on each input link for `input_inertia` J_I.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions with their real rates (batch B).
+    input_inertia : float or array_like
+        J_I per input (kg·m², or kg for a prismatic input), one value or one per input; 0: none.
+
+    Returns
+    -------
+    list of LoadValue
+        One per link with mass or inertia ("inertia of 2"), then one per input with J_I ("input
+        inertia on 1").
+
+    Raises
+    ------
+    ValueError
+        More `input_inertia` values than inputs.
+
+    Examples
+    --------
+    The coupler of the loaded four-bar (2 kg, 0.015 kg·m²) at 10 rad/s:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import inertia_loads
+    >>> coupler = inertia_loads(engine, motion)[0]
+    >>> coupler.name, coupler.force.round(4), coupler.moment.round(5)
+    ('inertia of 2', array([[ 16.2965,   9.7699],
+           [-13.6444,   5.5727]]), array([-0.48809, -0.28547]))
+    >>> [ld.name for ld in inertia_loads(engine, motion, input_inertia=0.5)]
+    ['inertia of 2', 'inertia of 3', 'input inertia on 1']
+    """
     mech = engine.mech
     heavy = heavy_links(mech)
     ks = np.array([engine.link_index[name] for name, _, _ in heavy], int)
@@ -180,7 +265,7 @@ def inertia_loads(engine, motion, input_inertia=0.0) -> list[LoadValue]:
     for inp, J in zip(engine.inputs, inertias):
         if not J:
             continue
-        link, _ = _input_link(engine, inp)
+        link, _ = input_link(engine, inp)
         k = engine.link_index[link]
         jt = mech.joints[inp.joint]
         kj = motion.joint(inp.joint)
@@ -207,7 +292,7 @@ class _Layout:
     cols: dict            # joint name → first column (fx, fy[, moment])
     in_cols: list         # input k → column
     scale: np.ndarray     # (n,) unknown as reported = x · scale (the sign turns a pair's unknown round
-    size: int             # where the reaction is reported on its first link, see `_reported_on`)
+    size: int             # where the reaction is reported on its first link, see `reported_on`)
 
 
 def _layout(engine) -> _Layout:
@@ -225,7 +310,7 @@ def _layout(engine) -> _Layout:
     c = 0
     for j in mech.joints.values():
         cols[j.name] = c
-        sign = 1.0 if _reported_on(mech, j)[0] == j.links[1] else -1.0
+        sign = 1.0 if reported_on(mech, j)[0] == j.links[1] else -1.0
         scale += [sign, sign] + ([sign * L] if j.kind == "P" else [])
         c += 3 if j.kind == "P" else 2
     for h in mech.higher:  # a higher pair: the size of its force along its direction (`_pair_directions`)
@@ -347,8 +432,40 @@ def _owners(engine, lay):
 
 
 def plan_of(engine) -> _Plan:
-    """Layout, features and block order of an engine's system, made once per engine (also read by the
-    compiled backend)."""
+    """The structure of an engine's equilibrium system, made once per engine and kept on it: the layout
+    of rows (three per moving link, one per prismatic pair) and unknowns (per pair its force, a prismatic
+    pair's moment too, per higher pair the size of its force, per input its balancing load), the
+    features its entries are made of, and its blocks in back-substitution order (the Assur groups, last
+    first). It depends on the topology, not on the dimensions: a design batch reuses it (`solve_blocks`).
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+
+    Returns
+    -------
+    _Plan
+        A record: `lay` (`rows`: link index → its first row; `cols`: pair → its first unknown; `in_cols`: each
+        input's unknown; `scale`: unknown as reported = x · scale; `size`: n), `centre` (2,) the moment
+        centre (the mean of the drawn joints), `joints` and `guides` (the pairs whose lever and the
+        prismatic pairs whose guide direction are features), `p_inputs`, `blocks`, `higher`.
+
+    Raises
+    ------
+    Nothing for an `Engine`.
+
+    Examples
+    --------
+    The four-bar: 9 unknowns (two per pair, one balancing moment) in 9 rows, two blocks (the dyad B
+    solved first, then the crank):
+
+    >>> import mbplanar
+    >>> from mbplanar.forces import plan_of
+    >>> plan = plan_of(mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml")))
+    >>> plan.lay.size, plan.lay.rows, plan.lay.in_cols, plan.joints, len(plan.blocks)
+    (9, {1: 0, 2: 3, 3: 6}, [8], ['O', 'A', 'B', 'C'], 2)
+    """
     return engine.prepare("kinetostatic plan", lambda: _plan(engine))
 
 
@@ -546,9 +663,59 @@ def pivot_orders(engine, motion) -> dict:
     return out
 
 
-def _solve_blocks(plan, features, b, threshold: float):
+def solve_blocks(plan, features, b, threshold: float):
     """Back-substitution over the blocks (batch last); returns the scaled unknowns x (n, B) and the
-    singular positions (B,): where a block's |det| / Π‖row‖ is not above `threshold`."""
+    singular positions (B,): where a block's abs(det) / Π‖row‖ is not above `threshold`.
+
+    Parameters
+    ----------
+    plan : _Plan
+        The system's structure (`plan_of`).
+    features : ndarray, shape (F, B)
+        The per-position scalars the entries are made of: 1; per pair of `plan.joints` its lever
+        (point − centre)/L, x then y; per prismatic pair of `plan.guides` its guide direction (x, y); per
+        prismatic input (`plan.p_inputs`) the cross product of its lever and its guide; per higher pair
+        its force's direction (x, y) and lever. L is the engine's size.
+    b : ndarray, shape (n, B)
+        The right side: per moving link minus the loads' force (x, y) and minus their moment about
+        `plan.centre` over L.
+    threshold : float
+        The singularity threshold (`Engine.tol.singular`).
+
+    Returns
+    -------
+    x : ndarray, shape (n, B)
+        The unknowns, scaled (as reported: x · `plan.lay.scale`).
+    singular : ndarray, shape (B,), bool
+        Where a block is singular (its unknowns there are not meaningful).
+
+    Raises
+    ------
+    IndexError
+        `features` with fewer rows than the plan reads.
+
+    Examples
+    --------
+    The balancing moment of the loaded four-bar against its −5 N·m on the rocker alone, assembled by
+    hand, equals `kinetostatics`' with that load only:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import evaluate_loads, plan_of, solve_blocks
+    >>> plan = plan_of(engine)
+    >>> xy = motion.xy[:, [motion.point(j) for j in plan.joints]]                    # (B, J, 2)
+    >>> features = np.vstack([np.ones(2), ((xy - plan.centre) / engine.size).reshape(2, -1).T])
+    >>> b = np.zeros((plan.lay.size, 2))
+    >>> b[plan.lay.rows[engine.link_index["3"]] + 2] = 5.0 / engine.size             # −(−5 N·m) / L
+    >>> x, singular = solve_blocks(plan, features, b, engine.tol.singular)
+    >>> q = plan.lay.in_cols[0]
+    >>> (x[q] * plan.lay.scale[q]).round(6), singular
+    (array([1.087183, 1.774365]), array([False, False]))
+    >>> only = evaluate_loads(engine, motion, gravity=False)
+    >>> mbplanar.kinetostatics(engine, motion, loads=only, inertia=False).balancing["O"].round(6)
+    array([1.087183, 1.774365])
+    """
     x = np.zeros(b.shape)
     singular = np.zeros(b.shape[1], bool)
     for blk in plan.blocks:
@@ -619,9 +786,35 @@ def _radial_loads(engine, motion, x, lay) -> list[LoadValue]:
     return out
 
 
-def _reported_on(mech, j) -> tuple[str, str]:
+def reported_on(mech, j) -> tuple[str, str]:
     """(link the reaction of pair j is reported on, the link it comes from): the moving link for a pair
-    with the ground, the slider for a prismatic pair, the row's first link for a revolute pair."""
+    with the ground, the slider for a prismatic pair, the row's first link for a revolute pair.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    j : Joint
+        One of its lower pairs.
+
+    Returns
+    -------
+    tuple of str
+        (on, from).
+
+    Raises
+    ------
+    AttributeError
+        `j` is not a `Joint`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import reported_on
+    >>> mech = mbplanar.read_model("models/slider_crank.toml")
+    >>> {name: reported_on(mech, j) for name, j in mech.joints.items()}
+    {'O': ('1', '0'), 'A': ('1', '2'), 'B': ('2', '3'), 'Bp': ('3', '0')}
+    """
     a, b = j.links
     return (a, b) if b == mech.ground or (j.kind == "R" and a != mech.ground) else (b, a)
 
@@ -633,7 +826,7 @@ def _report(engine, lay, x, contact: dict | None = None) -> dict:
     for j in engine.mech.joints.values():
         c = lay.cols[j.name]
         m = x[c + 2] if j.kind == "P" else np.zeros(x.shape[1])
-        out[j.name] = Reaction(j.name, *_reported_on(engine.mech, j), x[c], x[c + 1], m)
+        out[j.name] = Reaction(j.name, *reported_on(engine.mech, j), x[c], x[c + 1], m)
     for name, force in (contact or {}).items():
         a, b = engine.mech.higher[name].links
         out[name] = Reaction(name, b, a, force[:, 0], force[:, 1], np.zeros(x.shape[1]))
@@ -804,11 +997,11 @@ def _reference(engine, motion, input_inertia, loads, inertia) -> Kinetostatics:
     if batch:
         directions = pair_directions(engine, motion) if plan.higher else None
         features = _features(engine, motion, plan, directions)
-        x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
+        x, singular = solve_blocks(plan, features, b, engine.tol.singular)
         radial = _radial_loads(engine, motion, x, lay) if plan.higher else []
         if radial:  # (the tangential forces stay as they are: the radial pairs pass through the centres)
             b = b + _right_side(lay, radial, plan.centre, engine.size, batch)
-            x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
+            x, singular = solve_blocks(plan, features, b, engine.tol.singular)
         x *= lay.scale[:, None]
         singular |= ~np.all(np.isfinite(x), axis=0)
         x[:, singular] = np.nan
@@ -839,7 +1032,7 @@ def result(engine, motion, lay, x, singular, residual, loads, contact: dict | No
     `contact` the higher pairs' contact forces (`_contact_forces`)."""
     mech = engine.mech
     drive = [x[c] for c in lay.in_cols]  # on each input joint's second link
-    balancing = {inp.joint: q if _input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
+    balancing = {inp.joint: q if input_link(engine, inp)[0] == mech.joints[inp.joint].links[1] else -q
                  for inp, q in zip(engine.inputs, drive)}
     contact_forces = {name: x[lay.cols[name]] for name in mech.higher}
     pulling = {name: np.asarray(f) < 0 for name, f in contact_forces.items() if mech.higher[name].kind == "cam"}

@@ -48,13 +48,41 @@ from ..model._model import ELEMENT_TYPES, LOAD_TYPES, Gravity, Load
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
            "has_force_data", "warn_idle_resistances", "real_frames", "point_motion", "spring_tension",
-           "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES"]
+           "spring_energy", "free_length", "drawn_end", "needs_numpy", "LOAD_TYPES", "ELEMENT_TYPES", "constant_parts",
+           "world_points"]
 
 
 @dataclass(frozen=True, eq=False)
 class LoadValue:
-    """A load evaluated over a batch: `force` (B, 2) (N) at `point` (B, 2) (m) and `moment` (B,) (N·m) on
-    link index `link` (engine.links order)."""
+    """A load evaluated over a batch of B positions (`evaluate_loads`, `inertia_loads`), SI.
+
+    Attributes
+    ----------
+    name : str
+        The row's label ("resistance"), or what made it ("gravity on 2", "inertia of 2").
+    link : int
+        The index of the link it acts on (`Engine.link_index`, `Motion.link_names` order).
+    force : ndarray, shape (B, 2)
+        The force (N).
+    point : ndarray, shape (B, 2)
+        Where it acts (m).
+    moment : ndarray, shape (B,)
+        A moment besides the force (N·m, counter-clockwise).
+
+    Examples
+    --------
+    Gravity on the 2 kg coupler of the loaded four-bar, at its centre S2:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import evaluate_loads
+    >>> weight = evaluate_loads(engine, motion)[1]
+    >>> weight.name, weight.link, weight.force.round(3) + 0.0, weight.point.round(4)
+    ('gravity on 2', 2, array([[  0.  , -19.62],
+           [  0.  , -19.62]]), array([[0.1758, 0.1683],
+           [0.0399, 0.1306]]))
+    """
 
     name: str
     link: int
@@ -64,12 +92,60 @@ class LoadValue:
 
 
 def has_force_data(mech) -> bool:
-    """True when the model has loads, gravity or mass data (otherwise every reaction is zero)."""
+    """True when the model has loads, gravity or mass data (otherwise every reaction is zero).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+
+    Returns
+    -------
+    bool
+        Whether the model has a `loads` row, `[gravity]`, or a link with a mass or an inertia.
+
+    Raises
+    ------
+    AttributeError
+        `mech` is not a `Mechanism`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import has_force_data
+    >>> has_force_data(mbplanar.read_model("models/fourbar_loaded.toml"))
+    True
+    >>> has_force_data(mbplanar.read_model("models/fourbar.toml"))
+    False
+    """
     return bool(mech.loads or mech.gravity or any(lk.mass or lk.inertia for lk in mech.links.values()))
 
 
 def read_loads(mech) -> list[Load]:
-    """The model's loads (read and checked with the table: `Mechanism.loads`)."""
+    """The model's loads (read and checked with the table: `Mechanism.loads`).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+
+    Returns
+    -------
+    list of Load
+        The `loads` rows in the table's order, SI.
+
+    Raises
+    ------
+    AttributeError
+        `mech` is not a `Mechanism` (the rows were checked when the table was read: `ModelError` there).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import read_loads
+    >>> [(ld.name, ld.kind, ld.link, ld.moment) for ld in read_loads(mbplanar.read_model("models/fourbar_loaded.toml"))]
+    [('resistance', 'moment', '3', -5.0)]
+    """
     return list(mech.loads)
 
 
@@ -93,7 +169,40 @@ def centre_of(mech, link: str, why: str = "a link with mass needs a 'centre' poi
 
 # -- evaluating -------------------------------------------------------------------------------------
 def world_points(motion, link: int, at) -> np.ndarray:
-    """Positions (B, 2) of the material point drawn at `at` (2,) on link index `link`."""
+    """Positions of the material point drawn at `at` on a link, over the batch of `motion`.
+
+    Parameters
+    ----------
+    motion : Motion
+        Positions with their frames (batch B).
+    link : int
+        The link's index (`Engine.link_index`).
+    at : array_like, shape (2,)
+        Where the point is drawn (m, the model's frame).
+
+    Returns
+    -------
+    ndarray, shape (B, 2)
+        Its positions (m).
+
+    Raises
+    ------
+    IndexError
+        A link index past the motion's links.
+
+    Examples
+    --------
+    The coupler's pin A, drawn at (0.05, 0.0866) with the crank at 60°, is back there at 60° and 0.1 m
+    from the pivot O at 150°:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import world_points
+    >>> world_points(motion, 2, np.array([0.05, 0.0866])).round(6)
+    array([[ 0.05    ,  0.0866  ],
+           [-0.086603,  0.049997]])
+    """
     th, r = motion.frames.th[:, link], motion.frames.r[:, link]
     c, s = np.cos(th), np.sin(th)
     out = np.empty(r.shape)
@@ -104,7 +213,45 @@ def world_points(motion, link: int, at) -> np.ndarray:
 
 def load_power(load: LoadValue, w, v, r) -> np.ndarray:
     """Power (B,) of a load for link frame velocities w (B, L), v (B, L, 2) and origins r (B, L, 2):
-    F·(v + ω × (point − r)) + M·ω. With the analogues it is the load's reduced moment."""
+    F·(v + ω × (point − r)) + M·ω. With the analogues it is the load's reduced moment.
+
+    Parameters
+    ----------
+    load : LoadValue
+        The load over B positions.
+    w : ndarray, shape (B, L)
+        The link frames' angular velocities (rad/s, or analogues rad/rad).
+    v : ndarray, shape (B, L, 2)
+        The velocities of the frames' origins (m/s, or analogues m/rad).
+    r : ndarray, shape (B, L, 2)
+        The frames' origins (m).
+
+    Returns
+    -------
+    ndarray, shape (B,)
+        The power (W), or with the analogues the reduced moment (N·m).
+
+    Raises
+    ------
+    IndexError
+        A load on a link past the L frames.
+
+    Examples
+    --------
+    The −5 N·m on the rocker of the loaded four-bar: its reduced moment on the crank is −5·ω₃/ω₁, its
+    power at 10 rad/s ten times that:
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import evaluate_loads, load_power
+    >>> resistance = evaluate_loads(engine, motion)[0]
+    >>> f = motion.frames
+    >>> load_power(resistance, f.w, f.v, f.r).round(6), (-5 * f.w[:, 3]).round(6)
+    (array([-1.087183, -1.774365]), array([-1.087183, -1.774365]))
+    >>> load_power(resistance, motion.w, motion.v, f.r).round(5)
+    array([-10.87183, -17.74365])
+    """
     k = load.link
     wk = w[:, k]
     dx, dy = load.point[:, 0] - r[:, k, 0], load.point[:, 1] - r[:, k, 1]
@@ -138,7 +285,33 @@ def joint_rate_sign(motion, joint: str) -> np.ndarray:
 def heavy_links(mech) -> list[tuple[str, object, tuple[float, float]]]:
     """(name, link, drawn centre) of every moving link with mass or inertia, in the table's order: the
     links that weigh and have d'Alembert loads; the centre is (0, 0) for a link with inertia only and
-    no centre (its load is a pure moment)."""
+    no centre (its load is a pure moment).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model as the engine holds it (`Engine.mech`: assembled, its named points placed).
+
+    Returns
+    -------
+    list of tuple
+        (name, `Link`, (x, y) of its centre of mass in the drawn pose, m).
+
+    Raises
+    ------
+    ModelError
+        A link with a mass and no centre.
+    TypeError
+        A model read but not assembled (a named centre not yet placed).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import heavy_links
+    >>> mech = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml")).mech
+    >>> [(name, link.mass, tuple(round(x, 6) for x in centre)) for name, link, centre in heavy_links(mech)]
+    [('2', 2.0, (0.1758, 0.168299)), ('3', 1.5, (0.3008, 0.124997))]
+    """
     return [(name, lk, centre_of(mech, name) if (lk.mass or lk.centre) else (0.0, 0.0))
             for name, lk in mech.links.items() if name != mech.ground and (lk.mass or lk.inertia)]
 
@@ -146,7 +319,44 @@ def heavy_links(mech) -> list[tuple[str, object, tuple[float, float]]]:
 def evaluate_loads(engine, motion, loads: list[Load] | None = None,
                    gravity: Gravity | None | bool = True) -> list[LoadValue]:
     """Every load (the model's rows unless `loads` is given, plus gravity on heavy links unless
-    `gravity` is False) over the batch of `motion`."""
+    `gravity` is False) over the batch of `motion`.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions with their rates (batch B): speed-dependent rows (resistances, dampers, switched
+        rows) read them.
+    loads : list of Load, optional
+        The rows to evaluate (default: the model's, `read_loads`).
+    gravity : Gravity, None or bool
+        True: the model's `[gravity]`; False or None: no weights; a `Gravity`: that one.
+
+    Returns
+    -------
+    list of LoadValue
+        One per row (two per spring, damper or torque: one on each link), then one weight per link
+        with a mass.
+
+    Raises
+    ------
+    MotionError
+        A resistance's `zero_at` cannot be reached.
+    ModelError
+        `zero_at` on a model with several inputs.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import evaluate_loads
+    >>> [(ld.name, ld.link, ld.moment.tolist()) for ld in evaluate_loads(engine, motion, gravity=False)]
+    [('resistance', 3, [-5.0, -5.0])]
+    >>> [ld.name for ld in evaluate_loads(engine, motion)]
+    ['resistance', 'gravity on 2', 'gravity on 3']
+    """
     mech = engine.mech
     loads = mech.loads if loads is None else loads
     if gravity is True:
@@ -221,7 +431,38 @@ def _element_ends(engine, motion, load: Load):
 
 
 def drawn_end(mech, load: Load, end: int) -> tuple[float, float]:
-    """Drawn coordinates (exact pose) of an element's end on `other` (0) or on `link` (1)."""
+    """Drawn coordinates (exact pose) of an element's end on `other` (0) or on `link` (1).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model as the engine holds it (`Engine.mech`: assembled, its named points placed).
+    load : Load
+        A spring or damper row between two points.
+    end : int
+        0: the end on the row's `other` link; 1: on its `link`.
+
+    Returns
+    -------
+    tuple of float
+        (x, y) in the drawn pose (m).
+
+    Raises
+    ------
+    KeyError
+        An end at a point the model does not have.
+
+    Examples
+    --------
+    Andrews' squeezer: its spring runs from the frame point C = (0.014, 0.072) to the point D of body 3.
+
+    >>> import mbplanar
+    >>> from mbplanar.forces import drawn_end, read_loads
+    >>> mech = mbplanar.Engine(mbplanar.read_model("models/squeezer.toml")).mech
+    >>> spring = next(ld for ld in read_loads(mech) if ld.kind == "spring")
+    >>> [tuple(round(x, 6) for x in drawn_end(mech, spring, end)) for end in (0, 1)]
+    [(0.014, 0.072), (-0.010472, 0.025358)]
+    """
     at, point = (load.other_at, load.other_point) if end == 0 else (load.at, load.point)
     return at if at is not None else named_point(mech, point)
 
@@ -297,7 +538,38 @@ def _evaluate(engine, motion, load: Load) -> LoadValue:
 
 def constant_parts(mech, load: Load) -> tuple[tuple[float, float], np.ndarray | None, float]:
     """What does not vary with the position: the drawn point `at` the load acts at, its force (2,)
-    (None for a guide force, `guide_force_size` along `guide_direction`) and its moment."""
+    (None for a guide force, `guide_force_size` along `guide_direction`) and its moment.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model as the engine holds it (`Engine.mech`: assembled, its named points placed).
+    load : Load
+        One of its `force`, `weight`, `moment`, `resistance` or `friction` rows.
+
+    Returns
+    -------
+    at : tuple of float
+        The drawn point it acts at (m).
+    force : ndarray, shape (2,), or None
+        Its force (N); None for a guide force (its size varies with the motion).
+    moment : float
+        Its moment (N·m).
+
+    Raises
+    ------
+    KeyError
+        A row at a point the model does not have.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import constant_parts, read_loads
+    >>> mech = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml")).mech
+    >>> at, force, moment = constant_parts(mech, read_loads(mech)[0])
+    >>> tuple(round(x, 6) for x in at), force, moment
+    ((0.3008, 0.124997), array([0., 0.]), -5.0)
+    """
     at = load.at if load.at is not None else named_point(mech, load.point)
     if load.kind == "force":
         return at, np.asarray(load.force, float), 0.0
@@ -333,7 +605,41 @@ def guide_force_size(engine, motion, load: Load) -> np.ndarray:
 def warn_idle_resistances(engine, motion):
     """A `ModelWarning` for each resistance with an `s` diagram that is zero at every position of
     `motion` while it acts (e.g. `when = "backward"` with a diagram on s > 0 while the slider moves
-    back over s < 0): it does no work there, which is rarely what the table meant."""
+    back over s < 0): it does no work there, which is rarely what the table meant.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        The positions a command is about to work on (two or more; with rates).
+
+    Returns
+    -------
+    None
+        The warnings go through `warnings.warn`.
+
+    Raises
+    ------
+    ModelWarning
+        When warnings are errors (``-W error``), for the first idle resistance.
+
+    Examples
+    --------
+    The shaper's cutting force acts on the working stroke: over a whole turn it works, over a stretch of
+    the return stroke alone (crank at 240°–290°) it does nothing.
+
+    >>> import warnings, numpy as np, mbplanar
+    >>> from mbplanar.forces import warn_idle_resistances
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warn_idle_resistances(engine, mbplanar.analyse(engine, np.radians(np.arange(0.0, 360.0, 10.0))))
+    ...     warn_idle_resistances(engine, mbplanar.analyse(engine, np.radians(np.arange(240.0, 300.0, 10.0))))
+    >>> [str(w.message) for w in caught]  # doctest: +NORMALIZE_WHITESPACE
+    ["models/shaper.toml: cutting: the resistance does no work over the 6 positions: it acts (forward) over
+    no position, where its diagram (s = 0 … 0.5 m) gives 0 N; check the sign of 's', 'zero_at' or 'when'"]
+    """
     units = engine.mech.units
     for load in engine.mech.loads:
         if load.kind != "resistance" or not load.table or len(motion.phi) < 2:
@@ -368,7 +674,7 @@ def _displacement_zero(engine, load: Load) -> float:
 def _joint_value_at(engine, load: Load) -> float:
     if len(engine.inputs) != 1:
         raise ModelError("'zero_at' needs a model with one input", source=engine.mech.source, where=load.name)
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     inp = engine.inputs[0]
     m = analyse(engine, np.array([inp.to_si(load.zero_at)]))
     if not m.success:

@@ -33,7 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kinematics._motion import _tables
+from ..kinematics import point_table
 from ._kinetostatics import pivot_orders
 from ._loads import constant_parts, heavy_links
 
@@ -477,7 +477,7 @@ def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
     cx, cy = ks_plan.centre
     inv_size = 1.0 / engine.size
     # the entries' features (kinetostatics._features)
-    p_names, p_link, p_at = _tables(engine)[0]
+    p_names, p_link, p_at = point_table(engine)
     point_of = {name: k for k, name in enumerate(p_names)}
     feat = [T.value(1.0)]
     for name in ks_plan.joints:
@@ -542,7 +542,7 @@ def _program(engine, ks_plan, row_dtype, inertia, orders=None) -> tuple:
             lx, ly = T.add(px, T.value(-cx)), T.add(py, T.value(-cy))
             m = T.add(T.val(DOT, lx, fy, ly, T.mulk(fx, -1.0)), mz)
             bvec[r + 2] = T.val(MSUB, bvec[r + 2], T.mulk(m, inv_size), T.value(1.0))
-    # the blocks, last group first (kinetostatics._solve_blocks)
+    # the blocks, last group first (kinetostatics.solve_blocks)
     x = [None] * n
     bad = T.set(0.0)
     for index, blk in enumerate(ks_plan.blocks):

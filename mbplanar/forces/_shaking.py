@@ -27,8 +27,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError, MotionError, did_you_mean
-from ..kinematics._contacts import contact_geometry
-from ..kinematics._motion import analyse, material_points
+from ..kinematics import analyse, contact_geometry, material_points
 from ._loads import guide_direction, heavy_links, real_frames, world_points
 from ..model._model import Point
 
@@ -38,7 +37,30 @@ __all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balanci
 
 @dataclass(frozen=True, eq=False)
 class Shaking:
-    """Force (B, 2) (N) and moment (B,) (N·m, about `about`) on the frame; `magnitude` is |force|."""
+    """What the mechanism does to its frame over a batch of B positions (`shaking`, `inertia_shaking`).
+
+    Attributes
+    ----------
+    force : ndarray, shape (B, 2)
+        The force on the frame (N).
+    moment : ndarray, shape (B,)
+        Its moment about `about` (N·m).
+    about : tuple of float
+        The point moments are taken about (m).
+    magnitude : ndarray, shape (B,)
+        ‖force‖ (N).
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import shaking
+    >>> sh = shaking(engine, mbplanar.kinetostatics(engine, motion))
+    >>> sh.force.round(4), sh.moment.round(4), sh.magnitude.round(4)
+    (array([[ 24.7689, -23.7328],
+           [-17.3825, -28.3328]]), array([-15.5586,  -6.8743]), array([34.3038, 33.24  ]))
+    """
 
     force: np.ndarray
     moment: np.ndarray
@@ -55,7 +77,41 @@ def _cross(p, f):
 
 def shaking(engine, ks, about=(0.0, 0.0)) -> Shaking:
     """Shaking force and moment from a `Kinetostatics` `ks`: the pairs with the ground (their force at the
-    joint, a prismatic pair's moment too), the drive at inputs with the ground, and loads on the frame."""
+    joint, a prismatic pair's moment too), the drive at inputs with the ground, and loads on the frame.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    ks : Kinetostatics
+        Its reactions over B positions.
+    about : tuple of float
+        The point moments are taken about (m).
+
+    Returns
+    -------
+    Shaking
+        The force and moment on the frame.
+
+    Raises
+    ------
+    KeyError
+        A `ks` of another engine.
+
+    Examples
+    --------
+    The force on the frame equals the sum of every load on the links (`shaking_from_loads`: d'Alembert):
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import shaking, shaking_from_loads
+    >>> ks = mbplanar.kinetostatics(engine, motion)
+    >>> bool(np.allclose(shaking(engine, ks).force, shaking_from_loads(ks).force, atol=1e-12))
+    True
+    >>> shaking(engine, ks, about=(0.3, 0.0)).moment.round(4)
+    array([-8.4388,  1.6255])
+    """
     mech, motion = engine.mech, ks.motion
     batch = len(motion.phi)
     force, moment = np.zeros((batch, 2)), np.zeros(batch)
@@ -94,25 +150,83 @@ def shaking(engine, ks, about=(0.0, 0.0)) -> Shaking:
         if ld.link == ground:
             force += ld.force
             moment += _cross(ld.point - c, ld.force) + ld.moment
-    return Shaking(force, moment, tuple(c))
+    return Shaking(force, moment, tuple(map(float, c)))
 
 
 def shaking_from_loads(ks, about=(0.0, 0.0)) -> Shaking:
-    """The same from d'Alembert: the sums of every load (inertia loads included) and their moments."""
+    """The same from d'Alembert: the sums of every load (inertia loads included) and their moments; it
+    equals `shaking` where the kinetostatics is right (a check of the reactions).
+
+    Parameters
+    ----------
+    ks : Kinetostatics
+        Reactions over B positions, with the loads that acted (`ks.loads`).
+    about : tuple of float
+        The point moments are taken about (m).
+
+    Returns
+    -------
+    Shaking
+        The loads' resultant force and moment.
+
+    Raises
+    ------
+    AttributeError
+        `ks` is not a `Kinetostatics`.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import shaking_from_loads
+    >>> sh = shaking_from_loads(mbplanar.kinetostatics(engine, motion))
+    >>> sh.force.round(4), sh.about
+    (array([[ 24.7689, -23.7328],
+           [-17.3825, -28.3328]]), (0.0, 0.0))
+    """
     batch = len(ks.motion.phi)
     c = np.asarray(about, float)
     force, moment = np.zeros((batch, 2)), np.zeros(batch)
     for ld in ks.loads:
         force += ld.force
         moment += _cross(ld.point - c, ld.force) + ld.moment
-    return Shaking(force, moment, tuple(c))
+    return Shaking(force, moment, tuple(map(float, c)))
 
 
 # -- balancing --------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Counterweight:
-    """A point mass `mass` (kg) on `link` at drawn coordinates `at` (m): `first_moment` (kg·m) about the
-    link's point `about` (a joint), at `angle_deg` from the link's reference line."""
+    """A counterweight (`Balancing.counterweights`): a point mass on a link, SI.
+
+    Attributes
+    ----------
+    link : str
+        The link it is fixed to.
+    mass : float
+        Its mass (kg), for the radius asked for.
+    at : tuple of float
+        Where it sits in the drawn pose (m).
+    about : str
+        The joint its first moment is taken about (the link's pivot on the frame, else its first joint).
+    first_moment : float
+        mass × its distance from `about` (kg·m): what balancing fixes; any radius with it works.
+    angle_deg : float
+        Its direction from `about`, degrees from the link's reference line.
+
+    Examples
+    --------
+    The classic first moments of the four-bar's static balance: (m₂/2)·‖OA‖ = 1 kg × 0.1 m opposite the
+    crank, (m₂/2 + m₃/2)·‖CB‖ = 1.75 kg × 0.25 m opposite the rocker's pin B.
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import balance
+    >>> [(cw.link, cw.about, round(cw.first_moment, 6), round(cw.angle_deg, 4) % 360)
+    ...  for cw in balance(engine, ["1", "3"], steps=72).counterweights]
+    [('1', 'O', 0.1, 180.0), ('3', 'C', 0.4375, 0.0)]
+    """
 
     link: str
     mass: float
@@ -124,9 +238,33 @@ class Counterweight:
 
 @dataclass(frozen=True, eq=False)
 class Balancing:
-    """Counterweights found, the balanced `mechanism` (the counterweights added to the links' mass,
-    centre and inertia), and the RMS of the inertia shaking force at unit speed (N per (rad/s)²) before
-    and after, over the grid `phi`."""
+    """Counterweights found (`balance`), the balanced `mechanism` (the counterweights added to the links'
+    mass, centre and inertia), and the RMS of the inertia shaking force at unit speed (N per (rad/s)²)
+    before and after, over the grid `phi`.
+
+    Attributes
+    ----------
+    counterweights : list of Counterweight
+        One per link balanced.
+    mechanism : Mechanism
+        The model with them: each link's mass, centre (a new point "<link>:balanced") and inertia.
+    phi : ndarray, shape (N,)
+        The input's grid over a turn (rad).
+    rms_before, rms_after : float
+        The RMS of the inertia shaking force at 1 rad/s (N).
+
+    Examples
+    --------
+    The loaded four-bar balanced on its crank and rocker: the shaking force vanishes (to rounding).
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import balance
+    >>> result = balance(engine, ["1", "3"], steps=72)
+    >>> round(result.rms_before, 6), result.rms_after < 1e-12, [p for p in result.mechanism.points if ":" in p]
+    (0.240476, True, ['1:balanced', '3:balanced'])
+    """
 
     counterweights: list
     mechanism: object
@@ -157,6 +295,25 @@ def inertia_shaking(engine, motion, about=(0.0, 0.0)) -> Shaking:
     The static weight is left out (constant: it loads the foundation without shaking it, and
     counterweights add to it), and so are the working loads and the drive.
 
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions with their real rates (batch B).
+    about : tuple of float
+        The point moments are taken about (m).
+
+    Returns
+    -------
+    Shaking
+        Σ −m·a_S and its moment (with −J_S·ε).
+
+    Raises
+    ------
+    ModelError
+        A link with a mass and no centre.
+
     Examples
     --------
     A crank of 2 kg whose centre turns on a 0.05 m radius at 10 rad/s shakes its frame with
@@ -168,6 +325,7 @@ def inertia_shaking(engine, motion, about=(0.0, 0.0)) -> Shaking:
     ...     "points": [{"name": "S", "link": "1", "at": [0.05, 0]}],
     ...     "input": {"joint": "O", "omega": 10.0}, "gravity": {"g": 9.81}})
     >>> engine = mbplanar.Engine(m)
+    >>> from mbplanar.forces import inertia_shaking
     >>> sh = inertia_shaking(engine, mbplanar.analyse(engine, np.radians([0.0, 90.0])))
     >>> np.round(sh.force, 12).tolist()
     [[10.0, 0.0], [0.0, 10.0]]
@@ -223,7 +381,42 @@ def _columns(engine, motion, link: str):
 def balance(engine, links, radius=None, steps: int = 360) -> Balancing:
     """Counterweights on `links` (names) that cancel the inertia shaking force over a full turn of the
     input, or minimise its RMS. `radius` (m, one or per link) sets the counterweight's distance on a link
-    turning about a frame pivot (default: its first two joints' distance)."""
+    turning about a frame pivot (default: its first two joints' distance).
+
+    Parameters
+    ----------
+    engine : Engine
+        A one-input mechanism whose input turns.
+    links : list of str
+        The links to put counterweights on.
+    radius : float or list of float, optional
+        The counterweights' distances from their pivots (m), one or per link.
+    steps : int
+        Positions over the turn.
+
+    Returns
+    -------
+    Balancing
+        The counterweights, the balanced mechanism and the RMS before and after.
+
+    Raises
+    ------
+    ModelError
+        No link or a link listed twice, a name that is not a moving link of the model, radii of another
+        count than the links, a model without masses or with several inputs.
+    MotionError
+        The input does not turn fully.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([60.0, 150.0]), omega=10.0)
+    >>> from mbplanar.forces import balance
+    >>> cw = balance(engine, ["1"], radius=0.05, steps=72).counterweights[0]
+    >>> cw.link, round(cw.mass, 6), tuple(round(x, 6) for x in cw.at)
+    ('1', 3.833309, (-0.033435, -0.037176))
+    """
     mech = engine.mech
     if len(engine.inputs) != 1:
         raise ModelError(f"balancing turns one input through a cycle; the model has {len(engine.inputs)}",

@@ -58,7 +58,7 @@ from .._progress import Interrupted
 from ..engine import solve_positions
 from ..engine._backend import dispatch
 from ..errors import MbplanarError, ModelError, MotionError
-from ..kinematics._motion import analyse, material_points
+from ..kinematics import analyse, material_points
 from ._kinetostatics import kinetostatics
 from ._loads import (evaluate_loads, heavy_links, load_power, read_gravity, read_loads, real_frames,
                      spring_energy, world_points)
@@ -94,7 +94,19 @@ class SimulateSpec:
     (rad/s or m/s) per input (None: 0, or ω_m), the start position `phi` (SI, None: the drawn pose), the
     end time `t` (s), solve_ivp's `rtol`, `atol`, `method`, the output `steps`, the `input_inertia`
     (kg·m² or kg) per input link besides the links' own (None: `[dynamics.flywheel] inertia`, else 0), and
-    the most right-hand-side evaluations `max_evaluations`."""
+    the most right-hand-side evaluations `max_evaluations`.
+
+    The model's `[simulate]` section (`read_simulate`), SI; the section's keys are documented in
+    docs/forces.md.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import read_simulate
+    >>> spec = read_simulate(mbplanar.read_model("models/squeezer.toml"))
+    >>> spec.t, spec.torque, spec.rtol, spec.method
+    (0.03, (0.033,), 1e-12, 'DOP853')
+    """
 
     t: float | None = None
     torque: tuple[float, ...] | None = (0.0,)
@@ -111,7 +123,35 @@ class SimulateSpec:
 
 def read_simulate(mech, **override) -> SimulateSpec:
     """The model's `[simulate]` section as a `SimulateSpec`; keyword arguments that are not None
-    override it (same names, SI)."""
+    override it (same names, SI).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model (its section is in the table's units).
+    override
+        Fields of `SimulateSpec` to replace (SI; a per-input value as a number or a sequence); None
+        leaves the section's.
+
+    Returns
+    -------
+    SimulateSpec
+        The run's data, SI.
+
+    Raises
+    ------
+    ModelError
+        A section that is not a table, an unknown key, a value out of its bounds, or a per-input list
+        of the wrong length.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.forces import read_simulate
+    >>> spec = read_simulate(mbplanar.read_model("models/squeezer.toml"), t=0.001, steps=10)
+    >>> spec.t, spec.steps, spec.torque
+    (0.001, 10, (0.033,))
+    """
     raw = mech.extras.get("simulate", {})
     where = f"{mech.source}: simulate"
     if not isinstance(raw, dict):
@@ -277,7 +317,48 @@ class Trajectory:
     """The motion over time: t (N,), phi, omega, epsilon (N, n) of the inputs; `motion` (a Motion with
     the real rates at every t), `kinetostatics` (the reactions along it, the balancing loads equal to
     `drive`), `drive` (N, n), `energy` (kinetic, potential, drive_work, (N,) each, J), and the solver's
-    success, message and number of evaluations."""
+    success, message and number of evaluations.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        The output times (s).
+    phi, omega, epsilon : ndarray, shape (N, n)
+        The n inputs' values, speeds and accelerations (SI).
+    drive : ndarray, shape (N, n)
+        The drive's moment (N·m) or force (N) on each input.
+    motion : Motion
+        The positions with their real rates at every t.
+    kinetostatics : Kinetostatics
+        The reactions along the motion (its balancing loads equal `drive`).
+    energy : dict of str to ndarray, shape (N,)
+        "kinetic", "potential" (springs and gravity), "drive_work" (J).
+    success : bool
+        The solver reached the end time.
+    message : str
+        The solver's message.
+    nfev : int
+        Evaluations of the equations of motion.
+    spec : SimulateSpec
+        What ran.
+
+    Examples
+    --------
+    A wheel of 0.5 kg·m² driven by 1 N·m from rest: ε = 2 rad/s², ω = 2t, φ = t², its kinetic energy the
+    drive's work.
+
+    >>> import mbplanar
+    >>> m = mbplanar.parse_model({"links": [{"name": "1", "inertia": 0.5}],
+    ...     "joints": [{"name": "O", "type": "R", "links": ["0", "1"], "at": [0, 0]}],
+    ...     "input": {"joint": "O", "unit": "rad"}, "simulate": {"torque": 1.0, "t": 1.0, "steps": 4}})
+    >>> from mbplanar.forces import simulate_motion
+    >>> run = simulate_motion(mbplanar.Engine(m))
+    >>> run.t, run.phi[:, 0].round(9), run.omega[:, 0].round(9)
+    (array([0.  , 0.25, 0.5 , 0.75, 1.  ]), array([0.    , 0.0625, 0.25  , 0.5625, 1.    ]), array([0. , 0.5, 1.
+    , 1.5, 2. ]))
+    >>> bool(abs(run.energy["kinetic"] - run.energy["drive_work"]).max() < 1e-9)
+    True
+    """
 
     t: np.ndarray
     phi: np.ndarray
@@ -299,8 +380,47 @@ def simulate_motion(engine, spec: SimulateSpec | None = None, input_inertia=None
     reactions along the motion follow. `input_inertia` (default: the spec's) is added on each input link.
     `progress(t)` is called after each step with the time reached.
 
-    Raises `MotionError` when an input stalls (its speed through zero, the drive unable to restart it),
-    naming what the model lacks, and `Interrupted` on Ctrl-C with the motion so far as its `partial`."""
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    spec : SimulateSpec, optional
+        The drive, the start state, the end time and the solver (default: `read_simulate` of the model).
+    input_inertia : float or array_like, optional
+        Inertia (kg·m², or kg) on each input link besides the links' own, instead of the spec's.
+    progress : callable, optional
+        Called as ``progress(t)`` after each step.
+
+    Returns
+    -------
+    Trajectory
+        The inputs over time, the motion with its real rates, the reactions along it and the energies.
+
+    Raises
+    ------
+    ModelError
+        No end time (`t`), or a start state the model cannot take.
+    MotionError
+        An input stalls (its speed through zero, the drive unable to restart it), naming what the model
+        lacks; or the solver needs more than `max_evaluations`.
+    Interrupted
+        Ctrl-C, with the motion so far as its `partial`.
+
+    Examples
+    --------
+    A wheel of 0.5 kg·m² driven by 1 N·m from rest: ε = 2 rad/s², ω = 2t, φ = t², its kinetic energy the
+    drive's work.
+
+    >>> import mbplanar
+    >>> m = mbplanar.parse_model({"links": [{"name": "1", "inertia": 0.5}],
+    ...     "joints": [{"name": "O", "type": "R", "links": ["0", "1"], "at": [0, 0]}],
+    ...     "input": {"joint": "O", "unit": "rad"}, "simulate": {"torque": 1.0, "t": 1.0, "steps": 4}})
+    >>> from mbplanar.forces import simulate_motion
+    >>> run = simulate_motion(mbplanar.Engine(m), mbplanar.forces.read_simulate(m, t=0.5, steps=2))
+    >>> run.t, run.omega[:, 0].round(9), run.epsilon[:, 0].round(9), run.success
+    (array([0.  , 0.25, 0.5 ]), array([0. , 0.5, 1. ]), array([2., 2., 2.]), True)
+    """
     mech = engine.mech
     spec = spec or read_simulate(mech)
     if spec.t is None:

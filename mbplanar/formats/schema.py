@@ -28,8 +28,7 @@ DRAFT = "http://json-schema.org/draft-07/schema#"   # the dialect taplo and VS C
 def sections() -> dict[str, Section]:
     """Every section of the format by name: the model's, the cam's, the forces'."""
     from ..cam.spec import CAM, CAM_DYNAMICS, CAM_EVENT, CAM_FILE, CAM_PHASE
-    from ..forces._friction import FRICTION, FRICTION_PAIR
-    from ..forces._simulation import SIMULATE
+    from ..forces import FRICTION, FRICTION_PAIR, SIMULATE
     from ..gears.spec import GEARS, GEARS_PAIR, GEARS_PLANETARY
     from ..model._keys import SECTIONS
     return {**SECTIONS, **{s.name: s for s in (CAM, CAM_PHASE, CAM_EVENT, CAM_DYNAMICS, CAM_FILE, FRICTION,

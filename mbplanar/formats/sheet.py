@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from ..errors import ModelError, MotionError
-from ..io._cad import Layer, Sheet, require_ezdxf, write_dxf, write_svg
+from ..io import Layer, Sheet, require_ezdxf, write_dxf, write_svg
 
 __all__ = ["LAYERS", "drawing", "export_drawing", "sweep_values"]
 
@@ -68,7 +68,7 @@ def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
     >>> sorted({layer for _, layer, _ in sheet.entities})
     ['GROUND', 'JOINTS', 'LABELS', 'LINKS', 'PATHS']
     """
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     from ..viz._scene import build_scene
     mech = engine.mech
     phi = np.asarray(phi, float).reshape(1, -1)

@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from ..io._cad import Layer, Sheet
-from ..io._cad import write_dxf as cad_dxf
-from ..io._cad import write_svg as cad_svg
+from ..io import Layer, Sheet
+from ..io import write_dxf as cad_dxf
+from ..io import write_svg as cad_svg
 
 __all__ = ["mesh_placement", "placed", "write_csv", "write_dxf", "write_svg"]
 

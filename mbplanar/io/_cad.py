@@ -24,8 +24,28 @@ DXF_UNITS = {"m": 6, "cm": 5, "mm": 4}   # the $INSUNITS codes (ezdxf.units.M, C
 
 @dataclass(frozen=True)
 class Layer:
-    """A layer: its DXF colour (AutoCAD colour index) and how SVG draws it (stroke colour, fill, width
-    relative to the sheet's line width, dash pattern in line widths)."""
+    """A layer of a `Sheet`: its name, its DXF colour and how SVG draws it.
+
+    Attributes
+    ----------
+    name : str
+        The layer's name (the DXF layer, the SVG group's id).
+    colour : int
+        The DXF colour (AutoCAD colour index: 1 red, 5 blue, 7 black/white).
+    stroke, fill : str
+        SVG's stroke and fill colours.
+    width : float
+        SVG's line width relative to the sheet's line width.
+    dash : tuple of float
+        SVG's dash pattern in line widths (empty: solid).
+
+    Examples
+    --------
+    >>> from mbplanar.io import Layer, Sheet
+    >>> sheet = Sheet(unit="mm").layer(Layer("centre lines", colour=1, stroke="#c00", dash=(6, 2)))
+    >>> sheet.layers["centre lines"].dash
+    (6, 2)
+    """
 
     name: str
     colour: int = 7
@@ -42,7 +62,31 @@ class Sheet:
     Entities are tuples (kind, layer, data): "polyline" (points (n, 2), closed, bulges (n,) or None: a
     bulge b on a vertex makes the segment to the next vertex an arc of 4·atan(b), counter-clockwise for
     b > 0), "spline" (fit points (n, 2), closed), "circle" (centre, radius), "point" (xy), "line" (a, b),
-    "text" (xy, text, height; centred on xy).
+    "text" (xy, text, height; centred on xy). The methods of those names add them; a layer named there
+    and not declared with `layer` is made with `Layer`'s defaults.
+
+    Attributes
+    ----------
+    unit : str
+        The drawing's length unit, "m", "cm" or "mm" (DXF's $INSUNITS, SVG's width and height).
+    title : str
+        SVG's title.
+    layers : dict of str to Layer
+        The layers, in the order they were declared.
+    entities : list of tuple
+        (kind, layer, data) in the order they were added.
+
+    Examples
+    --------
+    A 40 mm disc with a slot whose ends are half circles (bulge 1: a 180° arc):
+
+    >>> from mbplanar.io import Layer, Sheet
+    >>> sheet = Sheet(unit="mm", title="plate").layer(Layer("outline", colour=7))
+    >>> sheet.circle("outline", (0, 0), 20)
+    >>> sheet.polyline("outline", [(-5, -2), (5, -2), (5, 2), (-5, 2)], closed=True, bulges=[0, 1, 0, 1])
+    >>> sheet.text("labels", (0, -25), "plate", 3)
+    >>> [kind for kind, _, _ in sheet.entities], list(sheet.layers), sheet.extent()
+    (['circle', 'polyline', 'text'], ['outline', 'labels'], (array([-20., -25.]), array([20., 20.])))
     """
 
     unit: str = "mm"
@@ -96,7 +140,24 @@ class Sheet:
 
 
 def require_ezdxf():
-    """ezdxf, or a one-line error saying how to install it."""
+    """The ezdxf module (the optional extra ``cad``), imported on first use.
+
+    Returns
+    -------
+    module
+        ezdxf.
+
+    Raises
+    ------
+    ModelError
+        ezdxf is not installed: the message says ``pip install 'mbplanar[cad]'``.
+
+    Examples
+    --------
+    >>> from mbplanar.io import require_ezdxf
+    >>> require_ezdxf().__name__
+    'ezdxf'
+    """
     try:
         import ezdxf
     except ImportError:
@@ -105,7 +166,38 @@ def require_ezdxf():
 
 
 def write_dxf(sheet: Sheet, path) -> None:
-    """The sheet as a DXF (R2010) drawing in its unit, one DXF layer per layer."""
+    """The sheet as a DXF (R2010) drawing in its unit, one DXF layer per layer: polylines as LWPOLYLINE
+    with their bulges, splines through their fit points, circles, points, lines and centred texts.
+
+    Parameters
+    ----------
+    sheet : Sheet
+        The drawing.
+    path : str or path-like
+        The file to write.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ModelError
+        ezdxf is not installed (`require_ezdxf`).
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, ezdxf
+    >>> from mbplanar.io import Sheet, write_dxf
+    >>> sheet = Sheet(unit="mm")
+    >>> sheet.circle("outline", (0, 0), 20)
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "plate.dxf"
+    >>> write_dxf(sheet, path)
+    >>> [(e.dxftype(), e.dxf.layer, e.dxf.radius) for e in ezdxf.readfile(path).modelspace()]
+    [('CIRCLE', 'outline', 20.0)]
+    """
     ezdxf = require_ezdxf()
     from ezdxf.enums import TextEntityAlignment
     doc = ezdxf.new("R2010")
@@ -164,7 +256,37 @@ def _svg_path(points, closed, bulges) -> str:
 
 
 def write_svg(sheet: Sheet, path) -> None:
-    """The sheet as a plain SVG document in its unit (width and height in it), y up, one group per layer."""
+    """The sheet as a plain SVG document in its unit (width and height in it), y up, one group per layer
+    (an Inkscape layer), 5 % of the drawing's size as a margin.
+
+    Parameters
+    ----------
+    sheet : Sheet
+        The drawing.
+    path : str or path-like
+        The file to write (UTF-8).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from mbplanar.io import Sheet, write_svg
+    >>> sheet = Sheet(unit="mm")
+    >>> sheet.line("outline", (0, 0), (100, 0))
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "line.svg"
+    >>> write_svg(sheet, path)
+    >>> text = path.read_text()
+    >>> 'width="110mm"' in text, '<line x1="0" y1="-0" x2="100" y2="-0"/>' in text
+    (True, True)
+    """
     lo, hi = sheet.extent()
     span = float(np.max(hi - lo)) or 1.0
     pad = 0.05 * span

@@ -62,7 +62,45 @@ def _builder_of(result, builders: dict, what: str):
 
 def document(result, *args, **options) -> dict:
     """The JSON-ready document of a result (the CLI's ``--json``); `options` go to its builder, and
-    ``units="si"`` or ``"model"`` converts it as ``--units`` does (adding its "units" object)."""
+    ``units="si"`` or ``"model"`` converts it as ``--units`` does (adding its "units" object).
+
+    Parameters
+    ----------
+    result : Engine, Motion, Position, Kinetostatics, Dynamics, CheckReport or Accuracy
+        What to write: an engine gives the model (`info_document`), a motion one of its positions
+        (`solve_document`), a kinetostatic result one position (`forces_document`), a `Dynamics` the
+        cycle (`dynamics_document`), a `CheckReport` its findings.
+    *args
+        The builder's options by position (a motion's `row`, then `values`).
+    options
+        The builder's options by name: ``row=`` (the position of a batch), ``values=`` (the inputs as
+        asked for, model units), ``engine=`` (else one is made from the model the result holds; a
+        `Dynamics` and a `CheckReport` in units need it), ``at=`` (a `Dynamics`' input values, SI),
+        ``units=``.
+
+    Returns
+    -------
+    dict
+        Plain floats, lists and dicts (non-finite values None), ready for `json.dumps`.
+
+    Raises
+    ------
+    TypeError
+        A result of another type, or a `Dynamics` without ``engine=``.
+    ValueError
+        ``units=`` neither "si" nor "model".
+
+    Examples
+    --------
+    >>> import json, numpy as np, mbplanar
+    >>> from mbplanar.io import document
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> doc = document(mbplanar.analyse(engine, np.radians([30.0])), values=[30.0])
+    >>> doc["input"]["value"], {k: round(v, 6) for k, v in doc["points"]["B"].items()}
+    (30.0, {'x': 0.310403, 'y': 0.249783, 'vx': 0.028363, 'vy': -0.001181, 'ax': -0.197573, 'ay': 0.005002})
+    >>> document(engine)["count"]["chebyshev"], len(json.dumps(doc)) > 1000
+    (1, True)
+    """
     return _builder_of(result, DOCUMENTS, "document")(result, *args, **options)
 
 
@@ -76,7 +114,35 @@ def _engine_document(result, units: str | None = None) -> dict:
 
 def engine_for(result, engine=None):
     """The engine a result's documents, tables and pictures are made with: `engine` when given, else one
-    made from the model the result holds (`Motion.model`: a record holds no engine)."""
+    made from the model the result holds (`Motion.model`: a record holds no engine).
+
+    Parameters
+    ----------
+    result : Motion, Position, Kinetostatics or another result
+        A result holding its model (`model`, or `motion.model`).
+    engine : Engine or None
+        The engine the result was made with, returned as it is when given.
+
+    Returns
+    -------
+    Engine
+        `engine`, or a new engine of the result's model (the model compiled again: pass the engine
+        where you have it).
+
+    Raises
+    ------
+    TypeError
+        No `engine` and a result without its model.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.io import engine_for
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> motion = mbplanar.analyse(engine, [0.5])
+    >>> engine_for(motion, engine) is engine, engine_for(motion).mech.name
+    (True, 'fourbar')
+    """
     if engine is not None:
         return engine
     model = getattr(result, "model", None)
@@ -132,7 +198,42 @@ DOCUMENTS = {ENGINE: _engine_document, MOTION: _motion_document, POSITION: _posi
 
 def table(result, *args, **options):
     """(header, columns (B, k)) of a result over its batch (the CLI's CSV); `options` go to its builder,
-    and ``units=`` converts the columns as ``--units`` does (`mech`: the model, for a Dynamics)."""
+    and ``units=`` converts the columns as ``--units`` does (`mech`: the model, for a Dynamics).
+
+    Parameters
+    ----------
+    result : Motion, Kinetostatics, Dynamics or Accuracy
+        A motion gives the sweep's columns (`sweep_table`), a kinetostatic result the reactions and
+        balancing loads (`forces_columns`), a `Dynamics` the cycle (`dynamics_table`).
+    *args
+        The builder's options by position (a motion's `angle_unit`).
+    options
+        The builder's options by name: ``angle_unit=`` ("deg" or "rad", a motion's angles), ``engine=``
+        (else one is made from the model the result holds), ``mech=`` (a `Dynamics` in units), ``units=``.
+
+    Returns
+    -------
+    header : list of str
+        The columns' names, "quantity[unit]".
+    columns : ndarray, shape (B, k)
+        One row per position (per step of a cycle).
+
+    Raises
+    ------
+    TypeError
+        A result of another type, or a `Dynamics` in units without ``mech=``.
+    ValueError
+        ``units=`` neither "si" nor "model".
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.io import table
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> header, columns = table(mbplanar.analyse(engine, np.radians([0.0, 30.0, 60.0])), engine=engine)
+    >>> header[:4], columns.shape, columns[:, 0].round(9)
+    (['phi[deg]', '1.angle[deg]', '1.omega[rad/s]', '1.epsilon[rad/s^2]'], (3, 53), array([ 0., 30., 60.]))
+    """
     return _builder_of(result, TABLES, "table")(result, *args, **options)
 
 
@@ -167,7 +268,30 @@ def _finite(x):
 
 
 def plain(obj):
-    """numpy scalars → float, non-finite → None, for JSON."""
+    """A value made ready for JSON: numpy scalars and arrays as floats, ints and lists, non-finite
+    floats as None, through dicts, lists and tuples (tuples become lists).
+
+    Parameters
+    ----------
+    obj : object
+        A number, an array, or dicts and lists of them; anything else is returned as it is.
+
+    Returns
+    -------
+    object
+        The same structure with plain Python numbers.
+
+    Raises
+    ------
+    Nothing: what it does not know it leaves alone (`json.dumps` then says what it cannot write).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.io import plain
+    >>> plain({"a": np.float64(1.5), "b": np.array([np.nan, 2.0]), "c": (np.int64(3), np.inf)})
+    {'a': 1.5, 'b': [None, 2.0], 'c': [3, None]}
+    """
     if isinstance(obj, dict):
         return {k: plain(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
@@ -182,7 +306,36 @@ def plain(obj):
 
 
 def write_csv(path, header, rows):
-    """A table as CSV to `path` (standard output when None); non-finite cells are left empty."""
+    """A table as CSV to `path` (standard output when None), numbers with 12 significant digits;
+    non-finite cells are left empty.
+
+    Parameters
+    ----------
+    path : str, path-like or None
+        The file to write (UTF-8), or None for standard output.
+    header : list of str
+        The columns' names.
+    rows : iterable of sequences of float
+        The rows, each as long as `header` (the columns (B, k) of `table`).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.io import write_csv
+    >>> write_csv(None, ["phi[deg]", "x[m]"], np.array([[0.0, 1 / 3], [30.0, np.nan]]))
+    phi[deg],x[m]
+    0,0.333333333333
+    30,
+    """
     import csv
     out = open(path, "w", newline="", encoding="utf-8") if path else sys.stdout
     try:
@@ -197,7 +350,32 @@ def write_csv(path, header, rows):
 
 # -- the model ---------------------------------------------------------------------------------------
 def info_document(engine) -> dict:
-    """The model as `mbplanar info --json` prints it: links, joints, points, inputs, DOF, loops, Assur groups."""
+    """The model as `mbplanar info --json` prints it: links, joints, points, inputs, DOF, loops, Assur groups.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+
+    Returns
+    -------
+    dict
+        "links", "joints", "points", "inputs", "dof", "loops", "loop_joints", "count" (Chebyshev's
+        3n − 2p₅ − p₄ and the engine's own count), "groups", "mechanism_class", "formula", and for
+        higher pairs "higher_pairs" and "replaced" (their equivalent lower-pair links).
+
+    Raises
+    ------
+    Nothing for an `Engine`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.io import info_document
+    >>> doc = info_document(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    >>> doc["links"], doc["dof"], doc["count"]["chebyshev"], doc["formula"]
+    (['0', '1', '2', '3'], 1, 1, 'I(0,1) → II(2,3)')
+    """
     mech, topo = engine.mech, engine.topology
     doc = {
         "model": mech.name, "title": mech.title,
@@ -291,8 +469,42 @@ def _input_documents(engine, motion, row, values=None) -> list[dict]:
 
 
 def solve_document(engine, motion: Motion | Position, row: int = 0, values=None) -> dict:
-    """One position of a motion (or a `Position`) as `mbplanar solve --json` prints it (`values`: the
-    inputs as requested, model units)."""
+    """One position of a motion (or a `Position`) as `mbplanar solve --json` prints it, SI.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism the motion belongs to.
+    motion : Motion or Position
+        The solved positions (a `Motion` with rates) or one `Position`.
+    row : int
+        The position of a `Motion`'s batch to write (a `Position` has one).
+    values : list of float or None
+        The inputs as requested (model units), written as they are so that 30° is not printed back as
+        29.999999999999996; None: from the motion.
+
+    Returns
+    -------
+    dict
+        "model", "input" (the first) and "inputs", "points" (x, y, vx, vy, ax, ay), "links" (angle, omega,
+        epsilon), "joints" (value, rate, accel), "instant_centres", and "analogues" where the motion has them.
+
+    Raises
+    ------
+    IndexError
+        `row` past the batch.
+    TypeError
+        A motion solved without rates (``rates=False``).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.io import solve_document
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> doc = solve_document(engine, mbplanar.position(engine, 0.5))
+    >>> doc["input"]["value_si"], round(doc["links"]["1"]["omega"], 9), sorted(doc["points"])
+    (0.5, 1.0, ['A', 'B', 'C', 'M', 'O'])
+    """
     inputs = _input_documents(engine, motion, row, values)
     doc = {"model": engine.mech.name, "input": inputs[0], "inputs": inputs,
            "points": {}, "links": {}, "joints": {}, "instant_centres": {}}
@@ -327,8 +539,44 @@ def partials_document(engine, phi, position: Position | None = None) -> dict:
     ∂²x/∂φ_k∂φ_l of every point (x, y), link angle and joint value. The second derivative along a
     direction u is the acceleration for ω = u, ε = 0, a quadratic form in u, so the mixed partial is
     (a(e_k + e_l) − a(e_k) − a(e_l)) / 2 (exact: the same solved position, no differencing). With one
-    input they are the analogues, read from `position` (of phi) when it is given."""
-    from ..kinematics._motion import analyse
+    input they are the analogues, read from `position` (of phi) when it is given.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    phi : array_like, shape (1, n_in)
+        The position's inputs (SI).
+    position : Position or None
+        The `Position` of `phi`, when already solved (used with one input).
+
+    Returns
+    -------
+    dict
+        "inputs" (names), "first" (per input: points x, y, links, joints) and "second" (per pair of
+        inputs "a,b", the same), plain floats.
+
+    Raises
+    ------
+    IndexError
+        `phi` cannot be reached on the drawn branch (no position to differentiate: the command line
+        checks the position first).
+
+    Examples
+    --------
+    The five-bar's point P moves with both cranks: ∂²P/∂φ₁∂φ₂ in the drawn pose (a central difference
+    with h = 1e-4 rad gives (0, 0.0076236) m/rad² too):
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.io import partials_document
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/five_bar.toml"))
+    >>> doc = partials_document(engine, engine.phi_drawn[None, :])
+    >>> doc["inputs"], sorted(doc["second"])
+    (['phi1', 'phi2'], ['phi1,phi1', 'phi1,phi2', 'phi2,phi2'])
+    >>> {k: round(v, 9) + 0.0 for k, v in doc["second"]["phi1,phi2"]["points"]["P"].items()}
+    {'x': 0.0, 'y': 0.007623597}
+    """
+    from ..kinematics import analyse
     n_in = len(engine.inputs)
     eye = np.eye(n_in)
 
@@ -365,7 +613,45 @@ def partials_document(engine, phi, position: Position | None = None) -> dict:
 
 # -- forces ------------------------------------------------------------------------------------------
 def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0, values=None) -> dict:
-    """One position of a kinetostatic result as `mbplanar forces --json` prints it."""
+    """One position of a kinetostatic result as `mbplanar forces --json` prints it, SI.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        The positions the result was solved at.
+    result : Kinetostatics
+        The reactions and balancing loads (`kinetostatics`).
+    row : int
+        The position of the batch to write.
+    values : list of float or None
+        The inputs as requested (model units); None: from the motion.
+
+    Returns
+    -------
+    dict
+        "model", "input" and "inputs", "reactions" (per pair: the links it acts on and from, fx, fy,
+        moment, magnitude, direction in degrees, a higher pair's contact force), "balancing" (per input,
+        N·m or N), "virtual_power_residual" and the "loads" that acted.
+
+    Raises
+    ------
+    IndexError
+        `row` past the batch.
+
+    Examples
+    --------
+    The heavy four-bar's links under gravity at a crank angle of 90°:
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.io import forces_document
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/heavy_fourbar.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians([0.0, 90.0]))
+    >>> doc = forces_document(engine, motion, mbplanar.kinetostatics(engine, motion), row=1)
+    >>> round(doc["balancing"]["O"], 6), round(doc["reactions"]["O"]["magnitude"], 6), doc["reactions"]["O"]["on"]
+    (4.683435, 113.376531, '1')
+    """
     reactions = {}
     for name, r in result.reactions.items():
         fx, fy = float(r.fx[row]), float(r.fy[row])
@@ -388,7 +674,40 @@ def forces_document(engine, motion: Motion, result: Kinetostatics, row: int = 0,
 
 # -- machine dynamics --------------------------------------------------------------------------------
 def dynamics_document(engine, dyn, at=None) -> dict:
-    """The JSON document of `mbplanar dynamics` (values at input values `at`, SI, when given)."""
+    """The JSON document of `mbplanar dynamics`, SI.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    dyn : Dynamics
+        Its machine dynamics (`machine_dynamics`).
+    at : array_like or None
+        Input values (SI) where the reduced model and the true motion are also written ("at").
+
+    Returns
+    -------
+    dict
+        The cycle's figures ("omega_mean", "driving_moment", the works, ΔT_I's extremes, ω and ε
+        extremes, the simulated δ), "simulation" (None when not simulated) and "flywheel".
+
+    Raises
+    ------
+    MotionError
+        A value of `at` that cannot be reached.
+
+    Examples
+    --------
+    The shaper's flywheel (without the simulation, on a coarse cycle):
+
+    >>> import mbplanar
+    >>> from mbplanar.io import dynamics_document
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/shaper.toml"))
+    >>> dyn = mbplanar.machine_dynamics(engine, steps=360, simulate_motion=False)
+    >>> doc = dynamics_document(engine, dyn, at=[0.0])
+    >>> doc["steps"], doc["delta_target"], doc["simulation"], round(doc["flywheel"]["inertia"], 4), len(doc["at"])
+    (360, 0.05, None, 0.3051, 1)
+    """
     inp = engine.inputs[0]
     sim = dyn.simulation
     doc = {"model": engine.mech.name,

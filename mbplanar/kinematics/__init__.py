@@ -5,10 +5,11 @@ velocities and accelerations of every link, joint and point (batch first, SI); `
 pressure angle).
 """
 
-from ._contacts import Contact, contacts
+from ._contacts import Contact, ContactGeometry, contact_geometry, contacts
 from ._motion import (OUTPUTS, Frames, Motion, analyse, describe_crossing, describe_limit, material_points,
-                      positions_at_limits, reach_text)
+                      point_table, positions_at_limits, range_text, reach_text)
 from ._single import Position, position
 
-__all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "Position",
-           "position", "Contact", "contacts", "describe_limit", "describe_crossing", "reach_text"]
+__all__ = ["Motion", "Frames", "OUTPUTS", "analyse", "positions_at_limits", "material_points", "point_table",
+           "Position", "position", "Contact", "ContactGeometry", "contact_geometry", "contacts", "describe_limit",
+           "describe_crossing", "range_text", "reach_text"]

@@ -32,9 +32,33 @@ __all__ = ["Contact", "ContactGeometry", "contact_geometry", "contacts"]
 
 @dataclass(frozen=True)
 class ContactGeometry:
-    """Where a higher pair touches, over a batch (B,): `point` (B, 2), unit `normal` (B, 2) (from the
-    first link's side into the second's), `tangent` = normal turned by +90°, `parameter` (B,) the contact's
-    place on its curve (NaN for a gear or a rack)."""
+    """Where a higher pair touches, over a batch of B positions (`contact_geometry`).
+
+    Attributes
+    ----------
+    name, kind : str
+        The pair's name and kind ("gear", "rack", "cam", "slot").
+    links : tuple of str
+        The pair's two links.
+    point : ndarray, shape (B, 2)
+        The contact point (m): a gear's pitch point, a rack's pitch point, a cam's contact on its profile,
+        a slot's pin centre.
+    normal : ndarray, shape (B, 2)
+        The unit common normal, from the first link's side into the second's.
+    tangent : ndarray, shape (B, 2)
+        The normal turned by +90°.
+    parameter : ndarray, shape (B,)
+        The contact's place on its curve (the cam's or slot's curve parameter); NaN for a gear or a rack.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import contact_geometry
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/geared_five_bar.toml"))
+    >>> g = contact_geometry(engine, mbplanar.analyse(engine, [1.0]))["G"]
+    >>> g.kind, g.links, g.point.round(6), g.normal.round(6), bool(np.isnan(g.parameter[0]))
+    ('gear', ('1', '4'), array([[0.04, 0.  ]]), array([[1., 0.]]), True)
+    """
 
     name: str
     kind: str
@@ -92,7 +116,39 @@ def _perp(v: np.ndarray) -> np.ndarray:
 
 
 def contact_geometry(engine: Engine, motion) -> dict[str, ContactGeometry]:
-    """Every higher pair's `ContactGeometry` over the positions of `motion`."""
+    """Every higher pair's `ContactGeometry` over the positions of `motion`: the contact point and the
+    common normal, read from the link frames and the contact parameters a `Motion` holds (no solve).
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    motion : Motion
+        Positions of `engine` (batch B), from `analyse` with the frames (the default outputs).
+
+    Returns
+    -------
+    dict of str to ContactGeometry
+        The pairs in the model's `higher` order; empty without higher pairs.
+
+    Raises
+    ------
+    AttributeError
+        A `motion` without frames (`analyse(..., outputs=...)` that left "frames" out).
+
+    Examples
+    --------
+    The cam follower's contact at input 0 and 90°: the point on the profile and the normal out of the cam.
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import contact_geometry
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/cam_follower.toml"))
+    >>> k = contact_geometry(engine, mbplanar.analyse(engine, np.radians([0.0, 90.0])))["K"]
+    >>> k.kind, k.point.round(6), k.normal.round(6)
+    ('cam', array([[0.0064  , 0.039485],
+           [0.008229, 0.057542]]), array([[ 0.16    ,  0.987117],
+           [-0.022933,  0.999737]]))
+    """
     out = {}
     names = list(engine.mech.higher)
     batch = len(motion.phi)

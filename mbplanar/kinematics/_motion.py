@@ -22,7 +22,8 @@ from ..engine._constraints import dot, perp, world_frames
 from ..engine._solver import Crossing, Engine, Limit, solve_positions
 from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, kernels_decline, record_layout, sweep_tables
 
-__all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "OUTPUTS"]
+__all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "point_table",
+           "describe_limit", "describe_crossing", "range_text", "reach_text", "OUTPUTS"]
 
 #: the arrays of a `Motion` a call may leave out (`analyse(..., outputs=)`); the others are always there
 OUTPUTS = ("w", "e", "v", "a", "wq", "eq", "vq", "aq", "value", "rate", "accel", "rate_q", "accel_q", "ic", "frames")
@@ -52,6 +53,19 @@ class Frames:
     contact : ndarray (B, H) or None
         The contact parameter of every higher pair (the model's `higher` order): where on its curve a
         cam's or a slot's contact is (0 for gears and racks, which have none); None without higher pairs.
+
+    Examples
+    --------
+    The four-bar's crank (link 1) turns with the input: its frame's angle is the input less the drawn
+    60°, its angular velocity analogue 1 rad/rad.
+
+    >>> import numpy as np, mbplanar
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> frames = mbplanar.analyse(engine, np.radians([0.0, 90.0])).frames
+    >>> frames.th.shape, frames.r.shape, frames.analogues
+    ((2, 4), (2, 4, 2), True)
+    >>> np.degrees(frames.th[:, 1]).round(6), frames.w[:, 1]
+    (array([-60.,  30.]), array([1., 1.]))
     """
 
     th: np.ndarray
@@ -221,6 +235,36 @@ def _message(engine: Engine, requested: int, reached: int, limits: list) -> str:
 
 
 def describe_limit(engine: Engine, lim: Limit) -> str:
+    """The sentence that names a motion limit: where (each input in its model unit), which way it is met,
+    the links in line and how.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism the limit belongs to (its inputs' names and units).
+    lim : Limit
+        A motion limit, from `Motion.limits` or `Engine.solve_limits`.
+
+    Returns
+    -------
+    str
+        "motion limit at t = 1.799912417 rad (going up): links 3, 4 — stretched at B (C, B, D in line)";
+        "motion limit" for a mechanism without inputs.
+
+    Raises
+    ------
+    AttributeError
+        `lim` is not a `Limit` (no `phi`, `direction`, `links` or `kind`).
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import describe_limit
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians(np.arange(0.0, 360.0, 10.0)))
+    >>> print(describe_limit(engine, motion.limits[0]))
+    motion limit at t = 1.799912417 rad (going up): links 3, 4 — stretched at B (C, B, D in line)
+    """
     inp = engine.inputs[0]
     where = ", ".join(f"{i.name} = {i.from_si(p):.10g} {i.unit}" for i, p in zip(engine.inputs, lim.phi))
     way = {1: "going up", -1: "going down"}.get(lim.direction, "")
@@ -233,6 +277,22 @@ def range_text(lo: float, hi: float, digits: int = 10) -> str:
     `digits` significant digits, each end rounded towards the inside and at least 1e-9 of the range from
     its limit, so that the values shown can be asked for: the engine resolves a position down to ~3e-10
     of a turn from a fold, and an end rounded to the nearest digit may lie beyond it.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The range's ends, lo < hi, in the unit to show.
+    digits : int
+        Significant digits of each end.
+
+    Returns
+    -------
+    str
+        The two ends joined by " … ".
+
+    Raises
+    ------
+    Nothing for finite floats; a non-finite end gives "nan" or "inf" in the text.
 
     Examples
     --------
@@ -251,11 +311,77 @@ def range_text(lo: float, hi: float, digits: int = 10) -> str:
 
 
 def reach_text(inp, lo: float, hi: float, digits: int = 10) -> str:
-    """`range_text` of an input's range lo … hi (SI), in its unit, with the unit."""
+    """`range_text` of an input's range lo … hi (SI), in its unit, with the unit.
+
+    Parameters
+    ----------
+    inp : Input
+        The input (`Engine.inputs`): its `from_si` and `unit`.
+    lo, hi : float
+        The range's ends (SI: rad or m), lo < hi.
+    digits : int
+        Significant digits of each end.
+
+    Returns
+    -------
+    str
+        "a … b unit", each end rounded inwards as `range_text` does.
+
+    Raises
+    ------
+    AttributeError
+        `inp` is not an `Input`.
+
+    Examples
+    --------
+    >>> import math, mbplanar
+    >>> from mbplanar.kinematics import reach_text
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> reach_text(engine.inputs[0], -math.pi / 2, math.pi / 3, digits=6)
+    '-89.9999 … 59.9999 deg'
+    """
     return f"{range_text(inp.from_si(lo), inp.from_si(hi), digits)} {inp.unit}"
 
 
 def describe_crossing(engine: Engine, c: Crossing) -> str:
+    """The sentence that names a change point: where (each input in its model unit), the links in line
+    and how, and what that means for a real mechanism.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism the change point belongs to (its inputs' names and units).
+    c : Crossing
+        A change point, from `Motion.crossings`.
+
+    Returns
+    -------
+    str
+        The sentence ``mbplanar solve`` and ``mbplanar check`` print.
+
+    Raises
+    ------
+    AttributeError
+        `c` is not a `Crossing`.
+
+    Examples
+    --------
+    A parallelogram four-bar: every link lines up with the ground when the crank reaches 180°.
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import describe_crossing
+    >>> m = mbplanar.Mechanism("parallelogram")
+    >>> links = [m.add_link(name) for name in "123"]
+    >>> joints = [m.add_joint(n, "R", a, b, at=xy) for n, a, b, xy in (
+    ...     ("O", "0", "1", (0, 0)), ("A", "1", "2", (0, 1)), ("B", "2", "3", (2, 1)), ("C", "3", "0", (2, 0)))]
+    >>> driver = m.add_input("O", unit="deg")
+    >>> engine = mbplanar.Engine(m)
+    >>> motion = mbplanar.analyse(engine, np.radians([90.0, 150.0, 200.0]))
+    >>> print(describe_crossing(engine, motion.crossings[0]))  # doctest: +NORMALIZE_WHITESPACE
+    change point at phi = 180 deg: links 2, 3 — stretched at B (A, B, C in line); two assembly branches
+    cross here: the analysis follows the smooth branch, a real mechanism may switch branch unless
+    something guides it through
+    """
     where = ", ".join(f"{i.name} = {i.from_si(p):.10g} {i.unit}" for i, p in zip(engine.inputs, c.phi))
     return (f"change point at {where}: links {', '.join(c.links)} — {c.kind}; two assembly branches cross "
             "here: the analysis follows the smooth branch, a real mechanism may switch branch unless "
@@ -328,6 +454,41 @@ def _tables(engine: Engine):
     return engine.prepare("output tables", lambda: (_point_table(engine), _joint_table(engine)))
 
 
+def point_table(engine: Engine) -> tuple[list, np.ndarray, np.ndarray]:
+    """The points a `Motion` reports, in its `point_names` order: every joint (a prismatic pair's slider
+    point), every higher pair's point (a gear's pitch point on its carrier, a cam's follower point, a
+    slot's pin) and every named point, each with the link it moves with and where it is drawn. Made once
+    per engine and kept on it.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+
+    Returns
+    -------
+    names : list of str
+        The P points' names.
+    links : ndarray, shape (P,), int
+        The index (`Engine.link_index`) of the link each point moves with.
+    at : ndarray, shape (P, 2)
+        Where each point is drawn (m, the model's world frame).
+
+    Raises
+    ------
+    Nothing for an `Engine`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.kinematics import point_table
+    >>> names, links, at = point_table(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")))
+    >>> names, links, at[1].round(8)
+    (['O', 'A', 'B', 'C', 'M'], array([0, 1, 2, 3, 2]), array([0.05      , 0.08660254]))
+    """
+    return _tables(engine)[0]
+
+
 @dataclass(frozen=True)
 class PointSelection:
     """The points a caller asked for: `names` (P,), each on link `links` (P,) drawn at `at` (P, 2)."""
@@ -344,7 +505,7 @@ def point_selection(engine: Engine, points=None) -> PointSelection:
         found = engine.prepared.get("every point")
         if found is not None:
             return found
-    names, links, at = _tables(engine)[0]
+    names, links, at = point_table(engine)
     if points is None:
         return engine.prepare("every point", lambda: PointSelection(list(names), links, at))
     if isinstance(points, str):
@@ -396,8 +557,51 @@ def _moving_points(c, s, r, w, v, e, a, links, at, position=True):
 
 
 def material_points(th, r, w, v, e, a, links, at):
-    """Position, velocity and acceleration (B, P, 2) of points drawn at `at` (P, 2) on links `links`
-    (P,), from batch-first link states th, w, e (B, L) and r, v, a (B, L, 2)."""
+    """Position, velocity and acceleration of points carried by links: r + R(θ)·at, v + ω × ρ,
+    a + ε × ρ − ω²·ρ with ρ = R(θ)·at, from the link frames of a batch (`Motion.frames`).
+
+    Parameters
+    ----------
+    th : ndarray, shape (B, L)
+        The frames' angles (rad).
+    r : ndarray, shape (B, L, 2)
+        The frames' origins (m).
+    w, e : ndarray, shape (B, L)
+        The frames' angular velocities and accelerations (rad/s, rad/s², or analogues per unit input).
+    v, a : ndarray, shape (B, L, 2)
+        The velocities and accelerations of the frames' origins (m/s, m/s², or analogues).
+    links : ndarray, shape (P,), int
+        The frame (link index) each point moves with.
+    at : ndarray, shape (P, 2)
+        Where each point is drawn (m, the model's world frame: a frame is the identity in the drawn pose).
+
+    Returns
+    -------
+    xy, vel, acc : ndarray, shape (B, P, 2)
+        The points' positions, velocities and accelerations (in the units of `r`, `v`, `a`).
+
+    Raises
+    ------
+    IndexError
+        A link index past the L frames.
+
+    Examples
+    --------
+    The four-bar's crank tip A (0.1 m from the pivot O, drawn on link 1 at 60°) at crank angles 0° and
+    90°; with one input the frames hold analogues, so the velocity is m/rad and the acceleration m/rad²:
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import material_points
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> f = mbplanar.analyse(engine, np.radians([0.0, 90.0])).frames
+    >>> drawn = 0.1 * np.array([[np.cos(np.pi / 3), np.sin(np.pi / 3)]])
+    >>> xy, vel, acc = material_points(f.th, f.r, f.w, f.v, f.e, f.a, np.array([1]), drawn)
+    >>> xy[:, 0].round(6) + 0.0, vel[:, 0].round(6) + 0.0, acc[:, 0].round(6) + 0.0
+    (array([[0.1, 0. ],
+           [0. , 0.1]]), array([[ 0. ,  0.1],
+           [-0.1,  0. ]]), array([[-0.1,  0. ],
+           [ 0. , -0.1]]))
+    """
     out = _moving_points(np.cos(th.T), np.sin(th.T), _last(r), w.T, _last(v), e.T, _last(a), links, at)
     return tuple(_first(x) for x in out)
 
@@ -924,7 +1128,38 @@ def _analyse_chunks(engine: Engine, phi, omega, epsilon, sel, wanted) -> Motion:
 def positions_at_limits(engine: Engine, limits: list) -> Motion:
     """The configurations at located motion limits (those with `Limit.q`, in that order) as a `Motion`:
     exact positions, link angles and joint values where a sweep can only come within `H_MIN`. Every
-    rate and analogue is NaN: at a fold (dead point) the driven links' rates are infinite."""
+    rate and analogue is NaN: at a fold (dead point) the driven links' rates are infinite.
+
+    Parameters
+    ----------
+    engine : Engine
+        The mechanism.
+    limits : list of Limit
+        Motion limits of `engine` (`Motion.limits`); those not located (`q` None) are left out.
+
+    Returns
+    -------
+    Motion
+        One position per located limit (batch first, SI), its `phi` the limits' inputs; every rate NaN.
+
+    Raises
+    ------
+    Nothing is checked: the limits must be `engine`'s own (another engine's give positions that mean
+    nothing).
+
+    Examples
+    --------
+    The locking crank-slider-rocker stops where links 3 and 4 stretch into line (t = 1.7999 rad): the
+    rocker links 3 and 4 then have the same angle.
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.kinematics import positions_at_limits
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/crank_slider_rocker_locking.toml"))
+    >>> motion = mbplanar.analyse(engine, np.radians(np.arange(0.0, 360.0, 10.0)))
+    >>> at = positions_at_limits(engine, motion.limits)
+    >>> at.phi.round(6), np.degrees(at.angle[0, [3, 4]]).round(4), bool(np.isnan(at.w).all())
+    (array([[1.799912]]), array([-55.1076, -55.1076]), True)
+    """
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         m = _motion(engine, engine.solve_limits(limits), None, None, point_selection(engine),
                     _wanted(engine, None, True))

@@ -345,6 +345,16 @@ class Load:
     rotational damper in revolute `joint`; a torque `moment` on b (−moment on a). Any row may be
     switched: active while the rate of joint `switch` (or the velocity of point `switch` along
     `switch_direction`) is ≥ 0 (`when` "forward") or ≤ 0 ("backward").
+
+    Examples
+    --------
+    The shaper's cutting force: a resistance on the ram along its guide F, from a diagram over the
+    stroke, on the working stroke only.
+
+    >>> import mbplanar
+    >>> cutting = mbplanar.read_model("models/shaper.toml").loads[0]
+    >>> cutting.name, cutting.kind, cutting.link, cutting.joint, cutting.when, len(cutting.s) == len(cutting.table)
+    ('cutting', 'resistance', '5', 'F', 'forward', True)
     """
 
     index: int
@@ -379,7 +389,16 @@ class Load:
 
 @dataclass(frozen=True)
 class Gravity:
-    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2)."""
+    """Uniform gravity: acceleration `g` (m/s²) along `direction` (rad, default −π/2), the model's
+    `[gravity]` (`Mechanism.gravity`); `vector` is the acceleration (2,).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> gravity = mbplanar.read_model("models/fourbar_loaded.toml").gravity
+    >>> gravity.g, gravity.vector.round(12) + 0.0
+    (9.81, array([ 0.  , -9.81]))
+    """
 
     g: float = 9.81
     direction: float = -math.pi / 2
@@ -397,7 +416,17 @@ class FlywheelSpec:
     (kg·m²), the flywheel's density (kg/m³); `inertia`: the machine's first group as built, on the crank
     shaft besides the crank's own (kg·m², flywheel included; None: not given), which `simulate` puts on
     the input; or `link`, a link of the model the gears turn at a constant ratio to the crank (the
-    flywheel sits on it, the ratio from the gears)."""
+    flywheel sits on it, the ratio from the gears).
+
+    Examples
+    --------
+    The shaper's flywheel goes on its motor's shaft (1412.4 rev/min):
+
+    >>> import mbplanar
+    >>> fw = mbplanar.read_model("models/shaper.toml").dynamics.flywheel
+    >>> fw.shaft_inertia, fw.motor_rpm, fw.motor_inertia, fw.density
+    (0.1625, 1412.4, 0.0875, 7800.0)
+    """
 
     shaft_inertia: float = 0.0
     motor_rpm: float | None = None
@@ -409,8 +438,18 @@ class FlywheelSpec:
 
 @dataclass(frozen=True)
 class DynamicsSpec:
-    """The machine's dynamics data: δ, ω_m (rad/s), the driving moment (N·m, None: balance the cycle)
-    and the slope of the motor characteristic (N·m·s/rad)."""
+    """The machine's dynamics data (`[dynamics]`, `Mechanism.dynamics`): the coefficient of speed
+    fluctuation `delta`, the mean speed `omega_mean` ω_m (rad/s), the `driving_moment` (N·m, None: the
+    constant that balances the cycle's work), the slope `motor_slope` of the motor characteristic
+    (N·m·s/rad) and where the flywheel goes (`flywheel`, a `FlywheelSpec`).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> spec = mbplanar.read_model("models/shaper.toml").dynamics
+    >>> spec.delta, round(spec.omega_mean, 6), spec.driving_moment, spec.flywheel.motor_rpm
+    (0.05, 7.644542, None, 1412.4)
+    """
 
     delta: float
     omega_mean: float

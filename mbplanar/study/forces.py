@@ -1,12 +1,12 @@
 """Kinetostatics of a design batch: every joint reaction and the balancing load of D designs × N
 positions in one solve, the (design, position) pairs a flat batch.
 
-The equilibrium system's structure is the reference engine's (`forces._kinetostatics.plan_of`: the
+The equilibrium system's structure is the reference engine's (`forces.plan_of`: the
 layout of rows and unknowns, the blocks and their elimination order, which do not depend on the
 dimensions). What does depend on them is computed here per pair, from the design batch's motion and
 each design's constants: the levers of the joints about each design's moment centre (the mean of its
 drawn joints) over its size, the guides' directions, the loads. The blocks are then solved by the
-engine's own back-substitution (`_solve_blocks`) over the flat batch.
+engine's own back-substitution (`solve_blocks`) over the flat batch.
 
 Loads: the links' d'Alembert loads (−m·a_S at the centre S, −I_S·ε, the real accelerations from the
 analogues at the input's constant `omega` and `epsilon`), gravity on the heavy links, and the model's
@@ -21,8 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..forces._kinetostatics import _input_link, _reported_on, _solve_blocks, plan_of
-from ..forces._loads import constant_parts, heavy_links
+from ..forces import constant_parts, heavy_links, input_link, plan_of, reported_on, solve_blocks
 
 __all__ = ["DesignForces", "design_kinetostatics"]
 
@@ -33,7 +32,7 @@ class DesignForces:
     singular).
 
     joints: names; reactions (D, N, J, 2): force on the reported link (as `Kinetostatics` reports it,
-    `forces._kinetostatics._reported_on`), N; balancing (D, N): the balancing moment (N·m, or force N)
+    `forces.reported_on`), N; balancing (D, N): the balancing moment (N·m, or force N)
     on the input link; singular (D, N)."""
 
     joints: list
@@ -88,7 +87,7 @@ def _scale(engine, plan, size):
     mech = engine.mech
     rows = []
     for j in mech.joints.values():
-        sign = 1.0 if _reported_on(mech, j)[0] == j.links[1] else -1.0
+        sign = 1.0 if reported_on(mech, j)[0] == j.links[1] else -1.0
         rows += [np.full_like(size, sign)] * 2 + ([sign * size] if j.kind == "P" else [])
     for inp in engine.inputs:
         rows.append(size if mech.joints[inp.joint].kind == "R" else np.ones_like(size))
@@ -180,7 +179,7 @@ def design_kinetostatics(batch, motion, template, variants) -> DesignForces | No
         _, force, moment = constant_parts(mech, load)
         at = xy[:, point[load.point]] if load.point is not None else np.zeros((B, 2))
         add(k, np.broadcast_to(force, (B, 2)), at, np.full(B, moment))
-    x, singular = _solve_blocks(plan, features, b, engine.tol.singular)
+    x, singular = solve_blocks(plan, features, b, engine.tol.singular)
     x *= _scale(engine, plan, size)[:, d_idx]
     singular |= ~np.all(np.isfinite(x), axis=0)
     x[:, singular] = np.nan
@@ -189,7 +188,7 @@ def design_kinetostatics(batch, motion, template, variants) -> DesignForces | No
         c = lay.cols[j]
         reactions[d_idx, n_idx, k, 0], reactions[d_idx, n_idx, k, 1] = x[c], x[c + 1]
     q = x[lay.in_cols[0]]
-    if _input_link(engine, inp)[0] != mech.joints[inp.joint].links[1]:
+    if input_link(engine, inp)[0] != mech.joints[inp.joint].links[1]:
         q = -q
     balancing = np.full((D, N), np.nan)
     balancing[d_idx, n_idx] = q

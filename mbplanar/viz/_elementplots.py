@@ -13,7 +13,7 @@ import textwrap
 import numpy as np
 
 from ..errors import ModelError
-from ..forces._loads import ELEMENT_TYPES, drawn_end, evaluate_loads, read_loads, world_points
+from ..forces import ELEMENT_TYPES, drawn_end, evaluate_loads, read_loads, world_points
 from ._plotting import (COLORS, _coordinate, _figure, _plot_lines, _xstep, cycle_motion, include_points,
                        input_speed, lean_ticks, require_matplotlib)
 
@@ -129,8 +129,7 @@ def _is_element(engine, name: str) -> bool:
 def shaking_figure(engine, at=None, *, count=181, figsize=(10, 4.5)):
     """The shaking force's hodograph (its tip over the cycle) and the shaking moment about the origin
     against the input, at the model's speed."""
-    from ..forces._kinetostatics import kinetostatics
-    from ..forces._shaking import shaking
+    from ..forces import kinetostatics, shaking
     plt = require_matplotlib()
     motion = cycle_motion(engine, count)
     sh = shaking(engine, kinetostatics(engine, motion))
@@ -157,7 +156,7 @@ def efficiency_figure(engine, at=None, *, count=181, mu=None, figsize=(7.5, 5)):
     import warnings
 
     from ..errors import ModelWarning, MotionError
-    from ..forces._friction import friction_kinetostatics, not_converged, read_friction
+    from ..forces import friction_kinetostatics, not_converged, read_friction
     plt = require_matplotlib()
     spec = read_friction(engine.mech, mu)
     if spec is None:
@@ -193,7 +192,7 @@ def simulation_figure(engine, at=None, *, trajectory=None, figsize=(10, 7), **_)
     time, and the energies (kinetic + potential − work of the drive should stay constant)."""
     from dataclasses import replace
 
-    from ..forces._simulation import read_simulate, simulate_motion
+    from ..forces import read_simulate, simulate_motion
     plt = require_matplotlib()
     if trajectory is None and "simulate" not in engine.mech.extras:
         raise ModelError("the model has no [simulate] section: nothing to draw for 'simulation' (add [simulate] "

@@ -12,10 +12,8 @@ import textwrap
 
 import numpy as np
 
-from ..kinematics._contacts import contact_geometry
-from ..kinematics._motion import describe_limit
-from ..forces._kinetostatics import kinetostatics
-from ..forces._loads import has_force_data
+from ..kinematics import contact_geometry, describe_limit
+from ..forces import has_force_data, kinetostatics
 from ._plotting import (COLORS, _coordinate, _figure, _full_turn, _plot_lines, _xstep, cycle_motion, include_points,
                        input_speed, lean_ticks, require_matplotlib)
 

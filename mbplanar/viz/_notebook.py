@@ -113,7 +113,7 @@ def kinetostatics_html(result) -> str:
 
 
 def dynamics_html(dyn) -> str:
-    from ..forces._dynamics import summary
+    from ..forces import summary
     from ..io import engine_for
     engine = engine_for(dyn.reduced.motion)
     rows = []

@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ModelError, MotionError, PlotUnavailable, did_you_mean
-from ..kinematics._motion import describe_limit
+from ..kinematics import describe_limit
 from ._scene import build_scene
 
 __all__ = ["PlotUnavailable", "require_matplotlib", "FIGURES", "register_figure", "make_figure", "path_rates",
@@ -79,7 +79,7 @@ def cycle_motion(engine, count: int = 72):
     If the drawn branch ends before the sweep does, the `count` positions are spread over the part that
     is reached (so an animation still has `count` frames). MotionError if not even one position is.
     """
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     values = cycle_values(engine, count)
     motion = analyse(engine, values)
     if motion.success:
@@ -110,7 +110,7 @@ def path_analogues(engine, motion):
     inputs). With one input the motion's own analogues (wq, eq, vq, aq)."""
     if len(engine.inputs) == 1:
         return motion.wq, motion.eq, motion.vq, motion.aq
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     along = analyse(engine, motion.phi, omega=path_rates(engine), epsilon=0.0, points=motion.point_names)
     return along.w, along.e, along.v, along.a
 
@@ -141,7 +141,7 @@ def swing_values(engine, count: int = 72) -> np.ndarray | None:
 
 def position_motion(engine, at=None):
     """Kinematics at one position: `at` in the model's unit, default the drawn pose."""
-    from ..kinematics._motion import analyse
+    from ..kinematics import analyse
     values = [inp.from_si(p) for inp, p in zip(engine.inputs, engine.phi_drawn)] if at is None else \
         list(np.atleast_1d(np.asarray(at, float)))
     if len(values) != len(engine.inputs):
@@ -438,7 +438,7 @@ def diagram_figure(engine, at=None, *, vectors=(), centres=False, reactions=Fals
         draw_instant_centres(ax, scene, motion, 0)
     if reactions:
         from ._forceplots import draw_reactions
-        from ..forces._kinetostatics import kinetostatics
+        from ..forces import kinetostatics
         draw_reactions(ax, engine, kinetostatics(engine, motion), 0, scene.size)
     if (vectors or reactions or loads) and ax.get_legend_handles_labels()[1]:
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=2, fontsize=8, frameon=False)
@@ -575,7 +575,7 @@ def transmission_series(engine, motion) -> dict:
     """Transmission angle μ (°, 0…180, not folded) at every revolute pair P–J–Q inside an Assur group
     (the pairs `mbplanar check` judges): the angle at J between the lines to P and Q.
     {'μ at B (A–B–C)': (B,) array}."""
-    from ..analysis._check import transmission_triples
+    from ..analysis import transmission_triples
     out = {}
     for p, j, q in transmission_triples(engine):
         mid = motion.xy[:, motion.point(j)]
@@ -589,8 +589,8 @@ def transmission_series(engine, motion) -> dict:
 def pressure_series(engine, motion) -> dict:
     """Pressure angle (°, 0…90, 0 ideal) of every slider driven by a rod and of every cam's or slot's
     contact, as `mbplanar check` computes them: {'ϑ at Bp (A–B)': (B,) array, 'ϑ at K (contact)': ...}."""
-    from ..analysis._check import contact_angles
-    from ..analysis._check import pressure_angles as angles
+    from ..analysis import contact_angles
+    from ..analysis import pressure_angles as angles
     pairs, values = angles(engine, motion)
     out = {f"ϑ at {s} ({a}–{b})" if a != b else f"ϑ at {s} (normal of {b})": np.degrees(values[:, k])
            for k, (a, b, s) in enumerate(pairs)}
@@ -640,7 +640,7 @@ def dynamics_figure(engine, at=None, *, dynamics=None, count=3600, figsize=(10, 
     true ω(φ), ε(φ) of the crank (energy–mass method and the simulated steady state). `dynamics`: a
     computed `Dynamics` (default: `machine_dynamics(engine)` on `count` steps, at least 36); `at`
     marks one position. ModelError for a model without a [dynamics] section."""
-    from ..forces._dynamics import machine_dynamics
+    from ..forces import machine_dynamics
     plt = require_matplotlib()
     d = machine_dynamics(engine, steps=max(int(count), 36)) if dynamics is None else dynamics
     inp = engine.inputs[0]

@@ -116,7 +116,7 @@ def _structure_section(engine, ctx):
 def _motion_section(engine, ctx):
     """`check`'s verdict: whether the input turns fully, dead points and change points, extreme
     positions, transmission and pressure angles."""
-    from ..analysis._check import check, check_region, format_region, format_report
+    from ..analysis import check, check_region, format_region, format_report
     if len(engine.inputs) == 2:
         return ("<p>The region the two inputs can reach from the drawn pose (<code>mbplanar check</code>): a "
                 "grid over both inputs' sweeps, each grid line walked on the drawn branch, and the singular "
@@ -170,7 +170,7 @@ def _path(engine) -> str:
 
 
 def _limits(engine, motion):
-    from ..kinematics._motion import describe_limit
+    from ..kinematics import describe_limit
     return "; ".join(describe_limit(engine, lim) for lim in motion.limits)
 
 
@@ -188,12 +188,12 @@ def _plots_section(engine, ctx):
 def _reactions_section(engine, ctx):
     """Kinetostatics at the model's speed: the balancing load and every pair's reaction at the table
     positions, a diagram with the reaction arrows, the plots over the cycle, the virtual-power check."""
-    from ..forces._loads import has_force_data
+    from ..forces import has_force_data
     if not has_force_data(engine.mech):
         return ("<p>The model has no loads: no masses, inertias, gravity or load rows, so every reaction "
                 "and the balancing moment are zero.</p>")
     from ._forceplots import balancing_label, forces_figure, reaction_label
-    from ..forces._kinetostatics import kinetostatics
+    from ..forces import kinetostatics
     from ._plotting import diagram_figure, input_speed
     table, cycle = kinetostatics(engine, ctx.table), kinetostatics(engine, ctx.cycle)
     residual = max(float(np.nanmax(r.virtual_power_residual, initial=0.0)) for r in (table, cycle))
@@ -245,7 +245,7 @@ def _reactions_section(engine, ctx):
 
 def _shaking_section(engine, ctx):
     """The shaking force and moment on the frame over the cycle (models with masses or loads)."""
-    from ..forces._loads import has_force_data
+    from ..forces import has_force_data
     if not has_force_data(engine.mech):
         return "<p>The model has no masses or loads: nothing shakes the frame.</p>"
     from ._elementplots import shaking_figure
@@ -283,7 +283,7 @@ def _animation_section(engine, ctx):
 
 
 def _flywheel_section(engine, ctx):
-    from ..forces._dynamics import machine_dynamics, summary
+    from ..forces import machine_dynamics, summary
     from ._plotting import dynamics_figure
     if len(engine.inputs) != 1:
         return (f"<p>The energy–mass method and the flywheel reduce a machine to its one crank; this model has "

@@ -278,7 +278,7 @@ def _curve_points(path, count: int = 241) -> np.ndarray:
 
 def higher_shapes(engine, motion) -> list:
     """The `PairShape` of every higher pair over the positions of `motion`."""
-    from ..kinematics._contacts import contact_geometry
+    from ..kinematics import contact_geometry
     mech, size = engine.mech, engine.size
     batch = len(motion.phi)
     where = contact_geometry(engine, motion)

@@ -439,7 +439,7 @@ def reactions(engine, motion) -> dict:
         result = kinetostatics(engine, motion)
         contact = {}
         if engine.mech.higher:   # a higher pair's force acts at its contact
-            from ..kinematics._contacts import contact_geometry
+            from ..kinematics import contact_geometry
             contact = {n: _array(g.point) for n, g in contact_geometry(engine, motion).items()}
         out["reactions"] = {name: {"label": reaction_label(r), "on": r.on, "from": r.source,
                                    "f": _array(np.column_stack([r.fx, r.fy])),
