@@ -38,11 +38,11 @@ __all__ = ["main", "run"]
 
 def _load(args):
     """The engine of the command's model file, from the engine cache unless --no-cache (`engine._cache`)."""
-    from .engine._cache import load_engine
+    from .engine import load_engine
     engine = load_engine(args.model, backend=args.backend, threads=args.threads,
                          use_cache=not getattr(args, "no_cache", False))
     if args.backend != "numpy":   # kernels that take none of this model's jobs: why, once (the seam logs each)
-        from .engine._tables import kernels_decline
+        from .engine import kernels_decline
         why = kernels_decline(engine.mech)
         if why:
             print(f"mbplanar: note: backend {args.backend}: {why}", file=sys.stderr)
@@ -54,7 +54,7 @@ def _plan(positions: int) -> None:
     whose loading costs more than it saves then declines (`Backend.should_run`; numba's own start is
     ~0.8 s, a position saves ~1 µs); the answers are the same to rounding. `_run` forgets the plan
     when the command ends."""
-    from .engine._backend import planned
+    from .engine import planned
     planned.positions = positions
 
 
@@ -148,8 +148,8 @@ def cmd_sweep(args):
 
 
 def cmd_compile(args):
-    """The numba backend's kernels and the design batch's compiled into numba's cache (`backends._aot`)."""
-    from .backends._aot import build
+    """The numba backend's kernels and the design batch's compiled into numba's cache (`backends.build`)."""
+    from .backends import build
     from .study.batch import compile_sample
     build(sys.stderr, samples=(compile_sample,))
     return 0
@@ -465,7 +465,7 @@ def _run(args) -> tuple[int, str | None]:
     """Run the command: its exit status, and the error's one-line message (None on success). mbplanar's
     errors map to their exit status (2 bad input, 1 cannot move); a closed standard output (a pipe into
     `head`) ends quietly with status 0."""
-    from .engine._backend import planned
+    from .engine import planned
     try:
         with planned(None):
             return args.func(args), None

@@ -21,13 +21,9 @@ SUBPACKAGES = ("model", "structure", "engine", "kinematics", "forces", "backends
 #: is completed (issue 29, item 7)
 DOCS_YET = {
     "accuracy",
-    "backends",
     "cam",
-    "engine",
     "formats",
     "gears",
-    "model",
-    "structure",
     "study",
     "synthesis",
     "viz",

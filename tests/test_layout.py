@@ -96,11 +96,7 @@ def test_the_import_reader_follows_absolute_imports_and_import_module():
 #: subpackages whose names other subpackages still import from a private module or under a private name;
 #: one per line, removed as each is made public (issue 29, item 7)
 PRIVATE_YET = {
-    "backends",
-    "engine",
     "formats",
-    "model",
-    "structure",
     "synthesis",
     "viz",
     "web",

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..engine._solver import solve_positions
+from ..engine import solve_positions
 
 from .sensitivity import Patch, Sources, output_rates, source_pass
 

@@ -8,7 +8,7 @@ import argparse
 import json
 
 from .._progress import Progress, add_long_run_options
-from ..model._units import add_units_option
+from ..model import add_units_option
 
 __all__ = ["add_arguments", "run"]
 

@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..model._assembly import reference_points
+from ..model import reference_points
 from . import higher
 from .spec import closest
 

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from ..model._curves import Circle, Offset, Shape
+from ..model import Circle, Offset, Shape
 
 __all__ = ["higher_dimensions", "nominal_numbers", "apply", "made_law", "MadePairs", "sources", "derived_radius",
            "parameter_kinds", "template_numbers"]
@@ -301,10 +301,8 @@ _ANGLES = ("guide", "face")
 
 
 def _higher_rows(template):
-    from ..model._parameters import _higher_kind, _row_list
-    for row in _row_list(template.data, "joints"):
-        if isinstance(row, dict) and _higher_kind(row) is not None:
-            yield str(row.get("name")), _higher_kind(row), row
+    from ..model import higher_rows
+    return higher_rows(template.data)
 
 
 def _curve(row):

@@ -19,8 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine._blocks import BlockSolver
-from ..engine._constraints import Prismatic, Revolute, perp
+from ..engine import BlockSolver, Prismatic, Revolute, perp
 from ..study.geometry import DesignGeometry
 from .higher import MadePairs, made_law
 

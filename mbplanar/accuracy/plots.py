@@ -133,7 +133,7 @@ def _result_of(engine, samples=None, positions=None):
     """The `Accuracy` of the engine's model file (None without `[tolerances]`), its Monte Carlo with the
     section's samples, at most `PICTURE_SAMPLES` (or `samples`), at the section's positions (or
     `positions`)."""
-    from ..model._keys import TOLERANCES
+    from ..model import TOLERANCES
     from .run import accuracy
 
     section = engine.mech.extras.get("tolerances")

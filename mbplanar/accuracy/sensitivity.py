@@ -30,8 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..engine._constraints import Rates, perp
-from ..engine._solver import solve_positions
+from ..engine import Rates, perp, solve_positions
 from ..errors import ModelError
 from . import higher
 from .geometry import STEP

@@ -24,8 +24,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import ModelError
-from ..model._keys import CLEARANCE, TOLERANCE, TOLERANCES
-from ..model._table import Row
+from ..model import CLEARANCE, TOLERANCE, TOLERANCES, Row
 
 __all__ = ["Tolerance", "Clearance", "ToleranceSpec", "read_tolerances", "closest", "WORST_SIGMAS"]
 

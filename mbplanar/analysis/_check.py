@@ -21,8 +21,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..kinematics import Motion, analyse, describe_crossing, describe_limit, positions_at_limits, range_text
-from ..engine import solve_positions
-from ..engine._atlas import met_along
+from ..engine import met_along, solve_positions
 
 __all__ = ["Extreme", "AngleRange", "CheckReport", "LimitReport", "Separation", "RegionReport", "check", "check_region",
            "format_region", "transmission_triples",
@@ -274,7 +273,7 @@ class CheckReport:
         return doc
 
     def _repr_html_(self) -> str:
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
 

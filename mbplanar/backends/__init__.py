@@ -2,12 +2,36 @@
 
 numpy (in `mbplanar.kinematics` and `mbplanar.forces`) is the reference. A backend (`Backend`) answers
 ``kinematics`` and ``kinetostatics`` for the batches it can vouch for and returns None for the others,
-which numpy then computes (`mbplanar.engine._backend.dispatch`, the one place of that fallback).
+which numpy then computes (`mbplanar.engine.dispatch`, the one place of that fallback).
 `Engine(mech, backend="numba")` loads one by name (`BACKENDS`, `load`): the numba backend (extra
-``mbplanar[fast]``) runs one-input sweeps through compiled per-position loops split over threads
-(`_numba`, `_numba_kinematics`, `_numba_kinetostatics`, `_threads`); numba is imported only then.
+``mbplanar[fast]``, `NUMBA`) runs one-input sweeps through compiled per-position loops split over threads;
+numba is imported only then. `PYTHON` runs the same kernels as plain Python (one position costs less
+there than numpy's batch machinery). `build` (``mbplanar compile``) fills numba's cache with every kernel.
+
+    >>> from mbplanar.backends import BACKENDS, load
+    >>> sorted(BACKENDS), load("numpy").name
+    (['numba', 'numpy'], 'python')
 """
 
-from ..engine._backend import BACKENDS, Backend, load
+from ..engine import BACKENDS, Backend, load
 
-__all__ = ["Backend", "BACKENDS", "load"]
+__all__ = ["Backend", "BACKENDS", "load", "PYTHON", "NUMBA", "build"]
+
+#: public name → the private module (and its name there), imported on first access (PEP 562): a backend is
+#: loaded when an engine first asks for it, the ahead-of-time build by ``mbplanar compile`` only
+_LAZY = {"PYTHON": "_python:BACKEND", "NUMBA": "_numba:BACKEND", "build": "_aot"}
+
+
+def __getattr__(name: str):
+    """A public name whose module `import mbplanar.backends` does not load, imported on first access."""
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    module, _, attribute = _LAZY[name].partition(":")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

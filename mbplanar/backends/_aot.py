@@ -145,12 +145,42 @@ def status() -> dict | None:
 # -- the build --------------------------------------------------------------------------------------
 
 def build(stream=None, samples=()) -> Path:
-    """Compile every kernel into numba's on-disk cache (those already there for these sources are loaded,
-    not compiled again), record them in the index and return numba's cache folder; one line on `stream`
-    says so. `samples`: functions that run the kernels this module cannot reach itself (the design batch's,
-    `mbplanar.study.batch.compile_sample`, from a layer above); a kernel that Python calls (`entries`)
-    and no sample reached is an error. An `MbplanarError` when numba is missing or a kernel fails to
-    compile."""
+    """Compile every kernel into numba's on-disk cache: ``mbplanar compile``, once after installing.
+
+    Those already there for these sources are loaded, not compiled again; the index beside numba's files
+    records them, so that later processes load them and none compiles.
+
+    Parameters
+    ----------
+    stream : file-like, optional
+        Where one line says what was compiled, how long it took and where (``sys.stderr`` for the
+        command); None: silent.
+    samples : sequence of callable, optional
+        Functions that run the kernels this module cannot reach itself (the design batch's,
+        `mbplanar.study.batch.compile_sample`, from a layer above).
+
+    Returns
+    -------
+    pathlib.Path
+        numba's cache folder of the kernels.
+
+    Raises
+    ------
+    MbplanarError
+        numba is missing (the message names the extra), a kernel fails to compile, or a kernel that
+        Python calls (`entries`) was reached by no sample.
+
+    Examples
+    --------
+    The kernels it compiles are the numba backend's (`NUMBA`); compiling them takes 10 to 20 s of CPU:
+
+    >>> import sys
+    >>> from mbplanar.backends import NUMBA, build
+    >>> NUMBA.name, NUMBA.should_run("design", 10)
+    ('numba', True)
+    >>> from mbplanar.study.batch import compile_sample
+    >>> folder = build(sys.stderr, samples=(compile_sample,))     # doctest: +SKIP
+    """
     try:
         import numba  # noqa: F401
     except ImportError as exc:
@@ -213,10 +243,10 @@ def _run_sample() -> None:
     """Run the linkage kernels on `SAMPLE` (a loaded four-bar) with the argument types the library's paths
     pass: sweeps with and without rates, of every point and of one, the kinetostatics, one position."""
     import numpy as np
-    from ..engine._solver import Engine
+    from ..engine import Engine
     from ..forces import kinetostatics
     from ..kinematics import analyse, position
-    from ..model._table import read_model_text
+    from ..model import read_model_text
 
     engine = Engine(read_model_text(SAMPLE, source="<sample>"), backend="numba", threads=1)
     phi = engine.phi_drawn[0] + np.linspace(0.0, 0.5, 3)

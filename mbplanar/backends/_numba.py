@@ -7,7 +7,7 @@ from __future__ import annotations
 import sys
 
 from ._python import sweep_can_run
-from ..engine._backend import planned
+from ..engine import planned
 
 __all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "pays"]
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from ._jit import njit
-from ..engine import _continuation
+from ..engine import hermite_coefficients, hermite_slope, hermite_value, rate_jump, step_verdict
 
 __all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval", "_step_verdict", "_rate_jump",
            "_hermite_coefficients", "_hermite_value", "_hermite_slope"]
@@ -132,8 +132,8 @@ def _interval(grid, count, x):
 
 # the continuation's rules, written once in `engine._continuation` for numpy and compiled here, as they are,
 # for the kernels (the acceptance of a step, the rate jump, the quintic Hermite interpolant)
-_step_verdict = _part(_continuation.step_verdict)
-_rate_jump = _part(_continuation.rate_jump)
-_hermite_coefficients = _part(_continuation.hermite_coefficients)
-_hermite_value = _part(_continuation.hermite_value)
-_hermite_slope = _part(_continuation.hermite_slope)
+_step_verdict = _part(step_verdict)
+_rate_jump = _part(rate_jump)
+_hermite_coefficients = _part(hermite_coefficients)
+_hermite_value = _part(hermite_value)
+_hermite_slope = _part(hermite_slope)

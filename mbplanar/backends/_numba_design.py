@@ -41,8 +41,7 @@ from . import _threads
 from ._jit import njit
 from ._numba_blocks import (_closure, _hermite_coefficients, _hermite_slope, _hermite_value, _interval, _lu,
                             _lu_solve, _place, _rate_jump, _step_verdict)
-from ..engine._continuation import HERMITE5
-from ..engine._tables import CutTables, DesignResult, DesignTables, StepTables
+from ..engine import HERMITE5, CutTables, DesignResult, DesignTables, StepTables
 
 __all__ = ["solve", "DesignIn", "DesignWork", "Unknowns"]
 

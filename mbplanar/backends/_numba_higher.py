@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 
 from ._jit import njit
-from ..engine import _higher_tables as ht  # (the tables' column names)
+from ..engine import higher_layout as ht  # (the tables' column names)
 
 # compiled as `_numba_blocks._part` is (fastmath set to off: see there)
 _part = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, lean=True, fastmath=False)

@@ -27,8 +27,8 @@ from . import _threads
 from ._jit import njit
 from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
 from ._numba_higher import _gear_closure, _gear_rates, _higher_closure, _higher_rates
-from ..engine import _higher_tables as ht  # (the tables' column names)
-from ..engine._tables import SweepOut, SweepWork, work_sizes
+from ..engine import higher_layout as ht  # (the tables' column names)
+from ..engine import SweepOut, SweepWork, work_sizes
 
 __all__ = ["run"]
 

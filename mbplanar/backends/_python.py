@@ -50,7 +50,7 @@ class PythonBackend:
                     else f"no {job} kernel")
         if size != 1:
             return f"{size} positions: numpy's vectorised batch is faster from 2 on"
-        from ..engine._backend import planned
+        from ..engine import planned
         if planned.positions is not None and planned.positions < PAYS_FROM and _KERNEL not in sys.modules:
             return (f"{planned.positions} position(s) planned: importing the kernel (~6 ms) pays from "
                     f"{PAYS_FROM}")
@@ -69,7 +69,7 @@ class PythonBackend:
         if fixed is None or fixed[0] is not request.atlas:  # (made again when the atlas grew)
             work = store.get("plain work")
             if work is None:
-                from ..engine._tables import SweepWork, work_sizes
+                from ..engine import SweepWork, work_sizes
                 work = store["plain work"] = plain(SweepWork.new(work_sizes(request.tables)))
             fixed = store["plain"] = (request.atlas, (plain(request.tables), plain(request.atlas), request.tol))
         viewed = fixed[1]

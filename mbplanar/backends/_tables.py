@@ -6,6 +6,6 @@ unpickle, and the cache sees its stamp is old and compiles again (else it fails)
 
 from __future__ import annotations
 
-from ..engine._tables import BlockTables, CutTables, JointTables, StepTables  # noqa: F401
+from ..engine import BlockTables, CutTables, JointTables, StepTables  # noqa: F401
 
 __all__: list = []

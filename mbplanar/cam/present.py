@@ -11,8 +11,7 @@ import math
 import numpy as np
 
 from ..errors import ModelError
-from ..model._model import LENGTH_UNITS
-from ..model._units import add_units_option
+from ..model import LENGTH_UNITS, add_units_option
 
 __all__ = ["document", "shown", "text", "run_command", "report_section", "register"]
 

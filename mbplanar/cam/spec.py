@@ -17,9 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import ModelError
-from ..model._keys import MISSING, Key, Section
-from ..model._model import LENGTH_UNITS, unit_spelling
-from ..model._scale import drawing_size, warn_scale
+from ..model import LENGTH_UNITS, MISSING, Key, Section, drawing_size, unit_spelling, warn_scale
 from .followers import CONTACTS, MOTIONS
 from .laws import LAWS
 

@@ -3,10 +3,63 @@ atlas) and singular positions.
 
 `Engine(mechanism)` compiles a mechanism once; `solve_positions`, `Engine.solve_limits`, `Engine.rates` and
 `Engine.atlas` answer for batches of input values (the layers above use them; users call `analyse`).
+The layers above also build on the parts exported here: the joint laws (`Revolute`, `Prismatic`, `Rates`,
+`perp`, `dot`, `world_frames`), the block solver (`BlockSolver`, `factor`), the continuation's rules
+(`step_verdict`, `rate_jump`, the quintic Hermite interpolant `hermite_coefficients`, `hermite_value`),
+the atlas (`Atlas`, `met_along`, `far_span`), the backend seam (`dispatch`, `Backend`, `load`, `planned`),
+the kernels' tables (`sweep_tables`, `StepTables`, ..., and `higher_layout`, the column layout of the higher
+pairs' tables), the command line's engine cache (`load_engine`) and the design batch's dimensions
+(`with_dimensions`, `same_structure`).
+
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine, solve_positions
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/fourbar.toml"))
+    >>> solution = solve_positions(engine, np.radians([60.0]))
+    >>> bool(solution.valid[0]), solution.phi.shape                     # (B, n_in)
+    (True, (1, 1))
 """
 
-from ._atlas import FAR_TURNS, LOST_PRECISION
+from . import _higher_tables as higher_layout
+from ._atlas import FAR_TURNS, LOST_PRECISION, Atlas, far_span, met_along
+from ._backend import BACKENDS, Backend, dispatch, load, planned
+from ._blocks import BlockSolver
+from ._constraints import Prismatic, Rates, Revolute, dot, perp, world_frames
+from ._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_slope, hermite_value, rate_jump,
+                            step_verdict)
+from ._linalg import factor
+from ._nodes import Node
+from ._singular import limit_after
 from ._solver import Crossing, Engine, Limit, Solution, solve_positions
+from ._tables import (DESIGN_STATUS, BlockTables, CutTables, DesignJob, DesignResult, DesignTables, JointTables,
+                      StepTables, SweepIn, SweepJob, SweepOut, SweepWork, atlas_tables, kernels_decline,
+                      record_layout, sweep_tables, work_sizes)
 from ._tolerances import Tolerances
 
-__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_positions", "FAR_TURNS", "LOST_PRECISION"]
+__all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_positions", "FAR_TURNS", "LOST_PRECISION",
+           "Atlas", "met_along", "far_span", "limit_after", "Node", "BlockSolver", "factor", "Revolute", "Prismatic",
+           "Rates", "perp", "dot", "world_frames", "HERMITE5", "ACCEPT", "CROSS", "step_verdict", "rate_jump",
+           "hermite_coefficients", "hermite_value", "hermite_slope", "Backend", "BACKENDS", "load", "dispatch",
+           "planned", "StepTables", "CutTables", "BlockTables", "JointTables", "SweepIn", "SweepOut", "SweepWork",
+           "SweepJob", "DesignTables", "DesignJob", "DesignResult", "DESIGN_STATUS", "sweep_tables",
+           "atlas_tables", "record_layout", "work_sizes", "kernels_decline", "higher_layout", "load_engine",
+           "with_dimensions", "same_structure"]
+
+#: public name → the private module defining it, imported on first use (PEP 562): the command line's
+#: engine cache and the design batch's dimensions are not needed to solve a model
+_LAZY = {"load_engine": "_cache", "with_dimensions": "_dimensions", "same_structure": "_dimensions"}
+
+
+def __getattr__(name: str):
+    """A public name whose module `import mbplanar.engine` does not load, imported on first access."""
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    module, _, attribute = _LAZY[name].partition(":")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -32,7 +32,26 @@ PERIOD_TOL = 1e-8      # largest scaled difference of the unknowns one period ap
 
 
 class Atlas:
-    """Nodes of the drawn branch along a single input, sorted by φ, with q, q', q'' per block."""
+    """Nodes of the drawn branch along a single input, sorted by φ, with q, q', q'' per block.
+
+    `nodes` are the solved nodes (`Node`), `limits` the motion limit met in each direction (+1, −1; None:
+    none yet), `crossings` the change points walked through. `cover(lo, hi)` extends the walk from the
+    drawn pose to cover an input range (up to a limit), `arrays()` gives the nodes and their quintic
+    Hermite coefficients as arrays, `period()` the branch's period. Built once per engine on first use
+    (`Engine.atlas`) and extended on demand.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine
+    >>> from mbplanar.model import read_model
+    >>> atlas = Engine(read_model("models/crank_slider_rocker_locking.toml")).atlas()
+    >>> atlas.cover(0.0, 3.0)                      # walks up to the dead point at 1.8 rad
+    >>> limit = atlas.limits[+1]
+    >>> round(float(limit.phi[0]), 6), limit.kind
+    (1.799912, 'stretched at B (C, B, D in line)')
+    >>> bool(atlas.arrays()[0][-1] <= limit.phi[0])                 # no node past it
+    True
+    """
 
     def __init__(self, solver: BlockSolver):
         self.solver = solver
@@ -294,7 +313,32 @@ def _bracket(solver: BlockSolver, start: Node, node: Node, new: Node, direction:
 
 
 def far_span(solver: BlockSolver) -> float:
-    """How far (SI) from the drawn pose the walk goes along a single input before a period is needed."""
+    """How far from the drawn pose the walk goes along a single input before a period is needed.
+
+    Parameters
+    ----------
+    solver : BlockSolver
+        An engine's solver (`Engine.solver`), of one input.
+
+    Returns
+    -------
+    float
+        `FAR_TURNS` turns (rad) for a revolute input, `FAR_SIZES` times the mechanism's size (m) for a
+        prismatic one.
+
+    Raises
+    ------
+    IndexError
+        A solver without an input.
+
+    Examples
+    --------
+    >>> import math
+    >>> from mbplanar.engine import FAR_TURNS, Engine, far_span
+    >>> from mbplanar.model import read_model
+    >>> far_span(Engine(read_model("models/fourbar.toml")).solver) == FAR_TURNS * 2 * math.pi
+    True
+    """
     return 2 * math.pi * FAR_TURNS if solver.mech.joints[solver.inputs[0].joint].kind == "R" else \
         FAR_SIZES * solver.size
 
@@ -455,7 +499,35 @@ def solve_along(atlas: Atlas, phi: np.ndarray, reduce: bool = True) -> Solution:
 
 
 def met_along(atlas: Atlas, lo: float, hi: float) -> tuple[list, list]:
-    """The limits and change points of the atlas that a batch of one input from lo to hi runs into."""
+    """The motion limits and change points of the atlas that a batch of one input from lo to hi runs into.
+
+    Parameters
+    ----------
+    atlas : Atlas
+        The branch's atlas, covering the range already (`Atlas.cover`).
+    lo, hi : float
+        The batch's smallest and largest input values, SI.
+
+    Returns
+    -------
+    limits : list of Limit
+        The limits the batch runs past (those beyond the atlas' last node on either side).
+    crossings : list of Crossing
+        The change points within [lo, hi].
+
+    Raises
+    ------
+    Nothing on an atlas that has nodes (every atlas has the drawn pose's).
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, met_along
+    >>> from mbplanar.model import read_model
+    >>> atlas = Engine(read_model("models/crank_slider_rocker_locking.toml")).atlas()
+    >>> atlas.cover(0.0, 2.5)
+    >>> met_along(atlas, 0.0, 1.0), len(met_along(atlas, 0.0, 2.5)[0])    # within reach; past the dead point
+    (([], []), 1)
+    """
     # only the limits this batch ran into: a row past the atlas' last node towards a limit is left out
     # because of it, even a row short of the located limit (the walk's last node can be a few H_MIN
     # short of a fold); the atlas may know limits beyond the range asked for

@@ -43,7 +43,24 @@ JOBS = ("kinematics", "kinetostatics", "design", "simulation")
 
 class Backend(Protocol):
     """An implementation of some jobs. Tables a backend keeps for an engine live in the request's
-    ``store`` (the engine's `Engine.prepared`), never on the backend."""
+    ``store`` (the engine's `Engine.prepared`), never on the backend.
+
+    A backend has a `name` and answers three questions (each verdict True or the reason why not):
+    `should_run` (does a request of this size pay here?), `can_run` (can it vouch for this request?),
+    and `run` (the answer, or the reason it handed the request back while running). mbplanar's own are
+    loaded by name (`BACKENDS`, `load`); any object with these members is one.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import load
+    >>> python = load("numpy")                   # the kernels as plain Python, beside numpy's batch
+    >>> python.name, python.should_run("kinematics", 1)
+    ('python', True)
+    >>> python.should_run("kinematics", 100)
+    "100 positions: numpy's vectorised batch is faster from 2 on"
+    >>> python.can_run("design", "the model has higher pairs")   # a layer's reason is answered as its own
+    'the model has higher pairs'
+    """
 
     name: str
 
@@ -61,11 +78,13 @@ class Backend(Protocol):
         backend handed it back while it ran."""
 
 
-#: name → (module defining ``BACKEND``, the package it needs or None, the extra that installs it); an
-#: engine's `backend` names one of them ("numpy": the kernels as plain Python, besides the reference)
+#: name → (where the backend is: "module:attribute", as an entry point names an object, or a module
+#: defining ``BACKEND``; the package it needs or None; the extra that installs it); an engine's `backend`
+#: names one of them ("numpy": the kernels as plain Python, besides the reference). mbplanar's own are
+#: public names of `mbplanar.backends`, loaded on first access.
 BACKENDS: dict[str, tuple[str, str | None, str | None]] = {
-    "numpy": ("mbplanar.backends._python", None, None),
-    "numba": ("mbplanar.backends._numba", "numba", "fast"),
+    "numpy": ("mbplanar.backends:PYTHON", None, None),
+    "numba": ("mbplanar.backends:NUMBA", "numba", "fast"),
 }
 
 
@@ -81,10 +100,36 @@ def check(name: str) -> None:
 
 
 def load(name: str) -> Backend:
-    """The backend called `name`. ValueError for an unknown name, `MbplanarError` naming the extra to
-    install when its package is missing."""
+    """The backend called `name`, loaded on first use (numba itself is imported when first used).
+
+    Parameters
+    ----------
+    name : str
+        A key of `BACKENDS`: "numpy" (the kernels as plain Python, beside numpy's batch) or "numba".
+
+    Returns
+    -------
+    Backend
+
+    Raises
+    ------
+    ValueError
+        An unknown name.
+    MbplanarError
+        Its package is not installed: the message names the extra to install.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import load
+    >>> load("numpy").name
+    'python'
+    >>> load("cobol")
+    Traceback (most recent call last):
+    ValueError: backend must be one of numpy, numba, not 'cobol'
+    """
     check(name)
-    return importlib.import_module(BACKENDS[name][0]).BACKEND  # (numba itself is imported when first used)
+    module, _, attribute = BACKENDS[name][0].partition(":")
+    return getattr(importlib.import_module(module), attribute or "BACKEND")  # (numba: imported when first used)
 
 
 def _missing(name: str, spec) -> MbplanarError:
@@ -104,11 +149,51 @@ def candidates(engine: Engine) -> list:
 
 def dispatch(engine: Engine, job: str, size: int, reference: Callable, request: Callable | None = None,
              finish: Callable | None = None):
-    """`job` for a request of `size` computed by the first of the engine's backends (`candidates`) that
-    can and should run it, else by `reference()` (numpy). `request()` makes the request the backends are
-    handed (made once, when a backend is willing; a str: why the kernels cannot take it, for the backends'
-    `can_run` to answer); ``finish(request, answer)`` makes the result of a
-    backend's answer. Every backend's verdict is logged at debug level."""
+    """Compute a job by the first of the engine's backends that can and should run it, else by numpy.
+
+    Every backend's verdict is logged at debug level on the ``mbplanar.backends`` logger.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine whose backends are asked (`candidates`: its own, then the kernels as plain Python).
+    job : str
+        One of `JOBS`: "kinematics", "kinetostatics", "design", "simulation".
+    size : int
+        The request's size (positions, or designs × positions), for `Backend.should_run`.
+    reference : callable
+        ``reference()``: numpy's answer, the result itself.
+    request : callable, optional
+        ``request()``: the request the backends are handed, made once, when a backend is willing; a str
+        says why the kernels cannot take it, for the backends' `can_run` to answer.
+    finish : callable, optional
+        ``finish(request, answer)``: the result of a backend's answer (default: the answer itself).
+
+    Returns
+    -------
+    object
+        The result, the same whoever computed it.
+
+    Raises
+    ------
+    Whatever `reference`, `request` or `finish` raise; a backend's `MbplanarError` when its package is
+    missing (`load`).
+
+    Examples
+    --------
+    >>> import logging, sys
+    >>> from mbplanar.engine import Engine, dispatch
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/fourbar.toml"))
+    >>> log = logging.getLogger("mbplanar.backends")
+    >>> handler = logging.StreamHandler(sys.stdout)
+    >>> log.addHandler(handler); log.setLevel(logging.DEBUG)
+    >>> dispatch(engine, "kinematics", 1, lambda: "numpy's answer", lambda: "no request in this example")
+    kinematics of 1: python declines: no request in this example
+    kinematics of 1: numpy
+    "numpy's answer"
+    >>> log.removeHandler(handler); log.setLevel(logging.NOTSET)
+    """
     made = None
     for backend in candidates(engine):
         verdict = backend.should_run(job, size)
@@ -135,7 +220,20 @@ def _declined(job: str, size: int, name: str, why: str) -> None:
 class planned:
     """``with planned(positions):`` the work a process plans (the command line: one command per process),
     for a backend's `should_run` to weigh what loading it costs against what it saves (numba's own start
-    is ~0.8 s of CPU); outside, a long-lived process is assumed (None: loading pays)."""
+    is ~0.8 s of CPU); outside, a long-lived process is assumed (None: loading pays).
+
+    `planned.positions` is the number planned (None outside); the blocks nest, each restoring the one
+    before it on exit.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import planned
+    >>> with planned(3600):
+    ...     planned.positions
+    3600
+    >>> planned.positions is None
+    True
+    """
 
     positions: int | None = None
 

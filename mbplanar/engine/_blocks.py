@@ -106,6 +106,21 @@ class Solution:
     phi (B, n_in) in SI; per link (engine.links order): w, e (B, L) angular velocity and acceleration;
     v, a (B, L, 2) frame-origin velocity and acceleration (views of batch-last arrays). `pose` holds the
     placed links (batch last). `valid` (B,) marks the positions solved on the drawn branch.
+    `blocks` holds each block's state (its unknowns ``q`` (m, B) and factored Jacobian), `limits` and
+    `crossings` the motion limits and change points met, `given_rates` the rates the atlas' interpolant
+    gives near change points. The engine layer's working record: users read `Motion` (`analyse`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine, solve_positions
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/fourbar.toml"))
+    >>> sol = engine.rates(solve_positions(engine, np.radians([0.0, 90.0])), np.ones((2, 1)), np.zeros((2, 1)))
+    >>> sol.valid.tolist(), sol.w.shape                             # ω of the links 0, 1, 2, 3 (rad/s)
+    ([True, True], (2, 4))
+    >>> sol.w[0].round(4).tolist()                                   # crank at 1 rad/s, at φ = 0
+    [0.0, 1.0, -0.5, -0.5]
     """
 
     phi: np.ndarray
@@ -127,7 +142,25 @@ class BlockSolver:
 
     mech: the assembled mechanism; laws: joint name → joint law; blocks: the topology's solving blocks;
     links: every link (rates are gathered in this order); size: the mechanism's size (lengths are
-    relative to it); phi_drawn (n_in,): the input values of the drawn pose; tol: its `Tolerances`."""
+    relative to it); phi_drawn (n_in,): the input values of the drawn pose; tol: its `Tolerances`.
+
+    Its `blocks` are the solving plans (`BlockPlan`: tree steps, cut joints, unknowns); `newton`
+    corrects a block's unknowns over a batch, `solve_batch` solves every block in order from guesses,
+    `rates` fills velocities and accelerations, `dets`, `signs`, `pivots` describe the Jacobians.
+    Every `Engine` has one (`Engine.solver`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine
+    >>> from mbplanar.model import read_model
+    >>> solver = Engine(read_model("models/fourbar.toml")).solver
+    >>> [(plan.joints, plan.m) for plan in solver.blocks]       # the crank, then the dyad and its 2 angles
+    [(('O',), 0), (('A', 'B', 'C'), 2)]
+    >>> sol = solver.solve_batch(np.radians([[60.0]]), [plan.q0[:, None] for plan in solver.blocks])
+    >>> bool(sol.valid[0]), solver.signs(sol).tolist()            # the drawn pose, solved where it was
+    (True, [[1.0, -1.0]])
+    """
 
     def __init__(self, mech, laws: dict, blocks, links: list, size: float, phi_drawn: np.ndarray,
                  tol: Tolerances):

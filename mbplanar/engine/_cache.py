@@ -28,7 +28,7 @@ from pathlib import Path
 
 from ._solver import Engine
 from ._tolerances import Tolerances
-from ..model._table import read_model, read_model_text
+from ..model import read_model, read_model_text
 
 __all__ = ["load_engine", "cache_dir", "cache_enabled"]
 
@@ -51,8 +51,43 @@ def cache_dir() -> Path:
 
 
 def load_engine(path, backend: str = "numpy", threads: int | None = None, use_cache: bool = True) -> Engine:
-    """The engine of the model file `path`: from the cache when an entry matches, else built (and
-    stored). Errors are those of `read_model` and `Engine`, whether cached or not."""
+    """The engine of a model file: from the engine cache when an entry matches, else built (and stored).
+
+    A cached engine gives bit for bit the answers of a new one (see the module's docstring for the key).
+
+    Parameters
+    ----------
+    path : str or Path
+        The model file.
+    backend : str, optional
+        As in `Engine`.
+    threads : int, optional
+        As in `Engine`.
+    use_cache : bool, optional
+        False: always build (as ``mbplanar --no-cache``; ``MBPLANAR_NO_CACHE=1`` too).
+
+    Returns
+    -------
+    Engine
+        The warnings its build gave are given again, cached or not.
+
+    Raises
+    ------
+    ModelError
+        The file cannot be read or its table is wrong, as `read_model`, whether cached or not.
+    MotionError
+        Its drawn pose cannot be assembled, as `Engine`.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import load_engine
+    >>> engine = load_engine("models/fourbar.toml", use_cache=False)
+    >>> engine.mech.name, engine.backend
+    ('fourbar', 'numpy')
+    >>> load_engine("models/no_such_model.toml", use_cache=False)
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: models/no_such_model.toml: cannot read the model file (No such file or directory)
+    """
     text = _read(path)
     if not (use_cache and cache_enabled()):
         engine, caught = _build(text, str(path), backend, threads)

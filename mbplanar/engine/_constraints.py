@@ -30,13 +30,37 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model._model import Joint
+from ..model import Joint
 
 __all__ = ["Pose", "Rates", "Revolute", "Prismatic", "make_law", "perp", "rotate", "dot", "world_frames"]
 
 
 def perp(v: np.ndarray) -> np.ndarray:
-    """v rotated by +90°, components first: (x, y) → (−y, x)."""
+    """Vectors rotated by +90°: (x, y) → (−y, x), components first.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Vectors (2, ...): the components on the first axis, any batch axes after.
+
+    Returns
+    -------
+    numpy.ndarray
+        The same shape and type.
+
+    Raises
+    ------
+    IndexError
+        An array whose first axis is shorter than 2.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import perp
+    >>> perp(np.array([[1.0, 3.0], [2.0, 4.0]]))     # (1, 2) and (3, 4) turned left
+    array([[-2., -4.],
+           [ 1.,  3.]])
+    """
     out = np.empty_like(v)
     out[0] = -v[1]
     out[1] = v[0]
@@ -44,7 +68,31 @@ def perp(v: np.ndarray) -> np.ndarray:
 
 
 def dot(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Scalar product over the leading component axis."""
+    """Scalar products of vectors stored components first.
+
+    Parameters
+    ----------
+    p, q : numpy.ndarray
+        Vectors (2, ...), broadcast against each other after the component axis.
+
+    Returns
+    -------
+    numpy.ndarray
+        p·q (...).
+
+    Raises
+    ------
+    IndexError
+        An array whose first axis is shorter than 2.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import dot, perp
+    >>> p = np.array([[1.0, 3.0], [2.0, 4.0]])
+    >>> dot(p, p), dot(p, perp(p))                  # |p|², and 0: perp(p) is normal to p
+    (array([ 5., 25.]), array([0., 0.]))
+    """
     return p[0] * q[0] + p[1] * q[1]
 
 
@@ -81,7 +129,20 @@ class Pose:
 
 class Rates:
     """Angular rate w (C, B) and frame-origin rate v (2, C, B) per link; absent links are at rest. The
-    rates p (C, B) of the higher pairs' contact parameters, by the pair's name (absent: 0)."""
+    rates p (C, B) of the higher pairs' contact parameters, by the pair's name (absent: 0).
+
+    The rate passes fill it (`set`, `set_param`) joint by joint; C columns are the unknowns a Jacobian
+    differentiates by (one for a velocity pass), B the batch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Rates
+    >>> rates = Rates(batch=3, columns=1)
+    >>> rates.set("1", np.full((1, 3), 10.0), np.zeros((2, 1, 3)))
+    >>> rates.get("1")[0].tolist(), rates.get("2")[0].tolist()   # link 2 was not set: at rest
+    ([[10.0, 10.0, 10.0]], [[0.0, 0.0, 0.0]])
+    """
 
     def __init__(self, batch: int, columns: int):
         self.w, self.v, self.p = {}, {}, {}
@@ -132,7 +193,27 @@ class JointLaw:
 
 
 class Revolute(JointLaw):
-    """Revolute pair: one point shared by both links."""
+    """Revolute pair: one point shared by both links.
+
+    Made from a `Joint` and the engine's centre (`Engine.centre`); `s0` is the joint's drawn point in
+    the engine's frame, `links` the two links. As a tree joint it places the child link by its angle
+    (`place`); as a cut joint it gives two closure equations, the difference of the two links' copies of
+    the point (`closure`), zero when the loop is closed; `place_rates` and `closure_rates` are their
+    time derivatives.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine, Revolute, solve_positions
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/fourbar.toml"))
+    >>> law = engine.laws["B"]
+    >>> isinstance(law, Revolute), law.kind, law.links
+    (True, 'R', ('2', '3'))
+    >>> residual, _ = law.closure(solve_positions(engine, np.radians([30.0, 90.0])).pose)
+    >>> bool(np.abs(residual).max() < 1e-12)                           # (2, B): B is where both say
+    True
+    """
 
     kind = "R"
 
@@ -171,7 +252,26 @@ class Revolute(JointLaw):
 
 
 class Prismatic(JointLaw):
-    """Prismatic pair: the slider keeps its drawn angle to the carrier, its point stays on the guide."""
+    """Prismatic pair: the slider keeps its drawn angle to the carrier, its point stays on the guide.
+
+    `carrier` is the joint's first link (the guide's), `slider` its second; `u0` the guide's direction
+    and `n0` its normal in the drawn pose. As a tree joint it places the slider by its displacement along
+    the guide; as a cut joint its two closure equations are the relative rotation and the slider point's
+    distance from the guide line.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine, Prismatic, solve_positions
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/slider_crank.toml"))
+    >>> name, law = next((n, l) for n, l in engine.laws.items() if isinstance(l, Prismatic))
+    >>> law.kind, law.carrier, law.slider, law.u0.round(6).tolist()
+    ('P', '0', '3', [1.0, 0.0])
+    >>> residual, _ = law.closure(solve_positions(engine, np.radians([45.0])).pose)
+    >>> bool(np.abs(residual).max() < 1e-12)
+    True
+    """
 
     kind = "P"
 
@@ -244,11 +344,45 @@ def make_law(joint: Joint, centre=(0.0, 0.0)) -> JointLaw:
 
 
 def world_frames(centre: np.ndarray, c: np.ndarray, s: np.ndarray, r: np.ndarray, w=None, v=None, e=None, a=None):
-    """The link frames of the engine's frame (centred on `centre` (2,)) in the world convention: the
-    motion of each link's point drawn at the world's origin. From cos θ, sin θ (L, B) and r (2, L, B),
-    with w, e (L, B) and v, a (2, L, B) when given; returns (r, v, a) (None where not given), the
-    arrays given themselves when `centre` is 0 (the engine's frame is then the world's). Far from the
-    origin the answer carries the rounding of world coordinates (~1e-16 of them)."""
+    """The link frames of the engine's frame in the world convention, as results report them.
+
+    The motion of each link's point drawn at the world's origin. Far from the origin the answer carries
+    the rounding of world coordinates (~1e-16 of them).
+
+    Parameters
+    ----------
+    centre : array_like
+        The engine's centre (2,), m (`Engine.centre`).
+    c, s : numpy.ndarray
+        cos θ, sin θ of each link's rotation from the drawn pose (L, B).
+    r : numpy.ndarray
+        The frame origins in the engine's frame (2, L, B), m.
+    w, e : numpy.ndarray, optional
+        Angular velocities and accelerations (L, B), rad/s and rad/s².
+    v, a : numpy.ndarray, optional
+        The frame origins' velocities and accelerations (2, L, B), m/s and m/s².
+
+    Returns
+    -------
+    r, v, a : numpy.ndarray or None
+        The world frames' origins, velocities, accelerations (2, L, B); None where `v` or `a` was not
+        given; the arrays given themselves when `centre` is 0 (the engine's frame is then the world's).
+
+    Raises
+    ------
+    TypeError
+        `v` given without `w`, or `a` without `w` and `e`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import world_frames
+    >>> c, s = np.array([[0.0]]), np.array([[1.0]])                   # one link turned by 90°
+    >>> r = np.zeros((2, 1, 1))                                      # its frame at the engine's origin
+    >>> world, _, _ = world_frames(np.array([8.0, 0.0]), c, s, r)     # the engine's origin at x = 8
+    >>> world[:, 0, 0].tolist()                                      # the point drawn at the world's 0
+    [8.0, -8.0]
+    """
     cx, cy = float(centre[0]), float(centre[1])
     if cx == 0.0 and cy == 0.0:
         return r, v, a

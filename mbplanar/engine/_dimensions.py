@@ -11,15 +11,39 @@ import numpy as np
 from ._blocks import BlockSolver
 from ._constraints import make_law
 from ..errors import ModelError
-from ..model._assembly import assemble
-from ..model._model import Mechanism
-from ..model._scale import check_far, frame_origin
+from ..model import Mechanism, assemble, check_far, frame_origin
 
 __all__ = ["with_dimensions", "same_structure"]
 
 
 def same_structure(a: Mechanism, b: Mechanism) -> bool:
-    """Whether two mechanisms have the same links, joints (names, kinds, links) and inputs."""
+    """Whether two mechanisms have one structure: a design batch's variants must.
+
+    Parameters
+    ----------
+    a, b : Mechanism
+        The two models.
+
+    Returns
+    -------
+    bool
+        True when their ground, links, joints (names, kinds, links, guides), inputs, points and higher
+        pairs agree; their coordinates and dimensions may differ.
+
+    Raises
+    ------
+    Nothing on two mechanisms.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import same_structure
+    >>> from mbplanar.model import read_model, translated
+    >>> fourbar = read_model("models/fourbar.toml")
+    >>> same_structure(fourbar, translated(fourbar, (1.0, 0.0)))
+    True
+    >>> same_structure(fourbar, read_model("models/slider_crank.toml"))
+    False
+    """
     return (a.ground == b.ground and list(a.links) == list(b.links)
             and [(n, j.kind, j.links, j.guide_points) for n, j in a.joints.items()]
             == [(n, j.kind, j.links, j.guide_points) for n, j in b.joints.items()]
@@ -57,6 +81,21 @@ def with_dimensions(engine, mechanism: Mechanism, higher=None):
         When the variant's structure differs from the engine's.
     MotionError
         When the variant's drawn pose cannot be assembled.
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.engine import Engine, with_dimensions
+    >>> from mbplanar.model import Template, parse_model, read_model
+    >>> with open("models/fourbar_design.toml", "rb") as f:
+    ...     template = Template(tomllib.load(f), "models/fourbar_design.toml")
+    >>> engine = Engine(parse_model(template.bind()))
+    >>> longer = with_dimensions(engine, parse_model(template.bind({"a": 0.12})))   # a 120 mm crank
+    >>> longer.topology is engine.topology, [round(v, 4) for v in longer.mech.joints["A"].at]
+    (True, [0.06, 0.1039])
+    >>> with_dimensions(engine, read_model("models/slider_crank.toml"))
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: models/slider_crank.toml: the variant's links, joints, points or inputs differ ...
     """
     from ._solver import higher_laws, wheels
     if not same_structure(engine.mech, mechanism):

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from ..model._drawn import PairGeometry
+from ..model import PairGeometry
 from ._constraints import dot, perp
 
 __all__ = ["HigherLaw", "Gear", "Rack", "PointOnCurve", "FaceOnCurve", "make_higher_law"]

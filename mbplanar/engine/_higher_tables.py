@@ -18,7 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..model._curves import Circle, Offset, Spline
+from ..model import Circle, Offset, Spline
 
 __all__ = ["HigherTables", "CurveTables", "higher_tables", "curve_tables", "HIGHER_CACHE", "CURVE_WORK",
            "H_GEAR", "H_RACK", "H_FLAT", "H_A", "H_B", "H_CARRIER", "H_CURVE", "H_VAR", "H_ROW", "H_EQUATIONS",

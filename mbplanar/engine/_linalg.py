@@ -95,9 +95,36 @@ def _cramer(a: np.ndarray) -> Cramer:
 
 
 def factor(a: np.ndarray):
-    """Factor every matrix of `a` (n, n, B): explicit inverse for n ≤ 2, else LU with partial pivoting.
-    Singular matrices give zero pivots (check `pivot_ratio`) and non-finite solutions; nothing is
-    raised, so one bad element never stops a batch."""
+    """Factor a batch of small matrices once, to solve several right-hand sides with each.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        The matrices (n, n, B), batch last.
+
+    Returns
+    -------
+    LU or Cramer
+        The explicit inverse for n ≤ 2 (`Cramer`), else the LU factors with partial pivoting (`LU`);
+        both give ``solve(b)`` for b (n, B), ``det`` (B,) and ``pivot_ratio`` (B,), the smallest pivot's
+        size over the largest's, near 0 where a matrix is (nearly) singular.
+
+    Raises
+    ------
+    Nothing: singular matrices give zero pivots and non-finite solutions, so one bad element never
+    stops a batch (check `pivot_ratio`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import factor
+    >>> a = np.stack([[[2.0, 1.0], [1.0, 3.0]], [[1.0, 2.0], [2.0, 4.0]]], axis=-1)   # 2 matrices (2, 2, 2)
+    >>> f = factor(a)
+    >>> f.det.tolist(), f.pivot_ratio.round(3).tolist()          # pivots 2, 5/2 and 2, 0: the second is singular
+    ([5.0, 0.0], [0.8, 0.0])
+    >>> factor(a[:, :, :1]).solve(np.array([[3.0], [4.0]])).round(12).ravel().tolist()   # 2x + y = 3, x + 3y = 4
+    [1.0, 1.0]
+    """
     if 1 <= a.shape[0] <= 2:
         return _cramer(a)
     return lu_factor(a)

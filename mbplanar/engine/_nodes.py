@@ -16,7 +16,26 @@ __all__ = ["HERMITE5", "Node", "node_at", "hermite_between"]
 
 @dataclass
 class Node:
-    """A solved position on the branch with the derivatives of its unknowns along `direction`."""
+    """A solved position on the branch with the derivatives of its unknowns along `direction`.
+
+    `phi` (n_in,) the input values; `direction` (n_in,) dφ/ds of the walk; per block `q`, `qd`, `qdd`
+    (m,) the unknowns and their first and second derivatives along the walk; `dets` (n_blocks,) the
+    blocks' Jacobian determinants (`signs`: the assembly branch); `pivot` the smallest pivot ratio.
+    The atlas' nodes (`Atlas.nodes`) are these; `per_input` gives the derivatives per input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine
+    >>> from mbplanar.model import read_model
+    >>> atlas = Engine(read_model("models/fourbar.toml")).atlas()
+    >>> node = atlas.nodes[0]
+    >>> round(float(np.degrees(node.phi[0])), 6), node.signs.tolist()     # the drawn pose
+    (60.0, [1.0, -1.0])
+    >>> qd, qdd = node.per_input()
+    >>> [v.shape for v in qd]                                              # the crank's block has none
+    [(0,), (2,)]
+    """
 
     phi: np.ndarray
     direction: np.ndarray

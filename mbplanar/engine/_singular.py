@@ -49,7 +49,29 @@ class Crossing:
     """A change point on the branch: a block's Jacobian is singular there, but the branch goes on
     smoothly through it (another assembly branch crosses it, e.g. the parallelogram four-bar with all
     links in line). φ (SI) is located by the sign change of the block's determinant; `bracket` holds the
-    atlas nodes on either side, whose interpolant gives the rates at and near the change point."""
+    atlas nodes on either side, whose interpolant gives the rates at and near the change point.
+
+    `links` are the block's links, `joints` the joints that line up there, `kind` the words for it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine
+    >>> from mbplanar.model import read_model_text
+    >>> parallelogram = read_model_text('''
+    ... ground = "0"
+    ... links = [{ name = "1" }, { name = "2" }, { name = "3" }]
+    ... joints = [{ name = "O", type = "R", links = ["0", "1"], at = [0.0, 0.0] },
+    ...           { name = "A", type = "R", links = ["1", "2"], at = [0.0, 1.0] },
+    ...           { name = "B", type = "R", links = ["2", "3"], at = [2.0, 1.0] },
+    ...           { name = "C", type = "R", links = ["3", "0"], at = [2.0, 0.0] }]
+    ... input = { joint = "O" }
+    ... ''')
+    >>> atlas = Engine(parallelogram).atlas()
+    >>> atlas.cover(1.0, 4.0)                                  # every link in line at φ = π
+    >>> [(round(float(c.phi[0]), 9), c.joints, c.kind) for c in atlas.crossings]
+    [(3.141592654, ('A', 'B', 'C'), 'stretched at B (A, B, C in line)')]
+    """
 
     phi: np.ndarray  # (n_in,)
     links: tuple
@@ -87,9 +109,44 @@ def locate_crossing(solver: BlockSolver, k: int, a: Node, b: Node, iterations: i
 
 
 def limit_after(solver: BlockSolver, node: Node, direction: np.ndarray, h: float) -> Limit:
-    """The motion limit just past `node` (the walk could not step h from it), in the block whose Jacobian
-    is nearest to singular: the fold, located exactly with its configuration, when `_locate_fold`
-    finds it at the end of the node's branch; else the middle of the walk's bracket (q None)."""
+    """The motion limit just past a node, where the walk could not step on.
+
+    It lies in the block whose Jacobian is nearest to singular there (or where a contact reaches the
+    end of its open curve).
+
+    Parameters
+    ----------
+    solver : BlockSolver
+        The engine's solver.
+    node : Node
+        The walk's last node.
+    direction : numpy.ndarray
+        dφ/ds of the walk (n_in,): +1 or −1 for one input.
+    h : float
+        The step that failed.
+
+    Returns
+    -------
+    Limit
+        The fold, located exactly with its configuration (`Limit.q`) when `_locate_fold` finds it at the
+        end of the node's branch; else the middle of the walk's bracket, node + direction·h/2 (q None).
+
+    Raises
+    ------
+    Nothing on a node of the solver's branch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine, limit_after
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/crank_slider_rocker_locking.toml"))
+    >>> atlas = engine.atlas()
+    >>> atlas.cover(0.0, 2.5)
+    >>> limit = limit_after(engine.solver, atlas.nodes[-1], np.array([1.0]), 1e-10)
+    >>> round(float(limit.phi[0]), 6), limit.joints, limit.q is not None
+    (1.799912, ('C', 'B', 'D'), True)
+    """
     sign = int(np.sign(direction[0])) if len(direction) == 1 else 0
     end = _curve_end(solver, node, direction, h)
     if end is not None:

@@ -45,10 +45,8 @@ from ._constraints import make_law, world_frames
 from ._higher import make_higher_law
 from ._singular import Crossing, Limit
 from ._tolerances import Tolerances
-from ..model._assembly import assemble, reference_points, translated
-from ..model._model import Mechanism
-from ..model._scale import check_far, frame_origin
-from ..structure._topology import analyse_topology, check_mobility
+from ..model import Mechanism, assemble, check_far, frame_origin, reference_points, translated
+from ..structure import analyse_topology, check_mobility
 
 __all__ = ["Engine", "Solution", "Limit", "Crossing", "solve_positions", "higher_laws", "wheels"]
 
@@ -59,7 +57,7 @@ def higher_laws(mech: Mechanism, centre=(0.0, 0.0)) -> dict:
     centred on `centre` (`Engine.centre`)."""
     if not mech.higher:
         return {}
-    from ..model._drawn import drawn_pairs
+    from ..model import drawn_pairs
     world = drawn_pairs(mech)
     if not any(centre):
         return {name: make_higher_law(g) for name, g in world.items()}
@@ -253,7 +251,7 @@ class Engine:
 
     def _repr_html_(self) -> str:
         """Jupyter: the diagram in the drawn pose beside the structure (DOF, loops, Assur groups)."""
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
     def period(self) -> float | None:
@@ -295,11 +293,42 @@ class Engine:
 
 
 def solve_positions(engine: Engine, phi) -> Solution:
-    """The engine layer's own positions at input values `phi` (SI): (B,) for one input, (B, n_in) for
-    several. Positions past a motion limit are left out (`valid` False, `limits` says where).
+    """The engine layer's own positions at a batch of input values, on the drawn branch.
 
     Numpy only, no rates, no backend: the layers above use it where they need a `Solution`. Users ask
-    ``analyse(engine, phi, rates=False)``, which goes through the backend seam."""
+    ``analyse(engine, phi, rates=False)``, which goes through the backend seam.
+
+    Parameters
+    ----------
+    engine : Engine
+        The compiled mechanism.
+    phi : array_like
+        Input values, SI (rad, or m for a prismatic input): a number, (B,) for one input, (B, n_in) for
+        several (or (n_in,), one position).
+
+    Returns
+    -------
+    Solution
+        Positions past a motion limit are left out (`valid` False, `limits` says where).
+
+    Raises
+    ------
+    ValueError
+        The wrong number of values per position, or a value that is not finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.engine import Engine, solve_positions
+    >>> from mbplanar.model import read_model
+    >>> engine = Engine(read_model("models/fourbar.toml"))
+    >>> sol = solve_positions(engine, np.radians([0.0, 90.0]))
+    >>> sol.valid.tolist(), np.degrees(sol.pose.th["1"]).round(6).tolist()   # crank turned from 60°
+    ([True, True], [-60.0, 30.0])
+    >>> solve_positions(engine, [np.nan])
+    Traceback (most recent call last):
+    ValueError: input values must be finite
+    """
     phi = np.asarray(phi, dtype=float)
     if phi.ndim == 0:
         phi = phi[None]

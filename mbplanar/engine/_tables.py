@@ -30,11 +30,38 @@ REVOLUTE, PRISMATIC = "R", "P"                          # JointLaw.kind, Joint.k
 
 
 def kernels_decline(mech, job: str = "kinematics") -> str:
-    """Why these tables cannot describe the model `mech` for the kernels of `job` ("" where they can):
-    the kinematics and kinetostatics kernels hold the laws of every pair (`HigherTables` for the higher
+    """Why the kernels' tables cannot describe a model for a job, or "" where they can.
+
+    The kinematics and kinetostatics kernels hold the laws of every pair (`HigherTables` for the higher
     pairs); the design kernel's tables hold the lower pairs' only, so a design batch of a model with
     higher pairs (gear, rack, cam, slot) is numpy's. The layers that write requests return it for the
-    backends' `can_run` to answer (`engine._backend.dispatch`)."""
+    backends' `can_run` to answer (`dispatch`).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    job : str, optional
+        One of the seam's jobs ("kinematics", "kinetostatics", "design", "simulation").
+
+    Returns
+    -------
+    str
+        The reason, or "" when the tables hold the model.
+
+    Raises
+    ------
+    Nothing on a `Mechanism`.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import kernels_decline
+    >>> from mbplanar.model import read_model
+    >>> kernels_decline(read_model("models/rack_pinion.toml"), "kinematics")
+    ''
+    >>> kernels_decline(read_model("models/rack_pinion.toml"), "design")
+    'the model has higher pairs (rack), whose laws the design kernel does not hold: numpy solves the batch'
+    """
     if not mech.higher or job != "design":
         return ""
     return ("the model has higher pairs (" + ", ".join(sorted({h.kind for h in mech.higher.values()}))
@@ -42,7 +69,19 @@ def kernels_decline(mech, job: str = "kinematics") -> str:
 
 
 class StepTables(NamedTuple):
-    """The tree steps of every block, in solving order (S steps)."""
+    """The tree steps of every block, in solving order (S steps): each places a link from its parent.
+
+    Fields, one entry per step (the comments beside them give each one's shape and meaning); points in
+    the engine's frame (`Engine.centre`). Made by `sweep_tables`.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> steps = sweep_tables(Engine(read_model("models/slider_crank.toml"))).steps
+    >>> steps.parent.tolist(), steps.child.tolist(), steps.var.tolist(), steps.input.tolist()
+    ([0, 1, 2], [1, 2, 3], [-1, 0, 1], [0, -1, -1])
+    """
 
     prismatic: np.ndarray   # (S,) bool: the step's joint is prismatic (else revolute)
     parent: np.ndarray      # (S,) int: link placed from
@@ -57,7 +96,18 @@ class StepTables(NamedTuple):
 
 
 class CutTables(NamedTuple):
-    """The cut joints of every block (C cuts), each giving two closure rows."""
+    """The lower-pair cut joints of every block (C cuts), each giving two closure rows.
+
+    Fields, one entry per cut (shapes beside them). Made by `sweep_tables`.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> cuts = sweep_tables(Engine(read_model("models/slider_crank.toml"))).cuts   # the slider's guide
+    >>> cuts.prismatic.tolist(), cuts.a.tolist(), cuts.b.tolist(), cuts.n0.round(6).tolist()
+    ([True], [0], [3], [[-0.0, 1.0]])
+    """
 
     prismatic: np.ndarray   # (C,) bool
     a: np.ndarray           # (C,) int: first link (the carrier of a prismatic cut)
@@ -67,7 +117,20 @@ class CutTables(NamedTuple):
 
 
 class BlockTables(NamedTuple):
-    """Where each of the K blocks' steps, cuts, unknowns and anchors start and end (end exclusive)."""
+    """Where each of the K blocks' steps, cuts, unknowns and anchors start and end (end exclusive).
+
+    Block k's steps are ``steps[step0[k]:step1[k]]``, its cuts ``cuts[cut0[k]:cut1[k]]``, its `m[k]`
+    unknowns start at `var0[k]`; `row_scale` and `var_scale` (M,) make its rows and unknowns
+    dimensionless. Made by `sweep_tables`.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> blocks = sweep_tables(Engine(read_model("models/slider_crank.toml"))).blocks
+    >>> blocks.step0.tolist(), blocks.step1.tolist(), blocks.m.tolist()    # the crank; the dyad, 2 unknowns
+    ([0, 1], [1, 3], [0, 2])
+    """
 
     step0: np.ndarray       # (K,) int
     step1: np.ndarray       # (K,) int
@@ -84,7 +147,20 @@ class BlockTables(NamedTuple):
 
 
 class JointTables(NamedTuple):
-    """Every joint of the model (J), for the joint values written per position."""
+    """Every joint of the model (J), for the joint values written per position.
+
+    A revolute joint's value is the relative angle of its links (b from a), a prismatic joint's the
+    slider's displacement along the guide; `drawn` is the value in the drawn pose. Made by
+    `sweep_tables`, in the model's joint order.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> joints = sweep_tables(Engine(read_model("models/slider_crank.toml"))).joints
+    >>> joints.prismatic.tolist(), joints.u0[-1].tolist()              # O, A, B and the slider's Bp
+    ([False, False, False, True], [1.0, 0.0])
+    """
 
     prismatic: np.ndarray   # (J,) bool
     a: np.ndarray           # (J,) int: first link (the carrier of a prismatic joint)
@@ -132,8 +208,22 @@ class AtlasTables(NamedTuple):
 class SweepIn(NamedTuple):
     """What one call of the kinematics kernel solves: input values x (B,) (SI), the input's speed `om`
     and acceleration `ep` (B,); `ep_any`: some ep is not 0; `rates`: the velocities and accelerations
-    too; the points on links `p_link` (P,) drawn at `p_at` (P, 2); `offsets` (11,) of the record's
-    fields in `RECORD_ORDER` (in float64s; −1: absent)."""
+    too; the points on links `p_link` (P,) drawn at `p_at` (P, 2); `offsets` (12,) of the record's
+    fields in `RECORD_ORDER` (in float64s; −1: absent).
+
+    Examples
+    --------
+    Two positions of a four-bar (4 links, 4 joints) at 2 rad/s, with rates, for one point on link 2 drawn
+    at (0.2, 0.2) (`SweepJob` shows the one `analyse` makes):
+
+    >>> import numpy as np
+    >>> from mbplanar.engine import SweepIn, record_layout
+    >>> _, offsets = record_layout(4, 4, rates=True)
+    >>> inp = SweepIn(np.radians([10.0, 20.0]), np.full(2, 2.0), np.zeros(2), False, True,
+    ...               np.array([2]), np.array([[0.2, 0.2]]), offsets)
+    >>> len(inp.x), inp.rates, int(inp.offsets[5])                      # wq starts at float 24
+    (2, True, 24)
+    """
 
     x: np.ndarray
     om: np.ndarray
@@ -152,7 +242,20 @@ class SweepOut(NamedTuple):
     rate_q, accel_q (analogues); ic (B, L, 2) instantaneous centres (NaN where a link does not turn);
     `rows` (B, R) the per-position record (`FIELDS`, with rates `RATE_FIELDS`, at the offsets of
     `SweepIn.offsets`): the link frames and joints; `valid` (B,): the position is on the branch
-    (False: past a located motion limit, nothing written)."""
+    (False: past a located motion limit, nothing written).
+
+    Examples
+    --------
+    An output not asked for has a first dimension of 0 (`SweepJob` shows the outputs `analyse` asks for):
+
+    >>> import numpy as np
+    >>> from mbplanar.engine import SweepOut
+    >>> B, L, P, J = 3, 4, 5, 4                                   # positions, links, points, joints
+    >>> shapes = {"angle": (B, L), "xy": (B, P, 2), "rows": (B, 0), "valid": (B,)}
+    >>> out = SweepOut(*(np.zeros(shapes.get(name, (0, 1))) for name in SweepOut._fields))
+    >>> [name for name in SweepOut._fields if len(getattr(out, name))]      # what the kernel writes here
+    ['angle', 'xy', 'rows', 'valid']
+    """
 
     angle: np.ndarray
     xy: np.ndarray
@@ -181,7 +284,16 @@ class SweepWork(NamedTuple):
     the unknowns `q` and their prediction `guess` (M,); a block's Jacobian `jac` (m, m) with its row
     permutation `perm`; four vectors of a block's size (residual, a Jacobian column, a solution, the
     unknowns' velocities); the higher pairs' caches `hc` (H, `HIGHER_CACHE`) and the curves' work vector
-    `wk` (`CURVE_WORK`,) (`backends._numba_higher`)."""
+    `wk` (`CURVE_WORK`,) (`backends._numba_higher`). A backend keeps one per thread.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, SweepWork, sweep_tables, work_sizes
+    >>> from mbplanar.model import read_model
+    >>> work = SweepWork.new(work_sizes(sweep_tables(Engine(read_model("models/slider_crank.toml")))))
+    >>> work.ps.shape, work.rt.shape, work.jac.shape                 # 4 links; blocks of at most 2 unknowns
+    ((5, 4), (4, 3, 4), (2, 2))
+    """
 
     ps: np.ndarray
     rt: np.ndarray
@@ -214,7 +326,32 @@ class SweepJob(NamedTuple):
     """A request of the kinematics job (`engine._backend.dispatch`): the engine's `tables`, the `atlas`
     covering the batch, the tolerances `tol` (`KernelTol`), the inputs `inp` and the outputs `out` to
     write, the threads to split the batch over (None: as many as the machine has), the engine's `store`
-    where a backend keeps its work arrays and compiled entry, and the batch's `size`."""
+    where a backend keeps its work arrays and compiled entry, and the batch's `size`.
+
+    Examples
+    --------
+    What `analyse` hands a backend, seen by a backend that only looks (numpy then computes the batch):
+
+    >>> import numpy as np
+    >>> from mbplanar import analyse
+    >>> from mbplanar.engine import Engine
+    >>> from mbplanar.model import read_model
+    >>> class Look:
+    ...     name, seen = "look", []
+    ...     def should_run(self, job, size): return True
+    ...     def can_run(self, job, request): self.seen.append(request); return "only looking"
+    ...     def run(self, job, request): pass
+    >>> engine = Engine(read_model("models/fourbar.toml"))
+    >>> engine.prepared["backends"] = [Look()]
+    >>> motion = analyse(engine, np.radians([10.0, 20.0, 30.0]))
+    >>> job = Look.seen[0]
+    >>> type(job).__name__, job.size, job.tables.steps.child.tolist(), bool(job.atlas.grid[-1] >= job.inp.x[-1])
+    ('SweepJob', 3, [1, 2, 3], True)
+    >>> np.degrees(job.inp.x).round(6).tolist(), job.inp.rates              # the inputs (`SweepIn`)
+    ([10.0, 20.0, 30.0], True)
+    >>> job.out.xy.shape, job.out.wq.shape                  # the outputs (`SweepOut`): wq not asked for here
+    ((3, 5, 2), (0, 4))
+    """
 
     tables: SweepTables
     atlas: AtlasTables
@@ -238,7 +375,39 @@ RECORD_ORDER = ("th", "cos", "sin", "r", "value", "wq", "eq", "fv", "fa", "rate_
 
 
 def record_layout(n_links: int, n_joints: int, rates: bool, n_higher: int = 0) -> tuple[np.dtype, np.ndarray]:
-    """The structured dtype of the kernel's per-position record and its offsets (`SweepIn.offsets`)."""
+    """The layout of the kinematics kernel's per-position record, which the kinetostatics kernel reads.
+
+    Parameters
+    ----------
+    n_links, n_joints : int
+        L links, J joints.
+    rates : bool
+        With the rate fields (`RATE_FIELDS`).
+    n_higher : int, optional
+        H higher pairs (their contact parameters, `CONTACT_FIELDS`).
+
+    Returns
+    -------
+    dtype : numpy.dtype
+        The structured record, float fields in `FIELDS` order.
+    offsets : numpy.ndarray
+        (12,) int64: each field of `RECORD_ORDER`'s offset in float64s, −1 where absent
+        (`SweepIn.offsets`).
+
+    Raises
+    ------
+    ValueError
+        A negative count.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import record_layout
+    >>> dtype, offsets = record_layout(4, 4, rates=False)            # a four-bar: 4 links, 4 joints
+    >>> dtype.names, dtype.itemsize // 8
+    (('th', 'cos', 'sin', 'r', 'value'), 24)
+    >>> offsets.tolist()[:6]                                         # th, cos, sin, r, value; no wq
+    [0, 4, 8, 12, 20, -1]
+    """
     per = {"L": n_links, "J": n_joints, "H": n_higher}
     dtype = np.dtype([(name, float, (per[kind], comp) if comp > 1 else (per[kind],))
                       for name, kind, comp in FIELDS + (RATE_FIELDS if rates else ())
@@ -248,15 +417,63 @@ def record_layout(n_links: int, n_joints: int, rates: bool, n_higher: int = 0) -
 
 
 def work_sizes(tables: SweepTables) -> tuple:
-    """The sizes `SweepWork.new` takes: steps, cuts, links, unknowns, the largest block's unknowns, higher
-    pairs."""
+    """The sizes of an engine's kernel work arrays (what `SweepWork.new` takes).
+
+    Parameters
+    ----------
+    tables : SweepTables
+        The engine's tables (`sweep_tables`).
+
+    Returns
+    -------
+    tuple of 6 int
+        Steps, cuts, links, unknowns, the largest block's unknowns (at least 1), higher pairs.
+
+    Raises
+    ------
+    AttributeError
+        Something other than a `SweepTables`.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, sweep_tables, work_sizes
+    >>> from mbplanar.model import read_model
+    >>> work_sizes(sweep_tables(Engine(read_model("models/slider_crank.toml"))))
+    (3, 1, 4, 2, 2, 0)
+    """
     m = tables.blocks.m
     return (len(tables.steps.parent), len(tables.cuts.a), len(tables.alpha), len(tables.blocks.var_scale),
             max([1] + [int(k) for k in m]), len(tables.higher.ints))
 
 
 def sweep_tables(engine) -> SweepTables:
-    """The engine's `BlockPlan`s, joints and reference angles as the kinematics kernel's tables."""
+    """An engine as the kernels read it: its blocks, joints and reference angles as arrays.
+
+    Parameters
+    ----------
+    engine : Engine
+        The compiled mechanism.
+
+    Returns
+    -------
+    SweepTables
+        ``steps`` (`StepTables`), ``cuts`` (`CutTables`), ``blocks`` (`BlockTables`), ``joints``
+        (`JointTables`), each link's reference angle ``alpha`` (L,), the input's ``sense`` and
+        ``phi_drawn``, the ``ground``'s index, the engine's ``centre`` (2,) and the higher pairs'
+        ``higher`` and ``curves`` (`higher_layout`).
+
+    Raises
+    ------
+    Nothing on an `Engine` (a model the kernels cannot take is told by `kernels_decline`).
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> tables = sweep_tables(Engine(read_model("models/slider_crank.toml")))
+    >>> len(tables.alpha), tables.ground, tables.centre.tolist(), tables.higher.ints.shape[0]
+    (4, 0, [0.0, 0.0], 0)
+    """
     idx = engine.link_index
     steps, cuts, blocks, anchors, rows, vars_ = [], [], [], [], [], []
     var0, written = 0, set()
@@ -301,8 +518,38 @@ def sweep_tables(engine) -> SweepTables:
 
 
 def atlas_tables(arrays, limits: tuple, crossings: list) -> AtlasTables:
-    """`AtlasTables` of an atlas' `Atlas.arrays()` (grid, per block (q, q', q'', coef), signs), its
-    limits' presence (below, above) and its change points."""
+    """The branch atlas as the kernels read it: its nodes and every block's interpolant stacked.
+
+    Parameters
+    ----------
+    arrays : tuple
+        An atlas' `Atlas.arrays()`: grid (K,), per block (q, q', q'', coef), signs (K, n_blocks).
+    limits : tuple of 2 bool
+        A located motion limit below the first node, above the last.
+    crossings : list of Crossing
+        The change points (their brackets).
+
+    Returns
+    -------
+    AtlasTables
+        ``grid`` (K,), ``coef`` (K − 1, 6, M), ``signs`` (K, n_blocks), ``limits`` (2,), ``brackets`` (C, 2).
+
+    Raises
+    ------
+    ValueError
+        Arrays of another atlas' layout (numpy's concatenation refuses them).
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Engine, atlas_tables
+    >>> from mbplanar.model import read_model
+    >>> atlas = Engine(read_model("models/slider_crank.toml")).atlas()
+    >>> atlas.cover(0.0, 1.0)
+    >>> tables = atlas_tables(atlas.arrays(), (False, False), atlas.crossings)
+    >>> K = len(tables.grid)
+    >>> tables.coef.shape == (K - 1, 6, 2), tables.signs.shape == (K, 2), tables.brackets.shape
+    (True, True, (0, 2))
+    """
     grid, per_block, signs = arrays
     coefs = [coef for _, _, _, coef in per_block if coef.shape[1]]
     coef = (np.ascontiguousarray(np.concatenate(coefs, axis=1).transpose(2, 0, 1)) if coefs
@@ -341,7 +588,20 @@ class DesignTables(NamedTuple):
     point and guide direction; cut_s0, cut_n0 (D, C, 2): each cut's point and guide normal; phi0 (D,): the
     drawn input value (SI); reference (D, L): each link's drawn angle; point_at (D, P, 2) and point_link
     (P,): the chosen points, drawn, and their links; link_out (K,): the links whose angle and rates are
-    written."""
+    written.
+
+    Examples
+    --------
+    Every design shares the engine's steps, cuts and blocks and has its own points, guides and drawn input
+    (`DesignJob` shows the tables a design batch makes):
+
+    >>> from mbplanar.engine import DesignTables, Engine, sweep_tables
+    >>> from mbplanar.model import read_model
+    >>> DesignTables._fields[:3] == sweep_tables(Engine(read_model("models/fourbar.toml")))._fields[:3]
+    True
+    >>> DesignTables._fields[3:8]
+    ('step_s0', 'step_u0', 'cut_s0', 'cut_n0', 'phi0')
+    """
 
     steps: StepTables
     cuts: CutTables
@@ -363,7 +623,28 @@ class DesignJob(NamedTuple):
     size for a slider), whether the acceleration analogues are wanted, the threads to split the designs
     over, the input's `sense`, the ground's link index, the tolerances (`KernelTol`), per block whether
     its row and unknown scales are uniform, the engine's `store` (a backend's work arrays), and the
-    designs' indices in the batch (D,)."""
+    designs' indices in the batch (D,).
+
+    Examples
+    --------
+    What a design batch hands a backend, seen by a backend that only looks (numpy then solves it):
+
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch
+    >>> class Look:
+    ...     name, seen = "look", []
+    ...     def should_run(self, job, size): return True
+    ...     def can_run(self, job, request): self.seen.append(request); return "only looking"
+    ...     def run(self, job, request): pass
+    >>> batch = design_batch("models/fourbar_design.toml", {"a": np.array([0.09, 0.10, 0.11])})
+    >>> batch.engine.prepared["backends"] = [Look()]
+    >>> motion = batch.solve(batch.geometry.phi0[:, None] + np.linspace(0.0, 0.5, 4))
+    >>> job = Look.seen[0]
+    >>> type(job).__name__, job.x.shape, job.designs.tolist(), job.accelerations
+    ('DesignJob', (3, 4), [0, 1, 2], True)
+    >>> job.tables.step_s0.shape, np.degrees(job.tables.phi0).round(6).tolist()   # 3 designs, 3 steps each
+    ((3, 3, 2), [60.0, 60.0, 60.0])
+    """
 
     tables: DesignTables
     x: np.ndarray
@@ -386,7 +667,19 @@ class DesignResult(NamedTuple):
     P, 2)). Limits per design and direction (index 0: going up, 1:
     going down): limit (D, 2), limit_phi (D, 2) the last node's input value, limit_h (D, 2) the last
     step tried, limit_q, limit_qd, limit_qdd (D, 2, M) the last node's unknowns and their derivatives
-    along the march parameter, limit_signs (D, 2, n_blocks)."""
+    along the march parameter, limit_signs (D, 2, n_blocks).
+
+    Only the compiled design kernel makes one (``mbplanar[fast]``); the design batch turns it into a
+    `DesignMotion`, solving the designs whose status is not "ok" with numpy.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import DESIGN_STATUS, DesignResult
+    >>> DesignResult._fields[:4]
+    ('status', 'valid', 'angle', 'wq')
+    >>> {code: name for name, code in DESIGN_STATUS.items()}[3]     # a status of 3: a change point passed
+    'crossing'
+    """
 
     status: np.ndarray
     valid: np.ndarray

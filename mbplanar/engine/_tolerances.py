@@ -68,6 +68,23 @@ class Tolerances:
     lazy_step : float
         Design kernel: the largest last Newton step (scaled) after which a converged block keeps its
         Jacobian for its rates.
+
+    Raises
+    ------
+    ValueError
+        A value that is not a positive finite number (a non-negative integer for the counts), `polish`
+        above `closure`, or steps out of the order ``h_min <= h_start <= h_max``.
+
+    Examples
+    --------
+    >>> from mbplanar.engine import Tolerances
+    >>> Tolerances().closure, Tolerances(closure=1e-12).closure
+    (1e-13, 1e-12)
+    >>> Tolerances().kernel().max_newton                  # as the compiled kernels read them
+    14
+    >>> Tolerances(h_min=1.0)
+    Traceback (most recent call last):
+    ValueError: Tolerances: need h_min <= h_start <= h_max, not 1.0, 0.104719755..., 0.261799387...
     """
 
     closure: float = 1e-13

@@ -45,8 +45,7 @@ import numpy as np
 from ..errors import ModelError, MotionError
 from ..kinematics import analyse, material_points
 from ._loads import centre_of, evaluate_loads, load_power, warn_idle_resistances
-from ..model._model import RHO_STEEL, DynamicsSpec, FlywheelSpec
-from ..model._table import crank_input
+from ..model import RHO_STEEL, DynamicsSpec, FlywheelSpec, crank_input
 
 __all__ = ["DynamicsSpec", "FlywheelSpec", "Reduced", "Dynamics", "Simulation", "Flywheel", "Rim", "Disc",
            "read_dynamics", "reduce", "machine_dynamics", "true_motion", "simulate", "stall_ahead", "flywheel_sizes",
@@ -490,11 +489,11 @@ class Dynamics:
     def to_frame(self):
         """A pandas DataFrame of the cycle, one row per grid position, with the columns of
         `mbplanar dynamics -o` (``phi[rad]``, ``J_II[kg*m2]``, ``omega[rad/s]``, ...). Needs pandas."""
-        from ..model._views import view
+        from ..model import view
         return view("frame", self)
 
     def _repr_html_(self) -> str:
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
 

@@ -45,9 +45,7 @@ from ..errors import ModelError, did_you_mean
 from ..kinematics import contact_geometry
 from ._kinetostatics import Kinetostatics, kinetostatics
 from ._loads import LoadValue, evaluate_loads, guide_direction, load_power, real_frames, world_points
-from ..model._keys import Key, Section
-from ..model._scale import drawing_size
-from ..model._table import Row
+from ..model import Key, Row, Section, drawing_size
 
 __all__ = ["PairFriction", "FrictionSpec", "FrictionResult", "read_friction", "friction_kinetostatics",
            "friction_loads", "FRICTION", "FRICTION_PAIR", "implausible_friction", "not_converged"]

@@ -32,9 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..engine._backend import dispatch
-from ..engine._linalg import factor
-from ..engine._tables import kernels_decline
+from ..engine import dispatch, factor, kernels_decline
 from ..kinematics import Motion, contact_geometry, material_points
 from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
                      real_frames, world_points)
@@ -151,11 +149,11 @@ class Kinetostatics:
     def to_frame(self):
         """A pandas DataFrame, one row per position: the input, then the force columns of `mbplanar sweep`
         (``A.fx[N]``, ``O.balancing[N*m]``, ``virtual_power_residual``). Needs pandas."""
-        from ..model._views import view
+        from ..model import view
         return view("frame", self)
 
     def _repr_html_(self) -> str:
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
 

@@ -44,7 +44,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, MotionError
-from ..model._model import ELEMENT_TYPES, LOAD_TYPES, Gravity, Load
+from ..model import ELEMENT_TYPES, LOAD_TYPES, Gravity, Load
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "read_gravity", "evaluate_loads", "load_power", "heavy_links",
            "has_force_data", "warn_idle_resistances", "real_frames", "point_motion", "spring_tension",

@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import ModelError, MotionError, did_you_mean
 from ..kinematics import analyse, contact_geometry, material_points
 from ._loads import guide_direction, heavy_links, real_frames, world_points
-from ..model._model import Point
+from ..model import Point
 
 __all__ = ["Shaking", "shaking", "shaking_from_loads", "Counterweight", "Balancing", "balance",
            "inertia_shaking_force", "inertia_shaking"]

@@ -55,15 +55,13 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .._progress import Interrupted
-from ..engine import solve_positions
-from ..engine._backend import dispatch
+from ..engine import dispatch, solve_positions
 from ..errors import MbplanarError, ModelError, MotionError
 from ..kinematics import analyse, material_points
 from ._kinetostatics import kinetostatics
 from ._loads import (evaluate_loads, heavy_links, load_power, read_gravity, read_loads, real_frames,
                      spring_energy, world_points)
-from ..model._keys import Key, Section
-from ..model._table import Row
+from ..model import Key, Row, Section
 
 __all__ = ["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "accelerations", "SIMULATE"]
 

@@ -83,7 +83,7 @@ def _values(engine, text) -> list[float]:
 
 def _export(args) -> int:
     import numpy as np
-    from ..engine._cache import load_engine
+    from ..engine import load_engine
     from .sheet import export_drawing
     if args.steps < 1:
         raise ModelError(f"--steps must be a positive whole number, got {args.steps}")

@@ -103,7 +103,7 @@ def import_model(path, fmt: str | None = None) -> Imported:
     >>> imp.table["input"]["joint"], imp.table["length_unit"]
     ('P0', 'mm')
     """
-    from ..model._table import read_text
+    from ..model import read_text
     path = Path(path)
     text = read_text(path, "the file")
     fmt = fmt or detect_format(path, text)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 from importlib import resources
 
-from ..model._keys import DOCUMENT, HIGHER, JOINT, LOADS, MISSING, PARAMETER, UNITS, Key, Section
+from ..model import DOCUMENT, HIGHER, JOINT, LOADS, MISSING, PARAMETER, UNITS, Key, Section
 
 __all__ = ["model_schema", "schema_text", "SCHEMA_FILE", "sections"]
 
@@ -30,7 +30,7 @@ def sections() -> dict[str, Section]:
     from ..cam.spec import CAM, CAM_DYNAMICS, CAM_EVENT, CAM_FILE, CAM_PHASE
     from ..forces import FRICTION, FRICTION_PAIR, SIMULATE
     from ..gears.spec import GEARS, GEARS_PAIR, GEARS_PLANETARY
-    from ..model._keys import SECTIONS
+    from ..model import SECTIONS
     return {**SECTIONS, **{s.name: s for s in (CAM, CAM_PHASE, CAM_EVENT, CAM_DYNAMICS, CAM_FILE, FRICTION,
                                                  FRICTION_PAIR, SIMULATE, GEARS, GEARS_PAIR, GEARS_PLANETARY)}}
 

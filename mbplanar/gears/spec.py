@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import ModelError
-from ..model._keys import Key, Section
+from ..model import Key, Section
 
 __all__ = ["PairSpec", "PlanetarySpec", "GearsSpec", "parse_gears", "read_gears", "GEARS", "GEARS_PAIR",
            "GEARS_PLANETARY"]

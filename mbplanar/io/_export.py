@@ -150,7 +150,7 @@ def engine_for(result, engine=None):
         model = result.motion.model
     if model is None:
         raise TypeError(f"a {type(result).__name__} without its model needs its engine: engine=...")
-    from ..engine._solver import Engine
+    from ..engine import Engine
     return Engine(model)
 
 
@@ -417,7 +417,7 @@ def _engine_count(engine) -> dict:
 def _higher_document(engine, name: str) -> dict:
     """A higher pair for `info`: its type, links and data, where it touches in the drawn pose, and the
     pairs of the link that replaces it in the equivalent lower-pair mechanism."""
-    from ..model._drawn import replacement
+    from ..model import replacement
     law = engine.laws[name]
     h, g = law.pair, law.geometry
     out = {"type": h.kind, "links": list(h.links), "contact": [float(x) for x in g.pitch]}

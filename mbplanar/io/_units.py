@@ -11,7 +11,7 @@ before `io` use them too); the documents of the core commands are converted here
 
 from __future__ import annotations
 
-from ..model._units import SYSTEMS, DisplayUnits, convert_table, display_units
+from ..model import SYSTEMS, DisplayUnits, convert_table, display_units
 
 __all__ = ["DisplayUnits", "display_units", "SYSTEMS", "convert_info", "convert_solution", "convert_forces",
            "convert_dynamics", "convert_check", "convert_simulation", "convert_balance", "convert_table",

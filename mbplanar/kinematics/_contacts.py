@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..engine._solver import Engine, solve_positions
+from ..engine import Engine, solve_positions
 
 __all__ = ["Contact", "ContactGeometry", "contact_geometry", "contacts"]
 

@@ -16,11 +16,8 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from ..errors import ModelError, did_you_mean
-from ..engine._atlas import far_span, met_along
-from ..engine._backend import dispatch
-from ..engine._constraints import dot, perp, world_frames
-from ..engine._solver import Crossing, Engine, Limit, solve_positions
-from ..engine._tables import SweepIn, SweepJob, SweepOut, atlas_tables, kernels_decline, record_layout, sweep_tables
+from ..engine import (Crossing, Engine, Limit, SweepIn, SweepJob, SweepOut, atlas_tables, dispatch, dot, far_span,
+                      kernels_decline, met_along, perp, record_layout, solve_positions, sweep_tables, world_frames)
 
 __all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "point_table",
            "describe_limit", "describe_crossing", "range_text", "reach_text", "OUTPUTS"]
@@ -202,11 +199,11 @@ class Motion:
     def to_frame(self):
         """A pandas DataFrame of the positions, one row each, with the columns of `mbplanar sweep`
         (``phi[deg]``, ``3.angle[deg]``, ``B.vx[m/s]``, ...). Needs pandas (``pip install mbplanar[pandas]``)."""
-        from ..model._views import view
+        from ..model import view
         return view("frame", self)
 
     def _repr_html_(self) -> str:
-        from ..model._views import view
+        from ..model import view
         return view("html", self)
 
 

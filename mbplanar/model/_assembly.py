@@ -36,7 +36,35 @@ def _link_point_names(mech: Mechanism, link: str) -> dict[str, tuple[float, floa
 
 
 def reference_points(mech: Mechanism, link: str) -> tuple[str, str] | None:
-    """The two points whose direction is the link's reported angle (None: use a guide or 0)."""
+    """The two points whose direction is the link's reported angle.
+
+    A link's angle is that of the line from its first point to its second: the pair its table's
+    ``angle`` names, else its first two revolute joints at distinct places.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    link : str
+        A link's name.
+
+    Returns
+    -------
+    tuple of str or None
+        The two points' (or joints') names; None where the link has neither (its angle is then a
+        prismatic pair's guide, or 0).
+
+    Raises
+    ------
+    Nothing: a name that is not a link's gives None.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model, reference_points
+    >>> mech = read_model("models/fourbar.toml")
+    >>> reference_points(mech, "2"), reference_points(mech, "0")
+    (('A', 'B'), ('O', 'C'))
+    """
     spec = mech.links[link].angle if link in mech.links else None
     if spec is not None:
         return spec
@@ -454,8 +482,32 @@ def _moved_higher(mech: Mechanism, sketch: "_Sketch", x, exact_at: dict) -> dict
 
 
 def translated(mech: Mechanism, d) -> Mechanism:
-    """`mech` with every drawn coordinate (joints, points, higher pairs' points and curves) moved by d
-    (2,); the loads are not touched."""
+    """`mech` with every drawn coordinate moved by a vector: the same mechanism drawn elsewhere.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    d : sequence of float
+        The move (2,), m.
+
+    Returns
+    -------
+    Mechanism
+        A copy whose joints, points and higher pairs' points and curves are moved by `d`; lengths,
+        angles and the loads (given on the links) are not touched.
+
+    Raises
+    ------
+    Nothing on a valid mechanism; a `d` of other than two numbers gives an `IndexError` or `TypeError`.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model, translated
+    >>> mech = read_model("models/fourbar.toml")
+    >>> translated(mech, (1.0, -2.0)).joints["C"].at, mech.joints["C"].at
+    ((1.3, -2.0), (0.3, 0.0))
+    """
     def xy(at):
         return None if at is None else (at[0] + d[0], at[1] + d[1])
     higher = {n: replace(h, at=xy(h.at), curve=None if h.curve is None else h.curve.moved(xy))

@@ -28,7 +28,19 @@ __all__ = ["Shape", "Circle", "Spline", "Offset", "shape", "curvature"]
 class Shape:
     """A curve c(u) with its derivatives: `point(u, n)` (2, B) for u (B,); `lo`, `hi` the parameter's
     range (one period of a closed curve); `closed`; `scale` how far (m) the point moves per unit of u,
-    typically (for the solver's scaling)."""
+    typically (for the solver's scaling).
+
+    The base of `Circle`, `Spline` and `Offset`; `wrap` takes a parameter into one period, `inside`
+    says whether it lies on an open curve, `closest` finds the point nearest to another.
+
+    Examples
+    --------
+    >>> from mbplanar.model import Circle
+    >>> circle = Circle((0.0, 0.0), 0.5)
+    >>> u, distance = circle.closest((2.0, 2.0))                 # the nearest point: at 45°, 2.33 m away
+    >>> round(u, 6), round(distance, 6)
+    (0.785398, 2.328427)
+    """
 
     closed: bool = False
     lo: float = 0.0
@@ -82,7 +94,20 @@ class Shape:
 
 
 class Circle(Shape):
-    """A circle of `radius` about `centre`, or the arc `arc` (rad) of it: u is the angle from +x."""
+    """A circle of `radius` (m) about `centre` (2,), or the arc `arc` (rad, (start, end)) of it: u is the
+    angle from +x; closed unless it is an arc.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.model import Circle
+    >>> circle = Circle((1.0, 0.0), 0.5)
+    >>> circle.point(np.radians([0.0, 90.0])).round(3)         # c(u): (2, B)
+    array([[1.5, 1. ],
+           [0. , 0.5]])
+    >>> circle.point(np.radians([90.0]), 1).round(3).ravel().tolist()   # c'(u) at 90°, m/rad
+    [-0.5, 0.0]
+    """
 
     def __init__(self, centre, radius: float, arc=None):
         self.centre = np.asarray(centre, float)
@@ -104,7 +129,22 @@ class Circle(Shape):
 
 
 class Spline(Shape):
-    """scipy's interpolating B-spline through `points` (N, 2) at `parameter` (N,), periodic when closed."""
+    """scipy's interpolating B-spline through `points` (N, 2) at `parameter` (N,), periodic when closed.
+
+    The parameter is the cumulative chord length (m) unless given; `degree` 3 or 5. A `ModelError` when
+    the parameter does not increase strictly or there are too few points for the degree.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.model import Spline
+    >>> line = Spline([(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (3.0, 0.0), (4.0, 0.0), (5.0, 0.0)])
+    >>> line.lo, line.hi, line.point(np.array([2.5])).round(6).ravel().tolist()
+    (0.0, 5.0, [2.5, 0.0])
+    >>> Spline([(0.0, 0.0), (1.0, 0.0)])
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: a spline of degree 5 needs at least 6 points, got 2
+    """
 
     def __init__(self, points, parameter=None, closed: bool = False, degree: int = 5):
         from scipy.interpolate import make_interp_spline
@@ -151,7 +191,21 @@ def curvature(d1: np.ndarray, d2: np.ndarray, d3: np.ndarray | None = None):
 
 class Offset(Shape):
     """The curve `base` moved by `distance` along its left normal n = perp(c')/|c'| (a negative distance
-    moves it right): the path of a roller's centre over a cam's profile."""
+    moves it right): the path of a roller's centre over a cam's profile.
+
+    It gives its point and first two derivatives (`point(u, n)` for n ≤ 2); `stretch` is 1 − d·κ,
+    not positive where the offset folds back (undercut).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.model import Circle, Offset
+    >>> roller_path = Offset(Circle((0.0, 0.0), 0.04), -0.01)  # a 10 mm roller outside a 40 mm circle
+    >>> roller_path.point(np.array([0.0])).round(6).ravel().tolist()
+    [0.05, 0.0]
+    >>> float(roller_path.stretch(np.array([0.0]))[0])         # 1 + 0.01/0.04
+    1.25
+    """
 
     def __init__(self, base: Shape, distance: float):
         self.base, self.distance = base, float(distance)

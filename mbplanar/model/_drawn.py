@@ -47,6 +47,15 @@ class PairGeometry:
     direction (rack), `path` the curve the follower's or the pin's point runs on, drawn on the first link
     (a `Shape`), `profile` the cam's profile itself, `u0` the contact's parameter on `path` (on `profile`
     for a flat face), `side` the side of the profile the follower is on (+1 left of its direction).
+
+    `pair` is the table's `HigherPair`. Points are in the drawing's coordinates (m), made by `drawn_pairs`.
+
+    Examples
+    --------
+    >>> from mbplanar.model import drawn_pairs, read_model
+    >>> gear = drawn_pairs(read_model("models/geared_five_bar.toml"))["G"]
+    >>> [float(v) for v in gear.pitch], [float(v) for v in gear.normal]
+    ([0.04, 0.0], [1.0, 0.0])
     """
 
     pair: HigherPair
@@ -62,12 +71,57 @@ class PairGeometry:
 
 
 def mechanism_size(mech: Mechanism) -> float:
-    """The drawing's size (`_scale.drawing_size`), the length every tolerance is relative to; 1 if none."""
+    """The length every tolerance of a model is relative to: the drawing's size.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+
+    Returns
+    -------
+    float
+        `drawing_size` (m), or 1 for a drawing of one place.
+
+    Raises
+    ------
+    Nothing on a `Mechanism`.
+
+    Examples
+    --------
+    >>> from mbplanar.model import mechanism_size, read_model
+    >>> round(mechanism_size(read_model("models/cam_follower.toml")), 6)
+    0.05
+    """
     return drawing_size(mech) or 1.0
 
 
 def drawn_pairs(mech: Mechanism) -> dict[str, PairGeometry]:
-    """Every higher pair's `PairGeometry` (a `ModelError` for one that does not fit the drawing)."""
+    """Every higher pair of a model placed in its drawn pose, checked against the drawing.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model (its higher pairs and the joints they hang on).
+
+    Returns
+    -------
+    dict of str to PairGeometry
+        By the pair's name; empty for a model of lower pairs only.
+
+    Raises
+    ------
+    ModelError
+        A pair that does not fit the drawing: gears whose centre distance is not the sum (or difference)
+        of their radii, a follower that does not touch its cam, a pin off its slot, ... naming the pair.
+
+    Examples
+    --------
+    >>> from mbplanar.model import drawn_pairs, read_model
+    >>> slot = drawn_pairs(read_model("models/scotch_yoke.toml"))["S"]
+    >>> slot.pair.kind, slot.u0, [round(float(v), 6) for v in slot.pitch]
+    ('slot', 0.08, [0.05, -0.0])
+    """
     size = mechanism_size(mech)
     return {name: drawn_pair(mech, h, size) for name, h in mech.higher.items()}
 
@@ -284,7 +338,37 @@ def _centre_of_curvature(curve: Shape, u: float, size: float):
 
 
 def replacement(g: PairGeometry, size: float) -> Replacement:
-    """The pairs of the link that replaces the higher pair `g` in the equivalent lower-pair mechanism."""
+    """The link that replaces a higher pair in the equivalent lower-pair mechanism (for the structure).
+
+    A gear pair is replaced by a link between the feet of its line of action on the two gears' centres,
+    a rack by a revolute and a prismatic pair along the flank, a cam or slot by a pair at the profile's
+    centre of curvature (prismatic where it is straight) and one at the follower.
+
+    Parameters
+    ----------
+    g : PairGeometry
+        The pair in its drawn pose (`drawn_pairs`).
+    size : float
+        The mechanism's size (m, `mechanism_size`): a curvature below 1e-9 / size counts as straight.
+
+    Returns
+    -------
+    Replacement
+        ``pairs``: (kind, link, place) on the pair's first link, then on its second; place a point for
+        "R", (point, direction in rad) for "P".
+
+    Raises
+    ------
+    Nothing on a `PairGeometry` from `drawn_pairs`.
+
+    Examples
+    --------
+    >>> from mbplanar.model import drawn_pairs, mechanism_size, read_model, replacement
+    >>> mech = read_model("models/geared_five_bar.toml")
+    >>> pairs = replacement(drawn_pairs(mech)["G"], mechanism_size(mech)).pairs
+    >>> [(kind, link, [round(float(v), 4) for v in at]) for kind, link, at in pairs]
+    [('R', '1', [0.0047, 0.0129]), ('R', '4', [0.1106, -0.0257])]
+    """
     h = g.pair
     a, b = h.links
     if h.kind == "gear":

@@ -63,6 +63,13 @@ class Key:
     `default_doc`). `positive`, `nonzero`, `minimum`, `maximum` bound a number; `parameter` says which kind of
     `[parameters]` entry may stand for it ("length", "plain", "input", "angle"); `message` is what the
     reader says when a bound is broken.
+
+    Examples
+    --------
+    >>> from mbplanar.model import CLEARANCE
+    >>> key = CLEARANCE["clearance"]
+    >>> key.kind, key.unit, key.required, key.minimum
+    ('number', 'length', True, 0.0)
     """
 
     name: str
@@ -88,7 +95,21 @@ class Key:
 
 @dataclass(frozen=True)
 class Section:
-    """A table of the format: its `keys`, where it sits (`title`, e.g. "links[]") and what it is."""
+    """A table of the format: its `keys`, where it sits (`title`, e.g. "links[]") and what it is.
+
+    `name` is its short name (a key of `SECTIONS`), `doc` what it is, `extra` more JSON Schema of the whole
+    table (the keys one of which is required, ...). ``key in section`` and ``section[key]`` look a key up
+    by name (a `KeyError` naming the section for another); `with_keys` extends it (a reader's own
+    section); `parameter_fields` lists the numbers a ``[parameters]`` entry may stand for.
+
+    Examples
+    --------
+    >>> from mbplanar.model import JOINT, SECTIONS
+    >>> JOINT.title, "guide" in JOINT, SECTIONS["joint"] is JOINT
+    ('joints[]', True, True)
+    >>> SECTIONS["point"].parameter_fields()      # what a parameter may stand for in a points row
+    {'fraction': 'plain', 'distance': 'dimension', 'offset': 'length'}
+    """
 
     name: str
     title: str

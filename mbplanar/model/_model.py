@@ -28,9 +28,35 @@ _SYNONYMS = {"inch": "in", "inches": "in", "degrees": "deg", "degree": "deg", "r
 
 
 def unit_spelling(name, allowed) -> str | None:
-    """The key of `allowed` (a dict or tuple of unit names) that `name` spells, in any case and with "·"
-    or "." for "*", "²" for "^2", blanks ignored, "inch" for "in" ("MM" -> "mm", "n*MM" -> "N*mm"); None
-    when it names none of them (or is not text)."""
+    """The unit of `allowed` that `name` spells, however the table's author typed it.
+
+    Case, blanks, "·" or "." for "*", "²" for "^2" and the long names ("inch", "degrees", "radian") are
+    forgiven, so that ``length_unit = "MM"`` reads as "mm" and ``moment_unit = "n·mm"`` as "N*mm".
+
+    Parameters
+    ----------
+    name : object
+        What the table says (usually a str).
+    allowed : dict or tuple of str
+        The unit names to choose from, e.g. `LENGTH_UNITS` (a dict: its keys).
+
+    Returns
+    -------
+    str or None
+        The key of `allowed` spelt, or None when `name` names none of them or is not text.
+
+    Raises
+    ------
+    Nothing: any other input gives None, for the caller to report with the file and the key.
+
+    Examples
+    --------
+    >>> from mbplanar.model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
+    >>> unit_spelling(" MM ", LENGTH_UNITS), unit_spelling("inch", LENGTH_UNITS)
+    ('mm', 'in')
+    >>> unit_spelling("Degrees", ANGLE_UNITS), unit_spelling("furlong", LENGTH_UNITS)
+    ('deg', None)
+    """
     if not isinstance(name, str):
         return None
     key = name.strip().replace("·", "*").replace("²", "^2").replace(" ", "").lower()
@@ -49,6 +75,22 @@ class Units:
     scales, and output in model units (`--units model`) divides by them. `length` applies to every
     length of the table; `inertia` to link and flywheel inertias (kg·m² unless the table says
     otherwise); `moment` to moments (N·m unless the table says otherwise). Masses are kg, forces N.
+
+    Attributes
+    ----------
+    length : str
+        A key of `LENGTH_UNITS` ("m", "cm", "mm", "in"); `length_scale` is its size in metres.
+    inertia : str
+        "kg*m^2", "kg*cm^2", "kg*mm^2" or "kg*in^2"; `inertia_scale` in kg·m².
+    moment : str
+        "N*m", "N*cm", "N*mm" or "N*in"; `moment_scale` in N·m.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> units = read_model("models/jansen.toml").units
+    >>> units.length, units.length_scale
+    ('cm', 0.01)
     """
 
     length: str = "m"

@@ -37,14 +37,26 @@ from ..errors import ModelError
 from ._keys import CURVE, HIGHER, INPUT, LINK, PARAMETER, POINT
 from ._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
 
-__all__ = ["Parameter", "Template", "split_parameters"]
+__all__ = ["Parameter", "Template", "split_parameters", "higher_rows"]
 
 _UNITS = (*LENGTH_UNITS, *ANGLE_UNITS)
 
 
 @dataclass(frozen=True)
 class Parameter:
-    """A named design dimension: its default `value` in `unit` (None: the unit of the field using it)."""
+    """A named design dimension: its default `value` in `unit` (None: the unit of the field using it).
+
+    One entry of a model's ``[parameters]`` table (`Template.parameters`, by `name`).
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.model import Template
+    >>> with open("models/fourbar_design.toml", "rb") as f:
+    ...     template = Template(tomllib.load(f), "models/fourbar_design.toml")
+    >>> template.parameters["theta0"]
+    Parameter(name='theta0', value=60.0, unit=None)
+    """
 
     name: str
     value: float
@@ -108,6 +120,35 @@ class Template:
         The TOML document (as `tomllib` gives it), with or without a `[parameters]` table.
     source : str
         The file name, for error messages.
+
+    Attributes
+    ----------
+    parameters : dict of str to Parameter
+        The declared parameters, in the table's order (`names`: their names).
+    data : dict
+        The table without its ``[parameters]``, rows given as tables of named rows turned into lists.
+    uses : dict
+        Parameter → {kind of field: the first field using it}.
+
+    Raises
+    ------
+    ModelError
+        A parameter that is not a finite number (or ``{value, unit}``), a reference to an unknown one, a
+        cycle of polar placements, a parameter used for numbers of different kinds.
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.model import Template
+    >>> with open("models/fourbar_design.toml", "rb") as f:
+    ...     template = Template(tomllib.load(f), "models/fourbar_design.toml")
+    >>> template.names
+    ('a', 'b', 'd', 'theta0', 'beta', 'm', 'h')
+    >>> [round(v, 4) for v in template.bind({"a": 0.12})["joints"][1]["at"]]   # A = O + a·(cos θ0, sin θ0)
+    [0.06, 0.1039]
+    >>> template.bind({"e": 1.0})
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: models/fourbar_design.toml: unknown parameter(s) e (parameters: a, b, ...)
     """
 
     def __init__(self, data: dict, source: str = "<table>"):
@@ -404,6 +445,40 @@ class Template:
         """Each input's `zero` (in its unit) for `values` (numbers or arrays)."""
         return [self._value(row.get("zero", 0.0), "input", values, f"inputs[{i}] zero", row.get("unit", "deg"))
                 for i, row in enumerate(_input_rows(self.data)) if isinstance(row, dict)]
+
+
+def higher_rows(data: dict) -> list[tuple[str, str, dict]]:
+    """The higher pairs among a table's ``joints`` rows, as its reader sees them.
+
+    Parameters
+    ----------
+    data : dict
+        A model's TOML document (as `tomllib` gives it, or `Template.data`); ``joints`` an array of
+        tables or a table of tables by name.
+
+    Returns
+    -------
+    list of (str, str, dict)
+        (name, kind, row) of each: the row's ``name`` (``"None"`` when it has none), the pair's kind in
+        lower case (``"gear"``, ``"rack"``, ``"cam"`` or ``"slot"``) and the row itself, its numbers
+        possibly parameter names.
+
+    Raises
+    ------
+    Nothing: rows that are not tables, or whose ``type`` is a lower pair's or not a string, are skipped
+    (the model's reader reports them).
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.model import higher_rows
+    >>> with open("models/rack_pinion.toml", "rb") as f:
+    ...     data = tomllib.load(f)
+    >>> [(name, kind) for name, kind, _ in higher_rows(data)]
+    [('K', 'rack')]
+    """
+    return [(str(row.get("name")), kind, row) for row in _row_list(data, "joints")
+            if (kind := _higher_kind(row)) is not None]
 
 
 def _row_list(data: dict, key: str) -> list:

@@ -56,7 +56,35 @@ def read_model(path) -> Mechanism:
 
 
 def read_text(path, what: str = "the model file") -> str:
-    """The UTF-8 text of `what` at `path`, or a `ModelError` naming the file and why it cannot be read."""
+    """The UTF-8 text of a file a model names, read with the errors a user can act on.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    what : str, optional
+        What the file is, for the message ("the model file", "the profile", ...).
+
+    Returns
+    -------
+    str
+        Its text (a byte-order mark, as Excel and Notepad write, is dropped).
+
+    Raises
+    ------
+    ModelError
+        The file cannot be read (missing, a folder, no permission) or is not UTF-8: the message names
+        the file, `what` it is and why.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_text
+    >>> read_text("models/fourbar.toml").splitlines()[0]
+    '# Crank-rocker four-bar (Grashof): crank OA, coupler AB, rocker BC, coupler point M.'
+    >>> read_text("no/such/profile.csv", "the profile")
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: no/such/profile.csv: cannot read the profile (No such file or directory)
+    """
     path = Path(path)
     try:
         return path.read_text(encoding="utf-8-sig")  # (a byte-order mark, as Excel and Notepad write, is read)
@@ -67,8 +95,47 @@ def read_text(path, what: str = "the model file") -> str:
 
 
 def read_model_text(text: str, source: str = "<table>", folder=None) -> Mechanism:
-    """Parse the TOML `text` of a model; a syntax error names the line and column. `folder`: as in
-    `parse_model`."""
+    """A `Mechanism` from the TOML text of a model (as `read_model` reads a file).
+
+    Parameters
+    ----------
+    text : str
+        The table of kinematic pairs (docs/format.md).
+    source : str, optional
+        What the messages call it (a file name).
+    folder : str or Path, optional
+        Where the files the table names (a cam's profile) are looked for, as in `parse_model`.
+
+    Returns
+    -------
+    Mechanism
+        SI inside; the drawn pose is the table's sketch until `assemble` closes it.
+
+    Raises
+    ------
+    ModelError
+        A TOML syntax error (naming the line and column) or a wrong row (naming it and the value).
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model_text
+    >>> text = '''
+    ... ground = "0"
+    ... links = [{ name = "1" }, { name = "2" }]
+    ... joints = [
+    ...   { name = "O", type = "R", links = ["0", "1"], at = [0, 0] },
+    ...   { name = "A", type = "R", links = ["1", "2"], at = [0.1, 0] },
+    ...   { name = "B", type = "P", links = ["2", "0"], at = [0.4, 0], guide = 0 },
+    ... ]
+    ... input = { joint = "O" }
+    ... '''
+    >>> mech = read_model_text(text, source="slider.toml")
+    >>> sorted(mech.joints), mech.joints["B"].kind
+    (['A', 'B', 'O'], 'P')
+    >>> read_model_text("links = [", source="broken.toml")
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: broken.toml: TOML syntax error: ...
+    """
     import tomllib  # (here: an engine read from the cache needs no parser)
     try:
         data = tomllib.loads(text.removeprefix("\ufeff"))  # (a byte-order mark, as Excel and Notepad write)
@@ -83,9 +150,23 @@ _MISSING = object()
 class Row:
     """Typed access to one table row, with errors that name the file (`source`) and row (`where`).
 
-    With a `section` (`mbplanar.model._keys`), a key is read as the section declares it (`get`: its kind,
+    With a `section` (`Section`), a key is read as the section declares it (`get`: its kind,
     default and bounds), and reading a key the section does not declare is a programming error
     (`KeyError`): the keys the reader accepts are the declared ones, which the JSON Schema describes.
+
+    `data` is the row (a dict; anything else is refused with a `ModelError`), `where` how the messages
+    name it ("joints[2]"), `used` the keys read so far (`check_unknown_keys` refuses the others).
+    Readers of their own sections (the cam's, the friction's, the accuracy's) read through it too.
+
+    Examples
+    --------
+    >>> from mbplanar.model import CLEARANCE, Row
+    >>> row = Row({"joint": "A", "clearance": 2e-5}, "clearances[0]", "fourbar.toml", CLEARANCE)
+    >>> row.get("joint"), row.get("clearance")
+    ('A', 2e-05)
+    >>> Row({"joint": "A", "clearance": -1}, "clearances[0]", "fourbar.toml", CLEARANCE).get("clearance")
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: fourbar.toml: clearances[0]: 'clearance' must not be negative, got -1
     """
 
     def __init__(self, data, where: str, source: str | None = None, section: Section | None = None):
@@ -898,8 +979,36 @@ def read_gravity_section(mech: Mechanism, raw) -> Gravity:
 
 
 def crank_input(mech: Mechanism, where: str = "dynamics") -> Input:
-    """The one input of a machine driven by a crank (a revolute input joint with the ground), else a
-    `ModelError`."""
+    """The one input of a machine driven by a crank: a revolute input joint with the ground.
+
+    Machine dynamics (the energy–mass method, the flywheel) reduces a machine to its crank.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    where : str, optional
+        The section the messages name (the one that needs the crank).
+
+    Returns
+    -------
+    Input
+        The crank's input.
+
+    Raises
+    ------
+    ModelError
+        The model has several inputs, or its input is not a revolute joint with the ground.
+
+    Examples
+    --------
+    >>> from mbplanar.model import crank_input, read_model
+    >>> crank_input(read_model("models/shaper.toml")).joint
+    'O'
+    >>> crank_input(read_model("models/five_bar.toml"))
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: models/five_bar.toml: dynamics: machine dynamics ... this model has 2 inputs ...
+    """
     if len(mech.inputs) != 1:
         raise ModelError(f"machine dynamics (the energy–mass method, the flywheel) reduces a machine to its one "
                          f"crank; this model has {len(mech.inputs)} inputs "

@@ -21,7 +21,19 @@ SYSTEMS = ("si", "model")
 
 @dataclass(frozen=True)
 class DisplayUnits:
-    """The shown unit of each kind of quantity (see `name`), and its size in SI (`scale`)."""
+    """The shown unit of each kind of quantity (see `name`), and its size in SI (`scale`).
+
+    `system` is "si" or "model"; `length`, `moment`, `inertia` the units shown for those kinds (forces,
+    masses, energies and angles are always SI). `show` converts a value, `document` writes the JSON
+    ``"units"`` object.
+
+    Examples
+    --------
+    >>> from mbplanar.model import DisplayUnits
+    >>> mm = DisplayUnits("model", length="mm", moment="N*mm")
+    >>> mm.name("acceleration"), mm.show(0.25, "length"), mm.show(2.0, "moment"), mm.show(3.0, "force")
+    ('mm/s^2', 250.0, 2000.0, 3.0)
+    """
 
     system: str = "si"
     length: str = "m"
@@ -54,7 +66,31 @@ class DisplayUnits:
 
 
 def display_units(mech, system: str = "si") -> DisplayUnits:
-    """SI units, or the units the model `mech` was written in (`system="model"`)."""
+    """The units a command shows a model's numbers in: SI, or the model's own.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model (its `Units`).
+    system : {"si", "model"}, optional
+        SI (the default), or the table's ``length_unit``, ``moment_unit``, ``inertia_unit``.
+
+    Returns
+    -------
+    DisplayUnits
+
+    Raises
+    ------
+    ValueError
+        Another `system`.
+
+    Examples
+    --------
+    >>> from mbplanar.model import display_units, read_model
+    >>> jansen = read_model("models/jansen.toml")
+    >>> display_units(jansen).length, display_units(jansen, "model").length
+    ('m', 'cm')
+    """
     if system == "si":
         return DisplayUnits()
     if system != "model":
@@ -64,7 +100,34 @@ def display_units(mech, system: str = "si") -> DisplayUnits:
 
 
 def add_units_option(parser, what: str = "the output"):
-    """The `--units si|model` option of a command (`what` says what it applies to)."""
+    """Give a command its ``--units si|model`` option.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The command's parser.
+    what : str, optional
+        What the option applies to, for the help.
+
+    Returns
+    -------
+    None
+        The option is added to `parser` (``args.units``: "si" by default).
+
+    Raises
+    ------
+    argparse.ArgumentError
+        The parser has a ``--units`` option already.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from mbplanar.model import add_units_option
+    >>> parser = argparse.ArgumentParser()
+    >>> add_units_option(parser, "the table")
+    >>> parser.parse_args([]).units, parser.parse_args(["--units", "model"]).units
+    ('si', 'model')
+    """
     parser.add_argument("--units", choices=SYSTEMS, default="si",
                         help=f"units of {what}: si (m, N·m, kg·m²; the default) or model (the table's "
                              "length_unit, moment_unit, inertia_unit)")
@@ -75,8 +138,39 @@ _BRACKETS = {"m": "length", "m/s": "velocity", "m/s^2": "acceleration", "N*m": "
 
 
 def convert_table(header: list[str], rows, display: DisplayUnits, skip: int = 1):
-    """A CSV table whose headers end in [unit] (SI), in `display` units; the first `skip` columns (the
-    input, in its own unit) are left alone. Returns the new header and rows (N, k)."""
+    """A CSV table in the units of `display`, its headers' [unit] renamed to match.
+
+    Parameters
+    ----------
+    header : list of str
+        The k column names, each ending in its SI unit in brackets ("x_B[m]") or not (left alone).
+    rows : numpy.ndarray
+        The values (N, k), SI.
+    display : DisplayUnits
+        The units to show.
+    skip : int, optional
+        The first columns (the input, in its own unit) that are left alone.
+
+    Returns
+    -------
+    header : list of str
+        The names with the shown units.
+    rows : numpy.ndarray
+        (N, k), a copy (the input itself for SI or an empty table).
+
+    Raises
+    ------
+    Nothing on a table as described; rows that are not a 2-D array give numpy's error.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.model import DisplayUnits, convert_table
+    >>> header, rows = convert_table(["phi[deg]", "x_B[m]", "v_B[m/s]", "F[N]"], np.array([[30.0, 0.25, 1.5, 7.0]]),
+    ...                              DisplayUnits("model", length="mm"))
+    >>> header, rows.tolist()
+    (['phi[deg]', 'x_B[mm]', 'v_B[mm/s]', 'F[N]'], [[30.0, 250.0, 1500.0, 7.0]])
+    """
     if display.system == "si" or not len(rows):
         return header, rows
     rows = rows.copy()

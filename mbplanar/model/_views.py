@@ -15,6 +15,34 @@ PRESENTERS = {"frame": "mbplanar.io._frames", "html": "mbplanar.viz._notebook"}
 
 
 def view(kind: str, result):
-    """The `kind` view ("frame" or "html") of `result`, by the presenting module's function for its type."""
+    """A view of a result that a higher layer presents: its DataFrame or its HTML for Jupyter.
+
+    Parameters
+    ----------
+    kind : {"frame", "html"}
+        The view: a pandas DataFrame (`mbplanar.io`) or the HTML Jupyter shows (`mbplanar.viz`).
+    result : object
+        A result whose type the presenting module knows (`Motion`, `Kinetostatics`, `Engine`, ...).
+
+    Returns
+    -------
+    object
+        The DataFrame, or the HTML text.
+
+    Raises
+    ------
+    KeyError
+        Another `kind`, or a type the presenter has no view of.
+    ImportError
+        The view needs an extra that is not installed (pandas for "frame").
+
+    Examples
+    --------
+    >>> from mbplanar import Engine, read_model
+    >>> from mbplanar.model import view
+    >>> html = view("html", Engine(read_model("models/fourbar.toml")))
+    >>> html.startswith("<"), "fourbar" in html
+    (True, True)
+    """
     presenter = importlib.import_module(PRESENTERS[kind])
     return presenter.VIEWS[type(result).__name__](result)

@@ -90,7 +90,23 @@ _KNOWN = 0  # body id of the known part: ground and the links of class I mechani
 
 @dataclass(frozen=True)
 class AssurGroup:
-    """One Assur group, in the order it can be solved."""
+    """One Assur group, in the order it can be solved.
+
+    `links` its links; `joints` all its pairs, `internal` those between two of its links, `external`
+    those joining it to ground, input links or earlier groups; `group_class` (2: a dyad, 3, 4, ...) and
+    `order` (its external pairs, Artobolevsky); `kind` a dyad's pair types ('RRR', 'RRP', 'RPR', 'PRP',
+    'RPP'; None for larger groups); `inputs` the actuator joints among its internal pairs;
+    `attached_to` the known links its external pairs reach; `label` its structural-formula notation.
+
+    Examples
+    --------
+    >>> from mbplanar.structure import decompose
+    >>> fourbar = decompose("0", ["1", "2", "3"], [("O", "R", "0", "1"), ("A", "R", "1", "2"),
+    ...                                           ("B", "R", "2", "3"), ("C", "R", "3", "0")], ["O"])
+    >>> dyad = fourbar.groups[0]
+    >>> dyad.label, dyad.kind, dyad.internal, dyad.external, dyad.attached_to
+    ('II(2,3)', 'RRR', ('B',), ('A', 'C'), ('0', '1'))
+    """
 
     links: tuple[str, ...]  # the group's links
     joints: tuple[str, ...]  # all its pairs: internal ones first, then external ones
@@ -110,11 +126,22 @@ class AssurGroup:
 
 @dataclass(frozen=True)
 class Structure:
-    """Result of :func:`decompose`.
+    """Result of :func:`decompose`: mobility, loops, input mechanisms and Assur groups in solving order.
 
-    With higher pairs the groups are those of the equivalent lower-pair mechanism: `replaced` maps the
-    name of each link that replaces a higher pair to the pair's name (its two pairs are named
-    ``pair:link``), and `higher` lists the higher pairs."""
+    `dof` (Chebyshev: 3·n − 2·p5 − p4), `loops` (p − n), `inputs` the driving joints, `input_links` the
+    links they drive from ground, `groups` the Assur groups (`AssurGroup`) in solving order, `mechanism_class` the
+    highest group class (1 with none), `formula` the structural formula, `input_mechanisms` the class I
+    mechanisms (driver, driven). With higher pairs the groups are those of the equivalent lower-pair
+    mechanism: `replaced` maps the name of each link that replaces a higher pair to the pair's name
+    (its two pairs are named ``pair:link``), and `higher` lists the higher pairs (`p4` of them).
+
+    Examples
+    --------
+    >>> from mbplanar import Engine, read_model
+    >>> structure = Engine(read_model("models/class3_triad.toml")).topology.structure
+    >>> structure.formula, structure.mechanism_class, structure.dof, structure.loops
+    ('I(0,1) → III(2,3,4,5)', 3, 1, 2)
+    """
 
     dof: int  # Chebyshev: 3·n_moving − 2·p5 − p4
     loops: int  # independent loops = p − n_moving (cycle rank of the link–joint multigraph)
@@ -186,14 +213,46 @@ def decompose(
     inputs: Sequence[str],
     higher: Sequence[tuple[str, str, str, str, str]] = (),
 ) -> Structure:
-    """Decompose a planar linkage into input mechanisms and Assur groups.
+    """Decompose a planar linkage into input mechanisms and Assur groups (Artobolevsky).
 
-    links: the moving links (ground excluded); joints: (name, kind 'R'|'P', link_a, link_b);
-    inputs: names of the input joints; higher: the higher pairs (name, link_a, link_b, kind_a, kind_b),
-    each decomposed as the link that replaces it in the equivalent lower-pair mechanism, with a pair of
-    kind_a ('R' or 'P') on link_a and one of kind_b on link_b (see `equivalent`).  See the module
-    docstring for the rules.  Raises ModelError when the table does not describe a decomposable
-    mechanism.
+    See the module docstring for the rules.
+
+    Parameters
+    ----------
+    ground : str
+        The ground link.
+    links : sequence of str
+        The moving links (ground excluded).
+    joints : sequence of (str, str, str, str)
+        The lower pairs: (name, kind 'R' or 'P', link_a, link_b).
+    inputs : sequence of str
+        The input (driving) joints' names.
+    higher : sequence of (str, str, str, str, str), optional
+        The higher pairs (name, link_a, link_b, kind_a, kind_b), each decomposed as the link that replaces
+        it in the equivalent lower-pair mechanism, with a pair of kind_a ('R' or 'P') on link_a and one of
+        kind_b on link_b.
+
+    Returns
+    -------
+    Structure
+
+    Raises
+    ------
+    ModelError
+        The table does not describe a decomposable mechanism: a duplicate or unknown name, a link not
+        connected to ground, a contour of prismatic pairs, a DOF other than the inputs' number, inputs
+        closing a loop, an over-constrained sub-chain; the message names the links or joints at fault.
+
+    Examples
+    --------
+    >>> from mbplanar.structure import decompose
+    >>> slider_crank = decompose("0", ["1", "2", "3"], [("O", "R", "0", "1"), ("A", "R", "1", "2"),
+    ...                                                ("B", "R", "2", "3"), ("S", "P", "0", "3")], ["O"])
+    >>> slider_crank.formula, slider_crank.groups[0].kind
+    ('I(0,1) → II(2,3)', 'RRP')
+    >>> decompose("0", ["1", "2"], [("O", "R", "0", "1"), ("A", "R", "1", "2"), ("B", "R", "2", "0")], ["O"])
+    Traceback (most recent call last):
+    mbplanar.errors.ModelError: the chain has DOF = 3·n − 2·p = 3·2 − 2·3 = 0 (n = 2 moving links, ...
     """
     if higher:
         return _decompose_equivalent(ground, links, joints, inputs, higher)
@@ -669,7 +728,29 @@ _ROMAN = ((1000, "M"), (900, "CM"), (500, "D"), (400, "CD"), (100, "C"), (90, "X
 
 
 def roman(number: int) -> str:
-    """Roman numeral of a positive integer (group classes: II, III, IV, ...)."""
+    """Roman numeral of a positive integer (group classes: II, III, IV, ...).
+
+    Parameters
+    ----------
+    number : int
+        A positive integer.
+
+    Returns
+    -------
+    str
+        Its Roman numeral; "" for 0 or a negative number.
+
+    Raises
+    ------
+    TypeError
+        Something that is not a number.
+
+    Examples
+    --------
+    >>> from mbplanar.structure import roman
+    >>> roman(2), roman(4), roman(14)
+    ('II', 'IV', 'XIV')
+    """
     digits = []
     for value, symbol in _ROMAN:
         count, number = divmod(number, value)

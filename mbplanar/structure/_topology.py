@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # networkx is imported where a graph is made (it costs ~0.1 s
     import networkx as nx
 
 from ..errors import ModelError
-from ..model._model import Mechanism
+from ..model import Mechanism
 
 __all__ = ["TreeJoint", "Block", "Topology", "analyse_topology", "check_mobility"]
 
@@ -57,6 +57,21 @@ class Block:
 
 @dataclass(frozen=True)
 class Topology:
+    """The link–joint graph of a mechanism as the engine solves it.
+
+    `dof` its degrees of freedom; `loops` its independent loops, each as its joints in order; `blocks`
+    the solving blocks in order (each a `Block`: links, tree joints, cut joints, higher pairs);
+    `structure` the Assur decomposition (`Structure`), None where it could not be made.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> from mbplanar.structure import analyse_topology
+    >>> topology = analyse_topology(read_model("models/six_bar_press.toml"))
+    >>> topology.dof, len(topology.loops), [block.links for block in topology.blocks]
+    (1, 2, [('1',), ('2', '3'), ('4', '5')])
+    """
+
     dof: int
     loops: tuple[tuple[str, ...], ...]  # independent loops, each as its joints in order
     blocks: tuple[Block, ...]
@@ -125,9 +140,34 @@ def _check_dof(mech: Mechanism, dof: int):
 
 
 def check_mobility(mech: Mechanism) -> int:
-    """The structural DOF of `mech` once its links are all connected to the ground and it has one input
-    per degree of freedom, else a `ModelError` that says so. Run before the assembly, so that a rigid
-    chain is reported as "DOF = 0", not as a drawn pose that misses."""
+    """The structural DOF of a model, checked against its inputs.
+
+    Run before the assembly, so that a rigid chain is reported as "DOF = 0", not as a drawn pose that
+    misses.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+
+    Returns
+    -------
+    int
+        W = 3n − 2p₅ − p₄.
+
+    Raises
+    ------
+    ModelError
+        A link not connected to the ground, or a DOF other than the number of inputs: the message says
+        which links, or the count.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> from mbplanar.structure import check_mobility
+    >>> check_mobility(read_model("models/five_bar.toml"))          # two inputs
+    2
+    """
     _check_connected(mech, link_joint_graph(mech))
     dof = mobility(mech)
     _check_dof(mech, dof)
@@ -237,7 +277,7 @@ def _replacements(mech: Mechanism) -> list[tuple[str, str, str, str, str]]:
     replaces it in the equivalent lower-pair mechanism (`mbplanar.model._drawn.replacement`)."""
     if not mech.higher:
         return []
-    from ..model._drawn import drawn_pairs, mechanism_size, replacement
+    from ..model import drawn_pairs, mechanism_size, replacement
     size = mechanism_size(mech)
     out = []
     for name, g in drawn_pairs(mech).items():
@@ -249,8 +289,33 @@ def _replacements(mech: Mechanism) -> list[tuple[str, str, str, str, str]]:
 def analyse_topology(mech: Mechanism, grouped: bool = True) -> Topology:
     """Check the link–joint graph and split the mechanism into solving blocks.
 
-    `grouped=True` uses the Assur groups when the structure module can decompose the mechanism,
-    else (or with `grouped=False`) one global block after the input links.
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    grouped : bool, optional
+        True: a block per Assur group (when the mechanism decomposes); False: one global block after the
+        input links.
+
+    Returns
+    -------
+    Topology
+
+    Raises
+    ------
+    ModelError
+        The mobility check fails (`check_mobility`), the decomposition refuses the chain (`decompose`), or
+        a block has other than as many closure equations as unknowns.
+
+    Examples
+    --------
+    >>> from mbplanar.model import read_model
+    >>> from mbplanar.structure import analyse_topology
+    >>> press = read_model("models/six_bar_press.toml")
+    >>> analyse_topology(press).structure.formula
+    'I(0,1) → II(2,3) → II(4,5)'
+    >>> [block.links for block in analyse_topology(press, grouped=False).blocks]
+    [('1',), ('2', '3', '4', '5')]
     """
     dof = check_mobility(mech)
     loops = independent_loops(mech)

@@ -7,7 +7,7 @@ and the same study on every core or on a Dask cluster.
     [False, False, False, True, False, True, True, True]
 """
 
-from ..model._parameters import Parameter, Template
+from ..model import Parameter, Template
 from .batch import DesignBatch, DesignLimit, DesignMotion, design_batch
 from .dimensions import with_dimensions
 from .forces import DesignForces, design_kinetostatics

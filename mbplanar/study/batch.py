@@ -27,18 +27,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..engine._atlas import Atlas
-from ..engine._backend import dispatch
-from ..engine._blocks import BlockSolver
-from ..engine._constraints import perp
-from ..engine._continuation import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
+from ..engine import Atlas, BlockSolver, dispatch, perp
+from ..engine import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
                                     step_verdict)
-from ..engine._nodes import Node
-from ..engine._singular import limit_after
-from ..engine._tables import DESIGN_STATUS, DesignJob, DesignTables, kernels_decline, sweep_tables
+from ..engine import DESIGN_STATUS, DesignJob, DesignTables, Node, kernels_decline, limit_after, sweep_tables
 from ..kinematics import analyse
-from ..model import parse_model
-from ..model._scale import frame_origin
+from ..model import frame_origin, parse_model
 from .dimensions import with_dimensions
 from .geometry import DesignGeometry, mechanism_of
 

@@ -10,7 +10,7 @@ import json
 import math
 
 from .._progress import Interrupted, Progress, add_long_run_options
-from ..model._units import add_units_option, display_units
+from ..model import add_units_option, display_units
 
 __all__ = ["add_parser", "cmd_study"]
 

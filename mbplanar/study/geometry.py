@@ -14,10 +14,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..model._assembly import assemble, reference_points
+from ..model import assemble, reference_points
 from ..errors import MbplanarError
-from ..model._parameters import Template
-from ..model import parse_model
+from ..model import Template, parse_model
 from .variants import Variants
 
 __all__ = ["DesignGeometry", "design_geometry", "mechanism_of"]

@@ -6,8 +6,7 @@ import math
 
 import numpy as np
 
-from ..model._model import ANGLE_UNITS
-from ..model._units import DisplayUnits
+from ..model import ANGLE_UNITS, DisplayUnits
 from .run import Study
 
 __all__ = ["study_document", "study_table", "format_study"]

@@ -13,9 +13,7 @@ import numpy as np
 
 from .._progress import Interrupted
 from ..errors import MbplanarError, ModelError, did_you_mean
-from ..model import parse_model
-from ..model._model import Units
-from ..model._parameters import Template
+from ..model import Template, Units, parse_model
 from ..forces import has_force_data
 from ..kinematics import analyse
 from .summary import SAMPLES, DesignSummary, _forces, failed_design, summarise, summarise_design, with_forces

@@ -25,9 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, closest_names, did_you_mean
-from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
-from ..model._parameters import Template
-from ..model._scale import out_of_scale
+from ..model import ANGLE_UNITS, LENGTH_UNITS, Template, out_of_scale, unit_spelling
 
 __all__ = ["Variants", "read_variants", "variants_from"]
 

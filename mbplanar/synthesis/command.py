@@ -13,8 +13,7 @@ import numpy as np
 
 from .._progress import add_long_run_options
 from ..errors import ModelError, ModelWarning, PlotUnavailable
-from ..model._model import ANGLE_UNITS, LENGTH_UNITS, unit_spelling
-from ..model._units import add_units_option
+from ..model import ANGLE_UNITS, LENGTH_UNITS, add_units_option, unit_spelling
 
 __all__ = ["add_arguments", "run", "summary_seed001", "summary_function", "summary_motion", "csv_rows", "read_toml",
            "shown", "input_units"]

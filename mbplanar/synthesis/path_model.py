@@ -86,7 +86,7 @@ class _Problem:
     def base(self):
         """The template and the reference engine (built once per process)."""
         if "base" not in self._cache:
-            from ..model._parameters import Template
+            from ..model import Template
             template = Template(self.data, self.source)
             self._cache["base"] = template, Engine(parse_model(template.bind(), source=self.source))
         return self._cache["base"]
@@ -367,7 +367,7 @@ def _verified(problem: _Problem, template, values, rel, evaluations, seconds, se
         params[n] = {**params[n], "value": v} if isinstance(params[n], dict) else v
     raw["parameters"] = params
     text = table_toml(raw, f"{template.source} with parameters from path synthesis (seed {seed})")
-    from ..model._parameters import Template
+    from ..model import Template
     mech = parse_model(Template(raw, template.source).bind(), source=template.source)
     engine = Engine(mech)
     phi0 = float(engine.phi_drawn[0])

@@ -213,7 +213,7 @@ def _validated(rows, source: str, label: str) -> np.ndarray:
 def _against_model(targets, mech, source: str, label: str) -> None:
     """Refuse targets (SI) spread 100 times wider or narrower than the model's drawing, or lying 100
     drawing sizes from it (`mbplanar.model._scale`'s rule), naming the row farthest off."""
-    from ..model._scale import drawing_size, out_of_scale, scale_message
+    from ..model import drawing_size, out_of_scale, scale_message
     size = drawing_size(mech)
     if size <= 0:
         return
@@ -340,7 +340,7 @@ def _in_model_units(rows, mech, sliding: bool, src):
     """Target rows (x, y[, input]) read in the model's length unit, in SI (a sliding input's values in its
     own unit);
     targets spread 100 times wider or narrower than the model's drawing warn (`mbplanar.model._scale`)."""
-    from ..model._scale import drawing_size, warn_scale
+    from ..model import drawing_size, warn_scale
     k = mech.units.length_scale
     rows = np.array(rows, float)
     rows[:, :2] *= k
