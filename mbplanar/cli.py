@@ -290,8 +290,7 @@ def _report_options(s):
 def cmd_serve(args) -> int:
     """The workbench; its panels' forms are made from this command line's parsers."""
     from .web import command
-    from .web._runs import EXPORTS, PANELS, form
-    return command.run(args, forms={name: form(build_parser(name), name) for name in PANELS + EXPORTS})
+    return command.run(args, forms=command.panel_forms(build_parser))
 
 
 #: every command in the order of `mbplanar --help`: its line there, the function that adds its options

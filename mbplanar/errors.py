@@ -88,7 +88,21 @@ class MotionError(MbplanarError):
 
 
 class PlotUnavailable(MbplanarError):
-    """A picture was asked for but matplotlib (the `plot` extra) is not installed."""
+    """A picture was asked for but matplotlib (the `plot` extra) is not installed (exit code 2).
+
+    Attributes
+    ----------
+    message : str
+        What is missing and how to install it (``pip install mbplanar[plot]``).
+    source, where : str or None
+        The model file and the place in it, when known.
+
+    Examples
+    --------
+    >>> from mbplanar.errors import ModelError, PlotUnavailable
+    >>> issubclass(PlotUnavailable, ModelError), PlotUnavailable.exit_code
+    (False, 2)
+    """
 
     exit_code = 2
 

@@ -291,7 +291,9 @@ def test_report_is_valid_html_with_every_section_and_no_url(shaper_report):
     checker.feed(shaper_report)
     checker.close()
     assert not checker.errors and not checker.stack
-    assert set(SECTIONS) <= checker.ids
+    # the report's own sections (the cam's and the synthesis', registered by other tests, need their tables)
+    own = {key for key, s in SECTIONS.items() if s.function.__module__ == "mbplanar.viz._report"}
+    assert own <= checker.ids
     assert not [u for u in checker.urls if "http" in u]
     assert all(u.startswith(("data:image/png;base64,", "#")) for u in checker.urls)
     assert shaper_report.count("<img") >= 5

@@ -61,13 +61,35 @@ RANK = 1e-6    # a link's lengths whose Jacobian's singular values fall below th
 
 @dataclass(frozen=True)
 class Dimension:
-    """One dimension a tolerance may name.
+    """One dimension of a model that a tolerance may name, with its unit and nominal value.
 
-    `kind`: "length" (target (link, entry index)), "coordinate" (joint, axis), "guide" (joint), "offset"
-    (joint), "point" (point, field: "x", "y", "fraction", "distance", "offset"), "zero" (input index),
-    "higher" (a higher pair, its number: "radii", "radius", "guide", "at", "face", "centre",
-    "curve_radius", entry index; `higher.higher_dimensions`), "parameter" (its name). `unit`: "length", "deg", "rad", "input", "plain" or a parameter's unit word;
-    `scale`: SI per unit (a band of b units is b·scale in SI); `nominal`: the nominal value, in its unit.
+    Attributes
+    ----------
+    name : str
+        As a `[tolerances]` row names it: "links.2.length", "joints.C.x", "points.M.offset",
+        "input.zero", a parameter's name, ...
+    kind : str
+        "length" (target (link, entry index)), "coordinate" (joint, axis), "guide" (joint), "offset"
+        (joint), "point" (point, field: "x", "y", "fraction", "distance", "offset"), "zero" (input
+        index), "higher" (a higher pair, its number: "radii", "radius", "guide", "at", "face",
+        "centre", "curve_radius", entry index; `higher.higher_dimensions`), "parameter" (its name).
+    target : tuple
+        What the dimension belongs to (see `kind`).
+    unit : str
+        "length", "deg", "rad", "input", "plain" or a parameter's unit word.
+    scale : float
+        SI per unit: a band of b units is b·scale in SI.
+    nominal : float
+        The nominal value, in its unit.
+
+    Examples
+    --------
+    >>> from mbplanar.accuracy import catalogue
+    >>> from mbplanar.accuracy.run import load
+    >>> template, raw, engine = load("models/slider_crank.toml")
+    >>> guide = catalogue(engine, raw, template)["joints.Bp.guide"]
+    >>> guide.kind, guide.unit, round(guide.scale, 6), guide.nominal      # degrees, 0.017453 rad each
+    ('guide', 'deg', 0.017453, 0.0)
     """
 
     name: str
@@ -80,9 +102,41 @@ class Dimension:
 
 @dataclass
 class Sided:
-    """The made geometry of D designs (see the module docstring); arrays may be complex (the complex step).
-    `ok` (D,): the designs whose link shapes could be met; `higher`: each higher pair's made numbers
-    (`higher.nominal_numbers`' keys, designs last)."""
+    """The made geometry of D designs, link by link, in the frames of the nominal drawn pose.
+
+    Arrays may be complex: evaluated at imaginary deviations they carry the exact first derivatives
+    (the complex step, `imag`).
+
+    Attributes
+    ----------
+    side : dict
+        {(joint, link): (2, D) ndarray}: the joint's point on that link, m.
+    guide : dict
+        {joint: (2, D) ndarray}: a prismatic pair's guide direction on its carrier.
+    point : dict
+        {point: (2, D) ndarray}: a point of interest on its link, m.
+    zero : (n_in, D) ndarray
+        Each input's zero (the joint value at φ = 0), SI.
+    alpha : dict
+        {link: (D,) ndarray}: the direction of the link's reference line in its frame, rad.
+    ok : (D,) ndarray of bool
+        The designs whose link shapes could be met.
+    higher : dict
+        Each higher pair's made numbers (`higher.nominal_numbers`' keys, designs last).
+
+    Examples
+    --------
+    A slider-crank made with its rod 1 mm long: pin B moves on the rod, A stays:
+
+    >>> import numpy as np
+    >>> from mbplanar.accuracy import DesignSpace
+    >>> from mbplanar.accuracy.run import load
+    >>> template, raw, engine = load("models/slider_crank.toml")
+    >>> made = DesignSpace(engine, raw, template, ["links.2.length"]).sided(np.array([[0.0], [1e-3]]))
+    >>> rod = made.side[("B", "2")] - made.side[("A", "2")]
+    >>> np.hypot(*rod).round(12).tolist(), made.ok.tolist()       # nominal and made rod, m
+    ([0.3, 0.301], [True, True])
+    """
 
     side: dict
     guide: dict
@@ -141,7 +195,10 @@ class _LinkShape:
 
 
 class DesignSpace:
-    """The dimensions of one model and the geometry of designs made with deviations from them.
+    """The toleranced dimensions of one model, and the geometry of designs made with deviations from them.
+
+    `names` and `dimensions` list the toleranced dimensions in order; `sided(delta)` builds the made
+    geometry (`Sided`) of deviations `delta` (D, K, SI), `derivatives()` its exact first derivatives.
 
     Parameters
     ----------
@@ -159,6 +216,15 @@ class DesignSpace:
     ModelError
         A name that is not a dimension of the model (with the closest), or a dimension without effect or
         that the link's other lengths contradict.
+
+    Examples
+    --------
+    >>> from mbplanar.accuracy import DesignSpace
+    >>> from mbplanar.accuracy.run import load
+    >>> template, raw, engine = load("models/slider_crank.toml")
+    >>> space = DesignSpace(engine, raw, template, ["links.1.length", "links.2.length"])
+    >>> space.names, [d.nominal for d in space.dimensions]
+    (('links.1.length', 'links.2.length'), [0.1, 0.3])
     """
 
     def __init__(self, engine, raw, template=None, names=()):
@@ -493,10 +559,43 @@ def _template_numbers(template, values) -> dict:
 
 
 def catalogue(engine, raw, template=None, shapes=None) -> dict:
-    """Every dimension of a model that a tolerance may name, by name (`Dimension`), in the model's order:
-    lengths, joints' coordinates, guides and offsets, points, the higher pairs' numbers, the inputs'
-    zeros, then the parameters. A
-    coordinate that every link's lengths fix (it changes nothing) is left out."""
+    """Every dimension of a model that a tolerance may name.
+
+    In the model's order: lengths, joints' coordinates, guides and offsets, points, the higher pairs'
+    numbers, the inputs' zeros, then the parameters. A coordinate that every link's lengths fix (it
+    changes nothing) is left out.
+
+    Parameters
+    ----------
+    engine : Engine
+        The nominal model's engine.
+    raw : Mechanism
+        The same model as read, before its assembly.
+    template : Template, optional
+        The model's table (adds its parameters).
+    shapes : dict, optional
+        The links' shapes when the caller has them (`DesignSpace` passes its own); built otherwise.
+
+    Returns
+    -------
+    dict
+        {name: `Dimension`}.
+
+    Raises
+    ------
+    KeyError
+        `raw` not the model `engine` was built from (a joint or link of one missing in the other); a
+        model that reads and assembles gives no error here.
+
+    Examples
+    --------
+    >>> from mbplanar.accuracy import catalogue
+    >>> from mbplanar.accuracy.run import load
+    >>> template, raw, engine = load("models/slider_crank.toml")
+    >>> names = list(catalogue(engine, raw, template))
+    >>> names[:4], names[-3:]
+    (['links.1.length', 'links.2.length', 'joints.O.x', 'joints.O.y'], ['joints.Bp.guide', 'joints.Bp.offset', 'input.zero'])
+    """
     mech = engine.mech
     units = mech.units
     length, deg = units.length_scale, math.pi / 180.0

@@ -54,7 +54,7 @@ def _zone(result, ix: int, iy: int):
 def accuracy_figure(result, length_name: str = "m", length_scale: float = 1.0, engine=None, figsize=(11, 7.5)):
     """The figure of an `Accuracy`: the tolerance zone around its first point's path (with the mechanism
     drawn when `engine` is given) and the error bands of its first outputs over the cycle."""
-    from ..viz._plotting import COLORS, INK, lean_ticks, require_matplotlib
+    from ..viz import COLORS, INK, lean_ticks, require_matplotlib
 
     plt = require_matplotlib()
     fig = plt.figure(figsize=figsize, layout="constrained")
@@ -121,8 +121,7 @@ def accuracy_figure(result, length_name: str = "m", length_scale: float = 1.0, e
 
 def _draw_mechanism(ax, engine):
     """The mechanism in its drawn pose, faint, behind the zone."""
-    from ..viz._plotting import cycle_motion, draw_mechanism, position_motion
-    from ..viz._scene import build_scene
+    from ..viz import build_scene, cycle_motion, draw_mechanism, position_motion
 
     motion = position_motion(engine, None)
     scene = build_scene(engine, motion, cycle_motion(engine, 36))
@@ -164,7 +163,7 @@ def report_section(engine, ctx):
     analysis refuses (a bad row: the rest of the report stands)."""
     from ..errors import ModelError
     from ..model import Units
-    from ..viz._report import html_table
+    from ..viz import html_table
     from .report import format_text
 
     if engine.mech.extras.get("tolerances") is None:

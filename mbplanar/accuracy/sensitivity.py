@@ -44,8 +44,27 @@ __all__ = ["Output", "Sensitivities", "resolve_outputs", "sensitivities", "Sourc
 
 @dataclass(frozen=True)
 class Output:
-    """One reported quantity: `name` ("M.x", "3.angle", "B.value"), `kind` ("x", "y", "angle", "value"),
-    `target` (the point, joint or link) and `unit` ("m" or "rad")."""
+    """One reported quantity of a model: a point's coordinate, a link's angle or a joint's value.
+
+    Attributes
+    ----------
+    name : str
+        "M.x", "3.angle", "B.value", ...
+    kind : {"x", "y", "angle", "value"}
+        What is measured.
+    target : str
+        The point, joint or link.
+    unit : {"m", "rad"}
+        Its SI unit.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.accuracy import resolve_outputs
+    >>> out = resolve_outputs(mbplanar.read_model("models/slider_crank.toml"), ["Bp.value"])[0]
+    >>> out.kind, out.target, out.unit            # the slider's displacement along its guide
+    ('value', 'Bp', 'm')
+    """
 
     name: str
     kind: str
@@ -54,15 +73,36 @@ class Output:
 
 
 def resolve_outputs(mech, names=None, source: str | None = None) -> tuple[Output, ...]:
-    """The outputs `names` stand for (None: every joint and point, x and y, and every moving link's
-    angle). A joint or point name gives its x and y, a link's its angle; X.x, X.y, L.angle and J.value
-    name one each (J.value: a revolute pair's relative angle, a prismatic pair's displacement from the
-    drawn pose).
+    """The outputs that names stand for, in order, each once.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The model.
+    names : sequence of str, optional
+        A joint or point name gives its x and y, a link's its angle; X.x, X.y, L.angle and J.value
+        name one each (J.value: a revolute pair's relative angle, a prismatic pair's displacement from
+        the drawn pose). None: every joint and point, x and y, and every moving link's angle.
+    source : str, optional
+        The model file, for the messages.
+
+    Returns
+    -------
+    tuple of Output
+        The outputs.
 
     Raises
     ------
     ModelError
         A name the model does not have (with the closest), or one that is both a link and a point.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.accuracy import resolve_outputs
+    >>> mech = mbplanar.read_model("models/fourbar.toml")
+    >>> [o.name for o in resolve_outputs(mech, ["M", "3", "B.value"])]
+    ['M.x', 'M.y', '3.angle', 'B.value']
     """
     places = list(mech.joints) + list(mech.points)
     links = mech.moving_links
@@ -108,11 +148,37 @@ def resolve_outputs(mech, names=None, source: str | None = None) -> tuple[Output
 
 @dataclass(frozen=True)
 class Sensitivities:
-    """The sensitivities of `outputs` to `dimensions` over the positions `phi`.
+    """The sensitivities of outputs to toleranced dimensions over a set of positions.
 
-    phi (N, n_in) SI; valid (N,) the positions solved on the drawn branch; value (N, Y) the outputs'
-    nominal values (m, rad); d (N, Y, K) ∂output/∂dimension, SI per SI unit of the dimension (NaN where
-    not valid).
+    Attributes
+    ----------
+    phi : (N, n_in) ndarray
+        The positions' input values, SI.
+    valid : (N,) ndarray of bool
+        The positions solved on the drawn branch (`success` is True when all are; `message` says how
+        many are not).
+    outputs : tuple of Output
+        The Y outputs.
+    dimensions : tuple of Dimension
+        The K toleranced dimensions.
+    value : (N, Y) ndarray
+        The outputs' nominal values, m or rad.
+    d : (N, Y, K) ndarray
+        ∂output/∂dimension, SI per SI unit of the dimension (NaN where not valid).
+
+    Examples
+    --------
+    A slider-crank (crank r = 0.1 m, rod l = 0.3 m): the slider's x = r cos φ + √(l² − r² sin² φ), so at
+    90° ∂x/∂r = −r/√(l² − r²) and ∂x/∂l = l/√(l² − r²):
+
+    >>> import numpy as np
+    >>> from mbplanar.accuracy import DesignSpace, resolve_outputs, sensitivities
+    >>> from mbplanar.accuracy.run import load
+    >>> template, raw, engine = load("models/slider_crank.toml")
+    >>> space = DesignSpace(engine, raw, template, ["links.1.length", "links.2.length"])
+    >>> s = sensitivities(space, np.radians([0.0, 90.0]), resolve_outputs(engine.mech, ["Bp.x"]))
+    >>> s.d.shape, s.success, s.d[1, 0].round(6).tolist()
+    ((2, 1, 2), True, [-0.353553, 1.06066])
     """
 
     phi: np.ndarray
@@ -450,10 +516,19 @@ def sensitivities(space, phi, outputs=None, client=None, chunk: int = CHUNK) -> 
     client : dask.distributed.Client, optional
         Cut the positions into chunks of `chunk`, one Dask task each (`mbplanar.study.cluster`); the
         answer is the serial one.
+    chunk : int
+        Positions per Dask task (with `client` only).
 
     Returns
     -------
     Sensitivities
+        ∂output/∂dimension at every position (`d`, (N, Y, K)), exact to rounding (the complex step).
+
+    Raises
+    ------
+    ModelError
+        From `resolve_outputs` when the default outputs are built; positions the model does not reach
+        on its drawn branch are not an error: they come back NaN with `valid` False.
 
     Examples
     --------

@@ -71,8 +71,24 @@ class Tolerance:
 
 @dataclass(frozen=True)
 class Clearance:
-    """The clearance of pair `joint` (m, SI): an R pair's radial clearance, a P pair's largest offset of
-    the block across its guide."""
+    """The clearance of one pair: how far its two elements may move apart.
+
+    Attributes
+    ----------
+    joint : str
+        The pair's name.
+    value : float
+        The clearance, m: an R pair's radial clearance (pin and hole's radii apart), a P pair's largest
+        offset of the block across its guide.
+    row : str
+        Where the row was read (for messages).
+
+    Examples
+    --------
+    >>> from mbplanar.accuracy import Clearance
+    >>> Clearance("A", 2e-5).value           # 20 µm of radial clearance in pair A
+    2e-05
+    """
 
     joint: str
     value: float
@@ -81,9 +97,28 @@ class Clearance:
 
 @dataclass(frozen=True)
 class ToleranceSpec:
-    """A model's `[tolerances]`: `dimensions` (Tolerance rows, in their units), `clearances` (SI),
-    `outputs` (names as written; None: every joint, point and moving link), Monte Carlo `samples` and
-    `seed`, and the `positions` over the cycle."""
+    """A model's `[tolerances]` section, read: what is toleranced, what is measured, how it is sampled.
+
+    Attributes
+    ----------
+    dimensions : tuple of Tolerance
+        The toleranced dimensions' bands, in the dimensions' units.
+    clearances : tuple of Clearance
+        The pairs' clearances, m.
+    outputs : tuple of str or None
+        The outputs' names as written; None: every joint, point and moving link.
+    samples, seed : int
+        The Monte Carlo's size and its generator's seed.
+    positions : int
+        Positions over the cycle.
+
+    Examples
+    --------
+    >>> from mbplanar.accuracy import Tolerance, ToleranceSpec
+    >>> spec = ToleranceSpec((Tolerance("links.2.length", -1e-4, 1e-4),), outputs=("Bp.x",), samples=1000)
+    >>> [t.name for t in spec.dimensions], spec.positions, spec.seed
+    (['links.2.length'], 360, 0)
+    """
 
     dimensions: tuple[Tolerance, ...] = ()
     clearances: tuple[Clearance, ...] = ()
@@ -100,16 +135,18 @@ def closest(name: str, names) -> str:
 
 
 def read_tolerances(raw, source: str, dimensions, joints, length_scale: float = 1.0, higher=None) -> ToleranceSpec:
-    """The `[tolerances]` table `raw` (as TOML gives it) of the model `source`.
+    """Read a model's `[tolerances]` section into a `ToleranceSpec`, every name checked against the model.
 
     Parameters
     ----------
     raw : dict
-        The section.
+        The section as TOML gives it: "dimensions" (rows {name, band = b or [lower, upper]} or
+        {name, sigma}), "clearances" (rows {joint, clearance}), "outputs", "samples", "seed",
+        "positions".
     source : str
         The model file, for the messages.
     dimensions : collection of str
-        The names of the dimensions the model has (`geometry.catalogue`).
+        The names of the dimensions the model has (`catalogue`).
     joints : dict
         The model's joints by name (a clearance names one).
     length_scale : float
@@ -117,11 +154,35 @@ def read_tolerances(raw, source: str, dimensions, joints, length_scale: float = 
     higher : dict, optional
         The model's higher pairs by name (their kinds), for the message of a clearance naming one.
 
+    Returns
+    -------
+    ToleranceSpec
+        The bands in the dimensions' units, the clearances in metres.
+
     Raises
     ------
     ModelError
         A name the model does not have (with the closest names), a negative band or clearance, a row with
-        both or neither of band and sigma, a pair listed twice, a count below its bound.
+        both or neither of band and sigma, an unknown key, a pair listed twice, a count below its bound.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.accuracy import catalogue, read_tolerances
+    >>> from mbplanar.accuracy.run import load
+    >>> template, raw, engine = load("models/fourbar.toml")
+    >>> names = catalogue(engine, raw, template)
+    >>> section = {"dimensions": [{"name": "links.2.length", "band": 1e-4},
+    ...                           {"name": "joints.C.x", "band": [-5e-5, 1e-4]}],
+    ...            "clearances": [{"joint": "A", "clearance": 2e-5}], "samples": 1000}
+    >>> spec = read_tolerances(section, "models/fourbar.toml", names, engine.mech.joints)
+    >>> [(t.name, t.lower, t.upper) for t in spec.dimensions], spec.samples
+    ([('links.2.length', -0.0001, 0.0001), ('joints.C.x', -5e-05, 0.0001)], 1000)
+    >>> read_tolerances({"dimensions": [{"name": "links.2.lenght", "band": 1e-4}]}, "models/fourbar.toml",
+    ...                 names, engine.mech.joints)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: ... 'links.2.lenght' is not a dimension of the model (closest: links.2.length, ...)
     """
     where = f"{source}: [tolerances]"
     if not isinstance(raw, dict):

@@ -13,6 +13,7 @@ there than numpy's batch machinery). `build` (``mbplanar compile``) fills numba'
     (['numba', 'numpy'], 'python')
 """
 
+from .._lazy import lazy_attributes
 from ..engine import BACKENDS, Backend, load
 
 __all__ = ["Backend", "BACKENDS", "load", "PYTHON", "NUMBA", "build"]
@@ -22,16 +23,4 @@ __all__ = ["Backend", "BACKENDS", "load", "PYTHON", "NUMBA", "build"]
 _LAZY = {"PYTHON": "_python:BACKEND", "NUMBA": "_numba:BACKEND", "build": "_aot"}
 
 
-def __getattr__(name: str):
-    """A public name whose module `import mbplanar.backends` does not load, imported on first access."""
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-    module, _, attribute = _LAZY[name].partition(":")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY)

@@ -38,10 +38,51 @@ class Extreme:
 
 @dataclass(frozen=True)
 class CamDesign:
-    """Everything `design` found: the spec, the motion program, the follower (given or sized), the
-    geometry, the self-check, the pressure-angle extremes of rise and return, the events found on the
-    linkage, the start angle and window, the smallest radius of curvature and where, the sizing, the
-    forces, the warnings, and whether the events were timed on a linkage."""
+    """Everything `design` found for a cam.
+
+    Attributes
+    ----------
+    spec : CamSpec
+        What was asked.
+    program : Program
+        The motion program (lift s(φ), m, over one turn).
+    follower : Follower
+        The follower, given or sized (SI).
+    geometry : CamGeometry
+        Pitch curve, profile, pressure angle and curvature at `spec.samples` cam angles.
+    check : SelfCheck
+        The follower run on the profile: its lift against the program's (`relative`: error / stroke).
+    rise, ret : Extreme or None
+        The pressure angle's extreme on the rise and on the return (`value`, `at` cam angle, `limit`;
+        rad).
+    events : dict
+        The events found on the linkage, {name: input value}.
+    start : float
+        The linkage's input value at cam angle 0.
+    window : tuple
+        The input range the rise must fit in, when given.
+    rho_min, rho_min_at : float
+        The profile's smallest radius of curvature (m) and its cam angle (rad).
+    sizing : Sizing or None
+        How the follower was sized, when asked (`size = true`).
+    forces : CamForces or None
+        Spring, inertia, contact force and torque, with `[cam.dynamics]`.
+    warnings : tuple of str
+        Undercut, pressure limits exceeded, jumps of the program.
+    timed : bool
+        Whether the events were timed on a linkage.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.cam import design, parse_cam
+    >>> cam = {"follower": "translating", "contact": "knife", "base_radius": 0.04,
+    ...        "phases": [{"kind": "rise", "angle": 180.0, "law": "simple_harmonic", "stroke": 0.02},
+    ...                   {"kind": "return", "angle": 180.0, "law": "simple_harmonic"}]}
+    >>> d = design(parse_cam({"cam": cam}))
+    >>> round(float(np.degrees(d.rise.value)), 4), round(float(np.degrees(d.ret.value)), 4), d.warnings
+    (11.537, -11.537, ())
+    """
 
     spec: CamSpec
     program: laws.Program
@@ -62,24 +103,42 @@ class CamDesign:
 
 
 def design(spec: CamSpec) -> CamDesign:
-    """Design the cam `spec` describes.
+    """Design the cam a spec describes: program, follower (given or sized), geometry, self-check, forces.
 
     Parameters
     ----------
     spec : CamSpec
-        from `read_cam` or `parse_cam`.
+        From `read_cam` or `parse_cam`.
 
     Returns
     -------
     CamDesign
-        timing, program, follower (given or sized), geometry on `spec.samples` angles, self-check,
+        Timing, program, follower (given or sized), geometry on `spec.samples` angles, self-check,
         pressure-angle extremes, ρ_min, forces (with `[cam.dynamics]`) and warnings.
 
     Raises
     ------
     ModelError
-        bad phases (sum ≠ 360°, negative stroke, unknown law or name), a follower that cannot exist, or
-        limits no size can meet.
+        Bad phases (sum ≠ 360°, negative stroke, unknown law or name), a follower that cannot exist,
+        events the linkage does not reach, or limits no size can meet.
+
+    Examples
+    --------
+    A simple-harmonic rise of h = 20 mm over β = 180°, knife-edge at r0 = 40 mm: at φ = 90°,
+    s = h/2 and ds/dφ = (h/2)(π/β), so the pressure angle is atan(0.01/0.05):
+
+    >>> import numpy as np
+    >>> from mbplanar.cam import design, parse_cam
+    >>> cam = {"follower": "translating", "contact": "knife", "base_radius": 0.04,
+    ...        "phases": [{"kind": "rise", "angle": 180.0, "law": "simple_harmonic", "stroke": 0.02},
+    ...                   {"kind": "return", "angle": 180.0, "law": "simple_harmonic"}]}
+    >>> d = design(parse_cam({"cam": cam}))
+    >>> g = d.geometry
+    >>> k = int(np.argmin(abs(g.phi - np.pi / 2)))
+    >>> round(float(g.pressure[k]), 9), round(float(np.arctan(0.01 / 0.05)), 9)
+    (0.19739556, 0.19739556)
+    >>> bool(d.check.relative < 1e-8)                   # the follower run on the profile
+    True
     """
     engine = _linkage(spec)
     events = _events(spec, engine)

@@ -33,16 +33,44 @@ class Follower:
 
     Attributes
     ----------
-    motion : "translating" or "oscillating"
-    contact : "knife", "roller" or "flat"
-    rotation : +1 (cam turns counter-clockwise) or −1
-    base_radius : translating knife/roller: r₀, distance O–B at s = 0; flat: distance O–face at s = 0
-    offset : translating: x of the follower's line (the offset e)
-    roller : roller radius (0 for a knife or a flat face)
-    centre_distance : oscillating: a_w = |OP|
-    arm : oscillating: l = |PB|
-    arm_angle : oscillating: φ₂₀, angle from P→O to the arm at s = 0 (rad)
-    face_offset : oscillating flat face: distance from P to the face (on the cam's side of the arm)
+    motion : {"translating", "oscillating"}
+        How the follower moves.
+    contact : {"knife", "roller", "flat"}
+        Its contact with the cam.
+    rotation : int
+        +1 (the cam turns counter-clockwise) or −1.
+    base_radius : float
+        Translating knife/roller: r₀, the distance O–B at s = 0; flat: the distance O–face at s = 0.
+    offset : float
+        Translating: x of the follower's line (the offset e).
+    roller : float
+        Roller radius (0 for a knife or a flat face).
+    centre_distance : float
+        Oscillating: a_w = |OP|.
+    arm : float
+        Oscillating: l = |PB|.
+    arm_angle : float
+        Oscillating: φ₂₀, the angle from P→O to the arm at s = 0 (rad).
+    face_offset : float
+        Oscillating flat face: the distance from P to the face (on the cam's side of the arm).
+
+    Raises
+    ------
+    ModelError
+        On construction, for an unknown motion, contact or rotation, or a size that cannot exist: a
+        roller or base radius that is not positive, an offset not inside the base circle, an arm or
+        centre distance that is not positive, an arm angle outside (0°, 180°), a flat face through
+        the cam's centre.
+
+    Examples
+    --------
+    >>> from mbplanar.cam import Follower
+    >>> Follower("translating", "roller", base_radius=0.05, offset=0.008, roller=0.01).roller
+    0.01
+    >>> Follower("translating", "knife")
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: the base radius must be positive, got 0.0
     """
 
     motion: str

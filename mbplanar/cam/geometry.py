@@ -55,17 +55,44 @@ class CamGeometry:
 
     Attributes
     ----------
-    phi : (N,) cam angle, rad
-    s, v, a : (N,) lift (m), its analogues ds/dφ (m/rad), d²s/dφ² (m/rad²)
-    pitch : (N, 2) pitch curve (roller centre / knife tip), m; None for a flat face
-    profile : (N, 2) working profile (the contact points), m
-    profile_d1 : (N, 2) dW/dφ, m/rad
-    normal : (N, 2) unit contact normal, away from the cam
-    contact_fixed : (N, 2) contact point in the fixed frame
-    pressure : (N,) pressure angle, rad (sign: see the module)
-    rho_pitch : (N,) radius of curvature of the pitch curve (+ convex), m; None for a flat face
-    rho_profile : (N,) radius of curvature of the working profile (+ convex), m
-    lever : (N, 2) ∂X/∂s of the follower's driven point (pitch point or contact), fixed frame
+    follower : Follower
+        The follower it drives.
+    phi : (N,) ndarray
+        Cam angle, rad.
+    s, v, a : (N,) ndarray
+        Lift (m), its analogues ds/dφ (m/rad), d²s/dφ² (m/rad²).
+    pitch : (N, 2) ndarray or None
+        The pitch curve (roller centre / knife tip), m; None for a flat face.
+    profile : (N, 2) ndarray
+        The working profile (the contact points), m.
+    profile_d1 : (N, 2) ndarray
+        dW/dφ, m/rad.
+    normal : (N, 2) ndarray
+        Unit contact normal, away from the cam.
+    contact_fixed : (N, 2) ndarray
+        The contact point in the fixed frame, m.
+    pressure : (N,) ndarray
+        Pressure angle, rad (sign: see the module).
+    rho_pitch : (N,) ndarray or None
+        Radius of curvature of the pitch curve (+ convex), m; None for a flat face.
+    rho_profile : (N,) ndarray
+        Radius of curvature of the working profile (+ convex), m.
+    lever : (N, 2) ndarray
+        ∂X/∂s of the follower's driven point (pitch point or contact), fixed frame.
+
+    Examples
+    --------
+    A roller's profile lies one roller radius inside its pitch curve:
+
+    >>> import numpy as np
+    >>> from mbplanar.cam import Follower, cam_geometry, make_law, program
+    >>> cyc, dwell = make_law("cycloidal"), make_law("dwell")
+    >>> p = program([("rise", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None),
+    ...              ("return", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None)])
+    >>> phi = p.grid(360)
+    >>> g = cam_geometry(Follower("translating", "roller", base_radius=0.04, roller=0.01), phi, *p.evaluate(phi)[:3])
+    >>> np.allclose(np.hypot(*(g.pitch - g.profile).T), 0.01, rtol=0, atol=1e-15), g.profile.shape
+    (True, (360, 2))
     """
 
     follower: Follower
@@ -98,17 +125,42 @@ class CamGeometry:
 
 
 def cam_geometry(follower: Follower, phi, s, v, a) -> CamGeometry:
-    """The cam that drives `follower` by the lift s(φ).
+    """The cam that drives a follower through a lift s(φ): profile, pressure angle, curvature.
 
     Parameters
     ----------
     follower : Follower
-    phi : (N,) cam angles, rad
-    s, v, a : (N,) lift (m) and its analogues ds/dφ (m/rad), d²s/dφ² (m/rad²)
+        The follower (SI).
+    phi : (N,) array_like
+        Cam angles, rad.
+    s, v, a : (N,) array_like
+        Lift (m) and its analogues ds/dφ (m/rad), d²s/dφ² (m/rad²).
 
     Returns
     -------
     CamGeometry
+        The pitch curve and profile in the cam's frame, the pressure angle and radii of curvature.
+
+    Raises
+    ------
+    ValueError
+        Arrays of different lengths (numpy's broadcasting error).
+
+    Examples
+    --------
+    A cycloidal rise of 20 mm over 90°: at 45°, s = h/2 and ds/dφ = 2h/β; a knife-edge at r0 = 40 mm
+    on the cam's axis has tan(pressure angle) = (ds/dφ)/(r0 + s):
+
+    >>> import numpy as np
+    >>> from mbplanar.cam import Follower, cam_geometry, make_law, program
+    >>> cyc, dwell = make_law("cycloidal"), make_law("dwell")
+    >>> p = program([("rise", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None),
+    ...              ("return", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None)])
+    >>> phi = np.radians([45.0])
+    >>> s, v, a, j = p.evaluate(phi)
+    >>> g = cam_geometry(Follower("translating", "knife", base_radius=0.04), phi, s, v, a)
+    >>> round(float(g.pressure[0]), 9), round(float(np.arctan(2 * 0.02 / (np.pi / 2) / 0.05)), 9)
+    (0.471056578, 0.471056578)
     """
     phi, s, v, a = (np.asarray(x, float) for x in (phi, s, v, a))
     sigma = follower.rotation

@@ -252,7 +252,38 @@ LAWS = {
 
 
 def make_law(name: str, **options) -> Law:
-    """A law by name (`LAWS`); `k` for constant acceleration."""
+    """A motion law by name: a normalised shape y(u) on [0, 1] with y(0) = 0 and y(1) = 1.
+
+    Parameters
+    ----------
+    name : str
+        One of `LAWS`: "dwell", "constant_velocity", "constant_acceleration", "simple_harmonic",
+        "cycloidal", "polynomial_345", "polynomial_4567", "modified_trapezoid", "modified_sine".
+    **options
+        ``k`` for "constant_acceleration": the ratio of its acceleration to its deceleration.
+
+    Returns
+    -------
+    Law
+        `derivatives(u)` gives y and its first three derivatives; `peaks()` the peak coefficients
+        C_v, C_a, C_j (measured on the law).
+
+    Raises
+    ------
+    ModelError
+        An unknown name (the message gives the closest).
+    TypeError
+        An option the law does not take.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.cam import make_law
+    >>> np.round(make_law("cycloidal").peaks(), 6).tolist()         # 2, 2π, 4π²
+    [2.0, 6.283185, 39.478418]
+    >>> np.round(make_law("polynomial_345").peaks(), 6).tolist()    # 15/8, 10/√3, 60
+    [1.875, 5.773503, 60.0]
+    """
     if name not in LAWS:
         raise ModelError(f"unknown motion law '{name}'; {did_you_mean(name, list(LAWS) + ['polynomial'], 'laws')}")
     return LAWS[name](**options)
@@ -260,10 +291,33 @@ def make_law(name: str, **options) -> Law:
 
 @dataclass(frozen=True)
 class Segment:
-    """One phase of a program: `law` from displacement `s_start` to `s_end` over `start` … `start + span`.
+    """One phase of a motion program: a law scaled from displacement `s_start` to `s_end` over the cam
+    angles `start` … `start + span`.
 
-    Angles in radians, displacements in metres. A `PolynomialLaw` built with `physical=True` boundary
-    values is given in (s, v, a, ...) units and scaled by the segment (see `Segment.through`).
+    s = s_start + (s_end − s_start)·y(u), u = (φ − start)/span. A `PolynomialLaw` built with
+    `physical=True` boundary values is given in (s, v, a, ...) units and scaled by the segment (see
+    `Segment.through`).
+
+    Attributes
+    ----------
+    kind : str
+        "rise", "dwell", "return" or "polynomial".
+    law : Law
+        The normalised shape.
+    start, span : float
+        Cam angles, rad.
+    s_start, s_end : float
+        Displacements at its ends, m.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.cam import Segment, make_law
+    >>> rise = Segment("rise", make_law("cycloidal"), 0.0, np.pi / 2, 0.0, 0.02)
+    >>> np.round(rise.peaks, 6).tolist()            # peak |v|, |a|, |j|: 2h/β, 2πh/β², 4π²h/β³
+    [0.025465, 0.05093, 0.203718]
+    >>> np.round(rise.evaluate(np.array([np.pi / 4]))[:, 0], 6).tolist()      # s, v, a, j at mid-rise
+    [0.01, 0.025465, 0.0, -0.203718]
     """
 
     kind: str                 # "rise", "return", "dwell" or "polynomial"
@@ -325,7 +379,33 @@ class Jump:
 
 @dataclass(frozen=True)
 class Program:
-    """Segments covering one turn of the cam, in order from cam angle 0."""
+    """Segments covering one turn of the cam, in order from cam angle 0.
+
+    `evaluate(phi)` gives s, v, a, j (m, m/rad, m/rad², m/rad³) at any cam angles; `stroke` the
+    largest minus the smallest displacement; `continuity()` every jump of s, v or a; `grid(samples)`
+    equal steps with every breakpoint.
+
+    Attributes
+    ----------
+    segments : tuple of Segment
+        The phases, their spans adding up to 2π.
+
+    Raises
+    ------
+    ModelError
+        On construction, when the spans do not add up to 360°.
+
+    Examples
+    --------
+    A constant-velocity rise and return: the velocity jumps at both ends, hard impacts:
+
+    >>> import numpy as np
+    >>> from mbplanar.cam import make_law, program
+    >>> line = make_law("constant_velocity")
+    >>> p = program([("rise", line, np.pi, 0.02), ("return", line, np.pi, 0.02)])
+    >>> [j.message.split(":")[0] for j in p.continuity()]
+    ['velocity jumps by 0.0127324 at cam angle 0°', 'velocity jumps by -0.0127324 at cam angle 180°']
+    """
 
     segments: tuple[Segment, ...]
 
@@ -390,7 +470,37 @@ class Program:
 
 
 def program(segments) -> Program:
-    """A `Program` from (kind, law, span, stroke-or-None) rows; starts and displacements accumulate."""
+    """A `Program` from rows (kind, law, span, stroke): starts and displacements accumulate from cam
+    angle 0 and lift 0.
+
+    Parameters
+    ----------
+    segments : iterable of tuple
+        (kind, law, span (rad), stroke (m)) rows: a rise adds its stroke, a return takes it off,
+        a dwell keeps the lift (its stroke None).
+
+    Returns
+    -------
+    Program
+        The program.
+
+    Raises
+    ------
+    ModelError
+        Spans that do not add up to 360°.
+    TypeError
+        A rise or return without a stroke.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.cam import make_law, program
+    >>> cyc, dwell = make_law("cycloidal"), make_law("dwell")
+    >>> p = program([("rise", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None),
+    ...              ("return", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None)])
+    >>> p.stroke, [(s.kind, s.s_start, s.s_end) for s in p.segments][:3], p.continuity()
+    (0.02, [('rise', 0.0, 0.02), ('dwell', 0.02, 0.02), ('return', 0.02, 0.0)], ())
+    """
     out, start, s = [], 0.0, 0.0
     for kind, law, span, stroke in segments:
         end = s + stroke if kind == "rise" else s - stroke if kind == "return" else s

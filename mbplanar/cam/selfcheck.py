@@ -56,19 +56,43 @@ def _perp(v):
 
 
 def self_check(geometry: CamGeometry, program, max_iter: int = 60) -> SelfCheck:
-    """Solve the follower's position on `geometry`'s profile at the midpoints of its samples.
+    """Run the follower on the cam's profile and compare its lift with the program's.
+
+    The follower's position is solved by Newton's method at the midpoints of the samples (where the
+    profile was not built), so the check is independent of the construction.
 
     Parameters
     ----------
     geometry : CamGeometry
-        its angles must include the program's breakpoints (`Program.grid` does).
-    program : laws.Program
-        used for its breakpoints and, after solving, for the comparison only.
-    max_iter : Newton iterations at most.
+        The cam; its angles must include the program's breakpoints (`Program.grid` does).
+    program : Program
+        Used for its breakpoints and, after solving, for the comparison only.
+    max_iter : int
+        Newton iterations at most.
 
     Returns
     -------
     SelfCheck
+        The lifts solved and wanted, the largest `error` (m), `relative` to the stroke, the
+        `interference` and whether Newton `converged`.
+
+    Raises
+    ------
+    ValueError
+        A geometry with fewer than two samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.cam import Follower, cam_geometry, make_law, program, self_check
+    >>> cyc, dwell = make_law("cycloidal"), make_law("dwell")
+    >>> p = program([("rise", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None),
+    ...              ("return", cyc, np.pi / 2, 0.02), ("dwell", dwell, np.pi / 2, None)])
+    >>> phi = p.grid(720)
+    >>> g = cam_geometry(Follower("translating", "knife", base_radius=0.04), phi, *p.evaluate(phi)[:3])
+    >>> check = self_check(g, p)
+    >>> check.converged, bool(check.relative < 1e-8)
+    (True, True)
     """
     f, g = geometry.follower, geometry
     sigma = f.rotation

@@ -211,20 +211,33 @@ class _Table:
 
 
 def read_cam(path) -> CamSpec:
-    """Read a cam file, or a model file with a `[cam]` section.
+    """Read a cam file, or a model file with a `[cam]` section (its linkage then times the cam).
 
     Parameters
     ----------
     path : str or Path
+        The TOML file.
 
     Returns
     -------
     CamSpec
+        The cam's description in the file's units (lengths in `length_unit`, angles in degrees); a
+        `[cam] model` is read too (`linkage`).
 
     Raises
     ------
     ModelError
-        unreadable file, TOML syntax, unknown or mistyped keys (naming the file, table and row).
+        An unreadable file, a TOML syntax error, unknown or mistyped keys (naming the file, table and
+        row), or a linkage model that does not read.
+
+    Examples
+    --------
+    >>> from mbplanar.cam import read_cam
+    >>> spec = read_cam("models/cam_roller.toml")
+    >>> spec.motion, spec.contact, spec.length_unit, spec.base_radius, spec.roller     # m, as SI inside
+    ('translating', 'roller', 'mm', 0.05, 0.01)
+    >>> [(p.kind, p.angle, p.law) for p in spec.phases][:2]
+    [('rise', 120.0, 'cycloidal'), ('dwell', 60.0, 'dwell')]
     """
     path = Path(path)
     try:
@@ -239,7 +252,43 @@ def read_cam(path) -> CamSpec:
 
 
 def parse_cam(data: dict, source: str = "<cam>") -> CamSpec:
-    """A `CamSpec` from a parsed TOML document (a cam file or a model with `[cam]`)."""
+    """A cam's description from a parsed TOML document: a cam file's, or a model's with a `[cam]`.
+
+    Parameters
+    ----------
+    data : dict
+        The document as `tomllib` gives it: a `[cam]` table (follower, contact, sizes, limits,
+        `phases`, optional `events`, `[cam.dynamics]`), and a model's tables when it is a model file.
+    source : str
+        The file's name, for the messages.
+
+    Returns
+    -------
+    CamSpec
+        The description, checked key by key.
+
+    Raises
+    ------
+    ModelError
+        No `[cam]` section, unknown or mistyped keys, a non-positive size, a bad phase row or unit,
+        an expression that does not read (the message names the table and row).
+
+    Examples
+    --------
+    A translating knife-edge, simple-harmonic rise and return over half a turn each:
+
+    >>> from mbplanar.cam import parse_cam
+    >>> cam = {"follower": "translating", "contact": "knife", "base_radius": 0.04,
+    ...        "phases": [{"kind": "rise", "angle": 180.0, "law": "simple_harmonic", "stroke": 0.02},
+    ...                   {"kind": "return", "angle": 180.0, "law": "simple_harmonic"}]}
+    >>> spec = parse_cam({"cam": cam})
+    >>> spec.base_radius, spec.rise_limit, [p.kind for p in spec.phases]        # default limit: 30°
+    (0.04, 30.0, ['rise', 'return'])
+    >>> parse_cam({"cam": {**cam, "folower": "translating"}})
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: <cam>: [cam]: unknown key(s) folower
+    """
     if "cam" not in data:
         raise ModelError(f"{source}: no [cam] section")
     linkage = None

@@ -20,6 +20,7 @@ pairs' tables), the command line's engine cache (`load_engine`) and the design b
     (True, (1, 1))
 """
 
+from .._lazy import lazy_attributes
 from . import _higher_tables as higher_layout
 from ._atlas import FAR_TURNS, LOST_PRECISION, Atlas, far_span, met_along
 from ._backend import BACKENDS, Backend, dispatch, load, planned
@@ -50,16 +51,4 @@ __all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_posit
 _LAZY = {"load_engine": "_cache", "with_dimensions": "_dimensions", "same_structure": "_dimensions"}
 
 
-def __getattr__(name: str):
-    """A public name whose module `import mbplanar.engine` does not load, imported on first access."""
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-    module, _, attribute = _LAZY[name].partition(":")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY)

@@ -5,6 +5,8 @@ efficiency (`friction_kinetostatics`), the shaking force and balancing (`shaking
 under given forces (`simulate_motion`).
 """
 
+from .._lazy import lazy_attributes
+
 #: name → the module that defines it, imported on first use (PEP 562), so that a command reading one
 #: result type (``mbplanar solve`` reaches `Kinetostatics` and `Dynamics` through `mbplanar.io`) does not
 #: load friction, shaking and the simulation
@@ -23,18 +25,7 @@ _HOME = {**dict.fromkeys(["Dynamics", "DynamicsSpec", "FlywheelSpec", "Reduced",
          **dict.fromkeys(["SimulateSpec", "Trajectory", "read_simulate", "simulate_motion", "SIMULATE"], "_simulation")}
 
 
-def __getattr__(name: str):
-    """A public name, imported from its module on first use and kept here."""
-    if name not in _HOME:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-    value = globals()[name] = getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
-
+__getattr__, __dir__ = lazy_attributes(__name__, _HOME)
 
 __all__ = ["Load", "Gravity", "LoadValue", "read_loads", "evaluate_loads", "load_power", "has_force_data",
            "warn_idle_resistances", "heavy_links", "constant_parts", "world_points", "drawn_end", "ELEMENT_TYPES",

@@ -8,28 +8,20 @@ examples.
 - `drawing(engine, phi)`, `export_drawing(engine, phi, path)`: the mechanism at one position as CAD
   geometry on named layers, DXF or SVG (``mbplanar export``);
 - `list_examples()`, `example_text(name)`, `copy_examples(names, directory)`: the bundled models
-  (``mbplanar examples``).
+  (``mbplanar examples``), in the folder `examples_folder()`.
 
 Each name is imported on first use.
 """
 
+from .._lazy import lazy_attributes
+
 __all__ = ["model_schema", "import_model", "import_object", "Imported", "drawing", "export_drawing",
-           "list_examples", "example_text", "copy_examples", "Example"]
+           "list_examples", "example_text", "copy_examples", "Example", "examples_folder"]
 
 _HOME = {"model_schema": "schema", "import_model": "importing", "import_object": "importing",
          "Imported": "importing", "drawing": "sheet", "export_drawing": "sheet",
          "list_examples": "examples", "example_text": "examples", "copy_examples": "examples",
-         "Example": "examples"}
+         "Example": "examples", "examples_folder": "examples"}
 
 
-def __getattr__(name: str):
-    import importlib
-    if name not in _HOME:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_HOME[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _HOME)

@@ -16,17 +16,36 @@ from pathlib import Path
 
 from ..errors import ModelError
 
-__all__ = ["Example", "list_examples", "example", "example_text", "copy_examples"]
+__all__ = ["Example", "list_examples", "example", "example_text", "copy_examples", "examples_folder"]
 
 SUFFIXES = (".toml", ".csv")
 
 
 @dataclass(frozen=True)
 class Example:
-    """One bundled file: `name` (its path under the examples without the suffix, e.g. "fourbar",
-    "synthesis/motion_3poses"), `file` (the path with it), `kind` ("model": a linkage; "cam": a cam file;
-    "variants": a design study's table; "profile": a cam's profile a model reads; "synthesis": a target of ``mbplanar synth``) and `title` (the
-    model's title, else the file's first comment line)."""
+    """One bundled example file.
+
+    Attributes
+    ----------
+    name : str
+        Its path under the examples without the suffix ("fourbar", "synthesis/motion_3poses").
+    file : str
+        The path with the suffix.
+    kind : str
+        "model": a linkage; "cam": a cam file; "variants": a design study's table; "profile": a
+        cam's profile a model reads; "synthesis": a target of ``mbplanar synth``.
+    title : str
+        The model's title, else the file's first comment line.
+
+    `text()` gives the file's text.
+
+    Examples
+    --------
+    >>> from mbplanar.formats import list_examples
+    >>> fourbar = next(e for e in list_examples() if e.name == "fourbar")
+    >>> fourbar.file, fourbar.kind, fourbar.title
+    ('fourbar.toml', 'model', 'Crank-rocker four-bar')
+    """
 
     name: str
     file: str
@@ -35,12 +54,31 @@ class Example:
 
     def text(self) -> str:
         """The file's text."""
-        return _root().joinpath(self.file).read_text(encoding="utf-8")
+        return examples_folder().joinpath(self.file).read_text(encoding="utf-8")
 
 
-def _root():
-    """The examples' folder: the package's `mbplanar.examples` (a wheel's copy, or an editable install's
-    `models/`), else, run from a checkout that is not installed, the repository's `models/`."""
+def examples_folder():
+    """The folder the bundled examples are read from.
+
+    The package's `mbplanar.examples` (a wheel's copy, or an editable install's `models/`), else, run
+    from a checkout that is not installed, the repository's `models/`.
+
+    Returns
+    -------
+    importlib.resources.abc.Traversable or Path
+        The folder (`joinpath`, `iterdir`, `read_text` work on either).
+
+    Raises
+    ------
+    OSError
+        Never here; reading from a broken install fails where a file is read.
+
+    Examples
+    --------
+    >>> from mbplanar.formats import examples_folder
+    >>> examples_folder().joinpath("fourbar.toml").read_text(encoding="utf-8").splitlines()[2]
+    'name = "fourbar"'
+    """
     try:
         return resources.files("mbplanar.examples")
     except ModuleNotFoundError:
@@ -71,16 +109,28 @@ def _describe(file: str, text: str) -> tuple[str, str]:
 
 
 def list_examples() -> tuple[Example, ...]:
-    """Every bundled example, in file order (models first, then the synthesis targets).
+    """Every bundled example (the repository's `models/`, shipped in the package), in file order.
+
+    Returns
+    -------
+    tuple of Example
+        Models first, then the synthesis targets; each with its kind and title.
+
+    Raises
+    ------
+    OSError
+        The examples' folder cannot be read (a broken install).
 
     Examples
     --------
     >>> from mbplanar.formats import list_examples
     >>> [e.name for e in list_examples() if e.kind == "model"][:2]
     ['cam_eccentric', 'cam_follower']
+    >>> sorted({e.kind for e in list_examples()})
+    ['cam', 'model', 'profile', 'synthesis', 'variants']
     """
     out = []
-    for file, entry in _files(_root()):
+    for file, entry in _files(examples_folder()):
         kind, title = _describe(file, entry.read_text(encoding="utf-8"))
         out.append(Example(file.rsplit(".", 1)[0], file, kind, title))
     return tuple(sorted(out, key=lambda e: (e.kind == "synthesis", e.file)))
@@ -97,7 +147,30 @@ def example(name: str) -> Example:
 
 
 def example_text(name: str) -> str:
-    """The text of the bundled example `name`."""
+    """The text of one bundled example.
+
+    Parameters
+    ----------
+    name : str
+        Its name: the path under the examples without the suffix ("fourbar",
+        "synthesis/motion_3poses"), or with it.
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Raises
+    ------
+    ModelError
+        An unknown name (the message gives the closest).
+
+    Examples
+    --------
+    >>> from mbplanar.formats import example_text
+    >>> example_text("fourbar").splitlines()[2]
+    'name = "fourbar"'
+    """
     return example(name).text()
 
 
@@ -125,9 +198,44 @@ def _companions(ex: Example) -> list[Example]:
 
 
 def copy_examples(names=(), directory=".", overwrite: bool = False) -> list[Path]:
-    """Write the examples `names` (every one when empty), with the files they need, into `directory`
-    (made if missing; subfolders kept). An existing file is an error unless `overwrite`; nothing is
-    written then. Returns the paths written."""
+    """Write bundled examples, with the files they need, into a folder (``mbplanar examples``).
+
+    A cam file's model, a study model's variant table and a curve's CSV profile come along;
+    subfolders are kept.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The examples (every one when empty).
+    directory : str or Path
+        Where to write them (made if missing).
+    overwrite : bool
+        Replace existing files.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+
+    Raises
+    ------
+    ModelError
+        An unknown name, or a file that exists already without `overwrite` (nothing is written then).
+    OSError
+        The folder cannot be written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from mbplanar.formats import copy_examples
+    >>> folder = tempfile.mkdtemp()
+    >>> sorted(p.name for p in copy_examples(["shaper_cam"], folder))      # the cam and its linkage
+    ['shaper.toml', 'shaper_cam.toml']
+    >>> copy_examples(["shaper_cam"], folder)                               # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: not overwriting ... (--force to replace)
+    """
     chosen = list(list_examples()) if not names else [example(n) for n in names]
     todo = {}
     for ex in chosen:

@@ -30,8 +30,31 @@ FORMATS = {
 
 @dataclass(frozen=True)
 class Imported:
-    """An imported model: `table` (the TOML document as a dict), `text` (its TOML text), `notes` (what
-    could not be carried over, what was guessed), `format` and `source` (where it came from)."""
+    """A model imported from a peer's file or object.
+
+    Attributes
+    ----------
+    table : dict
+        The model's TOML document as a dict (what `mbplanar.parse_model` reads).
+    text : str
+        Its TOML text, headed by comments on where it came from and what was guessed.
+    notes : tuple of str
+        What could not be carried over, and what was guessed.
+    format : str
+        The format read ("pyslvs", "pmks-csv", "pylinkage", ...).
+    source : str
+        Where it came from.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.formats import import_model
+    >>> imp = import_model("tests/data/peers/fourbar.pyslvs")
+    >>> imp.text.splitlines()[0]
+    '# Imported from fourbar.pyslvs (a Pyslvs project) by mbplanar import.'
+    >>> sorted(mbplanar.parse_model(imp.table, "fourbar.toml").joints)
+    ['P0', 'P1', 'P2', 'P4']
+    """
 
     table: dict
     text: str
@@ -94,7 +117,27 @@ def _model_name(path) -> str:
 
 
 def import_model(path, fmt: str | None = None) -> Imported:
-    """The model of the peer's file `path` (its format `fmt`, else detected).
+    """A peer's mechanism file as an mbplanar model: Pyslvs, PMKS+ or pylinkage.
+
+    Parameters
+    ----------
+    path : str or Path
+        A Pyslvs expression (.txt) or project (.pyslvs), a PMKS+ CSV file or link (.csv, .txt), a
+        pylinkage JSON file (.json).
+    fmt : str, optional
+        The format ("pyslvs", "pyslvs-project", "pmks-csv", "pmks-link", "pylinkage", ...); default:
+        detected from the suffix and the text.
+
+    Returns
+    -------
+    Imported
+        The model's table and TOML text, and notes on what could not be carried over.
+
+    Raises
+    ------
+    ModelError
+        An unreadable file, a format that cannot be told or is unknown, a syntax error (naming the
+        line and column), or a mechanism mbplanar refuses (the message says why).
 
     Examples
     --------
@@ -102,6 +145,9 @@ def import_model(path, fmt: str | None = None) -> Imported:
     >>> imp = import_model("tests/data/peers/fourbar.pyslvs")
     >>> imp.table["input"]["joint"], imp.table["length_unit"]
     ('P0', 'mm')
+    >>> imp = import_model("tests/data/peers/slider_crank_pmks.csv")
+    >>> imp.format, imp.notes[0]
+    ('pmks-csv', 'the input speed 10 taken as rad/s (PMKS+ does not say its unit)')
     """
     from ..model import read_text
     path = Path(path)
@@ -112,13 +158,43 @@ def import_model(path, fmt: str | None = None) -> Imported:
 
 
 def import_object(obj, name: str | None = None) -> Imported:
-    """The model of a live pylinkage object (`pylinkage.simulation.Linkage` or `pylinkage.mechanism.Mechanism`)."""
+    """A live pylinkage object as an mbplanar model.
+
+    Parameters
+    ----------
+    obj : pylinkage.simulation.Linkage or pylinkage.mechanism.Mechanism
+        The linkage, as built in Python.
+    name : str, optional
+        The model's name (default: the linkage's).
+
+    Returns
+    -------
+    Imported
+        The model's table and TOML text, and notes.
+
+    Raises
+    ------
+    ModelError
+        An object of another type, a part mbplanar has no counterpart for, or a mechanism it refuses.
+
+    Examples
+    --------
+    With pylinkage installed (``pip install "mbplanar[bench]"``), a `Linkage` built in Python, e.g.
+    ``Linkage([o1, o2, crank, rocker])`` of two `Ground`s, a `Crank` and an `RRRDyad`, comes back as
+    the model whose analysis moves as pylinkage moves it; anything else is refused:
+
+    >>> from mbplanar.formats import import_object
+    >>> import_object(42)
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: <pylinkage int>: not a pylinkage Linkage or Mechanism: int
+    """
     from .pylinkage import read_object
     return _finish(read_object(obj, name), "pylinkage")
 
 
 def _finish(sketch, fmt: str) -> Imported:
-    from ..synthesis._models import table_toml
+    from ..synthesis import table_toml
     from ._sketch import to_table
     table = to_table(sketch)
     notes = tuple(dict.fromkeys(sketch.notes))

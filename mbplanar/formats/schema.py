@@ -36,7 +36,33 @@ def sections() -> dict[str, Section]:
 
 
 def model_schema() -> dict:
-    """The JSON Schema (a dict) of a model file, or of a cam file that names its model."""
+    """The JSON Schema of a model file (or of a cam file that names its model), as ``mbplanar schema``
+    prints it and `model.schema.json` ships it.
+
+    Generated from the keys the readers declare (`mbplanar.model`'s key tables), so an editor can check
+    and complete a model file as it is typed.
+
+    Returns
+    -------
+    dict
+        The schema (draft 2020-12).
+
+    Raises
+    ------
+    ValueError
+        A key declared with a kind the schema has no rule for (a programming error, caught by the
+        tests).
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> import jsonschema
+    >>> from mbplanar.formats import model_schema
+    >>> schema = model_schema()
+    >>> schema["title"], "joints" in schema["properties"]
+    ('mbplanar model table', True)
+    >>> jsonschema.validate(tomllib.load(open("models/fourbar.toml", "rb")), schema)    # no error
+    """
     every = sections()
     defs: dict[str, dict] = {}
 

@@ -55,9 +55,33 @@ def _runs(phi: np.ndarray, step: float) -> list[slice]:
 
 
 def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
-    """The mechanism of `engine` at input values `phi` (SI, one per input) as a `Sheet` in the model's
-    length unit, with the paths of the joints or points `paths` over the main input's sweep (`steps`
-    intervals).
+    """The mechanism at one position as CAD geometry on named layers, in the model's length unit.
+
+    Links as lines and outlines, joints as circles, the ground hatched, labels, and the paths of
+    chosen points over the main input's sweep.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    phi : (n_in,) array_like
+        Input values, SI, one per input.
+    paths : sequence of str
+        Joints or points whose paths are drawn.
+    steps : int
+        Intervals of the sweep for the paths.
+
+    Returns
+    -------
+    Sheet
+        `entities`: (kind, layer, data) rows on the layers LINKS, JOINTS, GROUND, LABELS, PATHS, ...
+
+    Raises
+    ------
+    MotionError
+        A position the model cannot reach on its drawn branch.
+    ModelError
+        A path asked of a name that is neither a joint nor a point.
 
     Examples
     --------
@@ -69,7 +93,7 @@ def drawing(engine, phi, paths=(), steps: int = 360) -> Sheet:
     ['GROUND', 'JOINTS', 'LABELS', 'LINKS', 'PATHS']
     """
     from ..kinematics import analyse
-    from ..viz._scene import build_scene
+    from ..viz import build_scene
     mech = engine.mech
     phi = np.asarray(phi, float).reshape(1, -1)
     motion = analyse(engine, phi, rates=False)
@@ -166,7 +190,43 @@ def _hatch(sheet: Sheet, a, b, r):
 
 
 def export_drawing(engine, phi, path, paths=(), steps: int = 360) -> Sheet:
-    """Write the drawing of `engine` at `phi` (SI) to `path`: DXF (``.dxf``, needs ezdxf) or SVG (``.svg``)."""
+    """Write the mechanism's drawing at one position to a DXF or SVG file (``mbplanar export``).
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    phi : (n_in,) array_like
+        Input values, SI, one per input.
+    path : str or Path
+        A .dxf file (needs ezdxf, the ``cad`` extra) or an .svg file.
+    paths : sequence of str
+        Joints or points whose paths are drawn.
+    steps : int
+        Intervals of the sweep for the paths.
+
+    Returns
+    -------
+    Sheet
+        What was written (see `drawing`).
+
+    Raises
+    ------
+    ModelError
+        Another suffix, ezdxf missing for a DXF, or a path of an unknown name.
+    MotionError
+        A position the model cannot reach.
+
+    Examples
+    --------
+    >>> import os, tempfile, numpy as np, mbplanar
+    >>> from mbplanar.formats import export_drawing
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> path = os.path.join(tempfile.mkdtemp(), "fourbar.svg")
+    >>> _ = export_drawing(engine, np.radians([30.0]), path, paths=["M"])
+    >>> "<svg" in open(path, encoding="utf-8").read()
+    True
+    """
     suffix = str(path).lower().rsplit(".", 1)[-1]
     if suffix not in ("dxf", "svg"):
         raise ModelError(f"the drawing is written as .dxf or .svg, not '{path}'")

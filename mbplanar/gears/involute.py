@@ -41,6 +41,12 @@ def inv(alpha):
     float or numpy.ndarray
         tan α − α, with a relative error of a few 1e-16.
 
+    Raises
+    ------
+    TypeError
+        A value that is not a number; angles outside [0, π/2) are not refused: tan α − α is returned
+        (negative below 0, unbounded towards π/2).
+
     Examples
     --------
     >>> from mbplanar.gears.involute import inv
@@ -75,6 +81,11 @@ def arcinv(value, max_iter: int = 60):
     -------
     float or numpy.ndarray
         α in radians; NaN where `value` is negative or not finite.
+
+    Raises
+    ------
+    TypeError
+        A value that is not a number; a negative or non-finite value gives NaN, not an error.
 
     Examples
     --------

@@ -157,13 +157,38 @@ class PlanetarySearch:
 
 
 def willis(scheme: str, teeth) -> float:
-    """u^H_14: gear 1's speed over the fixed gear's, relative to the carrier (A: u^H_13 = −z₃/z₁).
+    """Willis's ratio u^H_14 of a 2K-H scheme: gear 1's speed over gear 4's, both relative to the carrier.
+
+    u^H_14 = ± z₂·z₄/(z₁·z₃), negative where the two meshes turn the speed once (one external, one
+    internal mesh); for a single-row scheme (A) z₂ = z₃ is the planet and u^H_13 = −z₃/z₁. With gear 4
+    fixed, the carrier drive gives 1 − u^H_14.
+
+    Parameters
+    ----------
+    scheme : {"A", "B", "C", "D"}
+        The scheme (`SCHEMES`).
+    teeth : sequence of int
+        (z₁, z₂, z₄) for a single-row scheme, (z₁, z₂, z₃, z₄) for two rows.
+
+    Returns
+    -------
+    float
+        u^H_14.
+
+    Raises
+    ------
+    KeyError
+        An unknown scheme.
+    IndexError
+        Fewer tooth numbers than the scheme has gears.
 
     Examples
     --------
-    >>> from mbplanar.gears.planetary import willis
-    >>> willis("A", (16, 16, 48)), 1 - willis("A", (16, 16, 48))
+    >>> from mbplanar.gears import willis
+    >>> willis("A", (16, 16, 48)), 1 - willis("A", (16, 16, 48))        # sun to carrier: 1 + z3/z1
     (-3.0, 4.0)
+    >>> willis("B", (20, 40, 20, 80))                                   # −(40·80)/(20·20)
+    -8.0
     """
     sch = SCHEMES[scheme]
     z = [float(v) for v in teeth]

@@ -22,7 +22,7 @@ _COLOURS = ("#b03a2e", "#2a6fb0", "#7d3c98", "#1e8449", "#b9770e", "#5d6d7e", "#
 
 def _plt():
     """pyplot on the Agg backend; `PlotUnavailable` (exit 2) without matplotlib."""
-    from ..viz._plotting import require_matplotlib
+    from ..viz import require_matplotlib
     return require_matplotlib()
 
 

@@ -14,7 +14,7 @@ def report_section(engine, ctx):
     extras = getattr(engine.mech, "extras", {})
     if "gears" not in extras:
         return None
-    from ..viz._report import html_table
+    from ..viz import html_table
     from . import plots
     from .command import design_pair, pair_text, planetary_text, search_trains
     from .profile import gear_profile
@@ -47,6 +47,5 @@ def report_section(engine, ctx):
 
 def register() -> None:
     """Add the Gears section to `mbplanar report` (after the cam's, else after the flywheel)."""
-    from ..viz import register_section
-    from ..viz._report import SECTIONS
+    from ..viz import SECTIONS, register_section
     register_section("gears", "Gears", report_section, after="cam" if "cam" in SECTIONS else "flywheel")

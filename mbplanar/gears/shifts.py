@@ -161,10 +161,13 @@ def block_contour(module: float, teeth, *, internal: bool = False, rack: Rack | 
     module : float
         m, metres.
     teeth : (int, int)
+        z₁, z₂ (for an internal pair, z₂ is the ring's).
     internal : bool
+        An internal pair (pinion and ring).
     rack : Rack, optional
+        The basic rack (default: the standard 20° rack).
     min_tip, min_contact : float
-        the limits of the pointed-tip and contact-ratio checks.
+        the limits of the pointed-tip (tip thickness / m) and contact-ratio checks.
     box : ((x1_lo, x1_hi), (x2_lo, x2_hi)), optional
         the grid's extent (default: from below each gear's undercut limit to past its pointed tip).
     grid : int
@@ -177,6 +180,14 @@ def block_contour(module: float, teeth, *, internal: bool = False, rack: Rack | 
     Returns
     -------
     BlockContour
+        The grid, each check's margin on it, and where every check passes (`admissible`).
+
+    Raises
+    ------
+    ModelError
+        A module that is not positive, or a tooth number that is not a whole number ≥ 1.
+    TypeError, ValueError
+        `teeth` not a pair, or a `box` that is not two (low, high) ranges.
 
     Examples
     --------

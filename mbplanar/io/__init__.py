@@ -3,6 +3,7 @@ in the model's units, shared by the command line, the report and `to_frame()`; C
 `Layer`s, written by `write_dxf` and `write_svg`), shared by the cam's profile, the gears and the
 linkage's drawing."""
 
+from .._lazy import lazy_attributes
 from ._documents import balance_document, simulate_document, simulate_table
 from ._export import (document, dynamics_document, engine_for, forces_document, info_document, partials_document,
                       plain, solve_document, table, write_csv)
@@ -10,21 +11,8 @@ from ._tables import dynamics_table, forces_columns, forces_table, sweep_table
 
 #: the CAD names, imported from `_cad` on first use (PEP 562): a command that writes no drawing does not
 #: load it
-_CAD = ("Layer", "Sheet", "require_ezdxf", "write_dxf", "write_svg")
-
-
-def __getattr__(name: str):
-    """A CAD name, imported from `_cad` on first use and kept here."""
-    if name not in _CAD:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    from . import _cad
-    value = globals()[name] = getattr(_cad, name)
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
-
+__getattr__, __dir__ = lazy_attributes(__name__, dict.fromkeys(("Layer", "Sheet", "require_ezdxf", "write_dxf",
+                                                                   "write_svg"), "_cad"))
 
 __all__ = ["document", "table", "engine_for", "plain", "write_csv", "info_document", "solve_document",
            "partials_document",

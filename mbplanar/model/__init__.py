@@ -12,6 +12,7 @@ the one scale rule (`warn_scale`, `out_of_scale`), the higher pairs' curves (`Sh
     (['A', 'B', 'C', 'O'], 'm')
 """
 
+from .._lazy import lazy_attributes
 from ._assembly import assemble, reference_points, translated
 from ._curves import Circle, Offset, Shape, Spline
 from ._drawn import PairGeometry, drawn_pairs, mechanism_size, replacement
@@ -39,16 +40,4 @@ __all__ = ["Link", "Joint", "HigherPair", "Curve", "Point", "Input", "Mechanism"
 _LAZY = {"Parameter": "_parameters", "Template": "_parameters", "higher_rows": "_parameters", "view": "_views"}
 
 
-def __getattr__(name: str):
-    """A public name whose module `import mbplanar.model` does not load, imported on first access."""
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-    module, _, attribute = _LAZY[name].partition(":")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), attribute or name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY)

@@ -43,8 +43,34 @@ CHUNK = 25_000  # (design, position) pairs corrected at once
 
 @dataclass(frozen=True)
 class DesignLimit:
-    """A motion limit of design `design`: input value φ (SI), direction (+1 up, −1 down), the block's
-    links and joints, its kind (as `Engine` words it) and, when located, the configuration there."""
+    """A motion limit met by one design of a batch.
+
+    Attributes
+    ----------
+    design : int
+        The design's index in the batch.
+    phi : float
+        The input value there, SI.
+    direction : int
+        +1: met going up, −1: going down.
+    links, joints : tuple of str
+        The block's links and joints that lock.
+    kind : str
+        The limit, as `Engine` words it ("stretched at B (A, B, C in line)", ...).
+    limit : Limit or None
+        The configuration there, when located exactly.
+
+    Examples
+    --------
+    A coupler of 0.12 m locks the crank of models/fourbar_design.toml at ±100.503°:
+
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch
+    >>> batch = design_batch("models/fourbar_design.toml", {"b": np.array([0.3, 0.12])})
+    >>> motion = batch.solve(np.radians(np.arange(0.0, 360.0, 30.0)))
+    >>> [(lim.design, round(float(np.degrees(lim.phi)), 3), lim.direction) for lim in motion.limits]
+    [(1, 100.503, 1)]
+    """
 
     design: int
     phi: float
@@ -59,11 +85,43 @@ class DesignLimit:
 class DesignMotion:
     """Kinematics of D designs at N input values each (batch first: design, then position).
 
-    phi (D, N) SI; valid (D, N): solved on the drawn branch; ok (D,): the design could be analysed,
-    else reasons[d] says why. Links (`links` order, default engine.links): angle, wq (D, N, L) (rad, rad/rad);
-    eq (D, N, L) or None (``accelerations=False``).
-    Points (`points` order): xy, vq, aq (D, N, P, 2) (m, m/rad, m/rad²; aq None without accelerations).
-    limits: [DesignLimit] met inside the requested range, per design in `limits_of(d)`.
+    Attributes
+    ----------
+    phi : (D, N) ndarray
+        Input values, SI.
+    valid : (D, N) ndarray of bool
+        The positions solved on each design's drawn branch.
+    ok : (D,) ndarray of bool
+        The designs that could be analysed.
+    reasons : list
+        Why a design could not be (None where it could).
+    links : list of str
+        The links' order in `angle`, `wq`, `eq`; `link(name)` gives an index.
+    points : list of str
+        The joints' and points' order in `xy`, `vq`, `aq`; `point(name)` gives an index.
+    angle, wq : (D, N, L) ndarray
+        Link angles (rad) and their velocity analogues (rad/rad).
+    eq : (D, N, L) ndarray or None
+        Acceleration analogues (rad/rad²); None with ``accelerations=False``.
+    xy, vq : (D, N, P, 2) ndarray
+        Positions (m) and velocity analogues (m/rad).
+    aq : (D, N, P, 2) ndarray or None
+        Acceleration analogues (m/rad²).
+    limits : list of DesignLimit
+        Motion limits met inside the range asked for (`limits_of(d)` gives a design's).
+    th : ndarray or None
+        The higher pairs' contact parameters, where the model has higher pairs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch
+    >>> batch = design_batch("models/fourbar_design.toml", {"b": np.array([0.3, 0.35])})
+    >>> motion = batch.solve(np.radians([0.0, 90.0, 180.0]))
+    >>> motion.xy.shape, bool(motion.valid.all()), motion.points
+    ((2, 3, 5, 2), True, ['O', 'A', 'B', 'C', 'M'])
+    >>> motion.xy[0, 1, motion.point("A")].round(12).tolist()          # the crank's end at 90°
+    [0.0, 0.1]
     """
 
     phi: np.ndarray
@@ -113,7 +171,10 @@ class _Nodes:
 
 
 class DesignBatch:
-    """D designs of one model, ready to solve: a reference engine and the designs' constants.
+    """D designs of one model, ready to solve together: a reference engine and the designs' constants.
+
+    `solve(phi)` gives every design's kinematics at input values `phi` (SI), batch first
+    (`DesignMotion`); `engine_of(d)` a design's own `Engine`; `count` is D.
 
     Parameters
     ----------
@@ -124,6 +185,20 @@ class DesignBatch:
     template, variants : Template, Variants, optional
         The model and the designs' values: a model with higher pairs solves each design from its own
         table (`model_of`).
+
+    Raises
+    ------
+    ValueError
+        From `solve`: `phi` with another number of rows than designs, values that are not finite,
+        unknown points or links.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch
+    >>> batch = design_batch("models/fourbar_design.toml", {"b": np.array([0.3, 0.35])})
+    >>> batch.count, batch.engine_of(1).mech.joints["B"].at == batch.engine_of(0).mech.joints["B"].at
+    (2, False)
     """
 
     def __init__(self, engine, geometry: DesignGeometry, template=None, variants=None):
@@ -756,7 +831,7 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
     Parameters
     ----------
     model : str, Path, dict or Template
-        The model (see `mbplanar.model._parameters`).
+        The model (see `load_template`).
     variants : Variants, dict or str
         The designs: a `Variants`, a dict of parameter arrays (D,) each, or a CSV variant table's path.
     engine : Engine, optional
@@ -767,6 +842,24 @@ def design_batch(model, variants, engine=None, backend: str = "numpy") -> Design
     Returns
     -------
     DesignBatch
+        The designs, ready to `solve`.
+
+    Raises
+    ------
+    ValueError
+        A model with more than one input.
+    ModelError
+        A model or variant table that cannot be read, or values the parameters refuse (see
+        `variants_from`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch
+    >>> batch = design_batch("models/fourbar_design.toml", {"b": np.array([0.3, 0.12])})
+    >>> motion = batch.solve(np.radians(np.arange(0.0, 360.0, 30.0)))
+    >>> motion.valid.sum(axis=1).tolist()              # the short coupler reaches 4 of the 12 positions
+    [12, 4]
     """
     from ..engine import Engine
     from .geometry import design_geometry

@@ -31,9 +31,32 @@ class DesignForces:
     """Reactions and balancing loads of D designs × N positions (NaN where a position is not valid or
     singular).
 
-    joints: names; reactions (D, N, J, 2): force on the reported link (as `Kinetostatics` reports it,
-    `forces.reported_on`), N; balancing (D, N): the balancing moment (N·m, or force N)
-    on the input link; singular (D, N)."""
+    Attributes
+    ----------
+    joints : list of str
+        The joints' order.
+    reactions : (D, N, J, 2) ndarray
+        The force in each joint on the link `Kinetostatics` reports it on (`forces.reported_on`), N.
+    balancing : (D, N) ndarray
+        The balancing moment (N·m) or force (N) on the input link.
+    singular : (D, N) ndarray of bool
+        Positions where the equilibrium is singular.
+
+    Examples
+    --------
+    A 2 kg coupler on models/fourbar_design.toml; the design with a 0.12 m coupler cannot reach 180°:
+
+    >>> import tomllib, numpy as np
+    >>> from mbplanar.study import design_batch, design_kinetostatics, load_template, variants_from
+    >>> table = tomllib.load(open("models/fourbar_design.toml", "rb"))
+    >>> table["links"][1].update(mass=2.0, inertia=0.015, centre="M")
+    >>> template = load_template(table)
+    >>> variants = variants_from(template, {"b": np.array([0.3, 0.12])})
+    >>> batch = design_batch(template, variants)
+    >>> forces = design_kinetostatics(batch, batch.solve(np.radians([30.0, 180.0])), template, variants)
+    >>> forces.joints, np.isnan(forces.balancing).tolist()
+    (['O', 'A', 'B', 'C'], [[False, False], [False, True]])
+    """
 
     joints: list
     reactions: np.ndarray
@@ -95,8 +118,7 @@ def _scale(engine, plan, size):
 
 
 def design_kinetostatics(batch, motion, template, variants) -> DesignForces | None:
-    """Reactions and balancing loads of the designs of `batch` at the positions of `motion` (a
-    `DesignMotion` of every point, with accelerations), all (design, position) pairs in one solve.
+    """Reactions and balancing loads of every design of a batch at every position, in one solve.
 
     Parameters
     ----------
@@ -109,8 +131,33 @@ def design_kinetostatics(batch, motion, template, variants) -> DesignForces | No
 
     Returns
     -------
-    DesignForces, or None where the model has loads this module does not evaluate (see the module
-    docstring).
+    DesignForces or None
+        None where the model has loads this module does not evaluate (guide forces, springs,
+        dampers, switched rows, loads at coordinates, higher pairs: see the module docstring), or
+        `motion` lacks points or accelerations; the caller then solves each design's own kinetostatics.
+
+    Raises
+    ------
+    IndexError
+        A `motion` not solved by `batch` (another number of designs).
+
+    Examples
+    --------
+    models/fourbar_design.toml with a 2 kg coupler: the batch's balancing moments are each design's own
+    `mbplanar.kinetostatics`:
+
+    >>> import tomllib, numpy as np, mbplanar
+    >>> from mbplanar.study import design_batch, design_kinetostatics, load_template, variants_from
+    >>> table = tomllib.load(open("models/fourbar_design.toml", "rb"))
+    >>> table["links"][1].update(mass=2.0, inertia=0.015, centre="M")
+    >>> template = load_template(table)
+    >>> variants = variants_from(template, {"b": np.array([0.3, 0.35])})
+    >>> batch = design_batch(template, variants)
+    >>> phi = np.radians([30.0, 120.0])
+    >>> forces = design_kinetostatics(batch, batch.solve(phi), template, variants)
+    >>> own = mbplanar.kinetostatics(batch.engine_of(1), mbplanar.analyse(batch.engine_of(1), phi))
+    >>> forces.reactions.shape, bool(np.allclose(forces.balancing[1], own.balancing["O"], rtol=1e-9, atol=0))
+    ((2, 2, 4, 2), True)
     """
     engine = batch.engine
     mech = engine.mech

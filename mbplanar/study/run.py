@@ -27,9 +27,33 @@ FULL_TURN = 2 * np.pi
 
 @dataclass(frozen=True)
 class Study:
-    """The summaries of a study's designs (in table order) and what they were computed for: the model's
-    name and source, its input's name and unit, the parameters' names, the designs' `DesignSummary`s and
-    how many there are (`counts`: designs, assembled, full_turn, locking)."""
+    r"""The summaries of a study's designs, in table order, and what they were computed for.
+
+    Attributes
+    ----------
+    model, source : str
+        The model's name and file.
+    input, unit : str
+        The input's name and unit.
+    parameters : tuple of str
+        The parameters' names.
+    designs : list of DesignSummary
+        One per design.
+    counts : dict
+        {"designs", "assembled", "full_turn", "locking"}: how many.
+    units : Units
+        The model's units (the summaries' lengths and angles are in them).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from mbplanar.study import run_study
+    >>> path = os.path.join(tempfile.mkdtemp(), "couplers.csv")
+    >>> _ = open(path, "w").write("variant,b\nlong,0.35\nshort,0.12\n")
+    >>> study = run_study("models/fourbar_design.toml", path, samples=12)
+    >>> study.parameters[:3], study.counts
+    (('a', 'b', 'd'), {'designs': 2, 'assembled': 2, 'full_turn': 1, 'locking': 1})
+    """
 
     model: str
     source: str
@@ -49,7 +73,34 @@ def _counts(designs: list) -> dict:
 
 
 def load_template(model) -> Template:
-    """A `Template` from a model file path, TOML text or a parsed dict (or a Template as it is)."""
+    """The `Template` (a model with parameters) of a model file, a parsed table, or a Template as it is.
+
+    Parameters
+    ----------
+    model : str, Path, dict or Template
+        A model file's path, the table as `tomllib` gives it, or a `Template`.
+
+    Returns
+    -------
+    Template
+        The model's table with its parameters; `Template.bind(values)` gives a model's table for
+        other parameter values.
+
+    Raises
+    ------
+    ModelError
+        A file that cannot be read or is not TOML (the message names it).
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.study import load_template
+    >>> template = load_template("models/fourbar_design.toml")
+    >>> list(template.parameters)
+    ['a', 'b', 'd', 'theta0', 'beta', 'm', 'h']
+    >>> load_template(tomllib.load(open("models/fourbar_design.toml", "rb"))).parameters["b"].value
+    0.3
+    """
     if isinstance(model, Template):
         return model
     if isinstance(model, dict):
@@ -147,7 +198,8 @@ def _chunks(count: int, size: int) -> list[slice]:
 
 def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None, client=None,
               chunk: int = CHUNK, progress=None, method: str = "batch") -> Study:
-    """Summarise every design of a variant table.
+    """Summarise every design of a variant table: assembly, full turn or limits, extremes, transmission
+    angle, and with loads the reactions.
 
     Parameters
     ----------
@@ -174,6 +226,26 @@ def run_study(model, variants, *, points=(), samples: int = SAMPLES, forces=None
     Returns
     -------
     Study
+        One `DesignSummary` per design, in table order, and the counts.
+
+    Raises
+    ------
+    ValueError
+        `chunk` below 1 or an unknown `method`.
+    ModelError
+        A model with more than one input, a point it does not have, or a model or table that cannot
+        be read.
+    Interrupted
+        Ctrl-C (the message says how many designs were done).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import load_template, run_study, variants_from
+    >>> template = load_template("models/fourbar_design.toml")
+    >>> study = run_study(template, variants_from(template, {"b": np.array([0.3, 0.12])}), samples=12)
+    >>> [(d.name, d.full_turn) for d in study.designs], study.counts["locking"]
+    ([('1', True), ('2', False)], 1)
     """
     template = load_template(model)
     if not isinstance(variants, Variants):
@@ -227,8 +299,8 @@ def solve_chunk(data: dict, source: str, variants: Variants, phi, exact_limits: 
 def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: bool = True, client=None,
                   chunk: int = 2000, progress=None, backend: str = "numpy", points=None,
                   accelerations: bool = True, links=None):
-    """The kinematics of every design of a variant table at input values `phi` (SI): a design batch,
-    here or, with `client`, one Dask task per chunk of designs.
+    """The kinematics of every design of a variant table at input values `phi` (SI): a design batch, here
+    or, with `client`, one Dask task per chunk of designs.
 
     Parameters
     ----------
@@ -255,6 +327,26 @@ def solve_designs(model, variants, phi, *, exact_limits: bool = True, fallback: 
     -------
     DesignMotion
         The chunks joined in table order (limits renumbered to the table's designs).
+
+    Raises
+    ------
+    ValueError
+        `chunk` below 1, or `phi` the batch refuses (see `DesignBatch`).
+    ModelError
+        A model or variant table that cannot be read.
+
+    Examples
+    --------
+    The same as one design batch, cut into chunks of one design:
+
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch, solve_designs
+    >>> b = {"b": np.array([0.3, 0.35, 0.12])}
+    >>> phi = np.radians([0.0, 90.0, 180.0])
+    >>> chunked = solve_designs("models/fourbar_design.toml", b, phi, chunk=1)
+    >>> whole = design_batch("models/fourbar_design.toml", b).solve(phi)
+    >>> bool(np.array_equal(chunked.valid, whole.valid)), bool(np.allclose(chunked.xy, whole.xy, equal_nan=True))
+    (True, True)
     """
     from .variants import variants_from
 
@@ -293,7 +385,36 @@ def _solve_task(data, source, task, exact_limits, fallback, backend="numpy", poi
 
 
 def join_motions(parts: list, offsets: list):
-    """One `DesignMotion` of chunks of designs, in order (`offsets`: each chunk's first design)."""
+    """One `DesignMotion` of chunks of designs, in order, limits renumbered to the joined designs.
+
+    Parameters
+    ----------
+    parts : list of DesignMotion
+        The chunks' motions (the same positions count, points and links).
+    offsets : list of int
+        Each chunk's first design in the joined table.
+
+    Returns
+    -------
+    DesignMotion
+        The designs of every chunk, in order.
+
+    Raises
+    ------
+    ValueError
+        Chunks whose arrays do not stack (numpy's error).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import design_batch, join_motions
+    >>> phi = np.radians(np.arange(0.0, 360.0, 30.0))
+    >>> one = design_batch("models/fourbar_design.toml", {"b": np.array([0.3])}).solve(phi)
+    >>> two = design_batch("models/fourbar_design.toml", {"b": np.array([0.12])}).solve(phi)
+    >>> joined = join_motions([one, two], [0, 1])
+    >>> joined.phi.shape, [lim.design for lim in joined.limits]
+    ((2, 12), [1])
+    """
     from dataclasses import replace
 
     first = parts[0]

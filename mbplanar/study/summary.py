@@ -70,21 +70,44 @@ class SummaryExtreme:
 
 @dataclass(frozen=True, eq=False)
 class DesignSummary:
-    """The numbers one design is judged by (see the module docstring).
+    """The numbers one design is judged by in a study.
 
     Attributes
     ----------
-    name, parameters : the variant's name and its parameter values (each in its parameter's unit).
-    assembles : the drawn pose closes and is not singular; `reason` says why not.
-    full_turn : the input turns a whole revolution without a motion limit (None: not assembled).
-    range : (lo, hi) input values (model unit) the input moves through from the drawn pose.
-    limits : [SummaryLimit]: motion limits.
-    change_points : [SummaryChangePoint]: branch crossings passed.
-    extremes : [SummaryExtreme]: link angles (rad) and slider displacements (m), at input values (model
+    name, parameters : str, dict
+        The variant's name and its parameter values (each in its parameter's unit).
+    assembles : bool
+        The drawn pose closes and is not singular; `reason` says why not.
+    reason : str or None
+        Why the design does not assemble.
+    full_turn : bool or None
+        The input turns a whole revolution without a motion limit (None: not assembled).
+    range : (2,) tuple or None
+        The input values (model unit) the input moves through from the drawn pose.
+    limits : list of SummaryLimit
+        Motion limits.
+    change_points : list of SummaryChangePoint
+        Branch crossings passed.
+    extremes : list of SummaryExtreme
+        Link angles (rad) and slider displacements (m) at their extremes, at input values (model
         unit), strokes and quick-return ratios.
-    transmission_min_deg, transmission_at, transmission_pair : the smallest transmission angle, where.
-    samples_phi : (S,) input values of the samples (model unit); samples : {point: (S, 2) m}.
-    max_reaction (N), max_reaction_joint, mean_balancing (N·m or N): with loads or masses only.
+    transmission_min_deg, transmission_at, transmission_pair : float, float, str
+        The smallest transmission angle (degrees), where, and at which pair.
+    samples_phi : (S,) ndarray or None
+        Input values of the samples (model unit).
+    samples : dict
+        {point: (S, 2) ndarray} of the sampled points, m.
+    max_reaction, max_reaction_joint, mean_balancing : float, str, float
+        The largest reaction (N) and its joint, the mean balancing moment (N·m) or force (N): with
+        loads or masses only.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.study import summarise
+    >>> s = summarise(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), samples=12)
+    >>> s.assembles, s.full_turn, s.limits, round(s.transmission_min_deg, 2)
+    (True, True, [], 41.41)
     """
 
     name: str
@@ -172,7 +195,7 @@ def _forces(engine, motion) -> tuple:
 
 def summarise(engine, name: str = "", parameters: dict | None = None, points=(), samples: int = SAMPLES,
               forces: bool | None = None) -> DesignSummary:
-    """The summary of the design `engine` was compiled for (see the module docstring).
+    """The summary of one design: assembly, full turn or limits, extremes, transmission angle, forces.
 
     Parameters
     ----------
@@ -190,6 +213,25 @@ def summarise(engine, name: str = "", parameters: dict | None = None, points=(),
     Returns
     -------
     DesignSummary
+        The design's numbers (a design that does not assemble gets `assembles` False and its reason).
+
+    Raises
+    ------
+    ModelError
+        A model with more than one input.
+
+    Examples
+    --------
+    The rocker of models/fourbar.toml (OA 0.1, AB 0.3, BC 0.25, OC 0.3 m) swings between the dead
+    centres OB = 0.4 and 0.2 m: arccos(−0.05) − arccos(0.75) = 0.898083 rad, with the crank 197.146°
+    apart going one way and 162.854° the other:
+
+    >>> import mbplanar
+    >>> from mbplanar.study import summarise
+    >>> s = summarise(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), samples=12, points=["M"])
+    >>> rocker = next(e for e in s.extremes if e.name == "3")
+    >>> rocker.turns, round(rocker.stroke, 6), round(rocker.quick_return, 5), s.samples["M"].shape
+    (False, 0.898083, 1.21057, (12, 2))
     """
     if len(engine.inputs) != 1:
         raise ModelError(f"{engine.mech.source}: a design study drives one input; this model has "

@@ -34,8 +34,24 @@ NAME_COLUMNS = ("variant", "name")
 
 @dataclass(frozen=True)
 class Variants:
-    """D designs: their names (D,) and the value of every parameter the table sets, arrays (D,) each
-    (in the parameter's own unit)."""
+    """D designs of one model: their names and the parameter values a variant table sets.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The designs' names (D,).
+    values : dict
+        {parameter: (D,) ndarray}, each in its parameter's own unit; parameters left out keep the
+        model's declared values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import load_template, variants_from
+    >>> v = variants_from(load_template("models/fourbar_design.toml"), {"b": np.array([0.3, 0.35])})
+    >>> v.names, v.values["b"].tolist(), len(v)
+    (('1', '2'), [0.3, 0.35], 2)
+    """
 
     names: tuple[str, ...]
     values: dict[str, np.ndarray]
@@ -55,9 +71,47 @@ class Variants:
 
 def variants_from(template: Template, values: dict, names=None, source: str = "<variants>", check: bool = True,
                   labels=None) -> Variants:
-    """Variants from arrays of parameter values (each (D,)), checked against the template: with `check`,
-    a negative length is an error and values far off the declared ones warn (`check_values`); `labels`
-    names each design in those messages (default "design k")."""
+    """Variants from arrays of parameter values, checked against the model's parameters.
+
+    Parameters
+    ----------
+    template : Template
+        The model with its `[parameters]`.
+    values : dict
+        {parameter: (D,) array_like} in the parameters' units.
+    names : sequence of str, optional
+        The designs' names (default "1" … "D").
+    source : str
+        Where the values come from, for the messages.
+    check : bool
+        A negative length is an error and values far off the declared ones warn (`ModelWarning`:
+        100 times or more, 1/100 or less, angles in radians beyond a turn).
+    labels : sequence of str, optional
+        What names each design in those messages (default "design k").
+
+    Returns
+    -------
+    Variants
+        The designs.
+
+    Raises
+    ------
+    ModelError
+        A name that is no parameter of the model (with the closest), arrays of different lengths, a
+        value that is not finite, as many names as designs missing, or (with `check`) a negative length.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.study import load_template, variants_from
+    >>> template = load_template("models/fourbar_design.toml")
+    >>> variants_from(template, {"b": np.array([0.3, 0.12])}, names=["long", "short"]).names
+    ('long', 'short')
+    >>> variants_from(template, {"b": np.array([0.3, -0.1])})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: <variants>: design 2: column 'b': -0.1 m is a length (...) and must not be negative
+    """
     arrays = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in values.items()}
     unknown = sorted(set(arrays) - set(template.parameters))
     if unknown:
@@ -141,7 +195,40 @@ def _header(path, head: str, template: Template) -> tuple[str, float]:
 
 
 def read_variants(path, template: Template) -> Variants:
-    """Read a CSV variant table for `template` (see the module docstring)."""
+    r"""Read a CSV variant table for a model: one design per row, one column per parameter.
+
+    An optional first column `variant` (or `name`) names the rows; lines starting with `#` are
+    comments; a header may give a column's unit in brackets (``l2[mm]``, ``phi20[deg]``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file.
+    template : Template
+        The model with its `[parameters]`.
+
+    Returns
+    -------
+    Variants
+        The designs, in the parameters' own units.
+
+    Raises
+    ------
+    ModelError
+        A file that cannot be read, an empty table or one without rows, a column twice, a column
+        naming no parameter or a unit not for it, a row of another width, a cell that is not a finite
+        number, or a negative length (each message names the file, line and column).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from mbplanar.study import load_template, read_variants
+    >>> path = os.path.join(tempfile.mkdtemp(), "variants.csv")
+    >>> _ = open(path, "w").write("variant,b[mm],beta\nlong,350,30\nshort,250,40\n")
+    >>> v = read_variants(path, load_template("models/fourbar_design.toml"))
+    >>> v.names, v.values["b"].round(12).tolist(), v.values["beta"].tolist()          # b read in metres
+    (('long', 'short'), [0.35, 0.25], [30.0, 40.0])
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")

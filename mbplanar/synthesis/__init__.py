@@ -15,24 +15,30 @@
 * `fourbar_coupler_paths`, `path_errors`: batches of four-bar designs (D, 10) scored at once.
 
 Each result carries the model's TOML text (`toml`), the `Mechanism` read back from it, and errors that
-mbplanar's analysis of that model gives. Nothing below `mbplanar.cli` imports this package.
+mbplanar's analysis of that model gives; `table_toml` writes any model's table as TOML text (the
+importers of `mbplanar.formats` use it). Each name is imported on first use. Nothing below
+`mbplanar.formats` imports this package.
 """
 
-from .batch import fourbar_coupler_paths, path_errors
-from .burmester import (Dyad, MotionResult, SliderDyad, burmester_points, centre_point_curve, slider_points,
-                        synthesise_motion)
-from .defects import Defects, check_defects
-from .freudenstein import (FunctionResult, FunctionTask, freudenstein_coefficients, synthesise_angle_pairs,
-                           synthesise_function)
-from .guiding import SEED001_CHAIN, Candidates, Chain, WalkingTarget, chebyshev_nodes, foot_paths
-from .constraints import PathConstraints
-from .path import PathResult, synthesise_path
-from .path_model import ModelPathResult, synthesise_model_path
-from .seed001 import GuidingResult, synthesise_seed001
+from .._lazy import lazy_attributes
+
+_HOME = {"fourbar_coupler_paths": "batch", "path_errors": "batch", "Dyad": "burmester", "MotionResult": "burmester",
+         "SliderDyad": "burmester", "burmester_points": "burmester", "centre_point_curve": "burmester",
+         "slider_points": "burmester", "synthesise_motion": "burmester", "Defects": "defects",
+         "check_defects": "defects", "FunctionResult": "freudenstein", "FunctionTask": "freudenstein",
+         "freudenstein_coefficients": "freudenstein", "synthesise_angle_pairs": "freudenstein",
+         "synthesise_function": "freudenstein", "SEED001_CHAIN": "guiding", "Candidates": "guiding",
+         "Chain": "guiding", "WalkingTarget": "guiding", "chebyshev_nodes": "guiding", "foot_paths": "guiding",
+         "PathConstraints": "constraints", "PathResult": "path", "synthesise_path": "path",
+         "ModelPathResult": "path_model", "synthesise_model_path": "path_model", "GuidingResult": "seed001",
+         "synthesise_seed001": "seed001", "table_toml": "_models"}
 
 __all__ = ["synthesise_seed001", "GuidingResult", "Chain", "SEED001_CHAIN", "WalkingTarget", "Candidates",
            "chebyshev_nodes", "foot_paths", "synthesise_function", "synthesise_angle_pairs", "FunctionTask",
            "FunctionResult", "freudenstein_coefficients", "synthesise_motion", "MotionResult", "Dyad",
            "centre_point_curve", "burmester_points", "SliderDyad", "slider_points", "check_defects", "Defects",
            "fourbar_coupler_paths", "path_errors", "synthesise_path", "PathResult", "PathConstraints",
-           "synthesise_model_path", "ModelPathResult"]
+           "synthesise_model_path", "ModelPathResult", "table_toml"]
+
+
+__getattr__, __dir__ = lazy_attributes(__name__, _HOME)

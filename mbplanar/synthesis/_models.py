@@ -50,8 +50,40 @@ def model_toml(name: str, title: str, links: list, joints: list, points: list, i
 
 
 def table_toml(data: dict, comment: str = "") -> str:
-    """The TOML text of a model's table as `tomllib` reads it (top-level values, lists of rows as
-    inline tables, one `[section]` per sub-table), e.g. a model with new parameter values."""
+    """The TOML text of a model's table, as `tomllib` reads it back.
+
+    Top-level values first (lists of rows as inline tables, one per line), then one `[section]` per
+    sub-table; floats are written to the last digit (`repr`), so the text reads back to the same
+    numbers: e.g. a model with new parameter values, or a model imported from another format.
+
+    Parameters
+    ----------
+    data : dict
+        The table: {key: value}, values numbers, strings, booleans, lists, dicts of rows or sections.
+    comment : str
+        Text for the comment lines at the top (one "# " line per line).
+
+    Returns
+    -------
+    str
+        The TOML text, ending with a newline.
+
+    Raises
+    ------
+    ValueError
+        A float that is not finite (TOML's inf and nan are not model values).
+
+    Examples
+    --------
+    >>> import tomllib
+    >>> from mbplanar.synthesis import table_toml
+    >>> data = tomllib.load(open("models/fourbar.toml", "rb"))
+    >>> text = table_toml(data, "the four-bar, written back")
+    >>> print(text.splitlines()[0])
+    # the four-bar, written back
+    >>> tomllib.loads(text) == data
+    True
+    """
     lines = [f"# {c}" if c else "#" for c in comment.splitlines()]
     plain = {k: v for k, v in data.items() if not isinstance(v, dict)}
     for key, v in plain.items():

@@ -20,9 +20,41 @@ DESIGN_COLUMNS = ("a0x", "a0y", "b0x", "b0y", "crank", "coupler", "rocker", "u",
 
 
 def fourbar_coupler_paths(designs, phi) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Joints A, B and the coupler point of D designs (D, 10) at P crank angles (rad, direction of
-    A0→A), the same (P,) for every design or one row (D, P) each: three (D, P, 2) arrays, and `ok`
-    (D, P), False where the loop cannot close."""
+    """Joints A, B and the coupler point of D four-bar designs at P crank angles, in closed form.
+
+    Parameters
+    ----------
+    designs : (D, 10) array_like
+        Rows of `DESIGN_COLUMNS`: fixed pivots A0 and B0 (x, y, m), crank, coupler and rocker lengths
+        (m), the coupler point (u along A→B, v to its left, m) and the assembly mode (+1: B to the left
+        of A→B0, -1 to the right).
+    phi : (P,) or (D, P) array_like
+        Crank angles (rad, direction of A0→A): the same for every design, or one row each.
+
+    Returns
+    -------
+    a, b, p : (D, P, 2) ndarray
+        Joints A, B and the coupler point, m (meaningless where `ok` is False).
+    ok : (D, P) ndarray of bool
+        False where the loop cannot close.
+
+    Raises
+    ------
+    ValueError
+        Rows of another width or shapes of `phi` that do not broadcast (numpy's errors); no design
+        check here: a zero-length link gives NaN, reported as not `ok`.
+
+    Examples
+    --------
+    models/fourbar.toml as a design row: its coupler point M at 60°, 100° and 140°:
+
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import fourbar_coupler_paths
+    >>> design = [0.0, 0.0, 0.3, 0.0, 0.1, 0.3, 0.25, 0.15, 0.05, 1]
+    >>> a, b, p, ok = fourbar_coupler_paths([design], np.radians([60, 100, 140]))
+    >>> p[0].round(4).tolist(), bool(ok.all())
+    ([[0.1486, 0.2102], [0.0896, 0.2149], [0.0259, 0.1846]], True)
+    """
     d = np.atleast_2d(np.asarray(designs, float))
     phi = np.asarray(phi, float)
     phi = phi[None, :] if phi.ndim == 1 else phi
@@ -46,8 +78,42 @@ def fourbar_coupler_paths(designs, phi) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def path_errors(paths, ok, targets) -> tuple[np.ndarray, np.ndarray]:
-    """RMS and largest distance (D,) of the target points (T, 2) from the nearest sampled point of
-    each curve (D, P, 2); inf for a curve that does not close at every sample (`ok`)."""
+    """How far target points are from each of D sampled coupler curves: RMS and largest distance.
+
+    Parameters
+    ----------
+    paths : (D, P, 2) ndarray
+        The curves, sampled (as `fourbar_coupler_paths` gives them), m.
+    ok : (D, P) ndarray of bool
+        Where each curve closes.
+    targets : (T, 2) array_like
+        Target points, m.
+
+    Returns
+    -------
+    rms, largest : (D,) ndarray
+        RMS and largest distance of the targets from the nearest sampled point of each curve, m; inf
+        for a curve that does not close at every sample.
+
+    Raises
+    ------
+    ValueError
+        Shapes that do not match (numpy's broadcasting error).
+
+    Examples
+    --------
+    A crank-rocker whose curve passes through the targets, and one with a 0.5 m crank that cannot turn:
+
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import fourbar_coupler_paths, path_errors
+    >>> designs = [[0.0, 0.0, 0.3, 0.0, 0.1, 0.3, 0.25, 0.15, 0.05, 1],
+    ...            [0.0, 0.0, 0.3, 0.0, 0.5, 0.3, 0.25, 0.15, 0.05, 1]]
+    >>> a, b, p, ok = fourbar_coupler_paths(designs, np.linspace(0, 2 * np.pi, 360, endpoint=False))
+    >>> targets = [[0.1486, 0.2102], [0.0896, 0.2149], [0.0259, 0.1846]]
+    >>> rms, largest = path_errors(p, ok, targets)
+    >>> bool(largest[0] < 1e-4), float(largest[1])
+    (True, inf)
+    """
     t = np.asarray(targets, float)
     gap = np.hypot(paths[:, :, None, 0] - t[None, None, :, 0], paths[:, :, None, 1] - t[None, None, :, 1])
     near = np.where(ok[..., None], gap, np.inf).min(axis=1)          # (D, T)

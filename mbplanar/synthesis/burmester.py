@@ -103,9 +103,38 @@ def _size(poses) -> float:
 def centre_point_curve(poses, samples: int = 721) -> dict:
     """Centre-point and circle-point curves of 4 poses, sampled along lines through a pole.
 
-    Returns {"centre": (2, samples, 2), "circle": (2, samples, 2), "alpha": (samples,)}: for each
-    direction α in [0, π) the two further intersections of the line through the pole with the cubic
-    (NaN where they are not real), and the matching circle points at pose 1.
+    The fixed pivots of every RR dyad through 4 poses lie on a cubic, the centre-point curve; each
+    line through the pole P12 at direction α meets it in two further points.
+
+    Parameters
+    ----------
+    poses : (4, 3) array_like
+        x, y (m) and angle (rad) of the coupler in each pose.
+    samples : int
+        Directions α sampled over [0, π).
+
+    Returns
+    -------
+    dict
+        "centre" (2, samples, 2): the two intersections for each α (NaN where they are not real);
+        "circle" (2, samples, 2): the matching circle points at pose 1; "alpha" (samples,): the
+        directions, rad; "pole" (2,): the pole the lines pass through.
+
+    Raises
+    ------
+    ModelError
+        Not exactly 4 poses, poses that are not rows of finite x, y, angle, two equal poses, or pure
+        translations (no finite pole).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import centre_point_curve
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122],
+    ...          [0.0404, 0.1951, 0.5252]]
+    >>> curve = centre_point_curve(poses, samples=181)
+    >>> curve["centre"].shape, int(np.isfinite(curve["centre"][..., 0]).sum())
+    ((2, 181, 2), 362)
     """
     poses = validate_poses(poses)
     if len(poses) != 4:
@@ -148,7 +177,39 @@ def _circle_points(poses, m):
 
 
 def burmester_points(poses, samples: int = 3600) -> list:
-    """The real Burmester points of 5 poses: [(centre (2,), circle point at pose 1 (2,)), ...]."""
+    """The real Burmester points of 5 poses: the dyads whose circle point meets all five.
+
+    They are the common points of the centre-point curves of poses 1234 and 1235, found along lines
+    through a pole and polished by Newton's method.
+
+    Parameters
+    ----------
+    poses : (5, 3) array_like
+        x, y (m) and angle (rad) of the coupler in each pose.
+    samples : int
+        Directions sampled when looking for the common points.
+
+    Returns
+    -------
+    list of tuple
+        [(centre (2,), circle point at pose 1 (2,)), ...], m; 0, 2 or 4 of them.
+
+    Raises
+    ------
+    ModelError
+        Not exactly 5 poses, invalid or equal poses, or pure translations.
+
+    Examples
+    --------
+    Poses of models/fourbar.toml's coupler (rounded to 0.1 mm): its pivots (0, 0) and (0.3, 0) are
+    among the Burmester points, to the rounding:
+
+    >>> from mbplanar.synthesis import burmester_points
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122],
+    ...          [0.0404, 0.1951, 0.5252], [-0.0071, 0.1464, 0.6331]]
+    >>> [(centre.round(2) + 0.0).tolist() for centre, circle in burmester_points(poses)]
+    [[0.71, 0.32], [0.0, 0.0], [0.3, 0.0], [0.75, -1.14]]
+    """
     poses = validate_poses(poses)
     if len(poses) != 5:
         raise ModelError("Burmester points need exactly 5 poses")
@@ -233,7 +294,23 @@ def _residual(poses, x):
 
 @dataclass(frozen=True)
 class Dyad:
-    """An RR dyad: fixed pivot `centre` and moving pivot `circle` (at pose 1), plane coordinates."""
+    """An RR dyad of a motion generator: a fixed pivot and a moving pivot on the coupler.
+
+    Attributes
+    ----------
+    centre : (2,) ndarray
+        The fixed pivot (a centre point), m.
+    circle : (2,) ndarray
+        The moving pivot at pose 1 (a circle point), m.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import synthesise_motion
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122]]
+    >>> crank, rocker = synthesise_motion(poses, centre_points=[[0.0, 0.0], [0.3, 0.0]]).dyads
+    >>> crank.centre.tolist(), crank.circle.round(4).tolist()
+    ([0.0, 0.0], [0.0985, 0.0174])
+    """
 
     centre: np.ndarray
     circle: np.ndarray
@@ -313,8 +390,24 @@ def _nearest_on_curve(poses, hint):
 
 @dataclass(frozen=True)
 class SliderDyad:
-    """An RP dyad: the coupler point `point` (at pose 1) slides on the fixed line through it along the
-    unit vector `direction`."""
+    """An RP dyad of a motion generator: a coupler point sliding on a fixed line.
+
+    Attributes
+    ----------
+    point : (2,) ndarray
+        The coupler point at pose 1, m.
+    direction : (2,) ndarray
+        Unit vector of the fixed line through `point`.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import slider_points, synthesise_motion
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122]]
+    >>> point = slider_points(poses, hint=[0.3, 0.0])[0]
+    >>> crank, slider = synthesise_motion(poses, centre_points=[[0.0, 0.0]], slider_points=[point]).dyads
+    >>> slider.point.round(4).tolist(), slider.direction.round(4).tolist()
+    ([0.3159, 0.0006], [-0.9993, 0.0366])
+    """
 
     point: np.ndarray
     direction: np.ndarray
@@ -341,10 +434,32 @@ def _collinearity_circle(poses3):
 
 
 def slider_points(poses, hint=None) -> list:
-    """Coupler points (plane, pose 1) whose positions in all the poses lie on one line.
+    """Coupler points whose positions in all the poses lie on one line: the sliders' points.
 
-    2 poses: `hint` itself; 3 poses: the point of the circle of such points nearest `hint`; 4 or 5
-    poses: the common points of the circles of poses 123 and 124 (and 125), nearest `hint` first.
+    Parameters
+    ----------
+    poses : (n, 3) array_like
+        x, y (m) and angle (rad) of the coupler, 2 ≤ n ≤ 5.
+    hint : (2,) array_like, optional
+        A point near the one wanted (m, at pose 1). 2 poses: the point itself; 3 poses: the point of
+        the circle of such points nearest it; 4 or 5 poses: orders the few points there are.
+
+    Returns
+    -------
+    list of ndarray
+        The points (2,) at pose 1, m, nearest `hint` first.
+
+    Raises
+    ------
+    ModelError
+        Invalid poses, a missing hint for 2 or 3 poses, or poses with no such point.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import slider_points
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122]]
+    >>> [p.round(4).tolist() for p in slider_points(poses, hint=[0.3, 0.0])]
+    [[0.3159, 0.0006]]
     """
     poses = validate_poses(poses)
     n = len(poses)
@@ -418,10 +533,42 @@ def slider_dyad(poses, z) -> SliderDyad:
 
 @dataclass(frozen=True)
 class MotionResult:
-    """A four-bar through the poses, checked by mbplanar: `pose_errors` (n,) the coupler reference
-    point's distance from each pose, `angle_errors_deg` (n,) the coupler's angle error, both from the
-    analysed model; `defects`; `alternatives` the other dyad pairs tried (with their defects);
-    `burmester` every real Burmester point of 5 poses [(centre, circle point at pose 1), ...]."""
+    """A defect-free motion generator through the poses, checked by mbplanar's analysis of its model.
+
+    Attributes
+    ----------
+    dyads : (Dyad, Dyad or SliderDyad)
+        The crank (first) and the second dyad.
+    toml : str
+        The model's TOML text: crank joint "A0", coupler reference point "P" and "Q" a point on the
+        coupler's x axis.
+    mechanism : Mechanism
+        The model read back from `toml`.
+    poses : (n, 3) ndarray
+        The poses asked for: x, y (m), angle (rad).
+    crank_phi : (n,) ndarray
+        The model's input at each pose, rad.
+    pose_errors : (n,) ndarray
+        The analysed reference point's distance from each pose, m.
+    angle_errors_deg : (n,) ndarray
+        The analysed coupler angle's error at each pose, degrees.
+    defects : Defects
+        mbplanar's check of the design.
+    alternatives : list of dict
+        The dyad pairs tried before this one, with their defects.
+    seconds : float
+        Wall time.
+    burmester : tuple
+        For 5 poses, every real Burmester point [(centre (2,), circle point at pose 1 (2,)), ...].
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import synthesise_motion
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122]]
+    >>> r = synthesise_motion(poses, centre_points=[[0.0, 0.0], [0.3, 0.0]])
+    >>> r.defects.ok, bool(r.pose_errors.max() < 1e-12), r.crank_phi.round(4).tolist()
+    (True, True, [0.1748, 0.872, 1.5701])
+    """
 
     dyads: tuple
     toml: str
@@ -484,28 +631,49 @@ def _pose_errors(engine, poses, phi):
 
 def synthesise_motion(poses, circle_points=None, centre_points=None, slider_points=None,
                       full_turn: bool = False, curve_samples: int = 181) -> MotionResult:
-    """A defect-free four-bar (or crank and slider) through 2–5 coupler poses.
+    """A defect-free four-bar (or crank and slider) through 2–5 coupler poses (Burmester).
 
     Parameters
     ----------
-    poses : (n, 3) array
+    poses : (n, 3) array_like
         x, y (m) and angle (rad) of the coupler in each pose, 2 ≤ n ≤ 5, in the order to be met.
-    circle_points, centre_points : (k, 2) arrays, optional
+    circle_points, centre_points : (k, 2) array_like, optional
         The RR dyads' moving pivots at pose 1 (circle points) or fixed pivots (centre points); k = 2
         for a four-bar, 1 with a slider dyad. 2 poses: circle points plus centre-point hints (projected
         on the bisectors); 3 poses: either; 4 poses: centre-point hints (the nearest points of the
         centre-point curve). Without them, 4 poses try pairs of sampled curve points (best
         transmission first) and 5 poses every pair of real Burmester points.
-    slider_points : (1, 2) array, optional
+    slider_points : (1, 2) array_like, optional
         Ask for a crank and a slider: a coupler point whose positions are in line (a hint for 3 poses,
         the point itself for 2; 4–5 poses find them).
     full_turn : bool
         Require a crank that turns fully.
+    curve_samples : int
+        Directions sampled on the centre-point curve when 4 poses come without hints.
 
     Returns
     -------
     MotionResult
-        The first defect-free design; the crank is the first RR dyad. ModelError when none is found.
+        The first defect-free design; the crank is the first RR dyad.
+
+    Raises
+    ------
+    ModelError
+        Fewer than 2 or more than 5 poses, invalid or equal poses, missing or inconsistent pivots for
+        the number of poses, or no design without a circuit, branch or order defect (the message gives
+        an example of the defects met).
+
+    Examples
+    --------
+    Three poses of a coupler and the two fixed pivots wanted:
+
+    >>> from mbplanar.synthesis import synthesise_motion
+    >>> poses = [[0.1546, 0.1652, 0.886], [0.1579, 0.204, 0.6156], [0.1063, 0.2171, 0.5122]]
+    >>> r = synthesise_motion(poses, centre_points=[[0.0, 0.0], [0.3, 0.0]])
+    >>> [d.circle.round(4).tolist() for d in r.dyads]            # the moving pivots at pose 1
+    [[0.0985, 0.0174], [0.2876, 0.2517]]
+    >>> r.defects.ok, bool(r.pose_errors.max() < 1e-12)
+    (True, True)
     """
     t0 = time.perf_counter()
     poses = validate_poses(poses)

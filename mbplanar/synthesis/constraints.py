@@ -33,14 +33,31 @@ class PathConstraints:
         targets need only lie on one branch between two motion limits.
     min_transmission_deg : float or None
         Smallest transmission angle μ (deviation of the angle between coupler and rocker from 0 and
-        180°) over the travel, degrees.
+        180°) over the travel, degrees, in [0, 90).
     max_ratio : float or None
-        Largest ratio longest / shortest of the links (the ground included).
+        Largest ratio longest / shortest of the links (the ground included), above 1.
     pivots : dict
-        {"A0" or "B0" (or a generic model's ground joint): ((x_min, y_min), (x_max, y_max))} boxes.
+        {"A0" or "B0" (or a generic model's ground joint): ((x_min, y_min), (x_max, y_max))} boxes, m.
     transmission_joints : tuple or None
         (J1, J2, J3) joints of a generic model whose angle at J2 is the transmission angle (the
         four-bar's is at B between A and B0).
+
+    Raises
+    ------
+    ModelError
+        On construction, for a value out of these ranges or a box that is not [[x_min, y_min],
+        [x_max, y_max]] with x_min < x_max and y_min < y_max.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import PathConstraints
+    >>> c = PathConstraints(min_transmission_deg=30.0, max_ratio=10.0, pivots={"A0": ((-1, -1), (0, 0))})
+    >>> c.box("A0")[1].tolist(), c.box("B0")
+    ([0.0, 0.0], None)
+    >>> PathConstraints(max_ratio=0.5)
+    Traceback (most recent call last):
+    ...
+    mbplanar.errors.ModelError: max_ratio (longest / shortest link) must be a number above 1, got 0.5
     """
 
     full_turn: bool = True

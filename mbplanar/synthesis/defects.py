@@ -31,10 +31,36 @@ TWO_PI = 2.0 * math.pi
 
 @dataclass(frozen=True)
 class Defects:
-    """What `check_defects` found. `circuit`: 1-based nodes on another circuit; `unreached`: nodes
-    beyond a motion limit; `branch`: the singular positions met (text); `order`: True for an order
-    defect; `sense`: the input sense (+1 counter-clockwise, −1) used; `full_turn`: whether the input
-    turned fully (None when not asked); `node_phi`: the nodes' input values (rad) in that sense."""
+    """What `check_defects` found in a synthesised design; `ok` is True when it found nothing.
+
+    Attributes
+    ----------
+    circuit : tuple of int
+        1-based nodes where the analysed design is not where the synthesis meant it (another circuit).
+    unreached : tuple of int
+        Nodes beyond a motion limit.
+    branch : tuple of str
+        The singular positions met between the nodes (limits and change points), described.
+    order : bool
+        True for an order defect: no input sense meets the nodes in their order.
+    sense : int
+        The input sense used: +1 (increasing input) or -1.
+    full_turn : bool or None
+        Whether the input turned fully without a singular position; None when not asked.
+    node_phi : tuple of float
+        The nodes' input values (SI) in that sense, as the model's continuation reaches them.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.synthesis import check_defects
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> phi = np.radians([60, 100, 140])
+    >>> m = mbplanar.analyse(engine, phi)
+    >>> d = check_defects(engine, phi[::-1], {"M": m.xy[::-1, m.point("M")]})   # the nodes backwards
+    >>> d.ok, d.sense, d.describe()
+    (True, -1, 'no defect')
+    """
 
     circuit: tuple
     unreached: tuple
@@ -79,27 +105,57 @@ def _in_order(u) -> bool:
 
 def check_defects(engine, phi, intended: dict, *, periodic: bool = True, full_turn: bool = False,
                   travel=None, tol: float = 1e-6, steps: int = 720) -> Defects:
-    """Defects of the design `engine` drawn at node 1.
+    """Circuit, branch and order defects of a synthesised design, by mbplanar's own analysis.
+
+    The design is run by continuation from its first node through the others (in the sense that meets
+    them in order, if one does): a node where a named point is not where the synthesis meant it is a
+    circuit defect; a limit or change point on the way a branch defect.
 
     Parameters
     ----------
     engine : mbplanar.Engine
         The design, drawn in its configuration at the first node.
-    phi : (n,) array
+    phi : (n,) array_like
         The model's input value (SI) at each node, in the nodes' order.
     intended : dict
-        {point or joint name: (n, 2) positions the synthesis meant at each node}.
+        {point or joint name: (n, 2) positions (m) the synthesis meant at each node}.
     periodic : bool
         The input is a crank angle (compared modulo 2π).
     full_turn : bool
         Also require a full turn of the input without a singular position.
-    travel : (2,) array, optional
+    travel : (2,) array_like, optional
         The whole input range (SI, the model's φ) the design must run through without a singular
         position, beyond the nodes (e.g. a function generator's range).
     tol : float
         Largest distance (m) between the analysed and the intended positions at a node.
     steps : int
         Positions of the continuation over the travel.
+
+    Returns
+    -------
+    Defects
+        What was found (`ok` True for none).
+
+    Raises
+    ------
+    KeyError
+        A name of `intended` that is neither a joint nor a point of the model.
+
+    Examples
+    --------
+    The four-bar's own positions are met; one moved by 1 cm is on no circuit of it:
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.synthesis import check_defects
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> phi = np.radians([60, 100, 140])
+    >>> m = mbplanar.analyse(engine, phi)
+    >>> want = m.xy[:, m.point("M")].copy()
+    >>> check_defects(engine, phi, {"M": want}, full_turn=True).ok
+    True
+    >>> want[1] += 0.01
+    >>> check_defects(engine, phi, {"M": want}).circuit
+    (2,)
     """
     phi = np.asarray(phi, float)
     # the engine measures the drawn input within its default sweep: node 1 moved there by whole turns

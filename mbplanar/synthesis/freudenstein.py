@@ -31,8 +31,41 @@ __all__ = ["freudenstein_coefficients", "fourbar_lengths", "FunctionTask", "Func
 
 
 def freudenstein_coefficients(phi, psi) -> tuple[np.ndarray, np.ndarray]:
-    """K = (K1, K2, K3) from angle pairs (rad, (n,) each; exact for n = 3, least squares for more)
-    and the equation's residuals (n,)."""
+    """Freudenstein's coefficients K = (K1, K2, K3) of the four-bar through angle pairs (φ_i, ψ_i).
+
+    K1·cos ψ − K2·cos φ + K3 = cos(φ − ψ) is linear in K: 3 pairs give K exactly, more pairs by least
+    squares (K1 = d/a, K2 = d/c, K3 = (a² − b² + c² + d²)/(2ac), ground on the x axis).
+
+    Parameters
+    ----------
+    phi, psi : (n,) array_like
+        Crank angle φ at O and rocker angle ψ at C of each pair, rad (n ≥ 3).
+
+    Returns
+    -------
+    k : (3,) ndarray
+        K1, K2, K3.
+    residuals : (n,) ndarray
+        The equation's residual at each pair (zero for n = 3).
+
+    Raises
+    ------
+    ModelError
+        Lists of different lengths or not one-dimensional, fewer than 3 pairs, or pairs that do not
+        determine K (repeated or degenerate angles).
+
+    Examples
+    --------
+    The angle pairs of models/fourbar.toml (OA 0.1, AB 0.3, BC 0.25, OC 0.3 m) give back its K:
+
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.synthesis import freudenstein_coefficients
+    >>> m = mbplanar.analyse(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), np.radians([40, 80, 120]))
+    >>> b = m.xy[:, m.point("B")]
+    >>> k, residuals = freudenstein_coefficients(m.phi[:, 0], np.arctan2(b[:, 1], b[:, 0] - 0.3))
+    >>> k.round(9).tolist()                  # d/a, d/c, (a² − b² + c² + d²)/(2ac)
+    [3.0, 1.2, 1.45]
+    """
     phi, psi = np.asarray(phi, float), np.asarray(psi, float)
     if phi.shape != psi.shape or phi.ndim != 1:
         raise ModelError("the input and output angles must be two lists of the same length")
@@ -103,9 +136,36 @@ def evaluate_expression(text: str, x):
 
 @dataclass(frozen=True)
 class FunctionTask:
-    """y = `expression`(x) on [x0, x1], mapped onto the crank's φ0 → φ1 and the rocker's ψ0 → ψ1
-    (degrees): φ = φ0 + (x − x0)/(x1 − x0)·(φ1 − φ0), ψ = ψ0 + (y − y(x0))/(y(x1) − y(x0))·(ψ1 − ψ0);
-    `points` precision points at `spacing` ("chebyshev" or "uniform") over [x0, x1]."""
+    """A function y = f(x) to generate with a four-bar: the crank turns with x, the rocker with y.
+
+    x on [x0, x1] maps linearly onto the crank's φ0 → φ1 and y onto the rocker's ψ0 → ψ1:
+    φ = φ0 + (x − x0)/(x1 − x0)·(φ1 − φ0), ψ = ψ0 + (y − y(x0))/(y(x1) − y(x0))·(ψ1 − ψ0).
+
+    Attributes
+    ----------
+    expression : str
+        The function, a formula in x (numbers, ``+ - * / **``, pi, e and sin, cos, tan, exp, log, log10,
+        log2, sqrt, arcsin, arccos, arctan, sinh, cosh, tanh, abs).
+    x_range : (2,) tuple of float
+        [x0, x1].
+    phi_deg, psi_deg : (2,) tuple of float
+        The crank's and the rocker's ranges, degrees.
+    points : int
+        Precision points (3: exact; more: least squares).
+    spacing : {"chebyshev", "uniform"}
+        Where the precision points lie on [x0, x1].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import FunctionTask
+    >>> task = FunctionTask("1/x", (1.0, 2.0), phi_deg=(30.0, 120.0), psi_deg=(60.0, 150.0))
+    >>> x = task.precision_x()
+    >>> x.round(4).tolist()                                  # Chebyshev points on [1, 2]
+    [1.067, 1.5, 1.933]
+    >>> np.degrees(task.psi_of_y(task.y(x))).round(3).tolist()   # the rocker angles they ask for
+    [71.301, 120.0, 146.881]
+    """
 
     expression: str
     x_range: tuple[float, float]
@@ -144,12 +204,41 @@ class FunctionTask:
 
 @dataclass(frozen=True)
 class FunctionResult:
-    """A defect-free function generator and its errors from mbplanar's analysis of `toml`.
+    """A defect-free function generator and its errors, from mbplanar's analysis of the model `toml`.
 
-    `design`: a, b, c, d (lengths), K1..K3 and the links' directions; `phi`, `psi_target` (n,) the
-    precision points (rad), `point_errors_deg` (n,) achieved − wanted ψ there; `range_phi`,
-    `range_error_deg` (P,) the structural error over the input range (also in the function's units,
-    `range_error_y`, when a function was given)."""
+    Attributes
+    ----------
+    design : dict
+        a, b, c, d (crank, coupler, rocker, ground lengths; d is the `ground` asked for), K (K1, K2,
+        K3), crank_reversed / rocker_reversed (that link points the opposite way to φ or ψ) and sense
+        (+1: φ increases from the first precision point to the last).
+    toml : str
+        The model's TOML text (crank joint "A0", rocker joint "B0").
+    mechanism : Mechanism
+        The model read back from `toml`.
+    phi, psi_target : (n,) ndarray
+        The precision points, rad.
+    point_errors_deg : (n,) ndarray
+        Achieved − wanted ψ at the precision points, degrees (zero to rounding for 3 points).
+    range_phi : (P,) ndarray
+        Crank angles over the input range, rad.
+    range_error_deg : (P,) ndarray
+        The structural error there (achieved − wanted ψ), degrees.
+    range_error_y : (P,) ndarray or None
+        The same in the function's units; None for bare angle pairs.
+    defects : Defects
+        mbplanar's check of the design.
+    seconds : float
+        Wall time.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import FunctionTask, synthesise_function
+    >>> r = synthesise_function(FunctionTask("1/x", (1.0, 2.0), (30.0, 120.0), (60.0, 150.0)), steps=90)
+    >>> r.range_phi.shape, round(float(np.abs(r.range_error_deg).max()), 4)    # largest error, degrees
+    ((91,), 0.1061)
+    """
 
     design: dict
     toml: str
@@ -200,8 +289,43 @@ def _assembled_rocker(a_pos, b0, b, c, wanted) -> np.ndarray:
 
 def synthesise_angle_pairs(phi, psi, ground: float = 1.0, task: FunctionTask | None = None,
                            steps: int = 720) -> FunctionResult:
-    """A four-bar through the angle pairs (φ_i, ψ_i) (rad, in the order the crank meets them), checked
-    for defects and evaluated by mbplanar over [φ_first, φ_last]."""
+    """A four-bar through the angle pairs (φ_i, ψ_i), checked for defects and analysed by mbplanar.
+
+    Parameters
+    ----------
+    phi, psi : (n,) array_like
+        Crank and rocker angles of the precision points, rad, in the order the crank meets them
+        (n ≥ 3; more than 3 by least squares).
+    ground : float
+        Ground length d, m (the synthesis fixes the lengths' ratios only).
+    task : FunctionTask, optional
+        The function the pairs come from: the error is then also reported in its units and over its
+        whole x range.
+    steps : int
+        Intervals of the input range analysed for the structural error.
+
+    Returns
+    -------
+    FunctionResult
+        The design, its model text and the errors from mbplanar's analysis.
+
+    Raises
+    ------
+    ModelError
+        Fewer than 3 pairs or degenerate ones, K giving no four-bar (a link of infinite or imaginary
+        length), a design that cannot be assembled at a precision point, or one with a circuit, branch
+        or order defect or a motion limit inside the range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import synthesise_angle_pairs
+    >>> r = synthesise_angle_pairs(np.radians([30, 75, 120]), np.radians([60, 100, 150]), steps=90)
+    >>> r.defects.ok, round(r.design["a"], 4), round(r.design["b"], 4), round(r.design["c"], 4)
+    (True, 1.6494, 1.7136, 1.6494)
+    >>> bool(np.abs(r.point_errors_deg).max() < 1e-9)        # met exactly
+    True
+    """
     t0 = time.perf_counter()
     phi, psi = np.asarray(phi, float), np.asarray(psi, float)
     k, _ = freudenstein_coefficients(phi, psi)
@@ -246,8 +370,42 @@ def synthesise_angle_pairs(phi, psi, ground: float = 1.0, task: FunctionTask | N
 
 
 def synthesise_function(task: FunctionTask, ground: float = 1.0, steps: int = 720) -> FunctionResult:
-    """The four-bar generating `task`'s function: its precision points exactly (3) or by least squares
-    (more), the structural error over the whole range from mbplanar's analysis."""
+    """The four-bar generating a function: Freudenstein's equation at its precision points, the error over
+    the whole range from mbplanar's analysis.
+
+    Parameters
+    ----------
+    task : FunctionTask
+        The function, its ranges and precision points.
+    ground : float
+        Ground length d, m.
+    steps : int
+        Intervals of the x range analysed for the structural error.
+
+    Returns
+    -------
+    FunctionResult
+        The design; `range_error_y` gives the structural error in the function's units.
+
+    Raises
+    ------
+    ModelError
+        An expression that is not a formula in x or not finite over the range, an empty range, a
+        function equal at both ends, an unknown spacing, or no feasible design (see
+        `synthesise_angle_pairs`).
+
+    Examples
+    --------
+    y = 1/x on [1, 2], the crank over 30° → 120°, the rocker over 60° → 150°:
+
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import FunctionTask, synthesise_function
+    >>> r = synthesise_function(FunctionTask("1/x", (1.0, 2.0), (30.0, 120.0), (60.0, 150.0)), steps=90)
+    >>> [round(r.design[k], 4) for k in "abcd"]                    # lengths for d = 1
+    [2.475, 0.9121, 2.4743, 1.0]
+    >>> round(float(np.abs(r.range_error_y).max()), 5)             # largest error in y
+    0.00059
+    """
     task.validate()
     x = task.precision_x()
     return synthesise_angle_pairs(task.phi(x), task.psi_of_y(task.y(x)), ground, task, steps)

@@ -41,7 +41,25 @@ __all__ = ["Chain", "SEED001_CHAIN", "WalkingTarget", "Candidates", "chebyshev_n
 
 @dataclass(frozen=True)
 class Chain:
-    """The seed's 2-DOF chain: crank length `a`, rod length `b` (B to the foot E), crank pivot A."""
+    """The seed's 2-DOF chain before a guide is added: a crank and a rod carrying the foot.
+
+    Attributes
+    ----------
+    a : float
+        Crank length AB, m.
+    b : float
+        Rod length from B to the foot E, m.
+    pivot : tuple of float
+        The crank's fixed pivot A, (x, y) in m.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import SEED001_CHAIN, Chain
+    >>> SEED001_CHAIN.a, SEED001_CHAIN.b          # the seed's crank and rod, m
+    (0.6234, 2.5628)
+    >>> Chain(0.5, 2.0, (0.0, 0.0)).pivot
+    (0.0, 0.0)
+    """
 
     a: float
     b: float
@@ -54,9 +72,34 @@ SEED001_CHAIN = Chain(0.6234, 2.5628, (-1.00, -0.6668))
 
 @dataclass(frozen=True)
 class WalkingTarget:
-    """A D-shaped foot path: the support segment from (x_start, y0) over `length` along +x (the foot
-    moves along it in the sense `direction`, +1 or −1) and a top point at `height` above it at `top_x`
-    (default: above the middle, the seed's equation (3) for equal end radii)."""
+    """A D-shaped foot path: a straight support segment and a step height above it.
+
+    The support segment runs from (`x_start`, `y0`) over `length` along +x; the foot moves along it
+    in the sense `direction`; the path's top point is `height` above the segment at `top_x`.
+
+    Attributes
+    ----------
+    x_start, y0 : float
+        Start of the support segment, m.
+    length : float
+        Length of the support segment, m (positive).
+    height : float
+        Step height: the top point's height above the segment, m (positive).
+    direction : int
+        +1: the foot moves along +x on the support segment, -1: along -x.
+    top_x : float or None
+        x of the top point, m; None: above the segment's middle (the seed's equation (3) for equal end
+        radii).
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import WalkingTarget
+    >>> target = WalkingTarget(0.0, -2.6, length=1.0, height=0.2, direction=-1)
+    >>> target.top.tolist()                        # the top point, m
+    [0.5, -2.4]
+    >>> target.nodes(2).round(4).tolist()          # 2 Chebyshev nodes in the foot's order, then the top
+    [[0.8536, -2.6], [0.1464, -2.6], [0.5, -2.4]]
+    """
 
     x_start: float
     y0: float
@@ -84,7 +127,34 @@ class WalkingTarget:
 
 
 def chebyshev_nodes(n: int, lo: float, hi: float) -> np.ndarray:
-    """n Chebyshev nodes on [lo, hi], ascending: (lo+hi)/2 − (hi−lo)/2·cos((2j−1)π/(2n)), j = 1..n."""
+    """Chebyshev nodes on an interval, ascending.
+
+    x_j = (lo + hi)/2 − (hi − lo)/2·cos((2j − 1)π/(2n)), j = 1..n: the interpolation nodes that keep
+    the largest error between them smallest.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes (n ≥ 1).
+    lo, hi : float
+        The interval's ends.
+
+    Returns
+    -------
+    (n,) ndarray
+        The nodes, from `lo` towards `hi`.
+
+    Raises
+    ------
+    ValueError
+        When `n` is negative (numpy's `arange`); n = 0 gives an empty array.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import chebyshev_nodes
+    >>> chebyshev_nodes(3, 0.0, 1.0).round(6).tolist()
+    [0.066987, 0.5, 0.933013]
+    """
     j = np.arange(1, n + 1)
     return 0.5 * (lo + hi) - 0.5 * (hi - lo) * np.cos((2 * j - 1) * np.pi / (2 * n))
 
@@ -125,9 +195,34 @@ def chain_angles(chain: Chain, foot, elbow=1) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclass(frozen=True)
 class Candidates:
-    """A batch of D guiding designs: line direction θ (rad, k = tan θ) and offset ρ = n(θ)·C, and the
-    rod point C in the rod's frame, P2 = l cos γ, P3 = l sin γ; `elbow` (D, n) the chain's assembly
-    mode at each node (see `chain_angles`)."""
+    """A batch of D guiding designs for a `Chain`: where the slider's line lies and where the rod's guided
+    point C sits.
+
+    Attributes
+    ----------
+    theta : (D,) ndarray
+        Direction θ of the slider's line, rad (slope k = tan θ).
+    rho : (D,) ndarray
+        Offset of the line, ρ = n(θ)·C with n(θ) = (−sin θ, cos θ), m.
+    p2, p3 : (D,) ndarray
+        The rod point C in the rod's frame, P2 = l cos γ and P3 = l sin γ, m (l = |BC|, γ the angle
+        from BE to BC, clockwise); the properties `l`, `gamma`, `k` and `d` (the line's intercept) give
+        them in the seed's terms.
+    elbow : (D, n) ndarray of int
+        The chain's assembly mode (+1 or -1) at each of the n nodes (see `guiding.chain_angles`).
+
+    Examples
+    --------
+    Form (b) of the seed at one line direction, through the nodes of the documented target:
+
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import SEED001_CHAIN, WalkingTarget
+    >>> from mbplanar.synthesis.guiding import form_b
+    >>> nodes = WalkingTarget(0.0, -2.6, 1.0, 0.2, -1).nodes(2)
+    >>> c = form_b(SEED001_CHAIN, nodes, np.radians([172.0]), elbow=[-1, -1, 1])
+    >>> len(c), round(float(c.l[0]), 4), round(float(np.degrees(c.gamma[0])), 4)
+    (1, 2.5527, 11.1615)
+    """
 
     theta: np.ndarray
     rho: np.ndarray
@@ -363,7 +458,46 @@ def guiding_poses(chain: Chain, cand: Candidates, sigma, phi1):
 
 
 def foot_paths(chain: Chain, cand: Candidates, sigma, phi1) -> tuple[np.ndarray, np.ndarray]:
-    """Foot E (D, P, 2) of D candidate designs at P crank angles φ1 (rad): `guiding_poses`' E, ok."""
+    """The foot E of a batch of guiding designs at a batch of crank angles, in closed form.
+
+    Parameters
+    ----------
+    chain : Chain
+        The crank and rod the designs share.
+    cand : Candidates
+        D designs.
+    sigma : (D,) or (D, P) array_like
+        The slider dyad's assembly sign (+1 or -1): on which side of B's foot on the line C lies, along
+        the line's direction.
+    phi1 : (P,) or (D, P) array_like
+        Crank angles, rad.
+
+    Returns
+    -------
+    e : (D, P, 2) ndarray
+        The foot's positions, m (meaningless where `ok` is False).
+    ok : (D, P) ndarray of bool
+        False where the slider dyad cannot be assembled.
+
+    Raises
+    ------
+    ValueError
+        When the shapes of `cand`, `sigma` and `phi1` do not broadcast (numpy's error).
+
+    Examples
+    --------
+    The design of form (b) at θ = 172°, at its nodes' crank angles, puts the foot on the nodes:
+
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import SEED001_CHAIN, WalkingTarget, foot_paths
+    >>> from mbplanar.synthesis.guiding import form_b, node_configurations
+    >>> nodes = WalkingTarget(0.0, -2.6, 1.0, 0.2, -1).nodes(2)
+    >>> c = form_b(SEED001_CHAIN, nodes, np.radians([172.0]), elbow=[-1, -1, 1])
+    >>> conf = node_configurations(SEED001_CHAIN, c, nodes)
+    >>> e, ok = foot_paths(SEED001_CHAIN, c, conf["sigma"], conf["phi1"])
+    >>> e.shape, bool(ok.all()), bool(np.abs(e[0] - nodes).max() < 1e-12)
+    ((1, 3, 2), True, True)
+    """
     _, _, e, ok = guiding_poses(chain, cand, sigma, phi1)
     return e, ok
 

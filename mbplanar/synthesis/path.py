@@ -92,8 +92,55 @@ class PathOutcome:
 
 @dataclass(frozen=True)
 class PathResult(PathOutcome):
-    """A four-bar: `design` (10,) (see `batch.DESIGN_COLUMNS`), `ratio` its longest over shortest link;
-    the coupler point is `point` ("P") of the model."""
+    """A four-bar path generator: the fields every path generator returns (`PathOutcome`) and the design.
+
+    Attributes
+    ----------
+    toml, mechanism : str, Mechanism
+        The written model (coupler point "P") and the `Mechanism` read back from it.
+    targets : (T, 2) ndarray
+        The target points, m.
+    errors : (T,) ndarray
+        Each target's distance from the analysed coupler curve, m (`rms` and `max` summarise them).
+    phi : (T,) ndarray
+        The crank angle at each target (the nearest curve point's, or the timed one's), rad.
+    defects : Defects
+        mbplanar's check of the design.
+    evaluations, seconds, seed, starts : int, float, int, int
+        Designs scored, wall time, the seed and the starts.
+    timed : bool
+        Whether the targets were timed.
+    transmission_deg : float
+        Smallest transmission angle over the travel, degrees.
+    constraints : PathConstraints
+        The bounds asked for.
+    success, message, warnings : bool, str, tuple of str
+        Whether the constraints are met and the targets met in order, why not, what the design misses
+        and by how much.
+    order : dict or None
+        How the design meets the targets' order (sense, tolerance, the steps back).
+    tradeoff : dict or None
+        The best design found without the transmission and ratio bounds, where clearly better.
+    stopped : bool
+        Whether the `budget` stopped the search.
+    design : (10,) ndarray
+        The design row (`batch.DESIGN_COLUMNS`: pivots A0, B0, crank, coupler, rocker, coupler point
+        u, v, assembly mode), m.
+    ratio : float
+        Longest over shortest link (the ground included).
+    point : str
+        The model's coupler point, "P".
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mbplanar.synthesis import synthesise_path
+    >>> from mbplanar.synthesis.batch import DESIGN_COLUMNS
+    >>> t = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    >>> r = synthesise_path(np.column_stack([np.cos(t), 0.5 * np.sin(t)]), starts=1, shapes=64, keep=1, samples=30)
+    >>> r.errors.shape, r.point, len(r.design) == len(DESIGN_COLUMNS), r.defects.ok
+    ((8,), 'P', True, True)
+    """
 
     design: np.ndarray = None
     ratio: float = float("nan")
@@ -183,14 +230,25 @@ def synthesise_path(targets, *, timing=None, constraints: PathConstraints | None
     PathResult
         The design with the model's own errors, `success`, `message`, `warnings`, `order`, `tradeoff`.
 
+    Raises
+    ------
+    ModelError
+        Fewer than 3 targets, targets that are not finite (x, y) rows or all one point, timing of
+        another length or with repeated values, settings below their least values (starts ≥ 1,
+        shapes ≥ 16, keep ≥ 1, popsize ≥ 5, generations ≥ 1, samples ≥ 12), a budget that is not a
+        positive number, invalid constraints, or no candidate that assembles through the targets
+        without a defect.
+
     Examples
     --------
+    Eight points of an ellipse: a crank-rocker's coupler curve meets them, within the designer's bounds:
+
     >>> import numpy as np
     >>> from mbplanar.synthesis import synthesise_path
     >>> t = np.linspace(0, 2 * np.pi, 8, endpoint=False)
-    >>> r = synthesise_path(np.column_stack([np.cos(t), 0.5 * np.sin(t)]), starts=1, shapes=1024, keep=2)
-    >>> r.success, r.transmission_deg >= 30.0, r.ratio <= 10.0
-    (True, True, True)
+    >>> r = synthesise_path(np.column_stack([np.cos(t), 0.5 * np.sin(t)]), starts=1, shapes=64, keep=1, samples=30)
+    >>> r.success, r.transmission_deg >= 30.0, r.ratio <= 10.0, r.max < 1e-9
+    (True, True, True, True)
     """
     t0 = time.perf_counter()
     task = _task(targets, timing, constraints)

@@ -42,10 +42,33 @@ WEIGHT = 10.0
 
 @dataclass(frozen=True)
 class ModelPathResult(PathOutcome):
-    """The model with its synthesised parameters: `values` {parameter: value in its unit} (the model's
-    text `toml` holds them), `point` the shaped joint or point, `travel` the input's range about the
-    drawn pose (SI) over which its curve was traced; the transmission angle is at the constraint's
-    `transmission_joints` (nan when none are named)."""
+    """A model's parameters found by path synthesis, with the fields of every path generator (see
+    `PathResult`: `toml`, `mechanism`, `targets`, `errors`, `phi`, `defects`, `transmission_deg`,
+    `success`, `message`, `warnings`, ...); its `transmission_deg` is the angle at the constraint's
+    `transmission_joints` (nan when none are named).
+
+    Attributes
+    ----------
+    values : dict
+        {parameter: value in its unit}; the model's text `toml` holds them.
+    point : str
+        The shaped joint or point.
+    travel : (2,) tuple of float
+        The input's range about the drawn pose (SI) over which its curve was traced.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.synthesis import synthesise_model_path
+    >>> targets = [[0.13, 0.21], [0.06, 0.22], [-0.01, 0.18], [-0.05, 0.12], [-0.03, 0.06], [0.02, 0.06],
+    ...            [0.09, 0.1], [0.15, 0.17]]
+    >>> r = synthesise_model_path("models/fourbar_design.toml", "M", {"m": (0.0, 1.0), "h": (-0.2, 0.2)},
+    ...                           targets, starts=1, popsize=5, generations=1, samples=12, keep=1)
+    >>> sorted(r.values), r.point, r.errors.shape
+    (['h', 'm'], 'M', (8,))
+    >>> mbplanar.parse_model(r.toml).name == mbplanar.read_model("models/fourbar_design.toml").name
+    True
+    """
 
     values: dict = None
     point: str = ""
@@ -286,6 +309,36 @@ def synthesise_model_path(model, point: str, bounds: dict, targets, *, timing=No
     travel : (2,) sequence, optional
         The input's range about its drawn value (SI) over which the curve is traced; default a full
         turn (−π, π) of a crank input. Needed for a prismatic input.
+
+    Returns
+    -------
+    ModelPathResult
+        The model with the parameters found (`values`, `toml`) and its errors from mbplanar's analysis.
+
+    Raises
+    ------
+    ModelError
+        A model that cannot be read or has no `[parameters]`, bounds naming no parameter or not
+        finite with lower < upper, a model with more than one input, an unknown `point`, constraints
+        naming unknown joints or pivots off the ground, `max_ratio` (the four-bar's), a prismatic
+        input without `travel`, settings below their least values (starts ≥ 1, popsize ≥ 5,
+        generations ≥ 1, samples ≥ 12, keep ≥ 1), the errors of `synthesise_path` for the targets, or no
+        design within the bounds that assembles through the targets without a defect.
+
+    Examples
+    --------
+    The coupler point M of models/fourbar_design.toml through 8 points, its parameters b, m and h free
+    (a short search; models/synthesis/path_model.toml holds the same problem for ``mbplanar synth path``):
+
+    >>> from mbplanar.synthesis import PathConstraints, synthesise_model_path
+    >>> targets = [[0.13, 0.21], [0.06, 0.22], [-0.01, 0.18], [-0.05, 0.12], [-0.03, 0.06], [0.02, 0.06],
+    ...            [0.09, 0.1], [0.15, 0.17]]
+    >>> bounds = {"m": (0.0, 1.0), "h": (-0.2, 0.2), "b": (0.2, 0.5)}
+    >>> c = PathConstraints(min_transmission_deg=30.0, transmission_joints=("A", "B", "C"))
+    >>> r = synthesise_model_path("models/fourbar_design.toml", "M", bounds, targets, constraints=c,
+    ...                           starts=1, popsize=5, generations=1, samples=12, keep=1)
+    >>> r.success, {k: round(v, 3) for k, v in r.values.items()}, round(r.max, 4)
+    (True, {'m': 0.388, 'h': 0.06, 'b': 0.354}, 0.0049)
     """
     from ..study.run import load_template
     t0 = time.perf_counter()

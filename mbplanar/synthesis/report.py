@@ -52,7 +52,7 @@ def report_section(engine, ctx):
     s = getattr(engine.mech, "extras", {}).get("synthesis")
     if not isinstance(s, dict):
         return None
-    from ..viz._report import html_table
+    from ..viz import html_table
     unit = s.get("error_unit", "")
     rows = [(k, s[k]) for k in ("problem", "point", "success", "rms_error", "max_error", "evaluations", "seed",
                                 "starts", "seconds", "delta1", "delta2", "delta") if k in s]

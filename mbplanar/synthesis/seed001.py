@@ -27,13 +27,47 @@ __all__ = ["GuidingResult", "synthesise_seed001", "walking_deviations"]
 
 @dataclass(frozen=True)
 class GuidingResult:
-    """A defect-free guiding crank-slider and its errors from mbplanar's analysis of `toml`.
+    """A defect-free guiding crank-slider for a walking foot and its errors, from mbplanar's analysis of
+    the model `toml`.
 
-    `design`: l, gamma_deg, k, d, theta_deg, rho, crank sense and the chain's modes; `nodes` (n, 2)
-    the target nodes and `node_errors` (n,) the analysed foot's distance from them at the nodes' crank
-    angles; `delta1`, `delta2` the seed's deviations (15); `path` (P, 2) the analysed foot path over a
-    turn; `candidates` how many candidate designs were scored and `checked` how many went through
-    mbplanar's defect check; `rejected` the defects of those that failed."""
+    Attributes
+    ----------
+    design : dict
+        l (m), gamma_deg, k, d (m), theta_deg, rho (m): the guided rod point and the line; the crank's
+        sense (+1 or -1) and the chain's assembly modes at the nodes.
+    toml : str
+        The model's TOML text (crank "1", rod "2", slider; foot point "E").
+    mechanism : Mechanism
+        The model read back from `toml`.
+    target : WalkingTarget
+        The foot path asked for.
+    nodes : (n, 2) ndarray
+        The interpolation nodes, m.
+    node_phi : (n,) ndarray
+        The model's crank angle at each node, rad.
+    node_errors : (n,) ndarray
+        The analysed foot's distance from each node, m.
+    delta1, delta2 : float
+        The seed's deviations (15), m: the foot's largest distance from the support line over the
+        segment, and the path's top point's distance from the required height (`delta` is their sum).
+    path : (P, 2) ndarray
+        The analysed foot path over a crank turn, m.
+    defects : Defects
+        mbplanar's check of the design.
+    candidates, checked : int
+        Candidate designs scored; candidates put through the defect check.
+    rejected : list of dict
+        The checked candidates that failed, with their defects.
+    seconds : float
+        Wall time of the synthesis.
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import WalkingTarget, synthesise_seed001
+    >>> r = synthesise_seed001(WalkingTarget(0.0, -2.6, 1.0, 0.2, -1), theta_deg=(165.0, 180.0, 1.0))
+    >>> r.defects.ok, r.path.shape, bool(r.node_errors.max() < 1e-9)
+    (True, (3600, 2), True)
+    """
 
     design: dict
     toml: str
@@ -121,7 +155,12 @@ def synthesise_seed001(target: WalkingTarget, chain: Chain = SEED001_CHAIN, form
                        support_nodes: int | None = None, spacing: str = "chebyshev", fit: str = "exact",
                        theta_deg=(0.0, 180.0, 1.0), gamma_deg=(0.0, 360.0, 1.0), samples: int = 720,
                        max_checks: int = 20) -> GuidingResult:
-    """Synthesise the guiding crank-slider for `target` by the seed's form (a), (b) or (c).
+    """Synthesise seed 001's guiding crank-slider for a D-shaped foot path by interpolation.
+
+    The seed's chain (crank and rod) gets a slider guiding a point C of the rod on a straight line,
+    chosen so that the foot E passes exactly through nodes of the target (or closest to them by least
+    squares or minimax); the candidates are ranked by the seed's objective Δ = Δ1 + Δ2, and the best
+    that passes mbplanar's defect check (full turn, one circuit, nodes in order) is returned.
 
     Parameters
     ----------
@@ -130,17 +169,39 @@ def synthesise_seed001(target: WalkingTarget, chain: Chain = SEED001_CHAIN, form
     chain : Chain
         Crank, rod and crank pivot (the seed's by default).
     form : {"a", "b", "c"}
-        (b): scan the line's direction θ (`theta_deg` = (from, to, step), the seed scans k over 0–90°);
-        (a): scan γ (`gamma_deg`); (c): no scan, 4 nodes.
-    support_nodes : int
+        (b): scan the line's direction θ (`theta_deg`; the seed scans k over 0–90°); (a): scan γ
+        (`gamma_deg`); (c): no scan, 4 nodes.
+    support_nodes : int, optional
         Nodes on the support segment (default 2 for (a) and (b), 3 for (c)); the top point is the last.
     spacing : {"chebyshev", "uniform"}
+        Spacing of the nodes on the support segment.
     fit : {"exact", "lsq", "minimax"}
         Form (b) with more than 3 nodes needs "lsq" or "minimax".
+    theta_deg, gamma_deg : (3,) tuple of float
+        (from, to, step) of the scanned line direction θ (form (b)) or rod angle γ (form (a)), degrees.
     samples : int
         Crank positions per turn for ranking the candidates.
     max_checks : int
         Candidates (best first) put through mbplanar's defect check before giving up.
+
+    Returns
+    -------
+    GuidingResult
+        The best defect-free design, with its deviations from mbplanar's analysis of its model.
+
+    Raises
+    ------
+    ModelError
+        An unknown `form`, `spacing` or `fit`, fewer than 2 support nodes, a non-positive length or
+        height, a node out of the chain's reach, or no candidate without a defect among the best
+        `max_checks` (the message gives the first one's defects).
+
+    Examples
+    --------
+    >>> from mbplanar.synthesis import WalkingTarget, synthesise_seed001
+    >>> r = synthesise_seed001(WalkingTarget(0.0, -2.6, 1.0, 0.2, -1), theta_deg=(165.0, 180.0, 1.0))
+    >>> r.design["theta_deg"], round(float(r.delta1), 6), round(float(r.delta2), 6)     # deg, m, m
+    (172.0, 0.001949, 0.000735)
     """
     t0 = time.perf_counter()
     if form not in ("a", "b", "c"):

@@ -63,10 +63,51 @@ def _hatch(a, b, normal, step, depth):
 
 def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str = "mbanim", trajectories=True,
                   width: int = 640, motion=None, controls: bool = True) -> str:
-    """An inline SVG (with its player: play/pause, a position slider, a frame counter) animating `frames`
-    positions of the cycle, or the positions of `motion` when given. The shapes are drawn at the first
-    position, so the picture shows without its script; `controls=False` leaves out the player and the
-    script: a still diagram of the first position."""
+    """An inline SVG animation of the cycle with its player (play/pause, a position slider, a frame counter).
+
+    No matplotlib and no network: the SVG and a short script. The shapes are drawn at the first
+    position, so the picture shows without its script.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    frames : int
+        Positions over the cycle (`cycle_motion`), when `motion` is not given.
+    fps : float
+        Frames per second.
+    element_id : str
+        The SVG element's id (unique on a page showing several).
+    trajectories : bool
+        Draw the points' paths.
+    width : int
+        Width in pixels (the height follows the drawing).
+    motion : Motion, optional
+        The positions to animate instead of the cycle's.
+    controls : bool
+        False: no player and no script, a still diagram of the first position.
+
+    Returns
+    -------
+    str
+        HTML: a <div> holding the <svg> (and its <script>).
+
+    Raises
+    ------
+    MotionError
+        No position of the cycle can be reached.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import svg_animation
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> text = svg_animation(engine, frames=4)
+    >>> text.startswith('<div class="mbanim"><svg id="mbanim"'), "<script>" in text
+    (True, True)
+    >>> "<script>" in svg_animation(engine, frames=4, controls=False)       # a still picture
+    False
+    """
     from ._plotting import cycle_motion  # matplotlib-free part of plotting
     motion = cycle_motion(engine, frames) if motion is None else motion
     sc = build_scene(engine, motion, motion)
@@ -167,7 +208,36 @@ def svg_animation(engine, frames: int = 72, *, fps: float = 12, element_id: str 
 
 
 def html_animation(engine, frames: int = 72, **kw) -> str:
-    """A one-file HTML page with the animation (no external resource)."""
+    """The animation as a one-file HTML page (no external resource), what ``mbplanar animate -o FILE.html``
+    writes.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    frames : int
+        Positions over the cycle.
+    **kw
+        Passed to `svg_animation` (``fps``, ``trajectories``, ``width``, ...).
+
+    Returns
+    -------
+    str
+        The page, titled with the model's title.
+
+    Raises
+    ------
+    MotionError
+        No position of the cycle can be reached.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import html_animation
+    >>> page = html_animation(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), frames=4)
+    >>> page.splitlines()[0], "<title>Crank-rocker four-bar</title>" in page
+    ('<!DOCTYPE html>', True)
+    """
     title = html.escape(engine.mech.title or engine.mech.name)
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + title +
             "</title><style>body{font-family:sans-serif;margin:1.5em}</style></head><body><h1>" + title +
@@ -175,13 +245,48 @@ def html_animation(engine, frames: int = 72, **kw) -> str:
 
 
 def write_html_animation(engine, path, frames: int = 72, **kw):
+    """Write the animation's one-file HTML page (`html_animation`) to a file.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    path : str or Path
+        The HTML file.
+    frames : int
+        Positions over the cycle.
+    **kw
+        Passed to `svg_animation`.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    MotionError
+        No position of the cycle can be reached.
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import os, tempfile, mbplanar
+    >>> from mbplanar.viz import write_html_animation
+    >>> path = os.path.join(tempfile.mkdtemp(), "fourbar.html")
+    >>> write_html_animation(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), path, frames=4)
+    >>> open(path, encoding="utf-8").read(15)
+    '<!DOCTYPE html>'
+    """
     with open(path, "w", encoding="utf-8") as f:
         f.write(html_animation(engine, frames, **kw))
 
 
 class Animation:
-    """The cycle's animation for Jupyter: shown as the last expression of a cell, it plays inline (an SVG with
-    its player: play/pause, a position slider and a frame counter), offline, as `mbplanar animate` does.
+    """The cycle's animation for Jupyter: shown as the last expression of a cell, it plays inline.
+
+    An SVG with its player (play/pause, a position slider and a frame counter), offline, as
+    ``mbplanar animate`` makes it; each one shown gets an element id of its own.
 
     Parameters
     ----------
@@ -191,6 +296,15 @@ class Animation:
         Positions over the cycle (up to a motion limit, if the mechanism meets one).
     **options
         Passed to `svg_animation` (``fps``, ``trajectories``, ``width``).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import Animation
+    >>> animation = Animation(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), frames=4, fps=6)
+    >>> html = animation._repr_html_()                  # what Jupyter shows
+    >>> html.startswith('<div class="mbanim"><svg id="mbplanar-animation-')
+    True
     """
 
     _ids = 0

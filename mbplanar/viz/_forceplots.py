@@ -24,7 +24,32 @@ REACTION_COLOR = "#1e8449"
 
 
 def reaction_label(reaction) -> str:
-    """F_ij: the force on link i from link j ('F12'; 'F[crank,rod]' for longer link names)."""
+    """The label of a joint's reaction: F_ij, the force on link i from link j.
+
+    Parameters
+    ----------
+    reaction : Reaction
+        A reaction of a kinetostatics result (its `on` and `source` links).
+
+    Returns
+    -------
+    str
+        'F12' for one-character link names, 'F[crank,rod]' otherwise.
+
+    Raises
+    ------
+    AttributeError
+        An object without `on` and `source`.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.viz import reaction_label
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar_loaded.toml"))
+    >>> result = mbplanar.kinetostatics(engine, mbplanar.analyse(engine, np.radians([30.0])))
+    >>> {joint: reaction_label(r) for joint, r in result.reactions.items()}
+    {'O': 'F10', 'A': 'F12', 'B': 'F23', 'C': 'F30'}
+    """
     on, src = reaction.on, reaction.source
     return f"F{on}{src}" if len(on) == 1 and len(src) == 1 else f"F[{on},{src}]"
 

@@ -40,7 +40,25 @@ COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c
 
 
 def require_matplotlib():
-    """Import matplotlib with the Agg backend (no display needed); `PlotUnavailable` if it is missing."""
+    """matplotlib's pyplot on the Agg backend (no display needed), imported on first use.
+
+    Returns
+    -------
+    module
+        `matplotlib.pyplot`.
+
+    Raises
+    ------
+    PlotUnavailable
+        matplotlib or Pillow is not installed (``pip install mbplanar[plot]``).
+
+    Examples
+    --------
+    >>> from mbplanar.viz import require_matplotlib
+    >>> plt = require_matplotlib()
+    >>> plt.get_backend().lower()
+    'agg'
+    """
     try:
         import matplotlib
         matplotlib.use("Agg", force=True)
@@ -74,10 +92,36 @@ def _input_cycle(inp, count: int) -> np.ndarray:
 
 
 def cycle_motion(engine, count: int = 72):
-    """Kinematics over the cycle at the model's speed; the positions up to a motion limit if there is one.
+    """Kinematics over the model's cycle at its speed, for pictures and animations.
 
-    If the drawn branch ends before the sweep does, the `count` positions are spread over the part that
-    is reached (so an animation still has `count` frames). MotionError if not even one position is.
+    The positions run over the input's sweep; if the drawn branch ends before the sweep does (a
+    motion limit), the `count` positions are spread over the part that is reached, so an animation
+    still has `count` frames.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    count : int
+        Positions.
+
+    Returns
+    -------
+    Motion
+        The positions, velocities and accelerations; its `limits` name the limits met.
+
+    Raises
+    ------
+    MotionError
+        Not even one position of the sweep can be reached.
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.viz import cycle_motion
+    >>> motion = cycle_motion(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), 8)
+    >>> np.degrees(motion.phi[:3, 0]).round(6).tolist(), motion.success
+    ([0.0, 45.0, 90.0], True)
     """
     from ..kinematics import analyse
     values = cycle_values(engine, count)
@@ -140,7 +184,36 @@ def swing_values(engine, count: int = 72) -> np.ndarray | None:
 
 
 def position_motion(engine, at=None):
-    """Kinematics at one position: `at` in the model's unit, default the drawn pose."""
+    """Kinematics at one position, given in the model's units (default: the drawn pose).
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    at : float or sequence of float, optional
+        The input value(s), in the inputs' units (degrees for a crank declared in degrees); one per
+        input. None: the drawn pose.
+
+    Returns
+    -------
+    Motion
+        One position with its rates.
+
+    Raises
+    ------
+    ModelError
+        Not one value per input.
+    MotionError
+        A position the model cannot reach from its drawn pose (the message names it).
+
+    Examples
+    --------
+    >>> import numpy as np, mbplanar
+    >>> from mbplanar.viz import position_motion
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> [round(float(np.degrees(position_motion(engine, at).phi[0, 0])), 9) for at in (None, 30)]
+    [60.0, 30.0]
+    """
     from ..kinematics import analyse
     values = [inp.from_si(p) for inp, p in zip(engine.inputs, engine.phi_drawn)] if at is None else \
         list(np.atleast_1d(np.asarray(at, float)))
@@ -161,7 +234,34 @@ def _coordinate(engine, phi_si):
 
 
 def moving_points(engine, scene) -> list:
-    """Names of the points worth plotting: moving, one per place (coincident pairs once)."""
+    """The names of a scene's points worth plotting a path for: the moving ones, one per place.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    scene : Scene
+        Its drawing (`build_scene`).
+
+    Returns
+    -------
+    list of str
+        Joints that move (coincident pairs once, the ground pivots left out), then the points of
+        interest.
+
+    Raises
+    ------
+    ValueError
+        A `scene` whose joints are not the ones it lists (not from `build_scene`).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import build_scene, cycle_motion, moving_points
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> moving_points(engine, build_scene(engine, cycle_motion(engine, 8)))
+    ['A', 'B', 'M']
+    """
     names = [n for n in scene.joint_names if scene.labels.get(n) and n not in scene.pivots]
     names = [n for n in names if np.ptp(scene.joint_xy[:, scene.joint_names.index(n)], axis=0).max()
              > 1e-9 * scene.size or scene.batch == 1]
@@ -200,11 +300,47 @@ def _ground_pivot(ax, p, size, name):
 
 
 def draw_mechanism(ax, scene, b: int = 0, *, labels: bool = True, alpha: float = 1.0, ghost: bool = False):
-    """Draw position `b` of a Scene on `ax` in the conventions of mechanism drawings.
+    """Draw one position of a scene on matplotlib axes, in the conventions of mechanism drawings.
 
-    Artists carry gids: 'joint:NAME' (revolute pair markers, data = its centre), 'slider:NAME' (block
-    polygons), 'guide:NAME', 'link:NAME', 'pivot:NAME', 'point:NAME'. `ghost`: thin grey lines only (for
-    other positions drawn behind the main one).
+    Links as bars or plates, revolute pairs as circles, ground pivots hatched, slider blocks on their
+    guides, points of interest marked. Artists carry gids: 'joint:NAME' (revolute pair markers),
+    'slider:NAME' (blocks), 'guide:NAME', 'link:NAME', 'pivot:NAME', 'point:NAME', and
+    their labels 'jointlabel:NAME', 'linklabel:NAME'.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    scene : Scene
+        The drawing (`build_scene`).
+    b : int
+        The position (batch index).
+    labels : bool
+        Write the pairs' and points' names.
+    alpha : float
+        Opacity.
+    ghost : bool
+        Thin grey lines only (other positions drawn behind the main one).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    IndexError
+        `b` outside the scene's batch.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import build_scene, draw_mechanism, position_motion, require_matplotlib
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> fig, ax = require_matplotlib().subplots()
+    >>> draw_mechanism(ax, build_scene(engine, position_motion(engine)))
+    >>> sorted({a.get_gid().split(":")[0] for a in ax.get_children() if a.get_gid()})
+    ['joint', 'jointlabel', 'link', 'linklabel', 'pivot', 'point']
+    >>> require_matplotlib().close(fig)
     """
     from matplotlib.patches import Polygon
     size = scene.size
@@ -495,8 +631,38 @@ def _xstep(engine, x) -> float | None:
 
 
 def lean_ticks(ax, xstep=None):
-    """Few ticks (at most about 5 per axis, x every `xstep`): cleaner small panels, and ticks are most of
-    what a multi-panel figure costs to draw."""
+    """Few ticks on an axes' two axes: about 5 each (x every `xstep` when given).
+
+    Cleaner small panels, and ticks are most of what a multi-panel figure costs to draw.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    xstep : float, optional
+        The x ticks' spacing (e.g. 90 for degrees).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ValueError
+        A non-positive `xstep` (matplotlib's error when the ticks are drawn).
+
+    Examples
+    --------
+    >>> from mbplanar.viz import lean_ticks, require_matplotlib
+    >>> fig, ax = require_matplotlib().subplots()
+    >>> _ = ax.plot([0, 360], [0, 1])
+    >>> lean_ticks(ax, xstep=90)
+    >>> ax.set_xlim(0, 360)
+    (0.0, 360.0)
+    >>> [x for x in ax.get_xticks().tolist() if 0 <= x <= 360]
+    [0.0, 90.0, 180.0, 270.0, 360.0]
+    >>> require_matplotlib().close(fig)
+    """
     from matplotlib.ticker import MaxNLocator, MultipleLocator
     steps = [1, 2, 2.5, 5, 10]
     ax.xaxis.set_major_locator(MultipleLocator(xstep) if xstep else MaxNLocator(5, steps=steps))
@@ -709,7 +875,39 @@ def _elementplots():
 
 
 def register_figure(name: str, function: Callable, help: str) -> None:
-    """Add a picture (`function(engine, at=None, **options) -> Figure`), e.g. 'forces', 'dynamics'."""
+    """Add a picture to `make_figure` and ``mbplanar plot``, or replace one of the same name.
+
+    Parameters
+    ----------
+    name : str
+        The picture's name (``mbplanar plot MODEL NAME``).
+    function : callable
+        ``function(engine, at=None, **options)`` returning a matplotlib Figure.
+    help : str
+        One line for ``mbplanar plot --help``.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    Exception
+        Nothing is raised here; what `function` raises comes out of `make_figure`.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import FIGURES, make_figure, register_figure, require_matplotlib
+    >>> def crank_only(engine, at=None, **options):
+    ...     fig, ax = require_matplotlib().subplots()
+    ...     ax.set_title(engine.mech.title)
+    ...     return fig
+    >>> register_figure("title", crank_only, "the model's title only")
+    >>> make_figure(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), "title").axes[0].get_title()
+    'Crank-rocker four-bar'
+    >>> del FIGURES["title"]
+    """
     FIGURES[name] = Figure(function, help)
 
 
@@ -726,6 +924,43 @@ def unknown_picture(what: str) -> str:
 
 
 def make_figure(engine, what: str, at=None, **options):
+    r"""One of the pictures of ``mbplanar plot`` as a matplotlib figure.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    what : str
+        A name of `FIGURES`: "diagram", "vectors", "trajectories", "kinematics", "analogues",
+        "transmission", "forces", "dynamics", "shaking", "efficiency", "simulation", or one added by
+        `register_figure`.
+    at : float, optional
+        The position for a one-position picture, in the input's unit (default: the drawn pose).
+    **options
+        Passed to the picture's function (e.g. ``count``, ``figsize``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (`save_figure` or `figure_bytes` write and close it).
+
+    Raises
+    ------
+    PlotUnavailable
+        matplotlib is not installed.
+    ModelError
+        An unknown picture (the message names the closest), or one the model has no data for.
+    MotionError
+        A position the model cannot reach.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import figure_bytes, make_figure
+    >>> fig = make_figure(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), "diagram", at=30)
+    >>> figure_bytes(fig, "png", dpi=30)[:4]
+    b'\x89PNG'
+    """
     require_matplotlib()
     if what not in FIGURES:
         raise ModelError(unknown_picture(what))
@@ -733,7 +968,37 @@ def make_figure(engine, what: str, at=None, **options):
 
 
 def save_figure(fig, path, dpi=120):
-    """Write a figure (format from the suffix: png, svg, pdf) and close it."""
+    """Write a figure to a file, the format from the suffix, and close it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str or Path
+        A .png, .svg or .pdf file.
+    dpi : int
+        Resolution of a PNG, dots per inch.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ModelError
+        Another suffix (the figure is closed all the same).
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import os, tempfile, mbplanar
+    >>> from mbplanar.viz import make_figure, save_figure
+    >>> path = os.path.join(tempfile.mkdtemp(), "fourbar.svg")
+    >>> save_figure(make_figure(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), "diagram"), path)
+    >>> open(path).read(5)
+    '<?xml'
+    """
     plt = require_matplotlib()
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else ""
     if suffix not in ("png", "svg", "pdf"):
@@ -746,7 +1011,35 @@ def save_figure(fig, path, dpi=120):
 
 
 def figure_bytes(fig, fmt="png", dpi=100) -> bytes:
-    """The figure as PNG or SVG bytes (closed afterwards)."""
+    """A figure as PNG or SVG bytes, closed afterwards (for a web page or a report).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    fmt : {"png", "svg", "pdf"}
+        The format.
+    dpi : int
+        Resolution of a PNG, dots per inch.
+
+    Returns
+    -------
+    bytes
+        The file's content.
+
+    Raises
+    ------
+    ValueError
+        A format matplotlib does not write (matplotlib's error).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import figure_bytes, make_figure
+    >>> data = figure_bytes(make_figure(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), "diagram"), "svg")
+    >>> data[:5]
+    b'<?xml'
+    """
     import io
     plt = require_matplotlib()
     buf = io.BytesIO()
@@ -759,8 +1052,48 @@ def figure_bytes(fig, fmt="png", dpi=100) -> bytes:
 
 # -- GIF animation ----------------------------------------------------------------------------------
 def write_gif(engine, path, frames=36, *, dpi=80, fps=12, figsize=(6.4, 5.6), trajectories=True):
-    """An animated GIF of the cycle with `frames` frames (fewer positions than asked only if the
-    mechanism cannot move at all); returns the motion drawn."""
+    """An animated GIF of the cycle, what ``mbplanar animate MODEL -o FILE.gif`` writes.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    path : str or Path
+        The GIF file.
+    frames : int
+        Positions over the cycle (fewer only if the mechanism cannot move at all).
+    dpi : int
+        Resolution, dots per inch.
+    fps : float
+        Frames per second.
+    figsize : (2,) tuple of float
+        The frame's size, inches.
+    trajectories : bool
+        Draw the points' paths behind the mechanism.
+
+    Returns
+    -------
+    Motion
+        The positions drawn.
+
+    Raises
+    ------
+    PlotUnavailable
+        matplotlib or Pillow is not installed.
+    MotionError
+        No position of the cycle can be reached.
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import os, tempfile, mbplanar
+    >>> from mbplanar.viz import write_gif
+    >>> path = os.path.join(tempfile.mkdtemp(), "fourbar.gif")
+    >>> motion = write_gif(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), path, frames=3, dpi=20)
+    >>> len(motion.phi), open(path, "rb").read(6)
+    (3, b'GIF89a')
+    """
     plt = require_matplotlib()
     from PIL import Image
     motion = cycle_motion(engine, frames)

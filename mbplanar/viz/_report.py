@@ -28,6 +28,24 @@ REPORT_POSITIONS = 12  # positions in the tables (equally spaced over the cycle)
 
 @dataclass(frozen=True)
 class Section:
+    """One section of the HTML report (``mbplanar report``).
+
+    Attributes
+    ----------
+    title : str
+        The heading.
+    function : callable
+        function(engine, ctx) -> str or None: the section's HTML, or None to leave it out for this
+        model (`ctx` holds the cycle's motion, the tables' positions and the picture settings).
+
+    Examples
+    --------
+    >>> from mbplanar.viz import SECTIONS, Section
+    >>> list(SECTIONS)[:4]
+    ['model', 'diagram', 'structure', 'motion']
+    >>> isinstance(SECTIONS["model"], Section), SECTIONS["model"].title
+    (True, 'Model')
+    """
     title: str
     function: Callable
 
@@ -51,7 +69,33 @@ class ReportContext:
 
 
 def html_table(header, rows, caption=None) -> str:
-    """An HTML table; floats printed with 6 significant digits, non-finite as '—'."""
+    """An HTML table: floats with 6 significant digits, non-finite numbers as '—', text escaped.
+
+    Parameters
+    ----------
+    header : sequence
+        The column headings.
+    rows : iterable of sequence
+        The rows' cells.
+    caption : str, optional
+        The table's caption.
+
+    Returns
+    -------
+    str
+        The <table> element.
+
+    Raises
+    ------
+    TypeError
+        A row that is not iterable.
+
+    Examples
+    --------
+    >>> from mbplanar.viz import html_table
+    >>> print(html_table(["joint", "x (m)"], [("A", 0.1234567891), ("B<", float("nan"))]))
+    <table><thead><tr><th>joint</th><th>x (m)</th></tr></thead><tbody><tr><td>A</td><td>0.123457</td></tr><tr><td>B&lt;</td><td>—</td></tr></tbody></table>
+    """
     def cell(x):
         if isinstance(x, (float, np.floating)):
             return f"{x:.6g}" if math.isfinite(x) else "—"
@@ -320,15 +364,51 @@ SECTIONS: dict[str, Section] = {
 
 
 def register_section(key: str, title: str, function: Callable, after: str | None = None) -> None:
-    """Add a section, or replace one in place (same key); `after`: insert a new one after that key."""
-    global SECTIONS
+    """Add a section to the HTML report, or replace one in place (same key).
+
+    Parameters
+    ----------
+    key : str
+        The section's key (its anchor in the page).
+    title : str
+        Its heading.
+    function : callable
+        function(engine, ctx) -> str or None: the HTML, or None to leave the section out.
+    after : str, optional
+        Insert a new section after this key (default: at the end).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    Exception
+        Nothing is raised here (an unknown `after` appends at the end); what `function` raises comes
+        out of `report_html`.
+
+    Examples
+    --------
+    >>> from mbplanar.viz import SECTIONS, html_table, register_section
+    >>> import mbplanar
+    >>> def pairs(engine, ctx):
+    ...     return html_table(["pair", "kind"], [(j.name, j.kind) for j in engine.mech.joints.values()])
+    >>> register_section("pairs", "Pairs", pairs, after="model")
+    >>> list(SECTIONS)[:3]
+    ['model', 'pairs', 'diagram']
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/slider_crank.toml"))
+    >>> "<td>Bp</td><td>P</td>" in SECTIONS["pairs"].function(engine, None)   # report_html calls it so
+    True
+    >>> del SECTIONS["pairs"]
+    """
     if key in SECTIONS or after is None or after not in SECTIONS:
         SECTIONS[key] = Section(title, function)
         return
     items = list(SECTIONS.items())
     pos = [k for k, _ in items].index(after) + 1
     items.insert(pos, (key, Section(title, function)))
-    SECTIONS = dict(items)
+    SECTIONS.clear()                    # the one dict, in place: `mbplanar.viz.SECTIONS` is the same object
+    SECTIONS.update(items)
 
 
 _STYLE = """
@@ -343,7 +423,43 @@ nav a{margin-right:1em} .grid{display:flex;flex-wrap:wrap;gap:0 1.5em}
 
 
 def report_html(engine, *, positions: int = REPORT_POSITIONS, frames: int = 36, dpi: int = 90) -> str:
-    """The whole report as one HTML string."""
+    r"""The whole report of a model as one HTML page (pictures inlined): what ``mbplanar report`` writes.
+
+    Sections (`SECTIONS`, in order; each left out where the model has nothing for it): the model,
+    its diagram, structure, motion, the positions' tables, plots, the animation, reactions, flywheel,
+    shaking, friction, and those the cam, gear and synthesis code register.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    positions : int
+        Positions in the tables (equally spaced over the cycle).
+    frames : int
+        Frames of the animation.
+    dpi : int
+        Resolution of the pictures.
+
+    Returns
+    -------
+    str
+        The page.
+
+    Raises
+    ------
+    PlotUnavailable
+        matplotlib is not installed.
+    MotionError
+        No position of the cycle can be reached.
+
+    Examples
+    --------
+    >>> import re, mbplanar
+    >>> from mbplanar.viz import report_html
+    >>> page = report_html(mbplanar.Engine(mbplanar.read_model("models/fourbar.toml")), positions=4, frames=4, dpi=20)
+    >>> re.findall(r'<section id="(\w+)"', page)[:6]
+    ['model', 'diagram', 'structure', 'motion', 'positions', 'plots']
+    """
     from ._plotting import cycle_motion, require_matplotlib
     require_matplotlib()
     ctx = ReportContext(engine, cycle_motion(engine, 72), cycle_motion(engine, positions), dpi, frames)
@@ -363,6 +479,37 @@ def report_html(engine, *, positions: int = REPORT_POSITIONS, frames: int = 36, 
 
 
 def write_report(engine, path, **kw) -> None:
+    """Write the HTML report (`report_html`) to a file.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    path : str or Path
+        The HTML file.
+    **kw
+        Passed to `report_html` (``positions``, ``frames``, ``dpi``).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    PlotUnavailable
+        matplotlib is not installed.
+    OSError
+        The file cannot be written.
+
+    Examples
+    --------
+    >>> import os, tempfile, mbplanar
+    >>> from mbplanar.viz import write_report
+    >>> path = os.path.join(tempfile.mkdtemp(), "slider_crank.html")
+    >>> write_report(mbplanar.Engine(mbplanar.read_model("models/slider_crank.toml")), path, positions=4, frames=4, dpi=20)
+    >>> "<h1>Central slider-crank</h1>" in open(path, encoding="utf-8").read()
+    True
+    """
     text = report_html(engine, **kw)
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)

@@ -62,13 +62,47 @@ class PairShape:
 
 @dataclass
 class Scene:
-    """Shapes of a mechanism drawing at B positions (metres, world frame).
+    """The shapes of a mechanism drawing at B positions (metres, world frame), ready for any renderer.
 
-    joint_names / joint_xy (B, J, 2): every pair (a prismatic pair: its slider point);
-    revolute: names of the revolute pairs; pivots: names of the revolute pairs on the ground;
-    links: one `LinkShape` per moving link; sliders: one `Slider` per prismatic pair;
-    point_names / point_xy (B, P, 2), centres: points of interest that are centres of mass;
-    size: characteristic length (for symbol sizes); phi (B,): input values (SI).
+    Attributes
+    ----------
+    joint_names : list of str
+        Every pair (a prismatic pair: its slider point).
+    joint_xy : (B, J, 2) ndarray
+        Their positions, m.
+    revolute : list of str
+        The revolute pairs.
+    pivots : list of str
+        The revolute pairs on the ground.
+    links : list of LinkShape
+        One per moving link: a bar, a polygon or a block, with its label's place.
+    sliders : list of Slider
+        One per prismatic pair: the block and its guide segment.
+    point_names : list of str
+        Points of interest.
+    point_xy : (B, P, 2) ndarray
+        Their positions, m.
+    centres : set of str
+        The points of interest that are centres of mass.
+    size : float
+        Characteristic length (for symbol sizes), m.
+    phi : (B, n_in) ndarray
+        Input values, SI.
+    labels : dict
+        {joint: text shown}: one label per group of coincident pairs.
+    pairs : list of PairShape
+        One per higher pair (pitch circles, profiles, contacts).
+
+    `batch` is B; `extent()` the drawing's (xmin, xmax, ymin, ymax) with a margin.
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import build_scene, cycle_motion
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> scene = build_scene(engine, cycle_motion(engine, 8))
+    >>> scene.batch, scene.joint_xy.shape, scene.pivots, [f"{s.name}:{s.kind}" for s in scene.links]
+    (8, (8, 4, 2), ['O', 'C'], ['1:bar', '2:polygon', '3:bar'])
     """
 
     joint_names: list
@@ -185,8 +219,38 @@ def _link_outline(nodes: np.ndarray, size: float) -> tuple[str, np.ndarray]:
 
 
 def build_scene(engine, motion, cycle=None) -> Scene:
-    """The drawing of `motion`'s positions. `cycle`: a motion over the whole cycle, used to size the
-    guide lines to the sliders' travel (default: `motion` itself)."""
+    """The drawing of a motion's positions: link outlines, slider blocks and guides, pairs, points.
+
+    Parameters
+    ----------
+    engine : Engine
+        The model.
+    motion : Motion
+        The positions to draw (B of them; `cycle_motion`, `position_motion` or `analyse`).
+    cycle : Motion, optional
+        A motion over the whole cycle, used to size the guide lines to the sliders' travel (default:
+        `motion` itself).
+
+    Returns
+    -------
+    Scene
+        The shapes, batch first.
+
+    Raises
+    ------
+    KeyError
+        A `motion` without the joints' and points' positions (`analyse(..., points=[...])` that left
+        some out).
+
+    Examples
+    --------
+    >>> import mbplanar
+    >>> from mbplanar.viz import build_scene, position_motion
+    >>> engine = mbplanar.Engine(mbplanar.read_model("models/fourbar.toml"))
+    >>> scene = build_scene(engine, position_motion(engine))
+    >>> scene.joint_names, scene.point_names, round(scene.size, 4)
+    (['O', 'A', 'B', 'C'], ['M'], 0.3917)
+    """
     mech, size = engine.mech, engine.size
     tol = 1e-6 * size
     block_l, block_h = 0.09 * size, 0.05 * size

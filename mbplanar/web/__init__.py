@@ -13,6 +13,37 @@ __all__ = ["Workbench", "FRAMES", "create_app", "widget"]
 
 
 def create_app(folder, **options):
-    """The workbench's ASGI application serving `folder` (see `mbplanar.web._server.create_app`)."""
+    """The workbench's ASGI application serving a folder (what ``mbplanar serve`` runs under uvicorn).
+
+    Every request must carry the token (the URL's ``token``, the ``X-Mbplanar-Token`` header or the
+    page's cookie); only files inside `folder` are read or written.
+
+    Parameters
+    ----------
+    folder : str or Path
+        The served folder.
+    **options
+        ``token`` (default: a new random one, in ``app.state.token``), ``forms`` (the panels' fields,
+        `mbplanar.web.command.panel_forms`), ``initial`` (the model a new page opens), ``frames``
+        (positions of the cycle); see `mbplanar.web._server.create_app`.
+
+    Returns
+    -------
+    starlette.applications.Starlette
+        The application.
+
+    Raises
+    ------
+    ModuleNotFoundError
+        Starlette is not installed (``pip install "mbplanar[web]"``).
+
+    Examples
+    --------
+    >>> from starlette.testclient import TestClient
+    >>> from mbplanar.web import create_app
+    >>> client = TestClient(create_app("models", token="secret"))
+    >>> client.get("/").status_code, client.get("/?token=secret").status_code
+    (403, 200)
+    """
     from ._server import create_app as make
     return make(folder, **options)

@@ -85,7 +85,12 @@ def _stage(kind: str, engine, cycle) -> dict:
 
 
 class Workbench:
-    """The state of one page (one browser tab, or one Jupyter widget).
+    """The state of one workbench page (one browser tab, or one Jupyter widget), answering its messages.
+
+    `handle(message)` yields the answers (dicts) to one message of the page: "hello" (the document,
+    the picture, the forces), "text" (the edited text, checked and solved), "cell", "add_row",
+    "delete_row", "move" (table edits), "undo", "redo", "solve" (one position: `pose`). Errors come
+    back as messages naming the file, the table and the row, never as exceptions.
 
     Parameters
     ----------
@@ -98,8 +103,20 @@ class Workbench:
     frames : int
         Positions of the cycle.
     folder : path, optional
-        The served folder `name` is relative to (the files a model names are read beside it there); None:
-        `name` is a path.
+        The served folder `name` is relative to (the files a model names are read beside it there);
+        None: `name` is a path.
+
+    Examples
+    --------
+    >>> from mbplanar.web import Workbench
+    >>> bench = Workbench(open("models/fourbar.toml").read(), "fourbar.toml", frames=12)
+    >>> [a["type"] for a in bench.handle({"type": "hello"}) if isinstance(a, dict)]
+    ['document', 'picture', 'forces']
+    >>> typed = bench.text.replace("length = 0.10", "length = -0.10")
+    >>> [a["errors"] for a in bench.handle({"type": "text", "text": typed})]
+    [[{'message': "fourbar.toml: links[0] '1': 'length' must be positive, got -0.1", 'section': 'links', 'row': 0}]]
+    >>> next(bench.handle({"type": "undo"}))["errors"]
+    []
     """
 
     def __init__(self, text: str | None = None, name: str = "model.toml", *, engine=None, frames: int = FRAMES,
@@ -323,8 +340,9 @@ def _files_folder(source: str, folder):
         return None
     parts = PurePosixPath(str(source).replace("\\", "/")).parts
     if parts and parts[0] == GALLERY and not (Path(folder) / GALLERY).exists():
-        from ..formats.examples import _root
-        return Path(str(_root().joinpath(*parts[1:-1]))) if len(parts) > 2 else Path(str(_root()))
+        from ..formats import examples_folder
+        gallery = examples_folder()
+        return Path(str(gallery.joinpath(*parts[1:-1]))) if len(parts) > 2 else Path(str(gallery))
     return Path(folder).joinpath(*parts[:-1])
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..errors import ModelError
 
-__all__ = ["add_arguments", "run", "DEFAULT_PORT", "is_loopback"]
+__all__ = ["add_arguments", "panel_forms", "run", "DEFAULT_PORT", "is_loopback"]
 
 DEFAULT_PORT = 8760
 PORTS_TRIED = 20          # the next ports tried when the default one is taken
@@ -39,6 +39,13 @@ def is_loopback(host: str) -> bool:
         return ipaddress.ip_address(host).is_loopback
     except ValueError:
         return False
+
+
+def panel_forms(build_parser) -> dict:
+    """The panels' and exports' forms: {command: fields}, each command's options read from the parser
+    `build_parser(command)` makes (`mbplanar.cli.build_parser`), as `create_app(forms=...)` takes them."""
+    from ._runs import EXPORTS, PANELS, form
+    return {name: form(build_parser(name), name) for name in PANELS + EXPORTS}
 
 
 def run(args, forms: dict | None = None) -> int:
