@@ -1,6 +1,6 @@
 """Benchmark of mbplanar on equal work: every timed case produces and reads what its baseline produces.
 
-    python benchmarks/run.py [--quick] [--json [FILE]] [--docs]
+    python benchmarks/run.py [--quick] [--json [FILE]] [--docs] [--processes [ROUNDS]]
 
 Sweeps of N positions over a turn: every point's x, y (and vx, vy, ax, ay where velocities and
 accelerations are timed) and every link's angle, read (summed) inside the timed call, so that work the
@@ -22,7 +22,8 @@ read after `analyse` against v, a; `analyse` of one value [φ] against `position
 position.
 
 `--json FILE` writes the run ('-': stdout), `--docs` rewrites the table in docs/speed.md from
-benchmarks/latest.json, `--study` runs the design-study cases (benchmarks/study.py).
+benchmarks/latest.json, `--study` runs the design-study cases (benchmarks/study.py), `--processes [ROUNDS]`
+only the process cases.
 """
 
 from __future__ import annotations
@@ -449,6 +450,21 @@ print(m.xy.sum() + m.v.sum() + m.a.sum() + k.balancing['O'].sum())
 """
 
 
+#: numba's own start in the same job: the numpy process of `COLD_SCRIPT` that also loads a one-line kernel
+#: from numba's cache (a module of the temporary folder, `numba_floor.py`): what any use of numba costs
+FLOOR_SCRIPT = "import numba_floor\n" + COLD_SCRIPT
+FLOOR_KERNEL = """import numba
+
+
+@numba.njit(cache=True)
+def one(x):
+    return x + 1.0
+
+
+one(1.0)
+"""
+
+
 # `import mbplanar` loads its names on first use; the first use of the API loads numpy and the model,
 # engine and kinematics code, as any program that uses mbplanar pays for it
 FIRST_USE = "import mbplanar; mbplanar.Engine, mbplanar.read_model, mbplanar.analyse"
@@ -478,9 +494,14 @@ def process_cases(rounds, cold):
             jit_cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], jit_env)
             install_s = run_process([py, "-m", "mbplanar", "compile"], numba_env)
             cold_s = run_process([py, "-c", COLD_SCRIPT, "numba"], numba_env)
+            # numba's own start: the numpy job with a one-line kernel loaded from numba's cache (filled once)
+            Path(cache, "numba_floor.py").write_text(FLOOR_KERNEL, encoding="utf-8")
+            floor_env = dict(numba_env, PYTHONPATH=os.pathsep.join([str(ROOT), cache]))
+            subprocess.run([py, "-c", FLOOR_SCRIPT, "numpy"], check=True, capture_output=True, env=floor_env, cwd=ROOT)
             commands.update(sweep_numpy=([py, "-c", COLD_SCRIPT, "numpy"], env),
                             sweep_numba=([py, "-c", COLD_SCRIPT, "numba"], numba_env),
-                            sweep_numba_jit=([py, "-c", COLD_SCRIPT, "numba"], jit_env))
+                            sweep_numba_jit=([py, "-c", COLD_SCRIPT, "numba"], jit_env),
+                            sweep_floor=([py, "-c", FLOOR_SCRIPT, "numpy"], floor_env))
         t = processes_in_rounds(commands, rounds)
     context = dict(python_s=t["python"][0], python_cpu_s=t["python"][1], numpy_s=t["numpy"][0],
                    numpy_cpu_s=t["numpy"][1])
@@ -499,7 +520,8 @@ def process_cases(rounds, cold):
                       cpu_s=install_s[1]),
                  over_numpy("numba cold start", cold_s), over_numpy("numba warm start", t["sweep_numba"]),
                  over_numpy("numba cold start, not compiled", jit_cold_s),
-                 over_numpy("numba warm start, not compiled", t["sweep_numba_jit"])]
+                 over_numpy("numba warm start, not compiled", t["sweep_numba_jit"]),
+                 over_numpy("numba's own start (one cached one-line kernel)", t["sweep_floor"])]
     for r in rows:
         print(f"  {r['work']:18s} ({r['name']}) wall {r['seconds']:.3f} s, CPU {r['cpu_s']:.3f} s; {context_of(r)}")
     if cold_s is None:
@@ -678,7 +700,24 @@ def main(argv=None):
     ap.add_argument("--docs", action="store_true", help="rewrite docs/speed.md's table from benchmarks/latest.json")
     ap.add_argument("--study", action="store_true", help="only the design-study cases (benchmarks/study.py)")
     ap.add_argument("--no-pylinkage", action="store_true", help="leave pylinkage+numba out")
+    ap.add_argument("--processes", type=int, nargs="?", const=7, metavar="ROUNDS",
+                    help="only the process cases (start-up; numba's install step, cold and warm start), in ROUNDS "
+                         "rounds (default 7)")
     args = ap.parse_args(argv)
+    if args.processes:
+        print(f"processes, {args.processes} rounds, load {os.getloadavg()[0]:.1f}:")
+        cases = process_cases(args.processes, cold=True)
+        for t in check_targets(cases):
+            if t["value"] is not None:
+                print(f"  {'met ' if t['met'] else 'MISS'}  {t['target']}: {fmt(t['value'], 4)} (≤ {t['limit']:g})")
+        if args.json:
+            text = json.dumps(dict(date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+                                   rounds=args.processes, cases=cases), indent=1)
+            if args.json == "-":
+                print(text)
+            else:
+                Path(args.json).write_text(text + "\n", encoding="utf-8")
+        return 0
     if args.study:  # design batches and Dask: their own script, sizes and JSON
         import study
         study.main(["--quick"] if args.quick else [])

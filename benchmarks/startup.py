@@ -16,7 +16,10 @@ the engine cache and without it (`--no-cache`), the same with `--backend numba`,
 process that calls a cached one-line kernel once (what any use of numba costs, mbplanar or not), and the
 first use of the compiled backend after `mbplanar compile` (run once before the rounds): a new process
 that sweeps 3600 positions of `models/fourbar_loaded.toml` with its kinetostatics and one position, on
-numpy and on numba; its line "numba over numpy" is the difference of the two.
+numpy and on numba; its line "numba over numpy" is the difference of the two. The parts of numba's floor:
+`import numba`, `import scipy.linalg` (which numba's target context imports to look for a BLAS), and the
+floor and the first uses again with the heap frozen (`gc.freeze()`) at their end, which leaves out the
+interpreter's last garbage collections over every object of the process.
 """
 
 from __future__ import annotations
@@ -44,6 +47,16 @@ CASES = {
     "numba's floor (a one-line kernel)": ["-c", "import numpy, startup_floor; startup_floor.total(numpy.ones(3))"],
     "first use (numpy)": ["-c", "import sys; sys.argv.append('numpy'); import startup_use"],
     "first use (numba, after mbplanar compile)": ["-c", "import sys; sys.argv.append('numba'); import startup_use"],
+    # the parts of numba's floor: its import, the scipy.linalg its target context imports, and the exit
+    # (the interpreter's last collections walk every object numba made; a frozen heap skips them)
+    "numba's part: import numba": ["-c", "import numpy, numba"],
+    "numba's part: import scipy.linalg": ["-c", "import numpy, scipy.linalg"],
+    "numba's floor, heap frozen at exit": ["-c", "import gc, numpy, startup_floor; startup_floor.total(numpy.ones(3)); "
+                                                 "gc.freeze()"],
+    "first use (numpy, heap frozen at exit)": ["-c", "import gc, sys; sys.argv.append('numpy'); import startup_use; "
+                                                     "gc.freeze()"],
+    "first use (numba, after mbplanar compile, heap frozen at exit)": [
+        "-c", "import gc, sys; sys.argv.append('numba'); import startup_use; gc.freeze()"],
 }
 #: the first use: a new process that sweeps a loaded four-bar with its kinetostatics and one position
 USE = """import sys, numpy as np, mbplanar
@@ -134,11 +147,13 @@ def main(argv=None) -> int:
                 print(f"{which:8s} {name:42s} wall {got['wall_s']:.3f} s "
                       f"(numpy + {got['wall_s'] - floor['wall_s']:.3f})   cpu {got['cpu_s']:.3f} s "
                       f"(numpy + {got['cpu_s'] - floor['cpu_s']:.3f})")
-        numpy_use, numba_use = figures.get((which, "first use (numpy)")), \
-            figures.get((which, "first use (numba, after mbplanar compile)"))
-        if numpy_use and numba_use:
-            print(f"{which:8s} {'first use: numba over numpy':42s} wall {numba_use['wall_s'] - numpy_use['wall_s']:.3f} s"
-                  f"   cpu {numba_use['cpu_s'] - numpy_use['cpu_s']:.3f} s")
+        for frozen in ("", ", heap frozen at exit"):
+            numpy_use = figures.get((which, f"first use (numpy{frozen})"))
+            numba_use = figures.get((which, f"first use (numba, after mbplanar compile{frozen})"))
+            if numpy_use and numba_use:
+                print(f"{which:8s} {'first use: numba over numpy' + frozen:42s} "
+                      f"wall {numba_use['wall_s'] - numpy_use['wall_s']:.3f} s"
+                      f"   cpu {numba_use['cpu_s'] - numpy_use['cpu_s']:.3f} s")
     if args.json:
         document = {"runs": args.runs, "checkouts": {k: str(v) for k, v in checkouts.items()},
                     "cases": [{"checkout": which, "case": name, **got} for (which, name), got in figures.items()]}

@@ -46,6 +46,14 @@ def test_targets_read_their_cases_and_limits():
                    "four-bar positions, × pylinkage+numba": False}   # (no pylinkage figure for kinematics)
 
 
+def test_numbas_own_start_does_the_jobs_work_and_loads_a_kernel_from_numbas_cache():
+    """The floor row's process is the cold script's numpy process (the same job, read the same way) with a
+    one-line kernel compiled with numba's cache and called once: what any use of numba costs."""
+    assert run.FLOOR_SCRIPT.endswith(run.COLD_SCRIPT)
+    assert run.FLOOR_SCRIPT.startswith("import numba_floor\n")
+    assert "cache=True" in run.FLOOR_KERNEL and "one(1.0)" in run.FLOOR_KERNEL
+
+
 def test_a_missing_case_is_a_miss():
     verdict = run.check_targets([])
     assert len(verdict) == len(run.TARGETS) - 2 and not any(t["met"] for t in verdict)  # pylinkage's left out

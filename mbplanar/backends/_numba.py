@@ -12,8 +12,8 @@ from ..engine import planned
 __all__ = ["BACKEND", "NumbaBackend", "PAYS_FROM", "pays"]
 
 #: positions from which a new process gains by loading the compiled kernels: importing numba and loading
-#: the kernels from its cache (``mbplanar compile`` fills it) costs about 0.4 s of CPU per process (numba's
-#: own start included), the kernels save about 1 µs per position
+#: the kernels from its cache (``mbplanar compile`` fills it) costs 0.5 to 0.8 s of CPU per process, almost
+#: all of it numba's own start and stop (docs/speed.md, "Start-up"), the kernels save about 1 µs per position
 PAYS_FROM = 500_000
 
 
@@ -33,7 +33,7 @@ def pays(positions: int) -> bool | str:
     process that has loaded numba already always does), else why not."""
     if "numba" in sys.modules or positions >= PAYS_FROM:
         return True
-    return f"{positions} positions planned: loading numba and the kernels (~0.4 s) pays from {PAYS_FROM}"
+    return f"{positions} positions planned: loading numba and the kernels (0.5 to 0.8 s) pays from {PAYS_FROM}"
 
 
 class NumbaBackend:
