@@ -41,11 +41,6 @@ def _load(args):
     from .engine import load_engine
     engine = load_engine(args.model, backend=args.backend, threads=args.threads,
                          use_cache=not getattr(args, "no_cache", False))
-    if args.backend != "numpy":   # kernels that take none of this model's jobs: why, once (the seam logs each)
-        from .engine import kernels_decline
-        why = kernels_decline(engine.mech)
-        if why:
-            print(f"mbplanar: note: backend {args.backend}: {why}", file=sys.stderr)
     return engine
 
 

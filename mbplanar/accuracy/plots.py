@@ -35,7 +35,7 @@ def _display(o, length_name, length_scale):
 
 def _zone(result, ix: int, iy: int):
     """The path (N, 2), its unit normals (N, 2) and, along them, the mean shift, the worst case and 3σ."""
-    sens, st = result.sensitivities, result.stack
+    sens = result.sensitivities
     path = sens.value[:, [ix, iy]]
     tangent = np.gradient(path, axis=0) if len(path) > 2 else np.tile([1.0, 0.0], (len(path), 1))
     if result.full_turn and len(path) > 2:

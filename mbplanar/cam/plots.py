@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .followers import face_line, pitch_point
-from .geometry import cam_geometry, rotate
+from .geometry import rotate
 
 __all__ = ["motion_figure", "pressure_figure", "cam_figure", "construction_figure", "save_animation",
            "save_figure"]

@@ -33,7 +33,7 @@ from ._nodes import Node
 from ._singular import limit_after
 from ._solver import Crossing, Engine, Limit, Solution, higher_laws, solve_positions
 from ._tables import (DESIGN_STATUS, BlockTables, CutTables, DesignJob, DesignResult, DesignTables, JointTables,
-                      StepTables, SweepIn, SweepJob, SweepOut, SweepWork, atlas_tables, kernels_decline,
+                      StepTables, SweepIn, SweepJob, SweepOut, SweepWork, atlas_tables,
                       record_layout, sweep_tables, work_sizes)
 from ._tolerances import Tolerances
 
@@ -43,7 +43,7 @@ __all__ = ["Engine", "Tolerances", "Solution", "Limit", "Crossing", "solve_posit
            "hermite_coefficients", "hermite_value", "hermite_slope", "Backend", "BACKENDS", "load", "dispatch",
            "planned", "StepTables", "CutTables", "BlockTables", "JointTables", "SweepIn", "SweepOut", "SweepWork",
            "SweepJob", "DesignTables", "DesignJob", "DesignResult", "DESIGN_STATUS", "sweep_tables",
-           "atlas_tables", "record_layout", "work_sizes", "kernels_decline", "higher_layout", "load_engine",
+           "atlas_tables", "record_layout", "work_sizes", "higher_layout", "load_engine",
            "with_dimensions", "same_structure", "higher_laws"]
 
 #: public name → the private module defining it, imported on first use (PEP 562): the command line's

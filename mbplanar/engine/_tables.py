@@ -24,42 +24,9 @@ __all__ = ["REVOLUTE", "PRISMATIC", "StepTables", "CutTables", "BlockTables", "J
            "AtlasTables", "SweepIn", "SweepOut", "SweepWork", "SweepJob", "FIELDS", "RATE_FIELDS", "CONTACT_FIELDS",
            "RECORD_ORDER",
            "sweep_tables", "atlas_tables", "record_layout", "work_sizes", "DESIGN_STATUS", "DesignTables", "DesignJob",
-           "DesignResult", "kernels_decline"]
+           "DesignResult"]
 
 REVOLUTE, PRISMATIC = "R", "P"                          # JointLaw.kind, Joint.kind
-
-
-def kernels_decline(mech, job: str = "kinematics") -> str:
-    """Why the kernels' tables cannot describe a model for a job, or "" where they can.
-
-    The kinematics, kinetostatics and design kernels hold the laws of every pair (`HigherTables` for the
-    higher pairs, a design's own numbers in `DesignTables`), so nothing is declined here today. The
-    layers that write requests return it for the backends' `can_run` to answer (`dispatch`).
-
-    Parameters
-    ----------
-    mech : Mechanism
-        The model.
-    job : str, optional
-        One of the seam's jobs ("kinematics", "kinetostatics", "design", "simulation").
-
-    Returns
-    -------
-    str
-        The reason, or "" when the tables hold the model.
-
-    Raises
-    ------
-    Nothing on a `Mechanism`.
-
-    Examples
-    --------
-    >>> from mbplanar.engine import kernels_decline
-    >>> from mbplanar.model import read_model
-    >>> kernels_decline(read_model("models/rack_pinion.toml"), "design")
-    ''
-    """
-    return ""
 
 
 class StepTables(NamedTuple):
@@ -459,7 +426,7 @@ def sweep_tables(engine) -> SweepTables:
 
     Raises
     ------
-    Nothing on an `Engine` (a model the kernels cannot take is told by `kernels_decline`).
+    Nothing on an `Engine`.
 
     Examples
     --------

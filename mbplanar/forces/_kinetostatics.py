@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..engine import dispatch, factor, kernels_decline
+from ..engine import dispatch, factor
 from ..kinematics import Motion, contact_geometry, material_points
 from ._loads import (LoadValue, evaluate_loads, guide_direction, guide_force_size, heavy_links, load_power, needs_numpy,
                      real_frames, world_points)
@@ -927,9 +927,6 @@ def _program_request(engine, motion, inertia, loads, input_inertia) -> Kinetosta
 
 def _unwritable(engine, motion, loads, input_inertia) -> str:
     """Why the program cannot express a call ("" where it can)."""
-    why = kernels_decline(engine.mech)
-    if why:
-        return why
     if len(engine.inputs) != 1:
         return "several inputs"
     if loads is not None:

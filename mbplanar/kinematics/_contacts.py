@@ -269,7 +269,6 @@ def _released(engine: Engine, sol, geometry) -> dict:
             free = np.linalg.svd(np.concatenate([rest, released_row], axis=1))[2][:, -1, :]    # (B, m)
             a, b = law.pair.links
             driven = b if b in bp.links else a
-            k = engine.link_index[driven]
             w = np.einsum("jb,bj->b", sens.w[driven], free)
             v = np.einsum("ijb,bj->bi", sens.v[driven], free)
             if law.kind == "face" or driven == a:                     # in the engine's frame, as sol.pose

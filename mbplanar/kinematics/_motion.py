@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import ModelError, did_you_mean
 from ..engine import (Crossing, Engine, Limit, SweepIn, SweepJob, SweepOut, atlas_tables, dispatch, dot, far_span,
-                      kernels_decline, met_along, perp, record_layout, solve_positions, sweep_tables, world_frames)
+                      met_along, perp, record_layout, solve_positions, sweep_tables, world_frames)
 
 __all__ = ["Motion", "Frames", "analyse", "positions_at_limits", "point_selection", "material_points", "point_table",
            "describe_limit", "describe_crossing", "range_text", "reach_text", "OUTPUTS"]
@@ -810,9 +810,6 @@ def _sweep_request(engine: Engine, phi, omega, epsilon, sel: PointSelection, wan
     the batch, the inputs and the output arrays asked for; or why no kernel can take the batch."""
     shared = engine.prepared.get("sweep tables")
     if shared is None:
-        why = kernels_decline(engine.mech)
-        if why:
-            return why
         shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
     if not shared.one_input:
         return "several inputs (the kernels follow one)"
@@ -1064,8 +1061,6 @@ def one_position(engine: Engine, x: float, omega, epsilon, reference):
     request is `analyse`'s of a batch of one, its arrays the record's own."""
     shared = engine.prepared.get("sweep tables")
     if shared is None:
-        if kernels_decline(engine.mech):  # (`dispatch` is asked, and logs why)
-            return dispatch(engine, "kinematics", 1, reference, lambda: kernels_decline(engine.mech))
         shared = engine.prepare("sweep tables", lambda: _SweepShared(engine))
     plan = shared.plans.get("position")
     if plan is None:

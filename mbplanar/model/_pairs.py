@@ -13,7 +13,7 @@ import csv
 import math
 from pathlib import Path
 
-from ._keys import CURVE, HIGHER
+from ._keys import CURVE
 from ._model import Curve, Mechanism
 
 __all__ = ["read_higher_row"]

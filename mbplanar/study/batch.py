@@ -30,7 +30,7 @@ import numpy as np
 from ..engine import Atlas, BlockSolver, dispatch, perp
 from ..engine import (ACCEPT, CROSS, HERMITE5, hermite_coefficients, hermite_value, rate_jump,
                                     step_verdict)
-from ..engine import (DESIGN_STATUS, DesignJob, DesignTables, Node, higher_layout, higher_laws, kernels_decline,
+from ..engine import (DESIGN_STATUS, DesignJob, DesignTables, Node, higher_layout, higher_laws,
                       limit_after, sweep_tables)
 from ..errors import MbplanarError
 from ..kinematics import analyse
@@ -487,9 +487,6 @@ class DesignBatch:
         (`_higher_reals`); a design whose table does not give them gets its reason here, and one whose
         curve is not the engine's spline is left to numpy (`_from_compiled`)."""
         g, eng = self.geometry, self.engine
-        why = kernels_decline(eng.mech, "design")
-        if why:
-            return why
         designs = np.flatnonzero(g.ok)
         higher = None
         if eng.mech.higher and len(designs):
@@ -600,7 +597,6 @@ class DesignBatch:
     def _positions(self, phi, nodes: _Nodes, designs) -> DesignMotion:
         """Predict every (design, position) from its design's nodes, correct in one batch, check."""
         D, N = phi.shape
-        eng0 = self.engine
         names, acc, links = self._want
         L, P = len(links), len(names)
         out = DesignMotion(phi.copy(), np.zeros((D, N), bool), np.zeros(D, bool), [None] * D, list(links),
