@@ -22,6 +22,7 @@ bit where they were.
 
 from __future__ import annotations
 
+import contextlib
 import threading
 
 import numpy as np
@@ -72,7 +73,8 @@ class Kernel:
         found = self._entries.get(key) if key is not None else None
         if found is None:
             dispatcher = self.dispatcher
-            found = dispatcher.compile(tuple(dispatcher.typeof_pyval(a) for a in args))
+            with _scalar_codegen():
+                found = dispatcher.compile(tuple(dispatcher.typeof_pyval(a) for a in args))
             if key is not None:
                 self._entries[key] = found
         return found
@@ -93,6 +95,30 @@ class Kernel:
 
 
 _kernels: list = []  # every kernel made
+
+
+@contextlib.contextmanager
+def _scalar_codegen():
+    """numba's code generation without LLVM's loop and SLP vectorizers (numba's settings
+    ``NUMBA_LOOP_VECTORIZE`` and ``NUMBA_SLP_VECTORIZE``, read when a library is optimised), for the kernels
+    compiled or loaded inside, under numba's compiler lock so that no other compilation sees the change.
+
+    The kernels are scalar loops over a few links and unknowns: vectorised, their short loops became
+    vector code behind run-time trip-count and alias checks whose speed depended on where the code was
+    loaded (the four-bar sweep's kernel took 0.12 to 0.20 µs per position from one loaded copy to the
+    next, 0.115 to 0.117 without the vectorizers). Vectorisation reorders no floating-point operation
+    without fastmath, so the results are the same to the bit."""
+    from numba.core import config
+    from numba.core.compiler_lock import global_compiler_lock
+    with global_compiler_lock:
+        saved = config.LOOP_VECTORIZE, config.SLP_VECTORIZE
+        config.LOOP_VECTORIZE = config.SLP_VECTORIZE = False
+        try:
+            yield
+        finally:
+            config.LOOP_VECTORIZE, config.SLP_VECTORIZE = saved
+
+
 class _Plain(threading.local):
     """Per thread: whether it runs the kernels as plain Python (`interpret`); off in every thread until
     it says otherwise (a design batch calls its kernel from worker threads too)."""
