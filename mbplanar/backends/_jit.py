@@ -32,7 +32,8 @@ __all__ = ["Kernel", "njit", "lean_pipeline", "signature", "forget", "kernels", 
 
 def njit(**options):
     """A decorator making a `Kernel` compiled with ``numba.njit(**options)`` (``lean=True``: with
-    `lean_pipeline`)."""
+    `lean_pipeline`; ``vectorize=True``: with LLVM's vectorizers, which `_scalar_codegen` otherwise
+    leaves out)."""
     return lambda func: Kernel(func, options)
 
 
@@ -73,7 +74,7 @@ class Kernel:
         found = self._entries.get(key) if key is not None else None
         if found is None:
             dispatcher = self.dispatcher
-            with _scalar_codegen():
+            with contextlib.nullcontext() if self.options.get("vectorize") else _scalar_codegen():
                 found = dispatcher.compile(tuple(dispatcher.typeof_pyval(a) for a in args))
             if key is not None:
                 self._entries[key] = found
@@ -214,6 +215,7 @@ def _dispatcher_of(func, options: dict):
     from . import _aot, _numba_notice
     _numba_notice.install()
     options = dict(options)
+    options.pop("vectorize", None)
     if options.pop("lean", False):
         options["pipeline_class"] = lean_pipeline()
     dispatcher = numba.njit(**options)(func)

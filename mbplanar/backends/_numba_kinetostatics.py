@@ -133,7 +133,11 @@ def _run(store: dict, args) -> None:
 
 
 # -- kernel -------------------------------------------------------------------------------------------
-_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+# Its inner loops run over the positions of a chunk, so LLVM's vectorizers stay on (the other kernels,
+# scalar loops over a few links, are compiled without them: `_jit._scalar_codegen`); it calls no other
+# kernel, so no building block is compiled under its settings. Measured in four processes each: class IV
+# group with reactions 1.64-1.70 µs per position with them, 1.84-1.98 without.
+_jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, vectorize=True)
 
 
 @_jit
