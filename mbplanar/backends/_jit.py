@@ -32,8 +32,9 @@ __all__ = ["Kernel", "njit", "lean_pipeline", "signature", "forget", "kernels", 
 
 def njit(**options):
     """A decorator making a `Kernel` compiled with ``numba.njit(**options)`` (``lean=True``: with
-    `lean_pipeline`; ``vectorize=True``: with LLVM's vectorizers, which `_scalar_codegen` otherwise
-    leaves out)."""
+    `lean_pipeline`; ``vectorize=True``: with numba's code generation as it is, LLVM's vectorizers
+    included, which `_scalar_codegen` otherwise leaves out; ``opt=3``: LLVM's optimisation level for
+    `_scalar_codegen`, default 2)."""
     return lambda func: Kernel(func, options)
 
 
@@ -74,7 +75,8 @@ class Kernel:
         found = self._entries.get(key) if key is not None else None
         if found is None:
             dispatcher = self.dispatcher
-            with contextlib.nullcontext() if self.options.get("vectorize") else _scalar_codegen():
+            vectorize, opt = self.options.get("vectorize", False), self.options.get("opt", 2)
+            with contextlib.nullcontext() if vectorize else _scalar_codegen(opt):
                 found = dispatcher.compile(tuple(dispatcher.typeof_pyval(a) for a in args))
             if key is not None:
                 self._entries[key] = found
@@ -99,25 +101,28 @@ _kernels: list = []  # every kernel made
 
 
 @contextlib.contextmanager
-def _scalar_codegen():
-    """numba's code generation without LLVM's loop and SLP vectorizers (numba's settings
-    ``NUMBA_LOOP_VECTORIZE`` and ``NUMBA_SLP_VECTORIZE``, read when a library is optimised), for the kernels
-    compiled or loaded inside, under numba's compiler lock so that no other compilation sees the change.
+def _scalar_codegen(opt: int = 2):
+    """numba's code generation without LLVM's loop and SLP vectorizers and at LLVM's optimisation level
+    `opt` (at most numba's own; numba's settings ``NUMBA_LOOP_VECTORIZE``, ``NUMBA_SLP_VECTORIZE`` and
+    ``NUMBA_OPT``, which it reads when it optimises a library), for the kernels compiled or loaded
+    inside, under numba's compiler lock so that no other compilation sees the change.
 
-    The kernels are scalar loops over a few links and unknowns: vectorised, their short loops became
+    The kernels are scalar loops over a few links and unknowns. Vectorised, their short loops became
     vector code behind run-time trip-count and alias checks whose speed depended on where the code was
     loaded (the four-bar sweep's kernel took 0.12 to 0.20 µs per position from one loaded copy to the
-    next, 0.115 to 0.117 without the vectorizers). Vectorisation reorders no floating-point operation
-    without fastmath, so the results are the same to the bit."""
+    next, 0.115 to 0.117 without the vectorizers); at level 3 the sweep with rates still did (slider-crank
+    0.206 or 0.23 to 0.34 µs, one copy in three), at level 2 it keeps 0.204 to 0.216. Neither setting
+    reorders a floating-point operation (no fastmath), so the results are the same to the bit."""
     from numba.core import config
     from numba.core.compiler_lock import global_compiler_lock
     with global_compiler_lock:
-        saved = config.LOOP_VECTORIZE, config.SLP_VECTORIZE
+        saved = config.LOOP_VECTORIZE, config.SLP_VECTORIZE, config.OPT
         config.LOOP_VECTORIZE = config.SLP_VECTORIZE = False
+        config.OPT = type(config.OPT)(min(int(config.OPT), opt))
         try:
             yield
         finally:
-            config.LOOP_VECTORIZE, config.SLP_VECTORIZE = saved
+            config.LOOP_VECTORIZE, config.SLP_VECTORIZE, config.OPT = saved
 
 
 class _Plain(threading.local):
@@ -216,6 +221,7 @@ def _dispatcher_of(func, options: dict):
     _numba_notice.install()
     options = dict(options)
     options.pop("vectorize", None)
+    options.pop("opt", None)
     if options.pop("lean", False):
         options["pipeline_class"] = lean_pipeline()
     dispatcher = numba.njit(**options)(func)
