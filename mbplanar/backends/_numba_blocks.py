@@ -13,7 +13,7 @@ import math
 from ._jit import njit
 from ..engine import hermite_coefficients, hermite_slope, hermite_value, rate_jump, step_verdict
 
-__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_interval", "_step_verdict", "_rate_jump",
+__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_pivot_ratio_2", "_interval", "_step_verdict", "_rate_jump",
            "_hermite_coefficients", "_hermite_value", "_hermite_slope"]
 
 # -- kernels ----------------------------------------------------------------------------------------
@@ -115,6 +115,26 @@ def _lu_solve(a, m, perm, b, x):
         for j in range(i + 1, m):
             x[i] -= a[i, j] * x[j]
         x[i] /= a[i, i]
+
+
+@_part
+def _pivot_ratio_2(first, det, polish):
+    """The pivot ratio of a 2 × 2 Jacobian as `engine._linalg.factor` forms it (p0 = `first`, the larger
+    |entry| of its first column; p1 = |det / first|; min(p0, p1) / max(p0, p1, 1e-300)), or `polish`
+    itself where the ratio is shown to be at least `polish` without dividing.
+
+    The ratio equals min(f², |det|) / max(f², |det|) (f = first); a margin of 1e-9 over the few roundings
+    of either form leaves no doubt on which side of `polish` it lies, within ranges where f² and the
+    products neither overflow nor underflow. Its one use, Newton's polish decision (ratio ≥ `polish`, or
+    below the crossing threshold), is therefore the same either way; the two divisions in a row it saves
+    were a tenth of a four-bar position's time."""
+    d = abs(det)
+    if 1e-100 < first < 1e100 and d < 1e200 and polish >= 1e-50:
+        f2 = first * first
+        if min(f2, d) >= (polish * (1.0 + 1e-9)) * max(f2, d):
+            return polish
+    p0, p1 = first, abs(det / first)
+    return min(p0, p1) / max(max(p0, p1), 1e-300)
 
 
 @_part

@@ -25,7 +25,7 @@ import math
 
 from . import _threads
 from ._jit import njit
-from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _place  # (LLVM inlines these)
+from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _pivot_ratio_2, _place  # (LLVM inlines these)
 from ._numba_higher import _gear_closure, _gear_rates, _higher_closure, _higher_rates
 from ..engine import higher_layout as ht  # (the tables' column names)
 from ..engine import SweepOut, SweepWork, work_sizes
@@ -307,9 +307,7 @@ def _sweep(tables, atlas, tol, inp, out, work):
                         ratio = abs(det) / max(abs(det), 1e-300)
                     elif m == 2:
                         det = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
-                        first = max(abs(jac[0, 0]), abs(jac[1, 0]))
-                        p0, p1 = abs(first), abs(det / first)
-                        ratio = min(p0, p1) / max(max(p0, p1), 1e-300)
+                        ratio = _pivot_ratio_2(max(abs(jac[0, 0]), abs(jac[1, 0])), det, pivot_polish)
                     else:
                         det, ratio = _lu(jac, m, perm)
                     ok = err < closure and finite
