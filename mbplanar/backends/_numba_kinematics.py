@@ -219,18 +219,19 @@ def _sweep(tables, atlas, tol, inp, out, work):
                             rt[sl, 0, link], rt[sl, 1, link], rt[sl, 2, link] = 0.0, 0.0, 0.0
                 for k in range(k0, k1):  # (Revolute/Prismatic.place_rates)
                     parent, child, var = steps.parent[k], steps.child[k], steps.var[k]
-                    if var >= 0:
-                        qd, qv = 0.0, (qd_u[var - var0] if phase == 2 else 0.0)
-                    else:
-                        qd, qv = steps.sign[k] * (sense if phase == 1 else 0.0), steps.sign[k] * sense
+                    # (selects, not branches: whether a step's variable is an unknown changes along the tree,
+                    # and a mispredicted test here was what made some loaded copies slower, docs/speed.md)
+                    own, sg = var >= 0, steps.sign[k]
+                    u = qd_u[var - var0 if own else 0]
+                    qd = 0.0 if own else sg * (sense if phase == 1 else 0.0)
+                    qv = (u if phase == 2 else 0.0) if own else sg * sense
                     sign, rpx, rpy, rcx, rcy = steps.carrier[k], sc[k, 0], sc[k, 1], sc[k, 2], sc[k, 3]
                     qq = sc[k, 4]  # (prismatic: the guide's direction in rpx, rpy, the displacement in qq)
                     prismatic, relative = steps.prismatic[k], steps.relative[k]
                     wvp = rt[vel, 0, parent]
                     wvc = rt[vel, 0, child]
                     for sl in range(s_lo, s_hi):
-                        if phase == 0 and var >= 0:
-                            qd = 1.0 if var - var0 == sl else 0.0
+                        qd = (1.0 if var - var0 == sl else 0.0) if phase == 0 and own else qd
                         wp, vpx, vpy = rt[sl, 0, parent], rt[sl, 1, parent], rt[sl, 2, parent]
                         if not prismatic:
                             wc = qd + wp if relative else qd
