@@ -13,8 +13,8 @@ import math
 from ._jit import njit
 from ..engine import hermite_coefficients, hermite_slope, hermite_value, rate_jump, step_verdict
 
-__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_pivot_ratio_2", "_interval", "_step_verdict", "_rate_jump",
-           "_hermite_coefficients", "_hermite_value", "_hermite_slope"]
+__all__ = ["_part", "_place", "_closure", "_lu", "_lu_solve", "_pivot_ratio_2", "_interval", "_step_verdict",
+           "_rate_jump", "_hermite_coefficients", "_hermite_value", "_hermite_slope"]
 
 # -- kernels ----------------------------------------------------------------------------------------
 # Scalar loops over whole arrays indexed in place, compiled without numba's reference counting (its

@@ -216,7 +216,7 @@ def _part_out(out: DesignResult, p: slice, accelerations: bool) -> DesignResult:
 # joint laws' arithmetic (`engine._constraints`), as the sweep kernel has it written out in its loop. The
 # floating-point options are the building blocks' (fastmath off: no contraction into fused multiply-adds).
 # LLVM's level 3, not the sweep's 2 (`_jit._scalar_codegen`): the batch asked for the sweep's work took
-# 1.56 s at level 3 against 1.71 s at level 2 (10,000 four-bars × 360 positions, `benchmarks/study.py`).
+# 1.53-1.56 s at level 3 against 1.71 s at level 2 (10,000 four-bars × 360 positions, `benchmarks/study.py`).
 _jit = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, fastmath=False, opt=3)
 _inline = njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always", fastmath=False, opt=3)
 

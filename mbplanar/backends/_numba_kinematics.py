@@ -25,7 +25,8 @@ import math
 
 from . import _threads
 from ._jit import njit
-from ._numba_blocks import _closure, _hermite_value, _interval, _lu, _lu_solve, _pivot_ratio_2, _place  # (LLVM inlines these)
+from ._numba_blocks import (_closure, _hermite_value, _interval, _lu, _lu_solve,  # (LLVM inlines these)
+                            _pivot_ratio_2, _place)
 from ._numba_higher import _gear_closure, _gear_rates, _higher_closure, _higher_rates
 from ..engine import higher_layout as ht  # (the tables' column names)
 from ..engine import SweepOut, SweepWork, work_sizes
